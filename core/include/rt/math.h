@@ -1,0 +1,134 @@
+// Small geometric vocabulary shared by every core module: vectors, rays, intervals, boxes and
+// affine transforms, on GLM in double precision. Nothing here knows the scene format.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <glm/glm.hpp>
+#include <limits>
+
+namespace rt {
+
+using Vec2 = glm::dvec2;
+using Vec3 = glm::dvec3;
+using Mat3 = glm::dmat3;
+using Mat4 = glm::dmat4;  // GLM is column-major: m[col][row]
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+inline constexpr double kPi = 3.14159265358979323846;
+/// Unit roundoff of double (half an ulp of 1).
+inline constexpr double kMachineEps = std::numeric_limits<double>::epsilon() * 0.5;
+
+/// gamma(n) of Higham / pbrt: bounds the relative error of n chained floating-point operations.
+constexpr double gamma(int n) { return (n * kMachineEps) / (1 - n * kMachineEps); }
+
+inline double max_component(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+inline bool is_finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+/// A ray o + t*d. d need not be unit length (rays keep t across frames, spec §4.1).
+struct Ray {
+    Vec3 o{0.0};
+    Vec3 d{0.0, 0.0, -1.0};
+    Vec3 at(double t) const { return o + t * d; }
+};
+
+/// Open-ended parameter range [lo, hi] for ray hits.
+struct Interval {
+    double lo = 0.0;
+    double hi = kInf;
+    bool contains(double t) const { return t > lo && t < hi; }
+};
+
+/// Axis-aligned box; empty when lo > hi.
+struct Bounds3 {
+    Vec3 lo{kInf};
+    Vec3 hi{-kInf};
+
+    bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
+    void extend(const Vec3& p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void extend(const Bounds3& b) {
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+    }
+    Vec3 centre() const { return 0.5 * (lo + hi); }
+    Vec3 diagonal() const { return hi - lo; }
+    double surface_area() const {
+        if (empty()) return 0.0;
+        const Vec3 d = diagonal();
+        return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+    }
+    int largest_axis() const {
+        const Vec3 d = diagonal();
+        return d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
+    }
+};
+
+/// Slab test (Kay-Kajiya) with a precomputed reciprocal direction. The far distance is widened
+/// by 2*gamma(3) as in Ize 2013 / pbrt so rounding never rejects a box the ray touches.
+inline bool intersect_bounds(const Bounds3& b, const Vec3& o, const Vec3& inv_d, double t_max,
+                             double* t_entry) {
+    double t0 = 0.0, t1 = t_max;
+    for (int a = 0; a < 3; ++a) {
+        double tn = (b.lo[a] - o[a]) * inv_d[a];
+        double tf = (b.hi[a] - o[a]) * inv_d[a];
+        if (tn > tf) std::swap(tn, tf);
+        tf *= 1.0 + 2.0 * gamma(3);
+        // NaN (0 * inf on a slab plane) must not shrink the interval: compare so NaN is ignored.
+        t0 = tn > t0 ? tn : t0;
+        t1 = tf < t1 ? tf : t1;
+        if (t0 > t1) return false;
+    }
+    *t_entry = t0;
+    return true;
+}
+
+/// An affine transform p_parent = M p_local with its cached inverse and normal matrix
+/// (spec §4.1: points by M, directions by A, normals by (A^-1)^T).
+struct Transform {
+    Mat4 m{1.0};
+    Mat4 inv{1.0};
+    Mat3 normal{1.0};  // (A^-1)^T
+
+    static Transform from_matrix(const Mat4& m);
+    Transform operator*(const Transform& rhs) const { return from_matrix(m * rhs.m); }
+
+    Vec3 point(const Vec3& p) const { return Vec3(m * glm::dvec4(p, 1.0)); }
+    Vec3 vector(const Vec3& v) const { return Mat3(m) * v; }
+    Vec3 normal_dir(const Vec3& n) const { return normal * n; }
+    Vec3 inv_point(const Vec3& p) const { return Vec3(inv * glm::dvec4(p, 1.0)); }
+    Vec3 inv_vector(const Vec3& v) const { return Mat3(inv) * v; }
+    /// The ray in the local frame, direction not renormalised so t is unchanged.
+    Ray inv_ray(const Ray& r) const { return {inv_point(r.o), inv_vector(r.d)}; }
+    Bounds3 apply(const Bounds3& b) const;
+    bool is_identity() const { return m == Mat4(1.0); }
+};
+
+inline Transform Transform::from_matrix(const Mat4& mat) {
+    Transform t;
+    t.m = mat;
+    t.inv = glm::inverse(mat);
+    t.normal = glm::transpose(Mat3(t.inv));
+    return t;
+}
+
+inline Bounds3 Transform::apply(const Bounds3& b) const {
+    Bounds3 out;
+    if (b.empty()) return out;
+    for (int i = 0; i < 8; ++i) {
+        const Vec3 c{(i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y,
+                     (i & 4) ? b.hi.z : b.lo.z};
+        out.extend(point(c));
+    }
+    // Widen by the rounding error of the corner transform so the box stays conservative.
+    const Vec3 err = gamma(3) * (glm::abs(out.lo) + glm::abs(out.hi));
+    out.lo -= err;
+    out.hi += err;
+    return out;
+}
+
+}  // namespace rt

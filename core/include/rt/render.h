@@ -1,0 +1,54 @@
+// Rendering: an explicit state (per-pixel sums and sample counts) and one call that adds samples
+// to it. The CLI, the viewer and the tests all call render_samples(). Every pixel's samples are
+// derived from (seed, pixel, sample index), so the image is the same for any thread count.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "rt/camera.h"
+#include "rt/image.h"
+#include "rt/render_scene.h"
+#include "rt/shading.h"
+
+namespace rt {
+
+struct RenderSettings {
+    int width = 640;
+    int height = 480;
+    int max_depth = 5;
+    double cutoff = 0.001;
+    bool shadows = true;
+    int threads = 0;  // 0: all cores
+    uint64_t seed = 0;
+};
+
+/// Accumulated samples. Sums are doubles so millions of samples stay exact enough.
+struct RenderState {
+    int width = 0, height = 0;
+    std::vector<double> sum;         // 3 per pixel
+    std::vector<uint32_t> samples;   // per pixel
+    RayCounters rays;
+
+    void reset(int w, int h);
+    /// The mean of each pixel's samples (spec §9: linear, unclamped).
+    Image image() const;
+};
+
+/// Progress report: pixels rows done so far out of the total.
+using ProgressFn = std::function<void(int rows_done, int rows_total)>;
+
+/// Adds `spp` samples to every pixel. With spp = 1 on an empty state the sample is the pixel
+/// centre; otherwise samples are stratified and jittered over ceil(sqrt(spp))^2 strata (spec §6.2).
+/// `stop`, when set, is polled between tiles; a stopped call leaves the state unchanged.
+/// Returns false when stopped.
+bool render_samples(RenderState& state, const RenderScene& scene, const RenderSettings& settings,
+                    int spp, const ProgressFn& progress = {},
+                    const std::atomic<bool>* stop = nullptr);
+
+/// Number of threads render_samples() uses for a settings value (0 = all cores).
+int resolve_thread_count(int threads);
+
+}  // namespace rt

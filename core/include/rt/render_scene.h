@@ -1,0 +1,96 @@
+// The render representation: flat arrays with resolved indices and cached matrices, built from a
+// SceneDesc by compile_scene(). Each .ray file that is instanced is compiled once into a
+// GeometrySet (its groups flattened into the file's frame) with its own BVH; instances place a
+// set in the world. The renderer never sees text.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rt/bvh.h"
+#include "rt/error.h"
+#include "rt/image.h"
+#include "rt/scene_desc.h"
+#include "rt/shapes.h"
+
+namespace rt {
+
+struct Material {
+    Vec3 emissive{0.0}, ambient{0.0}, diffuse{0.0}, specular{0.0};
+    double specular_exponent = 0.0;
+    Vec3 transparent{0.0};
+    double refractive_index = 1.0;
+    int texture = -1;  // index into RenderScene::textures
+};
+
+struct Light {
+    LightKind kind = LightKind::Point;
+    Vec3 color{1.0};
+    Vec3 position{0.0};
+    Vec3 direction{0.0, -1.0, 0.0};  // unit; directional: direction of travel; spot: axis
+    double constant_atten = 1.0, linear_atten = 0.0, quadratic_atten = 0.0;
+    double cutoff_rad = kPi;
+    double spot_exponent = 0.0;
+};
+
+/// One primitive of a set: its kind, its index in the kind's array, its material and, for the
+/// analytic shapes, the transform from the shape's frame to the set's frame (-1: identity).
+struct Primitive {
+    ShapeKind kind = ShapeKind::Sphere;
+    uint32_t index = 0;
+    int material = 0;
+    int transform = -1;
+};
+
+/// The compiled geometry of one .ray file, in that file's frame.
+struct GeometrySet {
+    std::string name;  // the file it came from
+    std::vector<Primitive> prims;
+    std::vector<Sphere> spheres;
+    std::vector<Box> boxes;
+    std::vector<Cylinder> cylinders;
+    std::vector<Cone> cones;
+    std::vector<Triangle> triangles;  // flattened into the set's frame
+    std::vector<TriangleAttribs> triangle_attribs;
+    std::vector<Transform> transforms;  // set_from_shape for analytic shapes under groups
+    std::vector<Bounds3> prim_bounds;   // in the set's frame
+    Bvh bvh;
+};
+
+/// A set placed in the world. Nested instancing is flattened into composed transforms.
+struct Instance {
+    int set = 0;
+    Transform world_from_set;
+    bool identity = true;
+    Bounds3 world_bounds;
+};
+
+struct SceneStats {
+    size_t files = 0;
+    size_t prims_by_kind[5] = {0, 0, 0, 0, 0};  // after instancing
+    size_t unique_prims = 0;                    // before instancing
+    size_t instances = 0;
+    size_t lights = 0, materials = 0, textures = 0;
+};
+
+struct RenderScene {
+    Dialect dialect = Dialect::V1;
+    std::optional<CameraDesc> camera;  // absent: default camera (spec §6.3)
+    Vec3 background{0.0};
+    Vec3 ambient{0.0};
+    std::vector<Light> lights;
+    std::vector<Material> materials;
+    std::vector<std::shared_ptr<const TextureImage>> textures;
+    std::vector<GeometrySet> sets;
+    std::vector<Instance> instances;
+    Bvh top;  // over instances' world bounds
+    Bounds3 world_bounds;
+    SceneStats stats;
+};
+
+/// SceneDesc -> RenderScene: resolves indices, flattens groups, instances sets, builds BVHs.
+RenderScene compile_scene(const SceneDesc& desc);
+
+}  // namespace rt

@@ -1,0 +1,95 @@
+// The five shapes of the format in their local frame (spec §5), each with the same small API:
+// bounds, intersect (every hit in an interval, nearest first) and surface_at (point, outward
+// geometric normal, shading normal, texture coordinates, and a bound on the point's error).
+#pragma once
+
+#include <cstdint>
+
+#include "rt/math.h"
+
+namespace rt {
+
+enum class ShapeKind : uint8_t { Sphere, Box, Cylinder, Cone, Triangle };
+const char* shape_kind_name(ShapeKind k);
+
+struct Sphere {
+    Vec3 centre{0.0};
+    double radius = 1.0;
+};
+struct Box {
+    Vec3 centre{0.0};
+    Vec3 half{0.5};  // half side lengths (the file gives full lengths)
+};
+/// Axis along +y, from centre.y - height/2 to centre.y + height/2, closed by two caps.
+struct Cylinder {
+    Vec3 centre{0.0};
+    double radius = 1.0, height = 1.0;
+};
+/// Axis along +y: base disc (closed) at centre.y - height/2, apex at centre.y + height/2.
+struct Cone {
+    Vec3 centre{0.0};
+    double radius = 1.0, height = 1.0;
+};
+struct Triangle {
+    Vec3 p0{0.0}, p1{0.0}, p2{0.0};
+};
+/// Per-vertex attributes of a triangle, kept apart from the positions the traversal reads.
+struct TriangleAttribs {
+    Vec3 n[3]{Vec3(0.0), Vec3(0.0), Vec3(0.0)};
+    Vec2 uv[3]{Vec2(0.0), Vec2(0.0), Vec2(0.0)};
+    bool has_normals = false;  // all three vertices have non-zero normals
+};
+
+/// Up to two hits of a convex shape inside an interval, nearest first. `part` tells which
+/// surface piece was hit (box face, cylinder side or cap, ...), for surface_at.
+struct ShapeHits {
+    int count = 0;
+    double t[2] = {0.0, 0.0};
+    int part[2] = {0, 0};
+    void add(double tt, int p) {
+        t[count] = tt;
+        part[count] = p;
+        ++count;
+    }
+};
+
+struct SurfacePoint {
+    Vec3 p{0.0};            // on the surface, refined (re-projected) where the shape allows
+    Vec3 p_error{0.0};      // conservative absolute error bound of p, per component
+    Vec3 n_geometric{0.0};  // outward, unit
+    Vec3 n_shading{0.0};    // unit; equals n_geometric except for triangles with normals
+    Vec2 uv{0.0};
+};
+
+Bounds3 bounds(const Sphere& s);
+Bounds3 bounds(const Box& b);
+Bounds3 bounds(const Cylinder& c);
+Bounds3 bounds(const Cone& c);
+Bounds3 bounds(const Triangle& t);
+
+ShapeHits intersect(const Sphere& s, const Ray& ray, Interval t);
+ShapeHits intersect(const Box& b, const Ray& ray, Interval t);
+ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t);
+ShapeHits intersect(const Cone& c, const Ray& ray, Interval t);
+ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t);
+
+SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int part);
+SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int part);
+SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part);
+SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part);
+SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray,
+                        double t);
+
+/// Spec §5: azimuth about +y measured from -z, in [0, 2*pi).
+inline double azimuth(const Vec3& q) {
+    double phi = std::atan2(-q.x, -q.z);
+    if (phi < 0) phi += 2 * kPi;
+    return phi;
+}
+
+/// Conservative error bound for a point computed as o + t*d (a few roundings per component).
+inline Vec3 ray_point_error(const Ray& ray, double t) {
+    return gamma(4) * (glm::abs(ray.o) + glm::abs(t * ray.d)) + Vec3(0.0);
+}
+
+}  // namespace rt

@@ -1,0 +1,222 @@
+// compile_scene(): the SceneDesc's files become GeometrySets (groups flattened into the file's
+// frame, one copy per file however often it is instanced), instances are flattened into a list
+// of (set, world transform), and the BVHs are built: one per set and one over the instances.
+#include <map>
+
+#include "rt/render_scene.h"
+
+namespace rt {
+
+namespace {
+
+class Compiler {
+public:
+    explicit Compiler(const SceneDesc& desc) : m_desc(desc) {}
+
+    RenderScene run() {
+        m_scene.dialect = m_desc.dialect;
+        m_scene.camera = m_desc.camera;
+        m_scene.background = m_desc.background;
+        m_scene.ambient = m_desc.ambient;
+        for (const LightDesc& l : m_desc.lights) m_scene.lights.push_back(compile_light(l));
+        compile_materials();
+        m_set_of_file.assign(m_desc.files.size(), -2);  // -2: not compiled yet
+        if (!m_desc.files.empty()) place(0, Mat4(1.0));
+        build_acceleration();
+        fill_stats();
+        return std::move(m_scene);
+    }
+
+private:
+    static Light compile_light(const LightDesc& d) {
+        Light l;
+        l.kind = d.kind;
+        l.color = d.color;
+        l.position = d.position;
+        if (d.kind != LightKind::Point) l.direction = glm::normalize(d.direction);
+        l.constant_atten = d.constant_atten;
+        l.linear_atten = d.linear_atten;
+        l.quadratic_atten = d.quadratic_atten;
+        l.cutoff_rad = d.cutoff_rad;
+        l.spot_exponent = d.spot_exponent;
+        return l;
+    }
+
+    void compile_materials() {
+        // Global arrays with per-file offsets; the V0 default material goes last.
+        for (const FileDesc& f : m_desc.files) {
+            m_texture_offset.push_back(static_cast<int>(m_scene.textures.size()));
+            for (const TextureDesc& t : f.textures) m_scene.textures.push_back(t.image);
+            m_material_offset.push_back(static_cast<int>(m_scene.materials.size()));
+            for (const MaterialDesc& md : f.materials) {
+                Material m = to_material(md);
+                if (md.texture >= 0) m.texture = m_texture_offset.back() + md.texture;
+                m_scene.materials.push_back(m);
+            }
+        }
+        m_default_material = static_cast<int>(m_scene.materials.size());
+        m_scene.materials.push_back(to_material(v0_default_material()));
+    }
+
+    static Material to_material(const MaterialDesc& d) {
+        Material m;
+        m.emissive = d.emissive;
+        m.ambient = d.ambient;
+        m.diffuse = d.diffuse;
+        m.specular = d.specular;
+        m.specular_exponent = d.specular_exponent;
+        m.transparent = d.transparent;
+        m.refractive_index = d.refractive_index;
+        return m;
+    }
+
+    // Places file `fi` in the world: compiles its set once, adds an instance for its own
+    // shapes, and recurses into the files it instances.
+    void place(size_t fi, const Mat4& world_from_file) {
+        const int set = set_for(fi);
+        if (set >= 0) {
+            Instance inst;
+            inst.set = set;
+            inst.world_from_set = Transform::from_matrix(world_from_file);
+            inst.identity = inst.world_from_set.is_identity();
+            m_scene.instances.push_back(inst);
+        }
+        place_instances(m_desc.files[fi], m_desc.files[fi].root, world_from_file);
+    }
+
+    void place_instances(const FileDesc& f, const GroupDesc& g, const Mat4& world_from_group) {
+        const Mat4 m = world_from_group * g.matrix;
+        for (const InstanceDesc& in : g.instances)
+            place(static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]), m);
+        for (const GroupDesc& child : g.groups) place_instances(f, child, m);
+    }
+
+    int set_for(size_t fi) {
+        if (m_set_of_file[fi] != -2) return m_set_of_file[fi];
+        GeometrySet set;
+        set.name = m_desc.files[fi].path;
+        add_group(set, fi, m_desc.files[fi].root, Mat4(1.0));
+        if (set.prims.empty()) {
+            m_set_of_file[fi] = -1;
+            return -1;
+        }
+        set.bvh = build_bvh(set.prim_bounds);
+        m_set_of_file[fi] = static_cast<int>(m_scene.sets.size());
+        m_scene.sets.push_back(std::move(set));
+        return m_set_of_file[fi];
+    }
+
+    void add_group(GeometrySet& set, size_t fi, const GroupDesc& g, const Mat4& parent) {
+        const Mat4 m = parent * g.matrix;
+        if (!g.shapes.empty()) {
+            const bool identity = (m == Mat4(1.0));
+            const Transform xf = Transform::from_matrix(m);
+            int xf_index = -1;
+            for (const ShapeDesc& s : g.shapes) {
+                const bool analytic = !std::holds_alternative<TriangleDesc>(s.geometry);
+                if (analytic && !identity && xf_index < 0) {
+                    xf_index = static_cast<int>(set.transforms.size());
+                    set.transforms.push_back(xf);
+                }
+                add_shape(set, fi, s, xf, identity ? -1 : xf_index);
+            }
+        }
+        for (const GroupDesc& child : g.groups) add_group(set, fi, child, m);
+    }
+
+    void add_shape(GeometrySet& set, size_t fi, const ShapeDesc& s, const Transform& xf,
+                   int xf_index) {
+        Primitive p;
+        p.material = s.material < 0 ? m_default_material : m_material_offset[fi] + s.material;
+        p.transform = xf_index;
+        Bounds3 local;
+        if (const auto* sp = std::get_if<SphereDesc>(&s.geometry)) {
+            p.kind = ShapeKind::Sphere;
+            p.index = static_cast<uint32_t>(set.spheres.size());
+            set.spheres.push_back({sp->centre, sp->radius});
+            local = bounds(set.spheres.back());
+        } else if (const auto* bx = std::get_if<BoxDesc>(&s.geometry)) {
+            p.kind = ShapeKind::Box;
+            p.index = static_cast<uint32_t>(set.boxes.size());
+            set.boxes.push_back({bx->centre, 0.5 * bx->size});
+            local = bounds(set.boxes.back());
+        } else if (const auto* cy = std::get_if<CylinderDesc>(&s.geometry)) {
+            p.kind = ShapeKind::Cylinder;
+            p.index = static_cast<uint32_t>(set.cylinders.size());
+            set.cylinders.push_back({cy->centre, cy->radius, cy->height});
+            local = bounds(set.cylinders.back());
+        } else if (const auto* co = std::get_if<ConeDesc>(&s.geometry)) {
+            p.kind = ShapeKind::Cone;
+            p.index = static_cast<uint32_t>(set.cones.size());
+            set.cones.push_back({co->centre, co->radius, co->height});
+            local = bounds(set.cones.back());
+        } else {
+            const auto& td = std::get<TriangleDesc>(s.geometry);
+            const FileDesc& f = m_desc.files[fi];
+            p.kind = ShapeKind::Triangle;
+            p.index = static_cast<uint32_t>(set.triangles.size());
+            p.transform = -1;  // triangles are flattened into the set's frame
+            const VertexDesc* v[3];
+            for (int i = 0; i < 3; ++i) v[i] = &f.vertices[static_cast<size_t>(td.v[i])];
+            // A mirroring transform flips the cross product; swap two vertices so the geometric
+            // normal stays (A^-1)^T times the local one (spec §4.1), as refraction needs.
+            if (glm::determinant(Mat3(xf.m)) < 0) std::swap(v[1], v[2]);
+            Triangle tri{xf.point(v[0]->position), xf.point(v[1]->position),
+                         xf.point(v[2]->position)};
+            TriangleAttribs attr;
+            attr.has_normals = true;
+            for (int i = 0; i < 3; ++i) {
+                attr.uv[i] = v[i]->uv;
+                const Vec3 n = v[i]->normal;
+                if (n == Vec3(0.0)) {
+                    attr.has_normals = false;
+                } else {
+                    attr.n[i] = glm::normalize(xf.normal_dir(n));
+                }
+            }
+            set.triangles.push_back(tri);
+            set.triangle_attribs.push_back(attr);
+            set.prims.push_back(p);
+            set.prim_bounds.push_back(bounds(tri));
+            return;
+        }
+        set.prims.push_back(p);
+        set.prim_bounds.push_back(xf_index < 0 ? local : xf.apply(local));
+    }
+
+    void build_acceleration() {
+        std::vector<Bounds3> inst_bounds;
+        for (Instance& inst : m_scene.instances) {
+            const Bounds3 b = m_scene.sets[static_cast<size_t>(inst.set)].bvh.bounds();
+            inst.world_bounds = inst.identity ? b : inst.world_from_set.apply(b);
+            inst_bounds.push_back(inst.world_bounds);
+            m_scene.world_bounds.extend(inst.world_bounds);
+        }
+        m_scene.top = build_bvh(inst_bounds, {1, 16});
+    }
+
+    void fill_stats() {
+        SceneStats& s = m_scene.stats;
+        s.files = m_desc.files.size();
+        s.instances = m_scene.instances.size();
+        s.lights = m_scene.lights.size();
+        s.materials = m_scene.materials.size() - 1;  // without the built-in default
+        s.textures = m_scene.textures.size();
+        for (const GeometrySet& set : m_scene.sets) s.unique_prims += set.prims.size();
+        for (const Instance& inst : m_scene.instances)
+            for (const Primitive& p : m_scene.sets[static_cast<size_t>(inst.set)].prims)
+                ++s.prims_by_kind[static_cast<int>(p.kind)];
+    }
+
+    const SceneDesc& m_desc;
+    RenderScene m_scene;
+    std::vector<int> m_set_of_file;
+    std::vector<int> m_texture_offset, m_material_offset;
+    int m_default_material = 0;
+};
+
+}  // namespace
+
+RenderScene compile_scene(const SceneDesc& desc) { return Compiler(desc).run(); }
+
+}  // namespace rt

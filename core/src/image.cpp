@@ -1,0 +1,147 @@
+#include "rt/image.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#define STBI_FAILURE_USERMSG
+#include <stb_image.h>
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STB_IMAGE_WRITE_STATIC
+#include <stb_image_write.h>
+
+namespace rt {
+
+uint8_t to_byte(double c) {
+    if (!std::isfinite(c)) return 0;
+    c = std::clamp(c, 0.0, 1.0);
+    return static_cast<uint8_t>(std::floor(255.0 * c + 0.5));
+}
+
+bool load_texture_image(const std::string& path, TextureImage* out, std::string* error) {
+    int w = 0, h = 0, n = 0;
+    // Ask for 3 channels: stb replicates grey and drops alpha, as spec §7.3 wants.
+    stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 3);
+    if (!data) {
+        *error = stbi_failure_reason() ? stbi_failure_reason() : "unknown decoder error";
+        return false;
+    }
+    out->width = w;
+    out->height = h;
+    out->rgb.assign(data, data + static_cast<size_t>(w) * h * 3);
+    stbi_image_free(data);
+    return true;
+}
+
+ImageFormat image_format_from_path(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".png") return ImageFormat::Png;
+    if (ext == ".bmp") return ImageFormat::Bmp;
+    if (ext == ".ppm") return ImageFormat::Ppm;
+    if (ext == ".pfm") return ImageFormat::Pfm;
+    return ImageFormat::Unknown;
+}
+
+static std::vector<uint8_t> to_bytes(const Image& image) {
+    std::vector<uint8_t> bytes(image.rgb.size());
+    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = to_byte(image.rgb[i]);
+    return bytes;
+}
+
+static void write_file(const std::string& path, const std::string& data) {
+    std::ofstream f(path, std::ios::binary);
+    f.write(data.data(), static_cast<std::streamsize>(data.size()));
+    f.close();
+    if (!f) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+static void write_pfm(const Image& image, const std::string& path) {
+    // PFM stores rows bottom-to-top; a negative scale means little-endian floats.
+    std::string data = "PF\n" + std::to_string(image.width) + " " +
+                       std::to_string(image.height) + "\n-1.0\n";
+    const size_t row_bytes = static_cast<size_t>(image.width) * 3 * sizeof(float);
+    for (int y = image.height - 1; y >= 0; --y) {
+        const char* row =
+            reinterpret_cast<const char*>(image.rgb.data() + static_cast<size_t>(y) * image.width * 3);
+        data.append(row, row_bytes);
+    }
+    write_file(path, data);
+}
+
+static void write_ppm(const Image& image, const std::string& path) {
+    std::vector<uint8_t> bytes = to_bytes(image);
+    std::string data =
+        "P6\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n255\n";
+    data.append(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    write_file(path, data);
+}
+
+void save_image(const Image& image, const std::string& path) {
+    const ImageFormat format = image_format_from_path(path);
+    if (format == ImageFormat::Unknown)
+        throw std::runtime_error("unknown image format for '" + path +
+                                 "' (use .png, .bmp, .ppm or .pfm)");
+    // Write next to the target, then rename: a failed run leaves no partial output file.
+    const std::filesystem::path target(path);
+    std::filesystem::path tmp = target;
+    tmp += ".part";
+    const std::string tmp_name = tmp.string();
+    try {
+        switch (format) {
+            case ImageFormat::Png: {
+                std::vector<uint8_t> bytes = to_bytes(image);
+                if (!stbi_write_png(tmp_name.c_str(), image.width, image.height, 3, bytes.data(),
+                                    image.width * 3))
+                    throw std::runtime_error("cannot write '" + path + "'");
+                break;
+            }
+            case ImageFormat::Bmp: {
+                std::vector<uint8_t> bytes = to_bytes(image);
+                if (!stbi_write_bmp(tmp_name.c_str(), image.width, image.height, 3, bytes.data()))
+                    throw std::runtime_error("cannot write '" + path + "'");
+                break;
+            }
+            case ImageFormat::Ppm: write_ppm(image, tmp_name); break;
+            case ImageFormat::Pfm: write_pfm(image, tmp_name); break;
+            case ImageFormat::Unknown: break;
+        }
+        std::filesystem::rename(tmp, target);
+    } catch (...) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw;
+    }
+}
+
+Image load_pfm(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw std::runtime_error("cannot open '" + path + "'");
+    std::string magic;
+    int w = 0, h = 0;
+    double scale = 0.0;
+    f >> magic >> w >> h >> scale;
+    f.get();  // the single whitespace byte after the header
+    if (magic != "PF" || w <= 0 || h <= 0 || scale == 0.0)
+        throw std::runtime_error("'" + path + "' is not a 3-channel PFM file");
+    if (scale > 0) throw std::runtime_error("'" + path + "': big-endian PFM is not supported");
+    Image image(w, h);
+    const size_t row_floats = static_cast<size_t>(w) * 3;
+    for (int y = h - 1; y >= 0; --y)
+        f.read(reinterpret_cast<char*>(image.rgb.data() + static_cast<size_t>(y) * row_floats),
+               static_cast<std::streamsize>(row_floats * sizeof(float)));
+    if (!f) throw std::runtime_error("'" + path + "' is truncated");
+    return image;
+}
+
+size_t count_non_finite(const Image& image) {
+    size_t n = 0;
+    for (float v : image.rgb) n += std::isfinite(v) ? 0 : 1;
+    return n;
+}
+
+}  // namespace rt

@@ -1,0 +1,125 @@
+#include "rt/shading.h"
+
+namespace rt {
+
+Vec3 eval_texture(const TextureImage& tex, const Vec2& uv) {
+    if (tex.width <= 0 || tex.height <= 0) return Vec3(1.0);
+    const double u = uv.x - std::floor(uv.x), v = uv.y - std::floor(uv.y);
+    const double x = u * tex.width - 0.5;
+    const double y = (1.0 - v) * tex.height - 0.5;  // y counts rows from the top
+    const double x0f = std::floor(x), y0f = std::floor(y);
+    const double fx = x - x0f, fy = y - y0f;
+    auto wrap = [](long long a, int n) { return static_cast<int>(((a % n) + n) % n); };
+    auto texel = [&](long long c, long long r) {
+        const size_t i = (static_cast<size_t>(wrap(r, tex.height)) * tex.width +
+                          static_cast<size_t>(wrap(c, tex.width))) * 3;
+        return Vec3(tex.rgb[i], tex.rgb[i + 1], tex.rgb[i + 2]) / 255.0;
+    };
+    const long long x0 = static_cast<long long>(x0f), y0 = static_cast<long long>(y0f);
+    return (1 - fx) * (1 - fy) * texel(x0, y0) + fx * (1 - fy) * texel(x0 + 1, y0) +
+           (1 - fx) * fy * texel(x0, y0 + 1) + fx * fy * texel(x0 + 1, y0 + 1);
+}
+
+bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
+                double* distance) {
+    if (light.kind == LightKind::Directional) {
+        *to_light = -light.direction;
+        *intensity = light.color;
+        *distance = kInf;
+        return true;
+    }
+    const Vec3 delta = light.position - p;
+    const double dist = glm::length(delta);
+    if (!(dist > 0.0) || !std::isfinite(dist)) return false;
+    const Vec3 l = delta / dist;
+    const double denom =
+        light.constant_atten + light.linear_atten * dist + light.quadratic_atten * dist * dist;
+    if (!(denom > 0.0) || !std::isfinite(denom)) return false;
+    double factor = 1.0 / denom;
+    if (light.kind == LightKind::Spot) {
+        const double cos_a = glm::dot(light.direction, -l);
+        if (std::acos(std::clamp(cos_a, -1.0, 1.0)) > light.cutoff_rad) return false;
+        // The factor is 1 when p = 0, whatever the angle (spec §7.2).
+        if (light.spot_exponent != 0.0) factor *= std::pow(std::max(0.0, cos_a), light.spot_exponent);
+    }
+    *intensity = light.color * factor;
+    *to_light = l;
+    *distance = dist;
+    return factor > 0.0;
+}
+
+namespace {
+
+double max_component_of(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+}  // namespace
+
+Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
+               const ShadingSettings& settings, RayCounters& counters) {
+    Hit hit;
+    if (!intersect(scene, ray, {0.0, kInf}, &hit)) return scene.background;
+    const SurfaceInteraction si = interaction(scene, ray, hit);
+    const Material& m = scene.materials[static_cast<size_t>(si.material)];
+    const Vec3 d = glm::normalize(ray.d);
+
+    // Two-sided rule (spec §5): shade with the normal facing the incoming ray.
+    const double side = glm::dot(d, si.n_geometric) > 0 ? -1.0 : 1.0;
+    const Vec3 n = side * si.n_shading;
+    const Vec3 t = m.texture >= 0 ? eval_texture(*scene.textures[static_cast<size_t>(m.texture)], si.uv)
+                                  : Vec3(1.0);
+    const Vec3 kd = m.diffuse * t;
+
+    Vec3 c = m.emissive + m.ambient * t * scene.ambient;
+    const Vec3 r_v = d - 2.0 * glm::dot(d, n) * n;  // mirror direction, also for highlights
+
+    for (const Light& light : scene.lights) {
+        Vec3 intensity, l;
+        double dist = 0.0;
+        if (!eval_light(light, si.p, &intensity, &l, &dist)) continue;
+        const double n_dot_l = glm::dot(n, l);
+        if (!(n_dot_l > 0.0)) continue;
+        Vec3 s(1.0);
+        if (settings.shadows) {
+            ++counters.shadow;
+            const Vec3 o = offset_origin(si, l);
+            if (light.kind == LightKind::Directional) {
+                s = transmittance(scene, {o, l}, kInf);
+            } else {
+                // The segment from the offset point to the light itself, t in (0, 1).
+                s = transmittance(scene, {o, light.position - o}, 1.0);
+            }
+            if (s == Vec3(0.0)) continue;
+        }
+        const double r_dot_l = glm::dot(r_v, l);
+        const double spec = r_dot_l > 0.0 ? std::pow(r_dot_l, m.specular_exponent) : 0.0;
+        c += s * intensity * (kd * n_dot_l + m.specular * spec);
+    }
+
+    if (depth - 1 < 1) return c;
+    auto traced = [&](const Vec3& w) {
+        return w != Vec3(0.0) && (settings.cutoff == 0.0 || max_component_of(w) >= settings.cutoff);
+    };
+    // Reflection, weighted by K_S.
+    const Vec3 w_refl = weight * m.specular;
+    if (traced(w_refl)) {
+        ++counters.reflected;
+        c += m.specular * trace_ray(scene, spawn_ray(si, r_v), depth - 1, w_refl, settings, counters);
+    }
+    // Refraction (Snell), weighted by T; none past the critical angle.
+    const Vec3 w_refr = weight * m.transparent;
+    if (traced(w_refr)) {
+        const bool entering = glm::dot(d, si.n_geometric) < 0;
+        const double eta = entering ? 1.0 / m.refractive_index : m.refractive_index;
+        const double cos_i = std::clamp(-glm::dot(d, n), 0.0, 1.0);
+        const double k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+        if (k >= 0.0) {
+            const Vec3 dir = eta * d + (eta * cos_i - std::sqrt(k)) * n;
+            ++counters.refracted;
+            c += m.transparent *
+                 trace_ray(scene, spawn_ray(si, dir), depth - 1, w_refr, settings, counters);
+        }
+    }
+    return c;
+}
+
+}  // namespace rt

@@ -1,0 +1,70 @@
+// Box (spec §5): the six faces of [c - l/2, c + l/2]. The face of a point is the axis with the
+// largest |q_i|/h_i (ties: x, then y, then z); each face's (u, v) reads upright and unmirrored
+// from outside.
+#include "rt/shapes.h"
+
+namespace rt {
+
+Bounds3 bounds(const Box& b) { return {b.centre - b.half, b.centre + b.half}; }
+
+// Face part numbers: axis * 2 + (1 if the + side).
+static int face_of(const Vec3& q, const Vec3& h) {
+    int axis = 0;
+    double best = std::abs(q.x) / h.x;
+    for (int a = 1; a < 3; ++a) {
+        const double r = std::abs(q[a]) / h[a];
+        if (r > best) best = r, axis = a;
+    }
+    return axis * 2 + (q[axis] > 0 ? 1 : 0);
+}
+
+ShapeHits intersect(const Box& b, const Ray& ray, Interval t) {
+    double t0 = -kInf, t1 = kInf;
+    for (int a = 0; a < 3; ++a) {
+        const double lo = b.centre[a] - b.half[a], hi = b.centre[a] + b.half[a];
+        if (ray.d[a] == 0.0) {
+            // Parallel to this slab: inside it or a miss (no 0 * inf).
+            if (ray.o[a] < lo || ray.o[a] > hi) return {};
+            continue;
+        }
+        const double inv = 1.0 / ray.d[a];
+        double tn = (lo - ray.o[a]) * inv, tf = (hi - ray.o[a]) * inv;
+        if (tn > tf) std::swap(tn, tf);
+        t0 = std::max(t0, tn);
+        t1 = std::min(t1, tf);
+        if (t0 > t1) return {};
+    }
+    ShapeHits h;
+    if (t.contains(t0)) h.add(t0, -1);
+    if (t.contains(t1) && t1 != t0) h.add(t1, -1);
+    return h;
+}
+
+SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int /*part*/) {
+    SurfacePoint sp;
+    Vec3 q = ray.at(t) - b.centre;
+    const int face = face_of(q, b.half);
+    const int axis = face / 2;
+    const double sign = (face & 1) ? 1.0 : -1.0;
+    // Snap the point onto its face plane and clamp it into the face rectangle.
+    q[axis] = sign * b.half[axis];
+    for (int a = 0; a < 3; ++a) q[a] = std::clamp(q[a], -b.half[a], b.half[a]);
+    sp.p = b.centre + q;
+    sp.p_error = gamma(4) * (glm::abs(b.centre) + glm::abs(q));
+    sp.n_geometric = Vec3(0.0);
+    sp.n_geometric[axis] = sign;
+    sp.n_shading = sp.n_geometric;
+    const Vec3 h = b.half, l = 2.0 * b.half;
+    switch (face) {
+        case 1: sp.uv = {(h.z - q.z) / l.z, (q.y + h.y) / l.y}; break;  // +x
+        case 0: sp.uv = {(q.z + h.z) / l.z, (q.y + h.y) / l.y}; break;  // -x
+        case 3: sp.uv = {(q.x + h.x) / l.x, (h.z - q.z) / l.z}; break;  // +y
+        case 2: sp.uv = {(q.x + h.x) / l.x, (q.z + h.z) / l.z}; break;  // -y
+        case 5: sp.uv = {(q.x + h.x) / l.x, (q.y + h.y) / l.y}; break;  // +z
+        default: sp.uv = {(h.x - q.x) / l.x, (q.y + h.y) / l.y}; break;  // -z
+    }
+    (void)ray;
+    return sp;
+}
+
+}  // namespace rt

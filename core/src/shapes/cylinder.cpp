@@ -1,0 +1,87 @@
+// Cylinder (spec §5): axis along +y, side q_x^2 + q_z^2 = r^2 for y in [y0, y1], closed by caps
+// at y1 (top, normal +y) and y0 (bottom, normal -y). Side uv: (azimuth/2pi, (y - y0)/h); caps:
+// top (q_x + r)/2r, (r - q_z)/2r; bottom (q_x + r)/2r, (q_z + r)/2r.
+#include "rt/shapes.h"
+
+namespace rt {
+
+namespace {
+enum Part { kSide = 0, kTop = 1, kBottom = 2 };
+}
+
+Bounds3 bounds(const Cylinder& c) {
+    const Vec3 e(c.radius, 0.5 * c.height, c.radius);
+    return {c.centre - e, c.centre + e};
+}
+
+ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
+    const Vec3 f = ray.o - c.centre;
+    const double y0 = -0.5 * c.height, y1 = 0.5 * c.height;
+    const double r2 = c.radius * c.radius;
+    // Candidates: two side roots and the two cap planes; a convex shape has at most two hits.
+    double cand[4];
+    int part[4];
+    int n = 0;
+    const double a = ray.d.x * ray.d.x + ray.d.z * ray.d.z;
+    if (a > 0.0) {
+        const double b = f.x * ray.d.x + f.z * ray.d.z;
+        // Stable discriminant as for the sphere, in the xz plane.
+        const double lx = f.x - (b / a) * ray.d.x, lz = f.z - (b / a) * ray.d.z;
+        const double l = std::sqrt(lx * lx + lz * lz);
+        const double disc = a * (c.radius - l) * (c.radius + l);
+        if (disc >= 0.0) {
+            const double cc = f.x * f.x + f.z * f.z - r2;
+            const double q = -(b + std::copysign(std::sqrt(disc), b));
+            const double roots[2] = {q != 0.0 ? cc / q : 0.0, q / a};
+            for (double tr : roots) {
+                const double y = f.y + tr * ray.d.y;
+                if (y >= y0 && y <= y1) cand[n] = tr, part[n++] = kSide;
+            }
+        }
+    }
+    if (ray.d.y != 0.0) {
+        for (int cap = 0; cap < 2; ++cap) {
+            const double yc = cap == 0 ? y1 : y0;
+            const double tc = (yc - f.y) / ray.d.y;
+            const double x = f.x + tc * ray.d.x, z = f.z + tc * ray.d.z;
+            if (x * x + z * z <= r2) cand[n] = tc, part[n++] = cap == 0 ? kTop : kBottom;
+        }
+    }
+    // Sort the few candidates; drop duplicates where a side root meets a cap on the rim.
+    for (int i = 1; i < n; ++i)
+        for (int j = i; j > 0 && cand[j] < cand[j - 1]; --j)
+            std::swap(cand[j], cand[j - 1]), std::swap(part[j], part[j - 1]);
+    ShapeHits h;
+    double last = -kInf;
+    for (int i = 0; i < n && h.count < 2; ++i) {
+        if (!t.contains(cand[i]) || cand[i] == last) continue;
+        h.add(cand[i], part[i]);
+        last = cand[i];
+    }
+    return h;
+}
+
+SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part) {
+    SurfacePoint sp;
+    Vec3 q = ray.at(t) - c.centre;
+    const double h2 = 0.5 * c.height, r = c.radius;
+    if (part == kSide) {
+        const double rho = std::sqrt(q.x * q.x + q.z * q.z);
+        if (rho > 0) q.x *= r / rho, q.z *= r / rho;  // re-project onto the side
+        q.y = std::clamp(q.y, -h2, h2);
+        sp.n_geometric = Vec3(q.x / r, 0.0, q.z / r);
+        sp.uv = {azimuth(q) / (2 * kPi), (q.y + h2) / c.height};
+    } else {
+        const bool top = part == kTop;
+        q.y = top ? h2 : -h2;
+        sp.n_geometric = Vec3(0.0, top ? 1.0 : -1.0, 0.0);
+        sp.uv = top ? Vec2((q.x + r) / (2 * r), (r - q.z) / (2 * r))
+                    : Vec2((q.x + r) / (2 * r), (q.z + r) / (2 * r));
+    }
+    sp.p = c.centre + q;
+    sp.p_error = gamma(5) * (glm::abs(c.centre) + glm::abs(q));
+    sp.n_shading = sp.n_geometric;
+    return sp;
+}
+
+}  // namespace rt

@@ -1,0 +1,55 @@
+// Sphere (spec §5): |q| = r, q = p - c; outward normal q/r; u = azimuth/2pi about +y from -z,
+// v = acos(-q_y/r)/pi (0 at the bottom pole).
+#include "rt/shapes.h"
+
+namespace rt {
+
+const char* shape_kind_name(ShapeKind k) {
+    switch (k) {
+        case ShapeKind::Sphere: return "sphere";
+        case ShapeKind::Box: return "box";
+        case ShapeKind::Cylinder: return "cylinder";
+        case ShapeKind::Cone: return "cone";
+        case ShapeKind::Triangle: return "triangle";
+    }
+    return "?";
+}
+
+Bounds3 bounds(const Sphere& s) { return {s.centre - Vec3(s.radius), s.centre + Vec3(s.radius)}; }
+
+ShapeHits intersect(const Sphere& s, const Ray& ray, Interval t) {
+    // Numerically stable quadratic (Haines et al., Ray Tracing Gems ch. 7): the discriminant is
+    // a * (r^2 - |l|^2) with l the closest-approach vector, which avoids b^2 - 4ac cancellation,
+    // and the two roots come from q without subtracting nearly equal numbers.
+    const Vec3 f = ray.o - s.centre;
+    const double a = glm::dot(ray.d, ray.d);
+    const double b = glm::dot(f, ray.d);  // half of the usual b
+    const Vec3 l = f - (b / a) * ray.d;
+    const double disc = a * (s.radius - glm::length(l)) * (s.radius + glm::length(l));
+    ShapeHits h;
+    if (!(disc >= 0.0)) return h;
+    const double c = glm::dot(f, f) - s.radius * s.radius;
+    const double q = -(b + std::copysign(std::sqrt(disc), b));
+    double t0 = q != 0.0 ? c / q : 0.0;
+    double t1 = q / a;
+    if (t0 > t1) std::swap(t0, t1);
+    if (t.contains(t0)) h.add(t0, 0);
+    if (t.contains(t1) && t1 != t0) h.add(t1, 0);
+    return h;
+}
+
+SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int /*part*/) {
+    SurfacePoint sp;
+    Vec3 q = ray.at(t) - s.centre;
+    // Re-project onto the sphere: the point's error no longer depends on t's error.
+    q *= s.radius / glm::length(q);
+    sp.p = s.centre + q;
+    sp.p_error = gamma(5) * (glm::abs(s.centre) + glm::abs(q));
+    sp.n_geometric = q / s.radius;
+    sp.n_shading = sp.n_geometric;
+    sp.uv.x = azimuth(q) / (2 * kPi);
+    sp.uv.y = std::acos(std::clamp(-q.y / s.radius, -1.0, 1.0)) / kPi;
+    return sp;
+}
+
+}  // namespace rt

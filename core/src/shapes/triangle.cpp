@@ -1,0 +1,70 @@
+// Triangle (spec §5): p = w1 v1 + w2 v2 + w3 v3; geometric normal normalize((v2-v1) x (v3-v1));
+// shading normal interpolated when all three vertices have normals; uv interpolated.
+#include "rt/shapes.h"
+
+namespace rt {
+
+Bounds3 bounds(const Triangle& t) {
+    Bounds3 b;
+    b.extend(t.p0);
+    b.extend(t.p1);
+    b.extend(t.p2);
+    return b;
+}
+
+// Barycentrics of the ray's hit (Moller-Trumbore in double); false when it misses.
+static bool barycentric(const Triangle& tri, const Ray& ray, double* t, double* b1, double* b2) {
+    const Vec3 e1 = tri.p1 - tri.p0, e2 = tri.p2 - tri.p0;
+    const Vec3 pv = glm::cross(ray.d, e2);
+    const double det = glm::dot(e1, pv);
+    if (det == 0.0 || !std::isfinite(det)) return false;
+    const double inv = 1.0 / det;
+    const Vec3 tv = ray.o - tri.p0;
+    const double u = glm::dot(tv, pv) * inv;
+    if (u < 0.0 || u > 1.0) return false;
+    const Vec3 qv = glm::cross(tv, e1);
+    const double v = glm::dot(ray.d, qv) * inv;
+    if (v < 0.0 || u + v > 1.0) return false;
+    *t = glm::dot(e2, qv) * inv;
+    *b1 = u;
+    *b2 = v;
+    return true;
+}
+
+ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
+    ShapeHits h;
+    double tt = 0, b1 = 0, b2 = 0;
+    if (barycentric(tri, ray, &tt, &b1, &b2) && t.contains(tt)) h.add(tt, 0);
+    return h;
+}
+
+SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray,
+                        double t) {
+    SurfacePoint sp;
+    double tt = t, b1 = 0, b2 = 0;
+    if (!barycentric(tri, ray, &tt, &b1, &b2)) {
+        // Numerically on an edge: fall back to the ray point's barycentrics, clamped.
+        const Vec3 e1 = tri.p1 - tri.p0, e2 = tri.p2 - tri.p0, pp = ray.at(t) - tri.p0;
+        const double d00 = glm::dot(e1, e1), d01 = glm::dot(e1, e2), d11 = glm::dot(e2, e2);
+        const double d20 = glm::dot(pp, e1), d21 = glm::dot(pp, e2);
+        const double den = d00 * d11 - d01 * d01;
+        b1 = std::clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0);
+        b2 = std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - b1);
+    }
+    const double b0 = 1.0 - b1 - b2;
+    // The point from barycentrics (pbrt's bound: gamma(7) times the summed magnitudes).
+    const Vec3 a0 = b0 * tri.p0, a1 = b1 * tri.p1, a2 = b2 * tri.p2;
+    sp.p = a0 + a1 + a2;
+    sp.p_error = gamma(7) * (glm::abs(a0) + glm::abs(a1) + glm::abs(a2));
+    sp.n_geometric = glm::normalize(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
+    sp.n_shading = sp.n_geometric;
+    if (attr.has_normals) {
+        const Vec3 n = b0 * attr.n[0] + b1 * attr.n[1] + b2 * attr.n[2];
+        const double len = glm::length(n);
+        if (len > 0) sp.n_shading = n / len;
+    }
+    sp.uv = b0 * attr.uv[0] + b1 * attr.uv[1] + b2 * attr.uv[2];
+    return sp;
+}
+
+}  // namespace rt
