@@ -73,7 +73,8 @@ int run(const rt::cli::Options& opt) {
         for (int k = 0; k < 5; ++k)
             std::printf(" %s %zu%s", rt::shape_kind_name(static_cast<rt::ShapeKind>(k)),
                         st.prims_by_kind[k], k < 4 ? "," : "");
-        std::printf("  (after instancing; %zu unique)\n", st.unique_prims);
+        std::printf("  (after instancing; %zu unique; %zu degenerate skipped)\n", st.unique_prims,
+                    st.skipped_shapes);
         std::printf("triangles %zu, lights %zu, materials %zu, textures %zu, instances %zu\n",
                     st.prims_by_kind[static_cast<int>(rt::ShapeKind::Triangle)], st.lights,
                     st.materials, st.textures, st.instances);
@@ -93,7 +94,8 @@ int run(const rt::cli::Options& opt) {
             last_draw = Clock::now();
             const int width = 40;
             const int filled = total > 0 ? width * done / total : width;
-            std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(static_cast<size_t>(filled), '#').c_str(),
+            std::fprintf(stderr, "\r[%s%s] %3d%%",
+                         std::string(static_cast<size_t>(filled), '#').c_str(),
                          std::string(static_cast<size_t>(width - filled), '.').c_str(),
                          total > 0 ? 100 * done / total : 100);
             if (done >= total) std::fprintf(stderr, "\r%*s\r", width + 8, "");
@@ -109,10 +111,9 @@ int run(const rt::cli::Options& opt) {
     rt::Image image = state.image();
     const size_t bad = rt::count_non_finite(image);
     if (bad > 0) {
-        for (float& v : image.rgb)
-            if (!std::isfinite(v)) v = 0.0f;
-        std::cerr << opt.scene << ": warning: " << bad
-                  << " non-finite pixel values written as 0\n";
+        for (double& v : image.rgb)
+            if (!std::isfinite(v)) v = 0.0;
+        std::cerr << opt.scene << ": warning: " << bad << " non-finite pixel values written as 0\n";
     }
     try {
         rt::save_image(image, opt.output);
@@ -125,13 +126,14 @@ int run(const rt::cli::Options& opt) {
         const double rays = static_cast<double>(state.rays.total());
         std::printf("time      parse %.3f s, compile %.3f s, render %.3f s\n", parse_s, compile_s,
                     render_s);
-        std::printf("rays      %sray/s (%s rays: camera %llu, shadow %llu, reflected %llu, "
-                    "refracted %llu)\n",
-                    si(render_s > 0 ? rays / render_s : 0).c_str(), si(rays).c_str(),
-                    static_cast<unsigned long long>(state.rays.camera),
-                    static_cast<unsigned long long>(state.rays.shadow),
-                    static_cast<unsigned long long>(state.rays.reflected),
-                    static_cast<unsigned long long>(state.rays.refracted));
+        std::printf(
+            "rays      %sray/s (%s rays: camera %llu, shadow %llu, reflected %llu, "
+            "refracted %llu)\n",
+            si(render_s > 0 ? rays / render_s : 0).c_str(), si(rays).c_str(),
+            static_cast<unsigned long long>(state.rays.camera),
+            static_cast<unsigned long long>(state.rays.shadow),
+            static_cast<unsigned long long>(state.rays.reflected),
+            static_cast<unsigned long long>(state.rays.refracted));
         std::printf("wrote     %s\n", opt.output.c_str());
     }
     return 0;

@@ -63,8 +63,8 @@ struct Builder {
             acc.extend(bin_box[static_cast<size_t>(b - 1)]);
             cnt += bin_count[static_cast<size_t>(b - 1)];
             if (cnt == 0 || right_count[static_cast<size_t>(b)] == 0) continue;
-            const double cost = acc.surface_area() * cnt +
-                                right_area[static_cast<size_t>(b)] * right_count[static_cast<size_t>(b)];
+            const double cost = acc.surface_area() * cnt + right_area[static_cast<size_t>(b)] *
+                                                               right_count[static_cast<size_t>(b)];
             if (cost < best_cost) best_cost = cost, best_split = b;
         }
         const double leaf_cost = box.surface_area() * n;
@@ -84,10 +84,9 @@ struct Builder {
             }
             // Fall back to a median split so leaves stay small.
             mid = begin + n / 2;
-            std::nth_element(bvh.indices.begin() + begin, bvh.indices.begin() + mid,
-                             bvh.indices.begin() + end, [&](uint32_t a, uint32_t b) {
-                                 return centroids[a][axis] < centroids[b][axis];
-                             });
+            std::nth_element(
+                bvh.indices.begin() + begin, bvh.indices.begin() + mid, bvh.indices.begin() + end,
+                [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
         }
         build(begin, mid, depth + 1);
         const uint32_t right = build(mid, end, depth + 1);

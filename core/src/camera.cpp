@@ -24,7 +24,7 @@ CameraDesc default_camera(const Bounds3& world, int width, int height) {
     if (!world.empty()) {
         centre = world.centre();
         radius = 0.5 * glm::length(world.diagonal());
-        if (!(radius > 0.0)) radius = 1.0;
+        if (!(radius > 0.0)) centre = Vec3(0.0), radius = 1.0;  // spec §6.3: C = 0, R = 1
     }
     const double tan_w = std::tan(d.half_height_angle_rad) * width / height;
     const double phi = std::min(d.half_height_angle_rad, std::atan(tan_w));
@@ -35,9 +35,9 @@ CameraDesc default_camera(const Bounds3& world, int width, int height) {
 }
 
 Camera make_camera(const RenderScene& scene, int width, int height) {
-    return make_camera(scene.camera ? *scene.camera
-                                    : default_camera(scene.world_bounds, width, height),
-                       width, height);
+    return make_camera(
+        scene.camera ? *scene.camera : default_camera(scene.world_bounds, width, height), width,
+        height);
 }
 
 }  // namespace rt

@@ -9,6 +9,41 @@ namespace rt {
 
 namespace {
 
+// Widens a box by the rounding error of the transform that produced it (stays conservative).
+Bounds3 widen(Bounds3 b) {
+    const Vec3 err = gamma(3) * (glm::abs(b.lo) + glm::abs(b.hi));
+    b.lo -= err;
+    b.hi += err;
+    return b;
+}
+
+// Tight world bounds of one primitive of a set placed by world_from_set (for the default camera).
+Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
+    if (p.kind == ShapeKind::Triangle) {
+        const Triangle& t = set.triangles[p.index];
+        Bounds3 b;
+        for (const Vec3& v : {t.p0, t.p1, t.p2})
+            b.extend(Vec3(world_from_set * glm::dvec4(v, 1.0)));
+        return b;
+    }
+    const Mat4 m = p.transform < 0
+                       ? world_from_set
+                       : world_from_set * set.transforms[static_cast<size_t>(p.transform)].m;
+    switch (p.kind) {
+        case ShapeKind::Sphere:
+            return bounds(set.spheres[p.index], m);
+        case ShapeKind::Box:
+            return bounds(set.boxes[p.index], m);
+        case ShapeKind::Cylinder:
+            return bounds(set.cylinders[p.index], m);
+        case ShapeKind::Cone:
+            return bounds(set.cones[p.index], m);
+        case ShapeKind::Triangle:
+            break;
+    }
+    return {};
+}
+
 class Compiler {
 public:
     explicit Compiler(const SceneDesc& desc) : m_desc(desc) {}
@@ -129,27 +164,28 @@ private:
         Primitive p;
         p.material = s.material < 0 ? m_default_material : m_material_offset[fi] + s.material;
         p.transform = xf_index;
+        const Mat4& m = xf.m;
         Bounds3 local;
         if (const auto* sp = std::get_if<SphereDesc>(&s.geometry)) {
             p.kind = ShapeKind::Sphere;
             p.index = static_cast<uint32_t>(set.spheres.size());
             set.spheres.push_back({sp->centre, sp->radius});
-            local = bounds(set.spheres.back());
+            local = xf_index < 0 ? bounds(set.spheres.back()) : bounds(set.spheres.back(), m);
         } else if (const auto* bx = std::get_if<BoxDesc>(&s.geometry)) {
             p.kind = ShapeKind::Box;
             p.index = static_cast<uint32_t>(set.boxes.size());
             set.boxes.push_back({bx->centre, 0.5 * bx->size});
-            local = bounds(set.boxes.back());
+            local = xf_index < 0 ? bounds(set.boxes.back()) : bounds(set.boxes.back(), m);
         } else if (const auto* cy = std::get_if<CylinderDesc>(&s.geometry)) {
             p.kind = ShapeKind::Cylinder;
             p.index = static_cast<uint32_t>(set.cylinders.size());
             set.cylinders.push_back({cy->centre, cy->radius, cy->height});
-            local = bounds(set.cylinders.back());
+            local = xf_index < 0 ? bounds(set.cylinders.back()) : bounds(set.cylinders.back(), m);
         } else if (const auto* co = std::get_if<ConeDesc>(&s.geometry)) {
             p.kind = ShapeKind::Cone;
             p.index = static_cast<uint32_t>(set.cones.size());
             set.cones.push_back({co->centre, co->radius, co->height});
-            local = bounds(set.cones.back());
+            local = xf_index < 0 ? bounds(set.cones.back()) : bounds(set.cones.back(), m);
         } else {
             const auto& td = std::get<TriangleDesc>(s.geometry);
             const FileDesc& f = m_desc.files[fi];
@@ -181,7 +217,7 @@ private:
             return;
         }
         set.prims.push_back(p);
-        set.prim_bounds.push_back(xf_index < 0 ? local : xf.apply(local));
+        set.prim_bounds.push_back(xf_index < 0 ? local : widen(local));
     }
 
     void build_acceleration() {
@@ -190,7 +226,14 @@ private:
             const Bounds3 b = m_scene.sets[static_cast<size_t>(inst.set)].bvh.bounds();
             inst.world_bounds = inst.identity ? b : inst.world_from_set.apply(b);
             inst_bounds.push_back(inst.world_bounds);
-            m_scene.world_bounds.extend(inst.world_bounds);
+            if (m_scene.camera) {
+                m_scene.world_bounds.extend(inst.world_bounds);
+                continue;
+            }
+            // No camera: the default camera needs the tight world bounding box (spec §6.3).
+            const GeometrySet& set = m_scene.sets[static_cast<size_t>(inst.set)];
+            for (const Primitive& p : set.prims)
+                m_scene.world_bounds.extend(world_bounds_of(set, p, inst.world_from_set.m));
         }
         m_scene.top = build_bvh(inst_bounds, {1, 16});
     }
@@ -203,9 +246,12 @@ private:
         s.materials = m_scene.materials.size() - 1;  // without the built-in default
         s.textures = m_scene.textures.size();
         for (const GeometrySet& set : m_scene.sets) s.unique_prims += set.prims.size();
-        for (const Instance& inst : m_scene.instances)
-            for (const Primitive& p : m_scene.sets[static_cast<size_t>(inst.set)].prims)
-                ++s.prims_by_kind[static_cast<int>(p.kind)];
+        std::vector<size_t> uses(m_scene.sets.size(), 0);
+        for (const Instance& inst : m_scene.instances) ++uses[static_cast<size_t>(inst.set)];
+        for (size_t i = 0; i < m_scene.sets.size(); ++i)
+            for (const Primitive& p : m_scene.sets[i].prims)
+                s.prims_by_kind[static_cast<int>(p.kind)] += uses[i];
+        s.skipped_shapes = m_desc.skipped_shapes;
     }
 
     const SceneDesc& m_desc;

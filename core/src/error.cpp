@@ -34,8 +34,8 @@ std::string Warning::str() const {
 
 void Diagnostics::warn(const SourceLoc& loc, std::string kind, std::string message) {
     for (Warning& w : m_warnings) {
-        const bool same_file = (w.loc.file && loc.file) ? *w.loc.file == *loc.file
-                                                        : w.loc.file == loc.file;
+        const bool same_file =
+            (w.loc.file && loc.file) ? *w.loc.file == *loc.file : w.loc.file == loc.file;
         if (w.kind == kind && same_file) {
             ++w.count;
             return;

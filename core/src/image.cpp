@@ -22,7 +22,50 @@ uint8_t to_byte(double c) {
     return static_cast<uint8_t>(std::floor(255.0 * c + 0.5));
 }
 
+// ASCII PNM (P2 grey, P3 colour), which stb_image does not read. Returns false if not one.
+static bool load_ascii_pnm(const std::string& path, TextureImage* out, std::string* error) {
+    std::ifstream f(path, std::ios::binary);
+    std::string magic;
+    if (!(f >> magic) || (magic != "P2" && magic != "P3")) return false;
+    const int channels = magic == "P3" ? 3 : 1;
+    auto next = [&](long* v) {
+        // Skips '#' comments between values.
+        for (;;) {
+            f >> std::ws;
+            if (f.peek() == '#') {
+                std::string line;
+                std::getline(f, line);
+                continue;
+            }
+            return static_cast<bool>(f >> *v);
+        }
+    };
+    long w = 0, h = 0, maxval = 0;
+    if (!next(&w) || !next(&h) || !next(&maxval) || w <= 0 || h <= 0 || maxval <= 0 ||
+        maxval > 65535 || w * h > (1L << 28)) {
+        *error = "bad ASCII PNM header";
+        return true;
+    }
+    out->width = static_cast<int>(w);
+    out->height = static_cast<int>(h);
+    out->rgb.resize(static_cast<size_t>(w * h * 3));
+    for (long i = 0; i < w * h; ++i) {
+        long c[3] = {0, 0, 0};
+        for (int k = 0; k < channels; ++k)
+            if (!next(&c[k]) || c[k] < 0 || c[k] > maxval) {
+                *error = "truncated or bad ASCII PNM data";
+                out->width = 0;
+                return true;
+            }
+        for (int k = 0; k < 3; ++k)
+            out->rgb[static_cast<size_t>(i * 3 + k)] =
+                static_cast<uint8_t>((c[channels == 3 ? k : 0] * 255 + maxval / 2) / maxval);
+    }
+    return true;
+}
+
 bool load_texture_image(const std::string& path, TextureImage* out, std::string* error) {
+    if (load_ascii_pnm(path, out, error)) return out->width > 0;
     int w = 0, h = 0, n = 0;
     // Ask for 3 channels: stb replicates grey and drops alpha, as spec §7.3 wants.
     stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 3);
@@ -62,13 +105,14 @@ static void write_file(const std::string& path, const std::string& data) {
 
 static void write_pfm(const Image& image, const std::string& path) {
     // PFM stores rows bottom-to-top; a negative scale means little-endian floats.
-    std::string data = "PF\n" + std::to_string(image.width) + " " +
-                       std::to_string(image.height) + "\n-1.0\n";
-    const size_t row_bytes = static_cast<size_t>(image.width) * 3 * sizeof(float);
+    std::string data =
+        "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
+    const size_t row_floats = static_cast<size_t>(image.width) * 3;
+    std::vector<float> row(row_floats);
     for (int y = image.height - 1; y >= 0; --y) {
-        const char* row =
-            reinterpret_cast<const char*>(image.rgb.data() + static_cast<size_t>(y) * image.width * 3);
-        data.append(row, row_bytes);
+        for (size_t i = 0; i < row_floats; ++i)
+            row[i] = static_cast<float>(image.rgb[static_cast<size_t>(y) * row_floats + i]);
+        data.append(reinterpret_cast<const char*>(row.data()), row_floats * sizeof(float));
     }
     write_file(path, data);
 }
@@ -106,9 +150,14 @@ void save_image(const Image& image, const std::string& path) {
                     throw std::runtime_error("cannot write '" + path + "'");
                 break;
             }
-            case ImageFormat::Ppm: write_ppm(image, tmp_name); break;
-            case ImageFormat::Pfm: write_pfm(image, tmp_name); break;
-            case ImageFormat::Unknown: break;
+            case ImageFormat::Ppm:
+                write_ppm(image, tmp_name);
+                break;
+            case ImageFormat::Pfm:
+                write_pfm(image, tmp_name);
+                break;
+            case ImageFormat::Unknown:
+                break;
         }
         std::filesystem::rename(tmp, target);
     } catch (...) {
@@ -131,16 +180,20 @@ Image load_pfm(const std::string& path) {
     if (scale > 0) throw std::runtime_error("'" + path + "': big-endian PFM is not supported");
     Image image(w, h);
     const size_t row_floats = static_cast<size_t>(w) * 3;
-    for (int y = h - 1; y >= 0; --y)
-        f.read(reinterpret_cast<char*>(image.rgb.data() + static_cast<size_t>(y) * row_floats),
+    std::vector<float> row(row_floats);
+    for (int y = h - 1; y >= 0; --y) {
+        f.read(reinterpret_cast<char*>(row.data()),
                static_cast<std::streamsize>(row_floats * sizeof(float)));
+        for (size_t i = 0; i < row_floats; ++i)
+            image.rgb[static_cast<size_t>(y) * row_floats + i] = row[i];
+    }
     if (!f) throw std::runtime_error("'" + path + "' is truncated");
     return image;
 }
 
 size_t count_non_finite(const Image& image) {
     size_t n = 0;
-    for (float v : image.rgb) n += std::isfinite(v) ? 0 : 1;
+    for (double v : image.rgb) n += std::isfinite(v) ? 0 : 1;
     return n;
 }
 

@@ -7,14 +7,20 @@ namespace {
 // Every hit of one primitive of a set, for a ray in the set's frame.
 ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray_set, Interval t) {
     if (p.kind == ShapeKind::Triangle) return intersect(set.triangles[p.index], ray_set, t);
-    const Ray r = p.transform < 0 ? ray_set
-                                  : set.transforms[static_cast<size_t>(p.transform)].inv_ray(ray_set);
+    const Ray r = p.transform < 0
+                      ? ray_set
+                      : set.transforms[static_cast<size_t>(p.transform)].inv_ray(ray_set);
     switch (p.kind) {
-        case ShapeKind::Sphere: return intersect(set.spheres[p.index], r, t);
-        case ShapeKind::Box: return intersect(set.boxes[p.index], r, t);
-        case ShapeKind::Cylinder: return intersect(set.cylinders[p.index], r, t);
-        case ShapeKind::Cone: return intersect(set.cones[p.index], r, t);
-        case ShapeKind::Triangle: break;
+        case ShapeKind::Sphere:
+            return intersect(set.spheres[p.index], r, t);
+        case ShapeKind::Box:
+            return intersect(set.boxes[p.index], r, t);
+        case ShapeKind::Cylinder:
+            return intersect(set.cylinders[p.index], r, t);
+        case ShapeKind::Cone:
+            return intersect(set.cones[p.index], r, t);
+        case ShapeKind::Triangle:
+            break;
     }
     return {};
 }
@@ -98,12 +104,18 @@ SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const H
         p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
     const Ray r = shape_xf ? shape_xf->inv_ray(r_set) : r_set;
     switch (p.kind) {
-        case ShapeKind::Sphere: sp = surface_at(set.spheres[p.index], r, hit.t, hit.part); break;
-        case ShapeKind::Box: sp = surface_at(set.boxes[p.index], r, hit.t, hit.part); break;
+        case ShapeKind::Sphere:
+            sp = surface_at(set.spheres[p.index], r, hit.t, hit.part);
+            break;
+        case ShapeKind::Box:
+            sp = surface_at(set.boxes[p.index], r, hit.t, hit.part);
+            break;
         case ShapeKind::Cylinder:
             sp = surface_at(set.cylinders[p.index], r, hit.t, hit.part);
             break;
-        case ShapeKind::Cone: sp = surface_at(set.cones[p.index], r, hit.t, hit.part); break;
+        case ShapeKind::Cone:
+            sp = surface_at(set.cones[p.index], r, hit.t, hit.part);
+            break;
         case ShapeKind::Triangle:
             sp = surface_at(set.triangles[p.index], set.triangle_attribs[p.index], r, hit.t);
             break;
@@ -155,6 +167,8 @@ Vec3 offset_origin(const SurfaceInteraction& si, const Vec3& dir) {
     return po;
 }
 
-Ray spawn_ray(const SurfaceInteraction& si, const Vec3& dir) { return {offset_origin(si, dir), dir}; }
+Ray spawn_ray(const SurfaceInteraction& si, const Vec3& dir) {
+    return {offset_origin(si, dir), dir};
+}
 
 }  // namespace rt

@@ -53,13 +53,13 @@ Token Lexer::scan() {
     }
     const size_t start = m_pos;
     if (m_text[m_pos] == '!') {
-        // A !...! string: any text up to the next '!' on the same line.
+        // A !…! string: any text up to the next '!' on the same line.
         size_t end = m_pos + 1;
         while (end < m_text.size() && m_text[end] != '!' && m_text[end] != '\n' &&
                m_text[end] != '\r')
             ++end;
         if (end >= m_text.size() || m_text[end] != '!')
-            throw SceneError(loc(t), "unterminated !...! string (it must close on the same line)");
+            throw SceneError(loc(t), "unterminated !…! string (it must close on the same line)");
         ++end;
         t.kind = TokenKind::String;
         t.text = m_text.substr(start, end - start);
@@ -67,7 +67,11 @@ Token Lexer::scan() {
         m_pos = end;
         return t;
     }
-    while (m_pos < m_text.size() && !is_space(m_text[m_pos])) ++m_pos;
+    // A word ends at whitespace or where a // comment starts (spec §2: comments may follow a
+    // token directly).
+    while (m_pos < m_text.size() && !is_space(m_text[m_pos]) &&
+           !(m_text[m_pos] == '/' && m_pos + 1 < m_text.size() && m_text[m_pos + 1] == '/'))
+        ++m_pos;
     t.text = m_text.substr(start, m_pos - start);
     m_col += static_cast<int>(m_pos - start);
     t.kind = (t.text.size() > 1 && t.text[0] == '#') ? TokenKind::Directive : TokenKind::Word;

@@ -3,6 +3,7 @@
 // the whole tree, and the checks that depend on it run when the tree is complete.
 #include "rt/parser.h"
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -37,10 +38,17 @@ std::string describe(const Token& t) {
 
 // Directives that exist only in the planned V3 dialect (spec §10 step 1).
 bool is_v3_directive(std::string_view d) {
-    static constexpr std::array<std::string_view, 11> names = {
-        "#static_affine",     "#dynamic_affine", "#shape_list_begin", "#shape_list_end",
-        "#shape_triangles",   "#shape_torus",    "#shape_union",      "#shape_intersection",
-        "#shape_difference",  "#light_sphere",   "#shader"};
+    static constexpr std::array<std::string_view, 11> names = {"#static_affine",
+                                                               "#dynamic_affine",
+                                                               "#shape_list_begin",
+                                                               "#shape_list_end",
+                                                               "#shape_triangles",
+                                                               "#shape_torus",
+                                                               "#shape_union",
+                                                               "#shape_intersection",
+                                                               "#shape_difference",
+                                                               "#light_sphere",
+                                                               "#shader"};
     for (std::string_view n : names)
         if (n == d) return true;
     return false;
@@ -95,6 +103,11 @@ struct FileState {
     std::vector<char> stack_is_joint;
     bool warned_joint_identity = false;
     std::string dir;  // directory of this file, for relative paths
+    struct TextureRef {
+        SourceLoc loc;
+        int index;
+    };
+    std::vector<TextureRef> texture_refs;  // material texture indices, checked at end of file
 
     FileState(std::string_view text, std::shared_ptr<const std::string> name)
         : lex(text, std::move(name)) {}
@@ -105,8 +118,10 @@ public:
     Parser(Diagnostics& diag, const ParseOptions& options) : m_diag(diag), m_options(options) {}
 
     SceneDesc run(const std::string& text, const std::string& name, const std::string& dir) {
+        const std::string canonical = fs::weakly_canonical(fs::absolute(name)).string();
+        detect_dialect(text, name, canonical, dir);
         m_scene.files.emplace_back();
-        parse_file(text, name, fs::weakly_canonical(fs::absolute(name)).string(), dir, 0);
+        parse_file(text, name, canonical, dir, 0);
         finish();
         return std::move(m_scene);
     }
@@ -118,10 +133,12 @@ public:
             SourceLoc loc{std::make_shared<const std::string>(path), 0, 0};
             throw SceneError(loc, "cannot open scene file '" + path + "'");
         }
-        const std::string dir = fs::path(path).parent_path().string();
+        std::string dir = fs::path(path).parent_path().string();
+        if (dir.empty()) dir = ".";
+        const std::string canonical = fs::weakly_canonical(fs::absolute(path)).string();
+        detect_dialect(text, path, canonical, dir);
         m_scene.files.emplace_back();
-        parse_file(text, path, fs::weakly_canonical(fs::absolute(path)).string(),
-                   dir.empty() ? "." : dir, 0);
+        parse_file(text, path, canonical, dir, 0);
         finish();
         return std::move(m_scene);
     }
@@ -149,11 +166,10 @@ private:
         bool non_finite = false;
         if (t.kind == TokenKind::Word && parse_real(t.text, &v, &non_finite)) return v;
         if (non_finite) fail(f, t, "non-finite number " + quote(t.text));
-        std::string msg = "expected " + std::to_string(count) +
-                          (count == 1 ? " number" : " numbers") + " after " +
-                          std::string(dir.text);
-        if (!what.empty()) msg += " (" + std::string(what) + ")";
-        fail(arg_loc(f, dir, t), msg + ", got " + describe(t));
+        (void)what;
+        fail(arg_loc(f, dir, t), "expected " + std::to_string(count) +
+                                     (count == 1 ? " number" : " numbers") + " after " +
+                                     std::string(dir.text) + ", got " + describe(t));
     }
 
     Vec3 vec3(FileState& f, const Token& dir, int count, std::string_view what = {}) {
@@ -169,23 +185,31 @@ private:
         if (loc) *loc = f.lex.loc(t);
         if (t.kind == TokenKind::Word && parse_int(t.text, &v, &out_of_range)) return v;
         if (out_of_range) fail(f, t, "integer " + quote(t.text) + " out of range");
-        fail(arg_loc(f, dir, t), "expected an integer (" + std::string(what) + ") after " +
+        fail(arg_loc(f, dir, t),
+             "expected an integer (" + std::string(what) + "), got " + describe(t));
+    }
+
+    std::string word(FileState& f, const Token& dir, std::string_view what, bool ascii = false) {
+        const Token t = f.lex.next();
+        if (t.kind == TokenKind::Word) {
+            // Spec §2: non-ASCII bytes only in comments, strings and paths.
+            if (ascii)
+                for (char c : t.text)
+                    if (static_cast<unsigned char>(c) >= 0x80)
+                        fail(f, t, "non-ASCII byte in " + std::string(what) + " " + quote(t.text));
+            return std::string(t.text);
+        }
+        fail(arg_loc(f, dir, t), "expected " + std::string(what) + " after " +
                                      std::string(dir.text) + ", got " + describe(t));
     }
 
-    std::string word(FileState& f, const Token& dir, std::string_view what) {
-        const Token t = f.lex.next();
-        if (t.kind == TokenKind::Word) return std::string(t.text);
-        fail(arg_loc(f, dir, t),
-             "expected " + std::string(what) + " after " + std::string(dir.text) + ", got " +
-                 describe(t));
-    }
-
     Vec3 colour(FileState& f, const Token& dir, int count, std::string_view what) {
-        const Token first = f.lex.peek();
-        const Vec3 c = vec3(f, dir, count, what);
-        if (c.x < 0 || c.y < 0 || c.z < 0)
-            fail(f, first, "negative " + std::string(what) + " " + fmt(c));
+        Vec3 c;
+        for (int i = 0; i < 3; ++i) {
+            const Token t = f.lex.peek();
+            c[i] = real(f, dir, count);
+            if (c[i] < 0) fail(f, t, "negative " + std::string(what) + " " + fmt(c[i]));
+        }
         return c;
     }
 
@@ -202,11 +226,10 @@ private:
         const int n = integer(f, dir, "count", &loc);
         Count& c = f.counts[k];
         if (c.declared)
-            fail(f, dir, "second " + std::string(kCountDirective[k]) + " (first at " + c.loc.str() +
-                             ")");
+            fail(f, dir,
+                 "second " + std::string(kCountDirective[k]) + " (first at " + c.loc.str() + ")");
         if (c.found > 0)
-            fail(f, dir, std::string(kCountDirective[k]) + " after the first " +
-                             kItemDirective[k]);
+            fail(f, dir, std::string(kCountDirective[k]) + " after the first " + kItemDirective[k]);
         if (n < 0) fail(loc, "negative count " + std::to_string(n));
         c.declared = true;
         c.declared_n = n;
@@ -217,8 +240,9 @@ private:
         Count& c = f.counts[k];
         ++c.found;
         if (c.declared && c.found > c.declared_n)
-            fail(f, dir, "more " + std::string(k == kLights ? "lights" : kItemDirective[k]) +
-                             " than declared by " + kCountDirective[k] + " at " + c.loc.str());
+            fail(f, dir,
+                 "more " + std::string(k == kLights ? "lights" : kItemDirective[k]) +
+                     " than declared by " + kCountDirective[k] + " at " + c.loc.str());
     }
 
     // ---- paths ---------------------------------------------------------------------------
@@ -240,17 +264,93 @@ private:
     }
 
     // ---- the file loop -------------------------------------------------------------------
-    void prescan_v3(const std::string& text, const std::shared_ptr<const std::string>& name) {
-        Lexer lex(text, name);
-        for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next())
-            if (t.kind == TokenKind::Directive && is_v3_directive(t.text))
+    // ---- dialect detection (spec §10): a pre-scan of the whole tree, before any material is
+    // interpreted. It follows the #ray_file paths it can resolve; the parse reports the others.
+    static std::optional<std::string> find_file(const std::string& dir, const std::string& path) {
+        const fs::path p(path);
+        if (p.is_absolute())
+            return fs::is_regular_file(p) ? std::optional<std::string>(path) : std::nullopt;
+        for (const fs::path& c : {fs::path(dir) / p, fs::path(".") / p})
+            if (fs::is_regular_file(c)) return c.lexically_normal().string();
+        return std::nullopt;
+    }
+
+    void prescan(const std::string& text, const std::string& name, const std::string& canonical,
+                 const std::string& dir, std::vector<std::string>& visited) {
+        visited.push_back(canonical);
+        Lexer lex(text, std::make_shared<const std::string>(name));
+        for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next()) {
+            if (t.kind != TokenKind::Directive) continue;
+            if (is_v3_directive(t.text))
                 fail(lex.loc(t), quote(t.text) + " is V3 syntax; V3 scenes are not supported yet");
+            if (t.text == "#material") {
+                int n = 0;
+                bool numbers = true;
+                for (Token a = lex.peek(); a.kind == TokenKind::Word; a = lex.peek()) {
+                    lex.next();
+                    double v = 0;
+                    bool nf = false;
+                    numbers = numbers && parse_real(a.text, &v, &nf);
+                    ++n;
+                }
+                // A bad token or a missing string is reported by the parse at its place.
+                if (!numbers || (lex.peek().kind != TokenKind::String && (n == 16 || n == 18)))
+                    continue;
+                if (n != 16 && n != 18)
+                    fail(lex.loc(t),
+                         "#material needs 16 (V0) or 18 (V1) numbers before its "
+                         "!…! string, got " +
+                             std::to_string(n));
+                const Dialect d = n == 16 ? Dialect::V0 : Dialect::V1;
+                if (m_options.dialect && *m_options.dialect != d)
+                    fail(lex.loc(t),
+                         "#material has " + std::to_string(n) + " numbers, but --dialect " +
+                             (*m_options.dialect == Dialect::V0 ? "v0 needs 16" : "v1 needs 18"));
+                SourceLoc& first = d == Dialect::V0 ? m_first_v0 : m_first_v1;
+                if (!first.file) {
+                    first = lex.loc(t);
+                    const SourceLoc& other = d == Dialect::V0 ? m_first_v1 : m_first_v0;
+                    if (other.file)
+                        fail(first, "mixed dialects: V0 material at " + m_first_v0.str() +
+                                        ", V1 material at " + m_first_v1.str());
+                }
+            } else if (t.text.substr(0, 7) == "#shape_") {
+                if (lex.peek().text == "-1") m_default_use = true;
+            } else if (t.text == "#ray_file") {
+                const Token pt = lex.next();
+                if (pt.kind != TokenKind::Word) continue;
+                const auto resolved = find_file(dir, std::string(pt.text));
+                if (!resolved) continue;
+                const std::string canon = fs::weakly_canonical(fs::absolute(*resolved)).string();
+                if (std::find(visited.begin(), visited.end(), canon) != visited.end()) continue;
+                bool ok = true;
+                const std::string sub = read_file_text(*resolved, &ok);
+                if (!ok) continue;
+                const std::string sub_dir = fs::path(*resolved).parent_path().string();
+                m_include_locs.push_back(lex.loc(t));
+                prescan(sub, *resolved, canon, sub_dir.empty() ? "." : sub_dir, visited);
+                m_include_locs.pop_back();
+            }
+        }
+    }
+
+    void detect_dialect(const std::string& text, const std::string& name,
+                        const std::string& canonical, const std::string& dir) {
+        std::vector<std::string> visited;
+        prescan(text, name, canonical, dir, visited);
+        if (m_options.dialect)
+            m_dialect = *m_options.dialect;
+        else if (m_first_v0.file)
+            m_dialect = Dialect::V0;
+        else if (m_first_v1.file)
+            m_dialect = Dialect::V1;
+        else
+            m_dialect = m_default_use ? Dialect::V0 : Dialect::V1;
     }
 
     void parse_file(const std::string& text, const std::string& name, const std::string& canonical,
                     const std::string& dir, int index) {
         auto file_name = std::make_shared<const std::string>(name);
-        prescan_v3(text, file_name);
         m_open.push_back({canonical, name});
 
         FileState f(text, file_name);
@@ -274,6 +374,11 @@ private:
     void end_of_file(FileState& f) {
         const Token end = f.lex.next();
         const SourceLoc eof = f.lex.loc(end);
+        const int ntex = static_cast<int>(f.desc.textures.size());
+        for (const FileState::TextureRef& r : f.texture_refs)
+            if (r.index < -1 || r.index >= ntex)
+                fail(r.loc, "texture index " + std::to_string(r.index) + " out of range [-1," +
+                                std::to_string(ntex) + ")");
         if (f.stack.size() > 1) {
             const GroupDesc* g = f.stack.back();
             fail(eof, std::string(f.stack_is_joint.back() ? "#joint_begin" : "#group_begin") +
@@ -330,18 +435,20 @@ private:
         c.direction = vec3(f, d, 10);
         c.up = vec3(f, d, 10);
         c.half_height_angle_rad = real(f, d, 10);
+        // Included files: syntax only, so the dummy all-zero cameras of sub-files pass (§3.1, §12).
+        if (!f.top) return;
         if (glm::length(c.direction) == 0.0) fail(f, d, "camera view direction is zero");
         if (glm::length(c.up) == 0.0) fail(f, d, "camera up vector is zero");
         if (glm::length(glm::cross(glm::normalize(c.direction), glm::normalize(c.up))) < 1e-6)
             fail(f, d, "camera up vector is parallel to the view direction");
         if (!(c.half_height_angle_rad > 0.0 && c.half_height_angle_rad < kPi / 2))
-            fail(f, d, "camera half-height angle " + fmt(c.half_height_angle_rad) +
-                           " is outside (0, pi/2) radians");
-        if (!f.top) return;  // included files: syntax only (spec §3.1)
+            fail(f, d,
+                 "camera half-height angle " + fmt(c.half_height_angle_rad) +
+                     " is outside (0, pi/2) radians");
         if (m_scene.camera) {
-            m_diag.warn(c.loc, "camera-repeat",
-                        "second #camera ignored; the first one (" + m_scene.camera->loc.str() +
-                            ") wins");
+            m_diag.warn(
+                c.loc, "camera-repeat",
+                "second #camera ignored; the first one (" + m_scene.camera->loc.str() + ") wins");
             return;
         }
         m_scene.camera = c;
@@ -350,8 +457,11 @@ private:
     void global_colour(FileState& f, const Token& d) {
         definition(f, d);
         const bool bg = d.text == "#background";
+        if (!f.top) {  // included files: syntax only
+            vec3(f, d, 3);
+            return;
+        }
         const Vec3 c = colour(f, d, 3, bg ? "background colour" : "ambient colour");
-        if (!f.top) return;
         bool& seen = bg ? m_seen_background : m_seen_ambient;
         if (seen) {
             m_diag.warn(f.lex.loc(d), std::string(d.text) + "-repeat",
@@ -373,14 +483,14 @@ private:
             if (glm::length(l.direction) == 0.0) fail(f, d, "light direction is zero");
         } else if (d.text == "#light_point") {
             l.kind = LightKind::Point;
-            l.color = colour(f, d, 9, "light colour");
+            l.color = vec3(f, d, 9);  // spec §3.1: point and spot colours need only be finite
             l.position = vec3(f, d, 9);
             l.constant_atten = real(f, d, 9);
             l.linear_atten = real(f, d, 9);
             l.quadratic_atten = real(f, d, 9);
         } else {
             l.kind = LightKind::Spot;
-            l.color = colour(f, d, 14, "light colour");
+            l.color = vec3(f, d, 14);
             l.position = vec3(f, d, 14);
             l.direction = vec3(f, d, 14);
             l.constant_atten = real(f, d, 14);
@@ -389,18 +499,19 @@ private:
             const Token cut_tok = f.lex.peek();
             l.cutoff_rad = real(f, d, 14);
             const Token dor_tok = f.lex.peek();
-            l.spot_exponent = real(f, d, 14);  // raw drop-off; scaled for V0 in finish()
+            l.spot_exponent = real(f, d, 14);  // p = 128 dor (V0) or dor (V1)
             if (glm::length(l.direction) == 0.0) fail(f, d, "spot light direction is zero");
             if (l.cutoff_rad < 0) fail(f, cut_tok, "negative spot cutoff " + fmt(l.cutoff_rad));
             if (l.spot_exponent < 0)
                 fail(f, dor_tok, "negative spot drop-off " + fmt(l.spot_exponent));
+            if (m_dialect == Dialect::V0) l.spot_exponent *= 128.0;
             if (l.cutoff_rad > kPi / 2)
                 m_diag.warn(l.loc, "spot-cutoff",
                             "spot cutoff " + fmt(l.cutoff_rad) +
                                 " rad is more than pi/2: the light never cuts off");
         }
-        if (l.kind != LightKind::Directional && l.constant_atten == 0.0 &&
-            l.linear_atten == 0.0 && l.quadratic_atten == 0.0)
+        if (l.kind != LightKind::Directional && l.constant_atten == 0.0 && l.linear_atten == 0.0 &&
+            l.quadratic_atten == 0.0)
             m_diag.warn(l.loc, "light-zero-atten",
                         "attenuation coefficients are all zero: the light never contributes");
         count_item(f, d, kLights);
@@ -430,7 +541,7 @@ private:
     void material(FileState& f, const Token& d) {
         definition(f, d);
         count_item(f, d, kMaterials);
-        // Numbers up to the !...! string; their count decides the dialect (spec §10).
+        // Numbers up to the !…! string; their count decides the dialect (spec §10).
         std::array<double, 18> v{};
         std::array<Token, 18> tok{};
         int n = 0;
@@ -451,19 +562,16 @@ private:
         if (t.kind != TokenKind::String || (n != 16 && n != 18)) {
             if (t.kind != TokenKind::String && (n == 16 || n == 18))
                 fail(arg_loc(f, d, t),
-                     "#material needs its !...! string after the numbers, got " + describe(t));
-            fail(f, d, "#material needs 16 (V0) or 18 (V1) numbers before its !...! string, got " +
-                           std::to_string(n));
+                     "#material needs its !…! string after the numbers, got " + describe(t));
+            fail(f, d,
+                 "#material needs 16 (V0) or 18 (V1) numbers before its !…! string, got " +
+                     std::to_string(n));
         }
         const Dialect dialect = n == 16 ? Dialect::V0 : Dialect::V1;
-        if (m_options.dialect && *m_options.dialect != dialect)
-            fail(f, d, std::string("#material has ") + std::to_string(n) + " numbers, but --dialect " +
-                           (*m_options.dialect == Dialect::V0 ? "v0 needs 16" : "v1 needs 18"));
-        SourceLoc& first = dialect == Dialect::V0 ? m_first_v0 : m_first_v1;
-        if (!first.file) {
-            first = f.lex.loc(d);
-            (dialect == Dialect::V0 ? m_first_v0_seq : m_first_v1_seq) = ++m_material_seq;
-        }
+        if (dialect != m_dialect)  // the pre-scan reports this first; kept as a safeguard
+            fail(f, d,
+                 "#material has " + std::to_string(n) + " numbers in a " + dialect_name(m_dialect) +
+                     " scene");
 
         MaterialDesc m;
         m.loc = f.lex.loc(d);
@@ -479,7 +587,9 @@ private:
         };
         auto nonneg = [&](int i, const char* what) {
             const double x = v[static_cast<size_t>(i)];
-            if (x < 0) fail(f, tok[static_cast<size_t>(i)], std::string("negative ") + what + " " + fmt(x));
+            if (x < 0)
+                fail(f, tok[static_cast<size_t>(i)],
+                     std::string("negative ") + what + " " + fmt(x));
             return x;
         };
         int ior_i = 0, tex_i = 0;
@@ -515,11 +625,9 @@ private:
         bool oor = false;
         if (!parse_int(tt.text, &ti, &oor))
             fail(f, tt, "expected an integer (texture index), got " + quote(tt.text));
-        const int ntex = static_cast<int>(f.desc.textures.size());
-        if (ti < -1 || ti >= ntex)
-            fail(f, tt, "texture index " + std::to_string(ti) + " out of range [-1," +
-                            std::to_string(ntex) + ")");
+        // Definitions may come in any order: the range is checked at the end of the file.
         m.texture = ti;
+        f.texture_refs.push_back({f.lex.loc(tt), ti});
         f.desc.materials.push_back(std::move(m));
     }
 
@@ -603,7 +711,7 @@ private:
         const int n = integer(k, dofs, "DOF count", &nloc);
         if (n <= 0) fail(nloc, "DOF count must be positive, got " + std::to_string(n));
         std::vector<std::string> names;
-        for (int i = 0; i < n; ++i) names.push_back(lower(word(k, dofs, "a DOF name")));
+        for (int i = 0; i < n; ++i) names.push_back(lower(word(k, dofs, "a DOF name", true)));
         const Token dur = expect("#DURATION");
         const Token dur_tok = k.lex.peek();
         if (real(k, dur, 1) <= 0) fail(k, dur_tok, "duration must be positive");
@@ -674,7 +782,7 @@ private:
         GroupDesc g;
         g.loc = f.lex.loc(d);
         const Token nt = f.lex.peek();
-        g.joint = word(f, d, "a joint name");
+        g.joint = word(f, d, "a joint name", true);
         // Spec §4.4: frame 0 of the DOF of that name in the file's first key file.
         if (f.key_files.empty()) {
             if (!f.warned_joint_identity)
@@ -697,11 +805,12 @@ private:
         graph(f);
         if (f.stack.size() <= 1 || (f.stack_is_joint.back() != 0) != joint) {
             if (f.stack.size() > 1)
-                fail(f, d, std::string(d.text) + " does not match " +
-                               (f.stack_is_joint.back() ? "#joint_begin" : "#group_begin") +
-                               " at " + f.stack.back()->loc.str());
-            fail(f, d, std::string(d.text) + " without " +
-                           (joint ? "#joint_begin" : "#group_begin"));
+                fail(f, d,
+                     std::string(d.text) + " does not match " +
+                         (f.stack_is_joint.back() ? "#joint_begin" : "#group_begin") + " at " +
+                         f.stack.back()->loc.str());
+            fail(f, d,
+                 std::string(d.text) + " without " + (joint ? "#joint_begin" : "#group_begin"));
         }
         f.stack.pop_back();
         f.stack_is_joint.pop_back();
@@ -722,14 +831,13 @@ private:
         SourceLoc loc;
         const int m = integer(f, d, "material index", &loc);
         const int n = static_cast<int>(f.desc.materials.size());
-        const bool v0_default = (m == -1 && m_options.dialect != Dialect::V1);
+        const bool v0_default = (m == -1 && m_dialect == Dialect::V0);
         if (!v0_default && (m < 0 || m >= n)) {
-            std::string msg = "material index " + std::to_string(m) + " out of range [0," +
-                              std::to_string(n) + ")";
+            std::string msg = "material index " + std::to_string(m) + " out of range [" +
+                              (m_dialect == Dialect::V0 ? "-1," : "0,") + std::to_string(n) + ")";
             if (m == -1) msg += " (-1 is V0 only; try --dialect v0)";
             fail(loc, msg);
         }
-        if (m == -1 && !m_first_default_use.file) m_first_default_use = loc;
         return m;
     }
 
@@ -792,6 +900,7 @@ private:
             s.geometry = g;
         }
         if (!keep) {
+            ++m_scene.skipped_shapes;
             m_diag.warn(s.loc, std::string("skip:") + kind, std::string(kind) + " skipped");
             return;
         }
@@ -809,33 +918,10 @@ private:
 
     // ---- whole tree ----------------------------------------------------------------------
     void finish() {
-        m_include_locs.clear();
-        // Spec §10: the tree's dialect from its materials.
-        if (m_first_v0.file && m_first_v1.file) {
-            const bool v1_later = m_first_v1_seq > m_first_v0_seq;
-            fail(v1_later ? m_first_v1 : m_first_v0, "mixed dialects: V0 material at " +
-                                                         m_first_v0.str() + ", V1 material at " +
-                                                         m_first_v1.str());
-        }
-        Dialect d = Dialect::V1;
-        if (m_options.dialect)
-            d = *m_options.dialect;
-        else if (m_first_v0.file)
-            d = Dialect::V0;
-        else if (m_first_v1.file)
-            d = Dialect::V1;
-        else
-            d = m_first_default_use.file ? Dialect::V0 : Dialect::V1;
-        if (d == Dialect::V1 && m_first_default_use.file)
-            fail(m_first_default_use,
-                 "material index -1 out of range: V1 materials are used in this scene (-1 is V0 "
-                 "only; try --dialect v0)");
-        m_scene.dialect = d;
+        m_scene.dialect = m_dialect;
         if (!m_scene.camera && !m_scene.files.empty())
             m_diag.warn({std::make_shared<const std::string>(m_scene.files[0].path), 0, 0},
                         "no-camera", "no #camera: using the default camera");
-        for (LightDesc& l : m_scene.lights)
-            if (l.kind == LightKind::Spot && d == Dialect::V0) l.spot_exponent *= 128.0;
     }
 
     struct Open {
@@ -848,8 +934,9 @@ private:
     SceneDesc m_scene;
     std::vector<SourceLoc> m_include_locs;  // #ray_file directives, outermost first
     std::vector<Open> m_open;               // files being parsed below the top one
-    SourceLoc m_first_v0, m_first_v1, m_first_default_use;
-    int m_first_v0_seq = 0, m_first_v1_seq = 0, m_material_seq = 0;
+    SourceLoc m_first_v0, m_first_v1;       // first material of each dialect (pre-scan)
+    bool m_default_use = false;             // some shape uses material index -1
+    Dialect m_dialect = Dialect::V1;
     bool m_seen_background = false, m_seen_ambient = false;
 };
 

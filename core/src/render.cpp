@@ -18,7 +18,7 @@ Image RenderState::image() const {
     Image img(width, height);
     for (size_t i = 0; i < samples.size(); ++i) {
         const double n = samples[i] > 0 ? samples[i] : 1;
-        for (int c = 0; c < 3; ++c) img.rgb[i * 3 + c] = static_cast<float>(sum[i * 3 + c] / n);
+        for (int c = 0; c < 3; ++c) img.rgb[i * 3 + c] = sum[i * 3 + c] / n;
     }
     return img;
 }
@@ -99,8 +99,8 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                         }
                         const Ray ray = camera.generate(x, y, sx, sy);
                         ++counters.camera;
-                        acc += trace_ray(scene, ray, settings.max_depth, Vec3(1.0), shading,
-                                         counters);
+                        acc +=
+                            trace_ray(scene, ray, settings.max_depth, Vec3(1.0), shading, counters);
                     }
                     pass[pixel * 3] = acc.x;
                     pass[pixel * 3 + 1] = acc.y;

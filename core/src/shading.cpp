@@ -12,7 +12,8 @@ Vec3 eval_texture(const TextureImage& tex, const Vec2& uv) {
     auto wrap = [](long long a, int n) { return static_cast<int>(((a % n) + n) % n); };
     auto texel = [&](long long c, long long r) {
         const size_t i = (static_cast<size_t>(wrap(r, tex.height)) * tex.width +
-                          static_cast<size_t>(wrap(c, tex.width))) * 3;
+                          static_cast<size_t>(wrap(c, tex.width))) *
+                         3;
         return Vec3(tex.rgb[i], tex.rgb[i + 1], tex.rgb[i + 2]) / 255.0;
     };
     const long long x0 = static_cast<long long>(x0f), y0 = static_cast<long long>(y0f);
@@ -40,7 +41,8 @@ bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_lig
         const double cos_a = glm::dot(light.direction, -l);
         if (std::acos(std::clamp(cos_a, -1.0, 1.0)) > light.cutoff_rad) return false;
         // The factor is 1 when p = 0, whatever the angle (spec §7.2).
-        if (light.spot_exponent != 0.0) factor *= std::pow(std::max(0.0, cos_a), light.spot_exponent);
+        if (light.spot_exponent != 0.0)
+            factor *= std::pow(std::max(0.0, cos_a), light.spot_exponent);
     }
     *intensity = light.color * factor;
     *to_light = l;
@@ -65,8 +67,9 @@ Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& 
     // Two-sided rule (spec §5): shade with the normal facing the incoming ray.
     const double side = glm::dot(d, si.n_geometric) > 0 ? -1.0 : 1.0;
     const Vec3 n = side * si.n_shading;
-    const Vec3 t = m.texture >= 0 ? eval_texture(*scene.textures[static_cast<size_t>(m.texture)], si.uv)
-                                  : Vec3(1.0);
+    const Vec3 t = m.texture >= 0
+                       ? eval_texture(*scene.textures[static_cast<size_t>(m.texture)], si.uv)
+                       : Vec3(1.0);
     const Vec3 kd = m.diffuse * t;
 
     Vec3 c = m.emissive + m.ambient * t * scene.ambient;
@@ -103,7 +106,8 @@ Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& 
     const Vec3 w_refl = weight * m.specular;
     if (traced(w_refl)) {
         ++counters.reflected;
-        c += m.specular * trace_ray(scene, spawn_ray(si, r_v), depth - 1, w_refl, settings, counters);
+        c += m.specular *
+             trace_ray(scene, spawn_ray(si, r_v), depth - 1, w_refl, settings, counters);
     }
     // Refraction (Snell), weighted by T; none past the critical angle.
     const Vec3 w_refr = weight * m.transparent;

@@ -10,23 +10,24 @@
 
 namespace rt {
 
-/// A linear, unclamped float RGB image.
+/// A linear, unclamped RGB image. Values stay double until they are written, so the 8-bit
+/// rounding of spec §9 sees the exact mean.
 struct Image {
     int width = 0;
     int height = 0;
-    std::vector<float> rgb;  // 3 floats per pixel, row-major from the top
+    std::vector<double> rgb;  // 3 values per pixel, row-major from the top
 
     Image() = default;
-    Image(int w, int h) : width(w), height(h), rgb(static_cast<size_t>(w) * h * 3, 0.0f) {}
+    Image(int w, int h) : width(w), height(h), rgb(static_cast<size_t>(w) * h * 3, 0.0) {}
     Vec3 at(int x, int y) const {
         const size_t i = (static_cast<size_t>(y) * width + x) * 3;
         return {rgb[i], rgb[i + 1], rgb[i + 2]};
     }
     void set(int x, int y, const Vec3& c) {
         const size_t i = (static_cast<size_t>(y) * width + x) * 3;
-        rgb[i] = static_cast<float>(c.x);
-        rgb[i + 1] = static_cast<float>(c.y);
-        rgb[i + 2] = static_cast<float>(c.z);
+        rgb[i] = c.x;
+        rgb[i + 1] = c.y;
+        rgb[i + 2] = c.z;
     }
 };
 
@@ -40,7 +41,8 @@ struct TextureImage {
 /// Spec §9: byte = floor(255 * clamp(c, 0, 1) + 0.5); non-finite values become 0.
 uint8_t to_byte(double c);
 
-/// Decodes BMP, PNG, JPEG, PPM/PGM, TGA. Returns false and sets *error on failure.
+/// Decodes BMP, PNG, JPEG, PPM/PGM (binary and ASCII), TGA. Returns false and sets *error on
+/// failure.
 bool load_texture_image(const std::string& path, TextureImage* out, std::string* error);
 
 /// Image file kinds chosen by extension.

@@ -28,8 +28,8 @@ struct RenderSettings {
 /// Accumulated samples. Sums are doubles so millions of samples stay exact enough.
 struct RenderState {
     int width = 0, height = 0;
-    std::vector<double> sum;         // 3 per pixel
-    std::vector<uint32_t> samples;   // per pixel
+    std::vector<double> sum;        // 3 per pixel
+    std::vector<uint32_t> samples;  // per pixel
     RayCounters rays;
 
     void reset(int w, int h);

@@ -73,6 +73,7 @@ struct SceneStats {
     size_t unique_prims = 0;                    // before instancing
     size_t instances = 0;
     size_t lights = 0, materials = 0, textures = 0;
+    size_t skipped_shapes = 0;  // degenerate shapes the parser skipped
 };
 
 struct RenderScene {
@@ -85,8 +86,8 @@ struct RenderScene {
     std::vector<std::shared_ptr<const TextureImage>> textures;
     std::vector<GeometrySet> sets;
     std::vector<Instance> instances;
-    Bvh top;  // over instances' world bounds
-    Bounds3 world_bounds;
+    Bvh top;               // over instances' world bounds
+    Bounds3 world_bounds;  // tight when the scene has no camera (the default camera frames it)
     SceneStats stats;
 };
 

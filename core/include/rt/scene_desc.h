@@ -108,14 +108,14 @@ struct GroupDesc {
 
 /// One parsed .ray file. Its index spaces (materials, textures, vertices, ray files) are its own.
 struct FileDesc {
-    std::string path;                    // as resolved (for messages)
-    std::string canonical_path;          // identity: parsed once per canonical path
+    std::string path;            // as resolved (for messages)
+    std::string canonical_path;  // identity: parsed once per canonical path
     std::vector<TextureDesc> textures;
     std::vector<MaterialDesc> materials;
     std::vector<VertexDesc> vertices;
-    std::vector<int> ray_files;          // #ray_file index -> index into SceneDesc::files
+    std::vector<int> ray_files;  // #ray_file index -> index into SceneDesc::files
     std::vector<SourceLoc> ray_file_locs;
-    GroupDesc root;                      // implicit identity group
+    GroupDesc root;  // implicit identity group
 };
 
 struct SceneDesc {
@@ -123,8 +123,9 @@ struct SceneDesc {
     std::optional<CameraDesc> camera;  // absent: default camera (spec §6.3)
     Vec3 background{0.0};
     Vec3 ambient{0.0};
-    std::vector<LightDesc> lights;     // top-level file only
-    std::vector<FileDesc> files;       // files[0] is the top-level file
+    std::vector<LightDesc> lights;  // top-level file only
+    std::vector<FileDesc> files;    // files[0] is the top-level file
+    size_t skipped_shapes = 0;      // degenerate shapes skipped with a warning
 };
 
 }  // namespace rt

@@ -67,6 +67,16 @@ Bounds3 bounds(const Cylinder& c);
 Bounds3 bounds(const Cone& c);
 Bounds3 bounds(const Triangle& t);
 
+/// Tight bounds of the shape under an affine transform p' = m p (exact for every kind, so the
+/// default camera frames what is really there).
+Bounds3 bounds(const Sphere& s, const Mat4& m);
+Bounds3 bounds(const Box& b, const Mat4& m);
+Bounds3 bounds(const Cylinder& c, const Mat4& m);
+Bounds3 bounds(const Cone& c, const Mat4& m);
+
+/// Bounds of a disc of radius r centred at `centre` in the local plane normal to y, under m.
+Bounds3 transformed_disc_bounds(const Vec3& centre, double r, const Mat4& m);
+
 ShapeHits intersect(const Sphere& s, const Ray& ray, Interval t);
 ShapeHits intersect(const Box& b, const Ray& ray, Interval t);
 ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t);
@@ -77,8 +87,7 @@ SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int part);
 SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int part);
 SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part);
 SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part);
-SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray,
-                        double t);
+SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t);
 
 /// Spec §5: azimuth about +y measured from -z, in [0, 2*pi).
 inline double azimuth(const Vec3& q) {

@@ -7,6 +7,17 @@ namespace rt {
 
 Bounds3 bounds(const Box& b) { return {b.centre - b.half, b.centre + b.half}; }
 
+Bounds3 bounds(const Box& b, const Mat4& m) {
+    Bounds3 out;
+    for (int i = 0; i < 8; ++i) {
+        const Vec3 corner =
+            b.centre + Vec3((i & 1) ? b.half.x : -b.half.x, (i & 2) ? b.half.y : -b.half.y,
+                            (i & 4) ? b.half.z : -b.half.z);
+        out.extend(Vec3(m * glm::dvec4(corner, 1.0)));
+    }
+    return out;
+}
+
 // Face part numbers: axis * 2 + (1 if the + side).
 static int face_of(const Vec3& q, const Vec3& h) {
     int axis = 0;
@@ -56,12 +67,24 @@ SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int /*part*/) {
     sp.n_shading = sp.n_geometric;
     const Vec3 h = b.half, l = 2.0 * b.half;
     switch (face) {
-        case 1: sp.uv = {(h.z - q.z) / l.z, (q.y + h.y) / l.y}; break;  // +x
-        case 0: sp.uv = {(q.z + h.z) / l.z, (q.y + h.y) / l.y}; break;  // -x
-        case 3: sp.uv = {(q.x + h.x) / l.x, (h.z - q.z) / l.z}; break;  // +y
-        case 2: sp.uv = {(q.x + h.x) / l.x, (q.z + h.z) / l.z}; break;  // -y
-        case 5: sp.uv = {(q.x + h.x) / l.x, (q.y + h.y) / l.y}; break;  // +z
-        default: sp.uv = {(h.x - q.x) / l.x, (q.y + h.y) / l.y}; break;  // -z
+        case 1:
+            sp.uv = {(h.z - q.z) / l.z, (q.y + h.y) / l.y};
+            break;  // +x
+        case 0:
+            sp.uv = {(q.z + h.z) / l.z, (q.y + h.y) / l.y};
+            break;  // -x
+        case 3:
+            sp.uv = {(q.x + h.x) / l.x, (h.z - q.z) / l.z};
+            break;  // +y
+        case 2:
+            sp.uv = {(q.x + h.x) / l.x, (q.z + h.z) / l.z};
+            break;  // -y
+        case 5:
+            sp.uv = {(q.x + h.x) / l.x, (q.y + h.y) / l.y};
+            break;  // +z
+        default:
+            sp.uv = {(h.x - q.x) / l.x, (q.y + h.y) / l.y};
+            break;  // -z
     }
     (void)ray;
     return sp;

@@ -14,6 +14,13 @@ Bounds3 bounds(const Cone& c) {
     return {c.centre - e, c.centre + e};
 }
 
+Bounds3 bounds(const Cone& c, const Mat4& m) {
+    // The hull of the base disc and the apex.
+    Bounds3 b = transformed_disc_bounds(c.centre - Vec3(0, 0.5 * c.height, 0), c.radius, m);
+    b.extend(Vec3(m * glm::dvec4(c.centre + Vec3(0, 0.5 * c.height, 0), 1.0)));
+    return b;
+}
+
 ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
     // Work relative to the apex: x^2 + z^2 = k^2 y^2 with y in [-h, 0], k = r/h.
     const Vec3 apex = c.centre + Vec3(0.0, 0.5 * c.height, 0.0);

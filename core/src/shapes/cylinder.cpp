@@ -14,6 +14,13 @@ Bounds3 bounds(const Cylinder& c) {
     return {c.centre - e, c.centre + e};
 }
 
+Bounds3 bounds(const Cylinder& c, const Mat4& m) {
+    // The hull of the two cap discs.
+    Bounds3 b = transformed_disc_bounds(c.centre + Vec3(0, 0.5 * c.height, 0), c.radius, m);
+    b.extend(transformed_disc_bounds(c.centre - Vec3(0, 0.5 * c.height, 0), c.radius, m));
+    return b;
+}
+
 ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
     const Vec3 f = ray.o - c.centre;
     const double y0 = -0.5 * c.height, y1 = 0.5 * c.height;

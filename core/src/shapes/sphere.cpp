@@ -6,16 +6,37 @@ namespace rt {
 
 const char* shape_kind_name(ShapeKind k) {
     switch (k) {
-        case ShapeKind::Sphere: return "sphere";
-        case ShapeKind::Box: return "box";
-        case ShapeKind::Cylinder: return "cylinder";
-        case ShapeKind::Cone: return "cone";
-        case ShapeKind::Triangle: return "triangle";
+        case ShapeKind::Sphere:
+            return "sphere";
+        case ShapeKind::Box:
+            return "box";
+        case ShapeKind::Cylinder:
+            return "cylinder";
+        case ShapeKind::Cone:
+            return "cone";
+        case ShapeKind::Triangle:
+            return "triangle";
     }
     return "?";
 }
 
 Bounds3 bounds(const Sphere& s) { return {s.centre - Vec3(s.radius), s.centre + Vec3(s.radius)}; }
+
+Bounds3 bounds(const Sphere& s, const Mat4& m) {
+    // An ellipsoid's half extent along world axis i is r times the length of row i of A.
+    const Vec3 c = Vec3(m * glm::dvec4(s.centre, 1.0));
+    Vec3 e;
+    for (int i = 0; i < 3; ++i) e[i] = s.radius * glm::length(Vec3(m[0][i], m[1][i], m[2][i]));
+    return {c - e, c + e};
+}
+
+Bounds3 transformed_disc_bounds(const Vec3& centre, double r, const Mat4& m) {
+    // The disc is centre + r (cos a, 0, sin a); along axis i it spans r |(A_i0, A_i2)|.
+    const Vec3 c = Vec3(m * glm::dvec4(centre, 1.0));
+    Vec3 e;
+    for (int i = 0; i < 3; ++i) e[i] = r * std::hypot(m[0][i], m[2][i]);
+    return {c - e, c + e};
+}
 
 ShapeHits intersect(const Sphere& s, const Ray& ray, Interval t) {
     // Numerically stable quadratic (Haines et al., Ray Tracing Gems ch. 7): the discriminant is

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# End-to-end checks of the raytrace CLI: exit codes 0/1/2, the file:line:col message, no output
+# file on failure, the formats by extension, identical images for any thread count.
+# usage: test_cli.sh RAYTRACE SOURCE_DIR
+set -u
+rt="$1"
+src="$2"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+passes=0
+check() {  # check NAME CONDITION...
+    local name="$1"
+    shift
+    if "$@"; then
+        passes=$((passes + 1))
+    else
+        echo "FAIL: $name"
+        fails=$((fails + 1))
+    fi
+}
+
+cat >"$tmp/ok.ray" <<'RAY'
+#camera 0 0 5  0 0 -1  0 1 0  0.5
+#light_point 1 1 1  2 2 2  1 0 0
+#material 0 0 0  .1 .1 .1  .8 .2 .2  .5 .5 .5  20  0 0 0  1  -1 !!
+#shape_sphere 0  0 0 0  1
+RAY
+printf '#background 0 0 0\n#shape_sphere 0 0 0 0 1 x\n' >"$tmp/bad.ray"
+
+"$rt" "$tmp/ok.ray" -o "$tmp/ok.png" --width 40 --height 30 >"$tmp/out.txt" 2>&1
+check "success exits 0" test $? -eq 0
+check "png written" test -s "$tmp/ok.png"
+check "prints shapes" grep -q "sphere 1" "$tmp/out.txt"
+check "prints rays per second" grep -q "ray/s" "$tmp/out.txt"
+check "prints dialect" grep -q "(V1" "$tmp/out.txt"
+
+"$rt" "$tmp/bad.ray" -o "$tmp/bad.png" >"$tmp/err.txt" 2>&1
+check "scene error exits 1" test $? -eq 1
+check "scene error message" grep -q "bad.ray:2:15: error: material index 0 out of range" "$tmp/err.txt"
+check "no output on scene error" test ! -e "$tmp/bad.png"
+check "no temporary left" test ! -e "$tmp/bad.png.part"
+
+"$rt" "$tmp/ok.ray" --width 0 -o "$tmp/x.png" >/dev/null 2>&1
+check "bad width exits 2" test $? -eq 2
+"$rt" "$tmp/ok.ray" --bogus >/dev/null 2>&1
+check "unknown option exits 2" test $? -eq 2
+"$rt" >/dev/null 2>&1
+check "no scene exits 2" test $? -eq 2
+"$rt" "$tmp/ok.ray" -o "$tmp/x.tiff" >/dev/null 2>&1
+check "unknown format exits 2" test $? -eq 2
+"$rt" "$tmp/ok.ray" --dialect v7 >/dev/null 2>&1
+check "bad dialect exits 2" test $? -eq 2
+"$rt" --help | grep -q -- "--no-shadows"
+check "help lists options" test $? -eq 0
+
+"$rt" "$tmp/nothere.ray" -o "$tmp/n.png" >"$tmp/err2.txt" 2>&1
+check "missing scene exits 1" test $? -eq 1
+check "missing scene message" grep -q "cannot open scene file" "$tmp/err2.txt"
+
+"$rt" "$tmp/ok.ray" --dialect v0 -o "$tmp/v0.png" >"$tmp/err3.txt" 2>&1
+check "dialect override rejects V1 material" test $? -eq 1
+check "dialect override message" grep -q "needs 16" "$tmp/err3.txt"
+
+for ext in png bmp ppm pfm; do
+    "$rt" "$tmp/ok.ray" -q -o "$tmp/f.$ext" --width 20 --height 10 >/dev/null 2>&1
+    check "writes .$ext" test -s "$tmp/f.$ext"
+done
+check "pfm header" bash -c "head -c 2 '$tmp/f.pfm' | grep -q PF"
+
+"$rt" "$tmp/ok.ray" -q -o "$tmp/t1.ppm" --threads 1 --spp 4 --width 50 --height 40
+"$rt" "$tmp/ok.ray" -q -o "$tmp/t3.ppm" --threads 3 --spp 4 --width 50 --height 40
+check "same image for any thread count" cmp -s "$tmp/t1.ppm" "$tmp/t3.ppm"
+
+"$rt" "$tmp/ok.ray" -q -o "$tmp/ns.ppm" --no-shadows --depth 1 --cutoff 0.5 --width 20 --height 10
+check "no-shadows depth cutoff accepted" test -s "$tmp/ns.ppm"
+
+echo "$passes passed, $fails failed"
+test "$fails" -eq 0

@@ -1,0 +1,75 @@
+// compile_scene(): resolved materials and textures, flattened groups, one set per included file,
+// nested instancing composed, statistics after instancing.
+#include <filesystem>
+#include <fstream>
+
+#include "rt/intersect.h"
+#include "test_util.h"
+
+namespace rt {
+namespace {
+
+TEST(Compile, MaterialsAndV0Default) {
+    const RenderScene s = test::compile(
+        "#material .1 .1 .1  .5 .5 .5  .2 .2 .2  0 0 0  .5 .25 1.5 -1 !!\n"
+        "#shape_sphere -1 0 0 0 1\n#shape_sphere 0 3 0 0 1\n");
+    ASSERT_EQ(s.sets.size(), 1u);
+    const GeometrySet& set = s.sets[0];
+    const Material& def = s.materials[static_cast<size_t>(set.prims[0].material)];
+    EXPECT_EQ(def.diffuse, Vec3(.8));
+    EXPECT_EQ(def.specular_exponent, 128);
+    EXPECT_EQ(s.materials[static_cast<size_t>(set.prims[1].material)].diffuse, Vec3(.5));
+    EXPECT_EQ(s.stats.materials, 1u);
+}
+
+TEST(Compile, GroupsFlattenAndTrianglesMoveToTheSetFrame) {
+    const RenderScene s = test::compile(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+        "#vertex 0 0 0 0 0 1 0 0\n#vertex 1 0 0 0 0 1 0 0\n#vertex 0 1 0 0 0 1 0 0\n"
+        "#group_begin 1 0 0 10  0 1 0 0  0 0 1 0  0 0 0 1\n"
+        "#group_begin 2 0 0 0  0 2 0 0  0 0 2 0  0 0 0 1\n"
+        "#shape_triangle 0 0 1 2\n#shape_sphere 0 0 0 0 1\n#shape_box 0 0 0 0 1 1 1\n"
+        "#group_end\n#group_end\n");
+    const GeometrySet& set = s.sets[0];
+    EXPECT_EQ(set.triangles[0].p1, Vec3(12, 0, 0));
+    EXPECT_EQ(set.transforms.size(), 1u);  // one cached transform shared by the group's shapes
+    EXPECT_EQ(set.transforms[0].inv[3][0], -5.0);
+    EXPECT_EQ(s.instances.size(), 1u);
+    EXPECT_TRUE(s.instances[0].identity);
+}
+
+TEST(Compile, IncludedFileCompiledOnceAndNestedInstancesCompose) {
+    const auto dir = std::filesystem::temp_directory_path() / "rt_compile_nested";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "leaf.ray") << "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+                                       "#shape_sphere 0 0 0 0 1\n";
+    std::ofstream(dir / "mid.ray") << "#ray_file leaf.ray\n"
+                                      "#group_begin 1 0 0 5  0 1 0 0  0 0 1 0  0 0 0 1\n"
+                                      "#ray_file_instance 0\n#group_end\n#ray_file_instance 0\n";
+    std::ofstream(dir / "top.ray") << "#ray_file mid.ray\n#ray_file leaf.ray\n"
+                                      "#group_begin 1 0 0 0  0 1 0 0  0 0 1 100  0 0 0 1\n"
+                                      "#ray_file_instance 0\n#group_end\n#ray_file_instance 0\n"
+                                      "#ray_file_instance 1\n";
+    Diagnostics diag;
+    const RenderScene s = compile_scene(parse_scene_file((dir / "top.ray").string(), diag));
+    EXPECT_EQ(s.sets.size(), 1u);       // only leaf.ray has shapes
+    EXPECT_EQ(s.instances.size(), 5u);  // 2 via mid (twice) + 1 direct
+    EXPECT_EQ(s.stats.prims_by_kind[0], 5u);
+    EXPECT_EQ(s.stats.unique_prims, 1u);
+    Hit h;
+    // The instance at (5, 0, 100): mid's translated leaf under top's z translation.
+    ASSERT_TRUE(intersect(s, {{5, 0, 110}, {0, 0, -1}}, {0, kInf}, &h));
+    EXPECT_NEAR(h.t, 9, 1e-12);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Compile, WorldBoundsCoverEveryInstance) {
+    const RenderScene s = test::compile(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+        "#shape_sphere 0 -5 0 0 1\n#shape_box 0 5 0 0 2 2 2\n");
+    EXPECT_NEAR(s.world_bounds.lo.x, -6, 1e-12);
+    EXPECT_NEAR(s.world_bounds.hi.x, 6, 1e-12);
+}
+
+}  // namespace
+}  // namespace rt
