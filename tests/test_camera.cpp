@@ -51,5 +51,18 @@ TEST(Camera, DefaultCameraFramesTheWorld) {
     EXPECT_VEC_NEAR(default_camera(Bounds3{}, 640, 480).position, Vec3(0, 0, 2), 1e-12);
 }
 
+TEST(Camera, DefaultCameraUsesTightWorldBounds) {
+    // A unit sphere rotated 45 degrees about y: its world box is still [-1, 1]^3, not the
+    // rotated local box (which would be sqrt(2) wider).
+    const RenderScene s = test::compile(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+        "#group_begin 0.707107 0 0.707107 0  0 1 0 0  -0.707107 0 0.707107 0  0 0 0 1\n"
+        "#shape_sphere 0 0 0 0 1\n#group_end\n");
+    EXPECT_NEAR(s.world_bounds.lo.x, -1, 1e-6);
+    EXPECT_NEAR(s.world_bounds.hi.z, 1, 1e-6);
+    const Camera c = make_camera(s, 640, 480);
+    EXPECT_NEAR(c.position.z, std::sqrt(3.0) / std::sin(kPi / 6), 1e-5);
+}
+
 }  // namespace
 }  // namespace rt

@@ -475,6 +475,34 @@ TEST_F(ParserFiles, TexturesLoadAndResolve) {
               std::string::npos);
 }
 
+TEST_F(ParserFiles, EveryCountDirectiveMatchingItsItems) {
+    write("part.ray", "");
+    write("k.key", "#DOFS 1 a #DURATION 1 #FRAMES 1 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
+    write("t.ppm", "P3 1 1 255 10 20 30\n");  // an ASCII PPM texture
+    Diagnostics diag;
+    const SceneDesc s = parse_scene_file(
+        write("top.ray",
+              "#light_num 1\n#light_dir 1 1 1 0 -1 0\n#texture_num 1\n#texture t.ppm\n"
+              "#material_num 1\n" +
+                  std::string(kMatV1) +
+                  "#vertex_num 1\n#vertex 0 0 0 0 0 0 0 0\n#ray_file_num 1\n#ray_file part.ray\n"
+                  "#key_file_num 1\n#key_file k.key\n"),
+        diag);
+    EXPECT_EQ(s.files[0].textures[0].image->rgb[2], 30);
+    EXPECT_EQ(s.files[0].ray_files.size(), 1u);
+    const std::string err = load_error(write("bad.ray", "#texture_num 2\n#texture t.ppm\n"));
+    EXPECT_NE(err.find("bad.ray:3:1: error: #texture_num at " + (dir / "bad.ray").string() +
+                       ":1:1 declares 2, found 1"),
+              std::string::npos)
+        << err;
+    EXPECT_NE(load_error(write("bad2.ray", "#ray_file_num 0\n#ray_file part.ray\n"))
+                  .find("bad2.ray:2:1: error: more #ray_file than declared by #ray_file_num"),
+              std::string::npos);
+    EXPECT_NE(load_error(write("bad3.ray", "#key_file k.key\n#key_file_num 1\n"))
+                  .find("bad3.ray:2:1: error: #key_file_num after the first #key_file"),
+              std::string::npos);
+}
+
 TEST(Parser, MissingTopLevelFile) {
     Diagnostics diag;
     try {
