@@ -71,6 +71,28 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
     return found;
 }
 
+ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
+                              Interval t) {
+    return prim_hits(set, set.prims[prim], ray_set, t);
+}
+
+bool occluded(const RenderScene& scene, const Ray& ray, double t_max) {
+    double limit = t_max;
+    bool hit = false;
+    traverse(scene.top, ray, limit, [&](uint32_t ii, double&) {
+        const Instance& inst = scene.instances[ii];
+        const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
+        const Ray r = to_set(inst, ray);
+        double inner = t_max;
+        traverse(set.bvh, r, inner, [&](uint32_t pi, double&) {
+            hit = prim_hits(set, set.prims[pi], r, {0.0, t_max}).count > 0;
+            return hit;
+        });
+        return hit;
+    });
+    return hit;
+}
+
 Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max) {
     Vec3 s(1.0);
     double limit = t_max;  // never shrinks: every crossing counts, order does not matter

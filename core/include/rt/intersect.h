@@ -29,6 +29,14 @@ bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit);
 /// The same by testing every primitive of every instance.
 bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit);
 
+/// Any hit with t in (0, t_max): the shadow query of opaque scenes and of the benchmark.
+bool occluded(const RenderScene& scene, const Ray& ray, double t_max);
+
+/// Every hit of one primitive of a set, for a ray in the set's frame (the benchmark uses it to
+/// give Embree the same analytic shapes).
+ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
+                              Interval t);
+
 /// Product of the transparencies T of every surface crossing on (0, t_max); zero as soon as an
 /// opaque surface is met (spec §7.2). A closed transparent object counts twice.
 Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max);

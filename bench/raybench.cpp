@@ -1,0 +1,580 @@
+// raybench: our BVH against Embree 3 on the same rays. For generated meshes (10k, 100k, 1M
+// triangles, closed) and for the scenes in scenes/, it times primary rays (closest hit), shadow
+// rays (any hit) and random incoherent rays, single-threaded and on all cores, and the BVH build;
+// it reports bytes per triangle and checks that both return the same hits on every timed ray.
+// It prints a table and one `BENCH <workload> <figure> ours=.. embree=.. speedup=..` line per
+// figure (all cores). A program, not a test: it asserts nothing.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "rt/camera.h"
+#include "rt/intersect.h"
+#include "rt/mesh_gen.h"
+#include "rt/parser.h"
+#include "rt/render_scene.h"
+
+#ifdef RT_HAVE_EMBREE
+#include <embree3/rtcore.h>
+#endif
+
+namespace {
+
+using namespace rt;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Runs body(begin, end) over [0, n) in chunks on `threads` threads.
+void parallel_for(size_t n, int threads, const std::function<void(size_t, size_t)>& body) {
+    constexpr size_t kChunk = 1024;
+    std::atomic<size_t> next{0};
+    auto worker = [&]() {
+        for (;;) {
+            const size_t b = next.fetch_add(kChunk);
+            if (b >= n) return;
+            body(b, std::min(n, b + kChunk));
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+}
+
+struct RayBatch {
+    std::vector<Ray> rays;
+    std::vector<double> t_max;
+};
+
+// A hit as both libraries report it: distance and a global primitive id (instance, prim).
+struct Result {
+    double t = -1;  // < 0: miss
+    int instance = -1;
+    uint32_t prim = 0;
+};
+
+// ---- workloads -------------------------------------------------------------------------------
+
+struct Workload {
+    std::string name;
+    RenderScene scene;
+    size_t triangles = 0;  // unique triangles (for bytes per triangle)
+};
+
+RenderScene compile_mesh(const TriangleMesh& mesh) {
+    SceneDesc desc;
+    FileDesc file;
+    file.path = "generated";
+    MaterialDesc m;
+    m.diffuse = Vec3(0.8);
+    file.materials.push_back(m);
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+        file.vertices.push_back({mesh.positions[i], mesh.normals[i], Vec2(0.0)});
+    file.root.shapes.reserve(mesh.triangles.size());
+    for (const auto& t : mesh.triangles) {
+        ShapeDesc s;
+        s.geometry = TriangleDesc{{t[0], t[1], t[2]}};
+        file.root.shapes.push_back(std::move(s));
+    }
+    desc.files.push_back(std::move(file));
+    CameraDesc cam;
+    cam.position = Vec3(0, 0.6, 4.2);
+    cam.direction = Vec3(0, -0.15, -1);
+    cam.half_height_angle_rad = 0.32;
+    desc.camera = cam;
+    LightDesc light;
+    light.position = Vec3(2, 2, 3);
+    desc.lights.push_back(light);
+    return compile_scene(desc);
+}
+
+// Primary rays from the camera, shadow rays from their hits toward the first light (or up),
+// random rays from points in the scene's box in uniform directions.
+void make_rays(const RenderScene& scene, int w, int h, RayBatch* primary, RayBatch* shadow,
+               RayBatch* random) {
+    const Camera cam = make_camera(scene, w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            primary->rays.push_back(cam.generate(x, y, 0.5, 0.5));
+            primary->t_max.push_back(kInf);
+        }
+    for (const Ray& r : primary->rays) {
+        Hit hit;
+        if (!intersect(scene, r, {0, kInf}, &hit)) continue;
+        const SurfaceInteraction si = interaction(scene, r, hit);
+        if (!scene.lights.empty() && scene.lights[0].kind != LightKind::Directional) {
+            const Vec3 o = offset_origin(si, scene.lights[0].position - si.p);
+            shadow->rays.push_back({o, scene.lights[0].position - o});
+            shadow->t_max.push_back(1.0);
+        } else {
+            const Vec3 dir = scene.lights.empty() ? Vec3(0, 1, 0) : -scene.lights[0].direction;
+            shadow->rays.push_back({offset_origin(si, dir), dir});
+            shadow->t_max.push_back(kInf);
+        }
+    }
+    std::mt19937_64 rng(12345);
+    std::uniform_real_distribution<double> u(0, 1);
+    const Bounds3 b = scene.world_bounds;
+    for (size_t i = 0; i < primary->rays.size(); ++i) {
+        const Vec3 o = b.lo + Vec3(u(rng), u(rng), u(rng)) * b.diagonal();
+        const double z = 2 * u(rng) - 1, phi = 2 * kPi * u(rng), s = std::sqrt(1 - z * z);
+        random->rays.push_back({o, Vec3(s * std::cos(phi), s * std::sin(phi), z)});
+        random->t_max.push_back(kInf);
+    }
+}
+
+// ---- ours ------------------------------------------------------------------------------------
+
+void ours_closest(const RenderScene& scene, const RayBatch& batch, std::vector<Result>& out,
+                  int threads) {
+    parallel_for(batch.rays.size(), threads, [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i) {
+            Hit hit;
+            if (intersect(scene, batch.rays[i], {0, batch.t_max[i]}, &hit))
+                out[i] = {hit.t, hit.instance, hit.prim};
+            else
+                out[i] = {};
+        }
+    });
+}
+
+void ours_occluded(const RenderScene& scene, const RayBatch& batch, std::vector<Result>& out,
+                   int threads) {
+    parallel_for(batch.rays.size(), threads, [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i)
+            out[i].t = occluded(scene, batch.rays[i], batch.t_max[i]) ? 1.0 : -1.0;
+    });
+}
+
+size_t ours_bytes(const RenderScene& scene) {
+    size_t bytes = scene.top.nodes.size() * sizeof(BvhNode) + scene.top.indices.size() * 4;
+    for (const GeometrySet& s : scene.sets) {
+        bytes += s.bvh.nodes.size() * sizeof(BvhNode) + s.bvh.indices.size() * 4;
+        bytes += s.triangles.size() * sizeof(Triangle) + s.prims.size() * sizeof(Primitive);
+    }
+    return bytes;
+}
+
+double ours_build_seconds(const RenderScene& scene) {
+    const auto t0 = Clock::now();
+    for (const GeometrySet& s : scene.sets) {
+        const Bvh b = build_bvh(s.prim_bounds);
+        if (b.nodes.empty() && !s.prims.empty()) std::printf("?");
+    }
+    return seconds_since(t0);
+}
+
+// ---- Embree ----------------------------------------------------------------------------------
+
+#ifdef RT_HAVE_EMBREE
+
+std::atomic<long long> g_embree_bytes{0};
+
+bool memory_monitor(void*, ssize_t bytes, bool) {
+    g_embree_bytes += bytes;
+    return true;
+}
+
+struct UserGeometry {
+    const GeometrySet* set;
+    std::vector<uint32_t> prims;  // our prim index of each user primitive
+};
+
+void user_bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* ug = static_cast<const UserGeometry*>(args->geometryUserPtr);
+    const Bounds3& b = ug->set->prim_bounds[ug->prims[args->primID]];
+    args->bounds_o->lower_x = std::nextafter(static_cast<float>(b.lo.x), -INFINITY);
+    args->bounds_o->lower_y = std::nextafter(static_cast<float>(b.lo.y), -INFINITY);
+    args->bounds_o->lower_z = std::nextafter(static_cast<float>(b.lo.z), -INFINITY);
+    args->bounds_o->upper_x = std::nextafter(static_cast<float>(b.hi.x), INFINITY);
+    args->bounds_o->upper_y = std::nextafter(static_cast<float>(b.hi.y), INFINITY);
+    args->bounds_o->upper_z = std::nextafter(static_cast<float>(b.hi.z), INFINITY);
+}
+
+Ray to_ray(const RTCRay& r) {
+    return {{r.org_x, r.org_y, r.org_z}, {r.dir_x, r.dir_y, r.dir_z}};
+}
+
+void user_intersect(const RTCIntersectFunctionNArguments* args) {
+    if (!args->valid[0]) return;
+    const auto* ug = static_cast<const UserGeometry*>(args->geometryUserPtr);
+    auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    const ShapeHits h = intersect_primitive(*ug->set, ug->prims[args->primID], to_ray(rh->ray),
+                                            {rh->ray.tnear, rh->ray.tfar});
+    if (h.count == 0) return;
+    rh->ray.tfar = static_cast<float>(h.t[0]);
+    rh->hit.geomID = args->geomID;
+    rh->hit.primID = args->primID;
+    rh->hit.instID[0] = args->context->instID[0];
+    rh->hit.Ng_x = rh->hit.Ng_y = 0;
+    rh->hit.Ng_z = 1;
+    rh->hit.u = rh->hit.v = 0;
+}
+
+void user_occluded(const RTCOccludedFunctionNArguments* args) {
+    if (!args->valid[0]) return;
+    const auto* ug = static_cast<const UserGeometry*>(args->geometryUserPtr);
+    auto* r = reinterpret_cast<RTCRay*>(args->ray);
+    if (intersect_primitive(*ug->set, ug->prims[args->primID], to_ray(*r), {r->tnear, r->tfar})
+            .count > 0)
+        r->tfar = -INFINITY;
+}
+
+struct EmbreeScene {
+    const RenderScene* scene = nullptr;
+    RTCDevice device = nullptr;
+    RTCScene top = nullptr;
+    std::vector<RTCScene> sets;
+    std::vector<std::unique_ptr<UserGeometry>> users;
+    // Per set: geometry ids -> our prim index (triangles: the id's order; users: the list).
+    struct Map {
+        unsigned tri_geom = RTC_INVALID_GEOMETRY_ID, user_geom = RTC_INVALID_GEOMETRY_ID;
+        std::vector<uint32_t> tri_prims, user_prims;
+    };
+    std::vector<Map> maps;
+    double build_seconds = 0;
+    long long bytes = 0;
+
+    explicit EmbreeScene(const RenderScene& rs, int threads) : scene(&rs) {
+        const std::string config = "threads=" + std::to_string(threads);
+        device = rtcNewDevice(config.c_str());
+        rtcSetDeviceMemoryMonitorFunction(device, memory_monitor, nullptr);
+        g_embree_bytes = 0;
+        const auto t0 = Clock::now();
+        for (const GeometrySet& s : rs.sets) {
+            RTCScene sc = rtcNewScene(device);
+            Map map;
+            std::vector<uint32_t> analytic;
+            for (uint32_t i = 0; i < s.prims.size(); ++i) {
+                if (s.prims[i].kind == ShapeKind::Triangle)
+                    map.tri_prims.push_back(i);
+                else
+                    analytic.push_back(i);
+            }
+            if (!map.tri_prims.empty()) {
+                RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+                const size_t n = map.tri_prims.size();
+                auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+                    g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+                auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+                    g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
+                for (size_t k = 0; k < n; ++k) {
+                    const Triangle& t = s.triangles[s.prims[map.tri_prims[k]].index];
+                    const Vec3 p[3] = {t.p0, t.p1, t.p2};
+                    for (int c = 0; c < 3; ++c) {
+                        for (int a = 0; a < 3; ++a) v[(3 * k + c) * 3 + a] = static_cast<float>(p[c][a]);
+                        idx[3 * k + c] = static_cast<unsigned>(3 * k + c);
+                    }
+                }
+                rtcCommitGeometry(g);
+                map.tri_geom = rtcAttachGeometry(sc, g);
+                rtcReleaseGeometry(g);
+            }
+            if (!analytic.empty()) {
+                auto ug = std::make_unique<UserGeometry>();
+                ug->set = &s;
+                ug->prims = analytic;
+                map.user_prims = analytic;
+                RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+                rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(analytic.size()));
+                rtcSetGeometryUserData(g, ug.get());
+                rtcSetGeometryBoundsFunction(g, user_bounds, nullptr);
+                rtcSetGeometryIntersectFunction(g, user_intersect);
+                rtcSetGeometryOccludedFunction(g, user_occluded);
+                rtcCommitGeometry(g);
+                map.user_geom = rtcAttachGeometry(sc, g);
+                rtcReleaseGeometry(g);
+                users.push_back(std::move(ug));
+            }
+            rtcCommitScene(sc);
+            sets.push_back(sc);
+            maps.push_back(std::move(map));
+        }
+        top = rtcNewScene(device);
+        for (const Instance& inst : rs.instances) {
+            RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+            rtcSetGeometryInstancedScene(g, sets[static_cast<size_t>(inst.set)]);
+            float xf[12];
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 3; ++r)
+                    xf[c * 3 + r] = static_cast<float>(inst.world_from_set.m[c][r]);
+            rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xf);
+            rtcCommitGeometry(g);
+            rtcAttachGeometry(top, g);  // ids follow our instance order
+            rtcReleaseGeometry(g);
+        }
+        rtcCommitScene(top);
+        build_seconds = seconds_since(t0);
+        bytes = g_embree_bytes.load();
+    }
+    ~EmbreeScene() {
+        rtcReleaseScene(top);
+        for (RTCScene s : sets) rtcReleaseScene(s);
+        rtcReleaseDevice(device);
+    }
+
+    static void set_ray(RTCRay& r, const Ray& ray, double t_max) {
+        r.org_x = static_cast<float>(ray.o.x);
+        r.org_y = static_cast<float>(ray.o.y);
+        r.org_z = static_cast<float>(ray.o.z);
+        r.dir_x = static_cast<float>(ray.d.x);
+        r.dir_y = static_cast<float>(ray.d.y);
+        r.dir_z = static_cast<float>(ray.d.z);
+        r.tnear = 0.0f;
+        r.tfar = std::isfinite(t_max) ? static_cast<float>(t_max) : INFINITY;
+        r.mask = 0xFFFFFFFF;
+        r.flags = 0;
+        r.time = 0;
+    }
+
+    void closest(const RayBatch& batch, std::vector<Result>& out, int threads) const {
+        parallel_for(batch.rays.size(), threads, [&](size_t b, size_t e) {
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            for (size_t i = b; i < e; ++i) {
+                RTCRayHit rh;
+                set_ray(rh.ray, batch.rays[i], batch.t_max[i]);
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect1(top, &ctx, &rh);
+                if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+                    out[i] = {};
+                    continue;
+                }
+                const int inst = static_cast<int>(rh.hit.instID[0]);
+                out[i].t = rh.ray.tfar;
+                out[i].instance = inst;
+                out[i].prim = prim_of(inst, rh.hit.geomID, rh.hit.primID);
+            }
+        });
+    }
+
+    void occluded(const RayBatch& batch, std::vector<Result>& out, int threads) const {
+        parallel_for(batch.rays.size(), threads, [&](size_t b, size_t e) {
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            for (size_t i = b; i < e; ++i) {
+                RTCRay r;
+                set_ray(r, batch.rays[i], batch.t_max[i]);
+                rtcOccluded1(top, &ctx, &r);
+                out[i].t = r.tfar == -INFINITY ? 1.0 : -1.0;
+            }
+        });
+    }
+
+    uint32_t prim_of(int inst, unsigned geom, unsigned prim) const {
+        const Map& m = maps[static_cast<size_t>(scene->instances[static_cast<size_t>(inst)].set)];
+        return geom == m.tri_geom ? m.tri_prims[prim] : m.user_prims[prim];
+    }
+};
+
+#endif  // RT_HAVE_EMBREE
+
+// ---- measurement -----------------------------------------------------------------------------
+
+template <class F>
+double median_rate(size_t rays, int repeats, F&& run) {
+    std::vector<double> rates;
+    for (int i = 0; i < repeats; ++i) {
+        const auto t0 = Clock::now();
+        run();
+        rates.push_back(static_cast<double>(rays) / seconds_since(t0));
+    }
+    std::sort(rates.begin(), rates.end());
+    return rates[rates.size() / 2];
+}
+
+struct Check {
+    size_t rays = 0, hit_miss = 0, distance = 0, primitive = 0;
+    void compare(const std::vector<Result>& a, const std::vector<Result>& b, bool any_hit) {
+        for (size_t i = 0; i < a.size(); ++i) {
+            ++rays;
+            if ((a[i].t >= 0) != (b[i].t >= 0)) {
+                ++hit_miss;
+                continue;
+            }
+            if (any_hit || a[i].t < 0) continue;
+            if (std::abs(a[i].t - b[i].t) > 1e-4 * std::max(std::abs(a[i].t), 1e-30))
+                ++distance;
+            else if (a[i].instance != b[i].instance || a[i].prim != b[i].prim)
+                ++primitive;
+        }
+    }
+};
+
+std::string rate(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f M/s", v / 1e6);
+    return buf;
+}
+
+void run_workload(Workload& w, int repeats, int threads, bool quick) {
+    const int width = quick ? 320 : 640, height = quick ? 240 : 480;
+    RayBatch primary, shadow, random;
+    make_rays(w.scene, width, height, &primary, &shadow, &random);
+    std::printf("\n%s: %zu triangles, %zu primitives after instancing; %zu primary, %zu shadow, "
+                "%zu random rays\n",
+                w.name.c_str(), w.triangles,
+                w.scene.stats.prims_by_kind[0] + w.scene.stats.prims_by_kind[1] +
+                    w.scene.stats.prims_by_kind[2] + w.scene.stats.prims_by_kind[3] +
+                    w.scene.stats.prims_by_kind[4],
+                primary.rays.size(), shadow.rays.size(), random.rays.size());
+
+    const double ours_build = [&] {
+        std::vector<double> t;
+        for (int i = 0; i < repeats; ++i) t.push_back(ours_build_seconds(w.scene));
+        std::sort(t.begin(), t.end());
+        return t[t.size() / 2];
+    }();
+    const double ours_bpt =
+        w.triangles ? static_cast<double>(ours_bytes(w.scene)) / static_cast<double>(w.triangles) : 0;
+
+    struct Row {
+        const char* figure;
+        RayBatch* batch;
+        bool any_hit;
+        double ours[2] = {0, 0}, embree[2] = {0, 0};
+    };
+    Row rows[] = {{"primary", &primary, false}, {"shadow", &shadow, true}, {"random", &random, false}};
+    Check check;
+    double embree_build = 0, embree_bpt = 0;
+    bool have_embree = false;
+#ifdef RT_HAVE_EMBREE
+    {
+        std::vector<double> t;
+        long long bytes = 0;
+        for (int i = 0; i < repeats; ++i) {
+            EmbreeScene e(w.scene, threads);
+            t.push_back(e.build_seconds);
+            bytes = e.bytes;
+        }
+        std::sort(t.begin(), t.end());
+        embree_build = t[t.size() / 2];
+        embree_bpt = w.triangles ? static_cast<double>(bytes) / static_cast<double>(w.triangles) : 0;
+    }
+    EmbreeScene embree(w.scene, threads);
+    have_embree = true;
+#endif
+    for (Row& row : rows) {
+        const RayBatch& b = *row.batch;
+        std::vector<Result> ours(b.rays.size()), theirs(b.rays.size());
+        for (int ti = 0; ti < 2; ++ti) {
+            const int nt = ti == 0 ? 1 : threads;
+            row.ours[ti] = median_rate(b.rays.size(), repeats, [&] {
+                row.any_hit ? ours_occluded(w.scene, b, ours, nt) : ours_closest(w.scene, b, ours, nt);
+            });
+#ifdef RT_HAVE_EMBREE
+            row.embree[ti] = median_rate(b.rays.size(), repeats, [&] {
+                row.any_hit ? embree.occluded(b, theirs, nt) : embree.closest(b, theirs, nt);
+            });
+            if (ti == 1) check.compare(ours, theirs, row.any_hit);
+#endif
+        }
+    }
+
+    std::printf("  %-8s %14s %14s %8s %14s %14s %8s\n", "figure", "ours 1 thread", "Embree 1 thr",
+                "ratio", "ours all", "Embree all", "ratio");
+    for (const Row& row : rows)
+        std::printf("  %-8s %14s %14s %8.2f %14s %14s %8.2f\n", row.figure, rate(row.ours[0]).c_str(),
+                    have_embree ? rate(row.embree[0]).c_str() : "n/a",
+                    have_embree ? row.ours[0] / row.embree[0] : 0.0, rate(row.ours[1]).c_str(),
+                    have_embree ? rate(row.embree[1]).c_str() : "n/a",
+                    have_embree ? row.ours[1] / row.embree[1] : 0.0);
+    std::printf("  %-8s %13.3fs %13.3fs %8.2f   (Embree's build uses %d threads, ours 1)\n", "build",
+                ours_build, embree_build, have_embree ? embree_build / ours_build : 0.0, threads);
+    if (w.triangles)
+        std::printf("  %-8s %12.1f B %12.1f B   bytes per triangle (BVH + geometry)\n", "memory",
+                    ours_bpt, embree_bpt);
+    if (have_embree)
+        std::printf("  hits checked on %zu rays: %zu hit/miss, %zu distance (>1e-4 rel), %zu "
+                    "primitive differences\n",
+                    check.rays, check.hit_miss, check.distance, check.primitive);
+    for (const Row& row : rows)
+        std::printf("BENCH %s %s ours=%.6g embree=%.6g speedup=%.3f\n", w.name.c_str(), row.figure,
+                    row.ours[1], have_embree ? row.embree[1] : 0.0,
+                    have_embree ? row.ours[1] / row.embree[1] : 0.0);
+    std::printf("BENCH %s build ours=%.6g embree=%.6g speedup=%.3f\n", w.name.c_str(), ours_build,
+                embree_build, have_embree ? embree_build / ours_build : 0.0);
+    std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int repeats = 3;
+    bool quick = false;
+    std::vector<std::string> only;
+    std::string scenes_dir = RT_SOURCE_DIR "/scenes";
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--quick") {
+            quick = true;
+            repeats = 1;
+        } else if (a == "--repeats" && i + 1 < argc) {
+            repeats = std::max(1, std::atoi(argv[++i]));
+        } else if (a == "--scenes" && i + 1 < argc) {
+            scenes_dir = argv[++i];
+        } else if (a == "-h" || a == "--help") {
+            std::printf("usage: raybench [--quick] [--repeats N] [--scenes DIR] [WORKLOAD...]\n"
+                        "workloads: mesh10k mesh100k mesh1m and the scene names of DIR\n");
+            return 0;
+        } else {
+            only.push_back(a);
+        }
+    }
+    auto wanted = [&](const std::string& n) {
+        return only.empty() || std::find(only.begin(), only.end(), n) != only.end();
+    };
+    const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    std::printf("raybench: %d hardware threads, median of %d runs%s\n", threads, repeats,
+#ifdef RT_HAVE_EMBREE
+                ", Embree " RTC_VERSION_STRING
+#else
+                ", built without Embree (install libembree-dev)"
+#endif
+    );
+
+    const std::pair<const char*, size_t> meshes[] = {
+        {"mesh10k", 10000}, {"mesh100k", 100000}, {"mesh1m", 1000000}};
+    for (const auto& [name, n] : meshes) {
+        if (!wanted(name)) continue;
+        Workload w;
+        w.name = name;
+        const TriangleMesh mesh = make_blob_mesh(n);
+        w.triangles = mesh.triangles.size();
+        w.scene = compile_mesh(mesh);
+        run_workload(w, repeats, threads, quick);
+    }
+    std::vector<std::filesystem::path> files;
+    if (std::filesystem::exists(scenes_dir))
+        for (const auto& e : std::filesystem::directory_iterator(scenes_dir))
+            if (e.path().extension() == ".ray") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+        const std::string name = f.stem().string();
+        if (!wanted(name)) continue;
+        Workload w;
+        w.name = name;
+        Diagnostics diag;
+        try {
+            w.scene = compile_scene(parse_scene_file(f.string(), diag));
+        } catch (const SceneError& e) {
+            std::printf("\n%s: skipped: %s\n", name.c_str(), e.what());
+            continue;
+        }
+        for (const GeometrySet& s : w.scene.sets) w.triangles += s.triangles.size();
+        run_workload(w, repeats, threads, quick);
+    }
+    return 0;
+}
