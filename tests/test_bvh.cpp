@@ -125,11 +125,22 @@ TEST(Bvh, BuildCoversEveryPrimitiveOnce) {
     }
     const Bvh bvh = build_bvh(boxes);
     std::vector<int> seen(boxes.size(), 0);
-    for (const BvhNode& n : bvh.nodes)
-        for (uint32_t i = n.offset; n.count > 0 && i < n.offset + n.count; ++i) {
-            ++seen[bvh.indices[i]];
-            EXPECT_LE(n.bounds.lo.x, boxes[bvh.indices[i]].lo.x);
-            EXPECT_GE(n.bounds.hi.y, boxes[bvh.indices[i]].hi.y);
+    // Every leaf range appears once, and each float box contains its primitives' double boxes.
+    for (const Bvh4Node& n : bvh.nodes)
+        for (uint32_t c = 0; c < n.num_children; ++c) {
+            if (!(n.child[c] & Bvh4Node::kLeaf)) continue;
+            const uint32_t first = n.child[c] & Bvh4Node::kFirstMask;
+            const uint32_t count = (n.child[c] & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
+            EXPECT_GE(count, 1u);
+            EXPECT_LE(count, Bvh4Node::kMaxLeafCount);
+            for (uint32_t i = first; i < first + count; ++i) {
+                const Bounds3& b = boxes[bvh.indices[i]];
+                ++seen[bvh.indices[i]];
+                for (int a = 0; a < 3; ++a) {
+                    EXPECT_LE(static_cast<double>(n.lo[a][c]), b.lo[a]);
+                    EXPECT_GE(static_cast<double>(n.hi[a][c]), b.hi[a]);
+                }
+            }
         }
     for (int s : seen) EXPECT_EQ(s, 1);
 }

@@ -1,134 +1,247 @@
 #include "rt/bvh.h"
 
+#include <immintrin.h>
+
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <numeric>
 
 namespace rt {
 
 namespace {
 
+// The binary tree the SAH builder makes; collapsed into Bvh4Node afterwards.
+struct Node2 {
+    Bounds3 bounds;
+    uint32_t left = 0, right = 0;  // interior: children
+    uint32_t first = 0, count = 0;  // leaf: count > 0
+};
+
+constexpr int kMaxBins = 32;
+
 struct Builder {
     std::span<const Bounds3> prims;
     std::vector<Vec3> centroids;
-    Bvh bvh;
+    std::vector<uint32_t> order;
+    std::vector<Node2> nodes;
     BvhBuildSettings settings;
+    int max_depth = 0;
 
-    // Builds the subtree over indices[begin, end); returns its node index.
+    uint32_t leaf(const Bounds3& box, uint32_t begin, uint32_t n, int depth) {
+        // Leaves hold at most kMaxLeafCount primitives; larger sets (coincident centroids) are
+        // halved in their current order.
+        if (n > Bvh4Node::kMaxLeafCount) return split(box, begin, begin + n / 2, begin + n, depth);
+        max_depth = std::max(max_depth, depth);
+        nodes.push_back({box, 0, 0, begin, n});
+        return static_cast<uint32_t>(nodes.size() - 1);
+    }
+
+    uint32_t split(const Bounds3& box, uint32_t begin, uint32_t mid, uint32_t end, int depth) {
+        const uint32_t index = static_cast<uint32_t>(nodes.size());
+        nodes.push_back({box, 0, 0, 0, 0});
+        const uint32_t l = build(begin, mid, depth + 1);
+        const uint32_t r = build(mid, end, depth + 1);
+        nodes[index].left = l;
+        nodes[index].right = r;
+        return index;
+    }
+
     uint32_t build(uint32_t begin, uint32_t end, int depth) {
-        const uint32_t index = static_cast<uint32_t>(bvh.nodes.size());
-        bvh.nodes.emplace_back();
         Bounds3 box, cbox;
         for (uint32_t i = begin; i < end; ++i) {
-            box.extend(prims[bvh.indices[i]]);
-            cbox.extend(centroids[bvh.indices[i]]);
+            box.extend(prims[order[i]]);
+            cbox.extend(centroids[order[i]]);
         }
-        bvh.nodes[index].bounds = box;
         const uint32_t n = end - begin;
         const int axis = cbox.largest_axis();
         const double extent = cbox.hi[axis] - cbox.lo[axis];
-        // The traversal stack holds 128 entries; depth stays far below with SAH or median splits.
-        if (n <= static_cast<uint32_t>(settings.max_leaf_size) || extent <= 0.0 || depth > 60) {
-            make_leaf(index, begin, n);
-            return index;
-        }
+        if (n <= static_cast<uint32_t>(settings.max_leaf_size) || !(extent > 0.0))
+            return leaf(box, begin, n, depth);
 
-        // Binned SAH (Wald 2007): bins along the centroid extent of the largest axis.
-        const int nb = settings.bins;
-        std::vector<Bounds3> bin_box(static_cast<size_t>(nb));
-        std::vector<uint32_t> bin_count(static_cast<size_t>(nb), 0);
+        // Binned SAH along the largest centroid axis.
+        const int nb = std::clamp(settings.bins, 2, kMaxBins);
+        std::array<Bounds3, kMaxBins> bin_box{};
+        std::array<uint32_t, kMaxBins> bin_count{};
+        const double scale = nb / extent;
         auto bin_of = [&](uint32_t prim) {
-            const int b = static_cast<int>(nb * ((centroids[prim][axis] - cbox.lo[axis]) / extent));
+            const int b = static_cast<int>((centroids[prim][axis] - cbox.lo[axis]) * scale);
             return std::clamp(b, 0, nb - 1);
         };
         for (uint32_t i = begin; i < end; ++i) {
-            const int b = bin_of(bvh.indices[i]);
-            bin_box[static_cast<size_t>(b)].extend(prims[bvh.indices[i]]);
+            const int b = bin_of(order[i]);
+            bin_box[static_cast<size_t>(b)].extend(prims[order[i]]);
             ++bin_count[static_cast<size_t>(b)];
         }
-        std::vector<double> right_area(static_cast<size_t>(nb), 0.0);
-        std::vector<uint32_t> right_count(static_cast<size_t>(nb), 0);
+        std::array<double, kMaxBins> right_cost{};
         Bounds3 acc;
         uint32_t cnt = 0;
         for (int b = nb - 1; b > 0; --b) {
             acc.extend(bin_box[static_cast<size_t>(b)]);
             cnt += bin_count[static_cast<size_t>(b)];
-            right_area[static_cast<size_t>(b)] = acc.surface_area();
-            right_count[static_cast<size_t>(b)] = cnt;
+            right_cost[static_cast<size_t>(b)] = acc.surface_area() * cnt;
         }
         double best_cost = kInf;
-        int best_split = -1;
+        int best = -1;
         acc = Bounds3{};
         cnt = 0;
         for (int b = 1; b < nb; ++b) {
             acc.extend(bin_box[static_cast<size_t>(b - 1)]);
             cnt += bin_count[static_cast<size_t>(b - 1)];
-            if (cnt == 0 || right_count[static_cast<size_t>(b)] == 0) continue;
-            const double cost = acc.surface_area() * cnt + right_area[static_cast<size_t>(b)] *
-                                                               right_count[static_cast<size_t>(b)];
-            if (cost < best_cost) best_cost = cost, best_split = b;
+            if (cnt == 0 || cnt == n) continue;
+            const double cost = acc.surface_area() * cnt + right_cost[static_cast<size_t>(b)];
+            if (cost < best_cost) best_cost = cost, best = b;
         }
+        // Leaf cost n * area against traversal (~1 intersection) plus the children.
         const double leaf_cost = box.surface_area() * n;
-        const double traversal_cost = box.surface_area();  // relative to one intersection
-        uint32_t mid = begin;
-        if (best_split > 0 && (best_cost + traversal_cost < leaf_cost ||
-                               n > static_cast<uint32_t>(settings.max_leaf_size) * 4)) {
-            mid = static_cast<uint32_t>(
-                std::partition(bvh.indices.begin() + begin, bvh.indices.begin() + end,
-                               [&](uint32_t p) { return bin_of(p) < best_split; }) -
-                bvh.indices.begin());
-        }
-        if (mid == begin || mid == end) {
-            if (n <= 255 && best_split > 0 && !(best_cost + traversal_cost < leaf_cost)) {
-                make_leaf(index, begin, n);
-                return index;
+        if (best < 0 || (best_cost + box.surface_area() >= leaf_cost &&
+                         n <= Bvh4Node::kMaxLeafCount))
+            return best < 0 ? median(box, begin, end, axis, depth) : leaf(box, begin, n, depth);
+        const uint32_t mid = static_cast<uint32_t>(
+            std::partition(order.begin() + begin, order.begin() + end,
+                           [&](uint32_t p) { return bin_of(p) < best; }) -
+            order.begin());
+        if (mid == begin || mid == end) return median(box, begin, end, axis, depth);
+        return split(box, begin, mid, end, depth);
+    }
+
+    uint32_t median(const Bounds3& box, uint32_t begin, uint32_t end, int axis, int depth) {
+        const uint32_t mid = begin + (end - begin) / 2;
+        std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                         [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+        return split(box, begin, mid, end, depth);
+    }
+};
+
+float round_down(double v) {
+    float f = static_cast<float>(v);
+    if (static_cast<double>(f) > v) f = std::nextafter(f, -INFINITY);
+    return f;
+}
+float round_up(double v) {
+    float f = static_cast<float>(v);
+    if (static_cast<double>(f) < v) f = std::nextafter(f, INFINITY);
+    return f;
+}
+
+// Collapses the binary tree into 4-wide nodes: each node adopts the grandchildren of its
+// largest interior children until it has four.
+struct Collapser {
+    const std::vector<Node2>& in;
+    std::vector<Bvh4Node>& out;
+
+    uint32_t encode(uint32_t n2) {
+        const Node2& n = in[n2];
+        if (n.count > 0) return Bvh4Node::kLeaf | (n.count << Bvh4Node::kCountShift) | n.first;
+        return emit(n2);
+    }
+
+    uint32_t emit(uint32_t n2) {
+        const uint32_t index = static_cast<uint32_t>(out.size());
+        out.emplace_back();
+        std::array<uint32_t, 4> kids{};
+        int k = 0;
+        const Node2& root = in[n2];
+        if (root.count > 0) {
+            kids[k++] = n2;  // a leaf root: one child
+        } else {
+            kids[k++] = root.left;
+            kids[k++] = root.right;
+            while (k < 4) {
+                // Open the interior child with the largest surface area.
+                int best = -1;
+                double area = -1;
+                for (int i = 0; i < k; ++i) {
+                    const Node2& c = in[kids[static_cast<size_t>(i)]];
+                    if (c.count == 0 && c.bounds.surface_area() > area)
+                        area = c.bounds.surface_area(), best = i;
+                }
+                if (best < 0) break;
+                const Node2& c = in[kids[static_cast<size_t>(best)]];
+                kids[static_cast<size_t>(best)] = c.left;
+                kids[static_cast<size_t>(k++)] = c.right;
             }
-            // Fall back to a median split so leaves stay small.
-            mid = begin + n / 2;
-            std::nth_element(
-                bvh.indices.begin() + begin, bvh.indices.begin() + mid, bvh.indices.begin() + end,
-                [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
         }
-        build(begin, mid, depth + 1);
-        const uint32_t right = build(mid, end, depth + 1);
-        bvh.nodes[index].offset = right;
-        bvh.nodes[index].count = 0;
-        bvh.nodes[index].axis = static_cast<uint8_t>(axis);
+        Bvh4Node node;
+        for (int i = 0; i < 4; ++i) {
+            for (int a = 0; a < 3; ++a) {
+                node.lo[a][i] = INFINITY;  // empty slot: never hit
+                node.hi[a][i] = -INFINITY;
+            }
+            node.child[i] = Bvh4Node::kEmpty;
+        }
+        for (int i = 0; i < k; ++i) {
+            const Node2& c = in[kids[static_cast<size_t>(i)]];
+            for (int a = 0; a < 3; ++a) {
+                node.lo[a][i] = round_down(c.bounds.lo[a]);
+                node.hi[a][i] = round_up(c.bounds.hi[a]);
+            }
+        }
+        node.num_children = static_cast<uint32_t>(k);
+        out[index] = node;
+        for (int i = 0; i < k; ++i) out[index].child[i] = encode(kids[static_cast<size_t>(i)]);
         return index;
-    }
-
-    void make_leaf(uint32_t index, uint32_t begin, uint32_t n) {
-        // Leaf counts fit 16 bits; a larger set of coincident primitives is split in halves.
-        if (n > 0xFFFF) {
-            const uint32_t mid = begin + n / 2;
-            build_children_of(index, begin, mid, begin + n);
-            return;
-        }
-        bvh.nodes[index].offset = begin;
-        bvh.nodes[index].count = static_cast<uint16_t>(n);
-    }
-
-    void build_children_of(uint32_t index, uint32_t begin, uint32_t mid, uint32_t end) {
-        build(begin, mid, 0);
-        const uint32_t right = build(mid, end, 0);
-        bvh.nodes[index].offset = right;
-        bvh.nodes[index].count = 0;
     }
 };
 
 }  // namespace
 
 Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& settings) {
+    Bvh bvh;
+    if (prim_bounds.empty()) return bvh;
     Builder b;
     b.prims = prim_bounds;
     b.settings = settings;
-    if (prim_bounds.empty()) return {};
     b.centroids.reserve(prim_bounds.size());
     for (const Bounds3& pb : prim_bounds) b.centroids.push_back(pb.centre());
-    b.bvh.indices.resize(prim_bounds.size());
-    std::iota(b.bvh.indices.begin(), b.bvh.indices.end(), 0u);
-    b.bvh.nodes.reserve(prim_bounds.size() * 2);
-    b.build(0, static_cast<uint32_t>(prim_bounds.size()), 0);
-    return std::move(b.bvh);
+    b.order.resize(prim_bounds.size());
+    std::iota(b.order.begin(), b.order.end(), 0u);
+    b.nodes.reserve(prim_bounds.size() / 2 + 1);
+    const uint32_t root = b.build(0, static_cast<uint32_t>(prim_bounds.size()), 0);
+    bvh.root_bounds = b.nodes[root].bounds;
+    bvh.depth = b.max_depth;
+    bvh.nodes.reserve(b.nodes.size() / 2 + 1);
+    Collapser c{b.nodes, bvh.nodes};
+    c.emit(root);
+    bvh.indices = std::move(b.order);
+    return bvh;
 }
+
+BoxRay::BoxRay(const Ray& r) {
+    for (int a = 0; a < 3; ++a) {
+        o[a] = static_cast<float>(r.o[a]);
+        // A zero component gets a huge finite reciprocal: no 0 * inf = NaN in the slab test.
+        const double inv_d = r.d[a] != 0.0 ? 1.0 / r.d[a] : 1e30;
+        inv[a] = static_cast<float>(std::clamp(inv_d, -1e30, 1e30));
+        // The origin's rounding to float moves the slab distances by up to |o - o_f| / |d|.
+        slack[a] = static_cast<float>((std::abs(r.o[a] - static_cast<double>(o[a])) +
+                                       1e-30) * std::abs(static_cast<double>(inv[a])) * 2.0);
+    }
+}
+
+namespace detail {
+
+int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, float t_entry[4]) {
+    // Slab test for four boxes at once. The far distance is widened by 2*gamma(3) in float
+    // (Ize 2013) plus the origin slack; the near one is lowered by the slack.
+    const __m128 widen = _mm_set1_ps(1.0f + 2.0f * 3.0f * 5.9604645e-8f / (1.0f - 3.0f * 5.9604645e-8f));
+    __m128 t0 = _mm_setzero_ps();
+    __m128 t1 = _mm_set1_ps(t_max);
+    for (int a = 0; a < 3; ++a) {
+        const __m128 o = _mm_set1_ps(ray.o[a]);
+        const __m128 inv = _mm_set1_ps(ray.inv[a]);
+        const __m128 slack = _mm_set1_ps(ray.slack[a]);
+        const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[a]), o), inv);
+        const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.hi[a]), o), inv);
+        const __m128 tn = _mm_sub_ps(_mm_min_ps(ta, tb), slack);
+        const __m128 tf = _mm_add_ps(_mm_mul_ps(_mm_max_ps(ta, tb), widen), slack);
+        t0 = _mm_max_ps(t0, tn);
+        t1 = _mm_min_ps(t1, tf);
+    }
+    _mm_storeu_ps(t_entry, t0);
+    return _mm_movemask_ps(_mm_cmple_ps(t0, t1)) & ((1 << node.num_children) - 1);
+}
+
+}  // namespace detail
 
 }  // namespace rt

@@ -2,6 +2,7 @@
 // frame, one copy per file however often it is instanced), instances are flattened into a list
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
 #include <map>
+#include <numeric>
 
 #include "rt/render_scene.h"
 
@@ -136,9 +137,47 @@ private:
             return -1;
         }
         set.bvh = build_bvh(set.prim_bounds);
+        reorder(set);
         m_set_of_file[fi] = static_cast<int>(m_scene.sets.size());
         m_scene.sets.push_back(std::move(set));
         return m_set_of_file[fi];
+    }
+
+    // Puts the primitives (and each kind's array) in the BVH's leaf order, so a leaf reads its
+    // primitives from consecutive memory; the BVH's order becomes the identity.
+    static void reorder(GeometrySet& set) {
+        GeometrySet out;
+        out.name = std::move(set.name);
+        out.transforms = std::move(set.transforms);
+        const size_t n = set.prims.size();
+        out.prims.reserve(n);
+        out.prim_bounds.reserve(n);
+        for (uint32_t old : set.bvh.indices) {
+            Primitive p = set.prims[old];
+            switch (p.kind) {
+                case ShapeKind::Sphere: p.index = move_one(set.spheres, out.spheres, p.index); break;
+                case ShapeKind::Box: p.index = move_one(set.boxes, out.boxes, p.index); break;
+                case ShapeKind::Cylinder:
+                    p.index = move_one(set.cylinders, out.cylinders, p.index);
+                    break;
+                case ShapeKind::Cone: p.index = move_one(set.cones, out.cones, p.index); break;
+                case ShapeKind::Triangle:
+                    out.triangle_attribs.push_back(set.triangle_attribs[p.index]);
+                    p.index = move_one(set.triangles, out.triangles, p.index);
+                    break;
+            }
+            out.prims.push_back(p);
+            out.prim_bounds.push_back(set.prim_bounds[old]);
+        }
+        out.bvh = std::move(set.bvh);
+        std::iota(out.bvh.indices.begin(), out.bvh.indices.end(), 0u);
+        set = std::move(out);
+    }
+
+    template <class T>
+    static uint32_t move_one(const std::vector<T>& from, std::vector<T>& to, uint32_t i) {
+        to.push_back(from[i]);
+        return static_cast<uint32_t>(to.size() - 1);
     }
 
     void add_group(GeometrySet& set, size_t fi, const GroupDesc& g, const Mat4& parent) {
@@ -236,6 +275,12 @@ private:
                 m_scene.world_bounds.extend(world_bounds_of(set, p, inst.world_from_set.m));
         }
         m_scene.top = build_bvh(inst_bounds, {1, 16});
+        // Instances in the top BVH's leaf order, as for the sets' primitives.
+        std::vector<Instance> ordered;
+        ordered.reserve(m_scene.instances.size());
+        for (uint32_t i : m_scene.top.indices) ordered.push_back(m_scene.instances[i]);
+        m_scene.instances = std::move(ordered);
+        std::iota(m_scene.top.indices.begin(), m_scene.top.indices.end(), 0u);
     }
 
     void fill_stats() {

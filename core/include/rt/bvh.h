@@ -1,5 +1,6 @@
 // Bounding volume hierarchy over boxes and indices. It knows nothing of shapes or of the scene
-// format: build_bvh() sees only primitive bounds; traversal calls back with primitive indices.
+// format: build_bvh() sees only primitive bounds and returns a 4-wide tree plus a primitive
+// order; traversal calls back with primitive indices.
 #pragma once
 
 #include <cstdint>
@@ -10,20 +11,31 @@
 
 namespace rt {
 
-/// Interior nodes keep their left child right after them (depth-first order) and store the
-/// right child's index; leaves store a range of `Bvh::indices`.
-struct BvhNode {
-    Bounds3 bounds;
-    uint32_t offset = 0;  // leaf: first index; interior: right child
-    uint16_t count = 0;   // leaf: number of primitives; interior: 0
-    uint8_t axis = 0;     // interior: split axis
+/// A 4-wide node in single precision, structure-of-arrays so one SSE instruction tests an axis
+/// of all four child boxes (116 bytes padded to 128: two cache lines). Boxes are rounded outward from the
+/// double-precision bounds, so the float traversal never misses what a double test would hit.
+struct alignas(64) Bvh4Node {
+    float lo[3][4];  // [axis][child]
+    float hi[3][4];
+    /// kEmpty, an interior node index, or kLeaf | count << kCountShift | first primitive.
+    uint32_t child[4];
+    uint32_t num_children;  // children fill slots 0 .. num_children - 1
+
+    static constexpr uint32_t kLeaf = 0x80000000u;
+    static constexpr uint32_t kCountShift = 27;
+    static constexpr uint32_t kMaxLeafCount = 15;
+    static constexpr uint32_t kFirstMask = (1u << kCountShift) - 1;
+    static constexpr uint32_t kEmpty = 0xFFFFFFFFu;
 };
 
 struct Bvh {
-    std::vector<BvhNode> nodes;
-    std::vector<uint32_t> indices;  // primitive order referenced by leaves
-    bool empty() const { return nodes.empty(); }
-    Bounds3 bounds() const { return nodes.empty() ? Bounds3{} : nodes[0].bounds; }
+    std::vector<Bvh4Node> nodes;    // nodes[0] is the root (when there is any primitive)
+    std::vector<uint32_t> indices;  // leaves cover ranges of this primitive order
+    Bounds3 root_bounds;
+    int depth = 0;  // of the binary tree it was collapsed from
+
+    bool empty() const { return indices.empty(); }
+    Bounds3 bounds() const { return root_bounds; }
 };
 
 struct BvhBuildSettings {
@@ -31,52 +43,65 @@ struct BvhBuildSettings {
     int bins = 16;
 };
 
-/// Binned surface-area-heuristic build over the given primitive bounds.
+/// Binned surface-area-heuristic build (Wald 2007) of a binary tree over the given primitive
+/// bounds, collapsed into a 4-wide tree.
 Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& settings = {});
+
+/// A ray prepared for float box tests (Ize 2013, "Robust BVH Ray Traversal"): the origin and
+/// reciprocal direction rounded to float, with a per-axis slack that covers the rounding of the
+/// origin, so the slab distances bound the exact ones.
+struct BoxRay {
+    float o[3], inv[3], slack[3];
+    explicit BoxRay(const Ray& r);
+};
+
+namespace detail {
+/// Tests the ray against the four child boxes of a node; returns a 4-bit hit mask and the entry
+/// distances.
+int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, float t_entry[4]);
+}  // namespace detail
 
 /// Ordered traversal: children are visited nearest entry first, and a subtree whose box starts
 /// beyond `t_max` is skipped. `visit(prim_index, t_max)` tests one primitive and may shrink
 /// t_max (closest hit); it returns true to stop the whole walk (any-hit).
 template <class Visit>
 void traverse(const Bvh& bvh, const Ray& ray, double& t_max, Visit&& visit) {
-    if (bvh.nodes.empty()) return;
-    const Vec3 inv_d(1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z);
+    if (bvh.empty()) return;
+    const BoxRay box_ray(ray);
     struct Entry {
-        uint32_t node;
-        double t;
+        uint32_t child;
+        float t;
     };
-    Entry stack[128];
+    Entry stack[256];
     int sp = 0;
-    double t_root = 0.0;
-    if (!intersect_bounds(bvh.nodes[0].bounds, ray.o, inv_d, t_max, &t_root)) return;
-    stack[sp++] = {0, t_root};
+    stack[sp++] = {0, 0.0f};
+    // Box tests in float compare against t_max rounded up.
+    auto t_max_f = [&] { return static_cast<float>(t_max) * (1.0f + 1e-6f) + 1e-30f; };
     while (sp > 0) {
         const Entry e = stack[--sp];
-        if (e.t > t_max) continue;  // farther than the best hit so far
-        const BvhNode& node = bvh.nodes[e.node];
-        if (node.count > 0) {
-            for (uint32_t i = node.offset; i < node.offset + node.count; ++i)
+        if (e.t > t_max_f()) continue;  // farther than the best hit so far
+        if (e.child & Bvh4Node::kLeaf) {
+            const uint32_t first = e.child & Bvh4Node::kFirstMask;
+            const uint32_t count = (e.child & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
+            for (uint32_t i = first; i < first + count; ++i)
                 if (visit(bvh.indices[i], t_max)) return;
             continue;
         }
-        const uint32_t l = e.node + 1, r = node.offset;
-        double tl = 0.0, tr = 0.0;
-        const bool hl = intersect_bounds(bvh.nodes[l].bounds, ray.o, inv_d, t_max, &tl);
-        const bool hr = intersect_bounds(bvh.nodes[r].bounds, ray.o, inv_d, t_max, &tr);
-        if (hl && hr) {
-            // Push the farther child first so the nearer one is visited next.
-            if (tl <= tr) {
-                stack[sp++] = {r, tr};
-                stack[sp++] = {l, tl};
-            } else {
-                stack[sp++] = {l, tl};
-                stack[sp++] = {r, tr};
-            }
-        } else if (hl) {
-            stack[sp++] = {l, tl};
-        } else if (hr) {
-            stack[sp++] = {r, tr};
+        const Bvh4Node& node = bvh.nodes[e.child];
+        float t[4];
+        int mask = detail::intersect_node(node, box_ray, t_max_f(), t);
+        // Push hit children farthest first so the nearest is popped next.
+        Entry hits[4];
+        int n = 0;
+        while (mask) {
+            const int i = __builtin_ctz(static_cast<unsigned>(mask));
+            mask &= mask - 1;
+            Entry h{node.child[i], t[i]};
+            int k = n++;
+            while (k > 0 && hits[k - 1].t < h.t) hits[k] = hits[k - 1], --k;
+            hits[k] = h;
         }
+        for (int k = 0; k < n; ++k) stack[sp++] = hits[k];
     }
 }
 
