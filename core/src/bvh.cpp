@@ -209,39 +209,17 @@ Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& sett
 
 BoxRay::BoxRay(const Ray& r) {
     for (int a = 0; a < 3; ++a) {
-        o[a] = static_cast<float>(r.o[a]);
+        const float of = static_cast<float>(r.o[a]);
         // A zero component gets a huge finite reciprocal: no 0 * inf = NaN in the slab test.
-        const double inv_d = r.d[a] != 0.0 ? 1.0 / r.d[a] : 1e30;
-        inv[a] = static_cast<float>(std::clamp(inv_d, -1e30, 1e30));
+        const double inv_d = std::clamp(r.d[a] != 0.0 ? 1.0 / r.d[a] : 1e30, -1e30, 1e30);
+        const float inv_f = static_cast<float>(inv_d);
         // The origin's rounding to float moves the slab distances by up to |o - o_f| / |d|.
-        slack[a] = static_cast<float>((std::abs(r.o[a] - static_cast<double>(o[a])) +
-                                       1e-30) * std::abs(static_cast<double>(inv[a])) * 2.0);
+        const double slack_d =
+            (std::abs(r.o[a] - static_cast<double>(of)) + 1e-30) * std::abs(inv_d) * 2.0;
+        o[a] = _mm_set1_ps(of);
+        inv[a] = _mm_set1_ps(inv_f);
+        slack[a] = _mm_set1_ps(static_cast<float>(slack_d));
     }
 }
-
-namespace detail {
-
-int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, float t_entry[4]) {
-    // Slab test for four boxes at once. The far distance is widened by 2*gamma(3) in float
-    // (Ize 2013) plus the origin slack; the near one is lowered by the slack.
-    const __m128 widen = _mm_set1_ps(1.0f + 2.0f * 3.0f * 5.9604645e-8f / (1.0f - 3.0f * 5.9604645e-8f));
-    __m128 t0 = _mm_setzero_ps();
-    __m128 t1 = _mm_set1_ps(t_max);
-    for (int a = 0; a < 3; ++a) {
-        const __m128 o = _mm_set1_ps(ray.o[a]);
-        const __m128 inv = _mm_set1_ps(ray.inv[a]);
-        const __m128 slack = _mm_set1_ps(ray.slack[a]);
-        const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[a]), o), inv);
-        const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.hi[a]), o), inv);
-        const __m128 tn = _mm_sub_ps(_mm_min_ps(ta, tb), slack);
-        const __m128 tf = _mm_add_ps(_mm_mul_ps(_mm_max_ps(ta, tb), widen), slack);
-        t0 = _mm_max_ps(t0, tn);
-        t1 = _mm_min_ps(t1, tf);
-    }
-    _mm_storeu_ps(t_entry, t0);
-    return _mm_movemask_ps(_mm_cmple_ps(t0, t1)) & ((1 << node.num_children) - 1);
-}
-
-}  // namespace detail
 
 }  // namespace rt

@@ -171,6 +171,7 @@ private:
         }
         out.bvh = std::move(set.bvh);
         std::iota(out.bvh.indices.begin(), out.bvh.indices.end(), 0u);
+        out.triangles_only = out.triangles.size() == out.prims.size();
         set = std::move(out);
     }
 

@@ -31,17 +31,44 @@ Ray to_set(const Instance& inst, const Ray& ray) {
 
 }  // namespace
 
+// Calls f(instance index, ray in the set's frame, t_max) for the instances whose box the ray
+// enters; a scene of one instance (most files) skips the top-level walk.
+template <bool kOrdered, class F>
+void for_each_instance(const RenderScene& scene, const Ray& ray, double& t_max, F&& f) {
+    if (scene.instances.size() == 1) {
+        f(0u, to_set(scene.instances[0], ray), t_max);
+        return;
+    }
+    traverse<kOrdered>(scene.top, ray, t_max, [&](uint32_t ii, double& best) {
+        return f(ii, to_set(scene.instances[ii], ray), best);
+    });
+}
+
+// Calls hits(prim, ShapeHits) for the primitives of a set along a ray in its frame. Sets made of
+// triangles only go straight to the inline triangle test.
+template <bool kOrdered, class F>
+bool for_each_hit(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
+    bool stopped = false;
+    if (set.triangles_only) {
+        traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {
+            return stopped = hits(pi, intersect(set.triangles[pi], r, {t_min, best}), best);
+        });
+    } else {
+        traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {
+            return stopped = hits(pi, prim_hits(set, set.prims[pi], r, {t_min, best}), best);
+        });
+    }
+    return stopped;
+}
+
 bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
     double t_max = t.hi;
     bool found = false;
-    traverse(scene.top, ray, t_max, [&](uint32_t ii, double& best) {
-        const Instance& inst = scene.instances[ii];
-        const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
-        const Ray r = to_set(inst, ray);
-        traverse(set.bvh, r, best, [&](uint32_t pi, double& best_in) {
-            const ShapeHits h = prim_hits(set, set.prims[pi], r, {t.lo, best_in});
+    for_each_instance<true>(scene, ray, t_max, [&](uint32_t ii, const Ray& r, double& best) {
+        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
+        for_each_hit<true>(set, r, best, t.lo, [&](uint32_t pi, const ShapeHits& h, double& b) {
             if (h.count > 0) {
-                best_in = h.t[0];
+                b = h.t[0];
                 *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0]};
                 found = true;
             }
@@ -79,16 +106,12 @@ ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& 
 bool occluded(const RenderScene& scene, const Ray& ray, double t_max) {
     double limit = t_max;
     bool hit = false;
-    traverse(scene.top, ray, limit, [&](uint32_t ii, double&) {
-        const Instance& inst = scene.instances[ii];
-        const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
-        const Ray r = to_set(inst, ray);
+    for_each_instance<false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
+        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
         double inner = t_max;
-        traverse(set.bvh, r, inner, [&](uint32_t pi, double&) {
-            hit = prim_hits(set, set.prims[pi], r, {0.0, t_max}).count > 0;
-            return hit;
-        });
-        return hit;
+        return hit = for_each_hit<false>(
+                   set, r, inner, 0.0,
+                   [&](uint32_t, const ShapeHits& h, double&) { return h.count > 0; });
     });
     return hit;
 }
@@ -96,21 +119,18 @@ bool occluded(const RenderScene& scene, const Ray& ray, double t_max) {
 Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max) {
     Vec3 s(1.0);
     double limit = t_max;  // never shrinks: every crossing counts, order does not matter
-    traverse(scene.top, ray, limit, [&](uint32_t ii, double&) {
-        const Instance& inst = scene.instances[ii];
-        const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
-        const Ray r = to_set(inst, ray);
+    for_each_instance<false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
+        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
         double inner = t_max;
-        bool opaque = false;
-        traverse(set.bvh, r, inner, [&](uint32_t pi, double&) {
-            const Primitive& p = set.prims[pi];
-            const ShapeHits h = prim_hits(set, p, r, {0.0, t_max});
-            const Vec3& tr = scene.materials[static_cast<size_t>(p.material)].transparent;
-            for (int k = 0; k < h.count; ++k) s *= tr;
-            opaque = (h.count > 0 && s == Vec3(0.0));
-            return opaque;
-        });
-        return opaque;
+        return for_each_hit<false>(set, r, inner, 0.0,
+                                   [&](uint32_t pi, const ShapeHits& h, double&) {
+                                       const Primitive& p = set.prims[pi];
+                                       const Vec3& tr =
+                                           scene.materials[static_cast<size_t>(p.material)]
+                                               .transparent;
+                                       for (int k = 0; k < h.count; ++k) s *= tr;
+                                       return h.count > 0 && s == Vec3(0.0);
+                                   });
     });
     return s;
 }

@@ -3,6 +3,8 @@
 // order; traversal calls back with primitive indices.
 #pragma once
 
+#include <immintrin.h>
+
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -48,23 +50,38 @@ struct BvhBuildSettings {
 Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& settings = {});
 
 /// A ray prepared for float box tests (Ize 2013, "Robust BVH Ray Traversal"): the origin and
-/// reciprocal direction rounded to float, with a per-axis slack that covers the rounding of the
-/// origin, so the slab distances bound the exact ones.
+/// reciprocal direction rounded to float and broadcast to SSE registers, with a per-axis slack
+/// that covers the rounding of the origin, so the slab distances bound the exact ones.
 struct BoxRay {
-    float o[3], inv[3], slack[3];
+    __m128 o[3], inv[3], slack[3];
     explicit BoxRay(const Ray& r);
 };
 
-namespace detail {
 /// Tests the ray against the four child boxes of a node; returns a 4-bit hit mask and the entry
-/// distances.
-int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, float t_entry[4]);
-}  // namespace detail
+/// distances. The far distance is widened by 2*gamma(3) in float (Ize 2013) plus the origin
+/// slack; the near one is lowered by the slack.
+inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max,
+                          float t_entry[4]) {
+    const __m128 widen = _mm_set1_ps(1.0f + 2.0f * 3.0f * 5.9604645e-8f / (1.0f - 3.0f * 5.9604645e-8f));
+    __m128 t0 = _mm_setzero_ps();
+    __m128 t1 = _mm_set1_ps(t_max);
+    for (int a = 0; a < 3; ++a) {
+        const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[a]), ray.o[a]), ray.inv[a]);
+        const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.hi[a]), ray.o[a]), ray.inv[a]);
+        const __m128 tn = _mm_sub_ps(_mm_min_ps(ta, tb), ray.slack[a]);
+        const __m128 tf = _mm_add_ps(_mm_mul_ps(_mm_max_ps(ta, tb), widen), ray.slack[a]);
+        t0 = _mm_max_ps(t0, tn);
+        t1 = _mm_min_ps(t1, tf);
+    }
+    _mm_storeu_ps(t_entry, t0);
+    return _mm_movemask_ps(_mm_cmple_ps(t0, t1)) & ((1 << node.num_children) - 1);
+}
 
-/// Ordered traversal: children are visited nearest entry first, and a subtree whose box starts
-/// beyond `t_max` is skipped. `visit(prim_index, t_max)` tests one primitive and may shrink
-/// t_max (closest hit); it returns true to stop the whole walk (any-hit).
-template <class Visit>
+/// Traversal: `visit(prim_index, t_max)` tests one primitive and may shrink t_max (closest
+/// hit); it returns true to stop the whole walk (any hit). With kOrdered, children are visited
+/// nearest entry first and a subtree whose box starts beyond t_max is skipped (closest-hit
+/// queries); any-hit queries skip the sorting.
+template <bool kOrdered = true, class Visit>
 void traverse(const Bvh& bvh, const Ray& ray, double& t_max, Visit&& visit) {
     if (bvh.empty()) return;
     const BoxRay box_ray(ray);
@@ -79,7 +96,7 @@ void traverse(const Bvh& bvh, const Ray& ray, double& t_max, Visit&& visit) {
     auto t_max_f = [&] { return static_cast<float>(t_max) * (1.0f + 1e-6f) + 1e-30f; };
     while (sp > 0) {
         const Entry e = stack[--sp];
-        if (e.t > t_max_f()) continue;  // farther than the best hit so far
+        if (kOrdered && e.t > t_max_f()) continue;  // farther than the best hit so far
         if (e.child & Bvh4Node::kLeaf) {
             const uint32_t first = e.child & Bvh4Node::kFirstMask;
             const uint32_t count = (e.child & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
@@ -89,7 +106,15 @@ void traverse(const Bvh& bvh, const Ray& ray, double& t_max, Visit&& visit) {
         }
         const Bvh4Node& node = bvh.nodes[e.child];
         float t[4];
-        int mask = detail::intersect_node(node, box_ray, t_max_f(), t);
+        int mask = intersect_node(node, box_ray, t_max_f(), t);
+        if (!kOrdered) {
+            while (mask) {
+                const int i = __builtin_ctz(static_cast<unsigned>(mask));
+                mask &= mask - 1;
+                stack[sp++] = {node.child[i], t[i]};
+            }
+            continue;
+        }
         // Push hit children farthest first so the nearest is popped next.
         Entry hits[4];
         int n = 0;

@@ -56,7 +56,8 @@ struct GeometrySet {
     std::vector<TriangleAttribs> triangle_attribs;
     std::vector<Transform> transforms;  // set_from_shape for analytic shapes under groups
     std::vector<Bounds3> prim_bounds;   // in the set's frame
-    Bvh bvh;
+    Bvh bvh;                            // primitives are stored in its leaf order
+    bool triangles_only = false;        // then prims[i] is triangles[i]
 };
 
 /// A set placed in the world. Nested instancing is flattened into composed transforms.

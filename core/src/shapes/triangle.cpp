@@ -12,30 +12,21 @@ Bounds3 bounds(const Triangle& t) {
     return b;
 }
 
-// Barycentrics of the ray's hit (Moller-Trumbore in double); false when it misses.
+// Barycentrics of the ray's hit (Moller-Trumbore in double); false when it misses. The same
+// arithmetic as the inline intersect() in shapes.h, so surface_at() agrees with the hit.
 static bool barycentric(const Triangle& tri, const Ray& ray, double* t, double* b1, double* b2) {
     const Vec3 e1 = tri.p1 - tri.p0, e2 = tri.p2 - tri.p0;
     const Vec3 pv = glm::cross(ray.d, e2);
     const double det = glm::dot(e1, pv);
-    if (det == 0.0 || !std::isfinite(det)) return false;
-    const double inv = 1.0 / det;
+    if (!(det != 0.0) || !std::isfinite(det)) return false;
     const Vec3 tv = ray.o - tri.p0;
-    const double u = glm::dot(tv, pv) * inv;
-    if (u < 0.0 || u > 1.0) return false;
+    const double u = glm::dot(tv, pv);
     const Vec3 qv = glm::cross(tv, e1);
-    const double v = glm::dot(ray.d, qv) * inv;
-    if (v < 0.0 || u + v > 1.0) return false;
-    *t = glm::dot(e2, qv) * inv;
-    *b1 = u;
-    *b2 = v;
-    return true;
-}
-
-ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
-    ShapeHits h;
-    double tt = 0, b1 = 0, b2 = 0;
-    if (barycentric(tri, ray, &tt, &b1, &b2) && t.contains(tt)) h.add(tt, 0);
-    return h;
+    const double v = glm::dot(ray.d, qv);
+    *b1 = u / det;
+    *b2 = v / det;
+    *t = glm::dot(e2, qv) / det;
+    return !(det > 0.0 ? (u < 0.0 || v < 0.0 || u + v > det) : (u > 0.0 || v > 0.0 || u + v < det));
 }
 
 SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray,
