@@ -119,7 +119,7 @@ void make_rays(const RenderScene& scene, int w, int h, RayBatch* primary, RayBat
         const SurfaceInteraction si = interaction(scene, r, hit);
         const bool to_point =
             !scene.lights.empty() && scene.lights[0].kind != LightKind::Directional;
-        const Vec3 dir = to_point ? scene.lights[0].position - si.p
+        const Vec3 dir = to_point               ? scene.lights[0].position - si.p
                          : scene.lights.empty() ? Vec3(0, 1, 0)
                                                 : -scene.lights[0].direction;
         const Vec3 n = glm::dot(dir, si.n_geometric) >= 0 ? si.n_geometric : -si.n_geometric;
@@ -211,9 +211,7 @@ void user_bounds(const RTCBoundsFunctionArguments* args) {
     args->bounds_o->upper_z = std::nextafter(static_cast<float>(b.hi.z), INFINITY);
 }
 
-Ray to_ray(const RTCRay& r) {
-    return {{r.org_x, r.org_y, r.org_z}, {r.dir_x, r.dir_y, r.dir_z}};
-}
+Ray to_ray(const RTCRay& r) { return {{r.org_x, r.org_y, r.org_z}, {r.dir_x, r.dir_y, r.dir_z}}; }
 
 void user_intersect(const RTCIntersectFunctionNArguments* args) {
     if (!args->valid[0]) return;
@@ -282,7 +280,8 @@ struct EmbreeScene {
                     const Triangle& t = s.triangles[s.prims[map.tri_prims[k]].index];
                     const Vec3 p[3] = {t.p0, t.p1, t.p2};
                     for (int c = 0; c < 3; ++c) {
-                        for (int a = 0; a < 3; ++a) v[(3 * k + c) * 3 + a] = static_cast<float>(p[c][a]);
+                        for (int a = 0; a < 3; ++a)
+                            v[(3 * k + c) * 3 + a] = static_cast<float>(p[c][a]);
                         idx[3 * k + c] = static_cast<unsigned>(3 * k + c);
                     }
                 }
@@ -432,13 +431,14 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
     const int width = quick ? 320 : 640, height = quick ? 240 : 480;
     RayBatch primary, shadow, random;
     make_rays(w.scene, width, height, &primary, &shadow, &random);
-    std::printf("\n%s: %zu triangles, %zu primitives after instancing; %zu primary, %zu shadow, "
-                "%zu random rays\n",
-                w.name.c_str(), w.triangles,
-                w.scene.stats.prims_by_kind[0] + w.scene.stats.prims_by_kind[1] +
-                    w.scene.stats.prims_by_kind[2] + w.scene.stats.prims_by_kind[3] +
-                    w.scene.stats.prims_by_kind[4],
-                primary.rays.size(), shadow.rays.size(), random.rays.size());
+    std::printf(
+        "\n%s: %zu triangles, %zu primitives after instancing; %zu primary, %zu shadow, "
+        "%zu random rays\n",
+        w.name.c_str(), w.triangles,
+        w.scene.stats.prims_by_kind[0] + w.scene.stats.prims_by_kind[1] +
+            w.scene.stats.prims_by_kind[2] + w.scene.stats.prims_by_kind[3] +
+            w.scene.stats.prims_by_kind[4],
+        primary.rays.size(), shadow.rays.size(), random.rays.size());
 
     const double ours_build = [&] {
         std::vector<double> t;
@@ -447,7 +447,8 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
         return t[t.size() / 2];
     }();
     const double ours_bpt =
-        w.triangles ? static_cast<double>(ours_bytes(w.scene)) / static_cast<double>(w.triangles) : 0;
+        w.triangles ? static_cast<double>(ours_bytes(w.scene)) / static_cast<double>(w.triangles)
+                    : 0;
 
     struct Row {
         const char* figure;
@@ -472,7 +473,8 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
         }
         std::sort(t.begin(), t.end());
         embree_build = t[t.size() / 2];
-        embree_bpt = w.triangles ? static_cast<double>(bytes) / static_cast<double>(w.triangles) : 0;
+        embree_bpt =
+            w.triangles ? static_cast<double>(bytes) / static_cast<double>(w.triangles) : 0;
     }
     EmbreeScene embree(w.scene, threads);
     have_embree = true;
@@ -483,7 +485,8 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
         for (int ti = 0; ti < 2; ++ti) {
             const int nt = ti == 0 ? 1 : threads;
             row.ours[ti] = median_rate(b.rays.size(), repeats, [&] {
-                row.any_hit ? ours_occluded(w.scene, b, ours, nt) : ours_closest(w.scene, b, ours, nt);
+                row.any_hit ? ours_occluded(w.scene, b, ours, nt)
+                            : ours_closest(w.scene, b, ours, nt);
             });
 #ifdef RT_HAVE_EMBREE
             row.embree[ti] = median_rate(b.rays.size(), repeats, [&] {
@@ -497,22 +500,24 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
     std::printf("  %-8s %14s %14s %8s %14s %14s %8s\n", "figure", "ours 1 thread", "Embree 1 thr",
                 "ratio", "ours all", "Embree all", "ratio");
     for (const Row& row : rows)
-        std::printf("  %-8s %14s %14s %8.2f %14s %14s %8.2f\n", row.figure, rate(row.ours[0]).c_str(),
-                    have_embree ? rate(row.embree[0]).c_str() : "n/a",
+        std::printf("  %-8s %14s %14s %8.2f %14s %14s %8.2f\n", row.figure,
+                    rate(row.ours[0]).c_str(), have_embree ? rate(row.embree[0]).c_str() : "n/a",
                     have_embree ? row.ours[0] / row.embree[0] : 0.0, rate(row.ours[1]).c_str(),
                     have_embree ? rate(row.embree[1]).c_str() : "n/a",
                     have_embree ? row.ours[1] / row.embree[1] : 0.0);
-    std::printf("  %-8s %13.3fs %13.3fs %8.2f   (Embree's build uses %d threads, ours 1)\n", "build",
-                ours_build, embree_build, have_embree ? embree_build / ours_build : 0.0, threads);
+    std::printf("  %-8s %13.3fs %13.3fs %8.2f   (Embree's build uses %d threads, ours 1)\n",
+                "build", ours_build, embree_build, have_embree ? embree_build / ours_build : 0.0,
+                threads);
     if (w.triangles)
         std::printf("  %-8s %12.1f B %12.1f B   bytes per triangle (BVH + geometry)\n", "memory",
                     ours_bpt, embree_bpt);
     if (have_embree)
         for (const Row& row : rows)
-            std::printf("  %-8s hits checked on %zu rays: %zu hit/miss, %zu distance (>1e-4 rel), "
-                        "%zu primitive differences\n",
-                        row.figure, row.check.rays, row.check.hit_miss, row.check.distance,
-                        row.check.primitive);
+            std::printf(
+                "  %-8s hits checked on %zu rays: %zu hit/miss, %zu distance (>1e-4 rel), "
+                "%zu primitive differences\n",
+                row.figure, row.check.rays, row.check.hit_miss, row.check.distance,
+                row.check.primitive);
     for (const Row& row : rows)
         std::printf("BENCH %s %s ours=%.6g embree=%.6g speedup=%.3f\n", w.name.c_str(), row.figure,
                     row.ours[1], have_embree ? row.embree[1] : 0.0,
@@ -539,8 +544,9 @@ int main(int argc, char** argv) {
         } else if (a == "--scenes" && i + 1 < argc) {
             scenes_dir = argv[++i];
         } else if (a == "-h" || a == "--help") {
-            std::printf("usage: raybench [--quick] [--repeats N] [--scenes DIR] [WORKLOAD...]\n"
-                        "workloads: mesh10k mesh100k mesh1m and the scene names of DIR\n");
+            std::printf(
+                "usage: raybench [--quick] [--repeats N] [--scenes DIR] [WORKLOAD...]\n"
+                "workloads: mesh10k mesh100k mesh1m and the scene names of DIR\n");
             return 0;
         } else {
             only.push_back(a);

@@ -23,6 +23,8 @@ options:
       --threads N     worker threads; 0 = all cores (the image is the same for any count) [0]
       --no-shadows    no shadow rays (lights always visible)
       --dialect D     v0 or v1: override the dialect detected from the materials
+      --stats         print time per phase (parse, compile, BVH build, render) and rays
+                      per second by kind
   -q, --quiet         print errors and warnings only
   -h, --help          this text
 
@@ -72,6 +74,8 @@ Options parse_options(const std::vector<std::string>& args) {
             o.threads = number<int>(a, value());
         } else if (a == "--no-shadows") {
             o.shadows = false;
+        } else if (a == "--stats") {
+            o.stats = true;
         } else if (a == "-q" || a == "--quiet") {
             o.quiet = true;
         } else if (a == "--dialect") {

@@ -27,6 +27,7 @@ struct Options {
     bool shadows = true;
     std::optional<Dialect> dialect;
     bool quiet = false;
+    bool stats = false;
     bool help = false;
     uint64_t seed = 0;
 };

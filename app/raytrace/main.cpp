@@ -136,6 +136,23 @@ int run(const rt::cli::Options& opt) {
             static_cast<unsigned long long>(state.rays.refracted));
         std::printf("wrote     %s\n", opt.output.c_str());
     }
+    if (opt.stats) {
+        const double build_s = scene.stats.build_seconds;
+        std::printf("\nphase            seconds\n");
+        std::printf("parse         %10.3f\n", parse_s);
+        std::printf("compile       %10.3f   (of which BVH build %.3f)\n", compile_s, build_s);
+        std::printf("render        %10.3f\n", render_s);
+        std::printf("total         %10.3f\n", parse_s + compile_s + render_s);
+        std::printf("\nrays               count     per second of render time\n");
+        const std::pair<const char*, uint64_t> kinds[] = {{"camera", state.rays.camera},
+                                                          {"shadow", state.rays.shadow},
+                                                          {"reflected", state.rays.reflected},
+                                                          {"refracted", state.rays.refracted},
+                                                          {"all", state.rays.total()}};
+        for (const auto& [name, n] : kinds)
+            std::printf("%-10s %12llu     %sray/s\n", name, static_cast<unsigned long long>(n),
+                        si(render_s > 0 ? static_cast<double>(n) / render_s : 0).c_str());
+    }
     return 0;
 }
 

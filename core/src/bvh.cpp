@@ -14,7 +14,7 @@ namespace {
 // The binary tree the SAH builder makes; collapsed into Bvh4Node afterwards.
 struct Node2 {
     Bounds3 bounds;
-    uint32_t left = 0, right = 0;  // interior: children
+    uint32_t left = 0, right = 0;   // interior: children
     uint32_t first = 0, count = 0;  // leaf: count > 0
 };
 
@@ -94,21 +94,22 @@ struct Builder {
         }
         // Leaf cost n * area against traversal (~1 intersection) plus the children.
         const double leaf_cost = box.surface_area() * n;
-        if (best < 0 || (best_cost + box.surface_area() >= leaf_cost &&
-                         n <= Bvh4Node::kMaxLeafCount))
+        if (best < 0 ||
+            (best_cost + box.surface_area() >= leaf_cost && n <= Bvh4Node::kMaxLeafCount))
             return best < 0 ? median(box, begin, end, axis, depth) : leaf(box, begin, n, depth);
-        const uint32_t mid = static_cast<uint32_t>(
-            std::partition(order.begin() + begin, order.begin() + end,
-                           [&](uint32_t p) { return bin_of(p) < best; }) -
-            order.begin());
+        const uint32_t mid =
+            static_cast<uint32_t>(std::partition(order.begin() + begin, order.begin() + end,
+                                                 [&](uint32_t p) { return bin_of(p) < best; }) -
+                                  order.begin());
         if (mid == begin || mid == end) return median(box, begin, end, axis, depth);
         return split(box, begin, mid, end, depth);
     }
 
     uint32_t median(const Bounds3& box, uint32_t begin, uint32_t end, int axis, int depth) {
         const uint32_t mid = begin + (end - begin) / 2;
-        std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
-                         [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+        std::nth_element(
+            order.begin() + begin, order.begin() + mid, order.begin() + end,
+            [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
         return split(box, begin, mid, end, depth);
     }
 };

@@ -1,6 +1,7 @@
 // compile_scene(): the SceneDesc's files become GeometrySets (groups flattened into the file's
 // frame, one copy per file however often it is instanced), instances are flattened into a list
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
+#include <chrono>
 #include <map>
 #include <numeric>
 
@@ -131,13 +132,19 @@ private:
         if (m_set_of_file[fi] != -2) return m_set_of_file[fi];
         GeometrySet set;
         set.name = m_desc.files[fi].path;
+        const size_t n = count_shapes(m_desc.files[fi].root);
+        set.prims.reserve(n);
+        set.prim_bounds.reserve(n);
         add_group(set, fi, m_desc.files[fi].root, Mat4(1.0));
         if (set.prims.empty()) {
             m_set_of_file[fi] = -1;
             return -1;
         }
+        const auto t0 = std::chrono::steady_clock::now();
         set.bvh = build_bvh(set.prim_bounds);
         reorder(set);
+        m_scene.stats.build_seconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         m_set_of_file[fi] = static_cast<int>(m_scene.sets.size());
         m_scene.sets.push_back(std::move(set));
         return m_set_of_file[fi];
@@ -152,15 +159,23 @@ private:
         const size_t n = set.prims.size();
         out.prims.reserve(n);
         out.prim_bounds.reserve(n);
+        out.triangles.reserve(set.triangles.size());
+        out.triangle_attribs.reserve(set.triangle_attribs.size());
         for (uint32_t old : set.bvh.indices) {
             Primitive p = set.prims[old];
             switch (p.kind) {
-                case ShapeKind::Sphere: p.index = move_one(set.spheres, out.spheres, p.index); break;
-                case ShapeKind::Box: p.index = move_one(set.boxes, out.boxes, p.index); break;
+                case ShapeKind::Sphere:
+                    p.index = move_one(set.spheres, out.spheres, p.index);
+                    break;
+                case ShapeKind::Box:
+                    p.index = move_one(set.boxes, out.boxes, p.index);
+                    break;
                 case ShapeKind::Cylinder:
                     p.index = move_one(set.cylinders, out.cylinders, p.index);
                     break;
-                case ShapeKind::Cone: p.index = move_one(set.cones, out.cones, p.index); break;
+                case ShapeKind::Cone:
+                    p.index = move_one(set.cones, out.cones, p.index);
+                    break;
                 case ShapeKind::Triangle:
                     out.triangle_attribs.push_back(set.triangle_attribs[p.index]);
                     p.index = move_one(set.triangles, out.triangles, p.index);
@@ -181,11 +196,18 @@ private:
         return static_cast<uint32_t>(to.size() - 1);
     }
 
+    static size_t count_shapes(const GroupDesc& g) {
+        size_t n = g.shapes.size();
+        for (const GroupDesc& c : g.groups) n += count_shapes(c);
+        return n;
+    }
+
     void add_group(GeometrySet& set, size_t fi, const GroupDesc& g, const Mat4& parent) {
         const Mat4 m = parent * g.matrix;
         if (!g.shapes.empty()) {
             const bool identity = (m == Mat4(1.0));
             const Transform xf = Transform::from_matrix(m);
+            const bool mirror = glm::determinant(Mat3(m)) < 0;
             int xf_index = -1;
             for (const ShapeDesc& s : g.shapes) {
                 const bool analytic = !std::holds_alternative<TriangleDesc>(s.geometry);
@@ -193,14 +215,14 @@ private:
                     xf_index = static_cast<int>(set.transforms.size());
                     set.transforms.push_back(xf);
                 }
-                add_shape(set, fi, s, xf, identity ? -1 : xf_index);
+                add_shape(set, fi, s, xf, identity ? -1 : xf_index, identity, mirror);
             }
         }
         for (const GroupDesc& child : g.groups) add_group(set, fi, child, m);
     }
 
     void add_shape(GeometrySet& set, size_t fi, const ShapeDesc& s, const Transform& xf,
-                   int xf_index) {
+                   int xf_index, bool identity, bool mirror) {
         Primitive p;
         p.material = s.material < 0 ? m_default_material : m_material_offset[fi] + s.material;
         p.transform = xf_index;
@@ -236,9 +258,10 @@ private:
             for (int i = 0; i < 3; ++i) v[i] = &f.vertices[static_cast<size_t>(td.v[i])];
             // A mirroring transform flips the cross product; swap two vertices so the geometric
             // normal stays (A^-1)^T times the local one (spec §4.1), as refraction needs.
-            if (glm::determinant(Mat3(xf.m)) < 0) std::swap(v[1], v[2]);
-            Triangle tri{xf.point(v[0]->position), xf.point(v[1]->position),
-                         xf.point(v[2]->position)};
+            if (mirror) std::swap(v[1], v[2]);
+            Triangle tri = identity ? Triangle{v[0]->position, v[1]->position, v[2]->position}
+                                    : Triangle{xf.point(v[0]->position), xf.point(v[1]->position),
+                                               xf.point(v[2]->position)};
             TriangleAttribs attr;
             attr.has_normals = true;
             for (int i = 0; i < 3; ++i) {
@@ -247,7 +270,7 @@ private:
                 if (n == Vec3(0.0)) {
                     attr.has_normals = false;
                 } else {
-                    attr.n[i] = glm::normalize(xf.normal_dir(n));
+                    attr.n[i] = identity ? n : glm::normalize(xf.normal_dir(n));
                 }
             }
             set.triangles.push_back(tri);
@@ -275,6 +298,7 @@ private:
             for (const Primitive& p : set.prims)
                 m_scene.world_bounds.extend(world_bounds_of(set, p, inst.world_from_set.m));
         }
+        const auto t0 = std::chrono::steady_clock::now();
         m_scene.top = build_bvh(inst_bounds, {1, 16});
         // Instances in the top BVH's leaf order, as for the sets' primitives.
         std::vector<Instance> ordered;
@@ -282,6 +306,8 @@ private:
         for (uint32_t i : m_scene.top.indices) ordered.push_back(m_scene.instances[i]);
         m_scene.instances = std::move(ordered);
         std::iota(m_scene.top.indices.begin(), m_scene.top.indices.end(), 0u);
+        m_scene.stats.build_seconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
 
     void fill_stats() {

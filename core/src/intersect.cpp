@@ -122,15 +122,13 @@ Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max) {
     for_each_instance<false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
         const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
         double inner = t_max;
-        return for_each_hit<false>(set, r, inner, 0.0,
-                                   [&](uint32_t pi, const ShapeHits& h, double&) {
-                                       const Primitive& p = set.prims[pi];
-                                       const Vec3& tr =
-                                           scene.materials[static_cast<size_t>(p.material)]
-                                               .transparent;
-                                       for (int k = 0; k < h.count; ++k) s *= tr;
-                                       return h.count > 0 && s == Vec3(0.0);
-                                   });
+        return for_each_hit<false>(
+            set, r, inner, 0.0, [&](uint32_t pi, const ShapeHits& h, double&) {
+                const Primitive& p = set.prims[pi];
+                const Vec3& tr = scene.materials[static_cast<size_t>(p.material)].transparent;
+                for (int k = 0; k < h.count; ++k) s *= tr;
+                return h.count > 0 && s == Vec3(0.0);
+            });
     });
     return s;
 }

@@ -14,7 +14,8 @@ double blob_radius(double theta, double phi) {
 
 Vec3 blob_point(double theta, double phi) {
     const double r = blob_radius(theta, phi);
-    return r * Vec3(std::sin(theta) * std::sin(phi), std::cos(theta), std::sin(theta) * std::cos(phi));
+    return r *
+           Vec3(std::sin(theta) * std::sin(phi), std::cos(theta), std::sin(theta) * std::cos(phi));
 }
 
 }  // namespace
@@ -37,16 +38,19 @@ TriangleMesh make_blob_mesh(size_t target_triangles) {
     for (int j = 0; j < lon; ++j) m.triangles.push_back({0, ring(1, j), ring(1, j + 1)});
     for (int i = 1; i < lat - 1; ++i)
         for (int j = 0; j < lon; ++j) {
-            const int a = ring(i, j), b = ring(i + 1, j), c = ring(i + 1, j + 1), d = ring(i, j + 1);
+            const int a = ring(i, j), b = ring(i + 1, j), c = ring(i + 1, j + 1),
+                      d = ring(i, j + 1);
             m.triangles.push_back({a, b, c});
             m.triangles.push_back({a, c, d});
         }
-    for (int j = 0; j < lon; ++j) m.triangles.push_back({south, ring(lat - 1, j + 1), ring(lat - 1, j)});
+    for (int j = 0; j < lon; ++j)
+        m.triangles.push_back({south, ring(lat - 1, j + 1), ring(lat - 1, j)});
     // Vertex normals: area-weighted face normals.
     m.normals.assign(m.positions.size(), Vec3(0.0));
     for (const auto& t : m.triangles) {
-        const Vec3 n = glm::cross(m.positions[static_cast<size_t>(t[1])] - m.positions[static_cast<size_t>(t[0])],
-                                  m.positions[static_cast<size_t>(t[2])] - m.positions[static_cast<size_t>(t[0])]);
+        const Vec3 n = glm::cross(
+            m.positions[static_cast<size_t>(t[1])] - m.positions[static_cast<size_t>(t[0])],
+            m.positions[static_cast<size_t>(t[2])] - m.positions[static_cast<size_t>(t[0])]);
         for (int k = 0; k < 3; ++k) m.normals[static_cast<size_t>(t[k])] += n;
     }
     for (Vec3& n : m.normals) n = glm::normalize(n);

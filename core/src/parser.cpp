@@ -55,15 +55,21 @@ bool is_v3_directive(std::string_view d) {
 }
 
 std::string read_file_text(const std::string& path, bool* ok) {
-    std::ifstream f(path, std::ios::binary);
+    // One allocation of the file's size and one read (scenes reach hundreds of megabytes).
+    std::ifstream f(path, std::ios::binary | std::ios::ate);
     if (!f) {
         *ok = false;
         return {};
     }
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    *ok = static_cast<bool>(f) || f.eof();
-    return ss.str();
+    const std::streamoff size = f.tellg();
+    std::string text;
+    if (size > 0) {
+        text.resize(static_cast<size_t>(size));
+        f.seekg(0);
+        f.read(text.data(), size);
+    }
+    *ok = static_cast<bool>(f) || size == 0;
+    return text;
 }
 
 std::string lower(std::string_view s) {
@@ -234,6 +240,7 @@ private:
         c.declared = true;
         c.declared_n = n;
         c.loc = f.lex.loc(dir);
+        if (k == kVertices) f.desc.vertices.reserve(static_cast<size_t>(std::min(n, 1 << 26)));
     }
 
     void count_item(FileState& f, const Token& dir, CountKind k) {

@@ -14,8 +14,9 @@
 namespace rt {
 
 /// A 4-wide node in single precision, structure-of-arrays so one SSE instruction tests an axis
-/// of all four child boxes (116 bytes padded to 128: two cache lines). Boxes are rounded outward from the
-/// double-precision bounds, so the float traversal never misses what a double test would hit.
+/// of all four child boxes (116 bytes padded to 128: two cache lines). Boxes are rounded outward
+/// from the double-precision bounds, so the float traversal never misses what a double test would
+/// hit.
 struct alignas(64) Bvh4Node {
     float lo[3][4];  // [axis][child]
     float hi[3][4];
@@ -60,9 +61,9 @@ struct BoxRay {
 /// Tests the ray against the four child boxes of a node; returns a 4-bit hit mask and the entry
 /// distances. The far distance is widened by 2*gamma(3) in float (Ize 2013) plus the origin
 /// slack; the near one is lowered by the slack.
-inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max,
-                          float t_entry[4]) {
-    const __m128 widen = _mm_set1_ps(1.0f + 2.0f * 3.0f * 5.9604645e-8f / (1.0f - 3.0f * 5.9604645e-8f));
+inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, float t_entry[4]) {
+    const __m128 widen =
+        _mm_set1_ps(1.0f + 2.0f * 3.0f * 5.9604645e-8f / (1.0f - 3.0f * 5.9604645e-8f));
     __m128 t0 = _mm_setzero_ps();
     __m128 t1 = _mm_set1_ps(t_max);
     for (int a = 0; a < 3; ++a) {

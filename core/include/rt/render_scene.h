@@ -75,6 +75,7 @@ struct SceneStats {
     size_t instances = 0;
     size_t lights = 0, materials = 0, textures = 0;
     size_t skipped_shapes = 0;  // degenerate shapes the parser skipped
+    double build_seconds = 0;   // BVH builds (included in compile_scene's time)
 };
 
 struct RenderScene {
