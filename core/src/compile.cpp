@@ -1,6 +1,7 @@
 // compile_scene(): the SceneDesc's files become GeometrySets (groups flattened into the file's
 // frame, one copy per file however often it is instanced), instances are flattened into a list
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
+#include <array>
 #include <chrono>
 #include <map>
 #include <numeric>
@@ -128,72 +129,47 @@ private:
         for (const GroupDesc& child : g.groups) place_instances(f, child, m);
     }
 
+    // One shape waiting for its place in the set: its description and its group's transform.
+    struct Pending {
+        const ShapeDesc* shape;
+        int transform;  // index into the set's transforms, -1: identity
+        bool mirror;    // the transform flips orientation
+    };
+
+    // Compiles file `fi` into a set in two passes: the shapes' bounds first, then the BVH over
+    // them, then the primitives written straight in the BVH's leaf order, so a leaf reads its
+    // primitives from consecutive memory and no array is copied twice.
     int set_for(size_t fi) {
         if (m_set_of_file[fi] != -2) return m_set_of_file[fi];
         GeometrySet set;
         set.name = m_desc.files[fi].path;
-        const size_t n = count_shapes(m_desc.files[fi].root);
-        set.prims.reserve(n);
-        set.prim_bounds.reserve(n);
-        add_group(set, fi, m_desc.files[fi].root, Mat4(1.0));
-        if (set.prims.empty()) {
+        std::vector<Pending> pending;
+        pending.reserve(count_shapes(m_desc.files[fi].root));
+        collect(set, m_desc.files[fi].root, Mat4(1.0), pending);
+        if (pending.empty()) {
             m_set_of_file[fi] = -1;
             return -1;
         }
+        std::vector<Bounds3> bounds;
+        bounds.reserve(pending.size());
+        for (const Pending& p : pending) bounds.push_back(shape_bounds(set, fi, p));
+
         const auto t0 = std::chrono::steady_clock::now();
-        set.bvh = build_bvh(set.prim_bounds);
-        reorder(set);
+        set.bvh = build_bvh(bounds);
         m_scene.stats.build_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+        set.prims.reserve(pending.size());
+        set.prim_bounds.reserve(pending.size());
+        for (uint32_t old : set.bvh.indices) {
+            add_shape(set, fi, pending[old]);
+            set.prim_bounds.push_back(bounds[old]);
+        }
+        std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
+        set.triangles_only = set.triangles.size() == set.prims.size();
         m_set_of_file[fi] = static_cast<int>(m_scene.sets.size());
         m_scene.sets.push_back(std::move(set));
         return m_set_of_file[fi];
-    }
-
-    // Puts the primitives (and each kind's array) in the BVH's leaf order, so a leaf reads its
-    // primitives from consecutive memory; the BVH's order becomes the identity.
-    static void reorder(GeometrySet& set) {
-        GeometrySet out;
-        out.name = std::move(set.name);
-        out.transforms = std::move(set.transforms);
-        const size_t n = set.prims.size();
-        out.prims.reserve(n);
-        out.prim_bounds.reserve(n);
-        out.triangles.reserve(set.triangles.size());
-        out.triangle_attribs.reserve(set.triangle_attribs.size());
-        for (uint32_t old : set.bvh.indices) {
-            Primitive p = set.prims[old];
-            switch (p.kind) {
-                case ShapeKind::Sphere:
-                    p.index = move_one(set.spheres, out.spheres, p.index);
-                    break;
-                case ShapeKind::Box:
-                    p.index = move_one(set.boxes, out.boxes, p.index);
-                    break;
-                case ShapeKind::Cylinder:
-                    p.index = move_one(set.cylinders, out.cylinders, p.index);
-                    break;
-                case ShapeKind::Cone:
-                    p.index = move_one(set.cones, out.cones, p.index);
-                    break;
-                case ShapeKind::Triangle:
-                    out.triangle_attribs.push_back(set.triangle_attribs[p.index]);
-                    p.index = move_one(set.triangles, out.triangles, p.index);
-                    break;
-            }
-            out.prims.push_back(p);
-            out.prim_bounds.push_back(set.prim_bounds[old]);
-        }
-        out.bvh = std::move(set.bvh);
-        std::iota(out.bvh.indices.begin(), out.bvh.indices.end(), 0u);
-        out.triangles_only = out.triangles.size() == out.prims.size();
-        set = std::move(out);
-    }
-
-    template <class T>
-    static uint32_t move_one(const std::vector<T>& from, std::vector<T>& to, uint32_t i) {
-        to.push_back(from[i]);
-        return static_cast<uint32_t>(to.size() - 1);
     }
 
     static size_t count_shapes(const GroupDesc& g) {
@@ -202,85 +178,103 @@ private:
         return n;
     }
 
-    void add_group(GeometrySet& set, size_t fi, const GroupDesc& g, const Mat4& parent) {
+    // Flattens the group tree: one cached transform per group with shapes (none when identity).
+    void collect(GeometrySet& set, const GroupDesc& g, const Mat4& parent,
+                 std::vector<Pending>& pending) {
         const Mat4 m = parent * g.matrix;
         if (!g.shapes.empty()) {
-            const bool identity = (m == Mat4(1.0));
-            const Transform xf = Transform::from_matrix(m);
-            const bool mirror = glm::determinant(Mat3(m)) < 0;
-            int xf_index = -1;
-            for (const ShapeDesc& s : g.shapes) {
-                const bool analytic = !std::holds_alternative<TriangleDesc>(s.geometry);
-                if (analytic && !identity && xf_index < 0) {
-                    xf_index = static_cast<int>(set.transforms.size());
-                    set.transforms.push_back(xf);
-                }
-                add_shape(set, fi, s, xf, identity ? -1 : xf_index, identity, mirror);
+            int xf = -1;
+            if (m != Mat4(1.0)) {
+                xf = static_cast<int>(set.transforms.size());
+                set.transforms.push_back(Transform::from_matrix(m));
             }
+            const bool mirror = glm::determinant(Mat3(m)) < 0;
+            for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror});
         }
-        for (const GroupDesc& child : g.groups) add_group(set, fi, child, m);
+        for (const GroupDesc& child : g.groups) collect(set, child, m, pending);
     }
 
-    void add_shape(GeometrySet& set, size_t fi, const ShapeDesc& s, const Transform& xf,
-                   int xf_index, bool identity, bool mirror) {
+    // The triangle's vertices in the set's frame; a mirroring transform swaps the last two so
+    // the geometric normal stays (A^-1)^T times the local one (spec §4.1), as refraction needs.
+    static std::array<const VertexDesc*, 3> triangle_vertices(const FileDesc& f,
+                                                              const TriangleDesc& t, bool mirror) {
+        std::array<const VertexDesc*, 3> v{};
+        for (int i = 0; i < 3; ++i)
+            v[static_cast<size_t>(i)] = &f.vertices[static_cast<size_t>(t.v[i])];
+        if (mirror) std::swap(v[1], v[2]);
+        return v;
+    }
+
+    Bounds3 shape_bounds(const GeometrySet& set, size_t fi, const Pending& p) const {
+        const Transform* xf =
+            p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
+        const ShapeDesc& s = *p.shape;
+        if (const auto* td = std::get_if<TriangleDesc>(&s.geometry)) {
+            Bounds3 b;
+            for (const VertexDesc* v : triangle_vertices(m_desc.files[fi], *td, p.mirror))
+                b.extend(xf ? xf->point(v->position) : v->position);
+            return b;
+        }
+        // Analytic shapes: exact bounds under the group's transform, widened by its rounding.
+        auto tight = [&](const auto& shape) {
+            return xf ? widen(bounds(shape, xf->m)) : bounds(shape);
+        };
+        if (const auto* sp = std::get_if<SphereDesc>(&s.geometry))
+            return tight(Sphere{sp->centre, sp->radius});
+        if (const auto* bx = std::get_if<BoxDesc>(&s.geometry))
+            return tight(Box{bx->centre, 0.5 * bx->size});
+        if (const auto* cy = std::get_if<CylinderDesc>(&s.geometry))
+            return tight(Cylinder{cy->centre, cy->radius, cy->height});
+        const auto& co = std::get<ConeDesc>(s.geometry);
+        return tight(Cone{co.centre, co.radius, co.height});
+    }
+
+    void add_shape(GeometrySet& set, size_t fi, const Pending& pend) {
+        const ShapeDesc& s = *pend.shape;
         Primitive p;
         p.material = s.material < 0 ? m_default_material : m_material_offset[fi] + s.material;
-        p.transform = xf_index;
-        const Mat4& m = xf.m;
-        Bounds3 local;
+        p.transform = pend.transform;
         if (const auto* sp = std::get_if<SphereDesc>(&s.geometry)) {
             p.kind = ShapeKind::Sphere;
             p.index = static_cast<uint32_t>(set.spheres.size());
             set.spheres.push_back({sp->centre, sp->radius});
-            local = xf_index < 0 ? bounds(set.spheres.back()) : bounds(set.spheres.back(), m);
         } else if (const auto* bx = std::get_if<BoxDesc>(&s.geometry)) {
             p.kind = ShapeKind::Box;
             p.index = static_cast<uint32_t>(set.boxes.size());
             set.boxes.push_back({bx->centre, 0.5 * bx->size});
-            local = xf_index < 0 ? bounds(set.boxes.back()) : bounds(set.boxes.back(), m);
         } else if (const auto* cy = std::get_if<CylinderDesc>(&s.geometry)) {
             p.kind = ShapeKind::Cylinder;
             p.index = static_cast<uint32_t>(set.cylinders.size());
             set.cylinders.push_back({cy->centre, cy->radius, cy->height});
-            local = xf_index < 0 ? bounds(set.cylinders.back()) : bounds(set.cylinders.back(), m);
         } else if (const auto* co = std::get_if<ConeDesc>(&s.geometry)) {
             p.kind = ShapeKind::Cone;
             p.index = static_cast<uint32_t>(set.cones.size());
             set.cones.push_back({co->centre, co->radius, co->height});
-            local = xf_index < 0 ? bounds(set.cones.back()) : bounds(set.cones.back(), m);
         } else {
-            const auto& td = std::get<TriangleDesc>(s.geometry);
-            const FileDesc& f = m_desc.files[fi];
+            // Triangles are flattened into the set's frame: no per-primitive transform.
+            const Transform* xf =
+                pend.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(pend.transform)];
+            const auto v = triangle_vertices(m_desc.files[fi], std::get<TriangleDesc>(s.geometry),
+                                             pend.mirror);
             p.kind = ShapeKind::Triangle;
             p.index = static_cast<uint32_t>(set.triangles.size());
-            p.transform = -1;  // triangles are flattened into the set's frame
-            const VertexDesc* v[3];
-            for (int i = 0; i < 3; ++i) v[i] = &f.vertices[static_cast<size_t>(td.v[i])];
-            // A mirroring transform flips the cross product; swap two vertices so the geometric
-            // normal stays (A^-1)^T times the local one (spec §4.1), as refraction needs.
-            if (mirror) std::swap(v[1], v[2]);
-            Triangle tri = identity ? Triangle{v[0]->position, v[1]->position, v[2]->position}
-                                    : Triangle{xf.point(v[0]->position), xf.point(v[1]->position),
-                                               xf.point(v[2]->position)};
+            p.transform = -1;
+            Triangle tri{v[0]->position, v[1]->position, v[2]->position};
+            if (xf) tri = {xf->point(tri.p0), xf->point(tri.p1), xf->point(tri.p2)};
             TriangleAttribs attr;
             attr.has_normals = true;
-            for (int i = 0; i < 3; ++i) {
+            for (size_t i = 0; i < 3; ++i) {
                 attr.uv[i] = v[i]->uv;
                 const Vec3 n = v[i]->normal;
-                if (n == Vec3(0.0)) {
+                if (n == Vec3(0.0))
                     attr.has_normals = false;
-                } else {
-                    attr.n[i] = identity ? n : glm::normalize(xf.normal_dir(n));
-                }
+                else
+                    attr.n[i] = xf ? glm::normalize(xf->normal_dir(n)) : n;
             }
             set.triangles.push_back(tri);
             set.triangle_attribs.push_back(attr);
-            set.prims.push_back(p);
-            set.prim_bounds.push_back(bounds(tri));
-            return;
         }
         set.prims.push_back(p);
-        set.prim_bounds.push_back(xf_index < 0 ? local : widen(local));
     }
 
     void build_acceleration() {
