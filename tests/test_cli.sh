@@ -62,6 +62,13 @@ check "missing scene message" grep -q "cannot open scene file" "$tmp/err2.txt"
 check "dialect override rejects V1 material" test $? -eq 1
 check "dialect override message" grep -q "needs 16" "$tmp/err3.txt"
 
+"$rt" "$tmp/ok.ray" -o "$tmp/nodir/x.png" >"$tmp/err4.txt" 2>&1
+check "missing output directory exits 1" test $? -eq 1
+check "missing output directory message" grep -q "cannot write" "$tmp/err4.txt"
+mkdir -p "$tmp/adir.png"
+"$rt" "$tmp/ok.ray" -o "$tmp/adir.png" >/dev/null 2>&1
+check "output is a directory exits 1" test $? -eq 1
+
 for ext in png bmp ppm pfm; do
     "$rt" "$tmp/ok.ray" -q -o "$tmp/f.$ext" --width 20 --height 10 >/dev/null 2>&1
     check "writes .$ext" test -s "$tmp/f.$ext"

@@ -280,7 +280,7 @@ INSTANTIATE_TEST_SUITE_P(
                   "supported yet"},
         ErrorCase{"#background 1 1 1 #shape_torus", "test.ray:1:19: error: '#shape_torus' is V3"},
         ErrorCase{"#texture missing.bmp",
-                  "test.ray:1:10: error: cannot open texture 'missing.bmp' (tried ./missing.bmp"},
+                  "test.ray:1:10: error: cannot open texture 'missing.bmp' (tried ./missing.bmp)"},
         ErrorCase{"#ray_file nothere.ray",
                   "test.ray:1:11: error: cannot open ray file "
                   "'nothere.ray'"},
@@ -289,7 +289,14 @@ INSTANTIATE_TEST_SUITE_P(
                   "test.ray:1:38: error: negative spot cutoff -0.5"},
         ErrorCase{"#light_dir 1 1 1 0 0 0", "test.ray:1:1: error: light direction is zero"},
         ErrorCase{"#shape_sphere 99999999999 0 0 0 1",
-                  "test.ray:1:15: error: integer '99999999999' out of range"}));
+                  "test.ray:1:15: error: integer '99999999999' out of range"}),
+    // Readable names: the case number and the directive the text starts with.
+    [](const ::testing::TestParamInfo<ErrorCase>& p) {
+        std::string name = "case" + std::to_string(p.index) + "_";
+        for (const char* c = p.param.text; *c && *c != ' ' && *c != '\n'; ++c)
+            if (std::isalnum(static_cast<unsigned char>(*c))) name += *c;
+        return name;
+    });
 
 TEST(Parser, CommentMayFollowATokenDirectly) {
     EXPECT_EQ(parse("#background 1 0 0// red\n").background, Vec3(1, 0, 0));

@@ -24,8 +24,9 @@ int main(int argc, char** argv) {
         } else if ((a == "-o" || a == "--output") && i + 1 < argc) {
             out = argv[++i];
         } else if (a == "-h" || a == "--help") {
-            std::cout << "usage: raygen --triangles N -o OUT.ray\n"
-                         "Writes a V1 scene with a closed, bumpy mesh of about N triangles.\n";
+            std::cout
+                << "usage: raygen --triangles N -o OUT.ray   (-n N is short for --triangles N)\n"
+                   "Writes a V1 scene with a closed, bumpy mesh of about N triangles.\n";
             return 0;
         } else {
             std::cerr << "raygen: unknown argument '" << a << "' (see raygen --help)\n";

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "cli_options.h"
@@ -37,6 +38,24 @@ int run(const rt::cli::Options& opt) {
     auto print_warnings = [&]() {
         for (const rt::Warning& w : diag.warnings()) std::cerr << w.str() << "\n";
     };
+
+    // The output must be writable before any work is done (a long render must not fail at the end).
+    {
+        namespace fs = std::filesystem;
+        const fs::path out(opt.output);
+        const fs::path dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
+        std::error_code ec;
+        if (!fs::is_directory(dir, ec)) {
+            std::cerr << "raytrace: error: cannot write '" << opt.output << "': no directory '"
+                      << dir.string() << "'\n";
+            return 1;
+        }
+        if (fs::is_directory(out, ec)) {
+            std::cerr << "raytrace: error: cannot write '" << opt.output
+                      << "': it is a directory\n";
+            return 1;
+        }
+    }
 
     const auto t_parse = Clock::now();
     rt::ParseOptions parse_options;

@@ -265,9 +265,10 @@ private:
         if (fs::is_regular_file(a)) return a.lexically_normal().string();
         const fs::path b = fs::path(".") / p;
         if (fs::is_regular_file(b)) return b.lexically_normal().string();
-        fail(f, at,
-             "cannot open " + what + " " + quote(path) + " (tried " + a.string() + ", " +
-                 b.string() + ")");
+        const std::string tried = a.lexically_normal() == b.lexically_normal()
+                                      ? a.string()
+                                      : a.string() + ", " + b.string();
+        fail(f, at, "cannot open " + what + " " + quote(path) + " (tried " + tried + ")");
     }
 
     // ---- the file loop -------------------------------------------------------------------
