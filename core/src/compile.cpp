@@ -167,9 +167,22 @@ private:
         }
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
         set.triangles_only = set.triangles.size() == set.prims.size();
+        pack_triangles(set);
         m_set_of_file[fi] = static_cast<int>(m_scene.sets.size());
         m_scene.sets.push_back(std::move(set));
         return m_set_of_file[fi];
+    }
+
+    // Single-precision copies of the triangles, four per block (unused lanes zero).
+    static void pack_triangles(GeometrySet& set) {
+        set.tri4.assign((set.triangles.size() + 3) / 4, Tri4{});
+        for (size_t i = 0; i < set.triangles.size(); ++i) {
+            const Triangle& t = set.triangles[i];
+            const Vec3* v[3] = {&t.p0, &t.p1, &t.p2};
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 3; ++a)
+                    set.tri4[i / 4].p[k][a][i % 4] = static_cast<float>((*v[k])[a]);
+        }
     }
 
     static size_t count_shapes(const GroupDesc& g) {

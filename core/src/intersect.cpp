@@ -1,15 +1,38 @@
 #include "rt/intersect.h"
 
+#include <algorithm>
+
+#include "rt/triangle4.h"
+
 namespace rt {
 
 namespace {
 
+// A ray in a set's frame with the per-ray constants of the triangle kernel.
+struct SetRay {
+    Ray ray;
+    TriRay tri;
+    explicit SetRay(const Ray& r) : ray(r), tri(r) {}
+};
+
+// The one triangle test: lane `index % 4` of block `index / 4` (spec §5; see triangle4.h).
+ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tri, Interval t) {
+    ShapeHits h;
+    float tt[4];
+    const int lane = static_cast<int>(index & 3u);
+    if (intersect_tri4(set.tri4[index >> 2], tri, 1 << lane, float_lower(t.lo), float_upper(t.hi),
+                       tt)) {
+        const double th = tt[lane];
+        if (t.contains(th)) h.add(th, 0);
+    }
+    return h;
+}
+
 // Every hit of one primitive of a set, for a ray in the set's frame.
-ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray_set, Interval t) {
-    if (p.kind == ShapeKind::Triangle) return intersect(set.triangles[p.index], ray_set, t);
-    const Ray r = p.transform < 0
-                      ? ray_set
-                      : set.transforms[static_cast<size_t>(p.transform)].inv_ray(ray_set);
+ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const SetRay& sr, Interval t) {
+    if (p.kind == ShapeKind::Triangle) return triangle_hits(set, p.index, sr.tri, t);
+    const Ray r =
+        p.transform < 0 ? sr.ray : set.transforms[static_cast<size_t>(p.transform)].inv_ray(sr.ray);
     switch (p.kind) {
         case ShapeKind::Sphere:
             return intersect(set.spheres[p.index], r, t);
@@ -44,18 +67,38 @@ void for_each_instance(const RenderScene& scene, const Ray& ray, double& t_max, 
     });
 }
 
-// Calls hits(prim, ShapeHits) for the primitives of a set along a ray in its frame. Sets made of
-// triangles only go straight to the inline triangle test.
+// Calls hits(prim, ShapeHits, t_max) for the primitives of a set along a ray in its frame. Sets
+// of triangles only test each leaf's triangles four at a time.
 template <bool kOrdered, class F>
 bool for_each_hit(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
+    const SetRay sr(r);
     bool stopped = false;
     if (set.triangles_only) {
-        traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {
-            return stopped = hits(pi, intersect(set.triangles[pi], r, {t_min, best}), best);
-        });
+        traverse_leaves<kOrdered>(
+            set.bvh, r, t_max, [&](uint32_t first, uint32_t count, double& best) {
+                const uint32_t end = first + count;
+                for (uint32_t b = first >> 2; b <= (end - 1) >> 2; ++b) {
+                    // The lanes of block b that belong to this leaf.
+                    const uint32_t lo = std::max(first, b * 4), hi = std::min(end, b * 4 + 4);
+                    const int lanes = ((1 << (hi - lo)) - 1) << (lo - b * 4);
+                    float tt[4];
+                    int m = intersect_tri4(set.tri4[b], sr.tri, lanes, float_lower(t_min),
+                                           float_upper(best), tt);
+                    while (m) {
+                        const int l = __builtin_ctz(static_cast<unsigned>(m));
+                        m &= m - 1;
+                        ShapeHits h;
+                        const double th = tt[l];
+                        if (th > t_min && th < best) h.add(th, 0);
+                        if (h.count && hits(b * 4 + static_cast<uint32_t>(l), h, best))
+                            return stopped = true;
+                    }
+                }
+                return false;
+            });
     } else {
         traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {
-            return stopped = hits(pi, prim_hits(set, set.prims[pi], r, {t_min, best}), best);
+            return stopped = hits(pi, prim_hits(set, set.prims[pi], sr, {t_min, best}), best);
         });
     }
     return stopped;
@@ -85,7 +128,7 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
     for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
         const Instance& inst = scene.instances[ii];
         const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
-        const Ray r = to_set(inst, ray);
+        const SetRay r(to_set(inst, ray));
         for (uint32_t pi = 0; pi < set.prims.size(); ++pi) {
             const ShapeHits h = prim_hits(set, set.prims[pi], r, {t.lo, best});
             if (h.count > 0) {
@@ -100,7 +143,7 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
 
 ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
                               Interval t) {
-    return prim_hits(set, set.prims[prim], ray_set, t);
+    return prim_hits(set, set.prims[prim], SetRay(ray_set), t);
 }
 
 bool occluded(const RenderScene& scene, const Ray& ray, double t_max) {
@@ -189,11 +232,7 @@ SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const H
 Vec3 offset_origin(const SurfaceInteraction& si, const Vec3& dir) {
     const Vec3 n = si.n_geometric;
     // Distance along n that moves the point outside its error box (pbrt-v4 OffsetRayOrigin).
-    // The factor covers the rounding of the next intersection test itself (a quadratic's constant
-    // term near zero carries an error of the same order as p's), so the spawned ray starts
-    // clearly outside the surface's error band at every scale.
-    constexpr double kSafety = 64.0;
-    const double d = kSafety * glm::dot(glm::abs(n), si.p_error);
+    const double d = glm::dot(glm::abs(n), si.p_error);
     Vec3 offset = d * n;
     if (glm::dot(dir, n) < 0) offset = -offset;
     Vec3 po = si.p + offset;

@@ -78,12 +78,13 @@ inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, 
     return _mm_movemask_ps(_mm_cmple_ps(t0, t1)) & ((1 << node.num_children) - 1);
 }
 
-/// Traversal: `visit(prim_index, t_max)` tests one primitive and may shrink t_max (closest
-/// hit); it returns true to stop the whole walk (any hit). With kOrdered, children are visited
+/// Traversal: `visit_leaf(first, count, t_max)` tests the leaf's primitives (positions
+/// first .. first + count - 1 of `indices`) and may shrink t_max (closest hit); it returns true
+/// to stop the whole walk (any hit). With kOrdered, children are visited
 /// nearest entry first and a subtree whose box starts beyond t_max is skipped (closest-hit
 /// queries); any-hit queries skip the sorting.
-template <bool kOrdered = true, class Visit>
-void traverse(const Bvh& bvh, const Ray& ray, double& t_max, Visit&& visit) {
+template <bool kOrdered = true, class VisitLeaf>
+void traverse_leaves(const Bvh& bvh, const Ray& ray, double& t_max, VisitLeaf&& visit_leaf) {
     if (bvh.empty()) return;
     const BoxRay box_ray(ray);
     struct Entry {
@@ -101,8 +102,7 @@ void traverse(const Bvh& bvh, const Ray& ray, double& t_max, Visit&& visit) {
         if (e.child & Bvh4Node::kLeaf) {
             const uint32_t first = e.child & Bvh4Node::kFirstMask;
             const uint32_t count = (e.child & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
-            for (uint32_t i = first; i < first + count; ++i)
-                if (visit(bvh.indices[i], t_max)) return;
+            if (visit_leaf(first, count, t_max)) return;
             continue;
         }
         const Bvh4Node& node = bvh.nodes[e.child];
@@ -129,6 +129,16 @@ void traverse(const Bvh& bvh, const Ray& ray, double& t_max, Visit&& visit) {
         }
         for (int k = 0; k < n; ++k) stack[sp++] = hits[k];
     }
+}
+
+/// The same walk with one call per primitive: `visit(prim_index, t_max)`.
+template <bool kOrdered = true, class Visit>
+void traverse(const Bvh& bvh, const Ray& ray, double& t_max, Visit&& visit) {
+    traverse_leaves<kOrdered>(bvh, ray, t_max, [&](uint32_t first, uint32_t count, double& t) {
+        for (uint32_t i = first; i < first + count; ++i)
+            if (visit(bvh.indices[i], t)) return true;
+        return false;
+    });
 }
 
 }  // namespace rt

@@ -14,6 +14,7 @@
 #include "rt/image.h"
 #include "rt/scene_desc.h"
 #include "rt/shapes.h"
+#include "rt/triangle4.h"
 
 namespace rt {
 
@@ -53,6 +54,7 @@ struct GeometrySet {
     std::vector<Cylinder> cylinders;
     std::vector<Cone> cones;
     std::vector<Triangle> triangles;  // flattened into the set's frame
+    std::vector<Tri4> tri4;           // the same in float, four per block: what rays test
     std::vector<TriangleAttribs> triangle_attribs;
     std::vector<Transform> transforms;  // set_from_shape for analytic shapes under groups
     std::vector<Bounds3> prim_bounds;   // in the set's frame

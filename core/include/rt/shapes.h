@@ -53,9 +53,20 @@ struct ShapeHits {
     }
 };
 
+/// Analytic shapes are tested in double, and the test of a ray spawned at a hit carries an
+/// error of the same order as the hit point's own (a quadratic's constant term near zero), so
+/// their point error bounds are widened by this factor: the spawned ray then starts clearly
+/// outside the surface's error band at every scale.
+inline constexpr double kAnalyticRetestMargin = 64.0;
+
+/// Unit roundoff of float: triangles are tested in single precision (triangle4.h).
+inline constexpr double kFloatEps = 5.9604644775390625e-8;
+constexpr double gamma_float(int n) { return (n * kFloatEps) / (1 - n * kFloatEps); }
+
 struct SurfacePoint {
     Vec3 p{0.0};            // on the surface, refined (re-projected) where the shape allows
-    Vec3 p_error{0.0};      // conservative absolute error bound of p, per component
+    Vec3 p_error{0.0};      // conservative absolute error bound of p, per component, that a
+                            // spawned ray must clear (see kAnalyticRetestMargin, gamma_float)
     Vec3 n_geometric{0.0};  // outward, unit
     Vec3 n_shading{0.0};    // unit; equals n_geometric except for triangles with normals
     Vec2 uv{0.0};

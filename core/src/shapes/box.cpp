@@ -61,7 +61,7 @@ SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int /*part*/) {
     q[axis] = sign * b.half[axis];
     for (int a = 0; a < 3; ++a) q[a] = std::clamp(q[a], -b.half[a], b.half[a]);
     sp.p = b.centre + q;
-    sp.p_error = gamma(4) * (glm::abs(b.centre) + glm::abs(q));
+    sp.p_error = kAnalyticRetestMargin * gamma(4) * (glm::abs(b.centre) + glm::abs(q));
     sp.n_geometric = Vec3(0.0);
     sp.n_geometric[axis] = sign;
     sp.n_shading = sp.n_geometric;

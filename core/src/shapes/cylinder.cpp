@@ -86,7 +86,7 @@ SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part) {
                     : Vec2((q.x + r) / (2 * r), (q.z + r) / (2 * r));
     }
     sp.p = c.centre + q;
-    sp.p_error = gamma(5) * (glm::abs(c.centre) + glm::abs(q));
+    sp.p_error = kAnalyticRetestMargin * gamma(5) * (glm::abs(c.centre) + glm::abs(q));
     sp.n_shading = sp.n_geometric;
     return sp;
 }

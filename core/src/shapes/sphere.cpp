@@ -65,7 +65,7 @@ SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int /*part*/)
     // Re-project onto the sphere: the point's error no longer depends on t's error.
     q *= s.radius / glm::length(q);
     sp.p = s.centre + q;
-    sp.p_error = gamma(5) * (glm::abs(s.centre) + glm::abs(q));
+    sp.p_error = kAnalyticRetestMargin * gamma(5) * (glm::abs(s.centre) + glm::abs(q));
     sp.n_geometric = q / s.radius;
     sp.n_shading = sp.n_geometric;
     sp.uv.x = azimuth(q) / (2 * kPi);

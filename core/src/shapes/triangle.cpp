@@ -43,10 +43,12 @@ SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const 
         b2 = std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - b1);
     }
     const double b0 = 1.0 - b1 - b2;
-    // The point from barycentrics (pbrt's bound: gamma(7) times the summed magnitudes).
+    // The point from barycentrics. Its error bound is pbrt's, in single precision: rays are
+    // tested against the float copy of the triangle from a float origin, so a spawned ray must
+    // clear the float rounding of the vertices and of its own origin.
     const Vec3 a0 = b0 * tri.p0, a1 = b1 * tri.p1, a2 = b2 * tri.p2;
     sp.p = a0 + a1 + a2;
-    sp.p_error = gamma(7) * (glm::abs(a0) + glm::abs(a1) + glm::abs(a2));
+    sp.p_error = gamma_float(7) * (glm::abs(a0) + glm::abs(a1) + glm::abs(a2));
     sp.n_geometric = glm::normalize(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
     sp.n_shading = sp.n_geometric;
     if (attr.has_normals) {

@@ -1,0 +1,49 @@
+// Four triangles tested against one ray at once, in single precision with SSE: the watertight
+// ray/triangle algorithm of Woop, Benthin and Wald (JCGT 2013), with pbrt-v4's conservative
+// bound on the computed distance so that a ray leaving a triangle never finds that triangle
+// again at t ~ 0. Every triangle test of the renderer goes through this kernel (the BVH path and
+// the brute-force path alike), so both see exactly the same hits.
+#pragma once
+
+#include <immintrin.h>
+
+#include <cstdint>
+
+#include "rt/math.h"
+
+namespace rt {
+
+/// Four triangles, structure of arrays: p[vertex][axis][lane], in the set's frame.
+struct alignas(16) Tri4 {
+    float p[3][3][4];
+};
+
+/// Per-ray constants of the watertight test: the axis permutation that makes z the dominant
+/// direction and the shear that maps the ray onto +z.
+struct TriRay {
+    int kx = 0, ky = 1, kz = 2;
+    float sx = 0, sy = 0, sz = 1;
+    float o[3] = {0, 0, 0};
+    explicit TriRay(const Ray& r);
+};
+
+/// Tests the lanes of `lanes_mask`. Returns a mask of the lanes hit with t in (t_lo, t_hi) and
+/// writes their distances to t_out.
+int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_lo, float t_hi,
+                   float t_out[4]);
+
+/// Rounds a double distance limit to float, never below it.
+inline float float_upper(double t) {
+    if (!(t < 3.4e38)) return INFINITY;
+    float f = static_cast<float>(t);
+    if (static_cast<double>(f) < t) f = std::nextafter(f, INFINITY);
+    return f;
+}
+/// Rounds a double distance limit to float, never above it.
+inline float float_lower(double t) {
+    float f = static_cast<float>(t);
+    if (static_cast<double>(f) > t) f = std::nextafter(f, -INFINITY);
+    return f;
+}
+
+}  // namespace rt

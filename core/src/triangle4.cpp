@@ -1,0 +1,121 @@
+#include "rt/triangle4.h"
+
+namespace rt {
+
+TriRay::TriRay(const Ray& r) {
+    // The dominant axis of the direction becomes z; x and y follow cyclically (winding kept).
+    const Vec3 a = glm::abs(r.d);
+    kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    const double dz = r.d[kz];
+    sx = static_cast<float>(-r.d[kx] / dz);
+    sy = static_cast<float>(-r.d[ky] / dz);
+    sz = static_cast<float>(1.0 / dz);
+    for (int i = 0; i < 3; ++i) o[i] = static_cast<float>(r.o[i]);
+}
+
+namespace {
+
+inline __m128 abs_ps(__m128 v) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), v); }
+
+// gamma(n) in single precision.
+constexpr float gamma_f(int n) {
+    constexpr float u = 5.9604645e-8f;  // 2^-24
+    return (static_cast<float>(n) * u) / (1.0f - static_cast<float>(n) * u);
+}
+
+}  // namespace
+
+int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_lo, float t_hi,
+                   float t_out[4]) {
+    const __m128 ox = _mm_set1_ps(ray.o[ray.kx]), oy = _mm_set1_ps(ray.o[ray.ky]),
+                 oz = _mm_set1_ps(ray.o[ray.kz]);
+    const __m128 sx = _mm_set1_ps(ray.sx), sy = _mm_set1_ps(ray.sy), sz = _mm_set1_ps(ray.sz);
+
+    // Vertices relative to the ray origin, permuted, then sheared so the ray is the +z axis.
+    __m128 x[3], y[3], z[3];
+    for (int v = 0; v < 3; ++v) {
+        z[v] = _mm_sub_ps(_mm_load_ps(tri.p[v][ray.kz]), oz);
+        x[v] = _mm_add_ps(_mm_sub_ps(_mm_load_ps(tri.p[v][ray.kx]), ox), _mm_mul_ps(sx, z[v]));
+        y[v] = _mm_add_ps(_mm_sub_ps(_mm_load_ps(tri.p[v][ray.ky]), oy), _mm_mul_ps(sy, z[v]));
+    }
+    // Edge functions: the signed areas seen from the ray.
+    __m128 e0 = _mm_sub_ps(_mm_mul_ps(x[1], y[2]), _mm_mul_ps(y[1], x[2]));
+    __m128 e1 = _mm_sub_ps(_mm_mul_ps(x[2], y[0]), _mm_mul_ps(y[2], x[0]));
+    __m128 e2 = _mm_sub_ps(_mm_mul_ps(x[0], y[1]), _mm_mul_ps(y[0], x[1]));
+
+    const __m128 zero = _mm_setzero_ps();
+    // An edge function of exactly zero is recomputed in double (the watertight fallback).
+    const int zero_mask = _mm_movemask_ps(_mm_or_ps(
+        _mm_or_ps(_mm_cmpeq_ps(e0, zero), _mm_cmpeq_ps(e1, zero)), _mm_cmpeq_ps(e2, zero)));
+    if (zero_mask & lanes_mask) {
+        alignas(16) float fx[3][4], fy[3][4], f0[4], f1[4], f2[4];
+        for (int v = 0; v < 3; ++v) {
+            _mm_store_ps(fx[v], x[v]);
+            _mm_store_ps(fy[v], y[v]);
+        }
+        _mm_store_ps(f0, e0);
+        _mm_store_ps(f1, e1);
+        _mm_store_ps(f2, e2);
+        for (int l = 0; l < 4; ++l) {
+            if (!((zero_mask & lanes_mask) >> l & 1)) continue;
+            auto dp = [&](int a, int b) {
+                return static_cast<float>(
+                    static_cast<double>(fx[a][l]) * static_cast<double>(fy[b][l]) -
+                    static_cast<double>(fy[a][l]) * static_cast<double>(fx[b][l]));
+            };
+            f0[l] = dp(1, 2);
+            f1[l] = dp(2, 0);
+            f2[l] = dp(0, 1);
+        }
+        e0 = _mm_load_ps(f0);
+        e1 = _mm_load_ps(f1);
+        e2 = _mm_load_ps(f2);
+    }
+
+    // Inside when all edge functions share a sign (zero counts for both).
+    const __m128 any_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(e0, zero), _mm_cmplt_ps(e1, zero)),
+                                     _mm_cmplt_ps(e2, zero));
+    const __m128 any_pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(e0, zero), _mm_cmpgt_ps(e1, zero)),
+                                     _mm_cmpgt_ps(e2, zero));
+    const __m128 det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
+    int mask = lanes_mask & ~_mm_movemask_ps(_mm_and_ps(any_neg, any_pos)) &
+               ~_mm_movemask_ps(_mm_cmpeq_ps(det, zero));
+    if (!mask) return 0;
+
+    // Scaled distance, compared against the interval without dividing.
+    for (int v = 0; v < 3; ++v) z[v] = _mm_mul_ps(z[v], sz);
+    const __m128 t_scaled =
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, z[0]), _mm_mul_ps(e1, z[1])), _mm_mul_ps(e2, z[2]));
+    const __m128 t = _mm_div_ps(t_scaled, det);
+
+    // pbrt-v4's conservative bound on t's error: a hit closer than it may be the surface the
+    // ray starts on, seen through rounding, and is rejected.
+    const __m128 max_z = _mm_max_ps(_mm_max_ps(abs_ps(z[0]), abs_ps(z[1])), abs_ps(z[2]));
+    const __m128 max_x = _mm_max_ps(_mm_max_ps(abs_ps(x[0]), abs_ps(x[1])), abs_ps(x[2]));
+    const __m128 max_y = _mm_max_ps(_mm_max_ps(abs_ps(y[0]), abs_ps(y[1])), abs_ps(y[2]));
+    const __m128 g2 = _mm_set1_ps(gamma_f(2)), g3 = _mm_set1_ps(gamma_f(3)),
+                 g5 = _mm_set1_ps(gamma_f(5));
+    const __m128 delta_z = _mm_mul_ps(g3, max_z);
+    const __m128 delta_x = _mm_mul_ps(g5, _mm_add_ps(max_x, max_z));
+    const __m128 delta_y = _mm_mul_ps(g5, _mm_add_ps(max_y, max_z));
+    const __m128 delta_e = _mm_mul_ps(
+        _mm_set1_ps(2.0f),
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(g2, _mm_mul_ps(max_x, max_y)), _mm_mul_ps(delta_y, max_x)),
+                   _mm_mul_ps(delta_x, max_y)));
+    const __m128 max_e = _mm_max_ps(_mm_max_ps(abs_ps(e0), abs_ps(e1)), abs_ps(e2));
+    const __m128 delta_t =
+        _mm_div_ps(_mm_mul_ps(_mm_set1_ps(3.0f),
+                              _mm_add_ps(_mm_add_ps(_mm_mul_ps(g3, _mm_mul_ps(max_e, max_z)),
+                                                    _mm_mul_ps(delta_e, max_z)),
+                                         _mm_mul_ps(delta_z, max_e))),
+                   abs_ps(det));
+
+    const __m128 lo = _mm_max_ps(_mm_set1_ps(t_lo), delta_t);
+    mask &= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(t, lo), _mm_cmplt_ps(t, _mm_set1_ps(t_hi))));
+    _mm_storeu_ps(t_out, t);
+    return mask;
+}
+
+}  // namespace rt
