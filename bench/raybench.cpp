@@ -170,7 +170,10 @@ size_t ours_bytes(const RenderScene& scene) {
     size_t bytes = scene.top.nodes.size() * sizeof(Bvh4Node) + scene.top.indices.size() * 4;
     for (const GeometrySet& s : scene.sets) {
         bytes += s.bvh.nodes.size() * sizeof(Bvh4Node) + s.bvh.indices.size() * 4;
-        bytes += s.triangles.size() * sizeof(Triangle) + s.prims.size() * sizeof(Primitive);
+        // What rays read: nodes, leaf order, primitives, the float triangles the kernel tests and
+        // the double ones surface_at() refines hits with (not the per-vertex shading data).
+        bytes += s.triangles.size() * sizeof(Triangle) + s.tri4.size() * sizeof(Tri4) +
+                 s.prims.size() * sizeof(Primitive);
     }
     return bytes;
 }

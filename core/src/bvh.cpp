@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <thread>
 
 namespace rt {
 
@@ -22,11 +23,22 @@ constexpr int kMaxBins = 32;
 
 struct Builder {
     std::span<const Bounds3> prims;
-    std::vector<Vec3> centroids;
-    std::vector<uint32_t> order;
+    const std::vector<Vec3>* centroids = nullptr;
+    std::vector<uint32_t>* order = nullptr;
     std::vector<Node2> nodes;
     BvhBuildSettings settings;
     int max_depth = 0;
+    int spawn_depth = 0;  // subtrees above this depth are built on their own thread
+
+    const Vec3& centroid(uint32_t prim) const { return (*centroids)[prim]; }
+
+    // Bounds and centroid bounds of order[begin, end).
+    void measure(uint32_t begin, uint32_t end, Bounds3* box, Bounds3* cbox) const {
+        for (uint32_t i = begin; i < end; ++i) {
+            box->extend(prims[(*order)[i]]);
+            cbox->extend(centroid((*order)[i]));
+        }
+    }
 
     uint32_t leaf(const Bounds3& box, uint32_t begin, uint32_t n, int depth) {
         // Leaves hold at most kMaxLeafCount primitives; larger sets (coincident centroids) are
@@ -37,41 +49,65 @@ struct Builder {
         return static_cast<uint32_t>(nodes.size() - 1);
     }
 
+    // Splits at mid, measuring both halves.
     uint32_t split(const Bounds3& box, uint32_t begin, uint32_t mid, uint32_t end, int depth) {
+        Bounds3 lb, lc, rb, rc;
+        measure(begin, mid, &lb, &lc);
+        measure(mid, end, &rb, &rc);
+        return split(box, begin, mid, end, depth, lb, lc, rb, rc);
+    }
+
+    uint32_t split(const Bounds3& box, uint32_t begin, uint32_t mid, uint32_t end, int depth,
+                   const Bounds3& lb, const Bounds3& lc, const Bounds3& rb, const Bounds3& rc) {
         const uint32_t index = static_cast<uint32_t>(nodes.size());
         nodes.push_back({box, 0, 0, 0, 0});
-        const uint32_t l = build(begin, mid, depth + 1);
-        const uint32_t r = build(mid, end, depth + 1);
+        uint32_t l = 0, r = 0;
+        if (depth < spawn_depth && end - begin > 50000) {
+            // The left subtree on another thread, into its own node array, merged afterwards.
+            Builder sub = *this;
+            sub.nodes.clear();
+            std::thread t([&] { sub.build(begin, mid, depth + 1, lb, lc); });
+            r = build(mid, end, depth + 1, rb, rc);
+            t.join();
+            l = static_cast<uint32_t>(nodes.size());
+            for (Node2 n : sub.nodes) {
+                if (n.count == 0) n.left += l, n.right += l;
+                nodes.push_back(n);
+            }
+            max_depth = std::max(max_depth, sub.max_depth);
+        } else {
+            l = build(begin, mid, depth + 1, lb, lc);
+            r = build(mid, end, depth + 1, rb, rc);
+        }
         nodes[index].left = l;
         nodes[index].right = r;
         return index;
     }
 
-    uint32_t build(uint32_t begin, uint32_t end, int depth) {
-        Bounds3 box, cbox;
-        for (uint32_t i = begin; i < end; ++i) {
-            box.extend(prims[order[i]]);
-            cbox.extend(centroids[order[i]]);
-        }
+    uint32_t build(uint32_t begin, uint32_t end, int depth, const Bounds3& box,
+                   const Bounds3& cbox) {
         const uint32_t n = end - begin;
         const int axis = cbox.largest_axis();
         const double extent = cbox.hi[axis] - cbox.lo[axis];
         if (n <= static_cast<uint32_t>(settings.max_leaf_size) || !(extent > 0.0))
             return leaf(box, begin, n, depth);
 
-        // Binned SAH along the largest centroid axis.
+        // Binned SAH along the largest centroid axis; each bin keeps its primitives' bounds and
+        // centroid bounds, so the children's boxes come from the bins, not another pass.
         const int nb = std::clamp(settings.bins, 2, kMaxBins);
-        std::array<Bounds3, kMaxBins> bin_box{};
+        std::array<Bounds3, kMaxBins> bin_box{}, bin_cbox{};
         std::array<uint32_t, kMaxBins> bin_count{};
         const double scale = nb / extent;
         auto bin_of = [&](uint32_t prim) {
-            const int b = static_cast<int>((centroids[prim][axis] - cbox.lo[axis]) * scale);
+            const int b = static_cast<int>((centroid(prim)[axis] - cbox.lo[axis]) * scale);
             return std::clamp(b, 0, nb - 1);
         };
         for (uint32_t i = begin; i < end; ++i) {
-            const int b = bin_of(order[i]);
-            bin_box[static_cast<size_t>(b)].extend(prims[order[i]]);
-            ++bin_count[static_cast<size_t>(b)];
+            const uint32_t prim = (*order)[i];
+            const size_t b = static_cast<size_t>(bin_of(prim));
+            bin_box[b].extend(prims[prim]);
+            bin_cbox[b].extend(centroid(prim));
+            ++bin_count[b];
         }
         std::array<double, kMaxBins> right_cost{};
         Bounds3 acc;
@@ -94,22 +130,27 @@ struct Builder {
         }
         // Leaf cost n * area against traversal (~1 intersection) plus the children.
         const double leaf_cost = box.surface_area() * n;
-        if (best < 0 ||
-            (best_cost + box.surface_area() >= leaf_cost && n <= Bvh4Node::kMaxLeafCount))
-            return best < 0 ? median(box, begin, end, axis, depth) : leaf(box, begin, n, depth);
+        if (best < 0) return median(box, begin, end, axis, depth);
+        if (best_cost + box.surface_area() >= leaf_cost && n <= Bvh4Node::kMaxLeafCount)
+            return leaf(box, begin, n, depth);
         const uint32_t mid =
-            static_cast<uint32_t>(std::partition(order.begin() + begin, order.begin() + end,
+            static_cast<uint32_t>(std::partition(order->begin() + begin, order->begin() + end,
                                                  [&](uint32_t p) { return bin_of(p) < best; }) -
-                                  order.begin());
-        if (mid == begin || mid == end) return median(box, begin, end, axis, depth);
-        return split(box, begin, mid, end, depth);
+                                  order->begin());
+        Bounds3 lb, lc, rb, rc;
+        for (int b = 0; b < nb; ++b) {
+            const size_t i = static_cast<size_t>(b);
+            (b < best ? lb : rb).extend(bin_box[i]);
+            (b < best ? lc : rc).extend(bin_cbox[i]);
+        }
+        return split(box, begin, mid, end, depth, lb, lc, rb, rc);
     }
 
     uint32_t median(const Bounds3& box, uint32_t begin, uint32_t end, int axis, int depth) {
         const uint32_t mid = begin + (end - begin) / 2;
         std::nth_element(
-            order.begin() + begin, order.begin() + mid, order.begin() + end,
-            [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+            order->begin() + begin, order->begin() + mid, order->begin() + end,
+            [&](uint32_t a, uint32_t b) { return centroid(a)[axis] < centroid(b)[axis]; });
         return split(box, begin, mid, end, depth);
     }
 };
@@ -190,21 +231,29 @@ struct Collapser {
 Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& settings) {
     Bvh bvh;
     if (prim_bounds.empty()) return bvh;
+    std::vector<Vec3> centroids;
+    centroids.reserve(prim_bounds.size());
+    for (const Bounds3& pb : prim_bounds) centroids.push_back(pb.centre());
+    std::vector<uint32_t> order(prim_bounds.size());
+    std::iota(order.begin(), order.end(), 0u);
     Builder b;
     b.prims = prim_bounds;
+    b.centroids = &centroids;
+    b.order = &order;
     b.settings = settings;
-    b.centroids.reserve(prim_bounds.size());
-    for (const Bounds3& pb : prim_bounds) b.centroids.push_back(pb.centre());
-    b.order.resize(prim_bounds.size());
-    std::iota(b.order.begin(), b.order.end(), 0u);
+    // Subtrees near the root go to other threads: log2 of the cores, at most 3 levels.
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    b.spawn_depth = cores >= 8 ? 3 : cores >= 4 ? 2 : cores >= 2 ? 1 : 0;
     b.nodes.reserve(prim_bounds.size() / 2 + 1);
-    const uint32_t root = b.build(0, static_cast<uint32_t>(prim_bounds.size()), 0);
+    Bounds3 box, cbox;
+    b.measure(0, static_cast<uint32_t>(prim_bounds.size()), &box, &cbox);
+    const uint32_t root = b.build(0, static_cast<uint32_t>(prim_bounds.size()), 0, box, cbox);
     bvh.root_bounds = b.nodes[root].bounds;
     bvh.depth = b.max_depth;
     bvh.nodes.reserve(b.nodes.size() / 2 + 1);
     Collapser c{b.nodes, bvh.nodes};
     c.emit(root);
-    bvh.indices = std::move(b.order);
+    bvh.indices = std::move(order);
     return bvh;
 }
 

@@ -409,6 +409,9 @@ private:
 
     void directive(FileState& f, const Token& d) {
         const std::string_view n = d.text;
+        // The directives of large meshes first.
+        if (n == "#vertex") return vertex(f, d);
+        if (n == "#shape_triangle") return shape(f, d);
         if (n == "#camera") return camera(f, d);
         if (n == "#background" || n == "#ambient") return global_colour(f, d);
         if (n == "#light_num") return definition(f, d), declare_count(f, d, kLights);
@@ -418,7 +421,6 @@ private:
         if (n == "#material_num") return definition(f, d), declare_count(f, d, kMaterials);
         if (n == "#material") return material(f, d);
         if (n == "#vertex_num") return definition(f, d), declare_count(f, d, kVertices);
-        if (n == "#vertex") return vertex(f, d);
         if (n == "#ray_file_num") return definition(f, d), declare_count(f, d, kRayFiles);
         if (n == "#ray_file") return ray_file(f, d);
         if (n == "#key_file_num") return definition(f, d), declare_count(f, d, kKeyFiles);
