@@ -1,5 +1,8 @@
 // render_samples(): pixel centres at 1 spp, identical images for any thread count, stratified
 // supersampling, stop requests.
+#include <chrono>
+#include <thread>
+
 #include "test_util.h"
 
 namespace rt {
@@ -61,6 +64,23 @@ TEST(Render, StopLeavesTheStateUnchanged) {
     EXPECT_TRUE(render_samples(state, s, settings, 2));
     EXPECT_EQ(state.samples[0], 2u);
     EXPECT_GT(state.rays.camera, 0u);
+}
+
+TEST(Render, StopRequestedDuringARenderEndsIt) {
+    // A render far too long to finish (4096 samples per pixel) is stopped from another thread.
+    const RenderScene s = test::compile(kScene);
+    RenderSettings settings;
+    settings.width = 200;
+    settings.height = 200;
+    RenderState state;
+    std::atomic<bool> stop{false};
+    std::thread stopper([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        stop = true;
+    });
+    EXPECT_FALSE(render_samples(state, s, settings, 4096, {}, &stop));
+    stopper.join();
+    EXPECT_EQ(state.samples[0], 0u);
 }
 
 TEST(Render, ImageIsFinite) { EXPECT_EQ(count_non_finite(render_with(2, 4, 80, 60)), 0u); }

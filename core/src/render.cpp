@@ -84,7 +84,13 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
             const int tx = (tile % tiles_x) * kTile, ty = (tile / tiles_x) * kTile;
             const int x1 = std::min(tx + kTile, settings.width);
             const int y1 = std::min(ty + kTile, settings.height);
-            for (int y = ty; y < y1; ++y) {
+            for (int y = ty; y < y1 && !stopped.load(std::memory_order_relaxed); ++y) {
+                // A stop request is seen within one pixel row of a tile (milliseconds even at
+                // many samples per pixel); the pass is then discarded.
+                if (stop && stop->load(std::memory_order_relaxed)) {
+                    stopped = true;
+                    break;
+                }
                 for (int x = tx; x < x1; ++x) {
                     const size_t pixel = static_cast<size_t>(y) * settings.width + x;
                     const uint32_t base = state.samples[pixel];
