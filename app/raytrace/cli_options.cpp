@@ -1,6 +1,8 @@
 #include "cli_options.h"
 
 #include <charconv>
+#include <cmath>
+#include <utility>
 
 #include "rt/image.h"
 
@@ -25,6 +27,27 @@ options:
       --dialect D     v0 or v1: override the dialect detected from the materials
       --stats         print time per phase (parse, compile, BVH build, render) and rays
                       per second by kind
+
+progressive rendering (the error of each pass, against run time):
+      --progressive   render in passes of 1, 1, 2, 4, 8, ... samples per pixel until --time
+                      or --spp is reached, and report the error of every pass
+      --time S        stop after S seconds of rendering
+      --reference R   a .pfm image to measure the error against, or 'auto' (rendered at
+                      --reference-spp samples and cached); without it the error is
+                      estimated from the samples themselves
+      --reference-spp N  samples per pixel of the auto reference        [256]
+      --report F.csv  one row per pass: mode,seconds,spp,rays,rmse,relmse,off_share,
+                      estimate,estimate_relmse
+      --plot F.svg    error against time on log-log axes, with fitted slopes
+      --adaptive      also run adaptive sampling (samples go to the pixels with the largest
+                      estimated error) and compare the time each needs to reach one error
+
+progressive features (off by default; see scenes/README.md):
+      --light-radius R    point and spot lights become spheres of radius R (soft shadows)
+      --aperture A        lens radius A (depth of field)
+      --focus-distance F  distance in focus along the view direction [scene centre]
+      --roughness X       glossy reflection: mirror directions spread by X
+
   -q, --quiet         print errors and warnings only
   -h, --help          this text
 
@@ -68,6 +91,29 @@ Options parse_options(const std::vector<std::string>& args) {
             o.cutoff = number<double>(a, value());
         } else if (a == "--spp") {
             o.spp = number<int>(a, value());
+            o.spp_given = true;
+        } else if (a == "--progressive") {
+            o.progressive = true;
+        } else if (a == "--time") {
+            o.time_limit_s = number<double>(a, value());
+        } else if (a == "--reference") {
+            o.reference = value();
+        } else if (a == "--reference-spp") {
+            o.reference_spp = number<int>(a, value());
+        } else if (a == "--report") {
+            o.report = value();
+        } else if (a == "--plot") {
+            o.plot = value();
+        } else if (a == "--adaptive") {
+            o.adaptive = true;
+        } else if (a == "--light-radius") {
+            o.light_radius = number<double>(a, value());
+        } else if (a == "--aperture") {
+            o.aperture = number<double>(a, value());
+        } else if (a == "--focus-distance") {
+            o.focus_distance = number<double>(a, value());
+        } else if (a == "--roughness") {
+            o.roughness = number<double>(a, value());
         } else if (a == "--seed") {
             o.seed = number<uint64_t>(a, value());
         } else if (a == "--threads") {
@@ -103,6 +149,23 @@ Options parse_options(const std::vector<std::string>& args) {
     if (!(o.cutoff >= 0.0)) throw UsageError("--cutoff must not be negative");
     if (o.spp < 1) throw UsageError("--spp must be at least 1");
     if (o.threads < 0) throw UsageError("--threads must not be negative");
+    for (const auto& [name, v] : {std::pair<const char*, double>{"--light-radius", o.light_radius},
+                                  {"--aperture", o.aperture},
+                                  {"--focus-distance", o.focus_distance},
+                                  {"--roughness", o.roughness},
+                                  {"--time", o.time_limit_s}})
+        if (!(v >= 0.0) || !std::isfinite(v))
+            throw UsageError(std::string(name) + " must be a finite number >= 0");
+    if (o.reference_spp < 2) throw UsageError("--reference-spp must be at least 2");
+    const bool progressive_only = o.time_limit_s > 0 || !o.reference.empty() ||
+                                  !o.report.empty() || !o.plot.empty() || o.adaptive;
+    if (progressive_only && !o.progressive)
+        throw UsageError("--time, --reference, --report, --plot and --adaptive need --progressive");
+    if (o.progressive && o.time_limit_s <= 0 && !o.spp_given)
+        throw UsageError("--progressive needs --time S or --spp N");
+    if (!o.reference.empty() && o.reference != "auto" &&
+        image_format_from_path(o.reference) != ImageFormat::Pfm)
+        throw UsageError("--reference takes a .pfm file or 'auto'");
     if (image_format_from_path(o.output) == ImageFormat::Unknown)
         throw UsageError("unknown output format '" + o.output + "' (use .png, .bmp, .ppm or .pfm)");
     return o;

@@ -28,6 +28,20 @@ struct Options {
     std::optional<Dialect> dialect;
     bool quiet = false;
     bool stats = false;
+    bool spp_given = false;
+    // Progressive rendering and its error report.
+    bool progressive = false;
+    double time_limit_s = 0;
+    std::string reference;  // a .pfm file, "auto", or empty
+    int reference_spp = 256;
+    std::string report;     // CSV
+    std::string plot;       // SVG
+    bool adaptive = false;
+    // Progressive features (each off at 0).
+    double light_radius = 0;
+    double aperture = 0;
+    double focus_distance = 0;
+    double roughness = 0;
     bool help = false;
     uint64_t seed = 0;
 };

@@ -4,12 +4,16 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include "cli_options.h"
 #include "rt/parser.h"
+#include "rt/progressive.h"
 #include "rt/render.h"
 #include "rt/render_scene.h"
 
@@ -31,6 +35,173 @@ std::string si(double v) {
     else
         std::snprintf(buf, sizeof buf, "%.0f ", v);
     return buf;
+}
+
+// ---- progressive mode ------------------------------------------------------------------------
+
+// A 64-bit FNV-1a hash, for the reference cache's key.
+uint64_t fnv1a(const std::string& data, uint64_t h = 1469598103934665603ull) {
+    for (unsigned char c : data) h = (h ^ c) * 1099511628211ull;
+    return h;
+}
+
+std::string read_all(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::ostringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+// The reference image for --reference auto: rendered once at reference_spp samples with an
+// independent seed, cached under ~/.cache/raytrace keyed by the scene files and the settings.
+rt::Image auto_reference(const rt::cli::Options& opt, const rt::SceneDesc& desc,
+                         const rt::RenderScene& scene, const rt::RenderSettings& settings) {
+    namespace fs = std::filesystem;
+    uint64_t key = 1469598103934665603ull;
+    for (const rt::FileDesc& f : desc.files) key = fnv1a(read_all(f.path), key);
+    char params[512];
+    std::snprintf(params, sizeof params, "%d %d %d %.17g %d %.17g %.17g %.17g %.17g %d %llu",
+                  settings.width, settings.height, settings.max_depth, settings.cutoff,
+                  settings.shadows ? 1 : 0, settings.light_radius, settings.aperture,
+                  settings.focus_distance, settings.roughness, opt.reference_spp,
+                  static_cast<unsigned long long>(settings.seed));
+    key = fnv1a(params, key);
+    const char* xdg = std::getenv("XDG_CACHE_HOME");
+    const char* home = std::getenv("HOME");
+    const fs::path dir = xdg && *xdg ? fs::path(xdg) / "raytrace"
+                         : home && *home ? fs::path(home) / ".cache" / "raytrace"
+                                         : fs::path(".raytrace-cache");
+    char name[64];
+    std::snprintf(name, sizeof name, "reference-%016llx.pfm", static_cast<unsigned long long>(key));
+    const fs::path cached = dir / name;
+    std::error_code ec;
+    if (fs::exists(cached, ec)) {
+        if (!opt.quiet) std::printf("reference %s (cached)\n", cached.string().c_str());
+        return rt::load_pfm(cached.string());
+    }
+    if (!opt.quiet)
+        std::printf("reference rendering %d spp (cached afterwards as %s)\n", opt.reference_spp,
+                    cached.string().c_str());
+    rt::RenderSettings ref_settings = settings;
+    ref_settings.seed = settings.seed + 0x5EED5EEDull;  // independent of the measured run
+    rt::RenderState ref;
+    for (int done = 0; done < opt.reference_spp;) {
+        const int n = std::min(16, opt.reference_spp - done);
+        rt::render_samples(ref, scene, ref_settings, n);
+        done += n;
+        if (!opt.quiet && isatty(STDOUT_FILENO)) {
+            std::printf("\r  %d / %d spp", done, opt.reference_spp);
+            std::fflush(stdout);
+        }
+    }
+    if (!opt.quiet && isatty(STDOUT_FILENO)) std::printf("\n");
+    const rt::Image image = ref.image();
+    fs::create_directories(dir, ec);
+    try {
+        rt::save_image(image, cached.string());
+    } catch (const std::exception& e) {
+        std::cerr << "raytrace: warning: reference not cached: " << e.what() << "\n";
+    }
+    return image;
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    const std::string tmp = path + ".part";
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        f << text;
+        if (!f) throw std::runtime_error("cannot write '" + path + "'");
+    }
+    std::filesystem::rename(tmp, path);
+}
+
+int run_progressive(const rt::cli::Options& opt, const rt::SceneDesc& desc,
+                    const rt::RenderScene& scene, const rt::RenderSettings& settings) {
+    rt::Image reference;
+    bool have_reference = false;
+    try {
+        if (opt.reference == "auto") {
+            reference = auto_reference(opt, desc, scene, settings);
+            have_reference = true;
+        } else if (!opt.reference.empty()) {
+            reference = rt::load_pfm(opt.reference);
+            have_reference = true;
+        }
+        if (have_reference && (reference.width != settings.width || reference.height != settings.height))
+            throw std::runtime_error("reference '" + opt.reference + "' is " +
+                                     std::to_string(reference.width) + "x" +
+                                     std::to_string(reference.height) + ", the image is " +
+                                     std::to_string(settings.width) + "x" +
+                                     std::to_string(settings.height));
+    } catch (const std::exception& e) {
+        std::cerr << "raytrace: error: " << e.what() << "\n";
+        return 1;
+    }
+
+    rt::ProgressiveSettings ps;
+    ps.time_limit_s = opt.time_limit_s;
+    ps.spp_limit = opt.spp_given ? opt.spp : 0;
+    std::vector<std::pair<std::string, std::vector<rt::PassRecord>>> runs;
+    rt::RenderState state;
+    for (const bool adaptive : {false, true}) {
+        if (adaptive && !opt.adaptive) break;
+        ps.adaptive = adaptive;
+        const char* mode = adaptive ? "adaptive" : "uniform";
+        if (!opt.quiet) {
+            std::printf("\n%s sampling%s\n%10s %10s %12s %12s %12s %10s %12s\n", mode,
+                        have_reference ? "" : " (no reference: estimated error only)", "seconds",
+                        "spp", "rays", "rmse", "relmse", "off>1/255", "estimate");
+        }
+        auto on_pass = [&](const rt::PassRecord& r) {
+            if (opt.quiet) return;
+            if (r.has_reference)
+                std::printf("%10.3f %10.2f %12llu %12.4g %12.4g %9.2f%% %12.4g\n", r.seconds, r.spp,
+                            static_cast<unsigned long long>(r.rays), r.error.rmse, r.error.relmse,
+                            100 * r.error.off_share, r.estimate.relmse);
+            else
+                std::printf("%10.3f %10.2f %12llu %12s %12s %10s %12.4g\n", r.seconds, r.spp,
+                            static_cast<unsigned long long>(r.rays), "-", "-", "-",
+                            r.estimate.relmse);
+            std::fflush(stdout);
+        };
+        runs.emplace_back(mode, rt::run_progressive(state, scene, settings, ps,
+                                                     have_reference ? &reference : nullptr,
+                                                     on_pass));
+    }
+    if (!opt.quiet) {
+        std::printf("\n%s\nestimate = the same from the samples alone (variance of each pixel's "
+                    "mean)\n",
+                    rt::kRelMseFormula);
+        for (const auto& [mode, run] : runs) {
+            std::vector<double> t, e;
+            for (const rt::PassRecord& r : run) {
+                t.push_back(r.seconds);
+                e.push_back(r.has_reference ? r.error.relmse : r.estimate.relmse);
+            }
+            std::printf("%s: relMSE falls as time^%.2f (least squares on log-log axes)\n",
+                        mode.c_str(), rt::loglog_slope(t, e));
+        }
+        if (runs.size() == 2 && !runs[0].second.empty()) {
+            const rt::PassRecord& last = runs[0].second.back();
+            const double target = last.has_reference ? last.error.relmse : last.estimate.relmse;
+            const double tu = rt::time_to_reach(runs[0].second, target);
+            const double ta = rt::time_to_reach(runs[1].second, target);
+            std::printf("time to reach relMSE %.4g: uniform %.3f s, adaptive %s", target, tu,
+                        ta > 0 ? "" : "never within the limit\n");
+            if (ta > 0) std::printf("%.3f s (%.2fx)\n", ta, tu / ta);
+        }
+    }
+    try {
+        if (!opt.report.empty()) write_text(opt.report, rt::progress_csv(runs));
+        if (!opt.plot.empty())
+            write_text(opt.plot, rt::progress_svg(runs, "Error against render time: " + opt.scene));
+        rt::save_image(state.image(), opt.output);
+    } catch (const std::exception& e) {
+        std::cerr << "raytrace: error: " << e.what() << "\n";
+        return 1;
+    }
+    if (!opt.quiet) std::printf("wrote     %s\n", opt.output.c_str());
+    return 0;
 }
 
 int run(const rt::cli::Options& opt) {
@@ -83,6 +254,10 @@ int run(const rt::cli::Options& opt) {
     settings.shadows = opt.shadows;
     settings.threads = opt.threads;
     settings.seed = opt.seed;
+    settings.light_radius = opt.light_radius;
+    settings.aperture = opt.aperture;
+    settings.focus_distance = opt.focus_distance;
+    settings.roughness = opt.roughness;
 
     const rt::SceneStats& st = scene.stats;
     if (!opt.quiet) {
@@ -121,6 +296,8 @@ int run(const rt::cli::Options& opt) {
             std::fflush(stderr);
         };
     }
+
+    if (opt.progressive) return run_progressive(opt, desc, scene, settings);
 
     const auto t_render = Clock::now();
     rt::RenderState state;

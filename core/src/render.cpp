@@ -1,5 +1,7 @@
 #include "rt/render.h"
 
+#include "rt/sampler.h"
+
 #include <algorithm>
 #include <mutex>
 #include <thread>
@@ -10,7 +12,10 @@ void RenderState::reset(int w, int h) {
     width = w;
     height = h;
     sum.assign(static_cast<size_t>(w) * h * 3, 0.0);
+    sum_sq.assign(static_cast<size_t>(w) * h * 3, 0.0);
     samples.assign(static_cast<size_t>(w) * h, 0);
+    active.clear();
+    passes = 0;
     rays = {};
 }
 
@@ -23,30 +28,43 @@ Image RenderState::image() const {
     return img;
 }
 
+Image render_coarse(const RenderScene& scene, const RenderSettings& settings, int block,
+                    const std::atomic<bool>* stop) {
+    block = std::max(1, block);
+    Image img(settings.width, settings.height);
+    const Camera camera = make_camera(scene, settings.width, settings.height);
+    const ShadingSettings shading{settings.max_depth, settings.cutoff, settings.shadows};
+    const int bx = (settings.width + block - 1) / block, by = (settings.height + block - 1) / block;
+    std::atomic<int> next{0};
+    auto worker = [&]() {
+        RayCounters counters;
+        for (int b = next.fetch_add(1); b < bx * by; b = next.fetch_add(1)) {
+            if (stop && stop->load(std::memory_order_relaxed)) return;
+            const int x0 = (b % bx) * block, y0 = (b / bx) * block;
+            const int x1 = std::min(x0 + block, settings.width),
+                      y1 = std::min(y0 + block, settings.height);
+            // The block's centre, in pixel units.
+            const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+            const int ix = static_cast<int>(cx), iy = static_cast<int>(cy);
+            const Vec3 c = trace_ray(scene, camera.generate(ix, iy, cx - ix, cy - iy),
+                                     settings.max_depth, Vec3(1.0), shading, counters);
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) img.set(x, y, c);
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int i = 1; i < resolve_thread_count(settings.threads); ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    return img;
+}
+
 int resolve_thread_count(int threads) {
     if (threads > 0) return threads;
     return std::max(1u, std::thread::hardware_concurrency());
 }
 
 namespace {
-
-// A counter-based generator: the stream depends only on (seed, pixel, sample), never on the
-// thread that runs the tile (PCG's output permutation over a SplitMix64-style hash).
-struct Rng {
-    uint64_t state;
-    explicit Rng(uint64_t seed, uint64_t pixel, uint64_t sample) {
-        state = mix(seed ^ mix(pixel * 0x9E3779B97F4A7C15ull + sample + 1));
-    }
-    static uint64_t mix(uint64_t z) {
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() {  // [0, 1)
-        state = state * 6364136223846793005ull + 1442695040888963407ull;
-        return static_cast<double>(mix(state) >> 11) * 0x1.0p-53;
-    }
-};
 
 constexpr int kTile = 16;
 
@@ -58,7 +76,12 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
         state.reset(settings.width, settings.height);
     if (spp <= 0) return true;
     const Camera camera = make_camera(scene, settings.width, settings.height);
-    const ShadingSettings shading{settings.max_depth, settings.cutoff, settings.shadows};
+    const ShadingSettings shading{settings.max_depth, settings.cutoff, settings.shadows,
+                                  settings.light_radius, settings.roughness};
+    const bool stochastic = settings.stochastic();
+    const double focus = settings.focus_distance > 0
+                             ? settings.focus_distance
+                             : glm::length(scene.world_bounds.centre() - camera.position);
     const int m = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(spp))));
 
     const int tiles_x = (settings.width + kTile - 1) / kTile;
@@ -70,7 +93,8 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
     std::mutex mutex;
     RayCounters total;
     // New sums go to a scratch buffer and are committed only when the pass completes.
-    std::vector<double> pass(state.sum.size(), 0.0);
+    std::vector<double> pass(state.sum.size(), 0.0), pass_sq(state.sum.size(), 0.0);
+    const bool all_active = state.active.size() != state.samples.size();
 
     auto worker = [&]() {
         RayCounters counters;
@@ -93,24 +117,36 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                 }
                 for (int x = tx; x < x1; ++x) {
                     const size_t pixel = static_cast<size_t>(y) * settings.width + x;
+                    if (!all_active && !state.active[pixel]) continue;
                     const uint32_t base = state.samples[pixel];
-                    Vec3 acc(0.0);
+                    Vec3 acc(0.0), acc_sq(0.0);
                     for (int s = 0; s < spp; ++s) {
+                        Rng rng(settings.seed, pixel, base + static_cast<uint32_t>(s));
                         double sx = 0.5, sy = 0.5;
-                        if (spp > 1 || base > 0) {
-                            Rng rng(settings.seed, pixel, base + static_cast<uint32_t>(s));
+                        if (spp > 1 || base > 0 || stochastic) {
                             // One uniform sample in each of the first spp strata, row-major.
                             sx = (s % m + rng.uniform()) / m;
                             sy = (s / m + rng.uniform()) / m;
                         }
-                        const Ray ray = camera.generate(x, y, sx, sy);
+                        Ray ray = camera.generate(x, y, sx, sy);
+                        if (settings.aperture > 0) {
+                            // Thin lens: from a point of the aperture toward the focused point.
+                            const Vec3 focused =
+                                ray.o + ray.d * (focus / glm::dot(ray.d, camera.forward));
+                            const Vec2 lens = settings.aperture * rng.disc();
+                            ray.o += lens.x * camera.right + lens.y * camera.up;
+                            ray.d = glm::normalize(focused - ray.o);
+                        }
                         ++counters.camera;
-                        acc +=
-                            trace_ray(scene, ray, settings.max_depth, Vec3(1.0), shading, counters);
+                        const Vec3 c = trace_ray(scene, ray, settings.max_depth, Vec3(1.0),
+                                                 shading, counters, stochastic ? &rng : nullptr);
+                        acc += c;
+                        acc_sq += c * c;
                     }
-                    pass[pixel * 3] = acc.x;
-                    pass[pixel * 3 + 1] = acc.y;
-                    pass[pixel * 3 + 2] = acc.z;
+                    for (int k = 0; k < 3; ++k) {
+                        pass[pixel * 3 + static_cast<size_t>(k)] = acc[k];
+                        pass_sq[pixel * 3 + static_cast<size_t>(k)] = acc_sq[k];
+                    }
                 }
             }
             if (tx + kTile >= settings.width) {
@@ -133,8 +169,13 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
     for (std::thread& t : pool) t.join();
     if (stopped) return false;
 
-    for (size_t i = 0; i < state.sum.size(); ++i) state.sum[i] += pass[i];
-    for (uint32_t& n : state.samples) n += static_cast<uint32_t>(spp);
+    for (size_t i = 0; i < state.sum.size(); ++i) {
+        state.sum[i] += pass[i];
+        state.sum_sq[i] += pass_sq[i];
+    }
+    for (size_t i = 0; i < state.samples.size(); ++i)
+        if (all_active || state.active[i]) state.samples[i] += static_cast<uint32_t>(spp);
+    ++state.passes;
     state.rays += total;
     if (progress) progress(settings.height, settings.height);
     return true;

@@ -57,7 +57,7 @@ double max_component_of(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)
 }  // namespace
 
 Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
-               const ShadingSettings& settings, RayCounters& counters) {
+               const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
     Hit hit;
     if (!intersect(scene, ray, {0.0, kInf}, &hit)) return scene.background;
     const SurfaceInteraction si = interaction(scene, ray, hit);
@@ -75,7 +75,19 @@ Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& 
     Vec3 c = m.emissive + m.ambient * t * scene.ambient;
     const Vec3 r_v = d - 2.0 * glm::dot(d, n) * n;  // mirror direction, also for highlights
 
-    for (const Light& light : scene.lights) {
+    for (const Light& scene_light : scene.lights) {
+        // Soft shadows: a point or spot light is a sphere of radius light_radius, sampled
+        // uniformly over the disc it shows the shading point; its emission rules stay the same.
+        Light light = scene_light;
+        if (rng && settings.light_radius > 0.0 && light.kind != LightKind::Directional) {
+            const Vec3 axis = light.position - si.p;
+            if (glm::dot(axis, axis) > 0.0) {
+                Vec3 a, b;
+                orthonormal_basis(glm::normalize(axis), &a, &b);
+                const Vec2 q = settings.light_radius * rng->disc();
+                light.position += q.x * a + q.y * b;
+            }
+        }
         Vec3 intensity, l;
         double dist = 0.0;
         if (!eval_light(light, si.p, &intensity, &l, &dist)) continue;
@@ -105,9 +117,15 @@ Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& 
     // Reflection, weighted by K_S.
     const Vec3 w_refl = weight * m.specular;
     if (traced(w_refl)) {
+        // Glossy reflection: the mirror direction spread by `roughness` (kept above the surface).
+        Vec3 dir = r_v;
+        if (rng && settings.roughness > 0.0) {
+            const Vec3 g = glm::normalize(r_v + settings.roughness * rng->ball());
+            if (glm::dot(g, n) > 0.0) dir = g;
+        }
         ++counters.reflected;
         c += m.specular *
-             trace_ray(scene, spawn_ray(si, r_v), depth - 1, w_refl, settings, counters);
+             trace_ray(scene, spawn_ray(si, dir), depth - 1, w_refl, settings, counters, rng);
     }
     // Refraction (Snell), weighted by T; none past the critical angle.
     const Vec3 w_refr = weight * m.transparent;
@@ -120,7 +138,7 @@ Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& 
             const Vec3 dir = eta * d + (eta * cos_i - std::sqrt(k)) * n;
             ++counters.refracted;
             c += m.transparent *
-                 trace_ray(scene, spawn_ray(si, dir), depth - 1, w_refr, settings, counters);
+                 trace_ray(scene, spawn_ray(si, dir), depth - 1, w_refr, settings, counters, rng);
         }
     }
     return c;

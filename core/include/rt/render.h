@@ -23,13 +23,27 @@ struct RenderSettings {
     bool shadows = true;
     int threads = 0;  // 0: all cores
     uint64_t seed = 0;
+    // Progressive features, each off at 0 (scenes/README.md).
+    double light_radius = 0.0;    // soft shadows: point and spot lights become spheres
+    double aperture = 0.0;        // depth of field: lens radius, scene units
+    double focus_distance = 0.0;  // distance of the plane in focus along the view direction;
+                                  // 0: the distance to the scene's centre
+    double roughness = 0.0;       // glossy reflection
+
+    bool stochastic() const { return light_radius > 0 || aperture > 0 || roughness > 0; }
 };
 
-/// Accumulated samples. Sums are doubles so millions of samples stay exact enough.
+/// Accumulated samples. Sums are doubles so millions of samples stay exact enough; the sums of
+/// squares give each pixel's variance, hence the error estimate without a reference.
 struct RenderState {
     int width = 0, height = 0;
     std::vector<double> sum;        // 3 per pixel
+    std::vector<double> sum_sq;     // 3 per pixel
     std::vector<uint32_t> samples;  // per pixel
+    /// Pixels that get samples in the next render_samples() call (adaptive sampling); empty:
+    /// every pixel.
+    std::vector<uint8_t> active;
+    int passes = 0;
     RayCounters rays;
 
     void reset(int w, int h);
@@ -46,6 +60,11 @@ using ProgressFn = std::function<void(int rows_done, int rows_total)>;
 /// Returns false when stopped.
 bool render_samples(RenderState& state, const RenderScene& scene, const RenderSettings& settings,
                     int spp, const ProgressFn& progress = {},
+                    const std::atomic<bool>* stop = nullptr);
+
+/// A cheap preview for a moving camera: one centre sample per block x block pixels, copied over
+/// the block. It does not touch any RenderState.
+Image render_coarse(const RenderScene& scene, const RenderSettings& settings, int block,
                     const std::atomic<bool>* stop = nullptr);
 
 /// Number of threads render_samples() uses for a settings value (0 = all cores).

@@ -7,6 +7,7 @@
 
 #include "rt/intersect.h"
 #include "rt/render_scene.h"
+#include "rt/sampler.h"
 
 namespace rt {
 
@@ -14,6 +15,10 @@ struct ShadingSettings {
     int max_depth = 5;      // camera rays have this depth; children get depth - 1 (spec §8)
     double cutoff = 0.001;  // a child ray is traced only when max(weight) >= cutoff; 0 disables
     bool shadows = true;
+    // Progressive features, off at 0 (scenes/README.md): point and spot lights become spheres
+    // of this radius (soft shadows); reflected rays spread by this roughness (glossy).
+    double light_radius = 0.0;
+    double roughness = 0.0;
 };
 
 /// Rays traced, by kind (for the CLI's rays-per-second figures).
@@ -35,8 +40,9 @@ Vec3 eval_texture(const TextureImage& tex, const Vec2& uv);
 bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
                 double* distance);
 
-/// The colour seen along a ray of the given depth and path weight.
+/// The colour seen along a ray of the given depth and path weight. `rng` feeds the stochastic
+/// features; without one (or with them off) the result is the deterministic Whitted colour.
 Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
-               const ShadingSettings& settings, RayCounters& counters);
+               const ShadingSettings& settings, RayCounters& counters, Rng* rng = nullptr);
 
 }  // namespace rt
