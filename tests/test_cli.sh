@@ -82,5 +82,27 @@ check "same image for any thread count" cmp -s "$tmp/t1.ppm" "$tmp/t3.ppm"
 "$rt" "$tmp/ok.ray" -q -o "$tmp/ns.ppm" --no-shadows --depth 1 --cutoff 0.5 --width 20 --height 10
 check "no-shadows depth cutoff accepted" test -s "$tmp/ns.ppm"
 
+# Progressive mode: a report with the required columns, an SVG plot, the image.
+"$rt" "$tmp/ok.ray" --progressive --spp 8 --light-radius 0.3 --report "$tmp/r.csv" \
+    --plot "$tmp/r.svg" -o "$tmp/prog.png" --width 32 --height 24 >"$tmp/prog.txt" 2>&1
+check "progressive exits 0" test $? -eq 0
+check "report header" bash -c "head -1 '$tmp/r.csv' | grep -q 'seconds,spp,rays,rmse,relmse,off_share,estimate'"
+check "report has passes" test "$(wc -l <"$tmp/r.csv")" -ge 4
+check "plot is svg" grep -q "<svg" "$tmp/r.svg"
+check "progressive image" test -s "$tmp/prog.png"
+check "formula printed" grep -q "relMSE = mean over pixels" "$tmp/prog.txt"
+"$rt" "$tmp/ok.ray" -o "$tmp/ref.pfm" --spp 16 --width 32 --height 24 -q
+"$rt" "$tmp/ok.ray" --progressive --spp 4 --reference "$tmp/ref.pfm" --report "$tmp/r2.csv" \
+    -o "$tmp/p2.png" --width 32 --height 24 -q
+check "report with reference has errors" bash -c "tail -1 '$tmp/r2.csv' | grep -qE '^uniform,[^,]+,[^,]+,[^,]+,[0-9]'"
+"$rt" "$tmp/ok.ray" --progressive --spp 4 --reference "$tmp/ref.pfm" -o "$tmp/p3.png" >/dev/null 2>&1
+check "reference of another size exits 1" test $? -eq 1
+"$rt" "$tmp/ok.ray" --time 2 >/dev/null 2>&1
+check "--time without --progressive exits 2" test $? -eq 2
+"$rt" "$tmp/ok.ray" --progressive >/dev/null 2>&1
+check "--progressive without a limit exits 2" test $? -eq 2
+"$rt" "$tmp/ok.ray" --aperture -1 >/dev/null 2>&1
+check "negative aperture exits 2" test $? -eq 2
+
 echo "$passes passed, $fails failed"
 test "$fails" -eq 0

@@ -157,8 +157,8 @@ Options parse_options(const std::vector<std::string>& args) {
         if (!(v >= 0.0) || !std::isfinite(v))
             throw UsageError(std::string(name) + " must be a finite number >= 0");
     if (o.reference_spp < 2) throw UsageError("--reference-spp must be at least 2");
-    const bool progressive_only = o.time_limit_s > 0 || !o.reference.empty() ||
-                                  !o.report.empty() || !o.plot.empty() || o.adaptive;
+    const bool progressive_only = o.time_limit_s > 0 || !o.reference.empty() || !o.report.empty() ||
+                                  !o.plot.empty() || o.adaptive;
     if (progressive_only && !o.progressive)
         throw UsageError("--time, --reference, --report, --plot and --adaptive need --progressive");
     if (o.progressive && o.time_limit_s <= 0 && !o.spp_given)

@@ -34,8 +34,8 @@ struct Options {
     double time_limit_s = 0;
     std::string reference;  // a .pfm file, "auto", or empty
     int reference_spp = 256;
-    std::string report;     // CSV
-    std::string plot;       // SVG
+    std::string report;  // CSV
+    std::string plot;    // SVG
     bool adaptive = false;
     // Progressive features (each off at 0).
     double light_radius = 0;

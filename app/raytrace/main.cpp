@@ -4,12 +4,12 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "cli_options.h"
 #include "rt/parser.h"
@@ -68,7 +68,7 @@ rt::Image auto_reference(const rt::cli::Options& opt, const rt::SceneDesc& desc,
     key = fnv1a(params, key);
     const char* xdg = std::getenv("XDG_CACHE_HOME");
     const char* home = std::getenv("HOME");
-    const fs::path dir = xdg && *xdg ? fs::path(xdg) / "raytrace"
+    const fs::path dir = xdg && *xdg     ? fs::path(xdg) / "raytrace"
                          : home && *home ? fs::path(home) / ".cache" / "raytrace"
                                          : fs::path(".raytrace-cache");
     char name[64];
@@ -127,12 +127,12 @@ int run_progressive(const rt::cli::Options& opt, const rt::SceneDesc& desc,
             reference = rt::load_pfm(opt.reference);
             have_reference = true;
         }
-        if (have_reference && (reference.width != settings.width || reference.height != settings.height))
-            throw std::runtime_error("reference '" + opt.reference + "' is " +
-                                     std::to_string(reference.width) + "x" +
-                                     std::to_string(reference.height) + ", the image is " +
-                                     std::to_string(settings.width) + "x" +
-                                     std::to_string(settings.height));
+        if (have_reference &&
+            (reference.width != settings.width || reference.height != settings.height))
+            throw std::runtime_error(
+                "reference '" + opt.reference + "' is " + std::to_string(reference.width) + "x" +
+                std::to_string(reference.height) + ", the image is " +
+                std::to_string(settings.width) + "x" + std::to_string(settings.height));
     } catch (const std::exception& e) {
         std::cerr << "raytrace: error: " << e.what() << "\n";
         return 1;
@@ -164,14 +164,15 @@ int run_progressive(const rt::cli::Options& opt, const rt::SceneDesc& desc,
                             r.estimate.relmse);
             std::fflush(stdout);
         };
-        runs.emplace_back(mode, rt::run_progressive(state, scene, settings, ps,
-                                                     have_reference ? &reference : nullptr,
-                                                     on_pass));
+        runs.emplace_back(mode,
+                          rt::run_progressive(state, scene, settings, ps,
+                                              have_reference ? &reference : nullptr, on_pass));
     }
     if (!opt.quiet) {
-        std::printf("\n%s\nestimate = the same from the samples alone (variance of each pixel's "
-                    "mean)\n",
-                    rt::kRelMseFormula);
+        std::printf(
+            "\n%s\nestimate = the same from the samples alone (variance of each pixel's "
+            "mean)\n",
+            rt::kRelMseFormula);
         for (const auto& [mode, run] : runs) {
             std::vector<double> t, e;
             for (const rt::PassRecord& r : run) {

@@ -10,10 +10,9 @@ namespace rt {
 
 ImageError compare_images(const Image& image, const Image& ref) {
     if (image.width != ref.width || image.height != ref.height)
-        throw std::invalid_argument("reference is " + std::to_string(ref.width) + "x" +
-                                    std::to_string(ref.height) + ", image is " +
-                                    std::to_string(image.width) + "x" +
-                                    std::to_string(image.height));
+        throw std::invalid_argument(
+            "reference is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
+            ", image is " + std::to_string(image.width) + "x" + std::to_string(image.height));
     ImageError e;
     double sq = 0, rel = 0;
     size_t off = 0;
@@ -83,17 +82,42 @@ ErrorEstimate estimate_error(const RenderState& state) {
     return e;
 }
 
-void choose_adaptive_pixels(RenderState& state, double share, double converged) {
+size_t choose_adaptive_pixels(RenderState& state, int explore) {
     const size_t n = state.samples.size();
-    std::vector<double> err(n);
-    for (size_t p = 0; p < n; ++p) err[p] = pixel_rel_error(state, p);
-    std::vector<double> sorted = err;
-    const size_t k = std::min(n - 1, static_cast<size_t>((1.0 - share) * static_cast<double>(n)));
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(k), sorted.end());
-    const double threshold = sorted[k];
+    std::vector<double> raw(n), err(n);
+    for (size_t p = 0; p < n; ++p) raw[p] = pixel_rel_error(state, p);
+    // A pixel's estimate from a few samples misses features its samples did not touch; its
+    // neighbours' estimates see them (edges, small highlights): take the 3x3 maximum.
+    const int w = state.width, h = state.height;
+    double mean = 0;
+    size_t known = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p =
+                static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+            double e = raw[p];
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const double v = raw[static_cast<size_t>(yy) * static_cast<size_t>(w) +
+                                         static_cast<size_t>(xx)];
+                    if (raw[p] >= 0 && v > e) e = v;
+                }
+            err[p] = e;
+            if (e >= 0) mean += e, ++known;
+        }
+    mean = known ? mean / static_cast<double>(known) : 0;
     state.active.assign(n, 0);
-    for (size_t p = 0; p < n; ++p)
-        state.active[p] = (err[p] < 0 || (err[p] >= threshold && err[p] > converged)) ? 1 : 0;
+    size_t active = 0;
+    const size_t shift = static_cast<size_t>(state.passes) * 7919;  // moves the pattern
+    for (size_t p = 0; p < n; ++p) {
+        const bool on = err[p] < 0 || (mean > 0 && err[p] >= mean) ||
+                        (explore > 0 && (p + shift) % static_cast<size_t>(explore) == 0);
+        state.active[p] = on ? 1 : 0;
+        active += on ? 1 : 0;
+    }
+    return active;
 }
 
 std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& scene,
@@ -104,30 +128,32 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
                                         const std::atomic<bool>* stop) {
     using Clock = std::chrono::steady_clock;
     state.reset(settings.width, settings.height);
+    RenderSettings pass_settings = settings;
+    pass_settings.centre_first_sample = false;  // every sample jittered
     std::vector<PassRecord> records;
     double render_seconds = 0;
     uint64_t samples_total = 0;
     const double pixels = static_cast<double>(settings.width) * settings.height;
-    constexpr double kAdaptiveShare = 0.25;
     for (int pass = 0;; ++pass) {
         // Uniform schedule 1, 1, 2, 4, 8, ... samples per pixel (at most 64 a pass).
         const int uniform_spp = pass == 0 ? 1 : std::min(64, 1 << (pass - 1));
         int spp = uniform_spp;
         state.active.clear();
         if (progressive.adaptive && state.passes >= 3) {
-            // The same number of samples as a uniform pass, on the pixels with the largest
-            // estimated error.
-            choose_adaptive_pixels(state, kAdaptiveShare, 0.0);
-            spp = static_cast<int>(uniform_spp / kAdaptiveShare);
+            // The same number of samples as the uniform pass, spread over the active pixels.
+            const size_t active = choose_adaptive_pixels(state);
+            spp = static_cast<int>(
+                std::clamp(uniform_spp * pixels / static_cast<double>(std::max<size_t>(active, 1)),
+                           1.0, 1024.0));
         }
         const auto t0 = Clock::now();
-        if (!render_samples(state, scene, settings, spp, {}, stop)) break;
+        if (!render_samples(state, scene, pass_settings, spp, {}, stop)) break;
         render_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-        samples_total += state.active.empty()
-                             ? static_cast<uint64_t>(pixels) * static_cast<uint64_t>(spp)
-                             : static_cast<uint64_t>(std::count(state.active.begin(),
-                                                                state.active.end(), 1)) *
-                                   static_cast<uint64_t>(spp);
+        samples_total +=
+            state.active.empty()
+                ? static_cast<uint64_t>(pixels) * static_cast<uint64_t>(spp)
+                : static_cast<uint64_t>(std::count(state.active.begin(), state.active.end(), 1)) *
+                      static_cast<uint64_t>(spp);
 
         PassRecord r;
         r.seconds = render_seconds;
@@ -164,7 +190,9 @@ double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) 
 
 namespace {
 
-double run_error(const PassRecord& r) { return r.has_reference ? r.error.relmse : r.estimate.relmse; }
+double run_error(const PassRecord& r) {
+    return r.has_reference ? r.error.relmse : r.estimate.relmse;
+}
 
 }  // namespace
 
@@ -182,8 +210,7 @@ double time_to_reach(const std::vector<PassRecord>& run, double target) {
     return -1;
 }
 
-std::string progress_csv(
-    const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs) {
+std::string progress_csv(const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs) {
     std::string s = "mode,seconds,spp,rays,rmse,relmse,off_share,estimate,estimate_relmse\n";
     char buf[256];
     for (const auto& [mode, run] : runs)
@@ -202,9 +229,8 @@ std::string progress_csv(
     return s;
 }
 
-std::string progress_svg(
-    const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs,
-    const std::string& title) {
+std::string progress_svg(const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs,
+                         const std::string& title) {
     // Plot area and log-scaled ranges over every point.
     const double W = 720, H = 480, left = 80, right = 200, top = 50, bottom = 60;
     double tmin = kInf, tmax = 0, emin = kInf, emax = 0;
@@ -218,10 +244,16 @@ std::string progress_svg(
                 }
         }
     if (!(tmax > 0)) tmin = 0.01, tmax = 1, emin = 1e-4, emax = 1;
-    const double lt0 = std::floor(std::log10(tmin)), lt1 = std::max(lt0 + 1, std::ceil(std::log10(tmax)));
-    const double le0 = std::floor(std::log10(emin)), le1 = std::max(le0 + 1, std::ceil(std::log10(emax)));
-    auto px = [&](double t) { return left + (std::log10(t) - lt0) / (lt1 - lt0) * (W - left - right); };
-    auto py = [&](double e) { return H - bottom - (std::log10(e) - le0) / (le1 - le0) * (H - top - bottom); };
+    const double lt0 = std::floor(std::log10(tmin)),
+                 lt1 = std::max(lt0 + 1, std::ceil(std::log10(tmax)));
+    const double le0 = std::floor(std::log10(emin)),
+                 le1 = std::max(le0 + 1, std::ceil(std::log10(emax)));
+    auto px = [&](double t) {
+        return left + (std::log10(t) - lt0) / (lt1 - lt0) * (W - left - right);
+    };
+    auto py = [&](double e) {
+        return H - bottom - (std::log10(e) - le0) / (le1 - le0) * (H - top - bottom);
+    };
     char buf[512];
     std::string s;
     std::snprintf(buf, sizeof buf,
@@ -232,7 +264,8 @@ std::string progress_svg(
     s += buf;
     auto escape = [](const std::string& in) {
         std::string out;
-        for (char c : in) out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
+        for (char c : in)
+            out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
         return out;
     };
     std::snprintf(buf, sizeof buf, "<text x=\"%.0f\" y=\"24\" font-size=\"15\">%s</text>\n", left,
@@ -273,16 +306,19 @@ std::string progress_svg(
             std::vector<double> xs, ys;
             std::string path;
             for (const PassRecord& r : run) {
-                const double e = series == 0 ? (r.has_reference ? r.error.relmse : 0) : r.estimate.relmse;
+                const double e =
+                    series == 0 ? (r.has_reference ? r.error.relmse : 0) : r.estimate.relmse;
                 if (!(e > 0) || !(r.seconds > 0)) continue;
                 xs.push_back(r.seconds), ys.push_back(e);
-                std::snprintf(buf, sizeof buf, "%s%.1f,%.1f", path.empty() ? "" : " ", px(r.seconds), py(e));
+                std::snprintf(buf, sizeof buf, "%s%.1f,%.1f", path.empty() ? "" : " ",
+                              px(r.seconds), py(e));
                 path += buf;
             }
             if (xs.size() < 2) continue;
-            std::snprintf(buf, sizeof buf,
-                          "<polyline points=\"%s\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\"%s/>\n",
-                          path.c_str(), colour, series == 1 ? " stroke-dasharray=\"6 4\"" : "");
+            std::snprintf(
+                buf, sizeof buf,
+                "<polyline points=\"%s\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\"%s/>\n",
+                path.c_str(), colour, series == 1 ? " stroke-dasharray=\"6 4\"" : "");
             s += buf;
             std::snprintf(buf, sizeof buf,
                           "<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">%s %s: slope %.2f</text>\n",

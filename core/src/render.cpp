@@ -1,10 +1,10 @@
 #include "rt/render.h"
 
-#include "rt/sampler.h"
-
 #include <algorithm>
 #include <mutex>
 #include <thread>
+
+#include "rt/sampler.h"
 
 namespace rt {
 
@@ -123,7 +123,7 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                     for (int s = 0; s < spp; ++s) {
                         Rng rng(settings.seed, pixel, base + static_cast<uint32_t>(s));
                         double sx = 0.5, sy = 0.5;
-                        if (spp > 1 || base > 0 || stochastic) {
+                        if (spp > 1 || base > 0 || stochastic || !settings.centre_first_sample) {
                             // One uniform sample in each of the first spp strata, row-major.
                             sx = (s % m + rng.uniform()) / m;
                             sy = (s / m + rng.uniform()) / m;
@@ -138,8 +138,8 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                             ray.d = glm::normalize(focused - ray.o);
                         }
                         ++counters.camera;
-                        const Vec3 c = trace_ray(scene, ray, settings.max_depth, Vec3(1.0),
-                                                 shading, counters, stochastic ? &rng : nullptr);
+                        const Vec3 c = trace_ray(scene, ray, settings.max_depth, Vec3(1.0), shading,
+                                                 counters, stochastic ? &rng : nullptr);
                         acc += c;
                         acc_sq += c * c;
                     }

@@ -38,9 +38,11 @@ struct ErrorEstimate {
 };
 ErrorEstimate estimate_error(const RenderState& state);
 
-/// Marks the given share of pixels with the largest estimated relative error as active for the
-/// next pass (adaptive sampling); pixels whose estimate is below `converged` stay inactive.
-void choose_adaptive_pixels(RenderState& state, double share, double converged);
+/// Adaptive sampling: marks as active for the next pass the pixels whose estimated relative
+/// error is at least the image's mean (and those with fewer than two samples), plus one pixel in
+/// `explore` on a pattern that moves every pass, so no pixel is frozen on a lucky estimate.
+/// Returns the number of active pixels.
+size_t choose_adaptive_pixels(RenderState& state, int explore = 8);
 
 struct ProgressiveSettings {
     double time_limit_s = 0;  // stop after this much render time (0: no limit)
@@ -57,8 +59,9 @@ struct PassRecord {
     ErrorEstimate estimate;
 };
 
-/// Runs passes (1, 1, 2, 4, 8, ... samples per pixel; adaptive: the same number of samples on a
-/// quarter of the pixels after the first four) until a limit, recording each pass.
+/// Runs passes (1, 1, 2, 4, 8, ... samples per pixel, every sample jittered; adaptive: after the
+/// first four samples, the same number of samples per pass spread over the active pixels) until
+/// a limit, recording each pass.
 std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& scene,
                                         const RenderSettings& settings,
                                         const ProgressiveSettings& progressive,

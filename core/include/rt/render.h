@@ -29,6 +29,9 @@ struct RenderSettings {
     double focus_distance = 0.0;  // distance of the plane in focus along the view direction;
                                   // 0: the distance to the scene's centre
     double roughness = 0.0;       // glossy reflection
+    /// The first sample of a pixel goes to its centre (spec §6.2's 1-spp image); progressive
+    /// rendering turns this off so every sample is jittered.
+    bool centre_first_sample = true;
 
     bool stochastic() const { return light_radius > 0 || aperture > 0 || roughness > 0; }
 };

@@ -1,0 +1,142 @@
+// Progressive rendering: determinism with the stochastic features, the error falling with the
+// sample count, the reference-free estimate against the true error, and convergence to a
+// directly supersampled image when every stochastic feature is off.
+#include "rt/progressive.h"
+#include "test_util.h"
+
+namespace rt {
+namespace {
+
+// Spheres on a plane under a point light: soft shadows give noise across the penumbrae.
+const char* kScene =
+    "#camera 0 3 6  0 -2.5 -6  0 1 0  0.45\n#ambient .1 .1 .1\n#background .2 .3 .4\n"
+    "#light_point 1 1 1  1 4 2  1 0 0\n"
+    "#material 0 0 0  .2 .2 .2  .7 .7 .7  .2 .2 .2  20  0 0 0  1  -1 !floor!\n"
+    "#material 0 0 0  .2 .1 .1  .8 .3 .3  .6 .6 .6  60  0 0 0  1  -1 !red!\n"
+    "#vertex -5 0 -5 0 0 0 0 0\n#vertex -5 0 5 0 0 0 0 0\n#vertex 5 0 5 0 0 0 0 0\n"
+    "#vertex 5 0 -5 0 0 0 0 0\n#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 3\n"
+    "#shape_sphere 1  -0.8 0.7 0  0.7\n#shape_box 1  1 0.5 0.3  0.8 1 0.8\n";
+
+RenderSettings small(int threads = 2) {
+    RenderSettings s;
+    s.width = 48;
+    s.height = 36;
+    s.threads = threads;
+    return s;
+}
+
+Image render_spp(const RenderScene& scene, RenderSettings s, int spp) {
+    RenderState state;
+    render_samples(state, scene, s, spp);
+    return state.image();
+}
+
+TEST(Progressive, SameImageForAnyThreadCountWithEveryFeatureOn) {
+    const RenderScene scene = test::compile(kScene);
+    RenderSettings s = small(1);
+    s.light_radius = 0.5;
+    s.aperture = 0.1;
+    s.roughness = 0.2;
+    s.seed = 7;
+    const Image a = render_spp(scene, s, 5);
+    s.threads = 3;
+    const Image b = render_spp(scene, s, 5);
+    EXPECT_EQ(a.rgb, b.rgb);
+    s.seed = 8;
+    EXPECT_NE(a.rgb, render_spp(scene, s, 5).rgb);  // the seed matters
+}
+
+TEST(Progressive, ErrorFallsAsOneOverSamplesAndTheEstimateTracksIt) {
+    const RenderScene scene = test::compile(kScene);
+    RenderSettings s = small();
+    s.light_radius = 0.6;
+    s.centre_first_sample = false;
+    RenderSettings ref_settings = s;
+    ref_settings.seed = 1234;  // independent of the measured runs
+    const Image ref = render_spp(scene, ref_settings, 1024);
+
+    std::vector<double> spp, mse;
+    RenderState state;
+    int total = 0;
+    for (int n : {2, 2, 4, 8, 16, 32}) {
+        render_samples(state, scene, s, n);
+        total += n;
+        const ImageError e = compare_images(state.image(), ref);
+        spp.push_back(total);
+        mse.push_back(e.rmse * e.rmse);
+        if (total >= 8) {
+            // The reference-free estimate lies within a factor of two of the true MSE.
+            const ErrorEstimate est = estimate_error(state);
+            EXPECT_GT(est.mse, 0.5 * e.rmse * e.rmse) << total << " spp";
+            EXPECT_LT(est.mse, 2.0 * e.rmse * e.rmse) << total << " spp";
+        }
+    }
+    EXPECT_LT(loglog_slope(spp, mse), -0.8);
+}
+
+TEST(Progressive, ConvergesToTheDirectlySupersampledImageWithFeaturesOff) {
+    const RenderScene scene = test::compile(kScene);
+    const RenderSettings s = small();
+    // Direct supersampling: a regular 16x16 grid of sample positions in every pixel.
+    const Camera cam = make_camera(scene, s.width, s.height);
+    Image direct(s.width, s.height);
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            Vec3 acc(0.0);
+            for (int k = 0; k < 256; ++k)
+                acc += test::shade(scene,
+                                   cam.generate(x, y, (k % 16 + 0.5) / 16, (k / 16 + 0.5) / 16));
+            direct.set(x, y, acc / 256.0);
+        }
+    RenderState state;
+    ProgressiveSettings p;
+    p.spp_limit = 256;
+    const auto runs = run_progressive(state, scene, s, p, &direct);
+    ASSERT_FALSE(runs.empty());
+    EXPECT_GE(runs.back().spp, 256);
+    EXPECT_LT(runs.back().error.rmse, 4e-3);
+    EXPECT_LT(runs.back().error.rmse, 0.2 * runs.front().error.rmse);
+}
+
+TEST(Progressive, ComparisonMetrics) {
+    Image a(2, 1), b(2, 1);
+    a.set(0, 0, Vec3(0.5));
+    b.set(0, 0, Vec3(0.5 + 0.1));
+    a.set(1, 0, Vec3(1.0));
+    b.set(1, 0, Vec3(1.0 + 0.001));  // below 1/255 and clamped anyway
+    const ImageError e = compare_images(a, b);
+    EXPECT_NEAR(e.rmse, std::sqrt((3 * 0.01 + 3 * 1e-6) / 6), 1e-12);
+    EXPECT_NEAR(e.relmse, (3 * 0.01 / (0.36 + 0.01) + 3 * 1e-6 / (1.002001 + 0.01)) / 6, 1e-9);
+    EXPECT_NEAR(e.off_share, 0.5, 1e-12);
+    EXPECT_THROW(compare_images(a, Image(1, 1)), std::invalid_argument);
+    EXPECT_NEAR(loglog_slope({1, 10, 100}, {1, 0.1, 0.01}), -1.0, 1e-12);
+}
+
+TEST(Progressive, AdaptiveSamplingSpendsSamplesWhereTheErrorIs) {
+    const RenderScene scene = test::compile(kScene);
+    RenderSettings s = small();
+    s.light_radius = 0.6;
+    s.centre_first_sample = false;
+    RenderState state;
+    render_samples(state, scene, s, 4);
+    const size_t active = choose_adaptive_pixels(state);
+    EXPECT_GT(active, 0u);
+    EXPECT_LT(active, state.samples.size());
+    render_samples(state, scene, s, 8);
+    // Active pixels got 8 more samples, the others none.
+    for (size_t i = 0; i < state.samples.size(); ++i)
+        EXPECT_EQ(state.samples[i], state.active[i] ? 12u : 4u);
+}
+
+TEST(Progressive, CoarsePreviewRepeatsBlockCentres) {
+    const RenderScene scene = test::compile(kScene);
+    const RenderSettings s = small();
+    const Image coarse = render_coarse(scene, s, 4);
+    const Camera cam = make_camera(scene, s.width, s.height);
+    // Block (1, 2) covers pixels x 4..7, y 8..11; its centre is (6.0, 10.0).
+    EXPECT_VEC_NEAR(coarse.at(5, 9), test::shade(scene, cam.generate(6, 10, 0.0, 0.0)), 1e-12);
+    EXPECT_EQ(coarse.at(4, 8), coarse.at(7, 11));
+}
+
+}  // namespace
+}  // namespace rt
