@@ -82,42 +82,56 @@ ErrorEstimate estimate_error(const RenderState& state) {
     return e;
 }
 
-size_t choose_adaptive_pixels(RenderState& state, int explore) {
+uint64_t choose_adaptive_pixels(RenderState& state, double budget, int explore) {
     const size_t n = state.samples.size();
-    std::vector<double> raw(n), err(n);
-    for (size_t p = 0; p < n; ++p) raw[p] = pixel_rel_error(state, p);
-    // A pixel's estimate from a few samples misses features its samples did not touch; its
-    // neighbours' estimates see them (edges, small highlights): take the 3x3 maximum.
     const int w = state.width, h = state.height;
-    double mean = 0;
+    // Relative standard deviation of one sample of each pixel; negative when unknown.
+    std::vector<double> raw(n), sd(n);
+    for (size_t p = 0; p < n; ++p) {
+        const double e = pixel_rel_error(state, p);  // variance of the mean
+        raw[p] = e < 0 ? -1 : std::sqrt(e * state.samples[p]);
+    }
+    double sum_sd = 0;
     size_t known = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t p =
                 static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
-            double e = raw[p];
+            double v = raw[p];
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                    const double v = raw[static_cast<size_t>(yy) * static_cast<size_t>(w) +
-                                         static_cast<size_t>(xx)];
-                    if (raw[p] >= 0 && v > e) e = v;
+                    if (v < 0 || xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    v = std::max(v, raw[static_cast<size_t>(yy) * static_cast<size_t>(w) +
+                                        static_cast<size_t>(xx)]);
                 }
-            err[p] = e;
-            if (e >= 0) mean += e, ++known;
+            sd[p] = v;
+            if (v >= 0) sum_sd += v, ++known;
         }
-    mean = known ? mean / static_cast<double>(known) : 0;
+    const double mean_sd = known ? sum_sd / static_cast<double>(known) : 1.0;
+    for (double& v : sd)
+        if (v < 0) v = mean_sd, sum_sd += v;  // unknown pixels get an average share
+    double total = budget;
+    for (uint32_t c : state.samples) total += c;
+    // Each pixel's deficit against its target total, scaled to the budget.
+    std::vector<double> deficit(n);
+    double sum_deficit = 0;
+    for (size_t p = 0; p < n; ++p) {
+        const double target = sum_sd > 0 ? total * sd[p] / sum_sd : total / static_cast<double>(n);
+        deficit[p] = std::max(0.0, target - state.samples[p]);
+        sum_deficit += deficit[p];
+    }
+    const double scale = sum_deficit > 0 ? budget / sum_deficit : 0;
     state.active.assign(n, 0);
-    size_t active = 0;
+    uint64_t allocated = 0;
     const size_t shift = static_cast<size_t>(state.passes) * 7919;  // moves the pattern
     for (size_t p = 0; p < n; ++p) {
-        const bool on = err[p] < 0 || (mean > 0 && err[p] >= mean) ||
-                        (explore > 0 && (p + shift) % static_cast<size_t>(explore) == 0);
-        state.active[p] = on ? 1 : 0;
-        active += on ? 1 : 0;
+        double k = std::min(255.0, std::floor(deficit[p] * scale + 0.5));
+        if (k < 1 && explore > 0 && (p + shift) % static_cast<size_t>(explore) == 0) k = 1;
+        state.active[p] = static_cast<uint8_t>(k);
+        allocated += static_cast<uint64_t>(k);
     }
-    return active;
+    return allocated;
 }
 
 std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& scene,
@@ -139,21 +153,16 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
         const int uniform_spp = pass == 0 ? 1 : std::min(64, 1 << (pass - 1));
         int spp = uniform_spp;
         state.active.clear();
+        uint64_t pass_samples = static_cast<uint64_t>(pixels) * static_cast<uint64_t>(spp);
         if (progressive.adaptive && state.passes >= 3) {
-            // The same number of samples as the uniform pass, spread over the active pixels.
-            const size_t active = choose_adaptive_pixels(state);
-            spp = static_cast<int>(
-                std::clamp(uniform_spp * pixels / static_cast<double>(std::max<size_t>(active, 1)),
-                           1.0, 1024.0));
+            // The samples of the uniform pass, shared by estimated error.
+            pass_samples = choose_adaptive_pixels(state, uniform_spp * pixels);
+            spp = 1;
         }
         const auto t0 = Clock::now();
         if (!render_samples(state, scene, pass_settings, spp, {}, stop)) break;
         render_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-        samples_total +=
-            state.active.empty()
-                ? static_cast<uint64_t>(pixels) * static_cast<uint64_t>(spp)
-                : static_cast<uint64_t>(std::count(state.active.begin(), state.active.end(), 1)) *
-                      static_cast<uint64_t>(spp);
+        samples_total += pass_samples;
 
         PassRecord r;
         r.seconds = render_seconds;

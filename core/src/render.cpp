@@ -82,7 +82,6 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
     const double focus = settings.focus_distance > 0
                              ? settings.focus_distance
                              : glm::length(scene.world_bounds.centre() - camera.position);
-    const int m = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(spp))));
 
     const int tiles_x = (settings.width + kTile - 1) / kTile;
     const int tiles_y = (settings.height + kTile - 1) / kTile;
@@ -117,13 +116,17 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                 }
                 for (int x = tx; x < x1; ++x) {
                     const size_t pixel = static_cast<size_t>(y) * settings.width + x;
-                    if (!all_active && !state.active[pixel]) continue;
+                    const int pixel_spp = all_active ? spp : spp * state.active[pixel];
+                    if (pixel_spp == 0) continue;
+                    const int m =
+                        static_cast<int>(std::ceil(std::sqrt(static_cast<double>(pixel_spp))));
                     const uint32_t base = state.samples[pixel];
                     Vec3 acc(0.0), acc_sq(0.0);
-                    for (int s = 0; s < spp; ++s) {
+                    for (int s = 0; s < pixel_spp; ++s) {
                         Rng rng(settings.seed, pixel, base + static_cast<uint32_t>(s));
                         double sx = 0.5, sy = 0.5;
-                        if (spp > 1 || base > 0 || stochastic || !settings.centre_first_sample) {
+                        if (pixel_spp > 1 || base > 0 || stochastic ||
+                            !settings.centre_first_sample) {
                             // One uniform sample in each of the first spp strata, row-major.
                             sx = (s % m + rng.uniform()) / m;
                             sy = (s / m + rng.uniform()) / m;
@@ -174,7 +177,7 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
         state.sum_sq[i] += pass_sq[i];
     }
     for (size_t i = 0; i < state.samples.size(); ++i)
-        if (all_active || state.active[i]) state.samples[i] += static_cast<uint32_t>(spp);
+        state.samples[i] += static_cast<uint32_t>(all_active ? spp : spp * state.active[i]);
     ++state.passes;
     state.rays += total;
     if (progress) progress(settings.height, settings.height);

@@ -38,11 +38,13 @@ struct ErrorEstimate {
 };
 ErrorEstimate estimate_error(const RenderState& state);
 
-/// Adaptive sampling: marks as active for the next pass the pixels whose estimated relative
-/// error is at least the image's mean (and those with fewer than two samples), plus one pixel in
-/// `explore` on a pattern that moves every pass, so no pixel is frozen on a lucky estimate.
-/// Returns the number of active pixels.
-size_t choose_adaptive_pixels(RenderState& state, int explore = 8);
+/// Adaptive sampling: shares `budget` samples among the pixels so that each pixel's total
+/// moves toward a share proportional to its estimated relative standard deviation (the optimal
+/// allocation for independent samples), taken as the maximum over its 3x3 neighbourhood so
+/// features a pixel's few samples missed are not ignored; one pixel in `explore`, on a pattern
+/// that moves every pass, gets at least one sample. Fills state.active (samples per pixel for a
+/// render_samples() call with spp = 1) and returns the number of samples allocated.
+uint64_t choose_adaptive_pixels(RenderState& state, double budget, int explore = 8);
 
 struct ProgressiveSettings {
     double time_limit_s = 0;  // stop after this much render time (0: no limit)
@@ -60,8 +62,8 @@ struct PassRecord {
 };
 
 /// Runs passes (1, 1, 2, 4, 8, ... samples per pixel, every sample jittered; adaptive: after the
-/// first four samples, the same number of samples per pass spread over the active pixels) until
-/// a limit, recording each pass.
+/// first four samples, the same number of samples per pass shared by choose_adaptive_pixels())
+/// until a limit, recording each pass.
 std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& scene,
                                         const RenderSettings& settings,
                                         const ProgressiveSettings& progressive,

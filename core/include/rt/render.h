@@ -43,8 +43,8 @@ struct RenderState {
     std::vector<double> sum;        // 3 per pixel
     std::vector<double> sum_sq;     // 3 per pixel
     std::vector<uint32_t> samples;  // per pixel
-    /// Pixels that get samples in the next render_samples() call (adaptive sampling); empty:
-    /// every pixel.
+    /// Adaptive sampling: how many times `spp` samples each pixel gets in the next
+    /// render_samples() call (0: none). Empty: every pixel gets `spp`.
     std::vector<uint8_t> active;
     int passes = 0;
     RayCounters rays;
