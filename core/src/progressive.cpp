@@ -153,10 +153,17 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
         const int uniform_spp = pass == 0 ? 1 : std::min(64, 1 << (pass - 1));
         int spp = uniform_spp;
         state.active.clear();
+        // Near the time limit, shrink the pass to what the remaining time holds (at the rate
+        // measured so far), so the run ends close to the limit instead of doubling past it.
+        if (progressive.time_limit_s > 0 && samples_total > 0) {
+            const double per_spp = render_seconds / (static_cast<double>(samples_total) / pixels);
+            const double remaining = progressive.time_limit_s - render_seconds;
+            spp = std::clamp(static_cast<int>(remaining / per_spp), 1, spp);
+        }
         uint64_t pass_samples = static_cast<uint64_t>(pixels) * static_cast<uint64_t>(spp);
         if (progressive.adaptive && state.passes >= 3) {
             // The samples of the uniform pass, shared by estimated error.
-            pass_samples = choose_adaptive_pixels(state, uniform_spp * pixels);
+            pass_samples = choose_adaptive_pixels(state, spp * pixels);
             spp = 1;
         }
         const auto t0 = Clock::now();

@@ -122,12 +122,25 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                         static_cast<int>(std::ceil(std::sqrt(static_cast<double>(pixel_spp))));
                     const uint32_t base = state.samples[pixel];
                     Vec3 acc(0.0), acc_sq(0.0);
+                    // Progressive passes: the R2 sequence (Roberts 2018) under a random shift
+                    // per pixel, so any run of sample indices, across passes too, is spread
+                    // over the pixel without bias.
+                    Vec2 shift(0.0);
+                    if (!settings.centre_first_sample) {
+                        Rng pixel_rng(settings.seed, pixel, uint64_t{1} << 40);
+                        shift = Vec2(pixel_rng.uniform(), pixel_rng.uniform());
+                    }
                     for (int s = 0; s < pixel_spp; ++s) {
-                        Rng rng(settings.seed, pixel, base + static_cast<uint32_t>(s));
+                        const uint32_t index = base + static_cast<uint32_t>(s);
+                        Rng rng(settings.seed, pixel, index);
                         double sx = 0.5, sy = 0.5;
-                        if (pixel_spp > 1 || base > 0 || stochastic ||
-                            !settings.centre_first_sample) {
-                            // One uniform sample in each of the first spp strata, row-major.
+                        if (!settings.centre_first_sample) {
+                            constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+                            sx = std::fmod(shift.x + index * a1, 1.0);
+                            sy = std::fmod(shift.y + index * a2, 1.0);
+                        } else if (pixel_spp > 1 || base > 0 || stochastic) {
+                            // Spec §6.2: one uniform sample in each of the first spp strata of
+                            // a ceil(sqrt(spp))^2 grid, row-major.
                             sx = (s % m + rng.uniform()) / m;
                             sy = (s / m + rng.uniform()) / m;
                         }
