@@ -92,33 +92,14 @@ ShapeHits intersect(const Sphere& s, const Ray& ray, Interval t);
 ShapeHits intersect(const Box& b, const Ray& ray, Interval t);
 ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t);
 ShapeHits intersect(const Cone& c, const Ray& ray, Interval t);
-inline ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t);
+/// The renderer's triangle test (watertight, single precision: triangle4.h) on one triangle.
+ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t);
 
 SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int part);
 SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int part);
 SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part);
 SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part);
 SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t);
-
-/// Moller-Trumbore in double, inline because it is the hot test of meshes. The barycentric test
-/// runs on values scaled by the determinant, so a miss costs no division.
-inline ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
-    ShapeHits h;
-    const Vec3 e1 = tri.p1 - tri.p0, e2 = tri.p2 - tri.p0;
-    const Vec3 pv = glm::cross(ray.d, e2);
-    const double det = glm::dot(e1, pv);
-    if (!(det != 0.0) || !std::isfinite(det)) return h;
-    const Vec3 tv = ray.o - tri.p0;
-    const double u = glm::dot(tv, pv);
-    const Vec3 qv = glm::cross(tv, e1);
-    const double v = glm::dot(ray.d, qv);
-    // Reject on the barycentrics scaled by det (no division for the many misses).
-    if (det > 0.0 ? (u < 0.0 || v < 0.0 || u + v > det) : (u > 0.0 || v > 0.0 || u + v < det))
-        return h;
-    const double tt = glm::dot(e2, qv) / det;
-    if (t.contains(tt)) h.add(tt, 0);
-    return h;
-}
 
 /// Spec §5: azimuth about +y measured from -z, in [0, 2*pi).
 inline double azimuth(const Vec3& q) {

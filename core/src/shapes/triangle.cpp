@@ -1,6 +1,7 @@
 // Triangle (spec §5): p = w1 v1 + w2 v2 + w3 v3; geometric normal normalize((v2-v1) x (v3-v1));
 // shading normal interpolated when all three vertices have normals; uv interpolated.
 #include "rt/shapes.h"
+#include "rt/triangle4.h"
 
 namespace rt {
 
@@ -12,8 +13,9 @@ Bounds3 bounds(const Triangle& t) {
     return b;
 }
 
-// Barycentrics of the ray's hit (Moller-Trumbore in double); false when it misses. The same
-// arithmetic as the inline intersect() in shapes.h, so surface_at() agrees with the hit.
+// Barycentrics of the ray's hit in double precision (Moller-Trumbore), for the shading point,
+// normal and texture coordinates; false when the double test calls it a miss (a hit the float
+// test found on an edge), and surface_at() then projects onto the triangle.
 static bool barycentric(const Triangle& tri, const Ray& ray, double* t, double* b1, double* b2) {
     const Vec3 e1 = tri.p1 - tri.p0, e2 = tri.p2 - tri.p0;
     const Vec3 pv = glm::cross(ray.d, e2);
@@ -27,6 +29,20 @@ static bool barycentric(const Triangle& tri, const Ray& ray, double* t, double* 
     *b2 = v / det;
     *t = glm::dot(e2, qv) / det;
     return !(det > 0.0 ? (u < 0.0 || v < 0.0 || u + v > det) : (u > 0.0 || v > 0.0 || u + v < det));
+}
+
+ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
+    // Lane 0 of a block: the very arithmetic every triangle of a scene goes through.
+    Tri4 block{};
+    const Vec3* v[3] = {&tri.p0, &tri.p1, &tri.p2};
+    for (int k = 0; k < 3; ++k)
+        for (int a = 0; a < 3; ++a) block.p[k][a][0] = static_cast<float>((*v[k])[a]);
+    ShapeHits h;
+    float tt[4];
+    if (intersect_tri4(block, TriRay(ray), 1, float_lower(t.lo), float_upper(t.hi), tt) &&
+        t.contains(tt[0]))
+        h.add(tt[0], 0);
+    return h;
 }
 
 SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray,
