@@ -159,6 +159,25 @@ TEST(Intersect, SpawnedRaysNeverHitTheirOwnTriangle) {
     }
 }
 
+TEST(Bvh, GeometricChainOfSizesKeepsTheTreeShallow) {
+    // SAH peels one sphere at a time off sizes growing as 1.3^i: without a depth limit the tree
+    // became a chain deeper than the traversal stack.
+    std::string text = "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n";
+    for (int i = 0; i < 1500; ++i) {
+        const double x = std::pow(1.3, i);
+        text += "#shape_sphere 0 " + std::to_string(x) + " 0 0 " + std::to_string(0.4 * x) + "\n";
+    }
+    const RenderScene scene = test::compile(text);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 200; ++i) {
+        const Ray r{{std::pow(1.3, i % 1400), 0, 1e3}, glm::normalize(Vec3(u(rng), u(rng), -1))};
+        Hit a, b;
+        ASSERT_EQ(intersect(scene, r, {0, kInf}, &a), intersect_brute_force(scene, r, {0, kInf}, &b));
+        EXPECT_EQ(a.prim, b.prim);
+    }
+}
+
 TEST(Bvh, BuildCoversEveryPrimitiveOnce) {
     std::vector<Bounds3> boxes;
     std::mt19937 rng(5);

@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
     {
         std::ofstream f(tmp, std::ios::binary);
         f.write(text.data(), static_cast<std::streamsize>(text.size()));
+        f.close();  // a failed flush on close sets failbit too
         if (!f) {
             std::cerr << "raygen: cannot write '" << out << "'\n";
             std::remove(tmp.c_str());

@@ -148,7 +148,7 @@ Options parse_options(const std::vector<std::string>& args) {
     if (o.depth < 1) throw UsageError("--depth must be at least 1");
     if (!(o.cutoff >= 0.0)) throw UsageError("--cutoff must not be negative");
     if (o.spp < 1) throw UsageError("--spp must be at least 1");
-    if (o.threads < 0) throw UsageError("--threads must not be negative");
+    if (o.threads < 0 || o.threads > 256) throw UsageError("--threads must be between 0 and 256");
     for (const auto& [name, v] : {std::pair<const char*, double>{"--light-radius", o.light_radius},
                                   {"--aperture", o.aperture},
                                   {"--focus-distance", o.focus_distance},

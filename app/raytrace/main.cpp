@@ -37,7 +37,42 @@ std::string si(double v) {
     return buf;
 }
 
+// Creates and removes path.part: the directory exists, is writable, and path is no directory.
+bool probe_writable(const std::string& path, std::string* why) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) {
+        *why = "it is a directory";
+        return false;
+    }
+    const std::string probe = path + ".part";
+    {
+        std::ofstream f(probe, std::ios::binary);
+        if (!f) {
+            *why = "cannot create files there";
+            return false;
+        }
+    }
+    fs::remove(probe, ec);
+    return true;
+}
+
+// Spec §9: non-finite values must not occur; if one does, it is written as 0 with a warning.
+void save_final_image(rt::Image image, const rt::cli::Options& opt) {
+    const size_t bad = rt::count_non_finite(image);
+    if (bad > 0) {
+        for (double& v : image.rgb)
+            if (!std::isfinite(v)) v = 0.0;
+        std::cerr << opt.scene << ": warning: " << bad
+                  << " non-finite pixel values written as 0\n";
+    }
+    rt::save_image(image, opt.output);
+}
+
 // ---- progressive mode ------------------------------------------------------------------------
+
+// Part of the reference cache's key: bump it when the renderer's images change.
+constexpr const char* kRendererVersion = "raytrace 0.4";
 
 // A 64-bit FNV-1a hash, for the reference cache's key.
 uint64_t fnv1a(const std::string& data, uint64_t h = 1469598103934665603ull) {
@@ -58,7 +93,13 @@ rt::Image auto_reference(const rt::cli::Options& opt, const rt::SceneDesc& desc,
                          const rt::RenderScene& scene, const rt::RenderSettings& settings) {
     namespace fs = std::filesystem;
     uint64_t key = 1469598103934665603ull;
-    for (const rt::FileDesc& f : desc.files) key = fnv1a(read_all(f.path), key);
+    // Every input file (scenes, textures, key files), the settings and the renderer's version.
+    for (const rt::FileDesc& f : desc.files) {
+        key = fnv1a(read_all(f.path), key);
+        for (const rt::TextureDesc& t : f.textures) key = fnv1a(read_all(t.path), key);
+        for (const std::string& k : f.key_files) key = fnv1a(read_all(k), key);
+    }
+    key = fnv1a(std::string(kRendererVersion) + rt::dialect_name(desc.dialect), key);
     char params[512];
     std::snprintf(params, sizeof params, "%d %d %d %.17g %d %.17g %.17g %.17g %.17g %d %llu",
                   settings.width, settings.height, settings.max_depth, settings.cutoff,
@@ -84,6 +125,7 @@ rt::Image auto_reference(const rt::cli::Options& opt, const rt::SceneDesc& desc,
                     cached.string().c_str());
     rt::RenderSettings ref_settings = settings;
     ref_settings.seed = settings.seed + 0x5EED5EEDull;  // independent of the measured run
+    ref_settings.centre_first_sample = false;  // the progressive sequence: unbiased in chunks
     rt::RenderState ref;
     for (int done = 0; done < opt.reference_spp;) {
         const int n = std::min(16, opt.reference_spp - done);
@@ -105,14 +147,17 @@ rt::Image auto_reference(const rt::cli::Options& opt, const rt::SceneDesc& desc,
     return image;
 }
 
-void write_text(const std::string& path, const std::string& text) {
+// Writes text to path.part; the caller renames it once every output is written.
+void write_part(const std::string& path, const std::string& text) {
     const std::string tmp = path + ".part";
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        f << text;
-        if (!f) throw std::runtime_error("cannot write '" + path + "'");
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    f.close();
+    if (!f) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error("cannot write '" + path + "'");
     }
-    std::filesystem::rename(tmp, path);
 }
 
 int run_progressive(const rt::cli::Options& opt, const rt::SceneDesc& desc,
@@ -192,12 +237,23 @@ int run_progressive(const rt::cli::Options& opt, const rt::SceneDesc& desc,
             if (ta > 0) std::printf("%.3f s (%.2fx)\n", ta, tu / ta);
         }
     }
+    // All or nothing: the report and the plot go to temporary files first, the image is written
+    // (atomically), then the temporary files take their names.
+    std::vector<std::string> parts;
     try {
-        if (!opt.report.empty()) write_text(opt.report, rt::progress_csv(runs));
-        if (!opt.plot.empty())
-            write_text(opt.plot, rt::progress_svg(runs, "Error against render time: " + opt.scene));
-        rt::save_image(state.image(), opt.output);
+        if (!opt.report.empty()) {
+            write_part(opt.report, rt::progress_csv(runs));
+            parts.push_back(opt.report);
+        }
+        if (!opt.plot.empty()) {
+            write_part(opt.plot, rt::progress_svg(runs, "Error against render time: " + opt.scene));
+            parts.push_back(opt.plot);
+        }
+        save_final_image(state.image(), opt);
+        for (const std::string& p : parts) std::filesystem::rename(p + ".part", p);
     } catch (const std::exception& e) {
+        std::error_code ec;
+        for (const std::string& p : parts) std::filesystem::remove(p + ".part", ec);
         std::cerr << "raytrace: error: " << e.what() << "\n";
         return 1;
     }
@@ -211,20 +267,13 @@ int run(const rt::cli::Options& opt) {
         for (const rt::Warning& w : diag.warnings()) std::cerr << w.str() << "\n";
     };
 
-    // The output must be writable before any work is done (a long render must not fail at the end).
-    {
-        namespace fs = std::filesystem;
-        const fs::path out(opt.output);
-        const fs::path dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
-        std::error_code ec;
-        if (!fs::is_directory(dir, ec)) {
-            std::cerr << "raytrace: error: cannot write '" << opt.output << "': no directory '"
-                      << dir.string() << "'\n";
-            return 1;
-        }
-        if (fs::is_directory(out, ec)) {
-            std::cerr << "raytrace: error: cannot write '" << opt.output
-                      << "': it is a directory\n";
+    // Every output must be writable before any work is done (a long render must not fail at
+    // the end): each is probed by creating and removing its temporary file.
+    for (const std::string& out : {opt.output, opt.report, opt.plot}) {
+        if (out.empty()) continue;
+        std::string why;
+        if (!probe_writable(out, &why)) {
+            std::cerr << "raytrace: error: cannot write '" << out << "': " << why << "\n";
             return 1;
         }
     }
@@ -305,15 +354,8 @@ int run(const rt::cli::Options& opt) {
     rt::render_samples(state, scene, settings, opt.spp, progress);
     const double render_s = seconds_since(t_render);
 
-    rt::Image image = state.image();
-    const size_t bad = rt::count_non_finite(image);
-    if (bad > 0) {
-        for (double& v : image.rgb)
-            if (!std::isfinite(v)) v = 0.0;
-        std::cerr << opt.scene << ": warning: " << bad << " non-finite pixel values written as 0\n";
-    }
     try {
-        rt::save_image(image, opt.output);
+        save_final_image(state.image(), opt);
     } catch (const std::exception& e) {
         std::cerr << "raytrace: error: " << e.what() << "\n";
         return 1;

@@ -20,6 +20,7 @@ struct Node2 {
 };
 
 constexpr int kMaxBins = 32;
+constexpr int kSahDepth = 40;
 
 struct Builder {
     std::span<const Bounds3> prims;
@@ -27,7 +28,6 @@ struct Builder {
     std::vector<uint32_t>* order = nullptr;
     std::vector<Node2> nodes;
     BvhBuildSettings settings;
-    int max_depth = 0;
     int spawn_depth = 0;  // subtrees above this depth are built on their own thread
 
     const Vec3& centroid(uint32_t prim) const { return (*centroids)[prim]; }
@@ -44,7 +44,6 @@ struct Builder {
         // Leaves hold at most kMaxLeafCount primitives; larger sets (coincident centroids) are
         // halved in their current order.
         if (n > Bvh4Node::kMaxLeafCount) return split(box, begin, begin + n / 2, begin + n, depth);
-        max_depth = std::max(max_depth, depth);
         nodes.push_back({box, 0, 0, begin, n});
         return static_cast<uint32_t>(nodes.size() - 1);
     }
@@ -64,8 +63,12 @@ struct Builder {
         uint32_t l = 0, r = 0;
         if (depth < spawn_depth && end - begin > 50000) {
             // The left subtree on another thread, into its own node array, merged afterwards.
-            Builder sub = *this;
-            sub.nodes.clear();
+            Builder sub;
+            sub.prims = prims;
+            sub.centroids = centroids;
+            sub.order = order;
+            sub.settings = settings;
+            sub.spawn_depth = spawn_depth;
             std::thread t([&] { sub.build(begin, mid, depth + 1, lb, lc); });
             r = build(mid, end, depth + 1, rb, rc);
             t.join();
@@ -74,7 +77,6 @@ struct Builder {
                 if (n.count == 0) n.left += l, n.right += l;
                 nodes.push_back(n);
             }
-            max_depth = std::max(max_depth, sub.max_depth);
         } else {
             l = build(begin, mid, depth + 1, lb, lc);
             r = build(mid, end, depth + 1, rb, rc);
@@ -91,6 +93,10 @@ struct Builder {
         const double extent = cbox.hi[axis] - cbox.lo[axis];
         if (n <= static_cast<uint32_t>(settings.max_leaf_size) || !(extent > 0.0))
             return leaf(box, begin, n, depth);
+        // Deep in the tree (SAH can peel one primitive at a time off wildly spread sizes), only
+        // median splits: each halves the set, so the depth stays below kSahDepth + log2(n) and
+        // the traversal stack (bvh.h) cannot overflow.
+        if (depth >= kSahDepth) return median(box, begin, end, axis, depth);
 
         // Binned SAH along the largest centroid axis; each bin keeps its primitives' bounds and
         // centroid bounds, so the children's boxes come from the bins, not another pass.
@@ -249,7 +255,6 @@ Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& sett
     b.measure(0, static_cast<uint32_t>(prim_bounds.size()), &box, &cbox);
     const uint32_t root = b.build(0, static_cast<uint32_t>(prim_bounds.size()), 0, box, cbox);
     bvh.root_bounds = b.nodes[root].bounds;
-    bvh.depth = b.max_depth;
     bvh.nodes.reserve(b.nodes.size() / 2 + 1);
     Collapser c{b.nodes, bvh.nodes};
     c.emit(root);

@@ -41,8 +41,8 @@ static bool load_ascii_pnm(const std::string& path, TextureImage* out, std::stri
         }
     };
     long w = 0, h = 0, maxval = 0;
-    if (!next(&w) || !next(&h) || !next(&maxval) || w <= 0 || h <= 0 || maxval <= 0 ||
-        maxval > 65535 || w * h > (1L << 28)) {
+    if (!next(&w) || !next(&h) || !next(&maxval) || w <= 0 || h <= 0 || w > (1L << 16) ||
+        h > (1L << 16) || maxval <= 0 || maxval > 65535) {
         *error = "bad ASCII PNM header";
         return true;
     }
@@ -137,17 +137,24 @@ void save_image(const Image& image, const std::string& path) {
     const std::string tmp_name = tmp.string();
     try {
         switch (format) {
-            case ImageFormat::Png: {
-                std::vector<uint8_t> bytes = to_bytes(image);
-                if (!stbi_write_png(tmp_name.c_str(), image.width, image.height, 3, bytes.data(),
-                                    image.width * 3))
-                    throw std::runtime_error("cannot write '" + path + "'");
-                break;
-            }
+            case ImageFormat::Png:
             case ImageFormat::Bmp: {
+                // Encode in memory, then write through write_file, which checks the close (stb's
+                // own file writers ignore write errors: a full disk gave a truncated file).
                 std::vector<uint8_t> bytes = to_bytes(image);
-                if (!stbi_write_bmp(tmp_name.c_str(), image.width, image.height, 3, bytes.data()))
-                    throw std::runtime_error("cannot write '" + path + "'");
+                std::string encoded;
+                auto append = [](void* ctx, void* data, int size) {
+                    static_cast<std::string*>(ctx)->append(static_cast<const char*>(data),
+                                                          static_cast<size_t>(size));
+                };
+                const int ok = format == ImageFormat::Png
+                                   ? stbi_write_png_to_func(append, &encoded, image.width,
+                                                            image.height, 3, bytes.data(),
+                                                            image.width * 3)
+                                   : stbi_write_bmp_to_func(append, &encoded, image.width,
+                                                            image.height, 3, bytes.data());
+                if (!ok) throw std::runtime_error("cannot encode '" + path + "'");
+                write_file(tmp_name, encoded);
                 break;
             }
             case ImageFormat::Ppm:
@@ -175,8 +182,8 @@ Image load_pfm(const std::string& path) {
     double scale = 0.0;
     f >> magic >> w >> h >> scale;
     f.get();  // the single whitespace byte after the header
-    if (magic != "PF" || w <= 0 || h <= 0 || scale == 0.0)
-        throw std::runtime_error("'" + path + "' is not a 3-channel PFM file");
+    if (magic != "PF" || w <= 0 || h <= 0 || w > (1 << 16) || h > (1 << 16) || scale == 0.0)
+        throw std::runtime_error("'" + path + "' is not a 3-channel PFM file of a sensible size");
     if (scale > 0) throw std::runtime_error("'" + path + "': big-endian PFM is not supported");
     Image image(w, h);
     const size_t row_floats = static_cast<size_t>(w) * 3;

@@ -56,8 +56,9 @@ bool is_v3_directive(std::string_view d) {
 
 std::string read_file_text(const std::string& path, bool* ok) {
     // One allocation of the file's size and one read (scenes reach hundreds of megabytes).
+    std::error_code ec;
     std::ifstream f(path, std::ios::binary | std::ios::ate);
-    if (!f) {
+    if (!f || !fs::is_regular_file(path, ec)) {
         *ok = false;
         return {};
     }
@@ -688,7 +689,6 @@ private:
             m_include_locs.pop_back();
         }
         f.desc.ray_files.push_back(index);
-        f.desc.ray_file_locs.push_back(f.lex.loc(d));
     }
 
     void key_file(FileState& f, const Token& d) {
@@ -702,6 +702,7 @@ private:
         if (!ok) fail(f, pt, "cannot read key file " + quote(resolved));
         m_include_locs.push_back(f.lex.loc(d));
         f.key_files.push_back(parse_key_file(text, resolved));
+        f.desc.key_files.push_back(resolved);
         m_include_locs.pop_back();
     }
 

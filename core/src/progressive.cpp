@@ -150,15 +150,18 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
     const double pixels = static_cast<double>(settings.width) * settings.height;
     for (int pass = 0;; ++pass) {
         // Uniform schedule 1, 1, 2, 4, 8, ... samples per pixel (at most 64 a pass).
-        const int uniform_spp = pass == 0 ? 1 : std::min(64, 1 << (pass - 1));
-        int spp = uniform_spp;
+        int spp = pass == 0 ? 1 : pass > 7 ? 64 : 1 << (pass - 1);
+        // The last pass shrinks to end at the sample limit ...
+        if (progressive.spp_limit > 0)
+            spp = std::clamp(static_cast<int>(std::ceil(progressive.spp_limit -
+                                                        static_cast<double>(samples_total) / pixels)),
+                             1, spp);
         state.active.clear();
-        // Near the time limit, shrink the pass to what the remaining time holds (at the rate
-        // measured so far), so the run ends close to the limit instead of doubling past it.
+        // ... or at the time limit, at the rate measured so far, instead of doubling past it.
         if (progressive.time_limit_s > 0 && samples_total > 0) {
             const double per_spp = render_seconds / (static_cast<double>(samples_total) / pixels);
             const double remaining = progressive.time_limit_s - render_seconds;
-            spp = std::clamp(static_cast<int>(remaining / per_spp), 1, spp);
+            spp = static_cast<int>(std::clamp(remaining / per_spp, 1.0, static_cast<double>(spp)));
         }
         uint64_t pass_samples = static_cast<uint64_t>(pixels) * static_cast<uint64_t>(spp);
         if (progressive.adaptive && state.passes >= 3) {
@@ -331,11 +334,8 @@ std::string progress_svg(const std::vector<std::pair<std::string, std::vector<Pa
                 path += buf;
             }
             if (xs.size() < 2) continue;
-            std::snprintf(
-                buf, sizeof buf,
-                "<polyline points=\"%s\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\"%s/>\n",
-                path.c_str(), colour, series == 1 ? " stroke-dasharray=\"6 4\"" : "");
-            s += buf;
+            s += "<polyline points=\"" + path + "\" fill=\"none\" stroke=\"" + colour +
+                 "\" stroke-width=\"2\"" + (series == 1 ? " stroke-dasharray=\"6 4\"" : "") + "/>\n";
             std::snprintf(buf, sizeof buf,
                           "<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">%s %s: slope %.2f</text>\n",
                           W - right + 10, legend_y, colour, escape(mode).c_str(),

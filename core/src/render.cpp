@@ -60,8 +60,8 @@ Image render_coarse(const RenderScene& scene, const RenderSettings& settings, in
 }
 
 int resolve_thread_count(int threads) {
-    if (threads > 0) return threads;
-    return std::max(1u, std::thread::hardware_concurrency());
+    if (threads > 0) return std::min(threads, 256);
+    return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 256u));
 }
 
 namespace {

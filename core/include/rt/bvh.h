@@ -35,7 +35,6 @@ struct Bvh {
     std::vector<Bvh4Node> nodes;    // nodes[0] is the root (when there is any primitive)
     std::vector<uint32_t> indices;  // leaves cover ranges of this primitive order
     Bounds3 root_bounds;
-    int depth = 0;  // of the binary tree it was collapsed from
 
     bool empty() const { return indices.empty(); }
     Bounds3 bounds() const { return root_bounds; }
@@ -91,7 +90,9 @@ void traverse_leaves(const Bvh& bvh, const Ray& ray, double& t_max, VisitLeaf&& 
         uint32_t child;
         float t;
     };
-    Entry stack[256];
+    // Each level pushes at most 3 entries more than it pops; the build keeps the binary depth
+    // below 40 + log2(n) (bvh.cpp), so 512 entries hold any tree of up to 2^32 primitives.
+    Entry stack[512];
     int sp = 0;
     stack[sp++] = {0, 0.0f};
     // Box tests in float compare against t_max rounded up.

@@ -113,8 +113,8 @@ struct FileDesc {
     std::vector<TextureDesc> textures;
     std::vector<MaterialDesc> materials;
     std::vector<VertexDesc> vertices;
-    std::vector<int> ray_files;  // #ray_file index -> index into SceneDesc::files
-    std::vector<SourceLoc> ray_file_locs;
+    std::vector<int> ray_files;          // #ray_file index -> index into SceneDesc::files
+    std::vector<std::string> key_files;  // as resolved (their frame 0 is in the joints)
     GroupDesc root;  // implicit identity group
 };
 
