@@ -508,9 +508,8 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
                     have_embree ? row.ours[0] / row.embree[0] : 0.0, rate(row.ours[1]).c_str(),
                     have_embree ? rate(row.embree[1]).c_str() : "n/a",
                     have_embree ? row.ours[1] / row.embree[1] : 0.0);
-    std::printf("  %-8s %13.3fs %13.3fs %8.2f   (both builds use %d threads)\n",
-                "build", ours_build, embree_build, have_embree ? embree_build / ours_build : 0.0,
-                threads);
+    std::printf("  %-8s %13.3fs %13.3fs %8.2f   (both builds use %d threads)\n", "build",
+                ours_build, embree_build, have_embree ? embree_build / ours_build : 0.0, threads);
     if (w.triangles)
         std::printf("  %-8s %12.1f B %12.1f B   bytes per triangle (BVH + geometry)\n", "memory",
                     ours_bpt, embree_bpt);

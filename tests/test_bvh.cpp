@@ -173,7 +173,8 @@ TEST(Bvh, GeometricChainOfSizesKeepsTheTreeShallow) {
     for (int i = 0; i < 200; ++i) {
         const Ray r{{std::pow(1.3, i % 1400), 0, 1e3}, glm::normalize(Vec3(u(rng), u(rng), -1))};
         Hit a, b;
-        ASSERT_EQ(intersect(scene, r, {0, kInf}, &a), intersect_brute_force(scene, r, {0, kInf}, &b));
+        ASSERT_EQ(intersect(scene, r, {0, kInf}, &a),
+                  intersect_brute_force(scene, r, {0, kInf}, &b));
         EXPECT_EQ(a.prim, b.prim);
     }
 }

@@ -20,9 +20,11 @@ options:
       --height N      image height in pixels                            [480]
       --depth N       recursion depth of camera rays (>= 1)             [5]
       --cutoff X      skip child rays whose path weight is below X      [0.001]
-      --spp N         samples per pixel; 1 = pixel centres, N > 1 = stratified jitter  [1]
-      --seed N        random seed for N > 1 samples                     [0]
-      --threads N     worker threads; 0 = all cores (the image is the same for any count) [0]
+      --spp N         samples per pixel; 1 = pixel centres, N > 1 = stratified jitter
+                      (with a progressive feature on, every sample is jittered)  [1]
+      --seed N        random seed of the jitter and the progressive features  [0]
+      --threads N     worker threads, up to 256; 0 = all cores (the image is the same for
+                      any count) [0]
       --no-shadows    no shadow rays (lights always visible)
       --dialect D     v0 or v1: override the dialect detected from the materials
       --stats         print time per phase (parse, compile, BVH build, render) and rays
@@ -51,7 +53,8 @@ progressive features (off by default; see scenes/README.md):
   -q, --quiet         print errors and warnings only
   -h, --help          this text
 
-exit status: 0 success, 1 scene error (printed as file:line:col: error: ...), 2 usage error.
+exit status: 0 success, 1 scene error (printed as file:line:col: error: ...) or an output
+that cannot be written, 2 usage error.
 )";
 }
 

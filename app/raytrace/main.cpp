@@ -63,8 +63,7 @@ void save_final_image(rt::Image image, const rt::cli::Options& opt) {
     if (bad > 0) {
         for (double& v : image.rgb)
             if (!std::isfinite(v)) v = 0.0;
-        std::cerr << opt.scene << ": warning: " << bad
-                  << " non-finite pixel values written as 0\n";
+        std::cerr << opt.scene << ": warning: " << bad << " non-finite pixel values written as 0\n";
     }
     rt::save_image(image, opt.output);
 }

@@ -3,7 +3,6 @@
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
 #include <array>
 #include <chrono>
-#include <map>
 #include <numeric>
 
 #include "rt/render_scene.h"

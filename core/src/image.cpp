@@ -145,14 +145,14 @@ void save_image(const Image& image, const std::string& path) {
                 std::string encoded;
                 auto append = [](void* ctx, void* data, int size) {
                     static_cast<std::string*>(ctx)->append(static_cast<const char*>(data),
-                                                          static_cast<size_t>(size));
+                                                           static_cast<size_t>(size));
                 };
-                const int ok = format == ImageFormat::Png
-                                   ? stbi_write_png_to_func(append, &encoded, image.width,
-                                                            image.height, 3, bytes.data(),
-                                                            image.width * 3)
-                                   : stbi_write_bmp_to_func(append, &encoded, image.width,
-                                                            image.height, 3, bytes.data());
+                const int ok =
+                    format == ImageFormat::Png
+                        ? stbi_write_png_to_func(append, &encoded, image.width, image.height, 3,
+                                                 bytes.data(), image.width * 3)
+                        : stbi_write_bmp_to_func(append, &encoded, image.width, image.height, 3,
+                                                 bytes.data());
                 if (!ok) throw std::runtime_error("cannot encode '" + path + "'");
                 write_file(tmp_name, encoded);
                 break;

@@ -210,8 +210,8 @@ SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const H
         Mat3 abs_a;
         for (int c = 0; c < 3; ++c) abs_a[c] = glm::abs(a[c]);
         const Vec3 p_new = xf.point(s.p);
-        s.p_error = abs_a * s.p_error +
-                    gamma(3) * (abs_a * glm::abs(s.p) + glm::abs(Vec3(xf.m[3]))) + Vec3(0.0);
+        s.p_error =
+            abs_a * s.p_error + gamma(3) * (abs_a * glm::abs(s.p) + glm::abs(Vec3(xf.m[3])));
         s.p = p_new;
         s.n_geometric = glm::normalize(xf.normal_dir(s.n_geometric));
         s.n_shading = glm::normalize(xf.normal_dir(s.n_shading));

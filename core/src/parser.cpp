@@ -167,21 +167,20 @@ private:
                                                                                 : f.lex.loc(bad);
     }
 
-    double real(FileState& f, const Token& dir, int count, std::string_view what = {}) {
+    double real(FileState& f, const Token& dir, int count) {
         const Token t = f.lex.next();
         double v = 0.0;
         bool non_finite = false;
         if (t.kind == TokenKind::Word && parse_real(t.text, &v, &non_finite)) return v;
         if (non_finite) fail(f, t, "non-finite number " + quote(t.text));
-        (void)what;
         fail(arg_loc(f, dir, t), "expected " + std::to_string(count) +
                                      (count == 1 ? " number" : " numbers") + " after " +
                                      std::string(dir.text) + ", got " + describe(t));
     }
 
-    Vec3 vec3(FileState& f, const Token& dir, int count, std::string_view what = {}) {
+    Vec3 vec3(FileState& f, const Token& dir, int count) {
         Vec3 v;
-        for (int i = 0; i < 3; ++i) v[i] = real(f, dir, count, what);
+        for (int i = 0; i < 3; ++i) v[i] = real(f, dir, count);
         return v;
     }
 

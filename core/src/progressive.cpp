@@ -153,9 +153,10 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
         int spp = pass == 0 ? 1 : pass > 7 ? 64 : 1 << (pass - 1);
         // The last pass shrinks to end at the sample limit ...
         if (progressive.spp_limit > 0)
-            spp = std::clamp(static_cast<int>(std::ceil(progressive.spp_limit -
-                                                        static_cast<double>(samples_total) / pixels)),
-                             1, spp);
+            spp =
+                std::clamp(static_cast<int>(std::ceil(progressive.spp_limit -
+                                                      static_cast<double>(samples_total) / pixels)),
+                           1, spp);
         state.active.clear();
         // ... or at the time limit, at the rate measured so far, instead of doubling past it.
         if (progressive.time_limit_s > 0 && samples_total > 0) {
@@ -335,7 +336,8 @@ std::string progress_svg(const std::vector<std::pair<std::string, std::vector<Pa
             }
             if (xs.size() < 2) continue;
             s += "<polyline points=\"" + path + "\" fill=\"none\" stroke=\"" + colour +
-                 "\" stroke-width=\"2\"" + (series == 1 ? " stroke-dasharray=\"6 4\"" : "") + "/>\n";
+                 "\" stroke-width=\"2\"" + (series == 1 ? " stroke-dasharray=\"6 4\"" : "") +
+                 "/>\n";
             std::snprintf(buf, sizeof buf,
                           "<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">%s %s: slope %.2f</text>\n",
                           W - right + 10, legend_y, colour, escape(mode).c_str(),

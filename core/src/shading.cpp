@@ -50,12 +50,6 @@ bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_lig
     return factor > 0.0;
 }
 
-namespace {
-
-double max_component_of(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
-
-}  // namespace
-
 Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
                const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
     Hit hit;
@@ -112,7 +106,7 @@ Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& 
 
     if (depth - 1 < 1) return c;
     auto traced = [&](const Vec3& w) {
-        return w != Vec3(0.0) && (settings.cutoff == 0.0 || max_component_of(w) >= settings.cutoff);
+        return w != Vec3(0.0) && (settings.cutoff == 0.0 || max_component(w) >= settings.cutoff);
     };
     // Reflection, weighted by K_S.
     const Vec3 w_refl = weight * m.specular;

@@ -68,25 +68,6 @@ struct Bounds3 {
     }
 };
 
-/// Slab test (Kay-Kajiya) with a precomputed reciprocal direction. The far distance is widened
-/// by 2*gamma(3) as in Ize 2013 / pbrt so rounding never rejects a box the ray touches.
-inline bool intersect_bounds(const Bounds3& b, const Vec3& o, const Vec3& inv_d, double t_max,
-                             double* t_entry) {
-    double t0 = 0.0, t1 = t_max;
-    for (int a = 0; a < 3; ++a) {
-        double tn = (b.lo[a] - o[a]) * inv_d[a];
-        double tf = (b.hi[a] - o[a]) * inv_d[a];
-        if (tn > tf) std::swap(tn, tf);
-        tf *= 1.0 + 2.0 * gamma(3);
-        // NaN (0 * inf on a slab plane) must not shrink the interval: compare so NaN is ignored.
-        t0 = tn > t0 ? tn : t0;
-        t1 = tf < t1 ? tf : t1;
-        if (t0 > t1) return false;
-    }
-    *t_entry = t0;
-    return true;
-}
-
 /// An affine transform p_parent = M p_local with its cached inverse and normal matrix
 /// (spec §4.1: points by M, directions by A, normals by (A^-1)^T).
 struct Transform {
@@ -95,7 +76,6 @@ struct Transform {
     Mat3 normal{1.0};  // (A^-1)^T
 
     static Transform from_matrix(const Mat4& m);
-    Transform operator*(const Transform& rhs) const { return from_matrix(m * rhs.m); }
 
     Vec3 point(const Vec3& p) const { return Vec3(m * glm::dvec4(p, 1.0)); }
     Vec3 vector(const Vec3& v) const { return Mat3(m) * v; }

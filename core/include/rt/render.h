@@ -29,8 +29,9 @@ struct RenderSettings {
     double focus_distance = 0.0;  // distance of the plane in focus along the view direction;
                                   // 0: the distance to the scene's centre
     double roughness = 0.0;       // glossy reflection
-    /// The first sample of a pixel goes to its centre (spec §6.2's 1-spp image); progressive
-    /// rendering turns this off so every sample is jittered.
+    /// True: spec §6.2's sampling (one sample at the pixel centre; N samples jittered in the first
+    /// N strata of a ceil(sqrt(N))^2 grid). False (progressive rendering): the pixel's samples
+    /// follow a randomly shifted R2 sequence indexed by its sample count, unbiased across passes.
     bool centre_first_sample = true;
 
     bool stochastic() const { return light_radius > 0 || aperture > 0 || roughness > 0; }
@@ -57,8 +58,8 @@ struct RenderState {
 /// Progress report: pixels rows done so far out of the total.
 using ProgressFn = std::function<void(int rows_done, int rows_total)>;
 
-/// Adds `spp` samples to every pixel. With spp = 1 on an empty state the sample is the pixel
-/// centre; otherwise samples are stratified and jittered over ceil(sqrt(spp))^2 strata (spec §6.2).
+/// Adds `spp` samples to every pixel (or spp times state.active[p] to pixel p). Where the samples
+/// fall is set by RenderSettings::centre_first_sample.
 /// `stop`, when set, is polled between tiles; a stopped call leaves the state unchanged.
 /// Returns false when stopped.
 bool render_samples(RenderState& state, const RenderScene& scene, const RenderSettings& settings,

@@ -115,7 +115,7 @@ struct FileDesc {
     std::vector<VertexDesc> vertices;
     std::vector<int> ray_files;          // #ray_file index -> index into SceneDesc::files
     std::vector<std::string> key_files;  // as resolved (their frame 0 is in the joints)
-    GroupDesc root;  // implicit identity group
+    GroupDesc root;                      // implicit identity group
 };
 
 struct SceneDesc {

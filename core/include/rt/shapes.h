@@ -108,9 +108,4 @@ inline double azimuth(const Vec3& q) {
     return phi;
 }
 
-/// Conservative error bound for a point computed as o + t*d (a few roundings per component).
-inline Vec3 ray_point_error(const Ray& ray, double t) {
-    return gamma(4) * (glm::abs(ray.o) + glm::abs(t * ray.d)) + Vec3(0.0);
-}
-
 }  // namespace rt

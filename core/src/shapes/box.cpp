@@ -86,7 +86,6 @@ SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int /*part*/) {
             sp.uv = {(h.x - q.x) / l.x, (q.y + h.y) / l.y};
             break;  // -z
     }
-    (void)ray;
     return sp;
 }
 

@@ -90,7 +90,7 @@ SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part) {
         sp.uv = {(q.x + r) / (2 * r), (q.z + r) / (2 * r)};
     }
     sp.p = c.centre + q;
-    sp.p_error = kAnalyticRetestMargin * gamma(6) * (glm::abs(c.centre) + glm::abs(q)) + Vec3(0.0);
+    sp.p_error = kAnalyticRetestMargin * gamma(6) * (glm::abs(c.centre) + glm::abs(q));
     sp.n_shading = sp.n_geometric;
     return sp;
 }
