@@ -88,10 +88,10 @@ int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_l
     for (int v = 0; v < 3; ++v) z[v] = _mm_mul_ps(z[v], sz);
     const __m128 t_scaled =
         _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, z[0]), _mm_mul_ps(e1, z[1])), _mm_mul_ps(e2, z[2]));
-    const __m128 t = _mm_div_ps(t_scaled, det);
 
     // pbrt-v4's conservative bound on t's error: a hit closer than it may be the surface the
-    // ray starts on, seen through rounding, and is rejected.
+    // ray starts on, seen through rounding, and is rejected. Everything is compared scaled by
+    // |det| (t = t_scaled / det), so only the hits pay for a division.
     const __m128 max_z = _mm_max_ps(_mm_max_ps(abs_ps(z[0]), abs_ps(z[1])), abs_ps(z[2]));
     const __m128 max_x = _mm_max_ps(_mm_max_ps(abs_ps(x[0]), abs_ps(x[1])), abs_ps(x[2]));
     const __m128 max_y = _mm_max_ps(_mm_max_ps(abs_ps(y[0]), abs_ps(y[1])), abs_ps(y[2]));
@@ -105,16 +105,19 @@ int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_l
         _mm_add_ps(_mm_add_ps(_mm_mul_ps(g2, _mm_mul_ps(max_x, max_y)), _mm_mul_ps(delta_y, max_x)),
                    _mm_mul_ps(delta_x, max_y)));
     const __m128 max_e = _mm_max_ps(_mm_max_ps(abs_ps(e0), abs_ps(e1)), abs_ps(e2));
-    const __m128 delta_t =
-        _mm_div_ps(_mm_mul_ps(_mm_set1_ps(3.0f),
-                              _mm_add_ps(_mm_add_ps(_mm_mul_ps(g3, _mm_mul_ps(max_e, max_z)),
-                                                    _mm_mul_ps(delta_e, max_z)),
-                                         _mm_mul_ps(delta_z, max_e))),
-                   abs_ps(det));
-
-    const __m128 lo = _mm_max_ps(_mm_set1_ps(t_lo), delta_t);
-    mask &= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(t, lo), _mm_cmplt_ps(t, _mm_set1_ps(t_hi))));
-    _mm_storeu_ps(t_out, t);
+    // delta_t * |det|
+    const __m128 delta_t_scaled = _mm_mul_ps(
+        _mm_set1_ps(3.0f),
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(g3, _mm_mul_ps(max_e, max_z)), _mm_mul_ps(delta_e, max_z)),
+                   _mm_mul_ps(delta_z, max_e)));
+    // t * |det|, positive when t is.
+    const __m128 sign = _mm_and_ps(det, _mm_set1_ps(-0.0f));
+    const __m128 ts = _mm_xor_ps(t_scaled, sign);
+    const __m128 abs_det = abs_ps(det);
+    const __m128 lo = _mm_max_ps(_mm_mul_ps(_mm_set1_ps(t_lo), abs_det), delta_t_scaled);
+    const __m128 hi = _mm_mul_ps(_mm_set1_ps(t_hi), abs_det);
+    mask &= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(ts, lo), _mm_cmplt_ps(ts, hi)));
+    if (mask) _mm_storeu_ps(t_out, _mm_div_ps(t_scaled, det));
     return mask;
 }
 
