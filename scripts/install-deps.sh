@@ -3,24 +3,33 @@
 # installs what is missing. Needs root (or sudo) the first time on a new machine.
 set -euo pipefail
 
-# Required to build the core, the CLI and the tests.
-packages=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev)
-# The viewer, its headless GL tests and the screenshot workflow.
-packages+=(libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth)
-# Benchmarks: Embree is the yardstick, Google Benchmark where it fits.
-packages+=(libembree-dev libbenchmark-dev)
+# Required to build the core, the CLIs and the tests.
+required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev)
+# Optional: Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa
+# and Xvfb are for the viewer and its headless GL tests.
+optional=(libembree-dev libbenchmark-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth)
 
-missing=()
-for p in "${packages[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]} == 0)); then
+missing() {
+    for p in "$@"; do
+        dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || echo "$p"
+    done
+}
+mapfile -t need < <(missing "${required[@]}")
+mapfile -t want < <(missing "${optional[@]}")
+if ((${#need[@]} == 0 && ${#want[@]} == 0)); then
     exit 0
 fi
 
-echo "install-deps: installing ${missing[*]}" >&2
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+if ((${#need[@]})); then
+    echo "install-deps: installing ${need[*]}" >&2
+    $sudo apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
+fi
+if ((${#want[@]})); then
+    echo "install-deps: installing ${want[*]}" >&2
+    $sudo apt-get install -y -qq --no-install-recommends "${want[@]}" >/dev/null ||
+        echo "install-deps: warning: optional packages not installed (${want[*]})" >&2
+fi
