@@ -1,0 +1,22 @@
+#version 330 core
+// The preview's vertices: world position from the instance transform, normal by its inverse
+// transpose (spec §4.1), texture coordinates unchanged.
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_uv;
+
+uniform mat4 u_world_from_object;
+uniform mat3 u_normal_matrix;
+uniform mat4 u_clip_from_world;
+
+out vec3 v_world;
+out vec3 v_normal;
+out vec2 v_uv;
+
+void main() {
+    vec4 world = u_world_from_object * vec4(a_position, 1.0);
+    v_world = world.xyz;
+    v_normal = u_normal_matrix * a_normal;
+    v_uv = a_uv;
+    gl_Position = u_clip_from_world * world;
+}

@@ -1,0 +1,147 @@
+// The preview drawn by OpenGL in an off-screen OSMesa context against the tracer: the coverage
+// masks agree (intersection over union >= 0.98) and, where no shadow, reflection or refraction
+// is involved, so do the colours.
+#define GL_GLEXT_PROTOTYPES
+#include <GL/gl.h>
+#include <GL/osmesa.h>
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "../app/rayview/preview.h"
+#include "test_util.h"
+
+namespace rt {
+namespace {
+
+constexpr int kW = 160, kH = 120;
+
+struct Offscreen {
+    OSMesaContext ctx = nullptr;
+    std::vector<unsigned char> rgba = std::vector<unsigned char>(kW * kH * 4);
+    Offscreen() {
+        const int attribs[] = {OSMESA_FORMAT,
+                               OSMESA_RGBA,
+                               OSMESA_DEPTH_BITS,
+                               24,
+                               OSMESA_PROFILE,
+                               OSMESA_CORE_PROFILE,
+                               OSMESA_CONTEXT_MAJOR_VERSION,
+                               3,
+                               OSMESA_CONTEXT_MINOR_VERSION,
+                               3,
+                               0};
+        ctx = OSMesaCreateContextAttribs(attribs, nullptr);
+        if (ctx) OSMesaMakeCurrent(ctx, rgba.data(), GL_UNSIGNED_BYTE, kW, kH);
+    }
+    ~Offscreen() {
+        if (ctx) OSMesaDestroyContext(ctx);
+    }
+    // Pixel (x, y) with y counted from the top, as the tracer does.
+    Vec3 at(int x, int y) const {
+        const size_t i = (static_cast<size_t>(kH - 1 - y) * kW + x) * 4;
+        return Vec3(rgba[i], rgba[i + 1], rgba[i + 2]);
+    }
+};
+
+struct Comparison {
+    double iou = 0;
+    double colour_match = 0;  // share of commonly covered pixels within 3/255 per channel
+};
+
+Comparison compare(const std::string& text) {
+    Offscreen gl;
+    EXPECT_NE(gl.ctx, nullptr);
+    const RenderScene scene = test::compile(text);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 96);
+    const Camera cam = make_camera(scene, kW, kH);
+    preview.draw(scene, cam, kW, kH);
+    glFinish();
+    const Image traced = test::render(scene, kW, kH, 1, 0.001, false);  // local shading only
+    int both = 0, either = 0, close = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            Hit h;
+            const bool hit = intersect(scene, cam.generate(x, y, 0.5, 0.5), {0, kInf}, &h);
+            const Vec3 g = gl.at(x, y);
+            Vec3 bg;
+            for (int k = 0; k < 3; ++k) bg[k] = to_byte(scene.background[k]);
+            const bool drawn = g != bg;
+            both += hit && drawn;
+            either += hit || drawn;
+            if (hit && drawn) {
+                Vec3 t;
+                for (int k = 0; k < 3; ++k) t[k] = to_byte(traced.at(x, y)[k]);
+                close += glm::all(glm::lessThanEqual(glm::abs(g - t), Vec3(3.0)));
+            }
+        }
+    return {either ? static_cast<double>(both) / either : 1.0,
+            both ? static_cast<double>(close) / both : 1.0};
+}
+
+const char* kMaterials =
+    "#material 0 0 0  .1 .1 .1  .7 .3 .2  .4 .4 .4  30  0 0 0  1  -1 !a!\n"
+    "#material .05 .05 .1  .1 .1 .1  .2 .5 .8  0 0 0  1  0 0 0  1  -1 !b!\n";
+
+TEST(GlPreview, ShapesUnderTransformsAgreeWithTheTrace) {
+    const Comparison c = compare(
+        std::string("#camera 0 1 9  0 -0.1 -1  0 1 0  0.4\n#background 0.1 0.1 0.1\n"
+                    "#ambient .3 .3 .3\n#light_point 1 1 1  3 4 5  1 0 0.01\n"
+                    "#light_dir .4 .4 .4  -1 -1 -1\n"
+                    "#light_spot .8 .8 .8  -2 4 2  0.3 -1 -0.3  1 0 0  0.6 4\n") +
+        kMaterials +
+        "#vertex -3 -1 -2 0 0 0 0 0\n#vertex 3 -1 -2 0 0 0 1 0\n#vertex 0 3 -2 0 0 0 0.5 1\n"
+        "#shape_triangle 1 0 1 2\n"
+        "#group_begin 0.8 0.3 0 -2  -0.2 1.2 0 0.5  0 0 0.6 0  0 0 0 1\n"
+        "#shape_sphere 0 0 0 0 1\n#group_end\n"
+        "#group_begin 0.7071 0 0.7071 0  0 1 0 0  -0.7071 0 0.7071 0  0 0 0 1\n"
+        "#shape_box 0 0 0 1 1 1.5 1\n#group_end\n"
+        "#group_begin 1 0 0 2  0 1 0 0  0 0 1 0  0 0 0 1\n"
+        "#shape_cylinder 1 0 0 0 0.6 1.5\n#shape_cone 0 0 1.5 0 0.5 1\n#group_end\n");
+    EXPECT_GE(c.iou, 0.98);
+    // Interpolated normals on the tessellation differ slightly from the exact ones.
+    EXPECT_GE(c.colour_match, 0.90);
+}
+
+TEST(GlPreview, PublicAndOwnScenesAgreeWithTheTrace) {
+    for (const char* name : {"shapes.ray", "groups.ray", "lights.ray", "textures.ray"}) {
+        const std::string path = std::string(RT_SOURCE_DIR) + "/scenes/" + name;
+        Diagnostics diag;
+        const SceneDesc desc = parse_scene_file(path, diag);
+        Offscreen gl;
+        ASSERT_NE(gl.ctx, nullptr);
+        const RenderScene scene = compile_scene(desc);
+        view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+        preview.load(scene, 96);
+        const Camera cam = make_camera(scene, kW, kH);
+        preview.draw(scene, cam, kW, kH);
+        glFinish();
+        int both = 0, either = 0;
+        Vec3 bg;
+        for (int k = 0; k < 3; ++k) bg[k] = to_byte(scene.background[k]);
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                Hit h;
+                const bool hit = intersect(scene, cam.generate(x, y, 0.5, 0.5), {0, kInf}, &h);
+                const bool drawn = gl.at(x, y) != bg;
+                both += hit && drawn;
+                either += hit || drawn;
+            }
+        EXPECT_GE(static_cast<double>(both) / either, 0.98) << name;
+    }
+}
+
+TEST(GlPreview, ShaderErrorsNameTheFile) {
+    Offscreen gl;
+    ASSERT_NE(gl.ctx, nullptr);
+    try {
+        view::Preview preview("/nonexistent");
+        FAIL();
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("/nonexistent/preview.vert"), std::string::npos);
+    }
+}
+
+}  // namespace
+}  // namespace rt
