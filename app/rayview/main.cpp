@@ -1,0 +1,499 @@
+// rayview: the scene's OpenGL preview beside its progressive ray trace, with camera, light and
+// render controls. Shaped like Dear ImGui's GLFW + OpenGL 3 example (1.86): error callback
+// before init, a 3.3 core context, shutdown in reverse order. Only this thread touches OpenGL;
+// the trace runs on the Tracer's threads and every edit stops it first.
+#define GL_GLEXT_PROTOTYPES
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "preview.h"
+#include "rt/camera.h"
+#include "rt/parser.h"
+#include "rt/render.h"
+#include "tracer.h"
+
+namespace {
+
+using namespace rt;
+
+// ---- a loaded scene, and the edits made to it --------------------------------------------------
+
+struct LoadedScene {
+    std::string path;
+    RenderScene scene;
+    CameraDesc file_camera;     // Home returns here
+    std::vector<Light> lights;  // every light, on or off
+    std::vector<char> light_on;
+};
+
+std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error) {
+    try {
+        Diagnostics diag;
+        auto s = std::make_unique<LoadedScene>();
+        s->path = path;
+        s->scene = compile_scene(parse_scene_file(path, diag));
+        s->file_camera =
+            s->scene.camera ? *s->scene.camera : default_camera(s->scene.world_bounds, 640, 480);
+        s->lights = s->scene.lights;
+        s->light_on.assign(s->lights.size(), 1);
+        return s;
+    } catch (const std::exception& e) {
+        *error = e.what();
+        return nullptr;
+    }
+}
+
+// ---- orbit camera ----------------------------------------------------------------------------
+
+struct OrbitCamera {
+    Vec3 target{0.0};
+    double distance = 1, yaw = 0, pitch = 0;  // radians; yaw about +y, from -z
+    double half_height = kPi / 6;
+
+    void set_from(const CameraDesc& c, const Bounds3& world) {
+        const Vec3 d = glm::normalize(c.direction);
+        const Vec3 centre = world.empty() ? c.position + d : world.centre();
+        distance = std::max(1e-6, glm::dot(centre - c.position, d));
+        if (!(distance > 1e-6)) distance = 1;
+        target = c.position + distance * d;
+        pitch = std::asin(std::clamp(d.y, -1.0, 1.0));
+        yaw = std::atan2(d.x, -d.z);
+        half_height = c.half_height_angle_rad;
+    }
+    Vec3 forward() const {
+        return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), -std::cos(pitch) * std::cos(yaw)};
+    }
+    CameraDesc desc() const {
+        CameraDesc c;
+        c.direction = forward();
+        c.position = target - distance * c.direction;
+        c.up = Vec3(0, 1, 0);
+        c.half_height_angle_rad = half_height;
+        return c;
+    }
+};
+
+// ---- GL helpers: a texture for the trace and a framebuffer for the preview -----------------
+
+struct GlTexture {
+    GLuint id = 0;
+    int w = 0, h = 0;
+    ~GlTexture() {
+        if (id) glDeleteTextures(1, &id);
+    }
+    void upload(const Image& img) {
+        if (!id) glGenTextures(1, &id);
+        std::vector<unsigned char> bytes(img.rgb.size());
+        for (size_t i = 0; i < bytes.size(); ++i)
+            bytes[i] = to_byte(img.rgb[i]);  // as raytrace writes
+        glBindTexture(GL_TEXTURE_2D, id);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, img.width, img.height, 0, GL_RGB, GL_UNSIGNED_BYTE,
+                     bytes.data());
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        w = img.width;
+        h = img.height;
+    }
+};
+
+struct GlFramebuffer {
+    GLuint fbo = 0, color = 0, depth = 0;
+    int w = 0, h = 0;
+    ~GlFramebuffer() { release(); }
+    void release() {
+        if (fbo) glDeleteFramebuffers(1, &fbo);
+        if (color) glDeleteTextures(1, &color);
+        if (depth) glDeleteRenderbuffers(1, &depth);
+        fbo = color = depth = 0;
+    }
+    void resize(int width, int height) {
+        if (width == w && height == h && fbo) return;
+        release();
+        w = width;
+        h = height;
+        glGenTextures(1, &color);
+        glBindTexture(GL_TEXTURE_2D, color);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glGenRenderbuffers(1, &depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+        glGenFramebuffers(1, &fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+};
+
+void glfw_error(int code, const char* message) {
+    std::fprintf(stderr, "rayview: GLFW error %d: %s\n", code, message);
+}
+
+// Without a display: the same renderer, headless, to a PNG next to the working directory.
+int render_headless(const std::string& path) {
+    std::string error;
+    const auto s = load_scene(path, &error);
+    if (!s) {
+        std::cerr << error << "\n";
+        return 1;
+    }
+    const std::string out = std::filesystem::path(path).stem().string() + ".png";
+    RenderSettings settings;
+    RenderState state;
+    render_samples(state, s->scene, settings, 16);
+    try {
+        save_image(state.image(), out);
+    } catch (const std::exception& e) {
+        std::cerr << "rayview: error: " << e.what() << "\n";
+        return 1;
+    }
+    std::printf("rayview: rendered %s headless (16 spp) to %s\n", path.c_str(), out.c_str());
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string source_dir = RT_SOURCE_DIR;
+    std::string path = argc > 1 ? argv[1] : source_dir + "/scenes/showpiece.ray";
+    if (argc > 1 && (std::strcmp(argv[1], "-h") == 0 || std::strcmp(argv[1], "--help") == 0)) {
+        std::printf(
+            "usage: rayview [SCENE.ray]\nOpens the scene (default: the showpiece) in a "
+            "window: OpenGL preview beside the progressive ray trace.\n");
+        return 0;
+    }
+
+    glfwSetErrorCallback(glfw_error);
+    if (!glfwInit()) {
+        std::fprintf(stderr, "rayview: no display available; rendering headless instead\n");
+        return render_headless(path);
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    GLFWwindow* window = glfwCreateWindow(1500, 820, "rayview", nullptr, nullptr);
+    if (!window) {
+        glfwTerminate();
+        std::fprintf(stderr, "rayview: cannot open a window; rendering headless instead\n");
+        return render_headless(path);
+    }
+    glfwMakeContextCurrent(window);
+    glfwSwapInterval(1);
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(window, true);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+
+    int exit_code = 0;
+    {
+        std::string error;
+        std::unique_ptr<LoadedScene> loaded = load_scene(path, &error);
+        std::unique_ptr<view::Preview> preview;
+        try {
+            preview = std::make_unique<view::Preview>(source_dir + "/shaders");
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "rayview: %s\n", e.what());
+            exit_code = 1;
+        }
+        if (exit_code == 0 && !loaded) {
+            std::fprintf(stderr, "%s\n", error.c_str());  // keeps running with the message shown
+        }
+        view::Tracer tracer;
+        GlTexture trace_tex;
+        GlFramebuffer preview_fb;
+        OrbitCamera orbit;
+        RenderSettings settings;
+        int target_spp = 256;
+        float resolution_scale = 0.5f;
+        int trace_w = 0, trace_h = 0;
+        bool dirty = true;
+        char path_buf[1024];
+        std::snprintf(path_buf, sizeof path_buf, "%s", path.c_str());
+        char save_buf[1024] = "rayview.png";
+        std::string message = loaded ? "" : error;
+        Image last_trace;  // the latest trace image, for saving
+        auto on_loaded = [&]() {
+            tracer.stop();
+            preview->load(loaded->scene);
+            orbit.set_from(loaded->file_camera, loaded->scene.world_bounds);
+            dirty = true;
+        };
+        if (loaded && preview) on_loaded();
+
+        while (exit_code == 0 && !glfwWindowShouldClose(window)) {
+            glfwPollEvents();
+            ImGui_ImplOpenGL3_NewFrame();
+            ImGui_ImplGlfw_NewFrame();
+            ImGui::NewFrame();
+            int fb_w = 0, fb_h = 0;
+            glfwGetFramebufferSize(window, &fb_w, &fb_h);
+            const float panel_w = 330;
+            const float pane_w = std::max(64.0f, (static_cast<float>(fb_w) - panel_w) / 2);
+            const float pane_h = std::max(64.0f, static_cast<float>(fb_h));
+
+            // ---- controls ----
+            ImGui::SetNextWindowPos(ImVec2(0, 0));
+            ImGui::SetNextWindowSize(ImVec2(panel_w, pane_h));
+            ImGui::Begin("rayview", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
+            ImGui::InputText("scene", path_buf, sizeof path_buf);
+            if (ImGui::Button("Open")) {
+                std::string err;
+                auto next = load_scene(path_buf, &err);
+                if (next) {
+                    tracer.stop();
+                    loaded = std::move(next);
+                    message.clear();
+                    on_loaded();
+                } else {
+                    message = err;  // the previous scene stays open
+                }
+            }
+            ImGui::SameLine();
+            if (ImGui::Button("Reload") && loaded) {
+                std::string err;
+                auto next = load_scene(loaded->path, &err);
+                if (next) {
+                    tracer.stop();
+                    loaded = std::move(next);
+                    message.clear();
+                    on_loaded();
+                } else {
+                    message = err;
+                }
+            }
+            if (!message.empty())
+                ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", message.c_str());
+            if (loaded) {
+                ImGui::Separator();
+                ImGui::Text("Camera: drag = orbit, shift/middle drag = pan, wheel = dolly");
+                if (ImGui::Button("Frame (F)") ||
+                    (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F))) {
+                    const Bounds3& b = loaded->scene.world_bounds;
+                    if (!b.empty()) {
+                        orbit.target = b.centre();
+                        orbit.distance =
+                            0.5 * glm::length(b.diagonal()) / std::sin(orbit.half_height);
+                    }
+                    dirty = true;
+                }
+                ImGui::SameLine();
+                if (ImGui::Button("Home") ||
+                    (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_HOME))) {
+                    orbit.set_from(loaded->file_camera, loaded->scene.world_bounds);
+                    dirty = true;
+                }
+                ImGui::Separator();
+                dirty |= ImGui::Checkbox("shadows", &settings.shadows);
+                dirty |= ImGui::SliderInt("depth", &settings.max_depth, 1, 10);
+                float cutoff = static_cast<float>(settings.cutoff);
+                if (ImGui::SliderFloat("cutoff", &cutoff, 0.0f, 0.1f, "%.4f")) {
+                    settings.cutoff = cutoff;
+                    dirty = true;
+                }
+                dirty |= ImGui::SliderInt("target spp", &target_spp, 1, 4096);
+                dirty |= ImGui::SliderFloat("resolution", &resolution_scale, 0.1f, 1.0f);
+                dirty |= ImGui::SliderInt("threads (0 = all)", &settings.threads, 0, 64);
+                float lr = static_cast<float>(settings.light_radius),
+                      ap = static_cast<float>(settings.aperture),
+                      ro = static_cast<float>(settings.roughness);
+                if (ImGui::SliderFloat("light radius", &lr, 0.0f, 2.0f))
+                    settings.light_radius = lr, dirty = true;
+                if (ImGui::SliderFloat("aperture", &ap, 0.0f, 0.5f))
+                    settings.aperture = ap, dirty = true;
+                if (ImGui::SliderFloat("roughness", &ro, 0.0f, 1.0f))
+                    settings.roughness = ro, dirty = true;
+
+                ImGui::Separator();
+                ImGui::Text("Lights");
+                for (size_t i = 0; i < loaded->lights.size(); ++i) {
+                    Light& l = loaded->lights[i];
+                    ImGui::PushID(static_cast<int>(i));
+                    bool on = loaded->light_on[i] != 0;
+                    if (ImGui::Checkbox(l.kind == LightKind::Directional ? "directional"
+                                        : l.kind == LightKind::Point     ? "point"
+                                                                         : "spot",
+                                        &on)) {
+                        loaded->light_on[i] = on ? 1 : 0;
+                        dirty = true;
+                    }
+                    float col[3] = {static_cast<float>(l.color.x), static_cast<float>(l.color.y),
+                                    static_cast<float>(l.color.z)};
+                    if (ImGui::ColorEdit3("colour", col,
+                                          ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR))
+                        l.color = Vec3(col[0], col[1], col[2]), dirty = true;
+                    if (l.kind != LightKind::Directional) {
+                        float p[3] = {static_cast<float>(l.position.x),
+                                      static_cast<float>(l.position.y),
+                                      static_cast<float>(l.position.z)};
+                        if (ImGui::DragFloat3("position", p, 0.05f))
+                            l.position = Vec3(p[0], p[1], p[2]), dirty = true;
+                        float a[3] = {static_cast<float>(l.constant_atten),
+                                      static_cast<float>(l.linear_atten),
+                                      static_cast<float>(l.quadratic_atten)};
+                        if (ImGui::DragFloat3("attenuation", a, 0.005f, 0.0f, 100.0f))
+                            l.constant_atten = a[0], l.linear_atten = a[1],
+                            l.quadratic_atten = a[2], dirty = true;
+                    }
+                    if (l.kind != LightKind::Point) {
+                        float d[3] = {static_cast<float>(l.direction.x),
+                                      static_cast<float>(l.direction.y),
+                                      static_cast<float>(l.direction.z)};
+                        if (ImGui::DragFloat3("direction", d, 0.01f) &&
+                            glm::length(Vec3(d[0], d[1], d[2])) > 0)
+                            l.direction = glm::normalize(Vec3(d[0], d[1], d[2])), dirty = true;
+                    }
+                    if (l.kind == LightKind::Spot) {
+                        float c = static_cast<float>(l.cutoff_rad),
+                              e = static_cast<float>(l.spot_exponent);
+                        if (ImGui::SliderFloat("cut-off (rad)", &c, 0.0f, 3.1416f))
+                            l.cutoff_rad = c, dirty = true;
+                        if (ImGui::SliderFloat("drop-off exponent", &e, 0.0f, 256.0f))
+                            l.spot_exponent = e, dirty = true;
+                    }
+                    if (ImGui::Button("remove")) {
+                        loaded->lights.erase(loaded->lights.begin() + static_cast<long>(i));
+                        loaded->light_on.erase(loaded->light_on.begin() + static_cast<long>(i));
+                        dirty = true;
+                        ImGui::PopID();
+                        break;
+                    }
+                    ImGui::Separator();
+                    ImGui::PopID();
+                }
+                if (ImGui::Button("add point light")) {
+                    Light l;
+                    l.kind = LightKind::Point;
+                    l.position = orbit.desc().position;
+                    loaded->lights.push_back(l);
+                    loaded->light_on.push_back(1);
+                    dirty = true;
+                }
+
+                ImGui::Separator();
+                const view::Tracer::Status st = tracer.status();
+                ImGui::Text("%d spp, %.2f Mray/s, %.1f s since the last change", st.spp,
+                            st.rays_per_second / 1e6, st.seconds);
+                ImGui::Text("estimated relMSE %.3g", st.estimate);
+                const auto hist = tracer.history();
+                std::vector<float> logs;
+                for (const auto& [t, e] : hist) logs.push_back(std::log10(e));
+                if (!logs.empty())
+                    ImGui::PlotLines("log10 error", logs.data(), static_cast<int>(logs.size()), 0,
+                                     nullptr, FLT_MAX, FLT_MAX, ImVec2(0, 60));
+                ImGui::InputText("save as", save_buf, sizeof save_buf);
+                if (ImGui::Button("Save image (.png .pfm ...)")) {
+                    try {
+                        if (last_trace.width == 0) throw std::runtime_error("nothing traced yet");
+                        save_image(last_trace, save_buf);
+                        message = std::string("saved ") + save_buf;
+                    } catch (const std::exception& e) {
+                        message = e.what();
+                    }
+                }
+            }
+            ImGui::End();
+
+            // ---- panes: preview (left) and trace (right) ----
+            if (loaded && preview) {
+                const int tw = std::max(16, static_cast<int>(pane_w * resolution_scale));
+                const int th = std::max(16, static_cast<int>(pane_h * resolution_scale));
+                if (tw != trace_w || th != trace_h) trace_w = tw, trace_h = th, dirty = true;
+
+                ImGui::SetNextWindowPos(ImVec2(panel_w, 0));
+                ImGui::SetNextWindowSize(ImVec2(2 * pane_w, pane_h));
+                ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+                ImGui::Begin("panes", nullptr,
+                             ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
+                                 ImGuiWindowFlags_NoBringToFrontOnFocus);
+                preview_fb.resize(static_cast<int>(pane_w), static_cast<int>(pane_h));
+                ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(preview_fb.color)),
+                             ImVec2(pane_w, pane_h), ImVec2(0, 1), ImVec2(1, 0));
+                const bool over_preview = ImGui::IsItemHovered();
+                ImGui::SameLine(0, 0);
+                if (trace_tex.id)
+                    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(trace_tex.id)),
+                                 ImVec2(pane_w, pane_h));
+                else
+                    ImGui::Dummy(ImVec2(pane_w, pane_h));
+                const bool over_trace = ImGui::IsItemHovered();
+                ImGui::End();
+                ImGui::PopStyleVar();
+
+                // Camera input only over the panes (never what ImGui's controls want).
+                if (over_preview || over_trace) {
+                    const double dx = static_cast<double>(io.MouseDelta.x),
+                                 dy = static_cast<double>(io.MouseDelta.y);
+                    const bool pan = ImGui::IsMouseDown(ImGuiMouseButton_Middle) ||
+                                     (io.KeyShift && ImGui::IsMouseDown(ImGuiMouseButton_Left));
+                    if (pan && (dx != 0 || dy != 0)) {
+                        const Camera cam = make_camera(orbit.desc(), trace_w, trace_h);
+                        const double s =
+                            orbit.distance * 2 * cam.tan_h / static_cast<double>(pane_h);
+                        orbit.target += (-dx * s) * cam.right + (dy * s) * cam.up;
+                        dirty = true;
+                    } else if (ImGui::IsMouseDown(ImGuiMouseButton_Left) && (dx != 0 || dy != 0)) {
+                        orbit.yaw += dx * 0.005;
+                        orbit.pitch = std::clamp(orbit.pitch - dy * 0.005, -1.55, 1.55);
+                        dirty = true;
+                    }
+                    if (io.MouseWheel != 0) {
+                        orbit.distance *= std::pow(0.9, static_cast<double>(io.MouseWheel));
+                        dirty = true;
+                    }
+                }
+
+                if (dirty) {
+                    // Stop, edit, restart: the scene is only changed while no trace runs.
+                    tracer.stop();
+                    loaded->scene.camera = orbit.desc();
+                    loaded->scene.lights.clear();
+                    for (size_t i = 0; i < loaded->lights.size(); ++i)
+                        if (loaded->light_on[i]) loaded->scene.lights.push_back(loaded->lights[i]);
+                    settings.width = trace_w;
+                    settings.height = trace_h;
+                    tracer.restart(loaded->scene, settings, target_spp);
+                    dirty = false;
+                }
+                if (tracer.take_image(&last_trace)) trace_tex.upload(last_trace);
+
+                // The preview, with the same camera, into its framebuffer.
+                glBindFramebuffer(GL_FRAMEBUFFER, preview_fb.fbo);
+                const Camera cam = make_camera(loaded->scene, preview_fb.w, preview_fb.h);
+                preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h);
+                glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            }
+
+            ImGui::Render();
+            glViewport(0, 0, fb_w, fb_h);
+            glClearColor(0.08f, 0.08f, 0.1f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+            ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            glfwSwapBuffers(window);
+        }
+        tracer.stop();
+    }
+    // Shutdown in reverse order of initialisation (GL objects above died with their scope).
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    glfwDestroyWindow(window);
+    glfwTerminate();
+    return exit_code;
+}

@@ -1,0 +1,73 @@
+#include "tracer.h"
+
+namespace rt::view {
+
+void Tracer::stop() {
+    m_stop = true;
+    if (m_thread.joinable()) m_thread.join();
+    m_stop = false;
+}
+
+void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, int target_spp) {
+    stop();
+    {
+        std::lock_guard lock(m_mutex);
+        m_status = {};
+        m_history.clear();
+    }
+    m_thread =
+        std::thread([this, &scene, settings, target_spp] { run(&scene, settings, target_spp); });
+}
+
+void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_spp) {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    // A cheap first pass so a moving camera stays interactive.
+    Image coarse = render_coarse(*scene, settings, 8, &m_stop);
+    if (m_stop) return;
+    {
+        std::lock_guard lock(m_mutex);
+        m_image = std::move(coarse);
+        m_updated = true;
+    }
+    settings.centre_first_sample = false;  // progressive: every sample jittered
+    RenderState state;
+    while (!m_stop &&
+           (target_spp <= 0 ||
+            (!state.samples.empty() && static_cast<int>(state.samples[0]) < target_spp) ||
+            state.samples.empty())) {
+        if (!render_samples(state, *scene, settings, 1, {}, &m_stop)) return;
+        const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        const ErrorEstimate est = estimate_error(state);
+        Image img = state.image();
+        std::lock_guard lock(m_mutex);
+        m_image = std::move(img);
+        m_updated = true;
+        m_status.spp = static_cast<int>(state.samples[0]);
+        m_status.seconds = seconds;
+        m_status.rays_per_second = static_cast<double>(state.rays.total()) / seconds;
+        m_status.estimate = est.relmse;
+        if (est.relmse > 0)
+            m_history.emplace_back(static_cast<float>(seconds), static_cast<float>(est.relmse));
+    }
+}
+
+bool Tracer::take_image(Image* out) {
+    std::lock_guard lock(m_mutex);
+    if (!m_updated) return false;
+    *out = m_image;
+    m_updated = false;
+    return true;
+}
+
+Tracer::Status Tracer::status() const {
+    std::lock_guard lock(m_mutex);
+    return m_status;
+}
+
+std::vector<std::pair<float, float>> Tracer::history() const {
+    std::lock_guard lock(m_mutex);
+    return m_history;
+}
+
+}  // namespace rt::view

@@ -1,0 +1,52 @@
+// The viewer's progressive trace: one worker thread family (render_samples' own) driven by a
+// controller thread; only the interface thread touches OpenGL. Every edit goes through
+// stop() ... restart(): the worker is stopped and joined before the scene may change.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "rt/image.h"
+#include "rt/progressive.h"
+#include "rt/render.h"
+
+namespace rt::view {
+
+class Tracer {
+public:
+    ~Tracer() { stop(); }
+
+    /// Stops the trace and waits for it: afterwards the scene may be edited.
+    void stop();
+    /// Starts tracing `scene` (which must outlive the trace and stay unchanged until stop()):
+    /// a coarse pass first, then passes of one sample per pixel up to `target_spp`.
+    void restart(const RenderScene& scene, const RenderSettings& settings, int target_spp);
+
+    struct Status {
+        int spp = 0;
+        double seconds = 0;  // since the restart
+        double rays_per_second = 0;
+        double estimate = 0;  // relMSE estimated from the samples
+    };
+    /// The latest image if it changed since the last call (returns false otherwise).
+    bool take_image(Image* out);
+    Status status() const;
+    /// (seconds, estimated relMSE) after each pass since the restart.
+    std::vector<std::pair<float, float>> history() const;
+
+private:
+    void run(const RenderScene* scene, RenderSettings settings, int target_spp);
+
+    std::thread m_thread;
+    std::atomic<bool> m_stop{false};
+    mutable std::mutex m_mutex;
+    Image m_image;
+    bool m_updated = false;
+    Status m_status;
+    std::vector<std::pair<float, float>> m_history;
+};
+
+}  // namespace rt::view
