@@ -11,6 +11,7 @@
 #include <imgui.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -169,13 +170,34 @@ int render_headless(const std::string& path) {
 
 int main(int argc, char** argv) {
     const std::string source_dir = RT_SOURCE_DIR;
-    std::string path = argc > 1 ? argv[1] : source_dir + "/scenes/showpiece.ray";
-    if (argc > 1 && (std::strcmp(argv[1], "-h") == 0 || std::strcmp(argv[1], "--help") == 0)) {
-        std::printf(
-            "usage: rayview [SCENE.ray]\nOpens the scene (default: the showpiece) in a "
-            "window: OpenGL preview beside the progressive ray trace.\n");
-        return 0;
+    std::string path = source_dir + "/scenes/showpiece.ray";
+    int frames = 0;  // > 0: run this many frames, save the window, exit
+    std::string screenshot;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "-h" || a == "--help") {
+            std::printf(
+                "usage: rayview [--frames N --screenshot OUT.png] [SCENE.ray]\n"
+                "Opens the scene (default: the showpiece) in a window: OpenGL preview "
+                "beside the progressive ray trace.\n"
+                "--frames N --screenshot F  run N frames, save the whole window to F, exit\n");
+            return 0;
+        } else if (a == "--frames" && i + 1 < argc) {
+            frames = std::atoi(argv[++i]);
+            if (frames <= 0) {
+                std::fprintf(stderr, "rayview: --frames needs a positive count\n");
+                return 2;
+            }
+        } else if (a == "--screenshot" && i + 1 < argc) {
+            screenshot = argv[++i];
+        } else if (!a.empty() && a[0] == '-') {
+            std::fprintf(stderr, "rayview: unknown option '%s' (see rayview --help)\n", a.c_str());
+            return 2;
+        } else {
+            path = a;
+        }
     }
+    if (!screenshot.empty() && frames == 0) frames = 60;
 
     glfwSetErrorCallback(glfw_error);
     if (!glfwInit()) {
@@ -485,6 +507,28 @@ int main(int argc, char** argv) {
             glClearColor(0.08f, 0.08f, 0.1f, 1.0f);
             glClear(GL_COLOR_BUFFER_BIT);
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            if (frames > 0 && --frames == 0) {
+                // --screenshot: the whole window as drawn, rows flipped to top-first.
+                if (!screenshot.empty()) {
+                    std::vector<unsigned char> px(static_cast<size_t>(fb_w) * fb_h * 3);
+                    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+                    glReadPixels(0, 0, fb_w, fb_h, GL_RGB, GL_UNSIGNED_BYTE, px.data());
+                    Image shot(fb_w, fb_h);
+                    for (int y = 0; y < fb_h; ++y)
+                        for (int x = 0; x < fb_w; ++x) {
+                            const size_t i = (static_cast<size_t>(fb_h - 1 - y) * fb_w + x) * 3;
+                            shot.set(x, y, Vec3(px[i], px[i + 1], px[i + 2]) / 255.0);
+                        }
+                    try {
+                        save_image(shot, screenshot);
+                        std::printf("rayview: saved %s\n", screenshot.c_str());
+                    } catch (const std::exception& e) {
+                        std::fprintf(stderr, "rayview: %s\n", e.what());
+                        exit_code = 1;
+                    }
+                }
+                glfwSetWindowShouldClose(window, 1);
+            }
             glfwSwapBuffers(window);
         }
         tracer.stop();
