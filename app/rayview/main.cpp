@@ -10,6 +10,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -140,6 +141,17 @@ struct GlFramebuffer {
     }
 };
 
+// Files dropped onto the window, picked up by the main loop.
+std::vector<std::string> g_dropped;
+void on_drop(GLFWwindow*, int count, const char** paths) {
+    for (int i = 0; i < count; ++i) g_dropped.emplace_back(paths[i]);
+}
+
+std::filesystem::file_time_type modified(const std::string& path) {
+    std::error_code ec;
+    return std::filesystem::last_write_time(path, ec);
+}
+
 void glfw_error(int code, const char* message) {
     std::fprintf(stderr, "rayview: GLFW error %d: %s\n", code, message);
 }
@@ -215,6 +227,7 @@ int main(int argc, char** argv) {
     }
     glfwMakeContextCurrent(window);
     glfwSwapInterval(1);
+    glfwSetDropCallback(window, on_drop);
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
@@ -251,16 +264,46 @@ int main(int argc, char** argv) {
         char save_buf[1024] = "rayview.png";
         std::string message = loaded ? "" : error;
         Image last_trace;  // the latest trace image, for saving
+        std::filesystem::file_time_type loaded_time{};
         auto on_loaded = [&]() {
             tracer.stop();
             preview->load(loaded->scene);
             orbit.set_from(loaded->file_camera, loaded->scene.world_bounds);
+            loaded_time = modified(loaded->path);
             dirty = true;
         };
         if (loaded && preview) on_loaded();
+        // Opens a file; on an error the message is shown and the previous scene stays.
+        auto open = [&](const std::string& file, bool keep_camera) {
+            std::string err;
+            auto next = load_scene(file, &err);
+            if (!next) {
+                message = err;
+                if (loaded) loaded_time = modified(loaded->path);  // do not retry every frame
+                return;
+            }
+            const OrbitCamera kept = orbit;
+            tracer.stop();
+            loaded = std::move(next);
+            message.clear();
+            on_loaded();
+            if (keep_camera) orbit = kept;
+            std::snprintf(path_buf, sizeof path_buf, "%s", loaded->path.c_str());
+        };
+        auto last_frame = std::chrono::steady_clock::now();
 
         while (exit_code == 0 && !glfwWindowShouldClose(window)) {
             glfwPollEvents();
+            const auto now = std::chrono::steady_clock::now();
+            const double frame_s = std::chrono::duration<double>(now - last_frame).count();
+            last_frame = now;
+            // Dropped files open; the open file reloads when it changes on disk (camera kept).
+            if (!g_dropped.empty()) {
+                const std::string file = g_dropped.back();
+                g_dropped.clear();
+                open(file, false);
+            }
+            if (loaded && modified(loaded->path) != loaded_time) open(loaded->path, true);
             ImGui_ImplOpenGL3_NewFrame();
             ImGui_ImplGlfw_NewFrame();
             ImGui::NewFrame();
@@ -275,36 +318,18 @@ int main(int argc, char** argv) {
             ImGui::SetNextWindowSize(ImVec2(panel_w, pane_h));
             ImGui::Begin("rayview", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
             ImGui::InputText("scene", path_buf, sizeof path_buf);
-            if (ImGui::Button("Open")) {
-                std::string err;
-                auto next = load_scene(path_buf, &err);
-                if (next) {
-                    tracer.stop();
-                    loaded = std::move(next);
-                    message.clear();
-                    on_loaded();
-                } else {
-                    message = err;  // the previous scene stays open
-                }
-            }
+            if (ImGui::Button("Open")) open(path_buf, false);
             ImGui::SameLine();
-            if (ImGui::Button("Reload") && loaded) {
-                std::string err;
-                auto next = load_scene(loaded->path, &err);
-                if (next) {
-                    tracer.stop();
-                    loaded = std::move(next);
-                    message.clear();
-                    on_loaded();
-                } else {
-                    message = err;
-                }
-            }
+            if (ImGui::Button("Reload") && loaded) open(loaded->path, true);
+            ImGui::SameLine();
+            ImGui::TextDisabled("(or drop a .ray file)");
             if (!message.empty())
                 ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", message.c_str());
             if (loaded) {
                 ImGui::Separator();
-                ImGui::Text("Camera: drag = orbit, shift/middle drag = pan, wheel = dolly");
+                ImGui::TextWrapped(
+                    "Camera: drag orbits, shift/middle drag pans, wheel dollies, "
+                    "right drag looks around, WASD/QE fly");
                 if (ImGui::Button("Frame (F)") ||
                     (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F))) {
                     const Bounds3& b = loaded->scene.world_bounds;
@@ -475,12 +500,39 @@ int main(int argc, char** argv) {
                         orbit.pitch = std::clamp(orbit.pitch - dy * 0.005, -1.55, 1.55);
                         dirty = true;
                     }
+                    if (ImGui::IsMouseDown(ImGuiMouseButton_Right) && (dx != 0 || dy != 0)) {
+                        // Fly: look around from the eye (the target moves, the eye stays).
+                        const Vec3 eye = orbit.desc().position;
+                        orbit.yaw += dx * 0.004;
+                        orbit.pitch = std::clamp(orbit.pitch - dy * 0.004, -1.55, 1.55);
+                        orbit.target = eye + orbit.distance * orbit.forward();
+                        dirty = true;
+                    }
                     if (io.MouseWheel != 0) {
                         orbit.distance *= std::pow(0.9, static_cast<double>(io.MouseWheel));
                         dirty = true;
                     }
                 }
 
+                // Fly: WASD along the view and sideways, Q/E down and up, at a speed scaled to
+                // the scene (its diagonal per 4 seconds).
+                if (!io.WantCaptureKeyboard) {
+                    const Camera cam = make_camera(orbit.desc(), 4, 4);
+                    const Bounds3& b = loaded->scene.world_bounds;
+                    const double speed =
+                        (b.empty() ? 1.0 : glm::length(b.diagonal())) / 4.0 * frame_s;
+                    Vec3 move(0.0);
+                    if (ImGui::IsKeyDown(GLFW_KEY_W)) move += cam.forward;
+                    if (ImGui::IsKeyDown(GLFW_KEY_S)) move -= cam.forward;
+                    if (ImGui::IsKeyDown(GLFW_KEY_D)) move += cam.right;
+                    if (ImGui::IsKeyDown(GLFW_KEY_A)) move -= cam.right;
+                    if (ImGui::IsKeyDown(GLFW_KEY_E)) move += Vec3(0, 1, 0);
+                    if (ImGui::IsKeyDown(GLFW_KEY_Q)) move -= Vec3(0, 1, 0);
+                    if (move != Vec3(0.0)) {
+                        orbit.target += speed * move;
+                        dirty = true;
+                    }
+                }
                 if (dirty) {
                     // Stop, edit, restart: the scene is only changed while no trace runs.
                     tracer.stop();
