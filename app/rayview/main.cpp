@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -23,6 +24,7 @@
 #include "rt/camera.h"
 #include "rt/parser.h"
 #include "rt/render.h"
+#include "rt/writer.h"
 #include "tracer.h"
 
 namespace {
@@ -33,6 +35,7 @@ using namespace rt;
 
 struct LoadedScene {
     std::string path;
+    SceneDesc desc;  // for saving the edited scene
     RenderScene scene;
     CameraDesc file_camera;     // Home returns here
     std::vector<Light> lights;  // every light, on or off
@@ -44,7 +47,8 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
         Diagnostics diag;
         auto s = std::make_unique<LoadedScene>();
         s->path = path;
-        s->scene = compile_scene(parse_scene_file(path, diag));
+        s->desc = parse_scene_file(path, diag);
+        s->scene = compile_scene(s->desc);
         s->file_camera =
             s->scene.camera ? *s->scene.camera : default_camera(s->scene.world_bounds, 640, 480);
         s->lights = s->scene.lights;
@@ -54,6 +58,41 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
         *error = e.what();
         return nullptr;
     }
+}
+
+// The description with the viewer's camera and lights, as a .ray file (written to a temporary
+// name, then renamed).
+void save_scene(const LoadedScene& s, const CameraDesc& camera, const std::string& path) {
+    SceneDesc desc = s.desc;
+    desc.camera = camera;
+    desc.lights.clear();
+    for (size_t i = 0; i < s.lights.size(); ++i) {
+        if (!s.light_on[i]) continue;
+        const Light& l = s.lights[i];
+        LightDesc d;
+        d.kind = l.kind;
+        d.color = l.color;
+        d.position = l.position;
+        d.direction = l.direction;
+        d.constant_atten = l.constant_atten;
+        d.linear_atten = l.linear_atten;
+        d.quadratic_atten = l.quadratic_atten;
+        d.cutoff_rad = l.cutoff_rad;
+        d.spot_exponent = l.spot_exponent;
+        desc.lights.push_back(d);
+    }
+    const std::string tmp = path + ".part";
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        f << write_scene(desc);
+        f.close();
+        if (!f) {
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            throw std::runtime_error("cannot write '" + path + "'");
+        }
+    }
+    std::filesystem::rename(tmp, path);
 }
 
 // ---- orbit camera ----------------------------------------------------------------------------
@@ -262,6 +301,7 @@ int main(int argc, char** argv) {
         char path_buf[1024];
         std::snprintf(path_buf, sizeof path_buf, "%s", path.c_str());
         char save_buf[1024] = "rayview.png";
+        char scene_buf[1024] = "edited.ray";
         std::string message = loaded ? "" : error;
         Image last_trace;  // the latest trace image, for saving
         std::filesystem::file_time_type loaded_time{};
@@ -445,6 +485,15 @@ int main(int argc, char** argv) {
                     ImGui::PlotLines("log10 error", logs.data(), static_cast<int>(logs.size()), 0,
                                      nullptr, FLT_MAX, FLT_MAX, ImVec2(0, 60));
                 ImGui::InputText("save as", save_buf, sizeof save_buf);
+                ImGui::InputText("scene file", scene_buf, sizeof scene_buf);
+                if (ImGui::Button("Save scene (camera and lights)")) {
+                    try {
+                        save_scene(*loaded, orbit.desc(), scene_buf);
+                        message = std::string("saved ") + scene_buf;
+                    } catch (const std::exception& e) {
+                        message = e.what();
+                    }
+                }
                 if (ImGui::Button("Save image (.png .pfm ...)")) {
                     try {
                         if (last_trace.width == 0) throw std::runtime_error("nothing traced yet");
