@@ -20,6 +20,7 @@
 #include <memory>
 #include <string>
 
+#include "camera_controller.h"
 #include "preview.h"
 #include "rt/camera.h"
 #include "rt/parser.h"
@@ -94,36 +95,6 @@ void save_scene(const LoadedScene& s, const CameraDesc& camera, const std::strin
     }
     std::filesystem::rename(tmp, path);
 }
-
-// ---- orbit camera ----------------------------------------------------------------------------
-
-struct OrbitCamera {
-    Vec3 target{0.0};
-    double distance = 1, yaw = 0, pitch = 0;  // radians; yaw about +y, from -z
-    double half_height = kPi / 6;
-
-    void set_from(const CameraDesc& c, const Bounds3& world) {
-        const Vec3 d = glm::normalize(c.direction);
-        const Vec3 centre = world.empty() ? c.position + d : world.centre();
-        distance = std::max(1e-6, glm::dot(centre - c.position, d));
-        if (!(distance > 1e-6)) distance = 1;
-        target = c.position + distance * d;
-        pitch = std::asin(std::clamp(d.y, -1.0, 1.0));
-        yaw = std::atan2(d.x, -d.z);
-        half_height = c.half_height_angle_rad;
-    }
-    Vec3 forward() const {
-        return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), -std::cos(pitch) * std::cos(yaw)};
-    }
-    CameraDesc desc() const {
-        CameraDesc c;
-        c.direction = forward();
-        c.position = target - distance * c.direction;
-        c.up = Vec3(0, 1, 0);
-        c.half_height_angle_rad = half_height;
-        return c;
-    }
-};
 
 // ---- GL helpers: a texture for the trace and a framebuffer for the preview -----------------
 
@@ -292,7 +263,7 @@ int main(int argc, char** argv) {
         view::Tracer tracer;
         GlTexture trace_tex;
         GlFramebuffer preview_fb;
-        OrbitCamera orbit;
+        view::OrbitCamera orbit;
         RenderSettings settings;
         int target_spp = 256;
         float resolution_scale = 0.5f;
@@ -322,7 +293,7 @@ int main(int argc, char** argv) {
                 if (loaded) loaded_time = modified(loaded->path);  // do not retry every frame
                 return;
             }
-            const OrbitCamera kept = orbit;
+            const view::OrbitCamera kept = orbit;
             tracer.stop();
             loaded = std::move(next);
             message.clear();
@@ -372,12 +343,7 @@ int main(int argc, char** argv) {
                     "right drag looks around, WASD/QE fly");
                 if (ImGui::Button("Frame (F)") ||
                     (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F))) {
-                    const Bounds3& b = loaded->scene.world_bounds;
-                    if (!b.empty()) {
-                        orbit.target = b.centre();
-                        orbit.distance =
-                            0.5 * glm::length(b.diagonal()) / std::sin(orbit.half_height);
-                    }
+                    orbit.frame(loaded->scene.world_bounds);
                     dirty = true;
                 }
                 ImGui::SameLine();
@@ -538,27 +504,20 @@ int main(int argc, char** argv) {
                                  dy = static_cast<double>(io.MouseDelta.y);
                     const bool pan = ImGui::IsMouseDown(ImGuiMouseButton_Middle) ||
                                      (io.KeyShift && ImGui::IsMouseDown(ImGuiMouseButton_Left));
+                    const double h = static_cast<double>(pane_h);
                     if (pan && (dx != 0 || dy != 0)) {
-                        const Camera cam = make_camera(orbit.desc(), trace_w, trace_h);
-                        const double s =
-                            orbit.distance * 2 * cam.tan_h / static_cast<double>(pane_h);
-                        orbit.target += (-dx * s) * cam.right + (dy * s) * cam.up;
+                        orbit.pan(-dx / h, dy / h);  // the scene follows the mouse
                         dirty = true;
                     } else if (ImGui::IsMouseDown(ImGuiMouseButton_Left) && (dx != 0 || dy != 0)) {
-                        orbit.yaw += dx * 0.005;
-                        orbit.pitch = std::clamp(orbit.pitch - dy * 0.005, -1.55, 1.55);
+                        orbit.orbit(dx * 0.005, -dy * 0.005);
                         dirty = true;
                     }
                     if (ImGui::IsMouseDown(ImGuiMouseButton_Right) && (dx != 0 || dy != 0)) {
-                        // Fly: look around from the eye (the target moves, the eye stays).
-                        const Vec3 eye = orbit.desc().position;
-                        orbit.yaw += dx * 0.004;
-                        orbit.pitch = std::clamp(orbit.pitch - dy * 0.004, -1.55, 1.55);
-                        orbit.target = eye + orbit.distance * orbit.forward();
+                        orbit.look(dx * 0.004, -dy * 0.004);
                         dirty = true;
                     }
                     if (io.MouseWheel != 0) {
-                        orbit.distance *= std::pow(0.9, static_cast<double>(io.MouseWheel));
+                        orbit.dolly(std::pow(0.9, static_cast<double>(io.MouseWheel)));
                         dirty = true;
                     }
                 }
@@ -578,7 +537,7 @@ int main(int argc, char** argv) {
                     if (ImGui::IsKeyDown(GLFW_KEY_E)) move += Vec3(0, 1, 0);
                     if (ImGui::IsKeyDown(GLFW_KEY_Q)) move -= Vec3(0, 1, 0);
                     if (move != Vec3(0.0)) {
-                        orbit.target += speed * move;
+                        orbit.move(speed * move);
                         dirty = true;
                     }
                 }

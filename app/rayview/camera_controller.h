@@ -1,0 +1,72 @@
+// The viewer's camera controller: orbit about a target (yaw about +y from -z, pitch), pan,
+// dolly, fly and frame, turned into the tracer's CameraDesc. No GL, no input handling: the
+// viewer maps mouse and keys onto these calls, and the tests drive them directly.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "rt/camera.h"
+
+namespace rt::view {
+
+struct OrbitCamera {
+    Vec3 target{0.0};
+    double distance = 1, yaw = 0, pitch = 0;  // radians; yaw about +y, from -z
+    double half_height = kPi / 6;
+
+    /// Takes a file's camera: same eye, view direction and angle; the target lies along the
+    /// view at the distance of the scene's centre.
+    void set_from(const CameraDesc& c, const Bounds3& world) {
+        const Vec3 d = glm::normalize(c.direction);
+        const Vec3 centre = world.empty() ? c.position + d : world.centre();
+        distance = glm::dot(centre - c.position, d);
+        if (!(distance > 1e-6))
+            distance = world.empty() ? 1.0 : std::max(1e-6, glm::length(world.diagonal()));
+        target = c.position + distance * d;
+        pitch = std::asin(std::clamp(d.y, -1.0, 1.0));
+        yaw = std::atan2(d.x, -d.z);
+        half_height = c.half_height_angle_rad;
+    }
+    Vec3 forward() const {
+        return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), -std::cos(pitch) * std::cos(yaw)};
+    }
+    Vec3 eye() const { return target - distance * forward(); }
+    CameraDesc desc() const {
+        CameraDesc c;
+        c.direction = forward();
+        c.position = eye();
+        c.up = Vec3(0, 1, 0);
+        c.half_height_angle_rad = half_height;
+        return c;
+    }
+    /// Orbit: turn about the target (radians).
+    void orbit(double d_yaw, double d_pitch) {
+        yaw += d_yaw;
+        pitch = std::clamp(pitch + d_pitch, -1.55, 1.55);
+    }
+    /// Look around from the eye (fly): the eye stays, the target moves.
+    void look(double d_yaw, double d_pitch) {
+        const Vec3 e = eye();
+        orbit(d_yaw, d_pitch);
+        target = e + distance * forward();
+    }
+    /// Pan by a fraction of the view's height in the image plane (right, up).
+    void pan(double right, double up) {
+        const Camera cam = make_camera(desc(), 1, 1);
+        const double h = 2 * distance * cam.tan_h;
+        target += (right * h) * cam.right + (up * h) * cam.up;
+    }
+    /// Dolly: scale the distance to the target.
+    void dolly(double factor) { distance = std::max(1e-9, distance * factor); }
+    /// Move eye and target together (fly), in world units.
+    void move(const Vec3& delta) { target += delta; }
+    /// Frame the box: target its centre, back off until its bounding sphere fits the height.
+    void frame(const Bounds3& b) {
+        if (b.empty()) return;
+        target = b.centre();
+        distance = 0.5 * glm::length(b.diagonal()) / std::sin(half_height);
+    }
+};
+
+}  // namespace rt::view

@@ -1,0 +1,62 @@
+// The viewer's camera controller (no GL): a file's camera survives the round trip, and orbit,
+// look, pan, dolly, move and frame do what their names say.
+#include "../app/rayview/camera_controller.h"
+#include "test_util.h"
+
+namespace rt::view {
+namespace {
+
+TEST(CameraController, FileCameraRoundTrip) {
+    CameraDesc c;
+    c.position = Vec3(1, 2, 10);
+    c.direction = Vec3(-0.1, -0.2, -1);
+    c.half_height_angle_rad = 0.4;
+    OrbitCamera o;
+    o.set_from(c, Bounds3{{-1, -1, -1}, {1, 1, 1}});
+    const CameraDesc d = o.desc();
+    EXPECT_VEC_NEAR(d.position, c.position, 1e-12);
+    EXPECT_VEC_NEAR(d.direction, glm::normalize(c.direction), 1e-12);
+    EXPECT_EQ(d.half_height_angle_rad, 0.4);
+}
+
+TEST(CameraController, OrbitKeepsTheTargetAndDistance) {
+    OrbitCamera o;
+    o.target = Vec3(1, 2, 3);
+    o.distance = 5;
+    const Vec3 t = o.target;
+    o.orbit(0.7, 0.3);
+    EXPECT_VEC_NEAR(o.target, t, 0);
+    EXPECT_NEAR(glm::length(o.eye() - t), 5, 1e-12);
+    o.orbit(0, 10);  // pitch is clamped short of the pole
+    EXPECT_LT(o.pitch, kPi / 2);
+}
+
+TEST(CameraController, LookKeepsTheEyeAndPanMovesBoth) {
+    OrbitCamera o;
+    o.distance = 3;
+    const Vec3 eye = o.eye();
+    o.look(0.5, -0.2);
+    EXPECT_VEC_NEAR(o.eye(), eye, 1e-12);
+    const Vec3 before_eye = o.eye(), before_target = o.target;
+    o.pan(0.1, 0.0);
+    EXPECT_VEC_NEAR(o.eye() - before_eye, o.target - before_target, 1e-12);
+    EXPECT_GT(glm::length(o.target - before_target), 0.0);
+    // Pan moves along the image plane: no motion along the view.
+    EXPECT_NEAR(glm::dot(o.target - before_target, o.forward()), 0.0, 1e-12);
+}
+
+TEST(CameraController, DollyMoveAndFrame) {
+    OrbitCamera o;
+    o.distance = 10;
+    o.dolly(0.5);
+    EXPECT_EQ(o.distance, 5);
+    o.move(Vec3(1, 0, 0));
+    EXPECT_EQ(o.target, Vec3(1, 0, 0));
+    o.frame(Bounds3{{-2, -2, -2}, {2, 2, 2}});
+    EXPECT_EQ(o.target, Vec3(0.0));
+    // The box's bounding sphere (radius 2 sqrt 3) fits the half-height angle.
+    EXPECT_NEAR(o.distance * std::sin(o.half_height), 2 * std::sqrt(3.0), 1e-12);
+}
+
+}  // namespace
+}  // namespace rt::view
