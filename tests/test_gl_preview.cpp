@@ -132,6 +132,38 @@ TEST(GlPreview, PublicAndOwnScenesAgreeWithTheTrace) {
     }
 }
 
+TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
+    const RenderScene scene = test::compile(
+        "#light_point 1 1 1  0 2 0  1 0 0\n#light_spot 1 0 0  0 3 0  0 -1 0  1 0 0  0.5 2\n"
+        "#light_dir 1 1 1  0 -1 0\n"
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n#shape_sphere 0 0 0 0 1\n"
+        "#shape_box 0 3 0 0 1 1 1\n");
+    const auto none = view::overlay_lines(scene, false, 0);
+    EXPECT_TRUE(none.empty());
+    const auto lights = view::overlay_lines(scene, true, 0);
+    EXPECT_GT(lights.size(), 12u);  // a cross, a cone and an arrow
+    EXPECT_EQ(lights.size() % 2, 0u);
+    const auto boxes = view::overlay_lines(scene, false, 2);
+    EXPECT_GE(boxes.size(), 2u * 12 * 2);  // the instance's box and its nodes' boxes
+    // Drawn: the overlay changes pixels of the preview.
+    Offscreen gl;
+    ASSERT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 32);
+    CameraDesc cd;
+    cd.position = Vec3(0, 1, 8);
+    cd.direction = Vec3(0, -0.1, -1);
+    const Camera cam = make_camera(cd, kW, kH);
+    RenderScene framed = scene;
+    framed.camera = cd;
+    preview.draw(framed, cam, kW, kH);
+    glFinish();
+    const std::vector<unsigned char> plain = gl.rgba;
+    preview.draw_lines(view::overlay_lines(framed, true, 2), framed, cam);
+    glFinish();
+    EXPECT_NE(plain, gl.rgba);
+}
+
 TEST(GlPreview, ShaderErrorsNameTheFile) {
     Offscreen gl;
     ASSERT_NE(gl.ctx, nullptr);

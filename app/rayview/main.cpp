@@ -266,6 +266,8 @@ int main(int argc, char** argv) {
         view::OrbitCamera orbit;
         RenderSettings settings;
         int target_spp = 256;
+        bool show_lights = true;
+        int box_depth = 0;  // bounding boxes drawn over the preview: BVH levels, 0 = off
         float resolution_scale = 0.5f;
         int trace_w = 0, trace_h = 0;
         bool dirty = true;
@@ -354,6 +356,9 @@ int main(int argc, char** argv) {
                 }
                 ImGui::Separator();
                 dirty |= ImGui::Checkbox("shadows", &settings.shadows);
+                ImGui::SameLine();
+                ImGui::Checkbox("light markers", &show_lights);
+                ImGui::SliderInt("boxes (BVH levels)", &box_depth, 0, 8);
                 dirty |= ImGui::SliderInt("depth", &settings.max_depth, 1, 10);
                 float cutoff = static_cast<float>(settings.cutoff);
                 if (ImGui::SliderFloat("cutoff", &cutoff, 0.0f, 0.1f, "%.4f")) {
@@ -559,6 +564,8 @@ int main(int argc, char** argv) {
                 glBindFramebuffer(GL_FRAMEBUFFER, preview_fb.fbo);
                 const Camera cam = make_camera(loaded->scene, preview_fb.w, preview_fb.h);
                 preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h);
+                preview->draw_lines(view::overlay_lines(loaded->scene, show_lights, box_depth),
+                                    loaded->scene, cam);
                 glBindFramebuffer(GL_FRAMEBUFFER, 0);
             }
 

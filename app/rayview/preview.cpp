@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rt/sampler.h"
 #include "rt/tessellate.h"
 
 namespace rt::view {
@@ -89,33 +90,59 @@ GlMatrices camera_matrices(const Camera& camera, const Bounds3& world) {
     return out;
 }
 
-Preview::Preview(const std::string& shader_dir) {
-    const GLuint vs = compile(GL_VERTEX_SHADER, shader_dir + "/preview.vert");
+namespace {
+
+// Compiles and links name.vert + name.frag from dir; errors name the files.
+GLuint make_program(const std::string& dir, const std::string& name) {
+    const GLuint vs = compile(GL_VERTEX_SHADER, dir + "/" + name + ".vert");
     GLuint fs = 0;
     try {
-        fs = compile(GL_FRAGMENT_SHADER, shader_dir + "/preview.frag");
+        fs = compile(GL_FRAGMENT_SHADER, dir + "/" + name + ".frag");
     } catch (...) {
         glDeleteShader(vs);
         throw;
     }
-    m_program = glCreateProgram();
-    glAttachShader(m_program, vs);
-    glAttachShader(m_program, fs);
-    glLinkProgram(m_program);
+    const GLuint program = glCreateProgram();
+    glAttachShader(program, vs);
+    glAttachShader(program, fs);
+    glLinkProgram(program);
     glDeleteShader(vs);
     glDeleteShader(fs);
     GLint ok = 0;
-    glGetProgramiv(m_program, GL_LINK_STATUS, &ok);
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
     if (!ok) {
         char log[4096];
-        glGetProgramInfoLog(m_program, sizeof log, nullptr, log);
-        glDeleteProgram(m_program);
-        throw std::runtime_error(shader_dir + "/preview.{vert,frag}: link: " + log);
+        glGetProgramInfoLog(program, sizeof log, nullptr, log);
+        glDeleteProgram(program);
+        std::string message = dir;
+        message += "/";
+        message += name;
+        message += ".{vert,frag}: link: ";
+        message += log;
+        throw std::runtime_error(message);
     }
+    return program;
+}
+
+}  // namespace
+
+Preview::Preview(const std::string& shader_dir) {
+    m_program = make_program(shader_dir, "preview");
+    try {
+        m_line_program = make_program(shader_dir, "lines");
+    } catch (...) {
+        glDeleteProgram(m_program);
+        throw;
+    }
+    glGenVertexArrays(1, &m_line_vao);
+    glGenBuffers(1, &m_line_vbo);
 }
 
 Preview::~Preview() {
     release();
+    glDeleteBuffers(1, &m_line_vbo);
+    glDeleteVertexArrays(1, &m_line_vao);
+    glDeleteProgram(m_line_program);
     glDeleteProgram(m_program);
 }
 
@@ -261,6 +288,127 @@ void Preview::draw(const RenderScene& scene, const Camera& camera, int width, in
         }
     }
     glBindVertexArray(0);
+}
+
+void Preview::draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
+                         const Camera& camera) const {
+    if (lines.empty()) return;
+    glUseProgram(m_line_program);
+    const GlMatrices mats = camera_matrices(camera, scene.world_bounds);
+    glUniformMatrix4fv(loc(m_line_program, "u_clip_from_world"), 1, GL_FALSE, mats.clip_from_world);
+    glBindVertexArray(m_line_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, m_line_vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(lines.size() * sizeof(LineVertex)),
+                 lines.data(), GL_STREAM_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(LineVertex), nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(LineVertex),
+                          reinterpret_cast<const void*>(3 * sizeof(float)));
+    glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(lines.size()));
+    glBindVertexArray(0);
+}
+
+namespace {
+
+struct LineBuilder {
+    std::vector<LineVertex> out;
+    void segment(const Vec3& a, const Vec3& b, const Vec3& c) {
+        LineVertex va{}, vb{};
+        for (int k = 0; k < 3; ++k) {
+            va.position[k] = static_cast<float>(a[k]);
+            vb.position[k] = static_cast<float>(b[k]);
+            va.color[k] = vb.color[k] = static_cast<float>(c[k]);
+        }
+        out.push_back(va);
+        out.push_back(vb);
+    }
+    // The 12 edges of a box, its corners mapped by `xf` when given.
+    void box(const Vec3& lo, const Vec3& hi, const Vec3& c, const Transform* xf) {
+        auto corner = [&](int i) {
+            const Vec3 p{(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z};
+            return xf ? xf->point(p) : p;
+        };
+        for (int i = 0; i < 8; ++i)
+            for (int bit : {1, 2, 4})
+                if (!(i & bit)) segment(corner(i), corner(i | bit), c);
+    }
+};
+
+Vec3 marker_colour(const Vec3& c) {
+    const double m = std::max(c.x, std::max(c.y, c.z));
+    return m > 0 ? glm::clamp(c / m, 0.2, 1.0) : Vec3(1.0);
+}
+
+}  // namespace
+
+std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth) {
+    LineBuilder b;
+    const Bounds3& w = scene.world_bounds;
+    const double size = w.empty() ? 1.0 : glm::length(w.diagonal());
+    if (lights) {
+        for (const Light& l : scene.lights) {
+            const Vec3 c = marker_colour(l.color);
+            const double s = 0.03 * size;
+            if (l.kind == LightKind::Directional) {
+                // An arrow along the direction of travel, ending at the scene's centre.
+                const Vec3 end = w.empty() ? Vec3(0.0) : w.centre();
+                const Vec3 start = end - 0.3 * size * l.direction;
+                b.segment(start, end, c);
+                Vec3 a1, a2;
+                orthonormal_basis(l.direction, &a1, &a2);
+                for (const Vec3& side : {a1, -a1, a2, -a2})
+                    b.segment(end, end - 2 * s * l.direction + s * side, c);
+                continue;
+            }
+            for (int axis = 0; axis < 3; ++axis) {
+                Vec3 d(0.0);
+                d[axis] = s;
+                b.segment(l.position - d, l.position + d, c);
+            }
+            if (l.kind == LightKind::Spot) {
+                // The cut-off cone, 0.15 of the scene's size long.
+                Vec3 a1, a2;
+                orthonormal_basis(l.direction, &a1, &a2);
+                const double len = 0.15 * size, angle = std::min(l.cutoff_rad, 1.4);
+                Vec3 prev(0.0);
+                for (int k = 0; k <= 16; ++k) {
+                    const double phi = 2 * kPi * k / 16;
+                    const Vec3 rim =
+                        l.position +
+                        len * (std::cos(angle) * l.direction +
+                               std::sin(angle) * (std::cos(phi) * a1 + std::sin(phi) * a2));
+                    if (k % 4 == 0) b.segment(l.position, rim, c);
+                    if (k > 0) b.segment(prev, rim, c);
+                    prev = rim;
+                }
+            }
+        }
+    }
+    if (bvh_depth > 0) {
+        for (const Instance& inst : scene.instances) {
+            const Transform* xf = inst.identity ? nullptr : &inst.world_from_set;
+            const Bvh& bvh = scene.sets[static_cast<size_t>(inst.set)].bvh;
+            b.box(inst.world_bounds.lo, inst.world_bounds.hi, Vec3(1, 1, 0.3), nullptr);
+            // Node boxes level by level, dimmer deeper down.
+            std::vector<std::pair<uint32_t, int>> stack;
+            if (!bvh.empty()) stack.push_back({0u, 1});
+            while (!stack.empty()) {
+                const auto [node_index, depth] = stack.back();
+                stack.pop_back();
+                const Bvh4Node& node = bvh.nodes[node_index];
+                const double fade = 1.0 / depth;
+                for (uint32_t c = 0; c < node.num_children; ++c) {
+                    const Vec3 lo(node.lo[0][c], node.lo[1][c], node.lo[2][c]);
+                    const Vec3 hi(node.hi[0][c], node.hi[1][c], node.hi[2][c]);
+                    b.box(lo, hi, Vec3(0.3, 1.0, 0.5) * fade + Vec3(0.1), xf);
+                    if (!(node.child[c] & Bvh4Node::kLeaf) && depth < bvh_depth)
+                        stack.push_back({node.child[c], depth + 1});
+                }
+            }
+        }
+    }
+    return std::move(b.out);
 }
 
 }  // namespace rt::view

@@ -20,6 +20,17 @@ struct GlMatrices {
 /// The projection that maps the tracer's pixel rays (spec §6) onto GL's pixel centres.
 GlMatrices camera_matrices(const Camera& camera, const Bounds3& world);
 
+/// One end of an overlay line segment.
+struct LineVertex {
+    float position[3];
+    float color[3];
+};
+
+/// Overlay geometry: a marker per light (a cross for point lights, a cone for spots, an arrow for
+/// directional ones) and, up to `bvh_depth` levels, the boxes of the instances and of their
+/// BVH nodes (the flattened groups' boxes), in world space.
+std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth);
+
 class Preview {
 public:
     /// Compiles the preview program from `shader_dir`; throws std::runtime_error with the shader
@@ -33,6 +44,9 @@ public:
     void load(const RenderScene& scene, int detail = 48);
     /// Clears to the scene's background and draws every instance.
     void draw(const RenderScene& scene, const Camera& camera, int width, int height) const;
+    /// Draws line segments (pairs of vertices) over what draw() left, depth-tested.
+    void draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
+                    const Camera& camera) const;
 
 private:
     struct Range {
@@ -45,7 +59,8 @@ private:
     };
     void release();
 
-    unsigned m_program = 0;
+    unsigned m_program = 0, m_line_program = 0;
+    unsigned m_line_vao = 0, m_line_vbo = 0;
     std::vector<SetBuffers> m_sets;
     std::vector<unsigned> m_textures;
 };
