@@ -265,7 +265,13 @@ int main(int argc, char** argv) {
         GlFramebuffer preview_fb;
         view::OrbitCamera orbit;
         RenderSettings settings;
+        // The trace leaves one core to the interface thread, so frames stay smooth.
+        settings.threads = std::max(1, resolve_thread_count(0) - 1);
         int target_spp = 256;
+        double frame_total_s = 0, frame_max_s = 0;
+        int frame_count = 0;
+        std::chrono::steady_clock::time_point change_time{};
+        double first_pass_ms = -1;  // camera/edit change -> first traced image on screen
         bool show_lights = true;
         int box_depth = 0;  // bounding boxes drawn over the preview: BVH levels, 0 = off
         float resolution_scale = 0.5f;
@@ -310,6 +316,10 @@ int main(int argc, char** argv) {
             const auto now = std::chrono::steady_clock::now();
             const double frame_s = std::chrono::duration<double>(now - last_frame).count();
             last_frame = now;
+            if (frame_count++ > 0) {
+                frame_total_s += frame_s;
+                frame_max_s = std::max(frame_max_s, frame_s);
+            }
             // Dropped files open; the open file reloads when it changes on disk (camera kept).
             if (!g_dropped.empty()) {
                 const std::string file = g_dropped.back();
@@ -449,6 +459,8 @@ int main(int argc, char** argv) {
                 ImGui::Text("%d spp, %.2f Mray/s, %.1f s since the last change", st.spp,
                             st.rays_per_second / 1e6, st.seconds);
                 ImGui::Text("estimated relMSE %.3g", st.estimate);
+                ImGui::Text("frame %.1f ms, first traced pass %.0f ms after the last change",
+                            1000 * frame_s, first_pass_ms);
                 const auto hist = tracer.history();
                 std::vector<float> logs;
                 for (const auto& [t, e] : hist) logs.push_back(std::log10(e));
@@ -557,8 +569,16 @@ int main(int argc, char** argv) {
                     settings.height = trace_h;
                     tracer.restart(loaded->scene, settings, target_spp);
                     dirty = false;
+                    change_time = std::chrono::steady_clock::now();
+                    first_pass_ms = -1;
                 }
-                if (tracer.take_image(&last_trace)) trace_tex.upload(last_trace);
+                if (tracer.take_image(&last_trace)) {
+                    trace_tex.upload(last_trace);
+                    if (first_pass_ms < 0)
+                        first_pass_ms = std::chrono::duration<double, std::milli>(
+                                            std::chrono::steady_clock::now() - change_time)
+                                            .count();
+                }
 
                 // The preview, with the same camera, into its framebuffer.
                 glBindFramebuffer(GL_FRAMEBUFFER, preview_fb.fbo);
@@ -599,6 +619,12 @@ int main(int argc, char** argv) {
             glfwSwapBuffers(window);
         }
         tracer.stop();
+        if (frame_count > 1 && !screenshot.empty())
+            std::printf(
+                "rayview: %d frames, mean %.1f ms, max %.1f ms; first traced pass %.0f ms "
+                "after the last change\n",
+                frame_count, 1000 * frame_total_s / (frame_count - 1), 1000 * frame_max_s,
+                first_pass_ms);
     }
     // Shutdown in reverse order of initialisation (GL objects above died with their scope).
     ImGui_ImplOpenGL3_Shutdown();
