@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and renders the default scene to out/showpiece.png.
-# Extra arguments go to raytrace (e.g. ./scripts/run.sh --spp 16).
+# Installs what is missing, builds, and opens the default scene in the viewer; without a display
+# (or without the viewer's libraries) it renders the scene headless to out/showpiece.png.
+# Extra arguments go to raytrace in the headless case (e.g. ./scripts/run.sh --spp 16).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)"
+if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ] && [ -x build/app/rayview ]; then
+    exec ./build/app/rayview scenes/showpiece.ray
+fi
+echo "run.sh: no display: rendering headless with raytrace" >&2
 mkdir -p out
 ./build/app/raytrace scenes/showpiece.ray -o out/showpiece.png "$@"
