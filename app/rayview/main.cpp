@@ -10,6 +10,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -162,6 +163,27 @@ std::filesystem::file_time_type modified(const std::string& path) {
     return std::filesystem::last_write_time(path, ec);
 }
 
+// .ray files whose path starts with what is typed (the directory part lists its folder).
+std::vector<std::string> completions(const std::string& typed) {
+    namespace fs = std::filesystem;
+    const fs::path p(typed);
+    const fs::path dir = typed.empty() || typed.back() == '/' ? fs::path(typed) : p.parent_path();
+    const std::string prefix = typed.empty() || typed.back() == '/' ? "" : p.filename().string();
+    std::vector<std::string> out;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir.empty() ? fs::path(".") : dir, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.rfind(prefix, 0) != 0) continue;
+        std::string ext = e.path().extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (e.is_directory(ec) || ext == ".ray")
+            out.push_back((dir / name).string() + (e.is_directory(ec) ? "/" : ""));
+    }
+    std::sort(out.begin(), out.end());
+    if (out.size() > 8) out.resize(8);
+    return out;
+}
+
 void glfw_error(int code, const char* message) {
     std::fprintf(stderr, "rayview: GLFW error %d: %s\n", code, message);
 }
@@ -284,6 +306,9 @@ int main(int argc, char** argv) {
         std::string message = loaded ? "" : error;
         Image last_trace;  // the latest trace image, for saving
         std::filesystem::file_time_type loaded_time{};
+        std::vector<std::string> recent;  // most recent first
+        bool completing = false;          // the path field lists matching files
+        if (loaded) recent.push_back(loaded->path);
         auto on_loaded = [&]() {
             tracer.stop();
             preview->load(loaded->scene);
@@ -308,6 +333,9 @@ int main(int argc, char** argv) {
             on_loaded();
             if (keep_camera) orbit = kept;
             std::snprintf(path_buf, sizeof path_buf, "%s", loaded->path.c_str());
+            recent.erase(std::remove(recent.begin(), recent.end(), loaded->path), recent.end());
+            recent.insert(recent.begin(), loaded->path);
+            if (recent.size() > 8) recent.resize(8);
         };
         auto last_frame = std::chrono::steady_clock::now();
 
@@ -340,12 +368,31 @@ int main(int argc, char** argv) {
             ImGui::SetNextWindowPos(ImVec2(0, 0));
             ImGui::SetNextWindowSize(ImVec2(panel_w, pane_h));
             ImGui::Begin("rayview", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
-            ImGui::InputText("scene", path_buf, sizeof path_buf);
-            if (ImGui::Button("Open")) open(path_buf, false);
+            if (ImGui::InputText("scene", path_buf, sizeof path_buf)) completing = true;
+            // Completion: the .ray files (and folders) that start with what is typed.
+            if (completing) {
+                for (const std::string& c : completions(path_buf))
+                    if (ImGui::Selectable(c.c_str())) {
+                        std::snprintf(path_buf, sizeof path_buf, "%s", c.c_str());
+                        completing = c.back() == '/';  // a folder: keep completing inside it
+                    }
+            }
+            if (ImGui::Button("Open")) {
+                completing = false;
+                open(path_buf, false);
+            }
             ImGui::SameLine();
             if (ImGui::Button("Reload") && loaded) open(loaded->path, true);
             ImGui::SameLine();
             ImGui::TextDisabled("(or drop a .ray file)");
+            if (recent.size() > 1 && ImGui::CollapsingHeader("recent files")) {
+                for (size_t i = 1; i < recent.size(); ++i)
+                    if (ImGui::Selectable(recent[i].c_str())) {
+                        const std::string file = recent[i];
+                        open(file, false);
+                        break;
+                    }
+            }
             if (!message.empty())
                 ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", message.c_str());
             if (loaded) {
