@@ -308,6 +308,7 @@ int main(int argc, char** argv) {
         std::filesystem::file_time_type loaded_time{};
         std::vector<std::string> recent;  // most recent first
         bool completing = false;          // the path field lists matching files
+        int dragged_light = -1;           // index into loaded->lights while dragged
         if (loaded) recent.push_back(loaded->path);
         auto on_loaded = [&]() {
             tracer.stop();
@@ -562,8 +563,44 @@ int main(int argc, char** argv) {
                 ImGui::End();
                 ImGui::PopStyleVar();
 
+                // Lights are dragged in the preview: a click near a point or spot light's marker
+                // picks it, and the drag moves it parallel to the image.
+                const Camera view_cam =
+                    make_camera(orbit.desc(), static_cast<int>(pane_w), static_cast<int>(pane_h));
+                auto to_pane = [&](const Vec3& p, double* depth) {
+                    const Vec3 v = p - view_cam.position;
+                    *depth = glm::dot(v, view_cam.forward);
+                    const double x = glm::dot(v, view_cam.right) / (*depth * view_cam.tan_w);
+                    const double y = glm::dot(v, view_cam.up) / (*depth * view_cam.tan_h);
+                    return ImVec2(static_cast<float>(panel_w + (x + 1) / 2 * pane_w),
+                                  static_cast<float>((1 - y) / 2 * pane_h));
+                };
+                if (over_preview && show_lights && ImGui::IsMouseClicked(ImGuiMouseButton_Left) &&
+                    !io.KeyShift) {
+                    for (size_t i = 0; i < loaded->lights.size(); ++i) {
+                        if (loaded->lights[i].kind == LightKind::Directional) continue;
+                        double depth = 0;
+                        const ImVec2 at = to_pane(loaded->lights[i].position, &depth);
+                        const float ddx = at.x - io.MousePos.x, ddy = at.y - io.MousePos.y;
+                        if (depth > 0 && ddx * ddx + ddy * ddy < 144.0f)
+                            dragged_light = static_cast<int>(i);
+                    }
+                }
+                if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) dragged_light = -1;
+                if (dragged_light >= 0 && (io.MouseDelta.x != 0 || io.MouseDelta.y != 0)) {
+                    Light& l = loaded->lights[static_cast<size_t>(dragged_light)];
+                    double depth = 0;
+                    to_pane(l.position, &depth);
+                    const double per_pixel =
+                        2 * depth * view_cam.tan_h / static_cast<double>(pane_h);
+                    l.position +=
+                        per_pixel * (static_cast<double>(io.MouseDelta.x) * view_cam.right -
+                                     static_cast<double>(io.MouseDelta.y) * view_cam.up);
+                    dirty = true;
+                }
+
                 // Camera input only over the panes (never what ImGui's controls want).
-                if (over_preview || over_trace) {
+                if ((over_preview || over_trace) && dragged_light < 0) {
                     const double dx = static_cast<double>(io.MouseDelta.x),
                                  dy = static_cast<double>(io.MouseDelta.y);
                     const bool pan = ImGui::IsMouseDown(ImGuiMouseButton_Middle) ||
