@@ -572,8 +572,8 @@ int main(int argc, char** argv) {
                     *depth = glm::dot(v, view_cam.forward);
                     const double x = glm::dot(v, view_cam.right) / (*depth * view_cam.tan_w);
                     const double y = glm::dot(v, view_cam.up) / (*depth * view_cam.tan_h);
-                    return ImVec2(static_cast<float>(panel_w + (x + 1) / 2 * pane_w),
-                                  static_cast<float>((1 - y) / 2 * pane_h));
+                    return ImVec2(panel_w + static_cast<float>((x + 1) / 2) * pane_w,
+                                  static_cast<float>((1 - y) / 2) * pane_h);
                 };
                 if (over_preview && show_lights && ImGui::IsMouseClicked(ImGuiMouseButton_Left) &&
                     !io.KeyShift) {
