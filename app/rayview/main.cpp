@@ -19,6 +19,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "camera_controller.h"
@@ -184,6 +185,44 @@ std::vector<std::string> completions(const std::string& typed) {
     return out;
 }
 
+// The whole window as drawn, rows flipped to top-first.
+void save_window(int width, int height, const std::string& path) {
+    std::vector<unsigned char> px(static_cast<size_t>(width) * height * 3);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, px.data());
+    Image shot(width, height);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const size_t i = (static_cast<size_t>(height - 1 - y) * width + x) * 3;
+            shot.set(x, y, Vec3(px[i], px[i + 1], px[i + 2]) / 255.0);
+        }
+    save_image(shot, path);
+}
+
+// --script: one command a line, "FRAME COMMAND ARGS...", run at that frame (scripted input for
+// tests): orbit DYAW DPITCH | open PATH | light I colour R G B | shadows on|off |
+// screenshot PATH.
+struct ScriptLine {
+    int frame = 0;
+    std::string command;
+    std::vector<std::string> args;
+};
+
+std::vector<ScriptLine> read_script(const std::string& path) {
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error("cannot open script '" + path + "'");
+    std::vector<ScriptLine> lines;
+    std::string line;
+    while (std::getline(f, line)) {
+        std::istringstream ss(line);
+        ScriptLine l;
+        if (!(ss >> l.frame >> l.command)) continue;
+        for (std::string a; ss >> a;) l.args.push_back(a);
+        lines.push_back(l);
+    }
+    return lines;
+}
+
 void glfw_error(int code, const char* message) {
     std::fprintf(stderr, "rayview: GLFW error %d: %s\n", code, message);
 }
@@ -217,6 +256,7 @@ int main(int argc, char** argv) {
     std::string path = source_dir + "/scenes/showpiece.ray";
     int frames = 0;  // > 0: run this many frames, save the window, exit
     std::string screenshot;
+    std::string script_path;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "-h" || a == "--help") {
@@ -234,6 +274,8 @@ int main(int argc, char** argv) {
             }
         } else if (a == "--screenshot" && i + 1 < argc) {
             screenshot = argv[++i];
+        } else if (a == "--script" && i + 1 < argc) {
+            script_path = argv[++i];
         } else if (!a.empty() && a[0] == '-') {
             std::fprintf(stderr, "rayview: unknown option '%s' (see rayview --help)\n", a.c_str());
             return 2;
@@ -242,6 +284,17 @@ int main(int argc, char** argv) {
         }
     }
     if (!screenshot.empty() && frames == 0) frames = 60;
+    std::vector<ScriptLine> script;
+    if (!script_path.empty()) {
+        try {
+            script = read_script(script_path);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "rayview: %s\n", e.what());
+            return 2;
+        }
+        for (const ScriptLine& l : script) frames = std::max(frames, l.frame + 2);
+    }
+    int frame_index = 0;
 
     glfwSetErrorCallback(glfw_error);
     if (!glfwInit()) {
@@ -678,20 +731,40 @@ int main(int argc, char** argv) {
             glClearColor(0.08f, 0.08f, 0.1f, 1.0f);
             glClear(GL_COLOR_BUFFER_BIT);
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            // Scripted input for this frame (after drawing, so screenshots show the frame).
+            for (const ScriptLine& l : script) {
+                if (l.frame != frame_index || !loaded) continue;
+                auto arg = [&](size_t i) {
+                    return i < l.args.size() ? std::atof(l.args[i].c_str()) : 0.0;
+                };
+                if (l.command == "orbit") {
+                    orbit.orbit(arg(0), arg(1));
+                    dirty = true;
+                } else if (l.command == "open" && !l.args.empty()) {
+                    open(l.args[0], false);
+                } else if (l.command == "light" && l.args.size() >= 5) {
+                    const size_t i = static_cast<size_t>(std::atoi(l.args[0].c_str()));
+                    if (i < loaded->lights.size())
+                        loaded->lights[i].color = Vec3(arg(2), arg(3), arg(4));
+                    dirty = true;
+                } else if (l.command == "shadows" && !l.args.empty()) {
+                    settings.shadows = l.args[0] == "on";
+                    dirty = true;
+                } else if (l.command == "screenshot" && !l.args.empty()) {
+                    save_window(fb_w, fb_h, l.args[0]);
+                    const view::Tracer::Status st = tracer.status();
+                    std::printf("rayview: frame %d: %s (trace at %d spp)\n", frame_index,
+                                l.args[0].c_str(), st.spp);
+                }
+                if (dirty)
+                    std::printf("rayview: frame %d: %s: trace restarted\n", frame_index,
+                                l.command.c_str());
+            }
+            ++frame_index;
             if (frames > 0 && --frames == 0) {
-                // --screenshot: the whole window as drawn, rows flipped to top-first.
                 if (!screenshot.empty()) {
-                    std::vector<unsigned char> px(static_cast<size_t>(fb_w) * fb_h * 3);
-                    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-                    glReadPixels(0, 0, fb_w, fb_h, GL_RGB, GL_UNSIGNED_BYTE, px.data());
-                    Image shot(fb_w, fb_h);
-                    for (int y = 0; y < fb_h; ++y)
-                        for (int x = 0; x < fb_w; ++x) {
-                            const size_t i = (static_cast<size_t>(fb_h - 1 - y) * fb_w + x) * 3;
-                            shot.set(x, y, Vec3(px[i], px[i + 1], px[i + 2]) / 255.0);
-                        }
                     try {
-                        save_image(shot, screenshot);
+                        save_window(fb_w, fb_h, screenshot);
                         std::printf("rayview: saved %s\n", screenshot.c_str());
                     } catch (const std::exception& e) {
                         std::fprintf(stderr, "rayview: %s\n", e.what());
