@@ -304,7 +304,7 @@ int main(int argc, char** argv) {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-    GLFWwindow* window = glfwCreateWindow(1500, 820, "rayview", nullptr, nullptr);
+    GLFWwindow* window = glfwCreateWindow(1280, 720, "rayview", nullptr, nullptr);
     if (!window) {
         glfwTerminate();
         std::fprintf(stderr, "rayview: cannot open a window; rendering headless instead\n");
@@ -362,6 +362,7 @@ int main(int argc, char** argv) {
         std::vector<std::string> recent;  // most recent first
         bool completing = false;          // the path field lists matching files
         int dragged_light = -1;           // index into loaded->lights while dragged
+        int layout = 0;                   // 0 both panes, 1 preview alone, 2 trace alone
         if (loaded) recent.push_back(loaded->path);
         auto on_loaded = [&]() {
             tracer.stop();
@@ -415,7 +416,10 @@ int main(int argc, char** argv) {
             int fb_w = 0, fb_h = 0;
             glfwGetFramebufferSize(window, &fb_w, &fb_h);
             const float panel_w = 330;
-            const float pane_w = std::max(64.0f, (static_cast<float>(fb_w) - panel_w) / 2);
+            // Layout: both panes side by side, or one of them alone at full size.
+            const int panes = layout == 0 ? 2 : 1;
+            const float pane_w =
+                std::max(64.0f, (static_cast<float>(fb_w) - panel_w) / static_cast<float>(panes));
             const float pane_h = std::max(64.0f, static_cast<float>(fb_h));
 
             // ---- controls ----
@@ -466,6 +470,11 @@ int main(int argc, char** argv) {
                     dirty = true;
                 }
                 ImGui::Separator();
+                ImGui::RadioButton("both", &layout, 0);
+                ImGui::SameLine();
+                ImGui::RadioButton("preview", &layout, 1);
+                ImGui::SameLine();
+                ImGui::RadioButton("trace", &layout, 2);
                 dirty |= ImGui::Checkbox("shadows", &settings.shadows);
                 ImGui::SameLine();
                 ImGui::Checkbox("light markers", &show_lights);
@@ -597,22 +606,29 @@ int main(int argc, char** argv) {
                 if (tw != trace_w || th != trace_h) trace_w = tw, trace_h = th, dirty = true;
 
                 ImGui::SetNextWindowPos(ImVec2(panel_w, 0));
-                ImGui::SetNextWindowSize(ImVec2(2 * pane_w, pane_h));
+                ImGui::SetNextWindowSize(ImVec2(static_cast<float>(panes) * pane_w, pane_h));
                 ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
                 ImGui::Begin("panes", nullptr,
                              ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                                  ImGuiWindowFlags_NoBringToFrontOnFocus);
                 preview_fb.resize(static_cast<int>(pane_w), static_cast<int>(pane_h));
-                ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(preview_fb.color)),
-                             ImVec2(pane_w, pane_h), ImVec2(0, 1), ImVec2(1, 0));
-                const bool over_preview = ImGui::IsItemHovered();
-                ImGui::SameLine(0, 0);
-                if (trace_tex.id)
-                    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(trace_tex.id)),
-                                 ImVec2(pane_w, pane_h));
-                else
-                    ImGui::Dummy(ImVec2(pane_w, pane_h));
-                const bool over_trace = ImGui::IsItemHovered();
+                bool over_preview = false, over_trace = false;
+                if (layout != 2) {
+                    ImGui::Image(
+                        reinterpret_cast<ImTextureID>(static_cast<intptr_t>(preview_fb.color)),
+                        ImVec2(pane_w, pane_h), ImVec2(0, 1), ImVec2(1, 0));
+                    over_preview = ImGui::IsItemHovered();
+                    ImGui::SameLine(0, 0);
+                }
+                if (layout != 1) {
+                    if (trace_tex.id)
+                        ImGui::Image(
+                            reinterpret_cast<ImTextureID>(static_cast<intptr_t>(trace_tex.id)),
+                            ImVec2(pane_w, pane_h));
+                    else
+                        ImGui::Dummy(ImVec2(pane_w, pane_h));
+                    over_trace = ImGui::IsItemHovered();
+                }
                 ImGui::End();
                 ImGui::PopStyleVar();
 
