@@ -363,6 +363,9 @@ int main(int argc, char** argv) {
         bool completing = false;          // the path field lists matching files
         int dragged_light = -1;           // index into loaded->lights while dragged
         int layout = 0;                   // 0 both panes, 1 preview alone, 2 trace alone
+        // What the preview framebuffer holds, so it is redrawn only when that changes.
+        bool preview_stale = true, drawn_lights = true;
+        int drawn_depth = -1, drawn_w = 0, drawn_h = 0;
         if (loaded) recent.push_back(loaded->path);
         auto on_loaded = [&]() {
             tracer.stop();
@@ -611,7 +614,13 @@ int main(int argc, char** argv) {
                 ImGui::Begin("panes", nullptr,
                              ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                                  ImGuiWindowFlags_NoBringToFrontOnFocus);
-                preview_fb.resize(static_cast<int>(pane_w), static_cast<int>(pane_h));
+                // While the view moves, the preview draws at half resolution (software GL fills
+                // pixels slowly); a quarter second after the last change, at full resolution.
+                const bool moving =
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - change_time)
+                        .count() < 0.25;
+                const int div = moving ? 2 : 1;
+                preview_fb.resize(static_cast<int>(pane_w) / div, static_cast<int>(pane_h) / div);
                 bool over_preview = false, over_trace = false;
                 if (layout != 2) {
                     ImGui::Image(
@@ -712,6 +721,7 @@ int main(int argc, char** argv) {
                     }
                 }
                 if (dirty) {
+                    preview_stale = true;
                     // Stop, edit, restart: the scene is only changed while no trace runs.
                     tracer.stop();
                     loaded->scene.camera = orbit.desc();
@@ -733,13 +743,24 @@ int main(int argc, char** argv) {
                                             .count();
                 }
 
-                // The preview, with the same camera, into its framebuffer.
-                glBindFramebuffer(GL_FRAMEBUFFER, preview_fb.fbo);
-                const Camera cam = make_camera(loaded->scene, preview_fb.w, preview_fb.h);
-                preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h);
-                preview->draw_lines(view::overlay_lines(loaded->scene, show_lights, box_depth),
-                                    loaded->scene, cam);
-                glBindFramebuffer(GL_FRAMEBUFFER, 0);
+                // The preview, with the same camera, into its framebuffer: redrawn only when
+                // something it shows changed (software GL spends most of a frame on it).
+                const bool overlay_changed =
+                    show_lights != drawn_lights || box_depth != drawn_depth;
+                if (preview_stale || overlay_changed || preview_fb.w != drawn_w ||
+                    preview_fb.h != drawn_h) {
+                    glBindFramebuffer(GL_FRAMEBUFFER, preview_fb.fbo);
+                    const Camera cam = make_camera(loaded->scene, preview_fb.w, preview_fb.h);
+                    preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h);
+                    preview->draw_lines(view::overlay_lines(loaded->scene, show_lights, box_depth),
+                                        loaded->scene, cam);
+                    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+                    preview_stale = false;
+                    drawn_lights = show_lights;
+                    drawn_depth = box_depth;
+                    drawn_w = preview_fb.w;
+                    drawn_h = preview_fb.h;
+                }
             }
 
             ImGui::Render();

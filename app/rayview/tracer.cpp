@@ -14,6 +14,7 @@ void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, i
         std::lock_guard lock(m_mutex);
         m_status = {};
         m_history.clear();
+        m_updated = false;  // an image of the previous run is no longer news
     }
     m_thread =
         std::thread([this, &scene, settings, target_spp] { run(&scene, settings, target_spp); });
