@@ -77,10 +77,7 @@ struct Builder {
     // A disc of radius r at height y (normal +y or -y) as a fan, uv from spec §5's cap rules.
     void disc(const Vec3& centre, double r, bool top, int segments) {
         const Vec3 n(0.0, top ? 1.0 : -1.0, 0.0);
-        auto uv = [&](double qx, double qz) {
-            return top ? Vec2((qx + r) / (2 * r), (r - qz) / (2 * r))
-                       : Vec2((qx + r) / (2 * r), (qz + r) / (2 * r));
-        };
+        auto uv = [&](double qx, double qz) { return disc_uv(top, qx, qz, r); };
         const uint32_t c = vertex(centre, n, uv(0, 0));
         std::vector<uint32_t> rim;
         for (int j = 0; j <= segments; ++j) {
@@ -116,7 +113,7 @@ PreviewMesh tessellate(const Sphere& s, int detail) {
 
 PreviewMesh tessellate(const Box& box) {
     Builder b;
-    const Vec3 h = box.half, l = 2.0 * box.half;
+    const Vec3 h = box.half;
     // The six faces of spec §5's table: axis, sign, and the face's (u, v) at local q.
     for (int axis = 0; axis < 3; ++axis)
         for (int side = 0; side < 2; ++side) {
@@ -130,29 +127,7 @@ PreviewMesh tessellate(const Box& box) {
                 q[axis] = sign * h[axis];
                 q[a1] = (k & 1) ? h[a1] : -h[a1];
                 q[a2] = (k & 2) ? h[a2] : -h[a2];
-                Vec2 uv;
-                const int face = axis * 2 + side;
-                switch (face) {
-                    case 1:
-                        uv = {(h.z - q.z) / l.z, (q.y + h.y) / l.y};
-                        break;  // +x
-                    case 0:
-                        uv = {(q.z + h.z) / l.z, (q.y + h.y) / l.y};
-                        break;  // -x
-                    case 3:
-                        uv = {(q.x + h.x) / l.x, (h.z - q.z) / l.z};
-                        break;  // +y
-                    case 2:
-                        uv = {(q.x + h.x) / l.x, (q.z + h.z) / l.z};
-                        break;  // -y
-                    case 5:
-                        uv = {(q.x + h.x) / l.x, (q.y + h.y) / l.y};
-                        break;  // +z
-                    default:
-                        uv = {(h.x - q.x) / l.x, (q.y + h.y) / l.y};
-                        break;  // -z
-                }
-                v[k] = b.vertex(box.centre + q, n, uv);
+                v[k] = b.vertex(box.centre + q, n, box_face_uv(axis * 2 + side, q, h));
             }
             b.triangle(v[0], v[1], v[3]);
             b.triangle(v[0], v[3], v[2]);

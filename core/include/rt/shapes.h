@@ -101,6 +101,17 @@ SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part);
 SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part);
 SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t);
 
+/// Spec §5's box face table: (u, v) of local point q on `face` (axis * 2 + 1 for the + side),
+/// h the half side lengths. Each face reads upright and unmirrored from outside.
+Vec2 box_face_uv(int face, const Vec3& q, const Vec3& h);
+
+/// Spec §5's disc uv for cylinder caps and the cone base: top (q_x + r)/2r, (r - q_z)/2r;
+/// bottom (q_x + r)/2r, (q_z + r)/2r.
+inline Vec2 disc_uv(bool top, double qx, double qz, double r) {
+    return top ? Vec2((qx + r) / (2 * r), (r - qz) / (2 * r))
+               : Vec2((qx + r) / (2 * r), (qz + r) / (2 * r));
+}
+
 /// Spec §5: azimuth about +y measured from -z, in [0, 2*pi).
 inline double azimuth(const Vec3& q) {
     double phi = std::atan2(-q.x, -q.z);

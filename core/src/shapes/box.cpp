@@ -29,6 +29,24 @@ static int face_of(const Vec3& q, const Vec3& h) {
     return axis * 2 + (q[axis] > 0 ? 1 : 0);
 }
 
+Vec2 box_face_uv(int face, const Vec3& q, const Vec3& h) {
+    const Vec3 l = 2.0 * h;
+    switch (face) {
+        case 1:
+            return {(h.z - q.z) / l.z, (q.y + h.y) / l.y};  // +x
+        case 0:
+            return {(q.z + h.z) / l.z, (q.y + h.y) / l.y};  // -x
+        case 3:
+            return {(q.x + h.x) / l.x, (h.z - q.z) / l.z};  // +y
+        case 2:
+            return {(q.x + h.x) / l.x, (q.z + h.z) / l.z};  // -y
+        case 5:
+            return {(q.x + h.x) / l.x, (q.y + h.y) / l.y};  // +z
+        default:
+            return {(h.x - q.x) / l.x, (q.y + h.y) / l.y};  // -z
+    }
+}
+
 ShapeHits intersect(const Box& b, const Ray& ray, Interval t) {
     double t0 = -kInf, t1 = kInf;
     for (int a = 0; a < 3; ++a) {
@@ -65,27 +83,7 @@ SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int /*part*/) {
     sp.n_geometric = Vec3(0.0);
     sp.n_geometric[axis] = sign;
     sp.n_shading = sp.n_geometric;
-    const Vec3 h = b.half, l = 2.0 * b.half;
-    switch (face) {
-        case 1:
-            sp.uv = {(h.z - q.z) / l.z, (q.y + h.y) / l.y};
-            break;  // +x
-        case 0:
-            sp.uv = {(q.z + h.z) / l.z, (q.y + h.y) / l.y};
-            break;  // -x
-        case 3:
-            sp.uv = {(q.x + h.x) / l.x, (h.z - q.z) / l.z};
-            break;  // +y
-        case 2:
-            sp.uv = {(q.x + h.x) / l.x, (q.z + h.z) / l.z};
-            break;  // -y
-        case 5:
-            sp.uv = {(q.x + h.x) / l.x, (q.y + h.y) / l.y};
-            break;  // +z
-        default:
-            sp.uv = {(h.x - q.x) / l.x, (q.y + h.y) / l.y};
-            break;  // -z
-    }
+    sp.uv = box_face_uv(face, q, b.half);
     return sp;
 }
 

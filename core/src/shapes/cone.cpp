@@ -87,7 +87,7 @@ SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part) {
     } else {
         q.y = -h2;
         sp.n_geometric = Vec3(0.0, -1.0, 0.0);
-        sp.uv = {(q.x + r) / (2 * r), (q.z + r) / (2 * r)};
+        sp.uv = disc_uv(false, q.x, q.z, r);
     }
     sp.p = c.centre + q;
     sp.p_error = kAnalyticRetestMargin * gamma(6) * (glm::abs(c.centre) + glm::abs(q));

@@ -82,8 +82,7 @@ SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part) {
         const bool top = part == kTop;
         q.y = top ? h2 : -h2;
         sp.n_geometric = Vec3(0.0, top ? 1.0 : -1.0, 0.0);
-        sp.uv = top ? Vec2((q.x + r) / (2 * r), (r - q.z) / (2 * r))
-                    : Vec2((q.x + r) / (2 * r), (q.z + r) / (2 * r));
+        sp.uv = disc_uv(top, q.x, q.z, r);
     }
     sp.p = c.centre + q;
     sp.p_error = kAnalyticRetestMargin * gamma(5) * (glm::abs(c.centre) + glm::abs(q));
