@@ -71,18 +71,7 @@ void save_scene(const LoadedScene& s, const CameraDesc& camera, const std::strin
     desc.lights.clear();
     for (size_t i = 0; i < s.lights.size(); ++i) {
         if (!s.light_on[i]) continue;
-        const Light& l = s.lights[i];
-        LightDesc d;
-        d.kind = l.kind;
-        d.color = l.color;
-        d.position = l.position;
-        d.direction = l.direction;
-        d.constant_atten = l.constant_atten;
-        d.linear_atten = l.linear_atten;
-        d.quadratic_atten = l.quadratic_atten;
-        d.cutoff_rad = l.cutoff_rad;
-        d.spot_exponent = l.spot_exponent;
-        desc.lights.push_back(d);
+        desc.lights.push_back(describe_light(s.lights[i]));
     }
     const std::string tmp = path + ".part";
     {

@@ -65,20 +65,6 @@ public:
     }
 
 private:
-    static Light compile_light(const LightDesc& d) {
-        Light l;
-        l.kind = d.kind;
-        l.color = d.color;
-        l.position = d.position;
-        if (d.kind != LightKind::Point) l.direction = glm::normalize(d.direction);
-        l.constant_atten = d.constant_atten;
-        l.linear_atten = d.linear_atten;
-        l.quadratic_atten = d.quadratic_atten;
-        l.cutoff_rad = d.cutoff_rad;
-        l.spot_exponent = d.spot_exponent;
-        return l;
-    }
-
     void compile_materials() {
         // Global arrays with per-file offsets; the V0 default material goes last.
         for (const FileDesc& f : m_desc.files) {
@@ -340,6 +326,34 @@ private:
 };
 
 }  // namespace
+
+Light compile_light(const LightDesc& d) {
+    Light l;
+    l.kind = d.kind;
+    l.color = d.color;
+    l.position = d.position;
+    if (d.kind != LightKind::Point) l.direction = glm::normalize(d.direction);
+    l.constant_atten = d.constant_atten;
+    l.linear_atten = d.linear_atten;
+    l.quadratic_atten = d.quadratic_atten;
+    l.cutoff_rad = d.cutoff_rad;
+    l.spot_exponent = d.spot_exponent;
+    return l;
+}
+
+LightDesc describe_light(const Light& l) {
+    LightDesc d;
+    d.kind = l.kind;
+    d.color = l.color;
+    d.position = l.position;
+    d.direction = l.direction;
+    d.constant_atten = l.constant_atten;
+    d.linear_atten = l.linear_atten;
+    d.quadratic_atten = l.quadratic_atten;
+    d.cutoff_rad = l.cutoff_rad;
+    d.spot_exponent = l.spot_exponent;
+    return d;
+}
 
 RenderScene compile_scene(const SceneDesc& desc) { return Compiler(desc).run(); }
 

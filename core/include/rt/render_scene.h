@@ -95,6 +95,11 @@ struct RenderScene {
     SceneStats stats;
 };
 
+/// A light of the description as the renderer uses it (directions made unit) and back (the
+/// viewer saves edited lights through the description).
+Light compile_light(const LightDesc& desc);
+LightDesc describe_light(const Light& light);
+
 /// SceneDesc -> RenderScene: resolves indices, flattens groups, instances sets, builds BVHs.
 RenderScene compile_scene(const SceneDesc& desc);
 
