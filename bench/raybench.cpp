@@ -206,12 +206,12 @@ struct UserGeometry {
 void user_bounds(const RTCBoundsFunctionArguments* args) {
     const auto* ug = static_cast<const UserGeometry*>(args->geometryUserPtr);
     const Bounds3& b = ug->set->prim_bounds[ug->prims[args->primID]];
-    args->bounds_o->lower_x = std::nextafter(static_cast<float>(b.lo.x), -INFINITY);
-    args->bounds_o->lower_y = std::nextafter(static_cast<float>(b.lo.y), -INFINITY);
-    args->bounds_o->lower_z = std::nextafter(static_cast<float>(b.lo.z), -INFINITY);
-    args->bounds_o->upper_x = std::nextafter(static_cast<float>(b.hi.x), INFINITY);
-    args->bounds_o->upper_y = std::nextafter(static_cast<float>(b.hi.y), INFINITY);
-    args->bounds_o->upper_z = std::nextafter(static_cast<float>(b.hi.z), INFINITY);
+    args->bounds_o->lower_x = float_lower(b.lo.x);
+    args->bounds_o->lower_y = float_lower(b.lo.y);
+    args->bounds_o->lower_z = float_lower(b.lo.z);
+    args->bounds_o->upper_x = float_upper(b.hi.x);
+    args->bounds_o->upper_y = float_upper(b.hi.y);
+    args->bounds_o->upper_z = float_upper(b.hi.z);
 }
 
 Ray to_ray(const RTCRay& r) { return {{r.org_x, r.org_y, r.org_z}, {r.dir_x, r.dir_y, r.dir_z}}; }

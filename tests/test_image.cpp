@@ -30,6 +30,16 @@ TEST(Image, PfmKeepsFloatsAndRowOrder) {
     std::filesystem::remove(path);
 }
 
+TEST(Image, NonFiniteValuesAreWrittenAsZero) {
+    Image img(2, 1);
+    img.set(0, 0, Vec3(std::nan(""), kInf, 0.5));
+    const std::string path = ::testing::TempDir() + "/rt_nonfinite.pfm";
+    save_image(img, path);
+    const Image back = load_pfm(path);
+    EXPECT_EQ(back.at(0, 0), Vec3(0, 0, 0.5));
+    std::filesystem::remove(path);
+}
+
 TEST(Image, WritesPngBmpPpmAndRejectsUnknown) {
     Image img(4, 3);
     img.set(1, 0, Vec3(1, 0.5, 0));

@@ -57,14 +57,11 @@ bool probe_writable(const std::string& path, std::string* why) {
     return true;
 }
 
-// Spec §9: non-finite values must not occur; if one does, it is written as 0 with a warning.
-void save_final_image(rt::Image image, const rt::cli::Options& opt) {
-    const size_t bad = rt::count_non_finite(image);
-    if (bad > 0) {
-        for (double& v : image.rgb)
-            if (!std::isfinite(v)) v = 0.0;
+// Spec §9: non-finite values must not occur; if one does, save_image writes it as 0 and the
+// user gets a warning with the count.
+void save_final_image(const rt::Image& image, const rt::cli::Options& opt) {
+    if (const size_t bad = rt::count_non_finite(image))
         std::cerr << opt.scene << ": warning: " << bad << " non-finite pixel values written as 0\n";
-    }
     rt::save_image(image, opt.output);
 }
 

@@ -161,17 +161,6 @@ struct Builder {
     }
 };
 
-float round_down(double v) {
-    float f = static_cast<float>(v);
-    if (static_cast<double>(f) > v) f = std::nextafter(f, -INFINITY);
-    return f;
-}
-float round_up(double v) {
-    float f = static_cast<float>(v);
-    if (static_cast<double>(f) < v) f = std::nextafter(f, INFINITY);
-    return f;
-}
-
 // Collapses the binary tree into 4-wide nodes: each node adopts the grandchildren of its
 // largest interior children until it has four.
 struct Collapser {
@@ -221,8 +210,8 @@ struct Collapser {
         for (int i = 0; i < k; ++i) {
             const Node2& c = in[kids[static_cast<size_t>(i)]];
             for (int a = 0; a < 3; ++a) {
-                node.lo[a][i] = round_down(c.bounds.lo[a]);
-                node.hi[a][i] = round_up(c.bounds.hi[a]);
+                node.lo[a][i] = float_lower(c.bounds.lo[a]);
+                node.hi[a][i] = float_upper(c.bounds.hi[a]);
             }
         }
         node.num_children = static_cast<uint32_t>(k);

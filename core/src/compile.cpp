@@ -11,14 +11,6 @@ namespace rt {
 
 namespace {
 
-// Widens a box by the rounding error of the transform that produced it (stays conservative).
-Bounds3 widen(Bounds3 b) {
-    const Vec3 err = gamma(3) * (glm::abs(b.lo) + glm::abs(b.hi));
-    b.lo -= err;
-    b.hi += err;
-    return b;
-}
-
 // Tight world bounds of one primitive of a set placed by world_from_set (for the default camera).
 Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
     if (p.kind == ShapeKind::Triangle) {
@@ -215,7 +207,7 @@ private:
         }
         // Analytic shapes: exact bounds under the group's transform, widened by its rounding.
         auto tight = [&](const auto& shape) {
-            return xf ? widen(bounds(shape, xf->m)) : bounds(shape);
+            return xf ? bounds(shape, xf->m).widened() : bounds(shape);
         };
         if (const auto* sp = std::get_if<SphereDesc>(&s.geometry))
             return tight(Sphere{sp->centre, sp->radius});
@@ -278,7 +270,7 @@ private:
     void build_acceleration() {
         std::vector<Bounds3> inst_bounds;
         for (Instance& inst : m_scene.instances) {
-            const Bounds3 b = m_scene.sets[static_cast<size_t>(inst.set)].bvh.bounds();
+            const Bounds3 b = m_scene.sets[static_cast<size_t>(inst.set)].bvh.root_bounds;
             inst.world_bounds = inst.identity ? b : inst.world_from_set.apply(b);
             inst_bounds.push_back(inst.world_bounds);
             if (m_scene.camera) {

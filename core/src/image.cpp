@@ -110,8 +110,10 @@ static void write_pfm(const Image& image, const std::string& path) {
     const size_t row_floats = static_cast<size_t>(image.width) * 3;
     std::vector<float> row(row_floats);
     for (int y = image.height - 1; y >= 0; --y) {
-        for (size_t i = 0; i < row_floats; ++i)
-            row[i] = static_cast<float>(image.rgb[static_cast<size_t>(y) * row_floats + i]);
+        for (size_t i = 0; i < row_floats; ++i) {
+            const double v = image.rgb[static_cast<size_t>(y) * row_floats + i];
+            row[i] = std::isfinite(v) ? static_cast<float>(v) : 0.0f;  // spec §9
+        }
         data.append(reinterpret_cast<const char*>(row.data()), row_floats * sizeof(float));
     }
     write_file(path, data);

@@ -23,7 +23,7 @@ MaterialDesc v0_default_material() {
     m.ambient = Vec3(0.2);
     m.diffuse = Vec3(0.8);
     m.specular = Vec3(0.8);
-    m.specular_exponent = 128.0;  // kspec 1.0
+    m.specular_exponent = kV0ExponentScale;  // kspec 1.0
     m.name = "V0 default material";
     return m;
 }
@@ -514,7 +514,7 @@ private:
             if (l.cutoff_rad < 0) fail(f, cut_tok, "negative spot cutoff " + fmt(l.cutoff_rad));
             if (l.spot_exponent < 0)
                 fail(f, dor_tok, "negative spot drop-off " + fmt(l.spot_exponent));
-            if (m_dialect == Dialect::V0) l.spot_exponent *= 128.0;
+            if (m_dialect == Dialect::V0) l.spot_exponent *= kV0ExponentScale;
             if (l.cutoff_rad > kPi / 2)
                 m_diag.warn(l.loc, "spot-cutoff",
                             "spot cutoff " + fmt(l.cutoff_rad) +
@@ -609,7 +609,7 @@ private:
             m.diffuse = rgb(3, "diffuse");
             m.specular = rgb(6, "specular");
             m.emissive = rgb(9, "emissive");
-            m.specular_exponent = 128.0 * nonneg(12, "kspec");
+            m.specular_exponent = kV0ExponentScale * nonneg(12, "kspec");
             m.transparent = Vec3(nonneg(13, "ktran"));
             ior_i = 14;
             tex_i = 15;

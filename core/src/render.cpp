@@ -33,7 +33,7 @@ Image render_coarse(const RenderScene& scene, const RenderSettings& settings, in
     block = std::max(1, block);
     Image img(settings.width, settings.height);
     const Camera camera = make_camera(scene, settings.width, settings.height);
-    const ShadingSettings shading{settings.max_depth, settings.cutoff, settings.shadows};
+    const ShadingSettings shading = settings.shading();  // no Rng here: deterministic
     const int bx = (settings.width + block - 1) / block, by = (settings.height + block - 1) / block;
     std::atomic<int> next{0};
     auto worker = [&]() {
@@ -76,8 +76,7 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
         state.reset(settings.width, settings.height);
     if (spp <= 0) return true;
     const Camera camera = make_camera(scene, settings.width, settings.height);
-    const ShadingSettings shading{settings.max_depth, settings.cutoff, settings.shadows,
-                                  settings.light_radius, settings.roughness};
+    const ShadingSettings shading = settings.shading();
     const bool stochastic = settings.stochastic();
     const double focus = settings.focus_distance > 0
                              ? settings.focus_distance

@@ -19,11 +19,7 @@ namespace {
 
 inline __m128 abs_ps(__m128 v) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), v); }
 
-// gamma(n) in single precision.
-constexpr float gamma_f(int n) {
-    constexpr float u = 5.9604645e-8f;  // 2^-24
-    return (static_cast<float>(n) * u) / (1.0f - static_cast<float>(n) * u);
-}
+constexpr float gamma_f(int n) { return static_cast<float>(gamma_float(n)); }
 
 }  // namespace
 

@@ -71,7 +71,7 @@ private:
     void light(const LightDesc& l) {
         // The parser scales V0 drop-offs by 128 (spec §7.2): write them back unscaled.
         const double dor =
-            m_desc.dialect == Dialect::V0 ? l.spot_exponent / 128.0 : l.spot_exponent;
+            m_desc.dialect == Dialect::V0 ? l.spot_exponent / kV0ExponentScale : l.spot_exponent;
         switch (l.kind) {
             case LightKind::Directional:
                 directive("#light_dir"), vec(l.color), vec(l.direction);
@@ -94,7 +94,7 @@ private:
         if (m_desc.dialect == Dialect::V0) {
             // ambient, diffuse, specular, emissive, kspec = e/128, ktran, refind, tex
             vec(m.ambient), vec(m.diffuse), vec(m.specular), vec(m.emissive);
-            num(m.specular_exponent / 128.0), num(m.transparent.x);
+            num(m.specular_exponent / kV0ExponentScale), num(m.transparent.x);
         } else {
             vec(m.emissive), vec(m.ambient), vec(m.diffuse), vec(m.specular);
             num(m.specular_exponent), vec(m.transparent);

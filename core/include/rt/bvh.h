@@ -37,7 +37,6 @@ struct Bvh {
     Bounds3 root_bounds;
 
     bool empty() const { return indices.empty(); }
-    Bounds3 bounds() const { return root_bounds; }
 };
 
 struct BvhBuildSettings {
@@ -61,8 +60,8 @@ struct BoxRay {
 /// distances. The far distance is widened by 2*gamma(3) in float (Ize 2013) plus the origin
 /// slack; the near one is lowered by the slack.
 inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, float t_entry[4]) {
-    const __m128 widen =
-        _mm_set1_ps(1.0f + 2.0f * 3.0f * 5.9604645e-8f / (1.0f - 3.0f * 5.9604645e-8f));
+    constexpr float kWiden = static_cast<float>(1.0 + 2.0 * gamma_float(3));
+    const __m128 widen = _mm_set1_ps(kWiden);
     __m128 t0 = _mm_setzero_ps();
     __m128 t1 = _mm_set1_ps(t_max);
     for (int a = 0; a < 3; ++a) {

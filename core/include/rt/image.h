@@ -49,8 +49,9 @@ bool load_texture_image(const std::string& path, TextureImage* out, std::string*
 enum class ImageFormat { Png, Bmp, Ppm, Pfm, Unknown };
 ImageFormat image_format_from_path(const std::string& path);
 
-/// Writes the image; throws std::runtime_error on failure. Writes to a temporary file in the
-/// same directory and renames it, so a failed write never leaves a partial file.
+/// Writes the image; throws std::runtime_error on failure. Non-finite values are written as 0
+/// (spec §9; count_non_finite() tells the caller how many there were). Writes to a temporary file
+/// in the same directory and renames it, so a failed write never leaves a partial file.
 void save_image(const Image& image, const std::string& path);
 
 /// Reads a PFM written by save_image (or any 3-channel PFM). Throws std::runtime_error.

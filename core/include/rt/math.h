@@ -22,6 +22,25 @@ inline constexpr double kMachineEps = std::numeric_limits<double>::epsilon() * 0
 /// gamma(n) of Higham / pbrt: bounds the relative error of n chained floating-point operations.
 constexpr double gamma(int n) { return (n * kMachineEps) / (1 - n * kMachineEps); }
 
+/// Unit roundoff of float, and gamma(n) for float arithmetic (BVH nodes and triangles are
+/// tested in single precision).
+inline constexpr double kFloatEps = 5.9604644775390625e-8;
+constexpr double gamma_float(int n) { return (n * kFloatEps) / (1 - n * kFloatEps); }
+
+/// Rounds a double distance limit to float, never below it.
+inline float float_upper(double t) {
+    if (!(t < 3.4e38)) return INFINITY;
+    float f = static_cast<float>(t);
+    if (static_cast<double>(f) < t) f = std::nextafter(f, INFINITY);
+    return f;
+}
+/// Rounds a double distance limit to float, never above it.
+inline float float_lower(double t) {
+    float f = static_cast<float>(t);
+    if (static_cast<double>(f) > t) f = std::nextafter(f, -INFINITY);
+    return f;
+}
+
 inline double max_component(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 inline bool is_finite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -62,6 +81,13 @@ struct Bounds3 {
         const Vec3 d = diagonal();
         return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
     }
+    /// Grown by the rounding error of the arithmetic that produced it (a few operations per
+    /// coordinate), so a box computed through a transform stays conservative.
+    Bounds3 widened() const {
+        if (empty()) return *this;
+        const Vec3 err = gamma(3) * (glm::abs(lo) + glm::abs(hi));
+        return {lo - err, hi + err};
+    }
     int largest_axis() const {
         const Vec3 d = diagonal();
         return d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
@@ -78,7 +104,6 @@ struct Transform {
     static Transform from_matrix(const Mat4& m);
 
     Vec3 point(const Vec3& p) const { return Vec3(m * glm::dvec4(p, 1.0)); }
-    Vec3 vector(const Vec3& v) const { return Mat3(m) * v; }
     Vec3 normal_dir(const Vec3& n) const { return normal * n; }
     Vec3 inv_point(const Vec3& p) const { return Vec3(inv * glm::dvec4(p, 1.0)); }
     Vec3 inv_vector(const Vec3& v) const { return Mat3(inv) * v; }
@@ -104,11 +129,7 @@ inline Bounds3 Transform::apply(const Bounds3& b) const {
                      (i & 4) ? b.hi.z : b.lo.z};
         out.extend(point(c));
     }
-    // Widen by the rounding error of the corner transform so the box stays conservative.
-    const Vec3 err = gamma(3) * (glm::abs(out.lo) + glm::abs(out.hi));
-    out.lo -= err;
-    out.hi += err;
-    return out;
+    return out.widened();
 }
 
 }  // namespace rt

@@ -35,6 +35,9 @@ struct RenderSettings {
     bool centre_first_sample = true;
 
     bool stochastic() const { return light_radius > 0 || aperture > 0 || roughness > 0; }
+    ShadingSettings shading() const {
+        return {max_depth, cutoff, shadows, light_radius, roughness};
+    }
 };
 
 /// Accumulated samples. Sums are doubles so millions of samples stay exact enough; the sums of

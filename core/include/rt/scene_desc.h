@@ -16,6 +16,10 @@
 namespace rt {
 
 enum class Dialect { V0, V1 };
+
+/// V0 writes the specular exponent and the spot drop-off as fractions of 128 (spec §3.2, §7.2):
+/// e = 128 * kspec, p = 128 * dor.
+inline constexpr double kV0ExponentScale = 128.0;
 const char* dialect_name(Dialect d);
 
 struct CameraDesc {

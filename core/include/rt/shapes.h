@@ -59,10 +59,6 @@ struct ShapeHits {
 /// outside the surface's error band at every scale.
 inline constexpr double kAnalyticRetestMargin = 64.0;
 
-/// Unit roundoff of float: triangles are tested in single precision (triangle4.h).
-inline constexpr double kFloatEps = 5.9604644775390625e-8;
-constexpr double gamma_float(int n) { return (n * kFloatEps) / (1 - n * kFloatEps); }
-
 struct SurfacePoint {
     Vec3 p{0.0};            // on the surface, refined (re-projected) where the shape allows
     Vec3 p_error{0.0};      // conservative absolute error bound of p, per component, that a
@@ -71,6 +67,10 @@ struct SurfacePoint {
     Vec3 n_shading{0.0};    // unit; equals n_geometric except for triangles with normals
     Vec2 uv{0.0};
 };
+
+/// The hits of a convex shape from up to four candidate roots: sorted, inside the interval, a
+/// root found twice (a side meeting a cap on the rim) kept once, at most two.
+ShapeHits convex_hits(double* cand, int* part, int n, Interval t);
 
 Bounds3 bounds(const Sphere& s);
 Bounds3 bounds(const Box& b);

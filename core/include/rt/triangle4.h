@@ -32,18 +32,4 @@ struct TriRay {
 int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_lo, float t_hi,
                    float t_out[4]);
 
-/// Rounds a double distance limit to float, never below it.
-inline float float_upper(double t) {
-    if (!(t < 3.4e38)) return INFINITY;
-    float f = static_cast<float>(t);
-    if (static_cast<double>(f) < t) f = std::nextafter(f, INFINITY);
-    return f;
-}
-/// Rounds a double distance limit to float, never above it.
-inline float float_lower(double t) {
-    float f = static_cast<float>(t);
-    if (static_cast<double>(f) > t) f = std::nextafter(f, -INFINITY);
-    return f;
-}
-
 }  // namespace rt

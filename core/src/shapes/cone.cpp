@@ -55,17 +55,7 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
         const double x = f.x + tb * d.x, z = f.z + tb * d.z;
         if (x * x + z * z <= c.radius * c.radius) cand[n] = tb, part[n++] = kBase;
     }
-    for (int i = 1; i < n; ++i)
-        for (int j = i; j > 0 && cand[j] < cand[j - 1]; --j)
-            std::swap(cand[j], cand[j - 1]), std::swap(part[j], part[j - 1]);
-    ShapeHits h;
-    double last = -kInf;
-    for (int i = 0; i < n && h.count < 2; ++i) {
-        if (!t.contains(cand[i]) || cand[i] == last) continue;
-        h.add(cand[i], part[i]);
-        last = cand[i];
-    }
-    return h;
+    return convex_hits(cand, part, n, t);
 }
 
 SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part) {

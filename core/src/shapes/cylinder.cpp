@@ -21,6 +21,20 @@ Bounds3 bounds(const Cylinder& c, const Mat4& m) {
     return b;
 }
 
+ShapeHits convex_hits(double* cand, int* part, int n, Interval t) {
+    for (int i = 1; i < n; ++i)
+        for (int j = i; j > 0 && cand[j] < cand[j - 1]; --j)
+            std::swap(cand[j], cand[j - 1]), std::swap(part[j], part[j - 1]);
+    ShapeHits h;
+    double last = -kInf;
+    for (int i = 0; i < n && h.count < 2; ++i) {
+        if (!t.contains(cand[i]) || cand[i] == last) continue;
+        h.add(cand[i], part[i]);
+        last = cand[i];
+    }
+    return h;
+}
+
 ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
     const Vec3 f = ray.o - c.centre;
     const double y0 = -0.5 * c.height, y1 = 0.5 * c.height;
@@ -54,18 +68,7 @@ ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
             if (x * x + z * z <= r2) cand[n] = tc, part[n++] = cap == 0 ? kTop : kBottom;
         }
     }
-    // Sort the few candidates; drop duplicates where a side root meets a cap on the rim.
-    for (int i = 1; i < n; ++i)
-        for (int j = i; j > 0 && cand[j] < cand[j - 1]; --j)
-            std::swap(cand[j], cand[j - 1]), std::swap(part[j], part[j - 1]);
-    ShapeHits h;
-    double last = -kInf;
-    for (int i = 0; i < n && h.count < 2; ++i) {
-        if (!t.contains(cand[i]) || cand[i] == last) continue;
-        h.add(cand[i], part[i]);
-        last = cand[i];
-    }
-    return h;
+    return convex_hits(cand, part, n, t);
 }
 
 SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part) {
