@@ -7,7 +7,7 @@ set -euo pipefail
 required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev)
 # Optional: Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa
 # and Xvfb are for the viewer and its headless GL tests.
-optional=(libembree-dev libbenchmark-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth)
+optional=(libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth)
 
 missing() {
     for p in "$@"; do

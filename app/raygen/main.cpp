@@ -6,6 +6,7 @@
 #include <iostream>
 #include <string>
 
+#include "rt/file_io.h"
 #include "rt/mesh_gen.h"
 
 int main(int argc, char** argv) {
@@ -39,20 +40,10 @@ int main(int argc, char** argv) {
     }
     const rt::TriangleMesh mesh = rt::make_blob_mesh(n);
     const std::string text = rt::ray_text_for_mesh(mesh);
-    const std::string tmp = out + ".part";
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        f.write(text.data(), static_cast<std::streamsize>(text.size()));
-        f.close();  // a failed flush on close sets failbit too
-        if (!f) {
-            std::cerr << "raygen: cannot write '" << out << "'\n";
-            std::remove(tmp.c_str());
-            return 1;
-        }
-    }
-    if (std::rename(tmp.c_str(), out.c_str()) != 0) {
-        std::cerr << "raygen: cannot write '" << out << "'\n";
-        std::remove(tmp.c_str());
+    try {
+        rt::write_file_atomic(out, text);
+    } catch (const std::exception& e) {
+        std::cerr << "raygen: " << e.what() << "\n";
         return 1;
     }
     std::printf("wrote %s: %zu triangles, %zu vertices\n", out.c_str(), mesh.triangles.size(),

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "cli_options.h"
+#include "rt/file_io.h"
 #include "rt/parser.h"
 #include "rt/progressive.h"
 #include "rt/render.h"
@@ -77,10 +78,8 @@ uint64_t fnv1a(const std::string& data, uint64_t h = 1469598103934665603ull) {
 }
 
 std::string read_all(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
+    std::string text;
+    return rt::read_file(path, &text) ? text : std::string();
 }
 
 // The reference image for --reference auto: rendered once at reference_spp samples with an

@@ -25,6 +25,7 @@
 #include "camera_controller.h"
 #include "preview.h"
 #include "rt/camera.h"
+#include "rt/file_io.h"
 #include "rt/parser.h"
 #include "rt/render.h"
 #include "rt/writer.h"
@@ -73,18 +74,7 @@ void save_scene(const LoadedScene& s, const CameraDesc& camera, const std::strin
         if (!s.light_on[i]) continue;
         desc.lights.push_back(describe_light(s.lights[i]));
     }
-    const std::string tmp = path + ".part";
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        f << write_scene(desc);
-        f.close();
-        if (!f) {
-            std::error_code ec;
-            std::filesystem::remove(tmp, ec);
-            throw std::runtime_error("cannot write '" + path + "'");
-        }
-    }
-    std::filesystem::rename(tmp, path);
+    write_file_atomic(path, write_scene(desc));
 }
 
 // ---- GL helpers: a texture for the trace and a framebuffer for the preview -----------------
@@ -97,9 +87,7 @@ struct GlTexture {
     }
     void upload(const Image& img) {
         if (!id) glGenTextures(1, &id);
-        std::vector<unsigned char> bytes(img.rgb.size());
-        for (size_t i = 0; i < bytes.size(); ++i)
-            bytes[i] = to_byte(img.rgb[i]);  // as raytrace writes
+        const std::vector<uint8_t> bytes = to_bytes(img);  // as raytrace writes
         glBindTexture(GL_TEXTURE_2D, id);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, img.width, img.height, 0, GL_RGB, GL_UNSIGNED_BYTE,

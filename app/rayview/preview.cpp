@@ -5,11 +5,10 @@
 #include <GL/glext.h>
 
 #include <algorithm>
-#include <fstream>
 #include <numeric>
-#include <sstream>
 #include <stdexcept>
 
+#include "rt/file_io.h"
 #include "rt/sampler.h"
 #include "rt/tessellate.h"
 
@@ -17,16 +16,9 @@ namespace rt::view {
 
 namespace {
 
-std::string read_text(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw std::runtime_error("cannot open shader '" + path + "'");
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
 GLuint compile(GLenum kind, const std::string& path) {
-    const std::string src = read_text(path);
+    std::string src;
+    if (!read_file(path, &src)) throw std::runtime_error("cannot open shader '" + path + "'");
     const char* text = src.c_str();
     const GLuint shader = glCreateShader(kind);
     glShaderSource(shader, 1, &text, nullptr);

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "rt/file_io.h"
+
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
 #define STBI_FAILURE_USERMSG
@@ -90,20 +92,14 @@ ImageFormat image_format_from_path(const std::string& path) {
     return ImageFormat::Unknown;
 }
 
-static std::vector<uint8_t> to_bytes(const Image& image) {
+std::vector<uint8_t> to_bytes(const Image& image) {
     std::vector<uint8_t> bytes(image.rgb.size());
     for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = to_byte(image.rgb[i]);
     return bytes;
 }
 
-static void write_file(const std::string& path, const std::string& data) {
-    std::ofstream f(path, std::ios::binary);
-    f.write(data.data(), static_cast<std::streamsize>(data.size()));
-    f.close();
-    if (!f) throw std::runtime_error("cannot write '" + path + "'");
-}
-
-static void write_pfm(const Image& image, const std::string& path) {
+// The encoded file of each format, in memory; save_image() writes it atomically.
+static std::string encode_pfm(const Image& image) {
     // PFM stores rows bottom-to-top; a negative scale means little-endian floats.
     std::string data =
         "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
@@ -116,15 +112,33 @@ static void write_pfm(const Image& image, const std::string& path) {
         }
         data.append(reinterpret_cast<const char*>(row.data()), row_floats * sizeof(float));
     }
-    write_file(path, data);
+    return data;
 }
 
-static void write_ppm(const Image& image, const std::string& path) {
-    std::vector<uint8_t> bytes = to_bytes(image);
+static std::string encode_ppm(const Image& image) {
+    const std::vector<uint8_t> bytes = to_bytes(image);
     std::string data =
         "P6\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n255\n";
     data.append(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    write_file(path, data);
+    return data;
+}
+
+// PNG or BMP through stb, into memory (stb's own file writers ignore write errors: a full disk
+// gave a truncated file reported as written).
+static std::string encode_stb(const Image& image, ImageFormat format, const std::string& path) {
+    const std::vector<uint8_t> bytes = to_bytes(image);
+    std::string encoded;
+    auto append = [](void* ctx, void* data, int size) {
+        static_cast<std::string*>(ctx)->append(static_cast<const char*>(data),
+                                               static_cast<size_t>(size));
+    };
+    const int ok =
+        format == ImageFormat::Png
+            ? stbi_write_png_to_func(append, &encoded, image.width, image.height, 3, bytes.data(),
+                                     image.width * 3)
+            : stbi_write_bmp_to_func(append, &encoded, image.width, image.height, 3, bytes.data());
+    if (!ok) throw std::runtime_error("cannot encode '" + path + "'");
+    return encoded;
 }
 
 void save_image(const Image& image, const std::string& path) {
@@ -132,48 +146,10 @@ void save_image(const Image& image, const std::string& path) {
     if (format == ImageFormat::Unknown)
         throw std::runtime_error("unknown image format for '" + path +
                                  "' (use .png, .bmp, .ppm or .pfm)");
-    // Write next to the target, then rename: a failed run leaves no partial output file.
-    const std::filesystem::path target(path);
-    std::filesystem::path tmp = target;
-    tmp += ".part";
-    const std::string tmp_name = tmp.string();
-    try {
-        switch (format) {
-            case ImageFormat::Png:
-            case ImageFormat::Bmp: {
-                // Encode in memory, then write through write_file, which checks the close (stb's
-                // own file writers ignore write errors: a full disk gave a truncated file).
-                std::vector<uint8_t> bytes = to_bytes(image);
-                std::string encoded;
-                auto append = [](void* ctx, void* data, int size) {
-                    static_cast<std::string*>(ctx)->append(static_cast<const char*>(data),
-                                                           static_cast<size_t>(size));
-                };
-                const int ok =
-                    format == ImageFormat::Png
-                        ? stbi_write_png_to_func(append, &encoded, image.width, image.height, 3,
-                                                 bytes.data(), image.width * 3)
-                        : stbi_write_bmp_to_func(append, &encoded, image.width, image.height, 3,
-                                                 bytes.data());
-                if (!ok) throw std::runtime_error("cannot encode '" + path + "'");
-                write_file(tmp_name, encoded);
-                break;
-            }
-            case ImageFormat::Ppm:
-                write_ppm(image, tmp_name);
-                break;
-            case ImageFormat::Pfm:
-                write_pfm(image, tmp_name);
-                break;
-            case ImageFormat::Unknown:
-                break;
-        }
-        std::filesystem::rename(tmp, target);
-    } catch (...) {
-        std::error_code ec;
-        std::filesystem::remove(tmp, ec);
-        throw;
-    }
+    // A temporary file renamed at the end: a failed run leaves no partial output file.
+    write_file_atomic(path, format == ImageFormat::Pfm   ? encode_pfm(image)
+                            : format == ImageFormat::Ppm ? encode_ppm(image)
+                                                         : encode_stb(image, format, path));
 }
 
 Image load_pfm(const std::string& path) {

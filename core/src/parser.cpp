@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
 #include "lexer.h"
+#include "rt/file_io.h"
 
 namespace fs = std::filesystem;
 
@@ -52,25 +52,6 @@ bool is_v3_directive(std::string_view d) {
     for (std::string_view n : names)
         if (n == d) return true;
     return false;
-}
-
-std::string read_file_text(const std::string& path, bool* ok) {
-    // One allocation of the file's size and one read (scenes reach hundreds of megabytes).
-    std::error_code ec;
-    std::ifstream f(path, std::ios::binary | std::ios::ate);
-    if (!f || !fs::is_regular_file(path, ec)) {
-        *ok = false;
-        return {};
-    }
-    const std::streamoff size = f.tellg();
-    std::string text;
-    if (size > 0) {
-        text.resize(static_cast<size_t>(size));
-        f.seekg(0);
-        f.read(text.data(), size);
-    }
-    *ok = static_cast<bool>(f) || size == 0;
-    return text;
 }
 
 std::string lower(std::string_view s) {
@@ -134,20 +115,13 @@ public:
     }
 
     SceneDesc run_file(const std::string& path) {
-        bool ok = true;
-        const std::string text = read_file_text(path, &ok);
-        if (!ok) {
+        std::string text;
+        if (!read_file(path, &text)) {
             SourceLoc loc{std::make_shared<const std::string>(path), 0, 0};
             throw SceneError(loc, "cannot open scene file '" + path + "'");
         }
-        std::string dir = fs::path(path).parent_path().string();
-        if (dir.empty()) dir = ".";
-        const std::string canonical = fs::weakly_canonical(fs::absolute(path)).string();
-        detect_dialect(text, path, canonical, dir);
-        m_scene.files.emplace_back();
-        parse_file(text, path, canonical, dir, 0);
-        finish();
-        return std::move(m_scene);
+        const std::string dir = fs::path(path).parent_path().string();
+        return run(text, path, dir.empty() ? "." : dir);
     }
 
 private:
@@ -331,15 +305,23 @@ private:
                 if (!resolved) continue;
                 const std::string canon = fs::weakly_canonical(fs::absolute(*resolved)).string();
                 if (std::find(visited.begin(), visited.end(), canon) != visited.end()) continue;
-                bool ok = true;
-                const std::string sub = read_file_text(*resolved, &ok);
-                if (!ok) continue;
+                const std::string* sub = cached_text(*resolved, canon);
+                if (!sub) continue;
                 const std::string sub_dir = fs::path(*resolved).parent_path().string();
                 m_include_locs.push_back(lex.loc(t));
-                prescan(sub, *resolved, canon, sub_dir.empty() ? "." : sub_dir, visited);
+                prescan(*sub, *resolved, canon, sub_dir.empty() ? "." : sub_dir, visited);
                 m_include_locs.pop_back();
             }
         }
+    }
+
+    // Included files' texts by canonical path, read by the pre-scan and handed to the parse.
+    const std::string* cached_text(const std::string& path, const std::string& canonical) {
+        auto it = m_texts.find(canonical);
+        if (it != m_texts.end()) return &it->second;
+        std::string text;
+        if (!read_file(path, &text)) return nullptr;
+        return &m_texts.emplace(canonical, std::move(text)).first->second;
     }
 
     void detect_dialect(const std::string& text, const std::string& name,
@@ -676,9 +658,11 @@ private:
         for (size_t i = 0; i < m_scene.files.size(); ++i)
             if (m_scene.files[i].canonical_path == canonical) index = static_cast<int>(i);
         if (index < 0) {
-            bool ok = true;
-            const std::string text = read_file_text(resolved, &ok);
-            if (!ok) fail(f, pt, "cannot read ray file " + quote(resolved));
+            // Read once: the dialect pre-scan kept the text.
+            const std::string* cached = cached_text(resolved, canonical);
+            if (!cached) fail(f, pt, "cannot read ray file " + quote(resolved));
+            const std::string text = std::move(m_texts[canonical]);
+            m_texts.erase(canonical);
             index = static_cast<int>(m_scene.files.size());
             m_scene.files.emplace_back();
             m_scene.files.back().canonical_path = canonical;  // reserve the identity
@@ -696,9 +680,8 @@ private:
         const std::string path = word(f, d, "a .key file name");
         count_item(f, d, kKeyFiles);
         const std::string resolved = resolve(f, pt, path, "key file");
-        bool ok = true;
-        const std::string text = read_file_text(resolved, &ok);
-        if (!ok) fail(f, pt, "cannot read key file " + quote(resolved));
+        std::string text;
+        if (!read_file(resolved, &text)) fail(f, pt, "cannot read key file " + quote(resolved));
         m_include_locs.push_back(f.lex.loc(d));
         f.key_files.push_back(parse_key_file(text, resolved));
         f.desc.key_files.push_back(resolved);
@@ -942,10 +925,11 @@ private:
     Diagnostics& m_diag;
     ParseOptions m_options;
     SceneDesc m_scene;
-    std::vector<SourceLoc> m_include_locs;  // #ray_file directives, outermost first
-    std::vector<Open> m_open;               // files being parsed below the top one
-    SourceLoc m_first_v0, m_first_v1;       // first material of each dialect (pre-scan)
-    bool m_default_use = false;             // some shape uses material index -1
+    std::vector<SourceLoc> m_include_locs;       // #ray_file directives, outermost first
+    std::map<std::string, std::string> m_texts;  // included files read, not yet parsed
+    std::vector<Open> m_open;                    // files being parsed below the top one
+    SourceLoc m_first_v0, m_first_v1;            // first material of each dialect (pre-scan)
+    bool m_default_use = false;                  // some shape uses material index -1
     Dialect m_dialect = Dialect::V1;
     bool m_seen_background = false, m_seen_ambient = false;
 };

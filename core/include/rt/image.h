@@ -41,6 +41,9 @@ struct TextureImage {
 /// Spec §9: byte = floor(255 * clamp(c, 0, 1) + 0.5); non-finite values become 0.
 uint8_t to_byte(double c);
 
+/// The image as 8-bit RGB, each value through to_byte() (what PNG, BMP and PPM files hold).
+std::vector<uint8_t> to_bytes(const Image& image);
+
 /// Decodes BMP, PNG, JPEG, PPM/PGM (binary and ASCII), TGA. Returns false and sets *error on
 /// failure.
 bool load_texture_image(const std::string& path, TextureImage* out, std::string* error);
