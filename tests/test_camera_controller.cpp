@@ -52,10 +52,14 @@ TEST(CameraController, DollyMoveAndFrame) {
     EXPECT_EQ(o.distance, 5);
     o.move(Vec3(1, 0, 0));
     EXPECT_EQ(o.target, Vec3(1, 0, 0));
-    o.frame(Bounds3{{-2, -2, -2}, {2, 2, 2}});
+    o.frame(Bounds3{{-2, -2, -2}, {2, 2, 2}}, 4.0 / 3.0);
     EXPECT_EQ(o.target, Vec3(0.0));
-    // The box's bounding sphere (radius 2 sqrt 3) fits the half-height angle.
+    // Landscape: the box's bounding sphere (radius 2 sqrt 3) fits the half-height angle.
     EXPECT_NEAR(o.distance * std::sin(o.half_height), 2 * std::sqrt(3.0), 1e-12);
+    // Portrait: the width limits, as for the default camera.
+    o.frame(Bounds3{{-2, -2, -2}, {2, 2, 2}}, 0.25);
+    const double phi = std::atan(std::tan(o.half_height) * 0.25);
+    EXPECT_NEAR(o.distance * std::sin(phi), 2 * std::sqrt(3.0), 1e-12);
 }
 
 }  // namespace

@@ -217,14 +217,14 @@ int run_progressive(const rt::cli::Options& opt, const rt::SceneDesc& desc,
             std::vector<double> t, e;
             for (const rt::PassRecord& r : run) {
                 t.push_back(r.seconds);
-                e.push_back(r.has_reference ? r.error.relmse : r.estimate.relmse);
+                e.push_back(rt::pass_error(r));
             }
             std::printf("%s: relMSE falls as time^%.2f (least squares on log-log axes)\n",
                         mode.c_str(), rt::loglog_slope(t, e));
         }
         if (runs.size() == 2 && !runs[0].second.empty()) {
             const rt::PassRecord& last = runs[0].second.back();
-            const double target = last.has_reference ? last.error.relmse : last.estimate.relmse;
+            const double target = rt::pass_error(last);
             const double tu = rt::time_to_reach(runs[0].second, target);
             const double ta = rt::time_to_reach(runs[1].second, target);
             std::printf("time to reach relMSE %.4g: uniform %.3f s, adaptive %s", target, tu,

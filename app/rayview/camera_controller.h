@@ -61,11 +61,12 @@ struct OrbitCamera {
     void dolly(double factor) { distance = std::max(1e-9, distance * factor); }
     /// Move eye and target together (fly), in world units.
     void move(const Vec3& delta) { target += delta; }
-    /// Frame the box: target its centre, back off until its bounding sphere fits the height.
-    void frame(const Bounds3& b) {
+    /// Frame the box as the default camera does (spec §6.3): target its centre, back off until
+    /// its bounding sphere fits the view of this aspect ratio.
+    void frame(const Bounds3& b, double aspect) {
         if (b.empty()) return;
         target = b.centre();
-        distance = 0.5 * glm::length(b.diagonal()) / std::sin(half_height);
+        distance = framing_distance(0.5 * glm::length(b.diagonal()), half_height, aspect);
     }
 };
 

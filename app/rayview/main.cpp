@@ -372,7 +372,9 @@ int main(int argc, char** argv) {
             recent.insert(recent.begin(), loaded->path);
             if (recent.size() > 8) recent.resize(8);
         };
-        auto last_frame = std::chrono::steady_clock::now();
+        auto last_frame = std::chrono::steady_clock::now(), last_check = last_frame;
+        std::string completed_for;  // the typed path the list below belongs to
+        std::vector<std::string> completion_list;
 
         while (exit_code == 0 && !glfwWindowShouldClose(window)) {
             glfwPollEvents();
@@ -389,7 +391,11 @@ int main(int argc, char** argv) {
                 g_dropped.clear();
                 open(file, false);
             }
-            if (loaded && modified(loaded->path) != loaded_time) open(loaded->path, true);
+            // The file's time is checked twice a second, not every frame.
+            if (loaded && now - last_check > std::chrono::milliseconds(500)) {
+                last_check = now;
+                if (modified(loaded->path) != loaded_time) open(loaded->path, true);
+            }
             ImGui_ImplOpenGL3_NewFrame();
             ImGui_ImplGlfw_NewFrame();
             ImGui::NewFrame();
@@ -409,7 +415,11 @@ int main(int argc, char** argv) {
             if (ImGui::InputText("scene", path_buf, sizeof path_buf)) completing = true;
             // Completion: the .ray files (and folders) that start with what is typed.
             if (completing) {
-                for (const std::string& c : completions(path_buf))
+                if (completed_for != path_buf) {  // list the folder only when the text changes
+                    completed_for = path_buf;
+                    completion_list = completions(path_buf);
+                }
+                for (const std::string& c : completion_list)
                     if (ImGui::Selectable(c.c_str())) {
                         std::snprintf(path_buf, sizeof path_buf, "%s", c.c_str());
                         completing = c.back() == '/';  // a folder: keep completing inside it
@@ -440,7 +450,8 @@ int main(int argc, char** argv) {
                     "right drag looks around, WASD/QE fly");
                 if (ImGui::Button("Frame (F)") ||
                     (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F))) {
-                    orbit.frame(loaded->scene.world_bounds);
+                    orbit.frame(loaded->scene.world_bounds,
+                                static_cast<double>(pane_w) / static_cast<double>(pane_h));
                     dirty = true;
                 }
                 ImGui::SameLine();

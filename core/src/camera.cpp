@@ -16,6 +16,12 @@ Camera make_camera(const CameraDesc& desc, int width, int height) {
     return c;
 }
 
+double framing_distance(double radius, double half_height_angle_rad, double aspect) {
+    const double tan_w = std::tan(half_height_angle_rad) * aspect;
+    const double phi = std::min(half_height_angle_rad, std::atan(tan_w));
+    return radius / std::sin(phi);
+}
+
 CameraDesc default_camera(const Bounds3& world, int width, int height) {
     CameraDesc d;
     d.half_height_angle_rad = kPi / 6;
@@ -26,9 +32,9 @@ CameraDesc default_camera(const Bounds3& world, int width, int height) {
         radius = 0.5 * glm::length(world.diagonal());
         if (!(radius > 0.0)) centre = Vec3(0.0), radius = 1.0;  // spec §6.3: C = 0, R = 1
     }
-    const double tan_w = std::tan(d.half_height_angle_rad) * width / height;
-    const double phi = std::min(d.half_height_angle_rad, std::atan(tan_w));
-    d.position = centre + Vec3(0.0, 0.0, radius / std::sin(phi));
+    d.position = centre + Vec3(0.0, 0.0,
+                               framing_distance(radius, d.half_height_angle_rad,
+                                                static_cast<double>(width) / height));
     d.direction = Vec3(0.0, 0.0, -1.0);
     d.up = Vec3(0.0, 1.0, 0.0);
     return d;

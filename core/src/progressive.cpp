@@ -208,21 +208,17 @@ double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) 
     return den != 0 ? (n * sxy - sx * sy) / den : 0;
 }
 
-namespace {
-
-double run_error(const PassRecord& r) {
+double pass_error(const PassRecord& r) {
     return r.has_reference ? r.error.relmse : r.estimate.relmse;
 }
 
-}  // namespace
-
 double time_to_reach(const std::vector<PassRecord>& run, double target) {
     for (size_t i = 0; i < run.size(); ++i) {
-        const double e = run_error(run[i]);
+        const double e = pass_error(run[i]);
         if (!(e > 0) || e > target) continue;
         if (i == 0) return run[0].seconds;
         // Interpolate on log-log axes between the pass before and this one.
-        const double e0 = run_error(run[i - 1]), t0 = run[i - 1].seconds, t1 = run[i].seconds;
+        const double e0 = pass_error(run[i - 1]), t0 = run[i - 1].seconds, t1 = run[i].seconds;
         if (!(e0 > target) || !(t0 > 0)) return t1;
         const double f = std::log(e0 / target) / std::log(e0 / e);
         return std::exp(std::log(t0) + f * (std::log(t1) - std::log(t0)));

@@ -74,6 +74,9 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
 /// Least-squares slope of log(y) against log(x) over the points with x, y > 0.
 double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
 
+/// A pass's error: relMSE against the reference when there is one, else the estimate.
+double pass_error(const PassRecord& r);
+
 /// Time at which a run's error first reaches `target` (log-log interpolation between passes);
 /// negative when it never does. Uses relMSE when there is a reference, else the estimate.
 double time_to_reach(const std::vector<PassRecord>& run, double target);
