@@ -1,9 +1,15 @@
 #version 330 core
-// The tracer's local shading (spec §7.1-7.3) without shadows, reflection or refraction:
+// The tracer's local shading (spec §7.1-7.3) without reflection or refraction:
 // emissive + ambient * texel * A + for each light with N.L > 0:
-//   I_l * (kd * texel * N.L + ks * (R_v.L)^e), the two-sided normal facing the eye.
+//   S * I_l * (kd * texel * N.L + ks * (R_v.L)^e), the two-sided normal facing the eye.
 // Lights: point and spot attenuate by 1 / (ca + la d + qa d^2); spots cut off by angle and
 // fall off as cos^p (factor 1 when p = 0); a non-positive denominator gives no light.
+// S is 1, or with shadows on the visibility looked up in the light's shadow map (opaque
+// occluders only; the trace also tints light through transparent ones).
+//
+// The program is compiled for what a scene uses (Preview::program_for inserts the defines after
+// the #version line): RT_POINT, RT_SPOT, RT_DIRECTIONAL (light kinds present), RT_TEXTURES
+// (some material is textured), RT_SPECULAR (some material has a highlight), RT_SHADOWS.
 const int kMaxLights = 16;
 
 in vec3 v_world;
@@ -17,8 +23,10 @@ uniform vec3 u_ambient;
 uniform vec3 u_diffuse;
 uniform vec3 u_specular;
 uniform float u_exponent;
+#ifdef RT_TEXTURES
 uniform bool u_textured;
 uniform sampler2D u_texture;
+#endif
 
 uniform int u_light_count;
 uniform int u_light_kind[kMaxLights];  // 0 directional, 1 point, 2 spot
@@ -29,25 +37,81 @@ uniform vec3 u_light_atten[kMaxLights];      // ca, la, qa
 uniform float u_light_cutoff[kMaxLights];
 uniform float u_light_exponent[kMaxLights];
 
+#ifdef RT_SHADOWS
+// Shadow maps: one depth layer per directional light (an orthographic view along its direction
+// over the scene's bounds), six per point or spot light (cube faces, depth = distance / far).
+// The layout and the face frames are Preview::render_shadow_maps' (preview.cpp).
+uniform sampler2DArrayShadow u_shadow_map;
+uniform float u_shadow_res;
+uniform int u_shadow_layer[kMaxLights];  // first layer, -1: not shadowed in the preview
+uniform vec3 u_shadow_centre[kMaxLights];
+uniform vec3 u_shadow_a1[kMaxLights];
+uniform vec3 u_shadow_a2[kMaxLights];
+uniform float u_shadow_scale[kMaxLights];  // half extent (directional) or far distance
+const vec3 kFaceForward[6] = vec3[6](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0),
+                                     vec3(0, -1, 0), vec3(0, 0, 1), vec3(0, 0, -1));
+const vec3 kFaceRight[6] = vec3[6](vec3(0, 0, -1), vec3(0, 0, 1), vec3(1, 0, 0),
+                                   vec3(1, 0, 0), vec3(1, 0, 0), vec3(-1, 0, 0));
+const vec3 kFaceUp[6] = vec3[6](vec3(0, 1, 0), vec3(0, 1, 0), vec3(0, 0, -1),
+                                vec3(0, 0, 1), vec3(0, 1, 0), vec3(0, 1, 0));
+
+// Visibility of light i from p (normal n facing the light's side): the point is first moved
+// along n by one and a half shadow-map texels (normal-offset shadows), then compared with a
+// 2x2 filtered lookup.
+float visibility(int i, vec3 p, vec3 n) {
+    int layer = u_shadow_layer[i];
+    if (layer < 0) return 1.0;
+    if (u_light_kind[i] == 0) {
+        float texel = 2.0 * u_shadow_scale[i] / u_shadow_res;
+        vec3 q = (p + 1.5 * texel * n - u_shadow_centre[i]) / u_shadow_scale[i];
+        vec3 s = 0.5 + 0.5 * vec3(dot(q, u_shadow_a1[i]), dot(q, u_shadow_a2[i]),
+                                  dot(q, u_light_direction[i]));
+        return texture(u_shadow_map, vec4(s.xy, float(layer), s.z - 0.5 / u_shadow_res));
+    }
+    vec3 v = p - u_light_position[i];
+    vec3 a = abs(v);
+    int f = (a.x >= a.y && a.x >= a.z) ? (v.x > 0.0 ? 0 : 1)
+            : (a.y >= a.z)             ? (v.y > 0.0 ? 2 : 3)
+                                       : (v.z > 0.0 ? 4 : 5);
+    float texel = 2.0 * dot(v, kFaceForward[f]) / u_shadow_res;
+    v += 1.5 * texel * n;
+    float w = dot(v, kFaceForward[f]);
+    if (w <= 0.0) return 1.0;
+    vec2 s = 0.5 + 0.5 * vec2(dot(v, kFaceRight[f]), dot(v, kFaceUp[f])) / w;
+    float ref = length(v) / u_shadow_scale[i] - 0.5 / u_shadow_res;
+    return texture(u_shadow_map, vec4(s, float(layer + f), ref));
+}
+#endif
+
 out vec4 frag_color;
 
 // Spec §7.3: bilinear with wrap; row 0 of the image is the top, v = 0 the bottom. The texture
 // is uploaded with row 0 first and sampled with GL_REPEAT and GL_LINEAR, so t = 1 - v.
-vec3 texel(vec2 uv) { return texture(u_texture, vec2(uv.x, 1.0 - uv.y)).rgb; }
+#ifdef RT_TEXTURES
+vec3 texel(vec2 uv) { return u_textured ? texture(u_texture, vec2(uv.x, 1.0 - uv.y)).rgb : vec3(1.0); }
+#else
+vec3 texel(vec2 uv) { return vec3(1.0); }
+#endif
 
 void main() {
     vec3 d = normalize(v_world - u_eye);
     vec3 n = normalize(v_normal);
     if (dot(d, n) > 0.0) n = -n;  // two-sided rule (spec §5)
-    vec3 t = u_textured ? texel(v_uv) : vec3(1.0);
+    vec3 t = texel(v_uv);
     vec3 c = u_emissive + u_ambient * t * u_ambient_light;
+#ifdef RT_SPECULAR
     vec3 r = d - 2.0 * dot(d, n) * n;
+#endif
     for (int i = 0; i < u_light_count; ++i) {
         vec3 l;
         vec3 intensity = u_light_color[i];
+#ifdef RT_DIRECTIONAL
         if (u_light_kind[i] == 0) {
             l = -u_light_direction[i];
-        } else {
+        } else
+#endif
+        {
+#if defined(RT_POINT) || defined(RT_SPOT)
             vec3 delta = u_light_position[i] - v_world;
             float dist = length(delta);
             if (dist <= 0.0) continue;
@@ -55,18 +119,32 @@ void main() {
             float denom = u_light_atten[i].x + u_light_atten[i].y * dist + u_light_atten[i].z * dist * dist;
             if (denom <= 0.0) continue;
             float factor = 1.0 / denom;
+#ifdef RT_SPOT
             if (u_light_kind[i] == 2) {
                 float cos_a = dot(u_light_direction[i], -l);
                 if (acos(clamp(cos_a, -1.0, 1.0)) > u_light_cutoff[i]) continue;
                 if (u_light_exponent[i] != 0.0) factor *= pow(max(0.0, cos_a), u_light_exponent[i]);
             }
+#endif
             intensity *= factor;
+#else
+            continue;
+#endif
         }
         float ndl = dot(n, l);
         if (ndl <= 0.0) continue;
+#ifdef RT_SHADOWS
+        float s = visibility(i, v_world, n);
+        if (s <= 0.0) continue;
+        intensity *= s;
+#endif
+#ifdef RT_SPECULAR
         float rdl = dot(r, l);
         float spec = rdl > 0.0 ? pow(rdl, u_exponent) : 0.0;
         c += intensity * (u_diffuse * t * ndl + u_specular * spec);
+#else
+        c += intensity * (u_diffuse * t * ndl);
+#endif
     }
     frag_color = vec4(c, 1.0);
 }

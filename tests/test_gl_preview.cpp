@@ -6,6 +6,7 @@
 #include <GL/osmesa.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <memory>
 
@@ -163,6 +164,56 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     preview.draw_lines(view::overlay_lines(framed, true, 2), framed, cam);
     glFinish();
     EXPECT_NE(plain, gl.rgba);
+}
+
+// Shadows: the pixels that shadows darken in the preview (shadow maps) and in the trace (shadow
+// rays) agree, for each light kind, and the program is compiled for that kind only.
+TEST(GlPreview, ShadowsAgreeWithTheTrace) {
+    const std::string geometry =
+        "#camera 0 4 9  0 -0.45 -1  0 1 0  0.5\n#background 0 0 0\n#ambient .2 .2 .2\n"
+        "#material 0 0 0  .2 .2 .2  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !m!\n"
+        "#shape_box 0 0 -1 0  10 0.2 10\n#shape_sphere 0 -0.5 1.2 0 0.8\n"
+        "#shape_box 0 2 0.6 -1  1 1 1\n#shape_cone 0 -2 0.1 1 0.5 1.5\n";
+    const struct {
+        const char* light;
+        const char* define;
+    } cases[] = {
+        {"#light_point 1 1 1  0.5 4 0.5  1 0 0\n", "RT_POINT"},
+        {"#light_spot 1 1 1  -0.5 4 1  0.1 -1 -0.1  1 0 0  0.9 2\n", "RT_SPOT"},
+        {"#light_dir 1 1 1  -0.6 -0.8 -0.5\n", "RT_DIRECTIONAL"},
+    };
+    for (const auto& c : cases) {
+        const RenderScene scene = test::compile(c.light + geometry);
+        Offscreen gl;
+        ASSERT_NE(gl.ctx, nullptr);
+        view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+        preview.load(scene, 96);
+        const Camera cam = make_camera(scene, kW, kH);
+        preview.draw(scene, cam, kW, kH, false);
+        glFinish();
+        const std::vector<unsigned char> lit = gl.rgba;
+        preview.draw(scene, cam, kW, kH, true);
+        glFinish();
+        const std::vector<std::string>& defines = preview.active_defines();
+        EXPECT_NE(std::find(defines.begin(), defines.end(), "RT_SHADOWS"), defines.end());
+        EXPECT_EQ(defines.front(), c.define) << "only the scene's light kind";
+        EXPECT_EQ(defines.size(), 2u);  // the light kind and shadows: no texture, no highlight
+        const Image on = test::render(scene, kW, kH, 1, 0.001, true);
+        const Image off = test::render(scene, kW, kH, 1, 0.001, false);
+        int both = 0, either = 0, in_trace = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const size_t i = (static_cast<size_t>(kH - 1 - y) * kW + x) * 4;
+                const bool preview_dark = lit[i] - gl.rgba[i] > 20;
+                const bool trace_dark = to_byte(off.at(x, y).x) - to_byte(on.at(x, y).x) > 20;
+                both += preview_dark && trace_dark;
+                either += preview_dark || trace_dark;
+                in_trace += trace_dark;
+            }
+        EXPECT_GT(in_trace, kW * kH / 200) << c.light;  // the scene does cast shadows
+        // Shadow edges differ by a texel or so of the maps and by the tessellation.
+        EXPECT_GE(static_cast<double>(both) / either, 0.9) << c.light;
+    }
 }
 
 // Golden image: the preview of scenes/shapes.ray at 160x120, within 4/255 on 99% of pixels

@@ -739,7 +739,7 @@ int main(int argc, char** argv) {
                     preview_fb.h != drawn_h) {
                     glBindFramebuffer(GL_FRAMEBUFFER, preview_fb.fbo);
                     const Camera cam = make_camera(loaded->scene, preview_fb.w, preview_fb.h);
-                    preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h);
+                    preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h, settings.shadows);
                     preview->draw_lines(view::overlay_lines(loaded->scene, show_lights, box_depth),
                                         loaded->scene, cam);
                     glBindFramebuffer(GL_FRAMEBUFFER, 0);

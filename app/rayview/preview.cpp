@@ -16,9 +16,18 @@ namespace rt::view {
 
 namespace {
 
-GLuint compile(GLenum kind, const std::string& path) {
+// Compiles one shader file with `defines` inserted after its #version line.
+GLuint compile(GLenum kind, const std::string& path, const std::vector<std::string>& defines) {
     std::string src;
     if (!read_file(path, &src)) throw std::runtime_error("cannot open shader '" + path + "'");
+    const size_t eol = src.find('\n');
+    std::string prelude;
+    for (const std::string& d : defines) {
+        prelude += "#define ";
+        prelude += d;
+        prelude += " 1\n";
+    }
+    if (eol != std::string::npos) src.insert(eol + 1, prelude);
     const char* text = src.c_str();
     const GLuint shader = glCreateShader(kind);
     glShaderSource(shader, 1, &text, nullptr);
@@ -60,7 +69,15 @@ GlMatrices camera_matrices(const Camera& camera, const Bounds3& world) {
             far = std::max(far, glm::dot(c - camera.position, camera.forward));
         }
     far *= 1.01;
-    const double near = far * 1e-5;
+    // The near plane as far out as the scene allows, for depth precision: every visible point
+    // of the bounds lies at depth >= its distance times the cosine of the frustum's corner angle.
+    double near = far * 1e-4;
+    if (!world.empty()) {
+        const Vec3 closest = glm::clamp(camera.position, world.lo, world.hi);
+        const double corner_cos =
+            1.0 / std::sqrt(1.0 + camera.tan_w * camera.tan_w + camera.tan_h * camera.tan_h);
+        near = std::max(near, 0.99 * corner_cos * glm::length(closest - camera.position));
+    }
     const Vec3 r = camera.right, u = camera.up, f = camera.forward, p = camera.position;
     // view rows: (r, -r.p), (u, -u.p), (-f, f.p), (0, 0, 0, 1)
     const double a = (far + near) / (near - far), b = 2 * far * near / (near - far);
@@ -84,12 +101,13 @@ GlMatrices camera_matrices(const Camera& camera, const Bounds3& world) {
 
 namespace {
 
-// Compiles and links name.vert + name.frag from dir; errors name the files.
-GLuint make_program(const std::string& dir, const std::string& name) {
-    const GLuint vs = compile(GL_VERTEX_SHADER, dir + "/" + name + ".vert");
+// Compiles and links dir/vert + dir/frag with `defines`; errors name the files.
+GLuint make_program(const std::string& dir, const std::string& vert, const std::string& frag,
+                    const std::vector<std::string>& defines = {}) {
+    const GLuint vs = compile(GL_VERTEX_SHADER, dir + "/" + vert, defines);
     GLuint fs = 0;
     try {
-        fs = compile(GL_FRAGMENT_SHADER, dir + "/" + name + ".frag");
+        fs = compile(GL_FRAGMENT_SHADER, dir + "/" + frag, defines);
     } catch (...) {
         glDeleteShader(vs);
         throw;
@@ -107,23 +125,51 @@ GLuint make_program(const std::string& dir, const std::string& name) {
         glGetProgramInfoLog(program, sizeof log, nullptr, log);
         glDeleteProgram(program);
         std::string message = dir;
-        message += "/";
-        message += name;
-        message += ".{vert,frag}: link: ";
+        message += "/{";
+        message += vert;
+        message += ",";
+        message += frag;
+        message += "}: link: ";
         message += log;
         throw std::runtime_error(message);
     }
     return program;
 }
 
+void set_matrix(GLuint program, const char* name, const double m[4][4]) {  // m[row][col]
+    float out[16];
+    for (int col = 0; col < 4; ++col)
+        for (int row = 0; row < 4; ++row) out[col * 4 + row] = static_cast<float>(m[row][col]);
+    glUniformMatrix4fv(loc(program, name), 1, GL_FALSE, out);
+}
+
+// The frames of the six cube faces of a point or spot light's shadow map; preview.frag's
+// kFace* tables are the same.
+const Vec3 kFaceForward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+const Vec3 kFaceRight[6] = {{0, 0, -1}, {0, 0, 1}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {-1, 0, 0}};
+const Vec3 kFaceUp[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
+
+std::string indexed(const char* name, int i) {
+    // Built by appending: GCC 12 warns falsely (-Wrestrict) on "[" + std::to_string(i).
+    std::string k = name;
+    k += '[';
+    k += std::to_string(i);
+    k += ']';
+    return k;
+}
+
 }  // namespace
 
-Preview::Preview(const std::string& shader_dir) {
-    m_program = make_program(shader_dir, "preview");
+Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
+    // Compiled at once (all features on) so that a broken shader fails here, not mid-session.
+    program_for(
+        {"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR", "RT_SHADOWS"});
     try {
-        m_line_program = make_program(shader_dir, "lines");
+        m_line_program = make_program(shader_dir, "lines.vert", "lines.frag");
+        m_shadow_program = make_program(shader_dir, "preview.vert", "shadow.frag");
     } catch (...) {
-        glDeleteProgram(m_program);
+        for (const auto& [key, program] : m_programs) glDeleteProgram(program);
+        glDeleteProgram(m_line_program);
         throw;
     }
     glGenVertexArrays(1, &m_line_vao);
@@ -132,10 +178,21 @@ Preview::Preview(const std::string& shader_dir) {
 
 Preview::~Preview() {
     release();
+    if (m_shadow_tex) glDeleteTextures(1, &m_shadow_tex);
+    if (m_shadow_fbo) glDeleteFramebuffers(1, &m_shadow_fbo);
     glDeleteBuffers(1, &m_line_vbo);
     glDeleteVertexArrays(1, &m_line_vao);
+    glDeleteProgram(m_shadow_program);
     glDeleteProgram(m_line_program);
-    glDeleteProgram(m_program);
+    for (const auto& [key, program] : m_programs) glDeleteProgram(program);
+}
+
+unsigned Preview::program_for(const std::vector<std::string>& defines) {
+    const auto it = m_programs.find(defines);
+    if (it != m_programs.end()) return it->second;
+    const GLuint program = make_program(m_shader_dir, "preview.vert", "preview.frag", defines);
+    m_programs.emplace(defines, program);
+    return program;
 }
 
 void Preview::release() {
@@ -148,6 +205,7 @@ void Preview::release() {
     if (!m_textures.empty())
         glDeleteTextures(static_cast<GLsizei>(m_textures.size()), m_textures.data());
     m_textures.clear();
+    m_shadows_valid = false;
 }
 
 void Preview::load(const RenderScene& scene, int detail) {
@@ -216,42 +274,108 @@ void Preview::load(const RenderScene& scene, int detail) {
     }
 }
 
-void Preview::draw(const RenderScene& scene, const Camera& camera, int width, int height) const {
-    glViewport(0, 0, width, height);
-    glClearColor(static_cast<float>(scene.background.x), static_cast<float>(scene.background.y),
-                 static_cast<float>(scene.background.z), 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);  // two-sided, as the tracer
-    glUseProgram(m_program);
-    const GlMatrices mats = camera_matrices(camera, scene.world_bounds);
-    glUniformMatrix4fv(loc(m_program, "u_clip_from_world"), 1, GL_FALSE, mats.clip_from_world);
-    set_vec3(m_program, "u_eye", camera.position);
-    set_vec3(m_program, "u_ambient_light", scene.ambient);
-    const int lights = std::min<int>(16, static_cast<int>(scene.lights.size()));
-    glUniform1i(loc(m_program, "u_light_count"), lights);
-    for (int i = 0; i < lights; ++i) {
-        const Light& l = scene.lights[static_cast<size_t>(i)];
-        // Built by appending: GCC 12 warns falsely (-Wrestrict) on "[" + std::to_string(i).
-        std::string k = "[";
-        k += std::to_string(i);
-        k += ']';
-        glUniform1i(loc(m_program, std::string("u_light_kind").append(k)),
-                    l.kind == LightKind::Directional ? 0
-                    : l.kind == LightKind::Point     ? 1
-                                                     : 2);
-        set_vec3(m_program, std::string("u_light_color").append(k), l.color);
-        set_vec3(m_program, std::string("u_light_position").append(k), l.position);
-        set_vec3(m_program, std::string("u_light_direction").append(k), l.direction);
-        set_vec3(m_program, std::string("u_light_atten").append(k),
-                 Vec3(l.constant_atten, l.linear_atten, l.quadratic_atten));
-        glUniform1f(loc(m_program, std::string("u_light_cutoff").append(k)),
-                    static_cast<float>(l.cutoff_rad));
-        glUniform1f(loc(m_program, std::string("u_light_exponent").append(k)),
-                    static_cast<float>(l.spot_exponent));
+void Preview::render_shadow_maps(const RenderScene& scene) {
+    // Which lights get a map, and the view each is rendered with.
+    std::vector<ShadowView> views;
+    const Bounds3& w = scene.world_bounds;
+    const Vec3 centre = w.empty() ? Vec3(0.0) : w.centre();
+    const double half = w.empty() ? 1.0 : std::max(0.5 * glm::length(w.diagonal()), 1e-30) * 1.01;
+    int layers = 0;
+    for (size_t i = 0; i < scene.lights.size() && i < 16; ++i) {
+        const Light& l = scene.lights[i];
+        ShadowView v;
+        v.kind = l.kind;
+        v.position = l.position;
+        v.direction = l.direction;
+        if (layers / 6 < kMaxShadowLights && l.color != Vec3(0.0)) {
+            v.layer = layers;
+            layers += 6;
+            if (l.kind == LightKind::Directional) {
+                v.centre = centre;
+                v.scale = half;
+                orthonormal_basis(l.direction, &v.a1, &v.a2);
+            } else {
+                double far = 0.0;
+                for (int c = 0; c < 8; ++c) {
+                    const Vec3 corner{(c & 1) ? w.hi.x : w.lo.x, (c & 2) ? w.hi.y : w.lo.y,
+                                      (c & 4) ? w.hi.z : w.lo.z};
+                    far = std::max(far, glm::length(corner - l.position));
+                }
+                v.scale = std::max(far * 1.01, 1e-30);
+            }
+        }
+        views.push_back(v);
     }
-    glUniform1i(loc(m_program, "u_texture"), 0);
-    glActiveTexture(GL_TEXTURE0);
+    if (m_shadows_valid && views == m_shadow_views) return;
+    m_shadow_views = views;
+    m_shadows_valid = true;
+    if (layers == 0) return;
+
+    if (!m_shadow_fbo) glGenFramebuffers(1, &m_shadow_fbo);
+    if (!m_shadow_tex) glGenTextures(1, &m_shadow_tex);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, m_shadow_tex);
+    if (layers > m_shadow_layers) {
+        glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT24, kShadowResolution,
+                     kShadowResolution, layers, 0, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, nullptr);
+        m_shadow_layers = layers;
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    }
+
+    GLint previous_fbo = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_shadow_fbo);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    glViewport(0, 0, kShadowResolution, kShadowResolution);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(m_shadow_program);
+    for (const ShadowView& v : views) {
+        if (v.layer < 0) continue;
+        const bool radial = v.kind != LightKind::Directional;
+        glUniform1i(loc(m_shadow_program, "u_radial"), radial ? 1 : 0);
+        set_vec3(m_shadow_program, "u_light_position", v.position);
+        glUniform1f(loc(m_shadow_program, "u_far"), static_cast<float>(v.scale));
+        for (int face = 0; face < (radial ? 6 : 1); ++face) {
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, m_shadow_tex, 0,
+                                      v.layer + face);
+            glClear(GL_DEPTH_BUFFER_BIT);
+            if (radial) {
+                // A 90 degree view through the face; the depth written is the distance.
+                Camera c;
+                c.position = v.position;
+                c.forward = kFaceForward[face];
+                c.right = kFaceRight[face];
+                c.up = kFaceUp[face];
+                c.tan_w = c.tan_h = 1.0;
+                const GlMatrices m = camera_matrices(c, w);
+                glUniformMatrix4fv(loc(m_shadow_program, "u_clip_from_world"), 1, GL_FALSE,
+                                   m.clip_from_world);
+            } else {
+                // Orthographic along the direction of travel over the scene's bounding sphere.
+                double m[4][4] = {};
+                const Vec3 axes[3] = {v.a1, v.a2, v.direction};
+                for (int r = 0; r < 3; ++r) {
+                    for (int k = 0; k < 3; ++k) m[r][k] = axes[r][k] / v.scale;
+                    m[r][3] = -glm::dot(axes[r], v.centre) / v.scale;
+                }
+                m[3][3] = 1.0;
+                set_matrix(m_shadow_program, "u_clip_from_world", m);
+            }
+            draw_instances(scene, m_shadow_program, true);
+        }
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));  // draw buffers are
+                                                                           // per framebuffer
+}
+
+void Preview::draw_instances(const RenderScene& scene, unsigned program, bool opaque_only) const {
+    const bool shading = !opaque_only;
     for (const Instance& inst : scene.instances) {
         float world[16], normal[9];
         for (int c = 0; c < 4; ++c)
@@ -260,26 +384,99 @@ void Preview::draw(const RenderScene& scene, const Camera& camera, int width, in
         for (int c = 0; c < 3; ++c)
             for (int r = 0; r < 3; ++r)
                 normal[c * 3 + r] = static_cast<float>(inst.world_from_set.normal[c][r]);
-        glUniformMatrix4fv(loc(m_program, "u_world_from_object"), 1, GL_FALSE, world);
-        glUniformMatrix3fv(loc(m_program, "u_normal_matrix"), 1, GL_FALSE, normal);
+        glUniformMatrix4fv(loc(program, "u_world_from_object"), 1, GL_FALSE, world);
+        glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
         const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
         glBindVertexArray(buf.vao);
         for (const Range& range : buf.ranges) {
             const Material& m = scene.materials[static_cast<size_t>(range.material)];
-            set_vec3(m_program, "u_emissive", m.emissive);
-            set_vec3(m_program, "u_ambient", m.ambient);
-            set_vec3(m_program, "u_diffuse", m.diffuse);
-            set_vec3(m_program, "u_specular", m.specular);
-            glUniform1f(loc(m_program, "u_exponent"), static_cast<float>(m.specular_exponent));
-            glUniform1i(loc(m_program, "u_textured"), m.texture >= 0 ? 1 : 0);
-            if (m.texture >= 0)
-                glBindTexture(GL_TEXTURE_2D, m_textures[static_cast<size_t>(m.texture)]);
+            if (opaque_only && m.transparent != Vec3(0.0)) continue;
+            if (shading) {
+                set_vec3(program, "u_emissive", m.emissive);
+                set_vec3(program, "u_ambient", m.ambient);
+                set_vec3(program, "u_diffuse", m.diffuse);
+                set_vec3(program, "u_specular", m.specular);
+                glUniform1f(loc(program, "u_exponent"), static_cast<float>(m.specular_exponent));
+                glUniform1i(loc(program, "u_textured"), m.texture >= 0 ? 1 : 0);
+                if (m.texture >= 0)
+                    glBindTexture(GL_TEXTURE_2D, m_textures[static_cast<size_t>(m.texture)]);
+            }
             glDrawElements(
                 GL_TRIANGLES, static_cast<GLsizei>(range.count), GL_UNSIGNED_INT,
                 reinterpret_cast<const void*>(static_cast<size_t>(range.first) * sizeof(unsigned)));
         }
     }
     glBindVertexArray(0);
+}
+
+void Preview::draw(const RenderScene& scene, const Camera& camera, int width, int height,
+                   bool shadows) {
+    // The program for what this scene uses: the light kinds present, textures, highlights,
+    // shadows (issue: leave out what a scene does not need).
+    const int lights = std::min<int>(16, static_cast<int>(scene.lights.size()));
+    bool kind[3] = {false, false, false};
+    for (int i = 0; i < lights; ++i)
+        kind[static_cast<int>(scene.lights[static_cast<size_t>(i)].kind)] = true;
+    bool textures = false, specular = false;  // among the materials drawn
+    for (const SetBuffers& buf : m_sets)
+        for (const Range& range : buf.ranges) {
+            const Material& m = scene.materials[static_cast<size_t>(range.material)];
+            textures |= m.texture >= 0;
+            specular |= m.specular != Vec3(0.0);
+        }
+    shadows = shadows && lights > 0;
+    if (shadows) render_shadow_maps(scene);
+    std::vector<std::string> defines;
+    if (kind[static_cast<int>(LightKind::Point)]) defines.push_back("RT_POINT");
+    if (kind[static_cast<int>(LightKind::Spot)]) defines.push_back("RT_SPOT");
+    if (kind[static_cast<int>(LightKind::Directional)]) defines.push_back("RT_DIRECTIONAL");
+    if (textures && !m_textures.empty()) defines.push_back("RT_TEXTURES");
+    if (specular) defines.push_back("RT_SPECULAR");
+    if (shadows) defines.push_back("RT_SHADOWS");
+    const GLuint program = program_for(defines);
+    m_defines = defines;
+
+    glViewport(0, 0, width, height);
+    glClearColor(static_cast<float>(scene.background.x), static_cast<float>(scene.background.y),
+                 static_cast<float>(scene.background.z), 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);  // two-sided, as the tracer
+    glUseProgram(program);
+    const GlMatrices mats = camera_matrices(camera, scene.world_bounds);
+    glUniformMatrix4fv(loc(program, "u_clip_from_world"), 1, GL_FALSE, mats.clip_from_world);
+    set_vec3(program, "u_eye", camera.position);
+    set_vec3(program, "u_ambient_light", scene.ambient);
+    glUniform1i(loc(program, "u_light_count"), lights);
+    for (int i = 0; i < lights; ++i) {
+        const Light& l = scene.lights[static_cast<size_t>(i)];
+        glUniform1i(loc(program, indexed("u_light_kind", i)), static_cast<int>(l.kind));
+        set_vec3(program, indexed("u_light_color", i), l.color);
+        set_vec3(program, indexed("u_light_position", i), l.position);
+        set_vec3(program, indexed("u_light_direction", i), l.direction);
+        set_vec3(program, indexed("u_light_atten", i),
+                 Vec3(l.constant_atten, l.linear_atten, l.quadratic_atten));
+        glUniform1f(loc(program, indexed("u_light_cutoff", i)), static_cast<float>(l.cutoff_rad));
+        glUniform1f(loc(program, indexed("u_light_exponent", i)),
+                    static_cast<float>(l.spot_exponent));
+        if (shadows) {
+            const ShadowView& v = m_shadow_views[static_cast<size_t>(i)];
+            glUniform1i(loc(program, indexed("u_shadow_layer", i)), v.layer);
+            set_vec3(program, indexed("u_shadow_centre", i), v.centre);
+            set_vec3(program, indexed("u_shadow_a1", i), v.a1);
+            set_vec3(program, indexed("u_shadow_a2", i), v.a2);
+            glUniform1f(loc(program, indexed("u_shadow_scale", i)), static_cast<float>(v.scale));
+        }
+    }
+    glUniform1i(loc(program, "u_texture"), 0);
+    if (shadows) {
+        glUniform1i(loc(program, "u_shadow_map"), 1);
+        glUniform1f(loc(program, "u_shadow_res"), static_cast<float>(kShadowResolution));
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D_ARRAY, m_shadow_tex);
+    }
+    glActiveTexture(GL_TEXTURE0);
+    draw_instances(scene, program, false);
 }
 
 void Preview::draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,

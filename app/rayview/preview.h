@@ -4,6 +4,7 @@
 // the tests' (OSMesa).
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -42,11 +43,21 @@ public:
 
     /// Uploads the scene's meshes (tessellated with `detail` segments) and textures.
     void load(const RenderScene& scene, int detail = 48);
-    /// Clears to the scene's background and draws every instance.
-    void draw(const RenderScene& scene, const Camera& camera, int width, int height) const;
+    /// Clears to the scene's background and draws every instance. With `shadows`, the first
+    /// kMaxShadowLights lights cast shadows from opaque materials through shadow maps, rendered
+    /// again only when the lights or the scene change.
+    void draw(const RenderScene& scene, const Camera& camera, int width, int height,
+              bool shadows = false);
     /// Draws line segments (pairs of vertices) over what draw() left, depth-tested.
     void draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
                     const Camera& camera) const;
+
+    static constexpr int kMaxShadowLights = 4;
+    static constexpr int kShadowResolution = 1024;
+
+    /// The defines the last draw compiled its program with (RT_POINT, RT_SHADOWS, ...): only
+    /// the light kinds and features the scene has.
+    const std::vector<std::string>& active_defines() const { return m_defines; }
 
 private:
     struct Range {
@@ -57,9 +68,28 @@ private:
         unsigned vao = 0, vbo = 0, ebo = 0;
         std::vector<Range> ranges;
     };
+    // What a shadow map was rendered for, to know when to render it again.
+    struct ShadowView {
+        int layer = -1;  // first layer in the array, -1: none
+        Vec3 centre{0.0}, a1{0.0}, a2{0.0};
+        double scale = 1.0;  // half extent (directional) or far distance (point, spot)
+        LightKind kind = LightKind::Point;
+        Vec3 position{0.0}, direction{0.0};
+        bool operator==(const ShadowView&) const = default;
+    };
     void release();
+    unsigned program_for(const std::vector<std::string>& defines);
+    void render_shadow_maps(const RenderScene& scene);
+    void draw_instances(const RenderScene& scene, unsigned program, bool opaque_only) const;
 
-    unsigned m_program = 0, m_line_program = 0;
+    std::string m_shader_dir;
+    std::map<std::vector<std::string>, unsigned> m_programs;  // by defines
+    std::vector<std::string> m_defines;
+    unsigned m_shadow_program = 0, m_shadow_fbo = 0, m_shadow_tex = 0;
+    int m_shadow_layers = 0;
+    std::vector<ShadowView> m_shadow_views;
+    bool m_shadows_valid = false;
+    unsigned m_line_program = 0;
     unsigned m_line_vao = 0, m_line_vbo = 0;
     std::vector<SetBuffers> m_sets;
     std::vector<unsigned> m_textures;
