@@ -166,6 +166,31 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     EXPECT_NE(plain, gl.rgba);
 }
 
+// Group boxes come from the scene graph, not the BVH: one box per group and per included file
+// instance down to the level asked for, tight around what the group holds, in world space.
+TEST(GlPreview, GroupBoxesFollowTheSceneGraph) {
+    const SceneDesc desc = test::parse(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+        "#group_begin 1 0 0 2  0 1 0 0  0 0 1 0  0 0 0 1\n"
+        "#shape_sphere 0 0 0 0 1\n"
+        "#group_begin 2 0 0 0  0 1 0 5  0 0 1 0  0 0 0 1\n#shape_box 0 0 0 0 1 1 1\n#group_end\n"
+        "#group_end\n#shape_sphere 0 -5 0 0 0.5\n");
+    EXPECT_TRUE(view::group_box_lines(desc, 0).empty());
+    const auto one = view::group_box_lines(desc, 1);
+    ASSERT_EQ(one.size(), 24u);  // one box: 12 edges
+    Bounds3 b;
+    for (const view::LineVertex& v : one)
+        b.extend(Vec3(v.position[0], v.position[1], v.position[2]));
+    // The outer group: its sphere [1, 3] x [-1, 1] and the inner box scaled by 2 in x, moved by
+    // (2, 5, 0): [1, 3] x [4.5, 5.5]; not the top-level sphere at x = -5.
+    EXPECT_NEAR(b.lo.x, 1.0, 1e-6);
+    EXPECT_NEAR(b.hi.x, 3.0, 1e-6);
+    EXPECT_NEAR(b.lo.y, -1.0, 1e-6);
+    EXPECT_NEAR(b.hi.y, 5.5, 1e-6);
+    EXPECT_EQ(view::group_box_lines(desc, 2).size(), 48u);
+    EXPECT_EQ(view::group_box_lines(desc, 8).size(), 48u);
+}
+
 // Shadows: the pixels that shadows darken in the preview (shadow maps) and in the trace (shadow
 // rays) agree, for each light kind, and the program is compiled for that kind only.
 TEST(GlPreview, ShadowsAgreeWithTheTrace) {

@@ -177,8 +177,9 @@ void save_window(int width, int height, const std::string& path) {
 }
 
 // --script: one command a line, "FRAME COMMAND ARGS...", run at that frame (scripted input for
-// tests): orbit DYAW DPITCH | open PATH | light I colour R G B | shadows on|off |
-// screenshot PATH.
+// tests and measurements): orbit DYAW DPITCH | open PATH | light I colour R G B |
+// shadows on|off | boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace |
+// resolution SCALE | screenshot PATH.
 struct ScriptLine {
     int frame = 0;
     std::string command;
@@ -322,10 +323,12 @@ int main(int argc, char** argv) {
         int target_spp = 256;
         double frame_total_s = 0, frame_max_s = 0;
         int frame_count = 0;
+        std::vector<double> frame_ms, first_pass_samples;  // for the summary of --frames runs
         std::chrono::steady_clock::time_point change_time{};
         double first_pass_ms = -1;  // camera/edit change -> first traced image on screen
         bool show_lights = true;
-        int box_depth = 0;  // bounding boxes drawn over the preview: BVH levels, 0 = off
+        int box_depth = 0;    // bounding boxes drawn over the preview: BVH levels, 0 = off
+        int group_depth = 0;  // and the scene graph's group boxes, levels, 0 = off
         float resolution_scale = 0.5f;
         int trace_w = 0, trace_h = 0;
         bool dirty = true;
@@ -342,7 +345,7 @@ int main(int argc, char** argv) {
         int layout = 0;                   // 0 both panes, 1 preview alone, 2 trace alone
         // What the preview framebuffer holds, so it is redrawn only when that changes.
         bool preview_stale = true, drawn_lights = true;
-        int drawn_depth = -1, drawn_w = 0, drawn_h = 0;
+        int drawn_depth = -1, drawn_group_depth = -1, drawn_w = 0, drawn_h = 0;
         if (loaded) recent.push_back(loaded->path);
         auto on_loaded = [&]() {
             tracer.stop();
@@ -384,6 +387,7 @@ int main(int argc, char** argv) {
             if (frame_count++ > 0) {
                 frame_total_s += frame_s;
                 frame_max_s = std::max(frame_max_s, frame_s);
+                if (frame_count > 3) frame_ms.push_back(1000 * frame_s);  // after start-up
             }
             // Dropped files open; the open file reloads when it changes on disk (camera kept).
             if (!g_dropped.empty()) {
@@ -469,7 +473,8 @@ int main(int argc, char** argv) {
                 dirty |= ImGui::Checkbox("shadows", &settings.shadows);
                 ImGui::SameLine();
                 ImGui::Checkbox("light markers", &show_lights);
-                ImGui::SliderInt("boxes (BVH levels)", &box_depth, 0, 8);
+                ImGui::SliderInt("group boxes (levels)", &group_depth, 0, 8);
+                ImGui::SliderInt("BVH boxes (levels)", &box_depth, 0, 8);
                 dirty |= ImGui::SliderInt("depth", &settings.max_depth, 1, 10);
                 float cutoff = static_cast<float>(settings.cutoff);
                 if (ImGui::SliderFloat("cutoff", &cutoff, 0.0f, 0.1f, "%.4f")) {
@@ -725,27 +730,36 @@ int main(int argc, char** argv) {
                 }
                 if (tracer.take_image(&last_trace)) {
                     trace_tex.upload(last_trace);
-                    if (first_pass_ms < 0)
+                    if (first_pass_ms < 0) {
                         first_pass_ms = std::chrono::duration<double, std::milli>(
                                             std::chrono::steady_clock::now() - change_time)
                                             .count();
+                        first_pass_samples.push_back(first_pass_ms);
+                    }
                 }
 
                 // The preview, with the same camera, into its framebuffer: redrawn only when
                 // something it shows changed (software GL spends most of a frame on it).
-                const bool overlay_changed =
-                    show_lights != drawn_lights || box_depth != drawn_depth;
+                const bool overlay_changed = show_lights != drawn_lights ||
+                                             box_depth != drawn_depth ||
+                                             group_depth != drawn_group_depth;
                 if (preview_stale || overlay_changed || preview_fb.w != drawn_w ||
                     preview_fb.h != drawn_h) {
                     glBindFramebuffer(GL_FRAMEBUFFER, preview_fb.fbo);
                     const Camera cam = make_camera(loaded->scene, preview_fb.w, preview_fb.h);
                     preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h, settings.shadows);
-                    preview->draw_lines(view::overlay_lines(loaded->scene, show_lights, box_depth),
-                                        loaded->scene, cam);
+                    std::vector<view::LineVertex> lines =
+                        view::overlay_lines(loaded->scene, show_lights, box_depth);
+                    if (group_depth > 0) {
+                        const auto groups = view::group_box_lines(loaded->desc, group_depth);
+                        lines.insert(lines.end(), groups.begin(), groups.end());
+                    }
+                    preview->draw_lines(lines, loaded->scene, cam);
                     glBindFramebuffer(GL_FRAMEBUFFER, 0);
                     preview_stale = false;
                     drawn_lights = show_lights;
                     drawn_depth = box_depth;
+                    drawn_group_depth = group_depth;
                     drawn_w = preview_fb.w;
                     drawn_h = preview_fb.h;
                 }
@@ -775,6 +789,13 @@ int main(int argc, char** argv) {
                 } else if (l.command == "shadows" && !l.args.empty()) {
                     settings.shadows = l.args[0] == "on";
                     dirty = true;
+                } else if (l.command == "boxes" && l.args.size() >= 2) {
+                    group_depth = std::atoi(l.args[0].c_str());
+                    box_depth = std::atoi(l.args[1].c_str());
+                } else if (l.command == "layout" && !l.args.empty()) {
+                    layout = l.args[0] == "preview" ? 1 : l.args[0] == "trace" ? 2 : 0;
+                } else if (l.command == "resolution" && !l.args.empty()) {
+                    resolution_scale = static_cast<float>(arg(0));
                 } else if (l.command == "screenshot" && !l.args.empty()) {
                     save_window(fb_w, fb_h, l.args[0]);
                     const view::Tracer::Status st = tracer.status();
@@ -801,12 +822,24 @@ int main(int argc, char** argv) {
             glfwSwapBuffers(window);
         }
         tracer.stop();
-        if (frame_count > 1 && !screenshot.empty())
+        if (frame_count > 1 && !screenshot.empty()) {
             std::printf(
                 "rayview: %d frames, mean %.1f ms, max %.1f ms; first traced pass %.0f ms "
                 "after the last change\n",
                 frame_count, 1000 * frame_total_s / (frame_count - 1), 1000 * frame_max_s,
                 first_pass_ms);
+            auto quantile = [](std::vector<double> v, double q) {
+                std::sort(v.begin(), v.end());
+                return v.empty() ? 0.0
+                                 : v[static_cast<size_t>(q * static_cast<double>(v.size() - 1))];
+            };
+            std::printf(
+                "rayview: frames after start-up: median %.1f ms, p95 %.1f ms; first "
+                "traced pass after a change: median %.0f ms, p95 %.0f ms (%zu changes)\n",
+                quantile(frame_ms, 0.5), quantile(frame_ms, 0.95),
+                quantile(first_pass_samples, 0.5), quantile(first_pass_samples, 0.95),
+                first_pass_samples.size());
+        }
     }
     // Shutdown in reverse order of initialisation (GL objects above died with their scope).
     ImGui_ImplOpenGL3_Shutdown();

@@ -10,6 +10,7 @@
 
 #include "rt/file_io.h"
 #include "rt/sampler.h"
+#include "rt/shapes.h"
 #include "rt/tessellate.h"
 
 namespace rt::view {
@@ -598,6 +599,65 @@ std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int
         }
     }
     return std::move(b.out);
+}
+
+namespace {
+
+// Bounds of a group in the world, drawing the boxes of levels 1..max_level on the way.
+struct GroupBoxes {
+    const SceneDesc& desc;
+    int max_level;
+    LineBuilder lines;
+    size_t budget = 200000;  // group visits: a scene of millions of instances draws a sample
+
+    Bounds3 visit(int file, const GroupDesc& g, const Mat4& parent, int level) {
+        if (budget == 0) return {};
+        --budget;
+        const FileDesc& f = desc.files[static_cast<size_t>(file)];
+        const Mat4 m = parent * g.matrix;
+        Bounds3 b;
+        for (const ShapeDesc& shape : g.shapes) {
+            std::visit(
+                [&](const auto& geo) {
+                    using T = std::decay_t<decltype(geo)>;
+                    if constexpr (std::is_same_v<T, SphereDesc>) {
+                        b.extend(bounds(Sphere{geo.centre, geo.radius}, m));
+                    } else if constexpr (std::is_same_v<T, BoxDesc>) {
+                        b.extend(bounds(Box{geo.centre, 0.5 * geo.size}, m));
+                    } else if constexpr (std::is_same_v<T, CylinderDesc>) {
+                        b.extend(bounds(Cylinder{geo.centre, geo.radius, geo.height}, m));
+                    } else if constexpr (std::is_same_v<T, ConeDesc>) {
+                        b.extend(bounds(Cone{geo.centre, geo.radius, geo.height}, m));
+                    } else {
+                        for (int v : geo.v)
+                            if (v >= 0 && static_cast<size_t>(v) < f.vertices.size())
+                                b.extend(
+                                    Vec3(m * glm::dvec4(f.vertices[static_cast<size_t>(v)].position,
+                                                        1.0)));
+                    }
+                },
+                shape.geometry);
+        }
+        for (const GroupDesc& child : g.groups) b.extend(visit(file, child, m, level + 1));
+        for (const InstanceDesc& inst : g.instances) {
+            const int sub = f.ray_files[static_cast<size_t>(inst.ray_file)];
+            b.extend(visit(sub, desc.files[static_cast<size_t>(sub)].root, m, level + 1));
+        }
+        if (level >= 1 && level <= max_level && !b.empty()) {
+            const double fade = 1.0 / level;
+            lines.box(b.lo, b.hi, Vec3(1.0, 0.55, 0.2) * fade + Vec3(0.15), nullptr);
+        }
+        return b;
+    }
+};
+
+}  // namespace
+
+std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth) {
+    if (depth <= 0 || desc.files.empty()) return {};
+    GroupBoxes g{desc, depth, {}};
+    g.visit(0, desc.files[0].root, Mat4(1.0), 0);
+    return std::move(g.lines.out);
 }
 
 }  // namespace rt::view

@@ -32,6 +32,11 @@ struct LineVertex {
 /// BVH nodes (the flattened groups' boxes), in world space.
 std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth);
 
+/// The boxes of the scene graph's groups (#group_begin blocks and included files, each instance
+/// of an include on its own), world-aligned, down to nesting level `depth` (1: the top-level
+/// groups), in colours that fade with depth. Not the BVH: the structure the file describes.
+std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth);
+
 class Preview {
 public:
     /// Compiles the preview program from `shader_dir`; throws std::runtime_error with the shader
