@@ -17,9 +17,11 @@
 #include <vector>
 
 #include "rt/camera.h"
+#include "rt/features.h"
 #include "rt/intersect.h"
 #include "rt/mesh_gen.h"
 #include "rt/parser.h"
+#include "rt/render.h"
 #include "rt/render_scene.h"
 
 #ifdef RT_HAVE_EMBREE
@@ -529,6 +531,56 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
     std::fflush(stdout);
 }
 
+// --leave-out: every scene rendered by the generic renderer and by the one specialized to its
+// features (issue 7), alternating, median of `repeats` renders each; the images must be equal.
+void run_leave_out(const std::vector<std::filesystem::path>& files, int repeats, bool quick,
+                   int threads) {
+    std::printf(
+        "\nleave out what a scene does not need: generic vs specialized renderer, %s, "
+        "1 spp, %d thread%s, median of %d renders\n",
+        quick ? "160x120" : "640x480", threads, threads == 1 ? "" : "s", repeats);
+    std::printf("%-44s %10s %12s %8s %9s\n", "scene", "generic s", "specialized s", "speedup",
+                "identical");
+    for (const auto& f : files) {
+        Diagnostics diag;
+        RenderScene scene;
+        try {
+            scene = compile_scene(parse_scene_file(f.string(), diag));
+        } catch (const SceneError&) {
+            continue;  // parts of scenes (no camera of their own) and files with errors
+        }
+        if (!scene.camera) continue;
+        RenderSettings settings;
+        settings.width = quick ? 160 : 640;
+        settings.height = quick ? 120 : 480;
+        settings.threads = threads;
+        std::vector<double> times[2];
+        Image images[2];
+        for (int r = 0; r < repeats; ++r)
+            for (int specialize = 0; specialize < 2; ++specialize) {
+                settings.specialize = specialize == 1;
+                RenderState state;
+                const auto t0 = std::chrono::steady_clock::now();
+                render_samples(state, scene, settings, 1);
+                times[specialize].push_back(
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                images[specialize] = state.image();
+            }
+        for (auto& t : times) std::sort(t.begin(), t.end());
+        const double generic = times[0][times[0].size() / 2];
+        const double special = times[1][times[1].size() / 2];
+        const bool identical = images[0].rgb == images[1].rgb;
+        std::string name = f.parent_path().filename().string();
+        name += "/";
+        name += f.filename().string();
+        std::printf("%-44s %10.4f %12.4f %8.2f %9s\n", name.c_str(), generic, special,
+                    generic / special, identical ? "yes" : "NO");
+        std::printf("LEAVEOUT %s generic=%.6f specialized=%.6f speedup=%.3f identical=%s\n",
+                    name.c_str(), generic, special, generic / special, identical ? "yes" : "no");
+        std::fflush(stdout);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -536,6 +588,8 @@ int main(int argc, char** argv) {
     bool quick = false;
     std::vector<std::string> only;
     std::string scenes_dir = RT_SOURCE_DIR "/scenes";
+    bool leave_out = false;
+    int leave_out_threads = 1;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--quick") {
@@ -543,16 +597,37 @@ int main(int argc, char** argv) {
             repeats = 1;
         } else if (a == "--repeats" && i + 1 < argc) {
             repeats = std::max(1, std::atoi(argv[++i]));
+        } else if (a == "--leave-out") {
+            leave_out = true;
+        } else if (a == "--threads" && i + 1 < argc) {
+            leave_out_threads = std::max(1, std::atoi(argv[++i]));
         } else if (a == "--scenes" && i + 1 < argc) {
             scenes_dir = argv[++i];
         } else if (a == "-h" || a == "--help") {
             std::printf(
                 "usage: raybench [--quick] [--repeats N] [--scenes DIR] [WORKLOAD...]\n"
-                "workloads: mesh10k mesh100k mesh1m and the scene names of DIR\n");
+                "       raybench --leave-out [--quick] [--repeats N] [--threads N]\n"
+                "workloads: mesh10k mesh100k mesh1m and the scene names of DIR\n"
+                "--leave-out: the scenes of scenes/ and ../shared/public-scenes rendered by the\n"
+                "generic and the specialized renderer (one LEAVEOUT line each)\n");
             return 0;
         } else {
             only.push_back(a);
         }
+    }
+    if (leave_out) {
+        std::vector<std::filesystem::path> files;
+        for (const std::string& dir :
+             {scenes_dir, std::string(RT_SOURCE_DIR "/../shared/public-scenes")}) {
+            std::vector<std::filesystem::path> found;
+            if (std::filesystem::exists(dir))
+                for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+                    if (e.path().extension() == ".ray") found.push_back(e.path());
+            std::sort(found.begin(), found.end());
+            files.insert(files.end(), found.begin(), found.end());
+        }
+        run_leave_out(files, quick ? 1 : std::max(repeats, 5), quick, leave_out_threads);
+        return 0;
     }
     auto wanted = [&](const std::string& n) {
         return only.empty() || std::find(only.begin(), only.end(), n) != only.end();

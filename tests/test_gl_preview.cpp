@@ -241,6 +241,40 @@ TEST(GlPreview, ShadowsAgreeWithTheTrace) {
     }
 }
 
+// The preview leaves out what the scene does not use: texture coordinates are uploaded only for
+// textured sets, and the program has only the light kinds and features present.
+TEST(GlPreview, UploadsAndCompilesOnlyWhatTheSceneUses) {
+    Offscreen gl;
+    ASSERT_NE(gl.ctx, nullptr);
+    const std::string plain =
+        "#light_dir 1 1 1  0 -1 0\n"
+        "#material 0 0 0  .1 .1 .1  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !m!\n"
+        "#shape_sphere 0 0 0 0 1\n";
+    const RenderScene a = test::compile(plain);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(a, 16);
+    const size_t plain_floats = preview.uploaded_floats();
+    preview.draw(a, make_camera(a, kW, kH), kW, kH, false);
+    EXPECT_EQ(preview.active_defines(), std::vector<std::string>{"RT_DIRECTIONAL"});
+
+    Diagnostics diag;
+    const RenderScene b =
+        compile_scene(parse_scene_file(std::string(RT_SOURCE_DIR) + "/scenes/textures.ray", diag));
+    preview.load(b, 16);
+    preview.draw(b, make_camera(b, kW, kH), kW, kH, false);
+    const auto& d = preview.active_defines();
+    EXPECT_NE(std::find(d.begin(), d.end(), "RT_TEXTURES"), d.end());
+    // The same sphere with a texture: 8 floats a vertex (uv) instead of 6.
+    const RenderScene c =
+        test::compile("#light_dir 1 1 1  0 -1 0\n#texture " + std::string(RT_SOURCE_DIR) +
+                      "/scenes/textures/checker.bmp\n"
+                      "#material 0 0 0  .1 .1 .1  .8 .8 .8  0 0 0  1  0 0 0  1  "
+                      "0 !m!\n#shape_sphere 0 0 0 0 1\n");
+    preview.load(c, 16);
+    EXPECT_EQ(preview.uploaded_floats() * 6, plain_floats * 8);
+    EXPECT_GT(plain_floats, 0u);
+}
+
 // Golden image: the preview of scenes/shapes.ray at 160x120, within 4/255 on 99% of pixels
 // (llvmpipe is deterministic; the tolerance absorbs other GL drivers' rounding). Set
 // RT_UPDATE_GOLDEN=1 to write the golden file again after an intended change.

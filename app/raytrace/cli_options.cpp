@@ -29,6 +29,10 @@ options:
       --dialect D     v0 or v1: override the dialect detected from the materials
       --stats         print time per phase (parse, compile, BVH build, render) and rays
                       per second by kind
+      --explain       print what the renderer left out for this scene and why, one line
+                      each ("left out: <feature>: <reason>"), and what it kept
+      --no-specialize render with the generic renderer (every feature tested per ray)
+                      instead of the one specialized to the scene; the image is the same
 
 progressive rendering (the error of each pass, against run time):
       --progressive   render in passes of 1, 1, 2, 4, 8, ... samples per pixel until --time
@@ -125,6 +129,10 @@ Options parse_options(const std::vector<std::string>& args) {
             o.shadows = false;
         } else if (a == "--stats") {
             o.stats = true;
+        } else if (a == "--explain") {
+            o.explain = true;
+        } else if (a == "--no-specialize") {
+            o.specialize = false;
         } else if (a == "-q" || a == "--quiet") {
             o.quiet = true;
         } else if (a == "--dialect") {

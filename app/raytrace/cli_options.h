@@ -28,6 +28,8 @@ struct Options {
     std::optional<Dialect> dialect;
     bool quiet = false;
     bool stats = false;
+    bool explain = false;    // print what the specialized renderer left out, and why
+    bool specialize = true;  // false: --no-specialize, the generic renderer
     bool spp_given = false;
     // Progressive rendering and its error report.
     bool progressive = false;

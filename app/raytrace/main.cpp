@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "cli_options.h"
+#include "rt/features.h"
 #include "rt/file_io.h"
 #include "rt/parser.h"
 #include "rt/progressive.h"
@@ -303,6 +304,7 @@ int run(const rt::cli::Options& opt) {
     settings.aperture = opt.aperture;
     settings.focus_distance = opt.focus_distance;
     settings.roughness = opt.roughness;
+    settings.specialize = opt.specialize;
 
     const rt::SceneStats& st = scene.stats;
     if (!opt.quiet) {
@@ -320,6 +322,15 @@ int run(const rt::cli::Options& opt) {
         std::printf("render    %dx%d, %d spp, depth %d, cutoff %g, shadows %s, %d threads\n",
                     opt.width, opt.height, opt.spp, opt.depth, opt.cutoff,
                     opt.shadows ? "on" : "off", rt::resolve_thread_count(opt.threads));
+        std::fflush(stdout);
+    }
+    if (opt.explain) {
+        // Also with --quiet: it was asked for.
+        std::printf("renderer  %s\n", opt.specialize
+                                          ? "specialized to the scene (--no-specialize: generic)"
+                                          : "generic (--no-specialize): every feature kept");
+        for (const std::string& line : rt::explain_features(rt::scene_features(scene, settings)))
+            std::printf("%s\n", line.c_str());
         std::fflush(stdout);
     }
 

@@ -25,6 +25,7 @@
 #include "camera_controller.h"
 #include "preview.h"
 #include "rt/camera.h"
+#include "rt/features.h"
 #include "rt/file_io.h"
 #include "rt/parser.h"
 #include "rt/render.h"
@@ -321,6 +322,8 @@ int main(int argc, char** argv) {
         // The trace leaves one core to the interface thread, so frames stay smooth.
         settings.threads = std::max(1, resolve_thread_count(0) - 1);
         int target_spp = 256;
+        std::vector<std::string> explained;         // explain_features() of the running trace
+        bool print_left_out = !screenshot.empty();  // once, for --frames runs (tests, logs)
         double frame_total_s = 0, frame_max_s = 0;
         int frame_count = 0;
         std::vector<double> frame_ms, first_pass_samples;  // for the summary of --frames runs
@@ -567,6 +570,24 @@ int main(int argc, char** argv) {
                 ImGui::Text("estimated relMSE %.3g", st.estimate);
                 ImGui::Text("frame %.1f ms, first traced pass %.0f ms after the last change",
                             1000 * frame_s, first_pass_ms);
+                // What the renderer left out for this scene (issue 7), recomputed on each
+                // restart: the lights and settings change it.
+                {
+                    int left = 0;
+                    for (const std::string& l : explained) left += l.rfind("left out", 0) == 0;
+                    std::string header = "renderer: ";
+                    header += std::to_string(left);
+                    header += " feature(s) left out###leftout";
+                    if (ImGui::CollapsingHeader(header.c_str())) {
+                        for (const std::string& l : explained) ImGui::TextWrapped("%s", l.c_str());
+                        std::string shader = "preview shader:";
+                        for (const std::string& d : preview->active_defines()) {
+                            shader += ' ';
+                            shader += d;
+                        }
+                        ImGui::TextWrapped("%s", shader.c_str());
+                    }
+                }
                 const auto hist = tracer.history();
                 std::vector<float> logs;
                 for (const auto& [t, e] : hist) logs.push_back(std::log10(e));
@@ -724,6 +745,12 @@ int main(int argc, char** argv) {
                     settings.width = trace_w;
                     settings.height = trace_h;
                     tracer.restart(loaded->scene, settings, target_spp);
+                    explained = explain_features(scene_features(loaded->scene, settings));
+                    if (print_left_out)
+                        for (const std::string& l : explained)
+                            if (l.rfind("left out", 0) == 0)
+                                std::printf("rayview: %s\n", l.c_str());
+                    print_left_out = false;
                     dirty = false;
                     change_time = std::chrono::steady_clock::now();
                     first_pass_ms = -1;

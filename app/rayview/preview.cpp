@@ -198,6 +198,7 @@ unsigned Preview::program_for(const std::vector<std::string>& defines) {
 
 void Preview::release() {
     for (SetBuffers& s : m_sets) {
+        if (!s.vao) continue;
         glDeleteBuffers(1, &s.vbo);
         glDeleteBuffers(1, &s.ebo);
         glDeleteVertexArrays(1, &s.vao);
@@ -211,17 +212,38 @@ void Preview::release() {
 
 void Preview::load(const RenderScene& scene, int detail) {
     release();
-    for (const GeometrySet& set : scene.sets) {
+    // What the scene uses decides what is uploaded: sets no instance places are not tessellated,
+    // texture coordinates only for sets with a textured material, textures only when used.
+    std::vector<char> placed(scene.sets.size(), 0), texture_used(scene.textures.size(), 0);
+    for (const Instance& inst : scene.instances) placed[static_cast<size_t>(inst.set)] = 1;
+    m_uploaded_floats = 0;
+    for (size_t si = 0; si < scene.sets.size(); ++si) {
+        const GeometrySet& set = scene.sets[si];
+        if (!placed[si]) {
+            m_sets.emplace_back();
+            continue;
+        }
+        bool textured = false;
+        for (const Primitive& p : set.prims) {
+            const int t = scene.materials[static_cast<size_t>(p.material)].texture;
+            if (t >= 0) {
+                textured = true;
+                texture_used[static_cast<size_t>(t)] = 1;
+            }
+        }
         const PreviewMesh mesh = tessellate_set(set, detail);
-        // Interleaved position, normal, uv as floats; triangles grouped by material.
+        // Interleaved position, normal (and uv) as floats; triangles grouped by material.
+        const int per_vertex = textured ? 8 : 6;
         std::vector<float> vertices;
-        vertices.reserve(mesh.positions.size() * 8);
+        vertices.reserve(mesh.positions.size() * static_cast<size_t>(per_vertex));
         for (size_t i = 0; i < mesh.positions.size(); ++i) {
             for (int k = 0; k < 3; ++k)
                 vertices.push_back(static_cast<float>(mesh.positions[i][k]));
             for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(mesh.normals[i][k]));
-            for (int k = 0; k < 2; ++k) vertices.push_back(static_cast<float>(mesh.uvs[i][k]));
+            if (textured)
+                for (int k = 0; k < 2; ++k) vertices.push_back(static_cast<float>(mesh.uvs[i][k]));
         }
+        m_uploaded_floats += vertices.size();
         std::vector<size_t> order(mesh.triangle_count());
         std::iota(order.begin(), order.end(), size_t{0});
         std::stable_sort(order.begin(), order.end(),
@@ -247,21 +269,30 @@ void Preview::load(const RenderScene& scene, int detail) {
         glBufferData(GL_ELEMENT_ARRAY_BUFFER,
                      static_cast<GLsizeiptr>(indices.size() * sizeof(unsigned)), indices.data(),
                      GL_STATIC_DRAW);
-        const GLsizei stride = 8 * sizeof(float);
+        const GLsizei stride = per_vertex * static_cast<GLsizei>(sizeof(float));
         glEnableVertexAttribArray(0);
         glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
         glEnableVertexAttribArray(1);
         glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
                               reinterpret_cast<const void*>(3 * sizeof(float)));
-        glEnableVertexAttribArray(2);
-        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
-                              reinterpret_cast<const void*>(6 * sizeof(float)));
+        if (textured) {
+            glEnableVertexAttribArray(2);
+            glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
+                                  reinterpret_cast<const void*>(6 * sizeof(float)));
+        } else {
+            glDisableVertexAttribArray(2);  // reads the constant (0, 0)
+        }
         glBindVertexArray(0);
         m_sets.push_back(buf);
     }
     // Textures: 8-bit RGB, row 0 first, bilinear with wrap and no mipmaps (spec §7.3).
-    for (const auto& tex : scene.textures) {
+    for (size_t ti = 0; ti < scene.textures.size(); ++ti) {
         GLuint id = 0;
+        if (!texture_used[ti]) {
+            m_textures.push_back(0);  // never bound
+            continue;
+        }
+        const auto& tex = scene.textures[ti];
         glGenTextures(1, &id);
         glBindTexture(GL_TEXTURE_2D, id);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -388,6 +419,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
         glUniformMatrix4fv(loc(program, "u_world_from_object"), 1, GL_FALSE, world);
         glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
         const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
+        if (!buf.vao) continue;
         glBindVertexArray(buf.vao);
         for (const Range& range : buf.ranges) {
             const Material& m = scene.materials[static_cast<size_t>(range.material)];
@@ -431,7 +463,7 @@ void Preview::draw(const RenderScene& scene, const Camera& camera, int width, in
     if (kind[static_cast<int>(LightKind::Point)]) defines.push_back("RT_POINT");
     if (kind[static_cast<int>(LightKind::Spot)]) defines.push_back("RT_SPOT");
     if (kind[static_cast<int>(LightKind::Directional)]) defines.push_back("RT_DIRECTIONAL");
-    if (textures && !m_textures.empty()) defines.push_back("RT_TEXTURES");
+    if (textures) defines.push_back("RT_TEXTURES");
     if (specular) defines.push_back("RT_SPECULAR");
     if (shadows) defines.push_back("RT_SHADOWS");
     const GLuint program = program_for(defines);

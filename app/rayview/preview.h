@@ -63,6 +63,8 @@ public:
     /// The defines the last draw compiled its program with (RT_POINT, RT_SHADOWS, ...): only
     /// the light kinds and features the scene has.
     const std::vector<std::string>& active_defines() const { return m_defines; }
+    /// Floats of vertex data the last load() uploaded (uv only for textured sets).
+    size_t uploaded_floats() const { return m_uploaded_floats; }
 
 private:
     struct Range {
@@ -90,6 +92,7 @@ private:
     std::string m_shader_dir;
     std::map<std::vector<std::string>, unsigned> m_programs;  // by defines
     std::vector<std::string> m_defines;
+    size_t m_uploaded_floats = 0;
     unsigned m_shadow_program = 0, m_shadow_fbo = 0, m_shadow_tex = 0;
     int m_shadow_layers = 0;
     std::vector<ShadowView> m_shadow_views;

@@ -33,7 +33,8 @@ Image render_coarse(const RenderScene& scene, const RenderSettings& settings, in
     block = std::max(1, block);
     Image img(settings.width, settings.height);
     const Camera camera = make_camera(scene, settings.width, settings.height);
-    const ShadingSettings shading = settings.shading();  // no Rng here: deterministic
+    std::vector<Light> lights;
+    const ShadingSettings shading = settings.shading(scene, &lights);  // no Rng: deterministic
     const int bx = (settings.width + block - 1) / block, by = (settings.height + block - 1) / block;
     std::atomic<int> next{0};
     auto worker = [&]() {
@@ -59,6 +60,16 @@ Image render_coarse(const RenderScene& scene, const RenderSettings& settings, in
     return img;
 }
 
+ShadingSettings RenderSettings::shading(const RenderScene& scene,
+                                        std::vector<Light>* lights) const {
+    ShadingSettings s = shading();
+    if (!specialize) return s;
+    s.variant = scene_features(scene, *this).shade_variant();
+    *lights = lighting_lights(scene);
+    s.lights = lights;
+    return s;
+}
+
 int resolve_thread_count(int threads) {
     if (threads > 0) return std::min(threads, 256);
     return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 256u));
@@ -76,7 +87,8 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
         state.reset(settings.width, settings.height);
     if (spp <= 0) return true;
     const Camera camera = make_camera(scene, settings.width, settings.height);
-    const ShadingSettings shading = settings.shading();
+    std::vector<Light> lights;
+    const ShadingSettings shading = settings.shading(scene, &lights);
     const bool stochastic = settings.stochastic();
     const double focus = settings.focus_distance > 0
                              ? settings.focus_distance

@@ -1,5 +1,10 @@
 #include "rt/shading.h"
 
+#include <array>
+#include <utility>
+
+#include "rt/features.h"
+
 namespace rt {
 
 Vec3 eval_texture(const TextureImage& tex, const Vec2& uv) {
@@ -50,8 +55,48 @@ bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_lig
     return factor > 0.0;
 }
 
-Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
-               const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
+namespace {
+
+// eval_light with the light kinds the variant F has: no spot code without spot lights, no
+// distance or attenuation without point or spot lights.
+template <uint32_t F>
+bool light_at(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
+              double* distance) {
+    if constexpr (!(F & kShadeAttenuation)) {
+        *to_light = -light.direction;
+        *intensity = light.color;
+        *distance = kInf;
+        return true;
+    } else if constexpr (!(F & kShadeSpot)) {
+        if (light.kind == LightKind::Directional) {
+            *to_light = -light.direction;
+            *intensity = light.color;
+            *distance = kInf;
+            return true;
+        }
+        const Vec3 delta = light.position - p;
+        const double dist = glm::length(delta);
+        if (!(dist > 0.0) || !std::isfinite(dist)) return false;
+        const double denom =
+            light.constant_atten + light.linear_atten * dist + light.quadratic_atten * dist * dist;
+        if (!(denom > 0.0) || !std::isfinite(denom)) return false;
+        const double factor = 1.0 / denom;
+        *intensity = light.color * factor;
+        *to_light = delta / dist;
+        *distance = dist;
+        return factor > 0.0;
+    } else {
+        return eval_light(light, p, intensity, to_light, distance);
+    }
+}
+
+// The Whitted colour along a ray (spec §7, §8), compiled once per variant F (ShadeFeature bits):
+// `if constexpr` removes the code of every feature F lacks. With F = kShadeAll it is the generic
+// renderer, which tests each feature per ray.
+template <uint32_t F>
+Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
+           const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
+    constexpr bool kStochastic = (F & kShadeStochastic) != 0;
     Hit hit;
     if (!intersect(scene, ray, {0.0, kInf}, &hit)) return scene.background;
     const SurfaceInteraction si = interaction(scene, ray, hit);
@@ -61,81 +106,135 @@ Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& 
     // Two-sided rule (spec §5): shade with the normal facing the incoming ray.
     const double side = glm::dot(d, si.n_geometric) > 0 ? -1.0 : 1.0;
     const Vec3 n = side * si.n_shading;
-    const Vec3 t = m.texture >= 0
-                       ? eval_texture(*scene.textures[static_cast<size_t>(m.texture)], si.uv)
-                       : Vec3(1.0);
+    Vec3 t(1.0);
+    if constexpr ((F & kShadeTextures) != 0)
+        if (m.texture >= 0)
+            t = eval_texture(*scene.textures[static_cast<size_t>(m.texture)], si.uv);
     const Vec3 kd = m.diffuse * t;
 
     Vec3 c = m.emissive + m.ambient * t * scene.ambient;
     const Vec3 r_v = d - 2.0 * glm::dot(d, n) * n;  // mirror direction, also for highlights
 
-    for (const Light& scene_light : scene.lights) {
-        // Soft shadows: a point or spot light is a sphere of radius light_radius, sampled
-        // uniformly over the disc it shows the shading point; its emission rules stay the same.
+    const std::vector<Light>& lights = settings.lights ? *settings.lights : scene.lights;
+    for (const Light& scene_light : lights) {
         Light light = scene_light;
-        if (rng && settings.light_radius > 0.0 && light.kind != LightKind::Directional) {
-            const Vec3 axis = light.position - si.p;
-            if (glm::dot(axis, axis) > 0.0) {
-                Vec3 a, b;
-                orthonormal_basis(glm::normalize(axis), &a, &b);
-                const Vec2 q = settings.light_radius * rng->disc();
-                light.position += q.x * a + q.y * b;
+        if constexpr (kStochastic) {
+            // Soft shadows: a point or spot light is a sphere of radius light_radius, sampled
+            // uniformly over the disc it shows the shading point; its emission rules stay.
+            if (rng && settings.light_radius > 0.0 && light.kind != LightKind::Directional) {
+                const Vec3 axis = light.position - si.p;
+                if (glm::dot(axis, axis) > 0.0) {
+                    Vec3 a, b;
+                    orthonormal_basis(glm::normalize(axis), &a, &b);
+                    const Vec2 q = settings.light_radius * rng->disc();
+                    light.position += q.x * a + q.y * b;
+                }
             }
         }
         Vec3 intensity, l;
         double dist = 0.0;
-        if (!eval_light(light, si.p, &intensity, &l, &dist)) continue;
+        if (!light_at<F>(light, si.p, &intensity, &l, &dist)) continue;
         const double n_dot_l = glm::dot(n, l);
         if (!(n_dot_l > 0.0)) continue;
         Vec3 s(1.0);
-        if (settings.shadows) {
-            ++counters.shadow;
-            const Vec3 o = offset_origin(si, l);
-            if (light.kind == LightKind::Directional) {
-                s = transmittance(scene, {o, l}, kInf);
-            } else {
-                // The segment from the offset point to the light itself, t in (0, 1).
-                s = transmittance(scene, {o, light.position - o}, 1.0);
+        if constexpr ((F & kShadeShadows) != 0) {
+            if (settings.shadows) {
+                ++counters.shadow;
+                const Vec3 o = offset_origin(si, l);
+                // Toward a point light the segment from the offset point to the light itself,
+                // t in (0, 1).
+                const bool directional = light.kind == LightKind::Directional;
+                const Ray shadow_ray{o, directional ? l : light.position - o};
+                const double t_max = directional ? kInf : 1.0;
+                if constexpr ((F & kShadeTransmissiveShadows) != 0) {
+                    s = transmittance(scene, shadow_ray, t_max);
+                    if (s == Vec3(0.0)) continue;
+                } else {
+                    // No material lets light through: the first hit decides.
+                    if (occluded(scene, shadow_ray, t_max)) continue;
+                }
             }
-            if (s == Vec3(0.0)) continue;
         }
-        const double r_dot_l = glm::dot(r_v, l);
-        const double spec = r_dot_l > 0.0 ? std::pow(r_dot_l, m.specular_exponent) : 0.0;
-        c += s * intensity * (kd * n_dot_l + m.specular * spec);
+        if constexpr ((F & kShadeHighlights) != 0) {
+            const double r_dot_l = glm::dot(r_v, l);
+            const double spec = r_dot_l > 0.0 ? std::pow(r_dot_l, m.specular_exponent) : 0.0;
+            c += s * intensity * (kd * n_dot_l + m.specular * spec);
+        } else {
+            c += s * intensity * (kd * n_dot_l);
+        }
     }
 
-    if (depth - 1 < 1) return c;
-    auto traced = [&](const Vec3& w) {
-        return w != Vec3(0.0) && (settings.cutoff == 0.0 || max_component(w) >= settings.cutoff);
-    };
-    // Reflection, weighted by K_S.
-    const Vec3 w_refl = weight * m.specular;
-    if (traced(w_refl)) {
-        // Glossy reflection: the mirror direction spread by `roughness` (kept above the surface).
-        Vec3 dir = r_v;
-        if (rng && settings.roughness > 0.0) {
-            const Vec3 g = glm::normalize(r_v + settings.roughness * rng->ball());
-            if (glm::dot(g, n) > 0.0) dir = g;
+    if constexpr ((F & (kShadeReflection | kShadeRefraction)) != 0) {
+        if (depth - 1 < 1) return c;
+        auto traced = [&](const Vec3& w) {
+            return w != Vec3(0.0) &&
+                   (settings.cutoff == 0.0 || max_component(w) >= settings.cutoff);
+        };
+        if constexpr ((F & kShadeReflection) != 0) {
+            // Reflection, weighted by K_S.
+            const Vec3 w_refl = weight * m.specular;
+            if (traced(w_refl)) {
+                // Glossy reflection: the mirror direction spread by `roughness` (kept above
+                // the surface).
+                Vec3 dir = r_v;
+                if constexpr (kStochastic) {
+                    if (rng && settings.roughness > 0.0) {
+                        const Vec3 g = glm::normalize(r_v + settings.roughness * rng->ball());
+                        if (glm::dot(g, n) > 0.0) dir = g;
+                    }
+                }
+                ++counters.reflected;
+                c += m.specular * trace<F>(scene, spawn_ray(si, dir), depth - 1, w_refl, settings,
+                                           counters, rng);
+            }
         }
-        ++counters.reflected;
-        c += m.specular *
-             trace_ray(scene, spawn_ray(si, dir), depth - 1, w_refl, settings, counters, rng);
-    }
-    // Refraction (Snell), weighted by T; none past the critical angle.
-    const Vec3 w_refr = weight * m.transparent;
-    if (traced(w_refr)) {
-        const bool entering = glm::dot(d, si.n_geometric) < 0;
-        const double eta = entering ? 1.0 / m.refractive_index : m.refractive_index;
-        const double cos_i = std::clamp(-glm::dot(d, n), 0.0, 1.0);
-        const double k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
-        if (k >= 0.0) {
-            const Vec3 dir = eta * d + (eta * cos_i - std::sqrt(k)) * n;
-            ++counters.refracted;
-            c += m.transparent *
-                 trace_ray(scene, spawn_ray(si, dir), depth - 1, w_refr, settings, counters, rng);
+        if constexpr ((F & kShadeRefraction) != 0) {
+            // Refraction (Snell), weighted by T; none past the critical angle.
+            const Vec3 w_refr = weight * m.transparent;
+            if (traced(w_refr)) {
+                const bool entering = glm::dot(d, si.n_geometric) < 0;
+                const double eta = entering ? 1.0 / m.refractive_index : m.refractive_index;
+                const double cos_i = std::clamp(-glm::dot(d, n), 0.0, 1.0);
+                const double k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+                if (k >= 0.0) {
+                    const Vec3 dir = eta * d + (eta * cos_i - std::sqrt(k)) * n;
+                    ++counters.refracted;
+                    c += m.transparent * trace<F>(scene, spawn_ray(si, dir), depth - 1, w_refr,
+                                                  settings, counters, rng);
+                }
+            }
         }
     }
     return c;
+}
+
+using TraceFn = Vec3 (*)(const RenderScene&, const Ray&, int, const Vec3&, const ShadingSettings&,
+                         RayCounters&, Rng*);
+
+// The variants compiled: a combination that cannot occur maps to one that can (transparent
+// shadows need shadows; spot lights are attenuated), and the rarely used stochastic features run
+// the generic renderer, which keeps the number of instances (and the build time) down.
+constexpr uint32_t canonical(uint32_t v) {
+    if (v & kShadeStochastic) return kShadeAll;
+    if (!(v & kShadeShadows)) v &= ~static_cast<uint32_t>(kShadeTransmissiveShadows);
+    if (v & kShadeSpot) v |= kShadeAttenuation;
+    return v;
+}
+
+template <uint32_t... I>
+constexpr std::array<TraceFn, sizeof...(I)> trace_table(std::integer_sequence<uint32_t, I...>) {
+    return {&trace<canonical(I)>...};
+}
+
+// Every variant, indexed by its ShadeFeature bits.
+constexpr auto kTraceVariants = trace_table(std::make_integer_sequence<uint32_t, kShadeAll + 1>{});
+
+}  // namespace
+
+Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
+               const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
+    return kTraceVariants[settings.variant & kShadeAll](scene, ray, depth, weight, settings,
+                                                        counters, rng);
 }
 
 }  // namespace rt

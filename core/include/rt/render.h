@@ -33,11 +33,18 @@ struct RenderSettings {
     /// N strata of a ceil(sqrt(N))^2 grid). False (progressive rendering): the pixel's samples
     /// follow a randomly shifted R2 sequence indexed by its sample count, unbiased across passes.
     bool centre_first_sample = true;
+    /// Render with the variant specialized to the scene's features (rt/features.h); false: the
+    /// generic renderer (raytrace --no-specialize), for comparison. Both give the same image.
+    bool specialize = true;
 
     bool stochastic() const { return light_radius > 0 || aperture > 0 || roughness > 0; }
+    /// The generic shading settings (every feature tested per ray).
     ShadingSettings shading() const {
         return {max_depth, cutoff, shadows, light_radius, roughness};
     }
+    /// The shading settings for `scene`: with `specialize`, its variant and the lights that can
+    /// light something (stored in `lights`, which must outlive the result).
+    ShadingSettings shading(const RenderScene& scene, std::vector<Light>* lights) const;
 };
 
 /// Accumulated samples. Sums are doubles so millions of samples stay exact enough; the sums of

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
+#include "rt/features.h"
 #include "rt/intersect.h"
 #include "rt/render_scene.h"
 #include "rt/sampler.h"
@@ -19,6 +21,12 @@ struct ShadingSettings {
     // of this radius (soft shadows); reflected rays spread by this roughness (glossy).
     double light_radius = 0.0;
     double roughness = 0.0;
+    /// The shading variant (ShadeFeature bits, rt/features.h): the features this scene uses.
+    /// The default, every bit, is the generic renderer.
+    uint32_t variant = kShadeAll;
+    /// The lights to iterate; null: all of the scene's (the specialized renderer passes only
+    /// those that can light something).
+    const std::vector<Light>* lights = nullptr;
 };
 
 /// Rays traced, by kind (for the CLI's rays-per-second figures).

@@ -1,0 +1,170 @@
+#include "rt/features.h"
+
+#include <array>
+
+#include "rt/render.h"
+
+namespace rt {
+
+namespace {
+
+bool lights_something(const Light& l) {
+    if (l.color == Vec3(0.0)) return false;
+    if (l.kind == LightKind::Directional) return true;
+    // All three coefficients zero: the denominator is never positive (spec §7.2).
+    return l.constant_atten != 0.0 || l.linear_atten != 0.0 || l.quadratic_atten != 0.0;
+}
+
+bool scales_unevenly(const Mat4& m) {
+    const double x = glm::length(Vec3(m[0])), y = glm::length(Vec3(m[1])),
+                 z = glm::length(Vec3(m[2]));
+    const double lo = std::min(x, std::min(y, z)), hi = std::max(x, std::max(y, z));
+    // Also a shear: the columns of a uniform scale times a rotation are orthogonal.
+    const double shear = std::abs(glm::dot(Vec3(m[0]), Vec3(m[1]))) +
+                         std::abs(glm::dot(Vec3(m[1]), Vec3(m[2]))) +
+                         std::abs(glm::dot(Vec3(m[0]), Vec3(m[2])));
+    return hi - lo > 1e-12 * hi || shear > 1e-12 * hi * hi;
+}
+
+}  // namespace
+
+std::vector<Light> lighting_lights(const RenderScene& scene) {
+    std::vector<Light> out;
+    for (const Light& l : scene.lights)
+        if (lights_something(l)) out.push_back(l);
+    return out;
+}
+
+SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& settings) {
+    SceneFeatures f;
+    f.max_depth = settings.max_depth;
+    for (const Light& l : scene.lights) {
+        if (lights_something(l))
+            ++f.lights[static_cast<int>(l.kind)];
+        else
+            ++f.dark_lights;
+    }
+    const bool lit = f.lights[0] + f.lights[1] + f.lights[2] > 0;
+
+    // The materials and sets that instanced primitives use.
+    std::vector<char> set_used(scene.sets.size(), 0), material_used(scene.materials.size(), 0);
+    std::vector<std::array<size_t, 5>> set_prims(scene.sets.size());
+    for (const Instance& inst : scene.instances) {
+        const size_t si = static_cast<size_t>(inst.set);
+        const GeometrySet& set = scene.sets[si];
+        if (!set_used[si]) {  // each set once, however often it is instanced
+            set_used[si] = 1;
+            set_prims[si] = {0, 0, 0, 0, 0};
+            for (const Primitive& p : set.prims) {
+                material_used[static_cast<size_t>(p.material)] = 1;
+                ++set_prims[si][static_cast<size_t>(p.kind)];
+                if (p.transform >= 0) {
+                    f.transforms = true;
+                    f.nonuniform_scale |=
+                        scales_unevenly(set.transforms[static_cast<size_t>(p.transform)].m);
+                }
+            }
+        }
+        for (size_t k = 0; k < 5; ++k) f.prims[k] += set_prims[si][k];
+        if (!inst.identity) {
+            f.transforms = true;
+            f.nonuniform_scale |= scales_unevenly(inst.world_from_set.m);
+        }
+    }
+    f.sets = scene.sets.size();
+    f.instancing = scene.instances.size() > 1;
+
+    std::vector<char> texture_used(scene.textures.size(), 0);
+    bool any_ambient = false;
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        if (!material_used[i]) continue;
+        const Material& m = scene.materials[i];
+        f.highlights |= m.specular != Vec3(0.0);
+        f.transmissive_shadows |= m.transparent != Vec3(0.0);
+        f.refraction |= m.transparent != Vec3(0.0);
+        f.reflection |= m.specular != Vec3(0.0);
+        f.emissive |= m.emissive != Vec3(0.0);
+        any_ambient |= m.ambient != Vec3(0.0);
+        if (m.texture >= 0) {
+            f.textures = true;
+            texture_used[static_cast<size_t>(m.texture)] = 1;
+        }
+    }
+    for (char used : texture_used) f.unused_textures += !used;
+    f.ambient = any_ambient && scene.ambient != Vec3(0.0);
+    // A camera ray has depth max_depth; children are traced while depth - 1 >= 1 (spec §8).
+    f.reflection &= settings.max_depth > 1;
+    f.refraction &= settings.max_depth > 1;
+    f.shadows = settings.shadows && lit;
+    f.transmissive_shadows &= f.shadows;
+    f.highlights &= lit;
+    f.soft_shadows = settings.light_radius > 0 && f.shadows && f.lights[1] + f.lights[2] > 0;
+    f.glossy = settings.roughness > 0 && f.reflection;
+    f.depth_of_field = settings.aperture > 0;
+    return f;
+}
+
+uint32_t SceneFeatures::shade_variant() const {
+    uint32_t v = 0;
+    if (shadows) v |= kShadeShadows;
+    if (transmissive_shadows) v |= kShadeTransmissiveShadows;
+    if (reflection) v |= kShadeReflection;
+    if (refraction) v |= kShadeRefraction;
+    if (textures) v |= kShadeTextures;
+    if (highlights) v |= kShadeHighlights;
+    if (lights[static_cast<int>(LightKind::Spot)] > 0) v |= kShadeSpot;
+    if (lights[static_cast<int>(LightKind::Point)] + lights[static_cast<int>(LightKind::Spot)] > 0)
+        v |= kShadeAttenuation;
+    if (soft_shadows || glossy) v |= kShadeStochastic;
+    return v;
+}
+
+std::vector<std::string> explain_features(const SceneFeatures& f) {
+    std::vector<std::string> out;
+    auto line = [&](bool used, const char* feature, const std::string& why_kept,
+                    const std::string& why_left) {
+        std::string s = used ? "kept: " : "left out: ";
+        s += feature;
+        s += ": ";
+        s += used ? why_kept : why_left;
+        out.push_back(std::move(s));
+    };
+    const int lit = f.lights[0] + f.lights[1] + f.lights[2];
+    const std::string n_lights = std::to_string(lit);
+    if (f.dark_lights > 0)
+        out.push_back("left out: " + std::to_string(f.dark_lights) +
+                      " light(s): colour zero or all attenuation coefficients zero");
+    line(f.lights[1] + f.lights[2] > 0, "light attenuation",
+         std::to_string(f.lights[1] + f.lights[2]) + " point or spot light(s)",
+         "no point or spot light");
+    line(f.lights[2] > 0, "spot cut-off and drop-off",
+         std::to_string(f.lights[2]) + " spot light(s)", "no spot light");
+    line(f.shadows, "shadow rays", n_lights + " light(s) that light something",
+         lit == 0 ? "no light lights anything" : "shadows are switched off");
+    line(f.transmissive_shadows, "transparent shadows", "a material lets light through",
+         f.shadows ? "no transparent material: shadow rays stop at the first hit"
+                   : "no shadow rays");
+    line(f.reflection, "reflection", "a material with a specular colour",
+         f.max_depth <= 1 ? "recursion depth 1" : "no material with a specular colour");
+    line(f.refraction, "refraction", "a transparent material",
+         f.max_depth <= 1 ? "recursion depth 1" : "no transparent material");
+    line(f.highlights, "specular highlights", "a material with a specular colour",
+         lit == 0 ? "no light lights anything" : "no material with a specular colour");
+    line(f.textures, "texture lookups", "a textured material", "no material uses a texture");
+    if (f.unused_textures > 0)
+        out.push_back("left out: " + std::to_string(f.unused_textures) +
+                      " texture(s): no material uses them");
+    line(f.soft_shadows || f.glossy, "random sampling in shading",
+         f.soft_shadows ? "soft shadows are on" : "glossy reflection is on",
+         "soft shadows and glossy reflection are off");
+    line(f.instancing, "top-level BVH", "the scene places several instances",
+         "one instance: rays walk its BVH directly");
+    const size_t analytic = f.prims[0] + f.prims[1] + f.prims[2] + f.prims[3];
+    line(f.prims[4] > 0, "triangle tests", std::to_string(f.prims[4]) + " triangle(s)",
+         "no triangles");
+    line(analytic > 0, "analytic shape dispatch", std::to_string(analytic) + " analytic shape(s)",
+         "triangles only: leaves hold packed triangles, four tested at once");
+    return out;
+}
+
+}  // namespace rt
