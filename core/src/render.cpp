@@ -65,8 +65,12 @@ ShadingSettings RenderSettings::shading(const RenderScene& scene,
     ShadingSettings s = shading();
     if (!specialize) return s;
     s.variant = scene_features(scene, *this).shade_variant();
-    *lights = lighting_lights(scene);
-    s.lights = lights;
+    // Dark lights are skipped, except where random samples are drawn per light (soft shadows):
+    // skipping one there would shift every later sample, and the images must stay the same.
+    if (!(s.variant & kShadeStochastic)) {
+        *lights = lighting_lights(scene);
+        s.lights = lights;
+    }
     return s;
 }
 

@@ -1,0 +1,166 @@
+// Leave out what a scene does not need (issue 7): the features are read from values, not syntax,
+// and the specialized renderer gives the generic renderer's image, bit for bit.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "rt/features.h"
+#include "test_util.h"
+
+namespace rt {
+namespace {
+
+const char* kDiffuse = "#material 0 0 0  .1 .1 .1  .7 .7 .7  0 0 0  1  0 0 0  1  -1 !d!\n";
+
+SceneFeatures features_of(const std::string& text, int depth = 5, bool shadows = true) {
+    RenderSettings s;
+    s.max_depth = depth;
+    s.shadows = shadows;
+    return scene_features(test::compile(text), s);
+}
+
+bool has_line(const std::vector<std::string>& lines, const std::string& text) {
+    return std::find(lines.begin(), lines.end(), text) != lines.end();
+}
+
+TEST(Features, ReadFromValuesNotSyntax) {
+    // A specular colour of zero reflects nothing; a transparent colour of zero lets nothing
+    // through; a light of colour zero lights nothing.
+    const SceneFeatures f =
+        features_of(std::string("#light_point 0 0 0  0 5 0  1 0 0\n#light_dir 1 1 1  0 -1 0\n") +
+                    kDiffuse + "#shape_sphere 0 0 0 0 1\n");
+    EXPECT_EQ(f.lights[static_cast<int>(LightKind::Directional)], 1);
+    EXPECT_EQ(f.lights[static_cast<int>(LightKind::Point)], 0);
+    EXPECT_EQ(f.dark_lights, 1);
+    EXPECT_FALSE(f.reflection);
+    EXPECT_FALSE(f.refraction);
+    EXPECT_FALSE(f.highlights);
+    EXPECT_FALSE(f.textures);
+    EXPECT_TRUE(f.shadows);
+    EXPECT_FALSE(f.transmissive_shadows);
+    EXPECT_FALSE(f.instancing);
+    EXPECT_EQ(f.prims[static_cast<int>(ShapeKind::Sphere)], 1u);
+    EXPECT_EQ(f.shade_variant(), static_cast<uint32_t>(kShadeShadows));
+    const auto lines = explain_features(f);
+    EXPECT_TRUE(has_line(lines, "left out: refraction: no transparent material"));
+    EXPECT_TRUE(has_line(lines, "left out: reflection: no material with a specular colour"));
+    EXPECT_TRUE(
+        has_line(lines, "left out: 1 light(s): colour zero or all attenuation coefficients zero"));
+    EXPECT_TRUE(has_line(lines, "left out: spot cut-off and drop-off: no spot light"));
+    for (const std::string& l : lines)
+        EXPECT_TRUE(l.rfind("left out: ", 0) == 0 || l.rfind("kept: ", 0) == 0) << l;
+}
+
+TEST(Features, OnlyMaterialsThatArePlacedCount) {
+    // A glass material that no shape uses does not switch refraction on; a used one does.
+    const std::string glass =
+        "#material 0 0 0  0 0 0  0 0 0  .5 .5 .5  50  .9 .9 .9  1.5  -1 !g!\n";
+    const std::string light = "#light_point 1 1 1  0 5 0  1 0 0\n";
+    SceneFeatures f = features_of(light + kDiffuse + glass + "#shape_sphere 0 0 0 0 1\n");
+    EXPECT_FALSE(f.refraction);
+    EXPECT_FALSE(f.reflection);
+    f = features_of(light + kDiffuse + glass + "#shape_sphere 1 0 0 0 1\n");
+    EXPECT_TRUE(f.refraction);
+    EXPECT_TRUE(f.reflection);
+    EXPECT_TRUE(f.transmissive_shadows);
+    EXPECT_TRUE(f.highlights);
+    // Depth 1: no child rays at all.
+    f = features_of(light + kDiffuse + glass + "#shape_sphere 1 0 0 0 1\n", 1);
+    EXPECT_FALSE(f.refraction);
+    EXPECT_FALSE(f.reflection);
+    EXPECT_TRUE(has_line(explain_features(f), "left out: refraction: recursion depth 1"));
+    // Shadows switched off: no shadow rays, hence no transparent shadows either.
+    f = features_of(light + kDiffuse + glass + "#shape_sphere 1 0 0 0 1\n", 5, false);
+    EXPECT_FALSE(f.shadows);
+    EXPECT_FALSE(f.transmissive_shadows);
+    // All attenuation coefficients zero: the point light lights nothing.
+    f = features_of(std::string("#light_point 1 1 1  0 5 0  0 0 0\n") + kDiffuse +
+                    "#shape_sphere 0 0 0 0 1\n");
+    EXPECT_EQ(f.dark_lights, 1);
+    EXPECT_FALSE(f.shadows);
+    EXPECT_TRUE(has_line(explain_features(f), "left out: shadow rays: no light lights anything"));
+}
+
+TEST(Features, TransformsAndScale) {
+    const std::string head = std::string("#light_dir 1 1 1  0 -1 0\n") + kDiffuse;
+    SceneFeatures f = features_of(head +
+                                  "#group_begin 2 0 0 0  0 2 0 0  0 0 2 0  0 0 0 1\n"
+                                  "#shape_sphere 0 0 0 0 1\n#group_end\n");
+    EXPECT_TRUE(f.transforms);
+    EXPECT_FALSE(f.nonuniform_scale);
+    f = features_of(head +
+                    "#group_begin 1 0 0 0  0 3 0 0  0 0 1 0  0 0 0 1\n"
+                    "#shape_sphere 0 0 0 0 1\n#group_end\n");
+    EXPECT_TRUE(f.nonuniform_scale);
+}
+
+// Scenes that switch features on one at a time and all at once: the specialized and the generic
+// renderer give identical images.
+TEST(Features, SpecializedImagesEqualGenericImages) {
+    const std::string shapes =
+        "#vertex -2 -0.5 1  0 0 0  0 0\n#vertex 2 -0.5 1  0 0 0  1 0\n"
+        "#vertex 0 1 1.5  0 0 0  .5 1\n"
+        "#shape_box 0  0 -1 0  8 0.2 8\n#shape_sphere 1  -1 0 0  0.8\n"
+        "#shape_cylinder 0  1 0 0  0.5 1\n#shape_cone 1  0 0 -1.5  0.5 1\n"
+        "#shape_triangle 1  0 1 2\n";
+    const std::string cam = "#camera 0 2 7  0 -0.3 -1  0 1 0  0.5\n#ambient .2 .2 .2\n";
+    const std::string point = "#light_point 1 1 1  2 4 3  1 0 0.01\n";
+    const std::string spot = "#light_spot 1 .9 .8  -2 4 2  0.4 -1 -0.4  1 0 0  0.6 3\n";
+    const std::string dir = "#light_dir .5 .5 .5  -1 -1 -1\n";
+    const std::string dark = "#light_point 0 0 0  0 3 0  1 0 0\n";
+    const std::string diffuse = "#material 0 0 0  .1 .1 .1  .7 .6 .5  0 0 0  1  0 0 0  1  -1 !a!\n";
+    const std::string shiny =
+        "#material 0 0 0  .1 .1 .1  .5 .5 .5  .5 .5 .5  40  0 0 0  1  -1 !b!\n";
+    const std::string glass =
+        "#material 0 0 0  0 0 0  .1 .1 .1  .2 .2 .2  80  .8 .8 .8  1.4  -1 !c!\n";
+    const std::string textured = "#texture " + std::string(RT_SOURCE_DIR) +
+                                 "/scenes/textures/checker.bmp\n"
+                                 "#material 0 0 0  .2 .2 .2  .8 .8 .8  0 0 0  1  0 0 0  1  0 !t!\n";
+    const struct {
+        std::string name, text;
+    } scenes[] = {
+        {"diffuse, one point light", cam + point + diffuse + diffuse + shapes},
+        {"dark light only", cam + dark + diffuse + diffuse + shapes},
+        {"directional", cam + dir + diffuse + diffuse + shapes},
+        {"spot", cam + spot + diffuse + diffuse + shapes},
+        {"highlights and mirrors", cam + point + dir + diffuse + shiny + shapes},
+        {"glass", cam + point + diffuse + glass + shapes},
+        {"textures", cam + spot + textured + diffuse + shapes},
+        {"everything", cam + point + spot + dir + dark + textured + glass + shapes},
+    };
+    for (const auto& sc : scenes) {
+        SCOPED_TRACE(sc.name);
+        RenderScene scene;
+        ASSERT_NO_THROW(scene = test::compile(sc.text)) << sc.text;
+        for (int variant = 0; variant < 3; ++variant) {
+            RenderSettings s;
+            s.width = 48;
+            s.height = 36;
+            s.threads = 2;
+            s.shadows = variant != 1;
+            s.max_depth = variant == 2 ? 1 : 5;
+            RenderState a, b;
+            s.specialize = false;
+            render_samples(a, scene, s, 1);
+            s.specialize = true;
+            render_samples(b, scene, s, 1);
+            EXPECT_EQ(a.image().rgb, b.image().rgb) << sc.name << ", settings " << variant;
+        }
+        // The stochastic features take the generic path: still equal.
+        RenderSettings s;
+        s.width = 24;
+        s.height = 18;
+        s.light_radius = 0.3;
+        s.roughness = 0.2;
+        s.centre_first_sample = false;
+        RenderState a, b;
+        s.specialize = false;
+        render_samples(a, scene, s, 2);
+        s.specialize = true;
+        render_samples(b, scene, s, 2);
+        EXPECT_EQ(a.image().rgb, b.image().rgb) << sc.name << ", stochastic";
+    }
+}
+
+}  // namespace
+}  // namespace rt
