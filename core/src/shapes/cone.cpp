@@ -28,8 +28,8 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
     const Vec3& d = ray.d;
     const double h = c.height, k = c.radius / c.height, k2 = k * k;
     auto quad = [&](const Vec3& p) { return p.x * p.x + p.z * p.z - k2 * p.y * p.y; };
-    double cand[4];
-    int part[4];
+    double cand[5];
+    int part[5];
     int n = 0;
     // Side roots keep y in [-h, 0] up to the rounding of y (and of the apex): a ray through the
     // apex or the base rim is never lost between the side and the base (see convex_hits).
@@ -78,6 +78,17 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
         // The line lies on the cone (a = b = cc = 0): it touches from the apex down to the base.
         const double ta = -f.y / d.y;
         cand[n] = ta, part[n++] = kSide;
+    }
+    // The apex is a point of the solid that the side roots find only as an ill-conditioned double
+    // root (its error is the square root of the rounding). A ray passing the apex within the
+    // rounding of its own position touches it there: the apex is a candidate of its own.
+    {
+        const double dd = glm::dot(d, d);
+        const double ta = dd > 0.0 ? -glm::dot(f, d) / dd : 0.0;
+        const Vec3 miss = f + ta * d;
+        const double err =
+            gamma(6) * (glm::length(f) + std::abs(ta) * std::sqrt(dd) + glm::length(apex));
+        if (glm::dot(miss, miss) <= err * err) cand[n] = ta, part[n++] = kSide;
     }
     if (d.y != 0.0) {
         const double tb = (-c.height - f.y) / d.y;
