@@ -237,7 +237,11 @@ SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const H
 
 Vec3 offset_origin(const SurfaceInteraction& si, const Vec3& dir) {
     const Vec3 n = si.n_geometric;
-    // Distance along n that moves the point outside its error box (pbrt-v4 OffsetRayOrigin).
+    // Spec §7.5: the origin moves along n_g by a bound on the point's floating-point error, not by
+    // a fixed epsilon: pbrt-v4's OffsetRayOrigin (Pharr, Jakob, Humphreys, "Physically Based
+    // Rendering", 4th ed., §6.8.6), the error-bound form of the offset that Wächter and Binder
+    // ("A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6) derive
+    // from the float grid. Distance along n that moves the point outside its error box:
     const double d = glm::dot(glm::abs(n), si.p_error);
     Vec3 offset = d * n;
     if (glm::dot(dir, n) < 0) offset = -offset;
