@@ -49,16 +49,19 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
         // which avoids the cancellation of b^2 - a cc for thin or distant cones.
         const double s = b / a;
         const Vec3 l = f - s * d;
-        const Vec3 l_err = gamma(4) * (glm::abs(f) + std::abs(s) * glm::abs(d) + glm::abs(apex));
-        const double q_err = 2.0 * (std::abs(l.x) * l_err.x + std::abs(l.z) * l_err.z +
-                                    k2 * std::abs(l.y) * l_err.y) +
-                             l_err.x * l_err.x + l_err.z * l_err.z + k2 * l_err.y * l_err.y +
-                             gamma(3) * (l.x * l.x + l.z * l.z + k2 * l.y * l.y);
         double disc = -a * quad(l);
         // A double root within rounding (a tangent, or a ray through the apex: Q restricted to a
         // line through the apex is a (t - t_apex)^2) touches the cone; the known miss of grazing
         // apex rays came from this rounding turning the discriminant negative.
-        if (disc < 0.0 && disc >= -std::abs(a) * q_err * (1.0 + gamma(2))) disc = 0.0;
+        if (disc < 0.0) {
+            const Vec3 l_err =
+                gamma(4) * (glm::abs(f) + std::abs(s) * glm::abs(d) + glm::abs(apex));
+            const double q_err = 2.0 * (std::abs(l.x) * l_err.x + std::abs(l.z) * l_err.z +
+                                        k2 * std::abs(l.y) * l_err.y) +
+                                 l_err.x * l_err.x + l_err.z * l_err.z + k2 * l_err.y * l_err.y +
+                                 gamma(3) * (l.x * l.x + l.z * l.z + k2 * l.y * l.y);
+            if (disc >= -std::abs(a) * q_err * (1.0 + gamma(2))) disc = 0.0;
+        }
         if (disc >= 0.0) {
             const double q = -(b + std::copysign(std::sqrt(disc), b));
             const double roots[2] = {q != 0.0 ? cc / q : -s, q / a};
@@ -86,8 +89,8 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
         const double dd = glm::dot(d, d);
         const double ta = dd > 0.0 ? -glm::dot(f, d) / dd : 0.0;
         const Vec3 miss = f + ta * d;
-        const double err =
-            gamma(6) * (glm::length(f) + std::abs(ta) * std::sqrt(dd) + glm::length(apex));
+        auto l1 = [](const Vec3& v) { return std::abs(v.x) + std::abs(v.y) + std::abs(v.z); };
+        const double err = gamma(7) * (l1(f) + std::abs(ta) * l1(d) + l1(apex));
         if (glm::dot(miss, miss) <= err * err) cand[n] = ta, part[n++] = kSide;
     }
     if (d.y != 0.0) {

@@ -65,9 +65,12 @@ ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
         const double l = std::sqrt(lx * lx + lz * lz);
         double disc = a * (c.radius - l) * (c.radius + l);
         // A tangent ray (|l| = r up to the rounding of l) is a double root: it touches.
-        const double l_err = gamma(5) * (std::abs(f.x) + std::abs(f.z) +
-                                         std::abs(b / a) * (std::abs(ray.d.x) + std::abs(ray.d.z)));
-        if (disc < 0.0 && disc >= -2.0 * a * (c.radius + l) * l_err) disc = 0.0;
+        if (disc < 0.0) {
+            const double l_err =
+                gamma(5) * (std::abs(f.x) + std::abs(f.z) +
+                            std::abs(b / a) * (std::abs(ray.d.x) + std::abs(ray.d.z)));
+            if (disc >= -2.0 * a * (c.radius + l) * l_err) disc = 0.0;
+        }
         if (disc >= 0.0) {
             const double cc = f.x * f.x + f.z * f.z - c.radius * c.radius;
             const double q = -(b + std::copysign(std::sqrt(disc), b));
