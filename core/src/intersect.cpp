@@ -204,14 +204,20 @@ SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const H
             break;
     }
     // Shape frame -> set frame -> world: points by M, normals by (A^-1)^T (spec §4.1). The error
-    // bound grows by |A| applied to the local bound plus the rounding of the transform itself.
+    // bound grows by |A| applied to the local bound plus the rounding of the transform itself
+    // (pbrt-v4's Transform error bounds, Pharr, Jakob, Humphreys, 4th ed. §6.8.6), plus the image
+    // under |A| of the rounding that mapping a spawned ray's origin back through M^-1 adds in the
+    // local frame: under extreme non-uniform scale (1e-4 on one axis, a translation of 100) that
+    // term dominates, and without it a spawned ray re-hit its own cone.
     auto apply = [](const Transform& xf, SurfacePoint& s) {
-        const Mat3 a(xf.m);
-        Mat3 abs_a;
-        for (int c = 0; c < 3; ++c) abs_a[c] = glm::abs(a[c]);
+        const Mat3 a(xf.m), inv(xf.inv);
+        Mat3 abs_a, abs_inv;
+        for (int c = 0; c < 3; ++c) abs_a[c] = glm::abs(a[c]), abs_inv[c] = glm::abs(inv[c]);
         const Vec3 p_new = xf.point(s.p);
-        s.p_error =
-            abs_a * s.p_error + gamma(3) * (abs_a * glm::abs(s.p) + glm::abs(Vec3(xf.m[3])));
+        const Vec3 back_err =
+            gamma(3) * (abs_inv * glm::abs(p_new) + glm::abs(Vec3(xf.inv[3])) + s.p_error);
+        s.p_error = abs_a * (s.p_error + back_err) +
+                    gamma(3) * (abs_a * glm::abs(s.p) + glm::abs(Vec3(xf.m[3])));
         s.p = p_new;
         s.n_geometric = glm::normalize(xf.normal_dir(s.n_geometric));
         s.n_shading = glm::normalize(xf.normal_dir(s.n_shading));
@@ -231,7 +237,11 @@ SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const H
 
 Vec3 offset_origin(const SurfaceInteraction& si, const Vec3& dir) {
     const Vec3 n = si.n_geometric;
-    // Distance along n that moves the point outside its error box (pbrt-v4 OffsetRayOrigin).
+    // Spec §7.5: the origin moves along n_g by a bound on the point's floating-point error, not by
+    // a fixed epsilon: pbrt-v4's OffsetRayOrigin (Pharr, Jakob, Humphreys, "Physically Based
+    // Rendering", 4th ed., §6.8.6), the error-bound form of the offset that Wächter and Binder
+    // ("A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6) derive
+    // from the float grid. Distance along n that moves the point outside its error box:
     const double d = glm::dot(glm::abs(n), si.p_error);
     Vec3 offset = d * n;
     if (glm::dot(dir, n) < 0) offset = -offset;

@@ -68,9 +68,13 @@ struct SurfacePoint {
     Vec2 uv{0.0};
 };
 
-/// The hits of a convex shape from up to four candidate roots: sorted, inside the interval, a
-/// root found twice (a side meeting a cap on the rim) kept once, at most two.
+/// The hits of a convex shape from up to four candidate roots: the smallest and the largest
+/// (entry and exit of the one interval a line shares with a convex solid), each kept when inside
+/// the interval; a root found twice (a side meeting a cap on the rim) counts once.
 ShapeHits convex_hits(double* cand, int* part, int n, Interval t);
+/// Whether (x, z) lies in the disc of radius r, widened by the errors of x and z and the
+/// rounding of the test (cap and base discs; see convex_hits).
+bool within_disc(double x, double z, double dx_err, double dz_err, double r);
 
 Bounds3 bounds(const Sphere& s);
 Bounds3 bounds(const Box& b);

@@ -24,11 +24,15 @@ struct TriRay {
     int kx = 0, ky = 1, kz = 2;
     float sx = 0, sy = 0, sz = 1;
     float o[3] = {0, 0, 0};
+    double od[3] = {0, 0, 0}, dd[3] = {0, 0, 1};  // the ray in double, unpermuted (see below)
     explicit TriRay(const Ray& r);
 };
 
 /// Tests the lanes of `lanes_mask`. Returns a mask of the lanes hit with t in (t_lo, t_hi) and
-/// writes their distances to t_out.
+/// writes their distances to t_out. A lane that the float edge test hits but whose float distance
+/// lies inside pbrt-v4's error band around zero (a grazing hit: the band is loose when the
+/// triangle is seen nearly edge-on) gets its distance recomputed in double before it is rejected,
+/// so the band never opens a hole between triangles.
 int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_lo, float t_hi,
                    float t_out[4]);
 

@@ -22,38 +22,83 @@ Bounds3 bounds(const Cone& c, const Mat4& m) {
 }
 
 ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
-    // Work relative to the apex: x^2 + z^2 = k^2 y^2 with y in [-h, 0], k = r/h.
+    // Work relative to the apex: Q(p) = x^2 + z^2 - k^2 y^2 = 0 with y in [-h, 0], k = r/h.
     const Vec3 apex = c.centre + Vec3(0.0, 0.5 * c.height, 0.0);
     const Vec3 f = ray.o - apex;
     const Vec3& d = ray.d;
-    const double k = c.radius / c.height, k2 = k * k;
-    double cand[3];
-    int part[3];
+    const double h = c.height, k = c.radius / c.height, k2 = k * k;
+    auto quad = [&](const Vec3& p) { return p.x * p.x + p.z * p.z - k2 * p.y * p.y; };
+    double cand[5];
+    int part[5];
     int n = 0;
+    // Side roots keep y in [-h, 0] up to the rounding of y (and of the apex): a ray through the
+    // apex or the base rim is never lost between the side and the base (see convex_hits).
     auto side_ok = [&](double tr) {
         const double y = f.y + tr * d.y;
-        return y >= -c.height && y <= 0.0;
+        const double e = gamma(4) * (std::abs(f.y) + std::abs(tr * d.y) + std::abs(apex.y) + h);
+        return y >= -h - e && y <= e;
     };
-    const double a = d.x * d.x + d.z * d.z - k2 * d.y * d.y;
+    // Q(f + t d) = a t^2 + 2 b t + cc.
+    const double a = quad(d);
     const double b = f.x * d.x + f.z * d.z - k2 * f.y * d.y;
-    const double cc = f.x * f.x + f.z * f.z - k2 * f.y * f.y;
-    if (a != 0.0) {
-        const double disc = b * b - a * cc;
+    const double cc = quad(f);
+    const double a_scale = d.x * d.x + d.z * d.z + k2 * d.y * d.y;
+    if (std::abs(a) > 1e-6 * a_scale) {
+        // Stable discriminant (Haines et al., Ray Tracing Gems ch. 7, for any quadric):
+        // b^2 - a cc = -a Q(l), l = f - (b/a) d the point where Q is stationary along the line,
+        // which avoids the cancellation of b^2 - a cc for thin or distant cones.
+        const double s = b / a;
+        const Vec3 l = f - s * d;
+        double disc = -a * quad(l);
+        // A double root within rounding (a tangent, or a ray through the apex: Q restricted to a
+        // line through the apex is a (t - t_apex)^2) touches the cone; the known miss of grazing
+        // apex rays came from this rounding turning the discriminant negative.
+        if (disc < 0.0) {
+            const Vec3 l_err =
+                gamma(4) * (glm::abs(f) + std::abs(s) * glm::abs(d) + glm::abs(apex));
+            const double q_err = 2.0 * (std::abs(l.x) * l_err.x + std::abs(l.z) * l_err.z +
+                                        k2 * std::abs(l.y) * l_err.y) +
+                                 l_err.x * l_err.x + l_err.z * l_err.z + k2 * l_err.y * l_err.y +
+                                 gamma(3) * (l.x * l.x + l.z * l.z + k2 * l.y * l.y);
+            if (disc >= -std::abs(a) * q_err * (1.0 + gamma(2))) disc = 0.0;
+        }
         if (disc >= 0.0) {
             const double q = -(b + std::copysign(std::sqrt(disc), b));
-            const double roots[2] = {q != 0.0 ? cc / q : 0.0, q / a};
+            const double roots[2] = {q != 0.0 ? cc / q : -s, q / a};
             for (double tr : roots)
                 if (side_ok(tr)) cand[n] = tr, part[n++] = kSide;
         }
-    } else if (b != 0.0) {
-        // Ray parallel to a generating line: one root of the linear equation.
-        const double tr = -cc / (2.0 * b);
-        if (side_ok(tr)) cand[n] = tr, part[n++] = kSide;
+    } else if (a != 0.0 || b != 0.0) {
+        // Nearly parallel to a generating line: a t^2 + 2 b t + cc with a tiny a. The root that
+        // stays finite is -cc / (b + sign(b) sqrt(b^2 - a cc)); the other one is far away.
+        const double disc = b * b - a * cc;
+        if (disc >= 0.0) {
+            const double q = -(b + std::copysign(std::sqrt(disc), b));
+            if (q != 0.0 && side_ok(cc / q)) cand[n] = cc / q, part[n++] = kSide;
+            if (a != 0.0 && side_ok(q / a)) cand[n] = q / a, part[n++] = kSide;
+        }
+    } else if (cc == 0.0 && d.y != 0.0) {
+        // The line lies on the cone (a = b = cc = 0): it touches from the apex down to the base.
+        const double ta = -f.y / d.y;
+        cand[n] = ta, part[n++] = kSide;
+    }
+    // The apex is a point of the solid that the side roots find only as an ill-conditioned double
+    // root (its error is the square root of the rounding). A ray passing the apex within the
+    // rounding of its own position touches it there: the apex is a candidate of its own.
+    {
+        const double dd = glm::dot(d, d);
+        const double ta = dd > 0.0 ? -glm::dot(f, d) / dd : 0.0;
+        const Vec3 miss = f + ta * d;
+        auto l1 = [](const Vec3& v) { return std::abs(v.x) + std::abs(v.y) + std::abs(v.z); };
+        const double err = gamma(7) * (l1(f) + std::abs(ta) * l1(d) + l1(apex));
+        if (glm::dot(miss, miss) <= err * err) cand[n] = ta, part[n++] = kSide;
     }
     if (d.y != 0.0) {
         const double tb = (-c.height - f.y) / d.y;
         const double x = f.x + tb * d.x, z = f.z + tb * d.z;
-        if (x * x + z * z <= c.radius * c.radius) cand[n] = tb, part[n++] = kBase;
+        const double ex = gamma(5) * (std::abs(f.x) + std::abs(tb * d.x) + std::abs(apex.x));
+        const double ez = gamma(5) * (std::abs(f.z) + std::abs(tb * d.z) + std::abs(apex.z));
+        if (within_disc(x, z, ex, ez, c.radius)) cand[n] = tb, part[n++] = kBase;
     }
     return convex_hits(cand, part, n, t);
 }

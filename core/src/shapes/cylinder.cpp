@@ -25,20 +25,33 @@ ShapeHits convex_hits(double* cand, int* part, int n, Interval t) {
     for (int i = 1; i < n; ++i)
         for (int j = i; j > 0 && cand[j] < cand[j - 1]; --j)
             std::swap(cand[j], cand[j - 1]), std::swap(part[j], part[j - 1]);
+    // A line meets a convex solid in one interval: its hits are the smallest and the largest
+    // candidate. Candidates accepted within their rounding band near a rim or an apex (a side root
+    // a hair past the cap plane, a cap point a hair outside the disc) lie between the two and are
+    // dropped, so the real exit is never displaced by a duplicate of the entry.
     ShapeHits h;
-    double last = -kInf;
-    for (int i = 0; i < n && h.count < 2; ++i) {
-        if (!t.contains(cand[i]) || cand[i] == last) continue;
-        h.add(cand[i], part[i]);
-        last = cand[i];
-    }
+    if (n == 0) return h;
+    if (t.contains(cand[0])) h.add(cand[0], part[0]);
+    if (n > 1 && cand[n - 1] != cand[0] && t.contains(cand[n - 1])) h.add(cand[n - 1], part[n - 1]);
     return h;
+}
+
+bool within_disc(double x, double z, double dx_err, double dz_err, double r) {
+    // x^2 + z^2 <= r^2 for the point as computed, widened by the error of its coordinates, so a
+    // ray through a rim is accepted by the cap even when the side rejects it (and vice versa).
+    const double err = 2.0 * (std::abs(x) * dx_err + std::abs(z) * dz_err) + dx_err * dx_err +
+                       dz_err * dz_err + gamma(3) * (x * x + z * z + r * r);
+    return x * x + z * z <= r * r + err;
 }
 
 ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
     const Vec3 f = ray.o - c.centre;
     const double y0 = -0.5 * c.height, y1 = 0.5 * c.height;
-    const double r2 = c.radius * c.radius;
+    // Rounding of a computed height f.y + t d.y (and of the shape's own numbers): side roots and
+    // cap points within it of the rim are kept (closed surfaces; see convex_hits).
+    auto y_err = [&](double tr) {
+        return gamma(4) * (std::abs(f.y) + std::abs(tr * ray.d.y) + std::abs(c.centre.y) + y1);
+    };
     // Candidates: two side roots and the two cap planes; a convex shape has at most two hits.
     double cand[4];
     int part[4];
@@ -46,17 +59,25 @@ ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
     const double a = ray.d.x * ray.d.x + ray.d.z * ray.d.z;
     if (a > 0.0) {
         const double b = f.x * ray.d.x + f.z * ray.d.z;
-        // Stable discriminant as for the sphere, in the xz plane.
+        // Stable discriminant as for the sphere (Haines et al., Ray Tracing Gems ch. 7), in the
+        // xz plane: a (r - |l|)(r + |l|) with l the closest approach, no b^2 - ac cancellation.
         const double lx = f.x - (b / a) * ray.d.x, lz = f.z - (b / a) * ray.d.z;
         const double l = std::sqrt(lx * lx + lz * lz);
-        const double disc = a * (c.radius - l) * (c.radius + l);
+        double disc = a * (c.radius - l) * (c.radius + l);
+        // A tangent ray (|l| = r up to the rounding of l) is a double root: it touches.
+        if (disc < 0.0) {
+            const double l_err =
+                gamma(5) * (std::abs(f.x) + std::abs(f.z) +
+                            std::abs(b / a) * (std::abs(ray.d.x) + std::abs(ray.d.z)));
+            if (disc >= -2.0 * a * (c.radius + l) * l_err) disc = 0.0;
+        }
         if (disc >= 0.0) {
-            const double cc = f.x * f.x + f.z * f.z - r2;
+            const double cc = f.x * f.x + f.z * f.z - c.radius * c.radius;
             const double q = -(b + std::copysign(std::sqrt(disc), b));
             const double roots[2] = {q != 0.0 ? cc / q : 0.0, q / a};
             for (double tr : roots) {
-                const double y = f.y + tr * ray.d.y;
-                if (y >= y0 && y <= y1) cand[n] = tr, part[n++] = kSide;
+                const double y = f.y + tr * ray.d.y, e = y_err(tr);
+                if (y >= y0 - e && y <= y1 + e) cand[n] = tr, part[n++] = kSide;
             }
         }
     }
@@ -65,7 +86,12 @@ ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
             const double yc = cap == 0 ? y1 : y0;
             const double tc = (yc - f.y) / ray.d.y;
             const double x = f.x + tc * ray.d.x, z = f.z + tc * ray.d.z;
-            if (x * x + z * z <= r2) cand[n] = tc, part[n++] = cap == 0 ? kTop : kBottom;
+            const double ex =
+                gamma(5) * (std::abs(f.x) + std::abs(tc * ray.d.x) + std::abs(c.centre.x));
+            const double ez =
+                gamma(5) * (std::abs(f.z) + std::abs(tc * ray.d.z) + std::abs(c.centre.z));
+            if (within_disc(x, z, ex, ez, c.radius))
+                cand[n] = tc, part[n++] = cap == 0 ? kTop : kBottom;
         }
     }
     return convex_hits(cand, part, n, t);
