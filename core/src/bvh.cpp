@@ -254,13 +254,22 @@ Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& sett
 BoxRay::BoxRay(const Ray& r) {
     for (int a = 0; a < 3; ++a) {
         const float of = static_cast<float>(r.o[a]);
-        // A zero component gets a huge finite reciprocal: no 0 * inf = NaN in the slab test.
-        const double inv_d = std::clamp(r.d[a] != 0.0 ? 1.0 / r.d[a] : 1e30, -1e30, 1e30);
+        o[a] = _mm_set1_ps(of);
+        const double rounding = std::abs(r.o[a] - static_cast<double>(of));
+        if (std::abs(r.d[a]) < 1e-30) {
+            // A containment test (intersect_node): a huge reciprocal instead would turn an
+            // origin exactly on a box's upper face into a far distance of about 1 and cull
+            // every box behind it. A component below 1e-30 moves the ray by less than
+            // |d| * 1e30 over any distance a scene holds: that is added to the slack.
+            parallel[a] = true;
+            inv[a] = _mm_setzero_ps();
+            slack[a] = _mm_set1_ps(float_upper(rounding + std::abs(r.d[a]) * 1e30));
+            continue;
+        }
+        const double inv_d = 1.0 / r.d[a];
         const float inv_f = static_cast<float>(inv_d);
         // The origin's rounding to float moves the slab distances by up to |o - o_f| / |d|.
-        const double slack_d =
-            (std::abs(r.o[a] - static_cast<double>(of)) + 1e-30) * std::abs(inv_d) * 2.0;
-        o[a] = _mm_set1_ps(of);
+        const double slack_d = (rounding + 1e-30) * std::abs(inv_d) * 2.0;
         inv[a] = _mm_set1_ps(inv_f);
         slack[a] = _mm_set1_ps(static_cast<float>(slack_d));
     }

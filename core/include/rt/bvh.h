@@ -53,6 +53,9 @@ Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& sett
 /// that covers the rounding of the origin, so the slab distances bound the exact ones.
 struct BoxRay {
     __m128 o[3], inv[3], slack[3];
+    // Axes the ray does not move along (d = 0): the slab holds the whole line or none of it, so
+    // the test there is o in [lo, hi] (closed, with o's rounding as slack), not a distance.
+    bool parallel[3] = {false, false, false};
     explicit BoxRay(const Ray& r);
 };
 
@@ -64,7 +67,15 @@ inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, 
     const __m128 widen = _mm_set1_ps(kWiden);
     __m128 t0 = _mm_setzero_ps();
     __m128 t1 = _mm_set1_ps(t_max);
+    __m128 inside = _mm_castsi128_ps(_mm_set1_epi32(-1));
     for (int a = 0; a < 3; ++a) {
+        if (ray.parallel[a]) {
+            inside = _mm_and_ps(
+                inside,
+                _mm_and_ps(_mm_cmple_ps(_mm_load_ps(node.lo[a]), _mm_add_ps(ray.o[a], ray.slack[a])),
+                           _mm_cmpge_ps(_mm_load_ps(node.hi[a]), _mm_sub_ps(ray.o[a], ray.slack[a]))));
+            continue;
+        }
         const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[a]), ray.o[a]), ray.inv[a]);
         const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.hi[a]), ray.o[a]), ray.inv[a]);
         const __m128 tn = _mm_sub_ps(_mm_min_ps(ta, tb), ray.slack[a]);
@@ -73,7 +84,8 @@ inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, 
         t1 = _mm_min_ps(t1, tf);
     }
     _mm_storeu_ps(t_entry, t0);
-    return _mm_movemask_ps(_mm_cmple_ps(t0, t1)) & ((1 << node.num_children) - 1);
+    return _mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(t0, t1), inside)) &
+           ((1 << node.num_children) - 1);
 }
 
 /// Traversal: `visit_leaf(first, count, t_max)` tests the leaf's primitives (positions
