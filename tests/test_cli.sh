@@ -104,5 +104,14 @@ check "--progressive without a limit exits 2" test $? -eq 2
 "$rt" "$tmp/ok.ray" --aperture -1 >/dev/null 2>&1
 check "negative aperture exits 2" test $? -eq 2
 
+# Leave out what a scene does not need: --explain lists it, --no-specialize renders the same image.
+"$rt" "$tmp/ok.ray" -o "$tmp/spec.pfm" --width 32 --height 24 --explain >"$tmp/explain.txt" 2>&1
+check "--explain exits 0" test $? -eq 0
+check "--explain: refraction left out" grep -qx "left out: refraction: no transparent material" "$tmp/explain.txt"
+check "--explain: highlights kept" grep -q "^kept: specular highlights" "$tmp/explain.txt"
+check "--explain: lines have the form" bash -c "! grep -E '^(left out|kept)' '$tmp/explain.txt' | grep -vqE '^(left out|kept): [^:]+: .+'"
+"$rt" "$tmp/ok.ray" -o "$tmp/generic.pfm" --width 32 --height 24 --no-specialize -q
+check "--no-specialize: same image" cmp -s "$tmp/spec.pfm" "$tmp/generic.pfm"
+
 echo "$passes passed, $fails failed"
 test "$fails" -eq 0

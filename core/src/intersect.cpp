@@ -11,8 +11,10 @@ namespace {
 // A ray in a set's frame with the per-ray constants of the triangle kernel.
 struct SetRay {
     Ray ray;
-    TriRay tri;
-    explicit SetRay(const Ray& r) : ray(r), tri(r) {}
+    TriRay tri;  // the triangle kernel's setup, only for sets that hold triangles
+    SetRay(const Ray& r, const GeometrySet& set) : ray(r) {
+        if (!set.triangles.empty()) tri = TriRay(r);
+    }
 };
 
 // The one triangle test: lane `index % 4` of block `index / 4` (spec §5; see triangle4.h).
@@ -71,7 +73,7 @@ void for_each_instance(const RenderScene& scene, const Ray& ray, double& t_max, 
 // of triangles only test each leaf's triangles four at a time.
 template <bool kOrdered, class F>
 bool for_each_hit(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
-    const SetRay sr(r);
+    const SetRay sr(r, set);
     bool stopped = false;
     if (set.triangles_only) {
         traverse_leaves<kOrdered>(
@@ -128,7 +130,7 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
     for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
         const Instance& inst = scene.instances[ii];
         const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
-        const SetRay r(to_set(inst, ray));
+        const SetRay r(to_set(inst, ray), set);
         for (uint32_t pi = 0; pi < set.prims.size(); ++pi) {
             const ShapeHits h = prim_hits(set, set.prims[pi], r, {t.lo, best});
             if (h.count > 0) {
@@ -143,7 +145,7 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
 
 ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
                               Interval t) {
-    return prim_hits(set, set.prims[prim], SetRay(ray_set), t);
+    return prim_hits(set, set.prims[prim], SetRay(ray_set, set), t);
 }
 
 bool occluded(const RenderScene& scene, const Ray& ray, double t_max) {
@@ -176,7 +178,7 @@ Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max) {
     return s;
 }
 
-SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit) {
+SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit, bool uv) {
     const Instance& inst = scene.instances[static_cast<size_t>(hit.instance)];
     const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
     const Primitive& p = set.prims[hit.prim];
@@ -188,19 +190,19 @@ SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const H
     const Ray r = shape_xf ? shape_xf->inv_ray(r_set) : r_set;
     switch (p.kind) {
         case ShapeKind::Sphere:
-            sp = surface_at(set.spheres[p.index], r, hit.t, hit.part);
+            sp = surface_at(set.spheres[p.index], r, hit.t, hit.part, uv);
             break;
         case ShapeKind::Box:
-            sp = surface_at(set.boxes[p.index], r, hit.t, hit.part);
+            sp = surface_at(set.boxes[p.index], r, hit.t, hit.part, uv);
             break;
         case ShapeKind::Cylinder:
-            sp = surface_at(set.cylinders[p.index], r, hit.t, hit.part);
+            sp = surface_at(set.cylinders[p.index], r, hit.t, hit.part, uv);
             break;
         case ShapeKind::Cone:
-            sp = surface_at(set.cones[p.index], r, hit.t, hit.part);
+            sp = surface_at(set.cones[p.index], r, hit.t, hit.part, uv);
             break;
         case ShapeKind::Triangle:
-            sp = surface_at(set.triangles[p.index], set.triangle_attribs[p.index], r, hit.t);
+            sp = surface_at(set.triangles[p.index], set.triangle_attribs[p.index], r, hit.t, uv);
             break;
     }
     // Shape frame -> set frame -> world: points by M, normals by (A^-1)^T (spec §4.1). The error

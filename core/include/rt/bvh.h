@@ -72,8 +72,9 @@ inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, 
         if (ray.parallel[a]) {
             inside = _mm_and_ps(
                 inside,
-                _mm_and_ps(_mm_cmple_ps(_mm_load_ps(node.lo[a]), _mm_add_ps(ray.o[a], ray.slack[a])),
-                           _mm_cmpge_ps(_mm_load_ps(node.hi[a]), _mm_sub_ps(ray.o[a], ray.slack[a]))));
+                _mm_and_ps(
+                    _mm_cmple_ps(_mm_load_ps(node.lo[a]), _mm_add_ps(ray.o[a], ray.slack[a])),
+                    _mm_cmpge_ps(_mm_load_ps(node.hi[a]), _mm_sub_ps(ray.o[a], ray.slack[a]))));
             continue;
         }
         const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[a]), ray.o[a]), ray.inv[a]);

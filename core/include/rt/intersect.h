@@ -41,7 +41,8 @@ ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& 
 /// opaque surface is met (spec §7.2). A closed transparent object counts twice.
 Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max);
 
-SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit);
+SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit,
+                               bool uv = true);
 
 /// A ray leaving the surface point toward `dir`: the origin is pushed off along n_geometric by
 /// the point's error bound so the new ray cannot hit the same surface (pbrt's OffsetRayOrigin).

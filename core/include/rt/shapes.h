@@ -99,11 +99,13 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t);
 /// The renderer's triangle test (watertight, single precision: triangle4.h) on one triangle.
 ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t);
 
-SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int part);
-SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int part);
-SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part);
-SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part);
-SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t);
+/// `uv` false: texture coordinates are not computed (left at 0) for scenes without textures.
+SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int part, bool uv = true);
+SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int part, bool uv = true);
+SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part, bool uv = true);
+SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part, bool uv = true);
+SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t,
+                        bool uv = true);
 
 /// Spec §5's box face table: (u, v) of local point q on `face` (axis * 2 + 1 for the + side),
 /// h the half side lengths. Each face reads upright and unmirrored from outside.

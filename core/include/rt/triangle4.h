@@ -25,6 +25,7 @@ struct TriRay {
     float sx = 0, sy = 0, sz = 1;
     float o[3] = {0, 0, 0};
     double od[3] = {0, 0, 0}, dd[3] = {0, 0, 1};  // the ray in double, unpermuted (see below)
+    TriRay() = default;                           // not set up: for sets without triangles
     explicit TriRay(const Ray& r);
 };
 

@@ -69,7 +69,7 @@ ShapeHits intersect(const Box& b, const Ray& ray, Interval t) {
     return h;
 }
 
-SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int /*part*/) {
+SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int /*part*/, bool uv) {
     SurfacePoint sp;
     Vec3 q = ray.at(t) - b.centre;
     const int face = face_of(q, b.half);
@@ -83,7 +83,7 @@ SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int /*part*/) {
     sp.n_geometric = Vec3(0.0);
     sp.n_geometric[axis] = sign;
     sp.n_shading = sp.n_geometric;
-    sp.uv = box_face_uv(face, q, b.half);
+    if (uv) sp.uv = box_face_uv(face, q, b.half);
     return sp;
 }
 

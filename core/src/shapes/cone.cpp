@@ -103,7 +103,7 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
     return convex_hits(cand, part, n, t);
 }
 
-SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part) {
+SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part, bool uv) {
     SurfacePoint sp;
     Vec3 q = ray.at(t) - c.centre;
     const double h2 = 0.5 * c.height, r = c.radius, h = c.height;
@@ -118,11 +118,11 @@ SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part) {
             sp.n_geometric = Vec3(0.0, 1.0, 0.0);  // the apex
         }
         if (rho_surface == 0.0) sp.n_geometric = Vec3(0.0, 1.0, 0.0);
-        sp.uv = {azimuth(q) / (2 * kPi), (q.y + h2) / h};
+        if (uv) sp.uv = {azimuth(q) / (2 * kPi), (q.y + h2) / h};
     } else {
         q.y = -h2;
         sp.n_geometric = Vec3(0.0, -1.0, 0.0);
-        sp.uv = disc_uv(false, q.x, q.z, r);
+        if (uv) sp.uv = disc_uv(false, q.x, q.z, r);
     }
     sp.p = c.centre + q;
     sp.p_error = kAnalyticRetestMargin * gamma(6) * (glm::abs(c.centre) + glm::abs(q));

@@ -97,7 +97,7 @@ ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
     return convex_hits(cand, part, n, t);
 }
 
-SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part) {
+SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part, bool uv) {
     SurfacePoint sp;
     Vec3 q = ray.at(t) - c.centre;
     const double h2 = 0.5 * c.height, r = c.radius;
@@ -106,12 +106,12 @@ SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part) {
         if (rho > 0) q.x *= r / rho, q.z *= r / rho;  // re-project onto the side
         q.y = std::clamp(q.y, -h2, h2);
         sp.n_geometric = Vec3(q.x / r, 0.0, q.z / r);
-        sp.uv = {azimuth(q) / (2 * kPi), (q.y + h2) / c.height};
+        if (uv) sp.uv = {azimuth(q) / (2 * kPi), (q.y + h2) / c.height};
     } else {
         const bool top = part == kTop;
         q.y = top ? h2 : -h2;
         sp.n_geometric = Vec3(0.0, top ? 1.0 : -1.0, 0.0);
-        sp.uv = disc_uv(top, q.x, q.z, r);
+        if (uv) sp.uv = disc_uv(top, q.x, q.z, r);
     }
     sp.p = c.centre + q;
     sp.p_error = kAnalyticRetestMargin * gamma(5) * (glm::abs(c.centre) + glm::abs(q));

@@ -59,7 +59,7 @@ ShapeHits intersect(const Sphere& s, const Ray& ray, Interval t) {
     return h;
 }
 
-SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int /*part*/) {
+SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int /*part*/, bool uv) {
     SurfacePoint sp;
     Vec3 q = ray.at(t) - s.centre;
     // Re-project onto the sphere: the point's error no longer depends on t's error.
@@ -68,8 +68,10 @@ SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int /*part*/)
     sp.p_error = kAnalyticRetestMargin * gamma(5) * (glm::abs(s.centre) + glm::abs(q));
     sp.n_geometric = q / s.radius;
     sp.n_shading = sp.n_geometric;
-    sp.uv.x = azimuth(q) / (2 * kPi);
-    sp.uv.y = std::acos(std::clamp(-q.y / s.radius, -1.0, 1.0)) / kPi;
+    if (uv) {
+        sp.uv.x = azimuth(q) / (2 * kPi);
+        sp.uv.y = std::acos(std::clamp(-q.y / s.radius, -1.0, 1.0)) / kPi;
+    }
     return sp;
 }
 

@@ -45,8 +45,8 @@ ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
     return h;
 }
 
-SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray,
-                        double t) {
+SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t,
+                        bool uv) {
     SurfacePoint sp;
     double tt = t, b1 = 0, b2 = 0;
     if (!barycentric(tri, ray, &tt, &b1, &b2)) {
@@ -72,7 +72,7 @@ SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const 
         const double len = glm::length(n);
         if (len > 0) sp.n_shading = n / len;
     }
-    sp.uv = b0 * attr.uv[0] + b1 * attr.uv[1] + b2 * attr.uv[2];
+    if (uv) sp.uv = b0 * attr.uv[0] + b1 * attr.uv[1] + b2 * attr.uv[2];
     return sp;
 }
 
