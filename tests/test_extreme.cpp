@@ -117,7 +117,13 @@ AcneCount count_acne(const Vec3& c, bool triangles) {
         const double h = 10;
         text += vertex(world({-h, 0, -h})) + vertex(world({h, 0, -h})) + vertex(world({h, 0, h})) +
                 vertex(world({-h, 0, h}));
+        // Far away, a small triangle at the origin as well (out of the light's way): the scene
+        // spans the whole distance, so the float copy of the triangles (relative to the centre
+        // of their bounds) rounds at the scale of c, as a big world's would.
+        const bool far = glm::length(c) > 100;
+        if (far) text += vertex({0, 0, 0}) + vertex({1, 0, 0}) + vertex({0, 1, 0});
         text += triangle(0, 2, 1) + triangle(0, 3, 2);
+        if (far) text += triangle(4, 5, 6);
     } else {
         text += group_begin(m) + "#shape_box 0 0 -0.5 0 20 1 20\n#group_end\n";
     }
@@ -232,6 +238,40 @@ SphereStats check_sphere(const Vec3& centre, double radius, const Vec3& eye, int
             s.max_rel = std::max(s.max_rel, static_cast<double>(std::abs((LD(h.t) - o.t) / o.t)));
         }
     return s;
+}
+
+// A small mesh far from the origin: its float copy is relative to the centre of its bounds, so
+// hit distances resolve the mesh, not its distance from the origin (stored absolutely, a mesh at
+// 1e4 snaps to a float grid of 1e-3: relative distance errors of 1e-3 seen from 1 unit away).
+TEST(Extreme, FarMeshHitDistancesResolveTheMesh) {
+    for (const double dist : {1e4, 1e6}) {
+        const Vec3 c = dist * glm::normalize(Vec3(1, 0.7, 0.4)) + Vec3(0.123456789, 0, 0);
+        std::string text = kOpaque;
+        const Vec3 p0 = c + Vec3(-1, -1, 0.01), p1 = c + Vec3(1, -1, -0.02),
+                   p2 = c + Vec3(0.1, 1, 0.015);
+        text += vertex(p0) + vertex(p1) + vertex(p2) + triangle(0, 1, 2);
+        const RenderScene scene = test::compile(text);
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<double> u(-0.4, 0.4);
+        double worst = 0;
+        int hits = 0;
+        for (int i = 0; i < 2000; ++i) {
+            const Vec3 eye = c + Vec3(u(rng), u(rng), 1.5);
+            const Vec3 target = c + Vec3(0.75 * u(rng), 0.5 * u(rng) - 0.4, 0);  // inside
+            const Ray r{eye, glm::normalize(target - eye)};
+            Hit hit;
+            if (!intersect(scene, r, {0, kInf}, &hit)) continue;
+            ++hits;
+            // The double oracle: the ray against the triangle's plane.
+            const Vec3 n = glm::cross(p1 - p0, p2 - p0);
+            const double t = glm::dot(n, p0 - r.o) / glm::dot(n, r.d);
+            worst = std::max(worst, std::abs(hit.t - t) / t);
+        }
+        std::printf("[ far mesh ] at %g: %d hits, worst relative distance error %.3g\n", dist, hits,
+                    worst);
+        EXPECT_EQ(hits, 2000);
+        EXPECT_LT(worst, 1e-5);
+    }
 }
 
 TEST(Extreme, TinyHugeAndFarSpheresMatchALongDoubleOracle) {

@@ -150,15 +150,22 @@ private:
         return m_set_of_file[fi];
     }
 
-    // Single-precision copies of the triangles, four per block (unused lanes zero).
+    // Single-precision copies of the triangles, four per block (unused lanes zero), relative to
+    // the centre of their bounds: float then resolves a mesh to its own size, not to its
+    // distance from the origin (a mesh at 1e4 would otherwise snap to a grid of 1e-3).
     static void pack_triangles(GeometrySet& set) {
+        Bounds3 b;
+        for (const Triangle& t : set.triangles)
+            for (const Vec3& v : {t.p0, t.p1, t.p2}) b.extend(v);
+        set.tri_origin = b.empty() ? Vec3(0.0) : b.centre();
         set.tri4.assign((set.triangles.size() + 3) / 4, Tri4{});
         for (size_t i = 0; i < set.triangles.size(); ++i) {
             const Triangle& t = set.triangles[i];
             const Vec3* v[3] = {&t.p0, &t.p1, &t.p2};
             for (int k = 0; k < 3; ++k)
                 for (int a = 0; a < 3; ++a)
-                    set.tri4[i / 4].p[k][a][i % 4] = static_cast<float>((*v[k])[a]);
+                    set.tri4[i / 4].p[k][a][i % 4] =
+                        static_cast<float>((*v[k])[a] - set.tri_origin[a]);
         }
     }
 

@@ -13,7 +13,7 @@ struct SetRay {
     Ray ray;
     TriRay tri;  // the triangle kernel's setup, only for sets that hold triangles
     SetRay(const Ray& r, const GeometrySet& set) : ray(r) {
-        if (!set.triangles.empty()) tri = TriRay(r);
+        if (!set.triangles.empty()) tri = TriRay({r.o - set.tri_origin, r.d});
     }
 };
 
@@ -202,7 +202,8 @@ SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const H
             sp = surface_at(set.cones[p.index], r, hit.t, hit.part, uv);
             break;
         case ShapeKind::Triangle:
-            sp = surface_at(set.triangles[p.index], set.triangle_attribs[p.index], r, hit.t, uv);
+            sp = surface_at(set.triangles[p.index], set.triangle_attribs[p.index], r, hit.t, uv,
+                            set.tri_origin);
             break;
     }
     // Shape frame -> set frame -> world: points by M, normals by (A^-1)^T (spec §4.1). The error

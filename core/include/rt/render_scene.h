@@ -54,7 +54,8 @@ struct GeometrySet {
     std::vector<Cylinder> cylinders;
     std::vector<Cone> cones;
     std::vector<Triangle> triangles;  // flattened into the set's frame
-    std::vector<Tri4> tri4;           // the same in float, four per block: what rays test
+    std::vector<Tri4> tri4;           // the same in float, four per block: what rays test,
+    Vec3 tri_origin{0.0};             // relative to this point of the set's frame
     std::vector<TriangleAttribs> triangle_attribs;
     std::vector<Transform> transforms;  // set_from_shape for analytic shapes under groups
     std::vector<Bounds3> prim_bounds;   // in the set's frame

@@ -104,8 +104,10 @@ SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int part, boo
 SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int part, bool uv = true);
 SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part, bool uv = true);
 SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part, bool uv = true);
+/// For triangles, `origin` is the point the float copy of the set's triangles is relative to
+/// (GeometrySet::tri_origin): the point's error bound is the float rounding about it.
 SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t,
-                        bool uv = true);
+                        bool uv = true, const Vec3& origin = Vec3(0.0));
 
 /// Spec §5's box face table: (u, v) of local point q on `face` (axis * 2 + 1 for the + side),
 /// h the half side lengths. Each face reads upright and unmirrored from outside.

@@ -32,7 +32,8 @@ static bool barycentric(const Triangle& tri, const Ray& ray, double* t, double* 
 }
 
 ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
-    // Lane 0 of a block: the very arithmetic every triangle of a scene goes through.
+    // Lane 0 of a block: the arithmetic every triangle of a scene goes through (a set's float
+    // copies are relative to GeometrySet::tri_origin; here the origin is 0).
     Tri4 block{};
     const Vec3* v[3] = {&tri.p0, &tri.p1, &tri.p2};
     for (int k = 0; k < 3; ++k)
@@ -46,7 +47,7 @@ ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
 }
 
 SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t,
-                        bool uv) {
+                        bool uv, const Vec3& origin) {
     SurfacePoint sp;
     double tt = t, b1 = 0, b2 = 0;
     if (!barycentric(tri, ray, &tt, &b1, &b2)) {
@@ -64,7 +65,13 @@ SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const 
     // clear the float rounding of the vertices and of its own origin.
     const Vec3 a0 = b0 * tri.p0, a1 = b1 * tri.p1, a2 = b2 * tri.p2;
     sp.p = a0 + a1 + a2;
-    sp.p_error = gamma_float(7) * (glm::abs(a0) + glm::abs(a1) + glm::abs(a2));
+    // The float copy is relative to `origin`, and so is a ray's float origin: the float
+    // rounding is of the vertices and the point about it; the double subtraction of the origin
+    // and the sum above add a few double roundings of the absolute values.
+    const Vec3 l0 = b0 * (tri.p0 - origin), l1 = b1 * (tri.p1 - origin),
+               l2 = b2 * (tri.p2 - origin);
+    sp.p_error = gamma_float(7) * (glm::abs(l0) + glm::abs(l1) + glm::abs(l2)) +
+                 gamma(8) * (glm::abs(a0) + glm::abs(a1) + glm::abs(a2) + glm::abs(origin));
     sp.n_geometric = glm::normalize(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
     sp.n_shading = sp.n_geometric;
     if (attr.has_normals) {
