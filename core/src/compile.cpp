@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <numeric>
+#include <vector>
 
 #include "rt/render_scene.h"
 
@@ -99,11 +100,26 @@ private:
         place_instances(m_desc.files[fi], m_desc.files[fi].root, world_from_file);
     }
 
-    void place_instances(const FileDesc& f, const GroupDesc& g, const Mat4& world_from_group) {
-        const Mat4 m = world_from_group * g.matrix;
-        for (const InstanceDesc& in : g.instances)
-            place(static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]), m);
-        for (const GroupDesc& child : g.groups) place_instances(f, child, m);
+    // A group and the matrix of its parent's frame: the walks of the group tree keep their own
+    // stack (groups nest up to 10000 deep), in the order of a recursive pre-order walk.
+    struct GroupVisit {
+        const GroupDesc* group;
+        Mat4 parent;
+    };
+    static void push_children(std::vector<GroupVisit>& todo, const GroupDesc& g, const Mat4& m) {
+        for (auto it = g.groups.rbegin(); it != g.groups.rend(); ++it) todo.push_back({&*it, m});
+    }
+
+    void place_instances(const FileDesc& f, const GroupDesc& root, const Mat4& world_from_root) {
+        std::vector<GroupVisit> todo = {{&root, world_from_root}};
+        while (!todo.empty()) {
+            const GroupVisit v = todo.back();
+            todo.pop_back();
+            const Mat4 m = v.parent * v.group->matrix;
+            for (const InstanceDesc& in : v.group->instances)
+                place(static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]), m);
+            push_children(todo, *v.group, m);
+        }
     }
 
     // One shape waiting for its place in the set: its description and its group's transform.
@@ -162,26 +178,38 @@ private:
         }
     }
 
-    static size_t count_shapes(const GroupDesc& g) {
-        size_t n = g.shapes.size();
-        for (const GroupDesc& c : g.groups) n += count_shapes(c);
+    static size_t count_shapes(const GroupDesc& root) {
+        size_t n = 0;
+        std::vector<const GroupDesc*> todo = {&root};
+        while (!todo.empty()) {
+            const GroupDesc* g = todo.back();
+            todo.pop_back();
+            n += g->shapes.size();
+            for (const GroupDesc& c : g->groups) todo.push_back(&c);
+        }
         return n;
     }
 
     // Flattens the group tree: one cached transform per group with shapes (none when identity).
-    void collect(GeometrySet& set, const GroupDesc& g, const Mat4& parent,
+    void collect(GeometrySet& set, const GroupDesc& root, const Mat4& parent,
                  std::vector<Pending>& pending) {
-        const Mat4 m = parent * g.matrix;
-        if (!g.shapes.empty()) {
-            int xf = -1;
-            if (m != Mat4(1.0)) {
-                xf = static_cast<int>(set.transforms.size());
-                set.transforms.push_back(Transform::from_matrix(m));
+        std::vector<GroupVisit> todo = {{&root, parent}};
+        while (!todo.empty()) {
+            const GroupVisit v = todo.back();
+            todo.pop_back();
+            const GroupDesc& g = *v.group;
+            const Mat4 m = v.parent * g.matrix;
+            if (!g.shapes.empty()) {
+                int xf = -1;
+                if (m != Mat4(1.0)) {
+                    xf = static_cast<int>(set.transforms.size());
+                    set.transforms.push_back(Transform::from_matrix(m));
+                }
+                const bool mirror = glm::determinant(Mat3(m)) < 0;
+                for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror});
             }
-            const bool mirror = glm::determinant(Mat3(m)) < 0;
-            for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror});
+            push_children(todo, g, m);
         }
-        for (const GroupDesc& child : g.groups) collect(set, child, m, pending);
     }
 
     // The triangle's vertices in the set's frame; a mirroring transform swaps the last two so

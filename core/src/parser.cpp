@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -30,7 +31,55 @@ MaterialDesc v0_default_material() {
 
 namespace {
 
-std::string quote(std::string_view s) { return "'" + std::string(s) + "'"; }
+// Length in bytes of the valid UTF-8 sequence at s[i] (0 when it is not one).
+size_t utf8_length(std::string_view s, size_t i) {
+    const auto b = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = b(i);
+    size_t n = 0;
+    if (c >= 0xC2 && c <= 0xDF)
+        n = 2;
+    else if (c >= 0xE0 && c <= 0xEF)
+        n = 3;
+    else if (c >= 0xF0 && c <= 0xF4)
+        n = 4;
+    if (n == 0 || i + n > s.size()) return 0;
+    for (size_t k = 1; k < n; ++k)
+        if ((b(i + k) & 0xC0) != 0x80) return 0;
+    // No overlong forms, surrogates or code points above U+10FFFF.
+    if ((c == 0xE0 && b(i + 1) < 0xA0) || (c == 0xED && b(i + 1) > 0x9F) ||
+        (c == 0xF0 && b(i + 1) < 0x90) || (c == 0xF4 && b(i + 1) > 0x8F))
+        return 0;
+    return n;
+}
+
+// A token or path in a message: quoted, control bytes and invalid UTF-8 written as \xNN, and
+// cut after 200 bytes (a 100 MB token makes a short message).
+std::string quote(std::string_view s) {
+    constexpr size_t kMax = 200;
+    static constexpr char kHex[] = "0123456789abcdef";
+    std::string r = "'";
+    size_t i = 0;
+    while (i < s.size() && i < kMax) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        const size_t n = c >= 0x80 ? utf8_length(s, i) : (c < 0x20 || c == 0x7F ? 0 : 1);
+        if (n == 0) {
+            r += "\\x";
+            r += kHex[c >> 4];
+            r += kHex[c & 15];
+            ++i;
+        } else {
+            r.append(s.substr(i, n));
+            i += n;
+        }
+    }
+    r += '\'';
+    if (i < s.size()) {
+        r += "... (";
+        r += std::to_string(s.size());
+        r += " bytes)";
+    }
+    return r;
+}
 
 std::string describe(const Token& t) {
     return t.kind == TokenKind::End ? std::string("end of file") : quote(t.text);
@@ -59,6 +108,12 @@ std::string lower(std::string_view s) {
     for (char& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return r;
 }
+
+// Limits of this reader (scenes/README.md): they keep the recursion of every consumer of the
+// group tree and the file tree shallow, and memory bounded by the size of the input.
+constexpr int kMaxGroupDepth = 10000;          // nested #group_begin/#joint_begin in one file
+constexpr int kMaxIncludeDepth = 200;          // nested #ray_file includes
+constexpr long long kMaxPlacements = 1 << 20;  // file copies placed in the world by instancing
 
 // Items a #*_num count may declare.
 enum CountKind { kLights, kTextures, kMaterials, kVertices, kRayFiles, kKeyFiles, kCountKinds };
@@ -214,7 +269,10 @@ private:
         c.declared = true;
         c.declared_n = n;
         c.loc = f.lex.loc(dir);
-        if (k == kVertices) f.desc.vertices.reserve(static_cast<size_t>(std::min(n, 1 << 26)));
+        // Reserve no more than the rest of the text can hold (a #vertex takes >= 24 bytes), so a
+        // huge count cannot allocate before the file runs out.
+        if (k == kVertices)
+            f.desc.vertices.reserve(std::min(static_cast<size_t>(n), f.lex.remaining() / 24));
     }
 
     void count_item(FileState& f, const Token& dir, CountKind k) {
@@ -305,6 +363,8 @@ private:
                 if (!resolved) continue;
                 const std::string canon = fs::weakly_canonical(fs::absolute(*resolved)).string();
                 if (std::find(visited.begin(), visited.end(), canon) != visited.end()) continue;
+                // Too deep: the parse reports it at this directive.
+                if (m_include_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) continue;
                 const std::string* sub = cached_text(*resolved, canon);
                 if (!sub) continue;
                 const std::string sub_dir = fs::path(*resolved).parent_path().string();
@@ -654,6 +714,10 @@ private:
                 fail(f, pt, "include cycle: " + chain);
             }
         }
+        if (m_open.size() >= static_cast<size_t>(kMaxIncludeDepth))
+            fail(f, d,
+                 "#ray_file includes nested deeper than " + std::to_string(kMaxIncludeDepth) +
+                     " files");
         int index = -1;
         for (size_t i = 0; i < m_scene.files.size(); ++i)
             if (m_scene.files[i].canonical_path == canonical) index = static_cast<int>(i);
@@ -751,12 +815,22 @@ private:
             fail(loc, "projective " + what + ": the bottom row must be 0 0 0 1");
         const Mat3 a(m);
         const double scale = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
-        if (std::abs(glm::determinant(a)) <= 1e-12 * scale || scale == 0.0)
-            fail(loc, "singular " + what);
+        const double det = glm::determinant(a);
+        if (!std::isfinite(scale) || !std::isfinite(det))
+            fail(loc, what + " too large: its determinant overflows");
+        if (std::abs(det) <= 1e-12 * scale || scale == 0.0) fail(loc, "singular " + what);
+    }
+
+    void check_depth(FileState& f, const Token& d) {
+        if (f.stack.size() > static_cast<size_t>(kMaxGroupDepth))
+            fail(f, d,
+                 std::string(d.text) + " nests groups deeper than " +
+                     std::to_string(kMaxGroupDepth) + " levels");
     }
 
     void group_begin(FileState& f, const Token& d) {
         graph(f);
+        check_depth(f, d);
         GroupDesc g;
         g.loc = f.lex.loc(d);
         Mat4 m(1.0);
@@ -772,6 +846,7 @@ private:
 
     void joint_begin(FileState& f, const Token& d) {
         graph(f);
+        check_depth(f, d);
         GroupDesc g;
         g.loc = f.lex.loc(d);
         const Token nt = f.lex.peek();
@@ -911,10 +986,40 @@ private:
 
     // ---- whole tree ----------------------------------------------------------------------
     void finish() {
+        check_placements();
         m_scene.dialect = m_dialect;
         if (!m_scene.camera && !m_scene.files.empty())
             m_diag.warn({std::make_shared<const std::string>(m_scene.files[0].path), 0, 0},
                         "no-camera", "no #camera: using the default camera");
+    }
+
+    // Instancing multiplies: a file placed k times that instances another m times places it k*m
+    // times. The compiler visits every placement, so their number is bounded here, where the
+    // instance directives still have their locations. The recursion follows the include tree,
+    // which is acyclic and at most kMaxIncludeDepth deep.
+    void check_placements() {
+        std::vector<long long> memo(m_scene.files.size(), -1);
+        if (!m_scene.files.empty()) placements(0, memo);
+    }
+
+    long long placements(size_t fi, std::vector<long long>& memo) {
+        if (memo[fi] >= 0) return memo[fi];
+        const FileDesc& file = m_scene.files[fi];
+        long long total = 1;  // the file itself
+        std::vector<const GroupDesc*> todo = {&file.root};
+        while (!todo.empty()) {
+            const GroupDesc* g = todo.back();
+            todo.pop_back();
+            for (const InstanceDesc& in : g->instances) {
+                const int sub = file.ray_files[static_cast<size_t>(in.ray_file)];
+                total += placements(static_cast<size_t>(sub), memo);
+                if (total > kMaxPlacements)
+                    fail(in.loc, "instancing places more than " + std::to_string(kMaxPlacements) +
+                                     " copies of files (nested instances multiply)");
+            }
+            for (const GroupDesc& c : g->groups) todo.push_back(&c);
+        }
+        return memo[fi] = total;
     }
 
     struct Open {
