@@ -80,18 +80,29 @@ TEST(BadInput, GiganticNumbers) {
     const SceneDesc s = parse("#ambient 99999999999999999999 1e-400 0\n");
     EXPECT_EQ(s.ambient.x, 1e20);
     EXPECT_EQ(s.ambient.y, 0.0);
-    // Finite but enormous geometry compiles (bounds may be infinite; nothing crashes).
+    // Finite but enormous geometry: up to +-1e300 it compiles; beyond, an error at the shape.
     EXPECT_EQ(
-        parse_compile_error(std::string(kMat) + "#shape_sphere 0 1e308 -1e308 1e308 1e308\n"
-                                                "#shape_box 0 0 0 0 1e308 1e308 1e308\n"
-                                                "#shape_cylinder 0 1e-308 0 0 1e308 1e-308\n"),
+        parse_compile_error(std::string(kMat) + "#shape_sphere 0 1e299 -1e299 1e299 1e299\n"
+                                                "#shape_box 0 0 0 0 1e300 1e300 1e300\n"
+                                                "#shape_cylinder 0 1e-308 0 0 1e299 1e-308\n"),
         "");
+    EXPECT_EQ(parse_compile_error(std::string(kMat) + "#shape_sphere 0 0 0 0 1\n" +
+                                  "#shape_cylinder 0 0 6 1e308 3 .2\n"),
+              "test.ray:3:1: error: shape reaches beyond +-1e300 in its file's frame "
+              "(coordinates too large for the renderer)");
     // Large group matrices work while their determinant is finite; past that, an error.
     EXPECT_EQ(parse_compile_error(std::string(kMat) +
                                   "#group_begin 1e100 0 0 0  0 1e100 0 0  0 0 1e100 0  0 0 0 1\n" +
                                   kIdentityGroup + "#shape_sphere 0 0 1e100 0 1e100\n" +
                                   "#group_end\n#group_end\n"),
               "");
+    // Nested matrices whose product overflows: the shape is out of range, not a NaN.
+    EXPECT_EQ(parse_compile_error(std::string(kMat) +
+                                  "#group_begin 1e200 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\n" +
+                                  "#group_begin 1e200 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\n" +
+                                  "#shape_sphere 0 0 0 0 1\n#group_end\n#group_end\n"),
+              "test.ray:4:1: error: shape reaches beyond +-1e300 in its file's frame "
+              "(coordinates too large for the renderer)");
     EXPECT_EQ(parse_error("#group_begin 1e300 0 0 0  0 1e300 0 0  0 0 1e300 0  0 0 0 1\n"),
               "test.ray:1:1: error: group matrix too large: its determinant overflows");
 }
@@ -173,6 +184,19 @@ TEST(BadInput, LongTokensAreCutInMessages) {
     const std::string err = parse_error("#ambient 0 0 " + big + "\n");
     EXPECT_EQ(err, "test.ray:1:14: error: expected 3 numbers after #ambient, got '" +
                        std::string(200, 'x') + "'... (1048576 bytes)");
+}
+
+TEST(BadInput, PathTooLongForTheFilesystem) {
+    // ENAMETOOLONG is "cannot open", not an exception from std::filesystem.
+    const std::string name(5000, 'n');
+    for (const char* d : {"#ray_file ", "#texture ", "#key_file "}) {
+        std::string text = d;
+        text += name;
+        text += "\n";
+        const std::string err = parse_error(text);
+        EXPECT_EQ(err.rfind("test.ray:1:", 0), 0u) << err.substr(0, 100);
+        EXPECT_NE(err.find(": error: cannot open "), std::string::npos) << err.substr(0, 100);
+    }
 }
 
 TEST(BadInput, UnterminatedString) {

@@ -3,6 +3,7 @@
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 #include <vector>
 
@@ -11,6 +12,18 @@
 namespace rt {
 
 namespace {
+
+// Geometry must stay within +-1e300 in every frame: beyond that, centroids, extents and areas
+// overflow in the BVH build and the traversal. A shape or instance past it is an error at its
+// directive (scenes/README.md).
+constexpr double kMaxCoordinate = 1e300;
+
+bool within_limits(const Bounds3& b) {
+    for (int a = 0; a < 3; ++a)
+        if (!(std::abs(b.lo[a]) <= kMaxCoordinate && std::abs(b.hi[a]) <= kMaxCoordinate))
+            return false;  // also NaN
+    return true;
+}
 
 // Tight world bounds of one primitive of a set placed by world_from_set (for the default camera).
 Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
@@ -51,7 +64,7 @@ public:
         for (const LightDesc& l : m_desc.lights) m_scene.lights.push_back(compile_light(l));
         compile_materials();
         m_set_of_file.assign(m_desc.files.size(), -2);  // -2: not compiled yet
-        if (!m_desc.files.empty()) place(0, Mat4(1.0));
+        if (!m_desc.files.empty()) place(0, Mat4(1.0), SourceLoc{});
         build_acceleration();
         fill_stats();
         return std::move(m_scene);
@@ -88,13 +101,19 @@ private:
 
     // Places file `fi` in the world: compiles its set once, adds an instance for its own
     // shapes, and recurses into the files it instances.
-    void place(size_t fi, const Mat4& world_from_file) {
+    // `at` is the #ray_file_instance that placed it (none for the top file).
+    void place(size_t fi, const Mat4& world_from_file, const SourceLoc& at) {
         const int set = set_for(fi);
         if (set >= 0) {
             Instance inst;
             inst.set = set;
             inst.world_from_set = Transform::from_matrix(world_from_file);
             inst.identity = inst.world_from_set.is_identity();
+            if (!inst.identity && !within_limits(inst.world_from_set.apply(
+                                      m_scene.sets[static_cast<size_t>(set)].bvh.root_bounds)))
+                throw SceneError(at,
+                                 "instance reaches beyond +-1e300 in the world (coordinates "
+                                 "too large for the renderer)");
             m_scene.instances.push_back(inst);
         }
         place_instances(m_desc.files[fi], m_desc.files[fi].root, world_from_file);
@@ -117,7 +136,8 @@ private:
             todo.pop_back();
             const Mat4 m = v.parent * v.group->matrix;
             for (const InstanceDesc& in : v.group->instances)
-                place(static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]), m);
+                place(static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]), m,
+                      in.loc);
             push_children(todo, *v.group, m);
         }
     }
@@ -145,7 +165,13 @@ private:
         }
         std::vector<Bounds3> bounds;
         bounds.reserve(pending.size());
-        for (const Pending& p : pending) bounds.push_back(shape_bounds(set, fi, p));
+        for (const Pending& p : pending) {
+            bounds.push_back(shape_bounds(set, fi, p));
+            if (!within_limits(bounds.back()))
+                throw SceneError(p.shape->loc,
+                                 "shape reaches beyond +-1e300 in its file's frame "
+                                 "(coordinates too large for the renderer)");
+        }
 
         const auto t0 = std::chrono::steady_clock::now();
         set.bvh = build_bvh(bounds);

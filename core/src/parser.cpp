@@ -103,6 +103,20 @@ bool is_v3_directive(std::string_view d) {
     return false;
 }
 
+// Filesystem queries that never throw (a path too long or otherwise invalid is "not there").
+bool is_file(const fs::path& p) {
+    std::error_code ec;
+    return fs::is_regular_file(p, ec);
+}
+
+std::string canonical_path(const std::string& path) {
+    std::error_code ec;
+    const fs::path a = fs::absolute(path, ec);
+    if (ec) return path;
+    const fs::path c = fs::weakly_canonical(a, ec);
+    return ec ? a.lexically_normal().string() : c.string();
+}
+
 std::string lower(std::string_view s) {
     std::string r(s);
     for (char& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -161,7 +175,7 @@ public:
     Parser(Diagnostics& diag, const ParseOptions& options) : m_diag(diag), m_options(options) {}
 
     SceneDesc run(const std::string& text, const std::string& name, const std::string& dir) {
-        const std::string canonical = fs::weakly_canonical(fs::absolute(name)).string();
+        const std::string canonical = canonical_path(name);
         detect_dialect(text, name, canonical, dir);
         m_scene.files.emplace_back();
         parse_file(text, name, canonical, dir, 0);
@@ -290,13 +304,13 @@ private:
                         const std::string& what) {
         const fs::path p(path);
         if (p.is_absolute()) {
-            if (fs::is_regular_file(p)) return path;
+            if (is_file(p)) return path;
             fail(f, at, "cannot open " + what + " " + quote(path));
         }
         const fs::path a = fs::path(f.dir) / p;
-        if (fs::is_regular_file(a)) return a.lexically_normal().string();
+        if (is_file(a)) return a.lexically_normal().string();
         const fs::path b = fs::path(".") / p;
-        if (fs::is_regular_file(b)) return b.lexically_normal().string();
+        if (is_file(b)) return b.lexically_normal().string();
         const std::string tried = a.lexically_normal() == b.lexically_normal()
                                       ? a.string()
                                       : a.string() + ", " + b.string();
@@ -308,10 +322,9 @@ private:
     // interpreted. It follows the #ray_file paths it can resolve; the parse reports the others.
     static std::optional<std::string> find_file(const std::string& dir, const std::string& path) {
         const fs::path p(path);
-        if (p.is_absolute())
-            return fs::is_regular_file(p) ? std::optional<std::string>(path) : std::nullopt;
+        if (p.is_absolute()) return is_file(p) ? std::optional<std::string>(path) : std::nullopt;
         for (const fs::path& c : {fs::path(dir) / p, fs::path(".") / p})
-            if (fs::is_regular_file(c)) return c.lexically_normal().string();
+            if (is_file(c)) return c.lexically_normal().string();
         return std::nullopt;
     }
 
@@ -361,7 +374,7 @@ private:
                 if (pt.kind != TokenKind::Word) continue;
                 const auto resolved = find_file(dir, std::string(pt.text));
                 if (!resolved) continue;
-                const std::string canon = fs::weakly_canonical(fs::absolute(*resolved)).string();
+                const std::string canon = canonical_path(*resolved);
                 if (std::find(visited.begin(), visited.end(), canon) != visited.end()) continue;
                 // Too deep: the parse reports it at this directive.
                 if (m_include_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) continue;
@@ -702,7 +715,7 @@ private:
         const std::string path = word(f, d, "a .ray file name");
         count_item(f, d, kRayFiles);
         const std::string resolved = resolve(f, pt, path, "ray file");
-        const std::string canonical = fs::weakly_canonical(fs::absolute(resolved)).string();
+        const std::string canonical = canonical_path(resolved);
 
         // A file that (transitively) includes itself is an error naming the chain.
         for (size_t i = 0; i < m_open.size(); ++i) {
@@ -814,7 +827,9 @@ private:
             std::abs(m[3][3] - 1.0) > 1e-9)
             fail(loc, "projective " + what + ": the bottom row must be 0 0 0 1");
         const Mat3 a(m);
-        const double scale = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
+        // hypot: a column of length 1e200 must not overflow in its squared length.
+        auto len = [](const Vec3& c) { return std::hypot(c.x, c.y, c.z); };
+        const double scale = len(a[0]) * len(a[1]) * len(a[2]);
         const double det = glm::determinant(a);
         if (!std::isfinite(scale) || !std::isfinite(det))
             fail(loc, what + " too large: its determinant overflows");
