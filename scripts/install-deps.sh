@@ -7,7 +7,9 @@ set -euo pipefail
 required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev)
 # Optional: Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa
 # and Xvfb are for the viewer and its headless GL tests.
-optional=(libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth)
+# clang and libFuzzer (libclang-rt-14-dev) build the fuzz target of scripts/test.sh, which skips
+# the fuzz run with a message when they are missing.
+optional=(libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang libclang-rt-14-dev)
 
 missing() {
     for p in "$@"; do

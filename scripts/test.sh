@@ -1,8 +1,39 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds everything (warnings as errors) and runs every test.
+# Installs what is missing, builds everything (warnings as errors) and runs every test; then the
+# unit tests, the fuzz crasher corpus and the CLI test again under AddressSanitizer and
+# UndefinedBehaviorSanitizer (build-san/, any finding fails, no GL tests), then one minute of
+# fuzzing the parser and compiler in that same tree. With clang and libFuzzer the sanitizer tree
+# is clang's (it also builds the fuzz target); without them it is GCC's and fuzzing is skipped
+# with a message. RT_QUICK=1 stops after the first part.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
+jobs=$(nproc)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRT_WERROR=ON >/dev/null
-cmake --build build -j"$(nproc)"
-ctest --test-dir build --output-on-failure -j"$(nproc)"
+cmake --build build -j"$jobs"
+ctest --test-dir build --output-on-failure -j"$jobs"
+if [ "${RT_QUICK:-0}" = 1 ]; then exit 0; fi
+
+echo "test: ASan + UBSan (build-san/)" >&2
+export ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_checks=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+if tests/fuzz/run.sh check 2>/dev/null; then
+    RT_FUZZ_BUILD=build-san RT_FUZZ_TARGETS="rt_tests raytrace" RT_JOBS="$jobs" \
+        tests/fuzz/run.sh build
+    fuzz=1
+else
+    cmake -S . -B build-san -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON \
+        -DRT_SANITIZE="address;undefined" -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF >/dev/null
+    cmake --build build-san -j"$jobs" --target rt_tests raytrace fuzz_replay
+    fuzz=0
+fi
+ctest --test-dir build-san --output-on-failure -j"$jobs" -LE gl
+
+# Fuzzing: one minute from the seed corpus (crashes fail the run).
+echo "test: fuzzing for 60 s (build-san/)" >&2
+if [ "$fuzz" = 1 ]; then
+    RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" tests/fuzz/run.sh 60
+else
+    tests/fuzz/run.sh check || true  # prints why it is skipped
+fi

@@ -115,3 +115,27 @@ check "--no-specialize: same image" cmp -s "$tmp/spec.pfm" "$tmp/generic.pfm"
 
 echo "$passes passed, $fails failed"
 test "$fails" -eq 0
+
+# Bad input never crashes (issue 6): exit 1 with file:line:col, no output, for deep nesting,
+# binary garbage, a self-include and numbers out of range.
+for i in $(seq 1 20000); do echo "#group_begin 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1"; done >"$tmp/deep.ray"
+"$rt" "$tmp/deep.ray" -o "$tmp/deep.png" >"$tmp/deep.txt" 2>&1
+check "deep nesting exits 1" test $? -eq 1
+check "deep nesting message" grep -q "deep.ray:10001:1: error: #group_begin nests groups deeper than 10000 levels" "$tmp/deep.txt"
+check "no output on deep nesting" test ! -e "$tmp/deep.png"
+head -c 65536 /dev/urandom >"$tmp/junk.ray"
+printf '\0\0\0' >>"$tmp/junk.ray"
+"$rt" "$tmp/junk.ray" -o "$tmp/junk.png" >"$tmp/junk.txt" 2>&1
+check "binary garbage exits 1" test $? -eq 1
+check "binary garbage message" grep -q "junk.ray:[0-9]*:[0-9]*: error: " "$tmp/junk.txt"
+printf '#ray_file self.ray\n' >"$tmp/self.ray"
+"$rt" "$tmp/self.ray" -o "$tmp/self.png" >"$tmp/self.txt" 2>&1
+check "self-include exits 1" test $? -eq 1
+check "self-include message" grep -q "self.ray:1:11: error: include cycle: self.ray -> self.ray" "$tmp/self.txt"
+printf '#ambient 0 1e400 0\n#vertex_num 1000000000000\n' >"$tmp/num.ray"
+"$rt" "$tmp/num.ray" -o "$tmp/num.png" >"$tmp/num.txt" 2>&1
+check "huge number exits 1" test $? -eq 1
+check "huge number message" grep -q "num.ray:1:12: error: non-finite number '1e400'" "$tmp/num.txt"
+
+echo "$passes passed, $fails failed (with the bad-input checks)"
+test "$fails" -eq 0

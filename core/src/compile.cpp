@@ -3,13 +3,27 @@
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <numeric>
+#include <vector>
 
 #include "rt/render_scene.h"
 
 namespace rt {
 
 namespace {
+
+// Geometry must stay within +-1e300 in every frame: beyond that, centroids, extents and areas
+// overflow in the BVH build and the traversal. A shape or instance past it is an error at its
+// directive (scenes/README.md).
+constexpr double kMaxCoordinate = 1e300;
+
+bool within_limits(const Bounds3& b) {
+    for (int a = 0; a < 3; ++a)
+        if (!(std::abs(b.lo[a]) <= kMaxCoordinate && std::abs(b.hi[a]) <= kMaxCoordinate))
+            return false;  // also NaN
+    return true;
+}
 
 // Tight world bounds of one primitive of a set placed by world_from_set (for the default camera).
 Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
@@ -50,7 +64,7 @@ public:
         for (const LightDesc& l : m_desc.lights) m_scene.lights.push_back(compile_light(l));
         compile_materials();
         m_set_of_file.assign(m_desc.files.size(), -2);  // -2: not compiled yet
-        if (!m_desc.files.empty()) place(0, Mat4(1.0));
+        if (!m_desc.files.empty()) place(0, Mat4(1.0), SourceLoc{});
         build_acceleration();
         fill_stats();
         return std::move(m_scene);
@@ -87,23 +101,45 @@ private:
 
     // Places file `fi` in the world: compiles its set once, adds an instance for its own
     // shapes, and recurses into the files it instances.
-    void place(size_t fi, const Mat4& world_from_file) {
+    // `at` is the #ray_file_instance that placed it (none for the top file).
+    void place(size_t fi, const Mat4& world_from_file, const SourceLoc& at) {
         const int set = set_for(fi);
         if (set >= 0) {
             Instance inst;
             inst.set = set;
             inst.world_from_set = Transform::from_matrix(world_from_file);
             inst.identity = inst.world_from_set.is_identity();
+            if (!inst.identity && !within_limits(inst.world_from_set.apply(
+                                      m_scene.sets[static_cast<size_t>(set)].bvh.root_bounds)))
+                throw SceneError(at,
+                                 "instance reaches beyond +-1e300 in the world (coordinates "
+                                 "too large for the renderer)");
             m_scene.instances.push_back(inst);
         }
         place_instances(m_desc.files[fi], m_desc.files[fi].root, world_from_file);
     }
 
-    void place_instances(const FileDesc& f, const GroupDesc& g, const Mat4& world_from_group) {
-        const Mat4 m = world_from_group * g.matrix;
-        for (const InstanceDesc& in : g.instances)
-            place(static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]), m);
-        for (const GroupDesc& child : g.groups) place_instances(f, child, m);
+    // A group and the matrix of its parent's frame: the walks of the group tree keep their own
+    // stack (groups nest up to 10000 deep), in the order of a recursive pre-order walk.
+    struct GroupVisit {
+        const GroupDesc* group;
+        Mat4 parent;
+    };
+    static void push_children(std::vector<GroupVisit>& todo, const GroupDesc& g, const Mat4& m) {
+        for (auto it = g.groups.rbegin(); it != g.groups.rend(); ++it) todo.push_back({&*it, m});
+    }
+
+    void place_instances(const FileDesc& f, const GroupDesc& root, const Mat4& world_from_root) {
+        std::vector<GroupVisit> todo = {{&root, world_from_root}};
+        while (!todo.empty()) {
+            const GroupVisit v = todo.back();
+            todo.pop_back();
+            const Mat4 m = v.parent * v.group->matrix;
+            for (const InstanceDesc& in : v.group->instances)
+                place(static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]), m,
+                      in.loc);
+            push_children(todo, *v.group, m);
+        }
     }
 
     // One shape waiting for its place in the set: its description and its group's transform.
@@ -129,7 +165,13 @@ private:
         }
         std::vector<Bounds3> bounds;
         bounds.reserve(pending.size());
-        for (const Pending& p : pending) bounds.push_back(shape_bounds(set, fi, p));
+        for (const Pending& p : pending) {
+            bounds.push_back(shape_bounds(set, fi, p));
+            if (!within_limits(bounds.back()))
+                throw SceneError(p.shape->loc,
+                                 "shape reaches beyond +-1e300 in its file's frame "
+                                 "(coordinates too large for the renderer)");
+        }
 
         const auto t0 = std::chrono::steady_clock::now();
         set.bvh = build_bvh(bounds);
@@ -169,26 +211,38 @@ private:
         }
     }
 
-    static size_t count_shapes(const GroupDesc& g) {
-        size_t n = g.shapes.size();
-        for (const GroupDesc& c : g.groups) n += count_shapes(c);
+    static size_t count_shapes(const GroupDesc& root) {
+        size_t n = 0;
+        std::vector<const GroupDesc*> todo = {&root};
+        while (!todo.empty()) {
+            const GroupDesc* g = todo.back();
+            todo.pop_back();
+            n += g->shapes.size();
+            for (const GroupDesc& c : g->groups) todo.push_back(&c);
+        }
         return n;
     }
 
     // Flattens the group tree: one cached transform per group with shapes (none when identity).
-    void collect(GeometrySet& set, const GroupDesc& g, const Mat4& parent,
+    void collect(GeometrySet& set, const GroupDesc& root, const Mat4& parent,
                  std::vector<Pending>& pending) {
-        const Mat4 m = parent * g.matrix;
-        if (!g.shapes.empty()) {
-            int xf = -1;
-            if (m != Mat4(1.0)) {
-                xf = static_cast<int>(set.transforms.size());
-                set.transforms.push_back(Transform::from_matrix(m));
+        std::vector<GroupVisit> todo = {{&root, parent}};
+        while (!todo.empty()) {
+            const GroupVisit v = todo.back();
+            todo.pop_back();
+            const GroupDesc& g = *v.group;
+            const Mat4 m = v.parent * g.matrix;
+            if (!g.shapes.empty()) {
+                int xf = -1;
+                if (m != Mat4(1.0)) {
+                    xf = static_cast<int>(set.transforms.size());
+                    set.transforms.push_back(Transform::from_matrix(m));
+                }
+                const bool mirror = glm::determinant(Mat3(m)) < 0;
+                for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror});
             }
-            const bool mirror = glm::determinant(Mat3(m)) < 0;
-            for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror});
+            push_children(todo, g, m);
         }
-        for (const GroupDesc& child : g.groups) collect(set, child, m, pending);
     }
 
     // The triangle's vertices in the set's frame; a mirroring transform swaps the last two so

@@ -48,6 +48,14 @@ static bool load_ascii_pnm(const std::string& path, TextureImage* out, std::stri
         *error = "bad ASCII PNM header";
         return true;
     }
+    // Every value takes at least two bytes (a digit and a separator): a header that promises
+    // more than the file holds is refused before anything is allocated.
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(path, ec);
+    if (ec || static_cast<unsigned long long>(w * h * channels) > bytes / 2 + 1) {
+        *error = "ASCII PNM header promises more values than the file holds";
+        return true;
+    }
     out->width = static_cast<int>(w);
     out->height = static_cast<int>(h);
     out->rgb.resize(static_cast<size_t>(w * h * 3));
@@ -69,6 +77,17 @@ static bool load_ascii_pnm(const std::string& path, TextureImage* out, std::stri
 bool load_texture_image(const std::string& path, TextureImage* out, std::string* error) {
     if (load_ascii_pnm(path, out, error)) return out->width > 0;
     int w = 0, h = 0, n = 0;
+    // A header may promise far more pixels than the file holds (compressed formats): refuse
+    // textures above 2^26 pixels (8192 x 8192) before decoding.
+    if (stbi_info(path.c_str(), &w, &h, &n) && static_cast<long long>(w) * h > (1LL << 26)) {
+        std::string e = "texture of ";
+        e += std::to_string(w);
+        e += "x";
+        e += std::to_string(h);
+        e += " pixels is larger than the limit of 2^26 pixels";
+        *error = std::move(e);
+        return false;
+    }
     // Ask for 3 channels: stb replicates grey and drops alpha, as spec §7.3 wants.
     stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 3);
     if (!data) {

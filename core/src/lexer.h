@@ -30,6 +30,8 @@ public:
 
     SourceLoc loc(const Token& t) const { return {m_file, t.line, t.col}; }
     const std::shared_ptr<const std::string>& file() const { return m_file; }
+    /// Bytes not yet scanned (for bounding reservations by what the text can still hold).
+    size_t remaining() const { return m_text.size() - m_pos; }
 
 private:
     void skip_space_and_comments();

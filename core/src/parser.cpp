@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -30,7 +31,55 @@ MaterialDesc v0_default_material() {
 
 namespace {
 
-std::string quote(std::string_view s) { return "'" + std::string(s) + "'"; }
+// Length in bytes of the valid UTF-8 sequence at s[i] (0 when it is not one).
+size_t utf8_length(std::string_view s, size_t i) {
+    const auto b = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = b(i);
+    size_t n = 0;
+    if (c >= 0xC2 && c <= 0xDF)
+        n = 2;
+    else if (c >= 0xE0 && c <= 0xEF)
+        n = 3;
+    else if (c >= 0xF0 && c <= 0xF4)
+        n = 4;
+    if (n == 0 || i + n > s.size()) return 0;
+    for (size_t k = 1; k < n; ++k)
+        if ((b(i + k) & 0xC0) != 0x80) return 0;
+    // No overlong forms, surrogates or code points above U+10FFFF.
+    if ((c == 0xE0 && b(i + 1) < 0xA0) || (c == 0xED && b(i + 1) > 0x9F) ||
+        (c == 0xF0 && b(i + 1) < 0x90) || (c == 0xF4 && b(i + 1) > 0x8F))
+        return 0;
+    return n;
+}
+
+// A token or path in a message: quoted, control bytes and invalid UTF-8 written as \xNN, and
+// cut after 200 bytes (a 100 MB token makes a short message).
+std::string quote(std::string_view s) {
+    constexpr size_t kMax = 200;
+    static constexpr char kHex[] = "0123456789abcdef";
+    std::string r = "'";
+    size_t i = 0;
+    while (i < s.size() && i < kMax) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        const size_t n = c >= 0x80 ? utf8_length(s, i) : (c < 0x20 || c == 0x7F ? 0 : 1);
+        if (n == 0) {
+            r += "\\x";
+            r += kHex[c >> 4];
+            r += kHex[c & 15];
+            ++i;
+        } else {
+            r.append(s.substr(i, n));
+            i += n;
+        }
+    }
+    r += '\'';
+    if (i < s.size()) {
+        r += "... (";
+        r += std::to_string(s.size());
+        r += " bytes)";
+    }
+    return r;
+}
 
 std::string describe(const Token& t) {
     return t.kind == TokenKind::End ? std::string("end of file") : quote(t.text);
@@ -54,11 +103,31 @@ bool is_v3_directive(std::string_view d) {
     return false;
 }
 
+// Filesystem queries that never throw (a path too long or otherwise invalid is "not there").
+bool is_file(const fs::path& p) {
+    std::error_code ec;
+    return fs::is_regular_file(p, ec);
+}
+
+std::string canonical_path(const std::string& path) {
+    std::error_code ec;
+    const fs::path a = fs::absolute(path, ec);
+    if (ec) return path;
+    const fs::path c = fs::weakly_canonical(a, ec);
+    return ec ? a.lexically_normal().string() : c.string();
+}
+
 std::string lower(std::string_view s) {
     std::string r(s);
     for (char& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return r;
 }
+
+// Limits of this reader (scenes/README.md): they keep the recursion of every consumer of the
+// group tree and the file tree shallow, and memory bounded by the size of the input.
+constexpr int kMaxGroupDepth = 10000;          // nested #group_begin/#joint_begin in one file
+constexpr int kMaxIncludeDepth = 200;          // nested #ray_file includes
+constexpr long long kMaxPlacements = 1 << 20;  // file copies placed in the world by instancing
 
 // Items a #*_num count may declare.
 enum CountKind { kLights, kTextures, kMaterials, kVertices, kRayFiles, kKeyFiles, kCountKinds };
@@ -106,7 +175,7 @@ public:
     Parser(Diagnostics& diag, const ParseOptions& options) : m_diag(diag), m_options(options) {}
 
     SceneDesc run(const std::string& text, const std::string& name, const std::string& dir) {
-        const std::string canonical = fs::weakly_canonical(fs::absolute(name)).string();
+        const std::string canonical = canonical_path(name);
         detect_dialect(text, name, canonical, dir);
         m_scene.files.emplace_back();
         parse_file(text, name, canonical, dir, 0);
@@ -214,7 +283,10 @@ private:
         c.declared = true;
         c.declared_n = n;
         c.loc = f.lex.loc(dir);
-        if (k == kVertices) f.desc.vertices.reserve(static_cast<size_t>(std::min(n, 1 << 26)));
+        // Reserve no more than the rest of the text can hold (a #vertex takes >= 24 bytes), so a
+        // huge count cannot allocate before the file runs out.
+        if (k == kVertices)
+            f.desc.vertices.reserve(std::min(static_cast<size_t>(n), f.lex.remaining() / 24));
     }
 
     void count_item(FileState& f, const Token& dir, CountKind k) {
@@ -232,13 +304,13 @@ private:
                         const std::string& what) {
         const fs::path p(path);
         if (p.is_absolute()) {
-            if (fs::is_regular_file(p)) return path;
+            if (is_file(p)) return path;
             fail(f, at, "cannot open " + what + " " + quote(path));
         }
         const fs::path a = fs::path(f.dir) / p;
-        if (fs::is_regular_file(a)) return a.lexically_normal().string();
+        if (is_file(a)) return a.lexically_normal().string();
         const fs::path b = fs::path(".") / p;
-        if (fs::is_regular_file(b)) return b.lexically_normal().string();
+        if (is_file(b)) return b.lexically_normal().string();
         const std::string tried = a.lexically_normal() == b.lexically_normal()
                                       ? a.string()
                                       : a.string() + ", " + b.string();
@@ -250,10 +322,9 @@ private:
     // interpreted. It follows the #ray_file paths it can resolve; the parse reports the others.
     static std::optional<std::string> find_file(const std::string& dir, const std::string& path) {
         const fs::path p(path);
-        if (p.is_absolute())
-            return fs::is_regular_file(p) ? std::optional<std::string>(path) : std::nullopt;
+        if (p.is_absolute()) return is_file(p) ? std::optional<std::string>(path) : std::nullopt;
         for (const fs::path& c : {fs::path(dir) / p, fs::path(".") / p})
-            if (fs::is_regular_file(c)) return c.lexically_normal().string();
+            if (is_file(c)) return c.lexically_normal().string();
         return std::nullopt;
     }
 
@@ -303,8 +374,10 @@ private:
                 if (pt.kind != TokenKind::Word) continue;
                 const auto resolved = find_file(dir, std::string(pt.text));
                 if (!resolved) continue;
-                const std::string canon = fs::weakly_canonical(fs::absolute(*resolved)).string();
+                const std::string canon = canonical_path(*resolved);
                 if (std::find(visited.begin(), visited.end(), canon) != visited.end()) continue;
+                // Too deep: the parse reports it at this directive.
+                if (m_include_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) continue;
                 const std::string* sub = cached_text(*resolved, canon);
                 if (!sub) continue;
                 const std::string sub_dir = fs::path(*resolved).parent_path().string();
@@ -642,7 +715,7 @@ private:
         const std::string path = word(f, d, "a .ray file name");
         count_item(f, d, kRayFiles);
         const std::string resolved = resolve(f, pt, path, "ray file");
-        const std::string canonical = fs::weakly_canonical(fs::absolute(resolved)).string();
+        const std::string canonical = canonical_path(resolved);
 
         // A file that (transitively) includes itself is an error naming the chain.
         for (size_t i = 0; i < m_open.size(); ++i) {
@@ -654,6 +727,10 @@ private:
                 fail(f, pt, "include cycle: " + chain);
             }
         }
+        if (m_open.size() >= static_cast<size_t>(kMaxIncludeDepth))
+            fail(f, d,
+                 "#ray_file includes nested deeper than " + std::to_string(kMaxIncludeDepth) +
+                     " files");
         int index = -1;
         for (size_t i = 0; i < m_scene.files.size(); ++i)
             if (m_scene.files[i].canonical_path == canonical) index = static_cast<int>(i);
@@ -750,13 +827,25 @@ private:
             std::abs(m[3][3] - 1.0) > 1e-9)
             fail(loc, "projective " + what + ": the bottom row must be 0 0 0 1");
         const Mat3 a(m);
-        const double scale = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
-        if (std::abs(glm::determinant(a)) <= 1e-12 * scale || scale == 0.0)
-            fail(loc, "singular " + what);
+        // hypot: a column of length 1e200 must not overflow in its squared length.
+        auto len = [](const Vec3& c) { return std::hypot(c.x, c.y, c.z); };
+        const double scale = len(a[0]) * len(a[1]) * len(a[2]);
+        const double det = glm::determinant(a);
+        if (!std::isfinite(scale) || !std::isfinite(det))
+            fail(loc, what + " too large: its determinant overflows");
+        if (std::abs(det) <= 1e-12 * scale || scale == 0.0) fail(loc, "singular " + what);
+    }
+
+    void check_depth(FileState& f, const Token& d) {
+        if (f.stack.size() > static_cast<size_t>(kMaxGroupDepth))
+            fail(f, d,
+                 std::string(d.text) + " nests groups deeper than " +
+                     std::to_string(kMaxGroupDepth) + " levels");
     }
 
     void group_begin(FileState& f, const Token& d) {
         graph(f);
+        check_depth(f, d);
         GroupDesc g;
         g.loc = f.lex.loc(d);
         Mat4 m(1.0);
@@ -772,6 +861,7 @@ private:
 
     void joint_begin(FileState& f, const Token& d) {
         graph(f);
+        check_depth(f, d);
         GroupDesc g;
         g.loc = f.lex.loc(d);
         const Token nt = f.lex.peek();
@@ -911,10 +1001,40 @@ private:
 
     // ---- whole tree ----------------------------------------------------------------------
     void finish() {
+        check_placements();
         m_scene.dialect = m_dialect;
         if (!m_scene.camera && !m_scene.files.empty())
             m_diag.warn({std::make_shared<const std::string>(m_scene.files[0].path), 0, 0},
                         "no-camera", "no #camera: using the default camera");
+    }
+
+    // Instancing multiplies: a file placed k times that instances another m times places it k*m
+    // times. The compiler visits every placement, so their number is bounded here, where the
+    // instance directives still have their locations. The recursion follows the include tree,
+    // which is acyclic and at most kMaxIncludeDepth deep.
+    void check_placements() {
+        std::vector<long long> memo(m_scene.files.size(), -1);
+        if (!m_scene.files.empty()) placements(0, memo);
+    }
+
+    long long placements(size_t fi, std::vector<long long>& memo) {
+        if (memo[fi] >= 0) return memo[fi];
+        const FileDesc& file = m_scene.files[fi];
+        long long total = 1;  // the file itself
+        std::vector<const GroupDesc*> todo = {&file.root};
+        while (!todo.empty()) {
+            const GroupDesc* g = todo.back();
+            todo.pop_back();
+            for (const InstanceDesc& in : g->instances) {
+                const int sub = file.ray_files[static_cast<size_t>(in.ray_file)];
+                total += placements(static_cast<size_t>(sub), memo);
+                if (total > kMaxPlacements)
+                    fail(in.loc, "instancing places more than " + std::to_string(kMaxPlacements) +
+                                     " copies of files (nested instances multiply)");
+            }
+            for (const GroupDesc& c : g->groups) todo.push_back(&c);
+        }
+        return memo[fi] = total;
     }
 
     struct Open {

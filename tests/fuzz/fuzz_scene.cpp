@@ -1,0 +1,87 @@
+// libFuzzer target: scene text -> parse_scene_string -> compile_scene. Any input must end in a
+// SceneError or a compiled scene: a crash, a sanitizer report, a hang or any other exception is
+// a bug. Built as `fuzz_scene` (clang, -fsanitize=fuzzer) and as `fuzz_replay` (any compiler,
+// replays files: the crasher regression corpus in tests/fuzz/crashers).
+//
+// Includes, textures and key files cannot escape: the harness works in a private temporary
+// directory holding a few fixture files (inc.ray, inc0.ray, loop.ray, tex.ppm, anim.key), and
+// every '/' that could end up in a path is replaced by '_' before parsing, so only names in that
+// directory resolve.
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "rt/parser.h"
+#include "rt/render_scene.h"
+
+namespace {
+
+std::string g_dir;
+
+void write(const std::string& name, const char* text) {
+    std::ofstream f(g_dir + "/" + name, std::ios::binary);
+    f << text;
+}
+
+void remove_dir() {
+    std::error_code ec;
+    std::filesystem::remove_all(g_dir, ec);
+}
+
+void setup() {
+    if (!g_dir.empty()) return;
+    std::string tmpl = (std::filesystem::temp_directory_path() / "rt_fuzz_XXXXXX").string();
+    if (!mkdtemp(tmpl.data())) {
+        std::perror("mkdtemp");
+        std::abort();
+    }
+    g_dir = tmpl;
+    write("inc.ray",
+          "#material 0 0 0 .1 .1 .1 .5 .5 .5 .2 .2 .2 10 0 0 0 1 0 !m!\n"
+          "#texture tex.ppm\n#vertex 0 0 0 0 0 1 0 0\n#vertex 1 0 0 0 0 1 1 0\n"
+          "#vertex 0 1 0 0 0 1 0 1\n#shape_sphere 0 0 0 0 1\n#shape_triangle 0 0 1 2\n");
+    write("inc0.ray",
+          "#material .1 .1 .1 .5 .5 .5 .2 .2 .2 0 0 0 .5 .25 1.5 -1 !m!\n"
+          "#shape_box -1 0 0 0 1 1 1\n#shape_cone -1 0 0 0 1 2\n");
+    write("loop.ray", "#ray_file loop.ray\n");
+    write("tex.ppm", "P3 2 2 255\n255 0 0  0 255 0\n0 0 255  255 255 255\n");
+    write("anim.key", "#DOFS 1 arm #DURATION 1 #FRAMES 1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
+    std::atexit(remove_dir);
+    if (chdir(g_dir.c_str()) != 0) {
+        std::perror("chdir");
+        std::abort();
+    }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    setup();
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    setup();
+    std::string text(reinterpret_cast<const char*>(data), size);
+    // A '/' inside a word is never next to another '/' (a word ends where "//" starts), so
+    // replacing the lone ones keeps every path inside the fixture directory.
+    for (size_t i = 0; i < text.size(); ++i) {
+        const bool prev = i > 0 && data[i - 1] == '/';
+        const bool next = i + 1 < size && data[i + 1] == '/';
+        if (text[i] == '/' && !prev && !next) text[i] = '_';
+    }
+    try {
+        rt::Diagnostics diag;
+        const rt::SceneDesc desc = rt::parse_scene_string(text, "fuzz.ray", diag, {}, g_dir);
+        const rt::RenderScene scene = rt::compile_scene(desc);
+        (void)scene;
+    } catch (const rt::SceneError&) {
+        // The expected way for bad input to end.
+    }
+    return 0;
+}
