@@ -289,7 +289,13 @@ int run(const rt::cli::Options& opt) {
     print_warnings();
 
     const auto t_compile = Clock::now();
-    const rt::RenderScene scene = rt::compile_scene(desc);
+    rt::RenderScene scene;
+    try {
+        scene = rt::compile_scene(desc);  // its errors (geometry beyond 1e300) carry file:line:col
+    } catch (const rt::SceneError& e) {
+        std::cerr << e.what() << "\n";
+        return 1;
+    }
     const double compile_s = seconds_since(t_compile);
 
     rt::RenderSettings settings;

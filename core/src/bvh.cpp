@@ -104,6 +104,9 @@ struct Builder {
         std::array<Bounds3, kMaxBins> bin_box{}, bin_cbox{};
         std::array<uint32_t, kMaxBins> bin_count{};
         const double scale = nb / extent;
+        // A spread so small (subnormal) that the bin scale overflows: binning cannot separate
+        // the centroids, and (c - lo) * inf would be NaN cast to int. Median split instead.
+        if (!std::isfinite(scale)) return median(box, begin, end, axis, depth);
         auto bin_of = [&](uint32_t prim) {
             const int b = static_cast<int>((centroid(prim)[axis] - cbox.lo[axis]) * scale);
             return std::clamp(b, 0, nb - 1);

@@ -189,7 +189,7 @@ Image load_pfm(const std::string& path) {
         f.read(reinterpret_cast<char*>(row.data()),
                static_cast<std::streamsize>(row_floats * sizeof(float)));
         for (size_t i = 0; i < row_floats; ++i)
-            image.rgb[static_cast<size_t>(y) * row_floats + i] = row[i];
+            image.rgb[static_cast<size_t>(y) * row_floats + i] = static_cast<double>(row[i]);
     }
     if (!f) throw std::runtime_error("'" + path + "' is truncated");
     return image;
