@@ -322,6 +322,7 @@ int main(int argc, char** argv) {
         // The trace leaves one core to the interface thread, so frames stay smooth.
         settings.threads = std::max(1, resolve_thread_count(0) - 1);
         int target_spp = 256;
+        double moving_div = 2.0;  // the preview's resolution divisor while the view moves
         std::vector<std::string> explained;         // explain_features() of the running trace
         bool print_left_out = !screenshot.empty();  // once, for --frames runs (tests, logs)
         double frame_total_s = 0, frame_max_s = 0;
@@ -628,13 +629,17 @@ int main(int argc, char** argv) {
                 ImGui::Begin("panes", nullptr,
                              ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                                  ImGuiWindowFlags_NoBringToFrontOnFocus);
-                // While the view moves, the preview draws at half resolution (software GL fills
-                // pixels slowly); a quarter second after the last change, at full resolution.
+                // While the view moves, the preview draws at a lower resolution (software GL
+                // fills pixels slowly): half, and less while frames take longer than 30 ms, back
+                // towards half below 20 ms; a quarter second after the last change, full.
                 const bool moving =
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - change_time)
                         .count() < 0.25;
-                const int div = moving ? 2 : 1;
-                preview_fb.resize(static_cast<int>(pane_w) / div, static_cast<int>(pane_h) / div);
+                if (moving && frame_s > 0.030) moving_div = std::min(4.0, moving_div * 1.25);
+                if (moving && frame_s < 0.020) moving_div = std::max(2.0, moving_div / 1.1);
+                const double div = moving ? moving_div : 1.0;
+                preview_fb.resize(static_cast<int>(static_cast<double>(pane_w) / div),
+                                  static_cast<int>(static_cast<double>(pane_h) / div));
                 bool over_preview = false, over_trace = false;
                 if (layout != 2) {
                     ImGui::Image(
@@ -734,8 +739,15 @@ int main(int argc, char** argv) {
                         dirty = true;
                     }
                 }
-                if (dirty) {
-                    preview_stale = true;
+                // Continuous input (a drag) restarts the trace once its first pass is on screen
+                // or 100 ms after the last restart, not every frame: otherwise no traced image
+                // would appear until the input stops. The preview follows every frame.
+                const bool trace_caught_up =
+                    first_pass_ms >= 0 ||
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - change_time)
+                            .count() > 0.1;
+                if (dirty) preview_stale = true;
+                if (dirty && trace_caught_up) {
                     // Stop, edit, restart: the scene is only changed while no trace runs.
                     tracer.stop();
                     loaded->scene.camera = orbit.desc();
@@ -773,7 +785,8 @@ int main(int argc, char** argv) {
                 if (preview_stale || overlay_changed || preview_fb.w != drawn_w ||
                     preview_fb.h != drawn_h) {
                     glBindFramebuffer(GL_FRAMEBUFFER, preview_fb.fbo);
-                    const Camera cam = make_camera(loaded->scene, preview_fb.w, preview_fb.h);
+                    // The camera of the latest input, also while a restart waits.
+                    const Camera cam = make_camera(orbit.desc(), preview_fb.w, preview_fb.h);
                     preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h, settings.shadows);
                     std::vector<view::LineVertex> lines =
                         view::overlay_lines(loaded->scene, show_lights, box_depth);
