@@ -38,8 +38,9 @@ uniform float u_light_cutoff[kMaxLights];
 uniform float u_light_exponent[kMaxLights];
 
 #ifdef RT_SHADOWS
-// Shadow maps: one depth layer per directional light (an orthographic view along its direction
-// over the scene's bounds), six per point or spot light (cube faces, depth = distance / far).
+// Shadow maps: six depth layers reserved per light; a directional light uses the first (an
+// orthographic view along its direction over the scene's bounds), a point or spot light all six
+// (cube faces, depth = distance / far).
 // The layout and the face frames are Preview::render_shadow_maps' (preview.cpp).
 uniform sampler2DArrayShadow u_shadow_map;
 uniform float u_shadow_res;

@@ -116,6 +116,26 @@ TEST(Bvh, AllPrimitivesAtOnePointAndExtremeExtents) {
     EXPECT_NEAR(h.t, 10 - 1e-3, 1e-9);
 }
 
+// A direction component below 1e-30 is a containment test in the node boxes, widened by how far
+// the ray drifts along that axis before t_max: a ray with d.y = 5e-31 from y = 0 reaches y = 2.5
+// at x = 5e30, where a box sits among spheres (so there is a BVH to walk).
+TEST(Bvh, TinyDirectionComponentsDriftIntoBoxes) {
+    std::string text = "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n";
+    for (int i = 0; i < 40; ++i) text += "#shape_sphere 0 " + std::to_string(i) + " -50 0 1\n";
+    text += "#shape_box 0 5e30 2.5 0 1e29 1 1\n";  // y in [2, 3]
+    const RenderScene scene = test::compile(text);
+    const Ray r{{0, 0, 0}, {1, 5e-31, 0}};
+    Hit h, hb;
+    ASSERT_TRUE(intersect_brute_force(scene, r, {0, kInf}, &hb));
+    ASSERT_TRUE(intersect(scene, r, {0, kInf}, &h));
+    EXPECT_EQ(h.t, hb.t);
+    // Exactly zero: the containment test alone (the origin on the box's face counts as inside).
+    const Ray flat{{0, -49, 0}, {1, 0, 0}};
+    ASSERT_TRUE(intersect(scene, flat, {0, kInf}, &h));
+    ASSERT_TRUE(intersect_brute_force(scene, flat, {0, kInf}, &hb));
+    EXPECT_EQ(h.t, hb.t);
+}
+
 // Triangles are tested in single precision: a ray spawned at a hit must clear the float
 // rounding of the triangle and of its own origin (this caught shadow acne on meshes).
 TEST(Intersect, SpawnedRaysNeverHitTheirOwnTriangle) {

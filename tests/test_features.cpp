@@ -146,7 +146,22 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
             render_samples(b, scene, s, 1);
             EXPECT_EQ(a.image().rgb, b.image().rgb) << sc.name << ", settings " << variant;
         }
-        // The stochastic features take the generic path: still equal.
+        // The stochastic features take the generic path: still equal, shadows on and off (sphere
+        // lights move the light point either way).
+        for (const bool shadows : {true, false}) {
+            RenderSettings s;
+            s.width = 24;
+            s.height = 18;
+            s.light_radius = 0.3;
+            s.shadows = shadows;
+            s.centre_first_sample = false;
+            RenderState a, b;
+            s.specialize = false;
+            render_samples(a, scene, s, 2);
+            s.specialize = true;
+            render_samples(b, scene, s, 2);
+            EXPECT_EQ(a.image().rgb, b.image().rgb) << sc.name << ", soft, shadows " << shadows;
+        }
         RenderSettings s;
         s.width = 24;
         s.height = 18;

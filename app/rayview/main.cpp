@@ -322,6 +322,9 @@ int main(int argc, char** argv) {
         // The trace leaves one core to the interface thread, so frames stay smooth.
         settings.threads = std::max(1, resolve_thread_count(0) - 1);
         int target_spp = 256;
+        std::string script_cause;  // the script command whose edit waits for a restart
+        auto input_time = std::chrono::steady_clock::now();  // the first input since a restart
+        bool input_pending = false;
         double moving_div = 2.0;  // the preview's resolution divisor while the view moves
         std::vector<std::string> explained;         // explain_features() of the running trace
         bool print_left_out = !screenshot.empty();  // once, for --frames runs (tests, logs)
@@ -333,6 +336,9 @@ int main(int argc, char** argv) {
         bool show_lights = true;
         int box_depth = 0;    // bounding boxes drawn over the preview: BVH levels, 0 = off
         int group_depth = 0;  // and the scene graph's group boxes, levels, 0 = off
+        std::vector<view::LineVertex> group_lines;  // group_box_lines() of that scene and depth
+        int group_lines_depth = -1;
+        const LoadedScene* group_lines_for = nullptr;
         float resolution_scale = 0.5f;
         int trace_w = 0, trace_h = 0;
         bool dirty = true;
@@ -747,6 +753,10 @@ int main(int argc, char** argv) {
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - change_time)
                             .count() > 0.1;
                 if (dirty) preview_stale = true;
+                if (dirty && !input_pending) {
+                    input_pending = true;
+                    input_time = std::chrono::steady_clock::now();
+                }
                 if (dirty && trace_caught_up) {
                     // Stop, edit, restart: the scene is only changed while no trace runs.
                     tracer.stop();
@@ -764,14 +774,20 @@ int main(int argc, char** argv) {
                                 std::printf("rayview: %s\n", l.c_str());
                     print_left_out = false;
                     dirty = false;
+                    input_pending = false;
                     change_time = std::chrono::steady_clock::now();
                     first_pass_ms = -1;
+                    if (!script_cause.empty())
+                        std::printf("rayview: frame %d: %s: trace restarted\n", frame_index,
+                                    script_cause.c_str());
+                    script_cause.clear();
                 }
                 if (tracer.take_image(&last_trace)) {
                     trace_tex.upload(last_trace);
                     if (first_pass_ms < 0) {
+                        // From the input, not the (possibly deferred) restart.
                         first_pass_ms = std::chrono::duration<double, std::milli>(
-                                            std::chrono::steady_clock::now() - change_time)
+                                            std::chrono::steady_clock::now() - input_time)
                                             .count();
                         first_pass_samples.push_back(first_pass_ms);
                     }
@@ -790,10 +806,13 @@ int main(int argc, char** argv) {
                     preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h, settings.shadows);
                     std::vector<view::LineVertex> lines =
                         view::overlay_lines(loaded->scene, show_lights, box_depth);
-                    if (group_depth > 0) {
-                        const auto groups = view::group_box_lines(loaded->desc, group_depth);
-                        lines.insert(lines.end(), groups.begin(), groups.end());
+                    if (group_depth != group_lines_depth || loaded.get() != group_lines_for) {
+                        // Walked again only when the scene or the level changes.
+                        group_lines = view::group_box_lines(loaded->desc, group_depth);
+                        group_lines_depth = group_depth;
+                        group_lines_for = loaded.get();
                     }
+                    lines.insert(lines.end(), group_lines.begin(), group_lines.end());
                     preview->draw_lines(lines, loaded->scene, cam);
                     glBindFramebuffer(GL_FRAMEBUFFER, 0);
                     preview_stale = false;
@@ -842,9 +861,7 @@ int main(int argc, char** argv) {
                     std::printf("rayview: frame %d: %s (trace at %d spp)\n", frame_index,
                                 l.args[0].c_str(), st.spp);
                 }
-                if (dirty)
-                    std::printf("rayview: frame %d: %s: trace restarted\n", frame_index,
-                                l.command.c_str());
+                if (dirty) script_cause = l.command;  // reported when the restart happens
             }
             ++frame_index;
             if (frames > 0 && --frames == 0) {

@@ -57,6 +57,20 @@ void set_vec3(GLuint program, const std::string& name, const Vec3& v) {
 
 }  // namespace
 
+Bounds3 view_bounds(const RenderScene& scene) {
+    // The scene and what the overlay draws around it (light markers, arrows, cones), so the
+    // near and far planes never clip either; the preview and its lines share them, so their
+    // depths agree.
+    Bounds3 b = scene.world_bounds;
+    if (b.empty()) return b;
+    const double size = glm::length(b.diagonal());
+    const Vec3 centre = b.centre();
+    for (const Light& l : scene.lights)
+        b.extend(l.kind == LightKind::Directional ? centre - 0.3 * size * l.direction : l.position);
+    const Vec3 margin(0.2 * size);  // marker arms, spot cones (0.15 of the size), rounding
+    return {b.lo - margin, b.hi + margin};
+}
+
 GlMatrices camera_matrices(const Camera& camera, const Bounds3& world) {
     // View space: x along right, y along up', z along -forward (the tracer's frame, spec §6.1).
     // Clip: x_clip = x_v / tan_w, y_clip = y_v / tan_h, w = -z_v, so NDC (x, y) is exactly the
@@ -162,7 +176,8 @@ std::string indexed(const char* name, int i) {
 }  // namespace
 
 Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
-    // Compiled at once (all features on) so that a broken shader fails here, not mid-session.
+    // Compiled at once with every feature on, so a broken shader file fails here; the other
+    // combinations of defines compile on first use (the same source with less of it).
     program_for(
         {"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR", "RT_SHADOWS"});
     try {
@@ -476,7 +491,7 @@ void Preview::draw(const RenderScene& scene, const Camera& camera, int width, in
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);  // two-sided, as the tracer
     glUseProgram(program);
-    const GlMatrices mats = camera_matrices(camera, scene.world_bounds);
+    const GlMatrices mats = camera_matrices(camera, view_bounds(scene));
     glUniformMatrix4fv(loc(program, "u_clip_from_world"), 1, GL_FALSE, mats.clip_from_world);
     set_vec3(program, "u_eye", camera.position);
     set_vec3(program, "u_ambient_light", scene.ambient);
@@ -516,7 +531,7 @@ void Preview::draw_lines(const std::vector<LineVertex>& lines, const RenderScene
                          const Camera& camera) const {
     if (lines.empty()) return;
     glUseProgram(m_line_program);
-    const GlMatrices mats = camera_matrices(camera, scene.world_bounds);
+    const GlMatrices mats = camera_matrices(camera, view_bounds(scene));
     glUniformMatrix4fv(loc(m_line_program, "u_clip_from_world"), 1, GL_FALSE, mats.clip_from_world);
     glBindVertexArray(m_line_vao);
     glBindBuffer(GL_ARRAY_BUFFER, m_line_vbo);
@@ -635,61 +650,78 @@ std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int
 
 namespace {
 
-// Bounds of a group in the world, drawing the boxes of levels 1..max_level on the way.
-struct GroupBoxes {
-    const SceneDesc& desc;
-    int max_level;
-    LineBuilder lines;
-    size_t budget = 200000;  // group visits: a scene of millions of instances draws a sample
-
-    Bounds3 visit(int file, const GroupDesc& g, const Mat4& parent, int level) {
-        if (budget == 0) return {};
-        --budget;
-        const FileDesc& f = desc.files[static_cast<size_t>(file)];
-        const Mat4 m = parent * g.matrix;
-        Bounds3 b;
-        for (const ShapeDesc& shape : g.shapes) {
-            std::visit(
-                [&](const auto& geo) {
-                    using T = std::decay_t<decltype(geo)>;
-                    if constexpr (std::is_same_v<T, SphereDesc>) {
-                        b.extend(bounds(Sphere{geo.centre, geo.radius}, m));
-                    } else if constexpr (std::is_same_v<T, BoxDesc>) {
-                        b.extend(bounds(Box{geo.centre, 0.5 * geo.size}, m));
-                    } else if constexpr (std::is_same_v<T, CylinderDesc>) {
-                        b.extend(bounds(Cylinder{geo.centre, geo.radius, geo.height}, m));
-                    } else if constexpr (std::is_same_v<T, ConeDesc>) {
-                        b.extend(bounds(Cone{geo.centre, geo.radius, geo.height}, m));
-                    } else {
-                        for (int v : geo.v)
-                            if (v >= 0 && static_cast<size_t>(v) < f.vertices.size())
-                                b.extend(
-                                    Vec3(m * glm::dvec4(f.vertices[static_cast<size_t>(v)].position,
-                                                        1.0)));
-                    }
-                },
-                shape.geometry);
-        }
-        for (const GroupDesc& child : g.groups) b.extend(visit(file, child, m, level + 1));
-        for (const InstanceDesc& inst : g.instances) {
-            const int sub = f.ray_files[static_cast<size_t>(inst.ray_file)];
-            b.extend(visit(sub, desc.files[static_cast<size_t>(sub)].root, m, level + 1));
-        }
-        if (level >= 1 && level <= max_level && !b.empty()) {
-            const double fade = 1.0 / level;
-            lines.box(b.lo, b.hi, Vec3(1.0, 0.55, 0.2) * fade + Vec3(0.15), nullptr);
-        }
-        return b;
+// The world bounds of a group's own shapes under m.
+Bounds3 shape_bounds(const FileDesc& f, const GroupDesc& g, const Mat4& m) {
+    Bounds3 b;
+    for (const ShapeDesc& shape : g.shapes) {
+        std::visit(
+            [&](const auto& geo) {
+                using T = std::decay_t<decltype(geo)>;
+                if constexpr (std::is_same_v<T, SphereDesc>) {
+                    b.extend(bounds(Sphere{geo.centre, geo.radius}, m));
+                } else if constexpr (std::is_same_v<T, BoxDesc>) {
+                    b.extend(bounds(Box{geo.centre, 0.5 * geo.size}, m));
+                } else if constexpr (std::is_same_v<T, CylinderDesc>) {
+                    b.extend(bounds(Cylinder{geo.centre, geo.radius, geo.height}, m));
+                } else if constexpr (std::is_same_v<T, ConeDesc>) {
+                    b.extend(bounds(Cone{geo.centre, geo.radius, geo.height}, m));
+                } else {
+                    for (int v : geo.v)
+                        if (v >= 0 && static_cast<size_t>(v) < f.vertices.size())
+                            b.extend(Vec3(
+                                m * glm::dvec4(f.vertices[static_cast<size_t>(v)].position, 1.0)));
+                }
+            },
+            shape.geometry);
     }
-};
+    return b;
+}
 
 }  // namespace
 
 std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth) {
     if (depth <= 0 || desc.files.empty()) return {};
-    GroupBoxes g{desc, depth, {}};
-    g.visit(0, desc.files[0].root, Mat4(1.0), 0);
-    return std::move(g.lines.out);
+    // A walk with an explicit stack (groups nest 10^4 deep and includes 200 files deep), each
+    // group's bounds the union of its shapes' and its children's, a box drawn when it closes.
+    struct Frame {
+        int file;
+        const GroupDesc* group;
+        Mat4 m;
+        int level;
+        Bounds3 b;
+        size_t child = 0, instance = 0;
+    };
+    LineBuilder lines;
+    size_t budget = 200000;  // group visits: a scene of millions of instances draws a sample
+    std::vector<Frame> stack;
+    auto push = [&](int file, const GroupDesc& g, const Mat4& parent, int level) {
+        const Mat4 m = parent * g.matrix;
+        stack.push_back(
+            {file, &g, m, level, shape_bounds(desc.files[static_cast<size_t>(file)], g, m)});
+        --budget;
+    };
+    push(0, desc.files[0].root, Mat4(1.0), 0);
+    while (!stack.empty()) {
+        Frame& top = stack.back();
+        const FileDesc& f = desc.files[static_cast<size_t>(top.file)];
+        if (budget > 0 && top.child < top.group->groups.size()) {
+            const GroupDesc& child = top.group->groups[top.child++];
+            push(top.file, child, top.m, top.level + 1);  // invalidates `top`
+        } else if (budget > 0 && top.instance < top.group->instances.size()) {
+            const InstanceDesc& inst = top.group->instances[top.instance++];
+            const int sub = f.ray_files[static_cast<size_t>(inst.ray_file)];
+            push(sub, desc.files[static_cast<size_t>(sub)].root, top.m, top.level + 1);
+        } else {
+            const Frame done = top;
+            stack.pop_back();
+            if (done.level >= 1 && done.level <= depth && !done.b.empty())
+                lines.box(done.b.lo, done.b.hi,
+                          Vec3(1.0, 0.55, 0.2) / static_cast<double>(done.level) + Vec3(0.15),
+                          nullptr);
+            if (!stack.empty()) stack.back().b.extend(done.b);
+        }
+    }
+    return std::move(lines.out);
 }
 
 }  // namespace rt::view

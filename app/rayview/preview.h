@@ -18,8 +18,12 @@ struct GlMatrices {
     float clip_from_world[16];
 };
 
-/// The projection that maps the tracer's pixel rays (spec §6) onto GL's pixel centres.
+/// The projection that maps the tracer's pixel rays (spec §6) onto GL's pixel centres; its near
+/// and far planes enclose `world` (see view_bounds).
 GlMatrices camera_matrices(const Camera& camera, const Bounds3& world);
+
+/// The scene's bounds grown by what the overlay draws around it (light markers and arrows).
+Bounds3 view_bounds(const RenderScene& scene);
 
 /// One end of an overlay line segment.
 struct LineVertex {

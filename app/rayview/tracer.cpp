@@ -10,6 +10,8 @@ void Tracer::stop() {
     m_stop = true;
     if (m_thread.joinable()) m_thread.join();
     m_stop = false;
+    std::lock_guard lock(m_mutex);
+    m_updated = false;  // the stopped run's image is no longer news (the scene may change)
 }
 
 void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, int target_spp) {

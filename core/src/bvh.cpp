@@ -262,11 +262,11 @@ BoxRay::BoxRay(const Ray& r) {
         if (std::abs(r.d[a]) < 1e-30) {
             // A containment test (intersect_node): a huge reciprocal instead would turn an
             // origin exactly on a box's upper face into a far distance of about 1 and cull
-            // every box behind it. A component below 1e-30 moves the ray by less than
-            // |d| * 1e30 over any distance a scene holds: that is added to the slack.
+            // every box behind it. The ray's drift |d| t_max is added there per query.
             parallel[a] = true;
             inv[a] = _mm_setzero_ps();
-            slack[a] = _mm_set1_ps(float_upper(rounding + std::abs(r.d[a]) * 1e30));
+            slack[a] = _mm_set1_ps(float_upper(rounding));
+            drift[a] = float_upper(std::abs(r.d[a]));
             continue;
         }
         const double inv_d = 1.0 / r.d[a];

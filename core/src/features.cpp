@@ -98,7 +98,8 @@ SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& set
     f.shadows = settings.shadows && lit;
     f.transmissive_shadows &= f.shadows;
     f.highlights &= lit;
-    f.soft_shadows = settings.light_radius > 0 && f.shadows && f.lights[1] + f.lights[2] > 0;
+    // Sphere lights move the light point (direction and attenuation too), shadows on or off.
+    f.soft_shadows = settings.light_radius > 0 && f.lights[1] + f.lights[2] > 0;
     f.glossy = settings.roughness > 0 && f.reflection;
     f.depth_of_field = settings.aperture > 0;
     return f;

@@ -28,6 +28,7 @@ Vec3 eval_texture(const TextureImage& tex, const Vec2& uv) {
 
 bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
                 double* distance) {
+    if (light.color == Vec3(0.0)) return false;  // lights nothing (not 0 * inf = NaN either)
     if (light.kind == LightKind::Directional) {
         *to_light = -light.direction;
         *intensity = light.color;
@@ -62,6 +63,7 @@ namespace {
 template <uint32_t F>
 bool light_at(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
               double* distance) {
+    if (light.color == Vec3(0.0)) return false;  // as eval_light
     if constexpr (!(F & kShadeAttenuation)) {
         *to_light = -light.direction;
         *intensity = light.color;
@@ -157,7 +159,8 @@ Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weig
             }
         }
         if constexpr ((F & kShadeHighlights) != 0) {
-            const double r_dot_l = glm::dot(r_v, l);
+            // At most 1 (both unit; rounding can exceed it, and x^huge would overflow).
+            const double r_dot_l = std::min(glm::dot(r_v, l), 1.0);
             const double spec = r_dot_l > 0.0 ? std::pow(r_dot_l, m.specular_exponent) : 0.0;
             c += s * intensity * (kd * n_dot_l + m.specular * spec);
         } else {

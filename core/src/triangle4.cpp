@@ -160,9 +160,12 @@ int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_l
     // a conservative bound that grows without limit relative to t as the triangle turns edge-on,
     // so a ray that grazes a mesh far from its origin could be rejected by every triangle around
     // the point it crosses (a leak). Such lanes are decided by their distance in double instead.
-    const int band =
-        mask & ~firm &
-        _mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(ts, delta_t_scaled), _mm_cmplt_ps(ts, hi)));
+    // Lanes surely behind the origin (t * |det| < -delta_t * |det|) are not in the band.
+    const int band = mask & ~firm &
+                     _mm_movemask_ps(_mm_and_ps(
+                         _mm_and_ps(_mm_cmple_ps(ts, delta_t_scaled),
+                                    _mm_cmpge_ps(ts, _mm_sub_ps(_mm_setzero_ps(), delta_t_scaled))),
+                         _mm_cmplt_ps(ts, hi)));
     mask &= firm;
     if (mask) _mm_storeu_ps(t_out, _mm_div_ps(t_scaled, det));
     for (int b = band; b;) {

@@ -53,9 +53,11 @@ Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& sett
 /// that covers the rounding of the origin, so the slab distances bound the exact ones.
 struct BoxRay {
     __m128 o[3], inv[3], slack[3];
-    // Axes the ray does not move along (d = 0): the slab holds the whole line or none of it, so
-    // the test there is o in [lo, hi] (closed, with o's rounding as slack), not a distance.
+    // Axes the ray hardly moves along (|d| < 1e-30, zero included): the test there is o in
+    // [lo, hi] (closed), widened by o's rounding and by |d| t_max, how far the ray drifts
+    // along the axis before t_max; not a distance from a reciprocal.
     bool parallel[3] = {false, false, false};
+    float drift[3] = {0.0f, 0.0f, 0.0f};  // |d| on parallel axes
     explicit BoxRay(const Ray& r);
 };
 
@@ -70,11 +72,11 @@ inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, 
     __m128 inside = _mm_castsi128_ps(_mm_set1_epi32(-1));
     for (int a = 0; a < 3; ++a) {
         if (ray.parallel[a]) {
+            __m128 s = ray.slack[a];
+            if (ray.drift[a] > 0.0f) s = _mm_add_ps(s, _mm_set1_ps(ray.drift[a] * t_max * kWiden));
             inside = _mm_and_ps(
-                inside,
-                _mm_and_ps(
-                    _mm_cmple_ps(_mm_load_ps(node.lo[a]), _mm_add_ps(ray.o[a], ray.slack[a])),
-                    _mm_cmpge_ps(_mm_load_ps(node.hi[a]), _mm_sub_ps(ray.o[a], ray.slack[a]))));
+                inside, _mm_and_ps(_mm_cmple_ps(_mm_load_ps(node.lo[a]), _mm_add_ps(ray.o[a], s)),
+                                   _mm_cmpge_ps(_mm_load_ps(node.hi[a]), _mm_sub_ps(ray.o[a], s))));
             continue;
         }
         const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[a]), ray.o[a]), ray.inv[a]);
