@@ -322,7 +322,7 @@ int main(int argc, char** argv) {
         // The trace leaves one core to the interface thread, so frames stay smooth.
         settings.threads = std::max(1, resolve_thread_count(0) - 1);
         int target_spp = 256;
-        std::string script_cause;  // the script command whose edit waits for a restart
+        std::vector<std::string> script_causes;  // script commands whose edits await a restart
         auto input_time = std::chrono::steady_clock::now();  // the first input since a restart
         bool input_pending = false;
         double moving_div = 2.0;  // the preview's resolution divisor while the view moves
@@ -777,10 +777,10 @@ int main(int argc, char** argv) {
                     input_pending = false;
                     change_time = std::chrono::steady_clock::now();
                     first_pass_ms = -1;
-                    if (!script_cause.empty())
+                    for (const std::string& cause : script_causes)
                         std::printf("rayview: frame %d: %s: trace restarted\n", frame_index,
-                                    script_cause.c_str());
-                    script_cause.clear();
+                                    cause.c_str());
+                    script_causes.clear();
                 }
                 if (tracer.take_image(&last_trace)) {
                     trace_tex.upload(last_trace);
@@ -861,7 +861,7 @@ int main(int argc, char** argv) {
                     std::printf("rayview: frame %d: %s (trace at %d spp)\n", frame_index,
                                 l.args[0].c_str(), st.spp);
                 }
-                if (dirty) script_cause = l.command;  // reported when the restart happens
+                if (dirty) script_causes.push_back(l.command);  // reported at the restart
             }
             ++frame_index;
             if (frames > 0 && --frames == 0) {
