@@ -324,6 +324,7 @@ int main(int argc, char** argv) {
         int target_spp = 256;
         std::vector<std::string> script_causes;  // script commands whose edits await a restart
         auto input_time = std::chrono::steady_clock::now();  // the first input since a restart
+        auto served_input_time = input_time;                 // the input the running trace answers
         bool input_pending = false;
         double moving_div = 2.0;  // the preview's resolution divisor while the view moves
         std::vector<std::string> explained;         // explain_features() of the running trace
@@ -775,6 +776,7 @@ int main(int argc, char** argv) {
                     print_left_out = false;
                     dirty = false;
                     input_pending = false;
+                    served_input_time = input_time;
                     change_time = std::chrono::steady_clock::now();
                     first_pass_ms = -1;
                     for (const std::string& cause : script_causes)
@@ -787,7 +789,7 @@ int main(int argc, char** argv) {
                     if (first_pass_ms < 0) {
                         // From the input, not the (possibly deferred) restart.
                         first_pass_ms = std::chrono::duration<double, std::milli>(
-                                            std::chrono::steady_clock::now() - input_time)
+                                            std::chrono::steady_clock::now() - served_input_time)
                                             .count();
                         first_pass_samples.push_back(first_pass_ms);
                     }
