@@ -26,10 +26,16 @@ Vec3 eval_texture(const TextureImage& tex, const Vec2& uv) {
            (1 - fx) * fy * texel(x0, y0 + 1) + fx * fy * texel(x0 + 1, y0 + 1);
 }
 
-bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
-                double* distance) {
+namespace {
+
+// Spec §7.2 for the light kinds a variant has: without kAttenuation only directional lights
+// (no distance or attenuation), without kSpot no cut-off or drop-off code. eval_light is the
+// version with every kind.
+template <bool kAttenuation, bool kSpot>
+bool light_kinds(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
+                 double* distance) {
     if (light.color == Vec3(0.0)) return false;  // lights nothing (not 0 * inf = NaN either)
-    if (light.kind == LightKind::Directional) {
+    if (!kAttenuation || light.kind == LightKind::Directional) {
         *to_light = -light.direction;
         *intensity = light.color;
         *distance = kInf;
@@ -43,7 +49,7 @@ bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_lig
         light.constant_atten + light.linear_atten * dist + light.quadratic_atten * dist * dist;
     if (!(denom > 0.0) || !std::isfinite(denom)) return false;
     double factor = 1.0 / denom;
-    if (light.kind == LightKind::Spot) {
+    if (kSpot && light.kind == LightKind::Spot) {
         const double cos_a = glm::dot(light.direction, -l);
         if (std::acos(std::clamp(cos_a, -1.0, 1.0)) > light.cutoff_rad) return false;
         // The factor is 1 when p = 0, whatever the angle (spec §7.2).
@@ -56,41 +62,21 @@ bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_lig
     return factor > 0.0;
 }
 
-namespace {
-
-// eval_light with the light kinds the variant F has: no spot code without spot lights, no
-// distance or attenuation without point or spot lights.
 template <uint32_t F>
 bool light_at(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
               double* distance) {
-    if (light.color == Vec3(0.0)) return false;  // as eval_light
-    if constexpr (!(F & kShadeAttenuation)) {
-        *to_light = -light.direction;
-        *intensity = light.color;
-        *distance = kInf;
-        return true;
-    } else if constexpr (!(F & kShadeSpot)) {
-        if (light.kind == LightKind::Directional) {
-            *to_light = -light.direction;
-            *intensity = light.color;
-            *distance = kInf;
-            return true;
-        }
-        const Vec3 delta = light.position - p;
-        const double dist = glm::length(delta);
-        if (!(dist > 0.0) || !std::isfinite(dist)) return false;
-        const double denom =
-            light.constant_atten + light.linear_atten * dist + light.quadratic_atten * dist * dist;
-        if (!(denom > 0.0) || !std::isfinite(denom)) return false;
-        const double factor = 1.0 / denom;
-        *intensity = light.color * factor;
-        *to_light = delta / dist;
-        *distance = dist;
-        return factor > 0.0;
-    } else {
-        return eval_light(light, p, intensity, to_light, distance);
-    }
+    return light_kinds<(F & kShadeAttenuation) != 0, (F & kShadeSpot) != 0>(light, p, intensity,
+                                                                            to_light, distance);
 }
+
+}  // namespace
+
+bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
+                double* distance) {
+    return light_kinds<true, true>(light, p, intensity, to_light, distance);
+}
+
+namespace {
 
 // The Whitted colour along a ray (spec §7, §8), compiled once per variant F (ShadeFeature bits):
 // `if constexpr` removes the code of every feature F lacks. With F = kShadeAll it is the generic
