@@ -534,7 +534,7 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
 // --leave-out: every scene rendered by the generic renderer and by the one specialized to its
 // features (issue 7), alternating, best of `repeats` renders each; the images must be equal.
 void run_leave_out(const std::vector<std::filesystem::path>& files, int repeats, bool quick,
-                   int threads) {
+                   int threads, const std::vector<std::string>& only) {
     std::printf(
         "\nleave out what a scene does not need: generic vs specialized renderer, %s, "
         "1 spp, %d thread%s, best of %d renders each, alternating\n",
@@ -542,6 +542,9 @@ void run_leave_out(const std::vector<std::filesystem::path>& files, int repeats,
     std::printf("%-44s %10s %12s %8s %9s\n", "scene", "generic s", "specialized s", "speedup",
                 "identical");
     for (const auto& f : files) {
+        // Named scenes only (file stems), when some are named.
+        if (!only.empty() && std::find(only.begin(), only.end(), f.stem().string()) == only.end())
+            continue;
         Diagnostics diag;
         RenderScene scene;
         try {
@@ -607,10 +610,11 @@ int main(int argc, char** argv) {
         } else if (a == "-h" || a == "--help") {
             std::printf(
                 "usage: raybench [--quick] [--repeats N] [--scenes DIR] [WORKLOAD...]\n"
-                "       raybench --leave-out [--quick] [--repeats N] [--threads N]\n"
+                "       raybench --leave-out [--quick] [--repeats N] [--threads N] [SCENE...]\n"
                 "workloads: mesh10k mesh100k mesh1m and the scene names of DIR\n"
                 "--leave-out: the scenes of scenes/ and ../shared/public-scenes rendered by the\n"
-                "generic and the specialized renderer (one LEAVEOUT line each)\n");
+                "generic and the specialized renderer (one LEAVEOUT line each); SCENE names\n"
+                "limit it to those file stems\n");
             return 0;
         } else {
             only.push_back(a);
@@ -627,7 +631,7 @@ int main(int argc, char** argv) {
             std::sort(found.begin(), found.end());
             files.insert(files.end(), found.begin(), found.end());
         }
-        run_leave_out(files, quick ? 1 : std::max(repeats, 5), quick, leave_out_threads);
+        run_leave_out(files, quick ? 1 : std::max(repeats, 5), quick, leave_out_threads, only);
         return 0;
     }
     auto wanted = [&](const std::string& n) {

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <vector>
 
+#include "rt/features.h"
 #include "rt/render_scene.h"
 
 namespace rt {
@@ -67,6 +68,7 @@ public:
         if (!m_desc.files.empty()) place(0, Mat4(1.0), SourceLoc{});
         build_acceleration();
         fill_stats();
+        m_scene.geometry = read_geometry(m_scene);
         return std::move(m_scene);
     }
 
@@ -185,11 +187,22 @@ private:
             set.prim_bounds.push_back(bounds[old]);
         }
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
-        set.triangles_only = set.triangles.size() == set.prims.size();
+        set.layout = layout_of(set);
         pack_triangles(set);
         m_set_of_file[fi] = static_cast<int>(m_scene.sets.size());
         m_scene.sets.push_back(std::move(set));
         return m_set_of_file[fi];
+    }
+
+    // The one kind a set holds gets a walk of its own; triangles-only sets get packed leaves.
+    static SetLayout layout_of(const GeometrySet& set) {
+        const size_t n = set.prims.size();
+        if (set.triangles.size() == n) return SetLayout::Triangles;
+        if (set.spheres.size() == n) return SetLayout::Spheres;
+        if (set.boxes.size() == n) return SetLayout::Boxes;
+        if (set.cylinders.size() == n) return SetLayout::Cylinders;
+        if (set.cones.size() == n) return SetLayout::Cones;
+        return set.triangles.empty() ? SetLayout::Analytic : SetLayout::Mixed;
     }
 
     // Single-precision copies of the triangles, four per block (unused lanes zero), relative to

@@ -35,6 +35,49 @@ std::vector<Light> lighting_lights(const RenderScene& scene) {
     return out;
 }
 
+GeometryFeatures read_geometry(const RenderScene& scene) {
+    GeometryFeatures g;
+    std::vector<char> set_used(scene.sets.size(), 0);
+    g.material_used.assign(scene.materials.size(), 0);
+    std::vector<std::array<size_t, 5>> set_prims(scene.sets.size());
+    for (const Instance& inst : scene.instances) {
+        const size_t si = static_cast<size_t>(inst.set);
+        const GeometrySet& set = scene.sets[si];
+        if (!set_used[si]) {  // each set once, however often it is instanced
+            set_used[si] = 1;
+            set_prims[si] = {0, 0, 0, 0, 0};
+            for (const Primitive& p : set.prims) {
+                g.material_used[static_cast<size_t>(p.material)] = 1;
+                ++set_prims[si][static_cast<size_t>(p.kind)];
+                if (p.transform >= 0) {
+                    g.transforms = true;
+                    g.nonuniform_scale |=
+                        scales_unevenly(set.transforms[static_cast<size_t>(p.transform)].m);
+                }
+            }
+        }
+        for (size_t k = 0; k < 5; ++k) g.prims[k] += set_prims[si][k];
+        if (!inst.identity) {
+            g.transforms = true;
+            g.nonuniform_scale |= scales_unevenly(inst.world_from_set.m);
+        }
+    }
+    g.instancing = scene.instances.size() > 1;
+    // The layout every placed set shares, or a walk picked per set.
+    uint32_t layout = 0;
+    bool first = true;
+    for (size_t i = 0; i < scene.sets.size(); ++i) {
+        if (!set_used[i]) continue;
+        const uint32_t l = geom_layout_bits(scene.sets[i].layout);
+        layout = first || l == layout ? l : kGeomPerSet;
+        first = false;
+    }
+    g.variant =
+        (g.instancing ? kGeomInstancing : 0u) | (g.transforms ? kGeomTransforms : 0u) | layout;
+    if (scene.instances.empty()) g.variant = kGeomGeneric;  // nothing to walk: the top BVH is empty
+    return g;
+}
+
 SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& settings) {
     SceneFeatures f;
     f.max_depth = settings.max_depth;
@@ -46,38 +89,22 @@ SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& set
     }
     const bool lit = f.lights[0] + f.lights[1] + f.lights[2] > 0;
 
-    // The materials and sets that instanced primitives use.
-    std::vector<char> set_used(scene.sets.size(), 0), material_used(scene.materials.size(), 0);
-    std::vector<std::array<size_t, 5>> set_prims(scene.sets.size());
-    for (const Instance& inst : scene.instances) {
-        const size_t si = static_cast<size_t>(inst.set);
-        const GeometrySet& set = scene.sets[si];
-        if (!set_used[si]) {  // each set once, however often it is instanced
-            set_used[si] = 1;
-            set_prims[si] = {0, 0, 0, 0, 0};
-            for (const Primitive& p : set.prims) {
-                material_used[static_cast<size_t>(p.material)] = 1;
-                ++set_prims[si][static_cast<size_t>(p.kind)];
-                if (p.transform >= 0) {
-                    f.transforms = true;
-                    f.nonuniform_scale |=
-                        scales_unevenly(set.transforms[static_cast<size_t>(p.transform)].m);
-                }
-            }
-        }
-        for (size_t k = 0; k < 5; ++k) f.prims[k] += set_prims[si][k];
-        if (!inst.identity) {
-            f.transforms = true;
-            f.nonuniform_scale |= scales_unevenly(inst.world_from_set.m);
-        }
-    }
+    const GeometryFeatures& g = scene.geometry;
+    for (size_t k = 0; k < 5; ++k) f.prims[k] = g.prims[k];
     f.sets = scene.sets.size();
-    f.instancing = scene.instances.size() > 1;
+    f.instancing = g.instancing;
+    f.transforms = g.transforms;
+    f.nonuniform_scale = g.nonuniform_scale;
+    f.geom_variant = g.variant;
+    // A scene built by hand (no compile_scene): every material counts.
+    auto material_used = [&](size_t i) {
+        return g.material_used.size() != scene.materials.size() || g.material_used[i] != 0;
+    };
 
     std::vector<char> texture_used(scene.textures.size(), 0);
     bool any_ambient = false;
     for (size_t i = 0; i < scene.materials.size(); ++i) {
-        if (!material_used[i]) continue;
+        if (!material_used(i)) continue;
         const Material& m = scene.materials[i];
         f.highlights |= m.specular != Vec3(0.0);
         f.transmissive_shadows |= m.transparent != Vec3(0.0);

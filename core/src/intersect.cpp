@@ -1,6 +1,8 @@
 #include "rt/intersect.h"
 
 #include <algorithm>
+#include <array>
+#include <utility>
 
 #include "rt/triangle4.h"
 
@@ -8,12 +10,16 @@ namespace rt {
 
 namespace {
 
-// A ray in a set's frame with the per-ray constants of the triangle kernel.
+// A ray in a set's frame with the per-ray constants of the triangle kernel, set up only where
+// the walk may meet triangles (kTriangles).
 struct SetRay {
     Ray ray;
-    TriRay tri;  // the triangle kernel's setup, only for sets that hold triangles
-    SetRay(const Ray& r, const GeometrySet& set) : ray(r) {
-        if (!set.triangles.empty()) tri = TriRay({r.o - set.tri_origin, r.d});
+    TriRay tri;
+    template <bool kTriangles>
+    static SetRay make(const Ray& r, const GeometrySet& set) {
+        SetRay sr{r, {}};
+        if constexpr (kTriangles) sr.tri = TriRay({r.o - set.tri_origin, r.d});
+        return sr;
     }
 };
 
@@ -30,52 +36,59 @@ ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tr
     return h;
 }
 
-// Every hit of one primitive of a set, for a ray in the set's frame.
+// Every hit of one primitive of a set, for a ray in the set's frame. A set of one analytic
+// kind calls its test directly; without kXf no primitive has a transform.
+template <SetLayout L, bool kXf>
 ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const SetRay& sr, Interval t) {
-    if (p.kind == ShapeKind::Triangle) return triangle_hits(set, p.index, sr.tri, t);
-    const Ray r =
-        p.transform < 0 ? sr.ray : set.transforms[static_cast<size_t>(p.transform)].inv_ray(sr.ray);
-    switch (p.kind) {
-        case ShapeKind::Sphere:
-            return intersect(set.spheres[p.index], r, t);
-        case ShapeKind::Box:
-            return intersect(set.boxes[p.index], r, t);
-        case ShapeKind::Cylinder:
-            return intersect(set.cylinders[p.index], r, t);
-        case ShapeKind::Cone:
-            return intersect(set.cones[p.index], r, t);
-        case ShapeKind::Triangle:
-            break;
+    if constexpr (L == SetLayout::Mixed)
+        if (p.kind == ShapeKind::Triangle) return triangle_hits(set, p.index, sr.tri, t);
+    const Ray* r = &sr.ray;
+    Ray local;
+    if constexpr (kXf) {
+        if (p.transform >= 0) {
+            local = set.transforms[static_cast<size_t>(p.transform)].inv_ray(sr.ray);
+            r = &local;
+        }
     }
-    return {};
+    if constexpr (L == SetLayout::Spheres) {
+        return intersect(set.spheres[p.index], *r, t);
+    } else if constexpr (L == SetLayout::Boxes) {
+        return intersect(set.boxes[p.index], *r, t);
+    } else if constexpr (L == SetLayout::Cylinders) {
+        return intersect(set.cylinders[p.index], *r, t);
+    } else if constexpr (L == SetLayout::Cones) {
+        return intersect(set.cones[p.index], *r, t);
+    } else {
+        switch (p.kind) {
+            case ShapeKind::Sphere:
+                return intersect(set.spheres[p.index], *r, t);
+            case ShapeKind::Box:
+                return intersect(set.boxes[p.index], *r, t);
+            case ShapeKind::Cylinder:
+                return intersect(set.cylinders[p.index], *r, t);
+            case ShapeKind::Cone:
+                return intersect(set.cones[p.index], *r, t);
+            case ShapeKind::Triangle:
+                break;
+        }
+        return {};
+    }
 }
 
+template <bool kXf>
 Ray to_set(const Instance& inst, const Ray& ray) {
-    return inst.identity ? ray : inst.world_from_set.inv_ray(ray);
+    if constexpr (kXf) return inst.identity ? ray : inst.world_from_set.inv_ray(ray);
+    return ray;
 }
 
-}  // namespace
-
-// Calls f(instance index, ray in the set's frame, t_max) for the instances whose box the ray
-// enters; a scene of one instance (most files) skips the top-level walk.
-template <bool kOrdered, class F>
-void for_each_instance(const RenderScene& scene, const Ray& ray, double& t_max, F&& f) {
-    if (scene.instances.size() == 1) {
-        f(0u, to_set(scene.instances[0], ray), t_max);
-        return;
-    }
-    traverse<kOrdered>(scene.top, ray, t_max, [&](uint32_t ii, double& best) {
-        return f(ii, to_set(scene.instances[ii], ray), best);
-    });
-}
-
-// Calls hits(prim, ShapeHits, t_max) for the primitives of a set along a ray in its frame. Sets
-// of triangles only test each leaf's triangles four at a time.
-template <bool kOrdered, class F>
-bool for_each_hit(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
-    const SetRay sr(r, set);
+// Calls hits(prim, ShapeHits, t_max) for the primitives of a set along a ray in its frame;
+// hits returns true to stop the walk. Triangle-only sets test each leaf's triangles four at a
+// time (packed in leaf order); the other layouts test one primitive at a time.
+template <bool kOrdered, SetLayout L, bool kXf, class F>
+bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
     bool stopped = false;
-    if (set.triangles_only) {
+    if constexpr (L == SetLayout::Triangles) {
+        const TriRay tri({r.o - set.tri_origin, r.d});
         traverse_leaves<kOrdered>(
             set.bvh, r, t_max, [&](uint32_t first, uint32_t count, double& best) {
                 const uint32_t end = first + count;
@@ -84,7 +97,7 @@ bool for_each_hit(const GeometrySet& set, const Ray& r, double& t_max, double t_
                     const uint32_t lo = std::max(first, b * 4), hi = std::min(end, b * 4 + 4);
                     const int lanes = ((1 << (hi - lo)) - 1) << (lo - b * 4);
                     float tt[4];
-                    int m = intersect_tri4(set.tri4[b], sr.tri, lanes, float_lower(t_min),
+                    int m = intersect_tri4(set.tri4[b], tri, lanes, float_lower(t_min),
                                            float_upper(best), tt);
                     while (m) {
                         const int l = __builtin_ctz(static_cast<unsigned>(m));
@@ -99,19 +112,65 @@ bool for_each_hit(const GeometrySet& set, const Ray& r, double& t_max, double t_
                 return false;
             });
     } else {
+        const SetRay sr = SetRay::make<L == SetLayout::Mixed>(r, set);
         traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {
-            return stopped = hits(pi, prim_hits(set, set.prims[pi], sr, {t_min, best}), best);
+            return stopped =
+                       hits(pi, prim_hits<L, kXf>(set, set.prims[pi], sr, {t_min, best}), best);
         });
     }
     return stopped;
 }
 
-bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
+// The walk of geometry variant V over one set: its layout when every set shares it, else the
+// set's own (one switch per set visited, not per primitive).
+template <uint32_t V, bool kOrdered, class F>
+bool walk(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
+    constexpr bool kXf = (V & kGeomTransforms) != 0;
+    constexpr uint32_t kLayout = (V & kGeomPerSet) >> kGeomLayoutShift;
+    if constexpr (kLayout < kSetLayouts) {
+        return walk_set<kOrdered, static_cast<SetLayout>(kLayout), kXf>(set, r, t_max, t_min, hits);
+    } else {
+        switch (set.layout) {
+            case SetLayout::Mixed:
+                return walk_set<kOrdered, SetLayout::Mixed, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Analytic:
+                return walk_set<kOrdered, SetLayout::Analytic, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Spheres:
+                return walk_set<kOrdered, SetLayout::Spheres, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Boxes:
+                return walk_set<kOrdered, SetLayout::Boxes, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Cylinders:
+                return walk_set<kOrdered, SetLayout::Cylinders, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Cones:
+                return walk_set<kOrdered, SetLayout::Cones, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Triangles:
+                return walk_set<kOrdered, SetLayout::Triangles, kXf>(set, r, t_max, t_min, hits);
+        }
+        return false;
+    }
+}
+
+// Calls f(instance index, ray in the set's frame, t_max) for the instances whose box the ray
+// enters; without kGeomInstancing the one instance is walked directly (no top-level BVH).
+template <uint32_t V, bool kOrdered, class F>
+void for_each_instance(const RenderScene& scene, const Ray& ray, double& t_max, F&& f) {
+    constexpr bool kXf = (V & kGeomTransforms) != 0;
+    if constexpr ((V & kGeomInstancing) == 0) {
+        f(0u, to_set<kXf>(scene.instances[0], ray), t_max);
+    } else {
+        traverse<kOrdered>(scene.top, ray, t_max, [&](uint32_t ii, double& best) {
+            return f(ii, to_set<kXf>(scene.instances[ii], ray), best);
+        });
+    }
+}
+
+template <uint32_t V>
+bool closest_hit(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
     double t_max = t.hi;
     bool found = false;
-    for_each_instance<true>(scene, ray, t_max, [&](uint32_t ii, const Ray& r, double& best) {
+    for_each_instance<V, true>(scene, ray, t_max, [&](uint32_t ii, const Ray& r, double& best) {
         const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
-        for_each_hit<true>(set, r, best, t.lo, [&](uint32_t pi, const ShapeHits& h, double& b) {
+        walk<V, true>(set, r, best, t.lo, [&](uint32_t pi, const ShapeHits& h, double& b) {
             if (h.count > 0) {
                 b = h.t[0];
                 *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0]};
@@ -124,15 +183,74 @@ bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
     return found;
 }
 
+template <uint32_t V>
+bool any_hit(const RenderScene& scene, const Ray& ray, double t_max) {
+    double limit = t_max;
+    bool hit = false;
+    for_each_instance<V, false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
+        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
+        double inner = t_max;
+        return hit = walk<V, false>(set, r, inner, 0.0, [&](uint32_t, const ShapeHits& h, double&) {
+                   return h.count > 0;
+               });
+    });
+    return hit;
+}
+
+template <uint32_t V>
+Vec3 transmitted(const RenderScene& scene, const Ray& ray, double t_max) {
+    Vec3 s(1.0);
+    double limit = t_max;  // never shrinks: every crossing counts, order does not matter
+    for_each_instance<V, false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
+        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
+        double inner = t_max;
+        return walk<V, false>(set, r, inner, 0.0, [&](uint32_t pi, const ShapeHits& h, double&) {
+            const Primitive& p = set.prims[pi];
+            const Vec3& tr = scene.materials[static_cast<size_t>(p.material)].transparent;
+            for (int k = 0; k < h.count; ++k) s *= tr;
+            return h.count > 0 && s == Vec3(0.0);
+        });
+    });
+    return s;
+}
+
+template <uint32_t... V>
+constexpr std::array<GeometryQueries, sizeof...(V)> query_table(
+    std::integer_sequence<uint32_t, V...>) {
+    return {GeometryQueries{&closest_hit<V>, &any_hit<V>, &transmitted<V>}...};
+}
+
+// Every geometry variant, indexed by its GeomFeature bits.
+constexpr auto kQueries = query_table(std::make_integer_sequence<uint32_t, kGeomVariants>{});
+
+}  // namespace
+
+const GeometryQueries& geometry_queries(uint32_t variant) {
+    return kQueries[variant < kGeomVariants ? variant : kGeomGeneric];
+}
+
+bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
+    return geometry_queries(scene.geometry.variant).intersect(scene, ray, t, hit);
+}
+
+bool occluded(const RenderScene& scene, const Ray& ray, double t_max) {
+    return geometry_queries(scene.geometry.variant).occluded(scene, ray, t_max);
+}
+
+Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max) {
+    return geometry_queries(scene.geometry.variant).transmittance(scene, ray, t_max);
+}
+
 bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
     double best = t.hi;
     bool found = false;
     for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
         const Instance& inst = scene.instances[ii];
         const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
-        const SetRay r(to_set(inst, ray), set);
+        const SetRay r = SetRay::make<true>(to_set<true>(inst, ray), set);
         for (uint32_t pi = 0; pi < set.prims.size(); ++pi) {
-            const ShapeHits h = prim_hits(set, set.prims[pi], r, {t.lo, best});
+            const ShapeHits h =
+                prim_hits<SetLayout::Mixed, true>(set, set.prims[pi], r, {t.lo, best});
             if (h.count > 0) {
                 best = h.t[0];
                 *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0]};
@@ -145,44 +263,15 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
 
 ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
                               Interval t) {
-    return prim_hits(set, set.prims[prim], SetRay(ray_set, set), t);
-}
-
-bool occluded(const RenderScene& scene, const Ray& ray, double t_max) {
-    double limit = t_max;
-    bool hit = false;
-    for_each_instance<false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
-        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
-        double inner = t_max;
-        return hit = for_each_hit<false>(
-                   set, r, inner, 0.0,
-                   [&](uint32_t, const ShapeHits& h, double&) { return h.count > 0; });
-    });
-    return hit;
-}
-
-Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max) {
-    Vec3 s(1.0);
-    double limit = t_max;  // never shrinks: every crossing counts, order does not matter
-    for_each_instance<false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
-        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
-        double inner = t_max;
-        return for_each_hit<false>(
-            set, r, inner, 0.0, [&](uint32_t pi, const ShapeHits& h, double&) {
-                const Primitive& p = set.prims[pi];
-                const Vec3& tr = scene.materials[static_cast<size_t>(p.material)].transparent;
-                for (int k = 0; k < h.count; ++k) s *= tr;
-                return h.count > 0 && s == Vec3(0.0);
-            });
-    });
-    return s;
+    return prim_hits<SetLayout::Mixed, true>(set, set.prims[prim], SetRay::make<true>(ray_set, set),
+                                             t);
 }
 
 SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit, bool uv) {
     const Instance& inst = scene.instances[static_cast<size_t>(hit.instance)];
     const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
     const Primitive& p = set.prims[hit.prim];
-    const Ray r_set = to_set(inst, ray);
+    const Ray r_set = to_set<true>(inst, ray);
 
     SurfacePoint sp;
     const Transform* shape_xf =

@@ -63,8 +63,13 @@ Image render_coarse(const RenderScene& scene, const RenderSettings& settings, in
 ShadingSettings RenderSettings::shading(const RenderScene& scene,
                                         std::vector<Light>* lights) const {
     ShadingSettings s = shading();
-    if (!specialize) return s;
-    s.variant = scene_features(scene, *this).shade_variant();
+    if (!specialize) {
+        s.geometry = &geometry_queries(kGeomGeneric);
+        return s;
+    }
+    const SceneFeatures f = scene_features(scene, *this);
+    s.variant = f.shade_variant();
+    s.geometry = &geometry_queries(f.geom_variant);
     // Dark lights are skipped, except where random samples are drawn per light (soft shadows):
     // skipping one there would shift every later sample, and the images must stay the same.
     if (!(s.variant & kShadeStochastic)) {

@@ -85,8 +85,10 @@ template <uint32_t F>
 Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
            const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
     constexpr bool kStochastic = (F & kShadeStochastic) != 0;
+    const GeometryQueries& geometry =
+        settings.geometry ? *settings.geometry : geometry_queries(scene.geometry.variant);
     Hit hit;
-    if (!intersect(scene, ray, {0.0, kInf}, &hit)) return scene.background;
+    if (!geometry.intersect(scene, ray, {0.0, kInf}, &hit)) return scene.background;
     // Texture coordinates only where a texture reads them.
     const SurfaceInteraction si = interaction(scene, ray, hit, (F & kShadeTextures) != 0);
     const Material& m = scene.materials[static_cast<size_t>(si.material)];
@@ -136,11 +138,11 @@ Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weig
                 const Ray shadow_ray{o, directional ? l : light.position - o};
                 const double t_max = directional ? kInf : 1.0;
                 if constexpr ((F & kShadeTransmissiveShadows) != 0) {
-                    s = transmittance(scene, shadow_ray, t_max);
+                    s = geometry.transmittance(scene, shadow_ray, t_max);
                     if (s == Vec3(0.0)) continue;
                 } else {
                     // No material lets light through: the first hit decides.
-                    if (occluded(scene, shadow_ray, t_max)) continue;
+                    if (geometry.occluded(scene, shadow_ray, t_max)) continue;
                 }
             }
         }

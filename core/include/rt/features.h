@@ -50,12 +50,18 @@ struct SceneFeatures {
     bool nonuniform_scale = false;  // one that scales unevenly (normals need (A^-1)^T)
     bool soft_shadows = false, depth_of_field = false, glossy = false;  // progressive features
     int max_depth = 1;
+    uint32_t geom_variant = kGeomGeneric;  // GeomFeature bits of the walk (RenderScene::geometry)
 
     /// The ShadeFeature bits of the variant that renders this scene.
     uint32_t shade_variant() const;
 };
 
-/// Reads what the scene uses. Materials count only when some instanced primitive uses them.
+/// Reads what the scene's geometry holds and the walk that fits it (compile_scene stores it in
+/// RenderScene::geometry; the viewer's light edits do not change it).
+GeometryFeatures read_geometry(const RenderScene& scene);
+
+/// Reads what the scene uses: RenderScene::geometry, the lights, the used materials and the
+/// settings. Materials count only when some instanced primitive uses them.
 SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& settings);
 
 /// The lights the specialized renderer iterates: those that can light something.

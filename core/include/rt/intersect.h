@@ -24,9 +24,22 @@ struct SurfaceInteraction {
     int material = 0;
 };
 
-/// Nearest hit with t in (t.lo, t.hi). Returns false when the ray escapes.
+/// Nearest hit with t in (t.lo, t.hi). Returns false when the ray escapes. This and occluded()
+/// and transmittance() walk the scene with the geometry variant that fits it
+/// (RenderScene::geometry).
 bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit);
-/// The same by testing every primitive of every instance.
+
+/// The three ray queries of one geometry variant (GeomFeature bits, rt/render_scene.h), with the
+/// code of what the variant lacks left out: the top-level walk, transforms, the dispatch on shape
+/// kinds. kGeomGeneric walks any scene; a specialized variant only scenes it was read from.
+struct GeometryQueries {
+    bool (*intersect)(const RenderScene&, const Ray&, Interval, Hit*);
+    bool (*occluded)(const RenderScene&, const Ray&, double);
+    Vec3 (*transmittance)(const RenderScene&, const Ray&, double);
+};
+const GeometryQueries& geometry_queries(uint32_t geom_variant);
+
+/// The nearest hit by testing every primitive of every instance.
 bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit);
 
 /// Any hit with t in (0, t_max): the shadow query of opaque scenes and of the benchmark.

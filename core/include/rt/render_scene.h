@@ -45,6 +45,11 @@ struct Primitive {
     int transform = -1;
 };
 
+/// How a set's leaves are walked (intersect.cpp): one shape kind tested without a dispatch, the
+/// analytic kinds through a switch, packed triangles four at a time, or any mix of the five.
+enum class SetLayout : uint8_t { Mixed, Analytic, Spheres, Boxes, Cylinders, Cones, Triangles };
+inline constexpr int kSetLayouts = 7;
+
 /// The compiled geometry of one .ray file, in that file's frame.
 struct GeometrySet {
     std::string name;  // the file it came from
@@ -57,10 +62,10 @@ struct GeometrySet {
     std::vector<Tri4> tri4;           // the same in float, four per block: what rays test,
     Vec3 tri_origin{0.0};             // relative to this point of the set's frame
     std::vector<TriangleAttribs> triangle_attribs;
-    std::vector<Transform> transforms;  // set_from_shape for analytic shapes under groups
-    std::vector<Bounds3> prim_bounds;   // in the set's frame
-    Bvh bvh;                            // primitives are stored in its leaf order
-    bool triangles_only = false;        // then prims[i] is triangles[i]
+    std::vector<Transform> transforms;    // set_from_shape for analytic shapes under groups
+    std::vector<Bounds3> prim_bounds;     // in the set's frame
+    Bvh bvh;                              // primitives are stored in its leaf order
+    SetLayout layout = SetLayout::Mixed;  // the kinds of prims; Triangles: prims[i] is triangles[i]
 };
 
 /// A set placed in the world. Nested instancing is flattened into composed transforms.
@@ -81,6 +86,35 @@ struct SceneStats {
     double build_seconds = 0;   // BVH builds (included in compile_scene's time)
 };
 
+/// The geometry variant's switches (ShadeFeature's counterpart for the ray queries: one compiled
+/// walk per combination, intersect.cpp): bit 0 the top-level walk over instances, bit 1 shape
+/// and instance transforms, bits 2..4 the SetLayout every set shares, or kGeomPerSet when the
+/// sets differ (each set's walk is then picked per set).
+enum GeomFeature : uint32_t {
+    kGeomInstancing = 1u << 0,
+    kGeomTransforms = 1u << 1,
+    kGeomLayoutShift = 2,
+    kGeomPerSet = 7u << kGeomLayoutShift,
+    /// The generic walk: the top-level BVH, transforms, and every primitive dispatched on its
+    /// kind (Mixed), whatever the scene holds.
+    kGeomGeneric = kGeomInstancing | kGeomTransforms,
+    kGeomVariants = 32,
+};
+inline constexpr uint32_t geom_layout_bits(SetLayout l) {
+    return static_cast<uint32_t>(l) << kGeomLayoutShift;
+}
+
+/// What the geometry holds, read once by compile_scene (rt/features.h adds lights, materials and
+/// settings). A scene built by hand keeps the defaults: the generic walk.
+struct GeometryFeatures {
+    size_t prims[5] = {0, 0, 0, 0, 0};  // by ShapeKind, after instancing
+    bool instancing = false;            // more than one instance
+    bool transforms = false;            // an instance or shape transform that is not the identity
+    bool nonuniform_scale = false;      // one that scales unevenly (normals need (A^-1)^T)
+    std::vector<char> material_used;    // per material: some placed primitive uses it
+    uint32_t variant = kGeomGeneric;    // GeomFeature bits of the walk that fits
+};
+
 struct RenderScene {
     Dialect dialect = Dialect::V1;
     std::optional<CameraDesc> camera;  // absent: default camera (spec §6.3)
@@ -93,6 +127,7 @@ struct RenderScene {
     std::vector<Instance> instances;
     Bvh top;               // over instances' world bounds
     Bounds3 world_bounds;  // tight when the scene has no camera (the default camera frames it)
+    GeometryFeatures geometry;
     SceneStats stats;
 };
 

@@ -27,6 +27,9 @@ struct ShadingSettings {
     /// The lights to iterate; null: all of the scene's (the specialized renderer passes only
     /// those that can light something).
     const std::vector<Light>* lights = nullptr;
+    /// The ray queries; null: the scene's own variant (RenderScene::geometry). The generic
+    /// renderer passes geometry_queries(kGeomGeneric).
+    const GeometryQueries* geometry = nullptr;
 };
 
 /// Rays traced, by kind (for the CLI's rays-per-second figures).
