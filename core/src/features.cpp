@@ -72,9 +72,12 @@ GeometryFeatures read_geometry(const RenderScene& scene) {
         layout = first || l == layout ? l : kGeomPerSet;
         first = false;
     }
+    // One instance is walked directly, unless it has a transform: then the top-level box test
+    // culls the rays that miss it before they are transformed.
+    g.top_level = g.instancing || (scene.instances.size() == 1 && !scene.instances[0].identity);
     g.variant =
-        (g.instancing ? kGeomInstancing : 0u) | (g.transforms ? kGeomTransforms : 0u) | layout;
-    if (scene.instances.empty()) g.variant = kGeomGeneric;  // nothing to walk: the top BVH is empty
+        (g.top_level ? kGeomInstancing : 0u) | (g.transforms ? kGeomTransforms : 0u) | layout;
+    if (scene.instances.empty()) g.variant = kGeomEmpty;
     return g;
 }
 
@@ -93,6 +96,7 @@ SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& set
     for (size_t k = 0; k < 5; ++k) f.prims[k] = g.prims[k];
     f.sets = scene.sets.size();
     f.instancing = g.instancing;
+    f.top_level = g.top_level;
     f.transforms = g.transforms;
     f.nonuniform_scale = g.nonuniform_scale;
     f.geom_variant = g.variant;
@@ -185,13 +189,43 @@ std::vector<std::string> explain_features(const SceneFeatures& f) {
     line(f.soft_shadows || f.glossy, "random sampling in shading",
          f.soft_shadows ? "soft shadows are on" : "glossy reflection is on",
          "soft shadows and glossy reflection are off");
-    line(f.instancing, "top-level BVH", "the scene places several instances",
-         "one instance: rays walk its BVH directly");
+    // The geometry variant (RenderScene::geometry).
     const size_t analytic = f.prims[0] + f.prims[1] + f.prims[2] + f.prims[3];
+    if (analytic + f.prims[4] == 0) {
+        out.push_back(
+            "left out: ray queries: the scene has no shapes, every ray sees the background");
+        return out;
+    }
+    line(f.top_level, "top-level BVH",
+         f.instancing ? "the scene places several instances"
+                      : "the one instance has a transform: its box culls rays before they are "
+                        "transformed",
+         "one instance: rays walk its BVH directly");
+    line(f.transforms, "transforms", "a group or instance transform",
+         "no group or instance transform: rays are never transformed");
     line(f.prims[4] > 0, "triangle tests", std::to_string(f.prims[4]) + " triangle(s)",
-         "no triangles");
-    line(analytic > 0, "analytic shape dispatch", std::to_string(analytic) + " analytic shape(s)",
-         "triangles only: leaves hold packed triangles, four tested at once");
+         "no triangles: no triangle set-up per ray");
+    const uint32_t layout = (f.geom_variant & kGeomPerSet) >> kGeomLayoutShift;
+    static const char* const kOneKind[][2] = {
+        {"spheres", "sphere"}, {"boxes", "box"}, {"cylinders", "cylinder"}, {"cones", "cone"}};
+    const SetLayout first_one_kind = SetLayout::Spheres;
+    if (layout == static_cast<uint32_t>(SetLayout::Triangles)) {
+        line(false, "shape dispatch", "",
+             "triangles only: leaves hold packed triangles, four tested at once");
+    } else if (layout >= static_cast<uint32_t>(first_one_kind) &&
+               layout < static_cast<uint32_t>(SetLayout::Triangles)) {
+        const auto& kind = kOneKind[layout - static_cast<uint32_t>(first_one_kind)];
+        line(false, "shape dispatch", "",
+             std::string(kind[0]) + " only: leaves call the " + kind[1] + " test directly");
+    } else {
+        line(true, "shape dispatch",
+             layout == kSetLayouts ? "the instanced files differ: each is walked by its own layout"
+                                   : std::to_string(analytic) +
+                                         " analytic shape(s) of several "
+                                         "kinds" +
+                                         (f.prims[4] > 0 ? " and triangles" : ""),
+             "");
+    }
     return out;
 }
 

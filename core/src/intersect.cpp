@@ -223,9 +223,16 @@ constexpr std::array<GeometryQueries, sizeof...(V)> query_table(
 // Every geometry variant, indexed by its GeomFeature bits.
 constexpr auto kQueries = query_table(std::make_integer_sequence<uint32_t, kGeomVariants>{});
 
+// No shapes: nothing is hit, nothing occludes, everything is transmitted.
+constexpr GeometryQueries kEmptyQueries{
+    [](const RenderScene&, const Ray&, Interval, Hit*) { return false; },
+    [](const RenderScene&, const Ray&, double) { return false; },
+    [](const RenderScene&, const Ray&, double) { return Vec3(1.0); }};
+
 }  // namespace
 
 const GeometryQueries& geometry_queries(uint32_t variant) {
+    if (variant == kGeomEmpty) return kEmptyQueries;
     return kQueries[variant < kGeomVariants ? variant : kGeomGeneric];
 }
 

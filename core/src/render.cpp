@@ -111,8 +111,14 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
     std::atomic<bool> stopped{false};
     std::mutex mutex;
     RayCounters total;
-    // New sums go to a scratch buffer and are committed only when the pass completes.
-    std::vector<double> pass(state.sum.size(), 0.0), pass_sq(state.sum.size(), 0.0);
+    // New sums go to a scratch buffer and are committed only when the pass completes. The first
+    // pass of a fresh state (all sums zero) writes the sums directly and, when stopped, puts the
+    // zeros back: no scratch to fill, commit or fault in.
+    const bool direct = state.passes == 0;
+    double* const out_sum = direct ? state.sum.data() : nullptr;
+    double* const out_sq = direct ? state.sum_sq.data() : nullptr;
+    if (!direct) state.scratch.resize(state.sum.size() * 2);
+    double* const out_pass = direct ? nullptr : state.scratch.data();
     const bool all_active = state.active.size() != state.samples.size();
 
     auto worker = [&]() {
@@ -137,7 +143,11 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                 for (int x = tx; x < x1; ++x) {
                     const size_t pixel = static_cast<size_t>(y) * settings.width + x;
                     const int pixel_spp = all_active ? spp : spp * state.active[pixel];
-                    if (pixel_spp == 0) continue;
+                    if (pixel_spp == 0) {
+                        if (!direct)
+                            for (size_t k = 0; k < 6; ++k) out_pass[pixel * 6 + k] = 0.0;
+                        continue;
+                    }
                     const int m =
                         static_cast<int>(std::ceil(std::sqrt(static_cast<double>(pixel_spp))));
                     const uint32_t base = state.samples[pixel];
@@ -180,8 +190,14 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                         acc_sq += c * c;
                     }
                     for (int k = 0; k < 3; ++k) {
-                        pass[pixel * 3 + static_cast<size_t>(k)] = acc[k];
-                        pass_sq[pixel * 3 + static_cast<size_t>(k)] = acc_sq[k];
+                        const size_t c = static_cast<size_t>(k);
+                        if (direct) {
+                            out_sum[pixel * 3 + c] = acc[k];
+                            out_sq[pixel * 3 + c] = acc_sq[k];
+                        } else {
+                            out_pass[pixel * 6 + c] = acc[k];
+                            out_pass[pixel * 6 + 3 + c] = acc_sq[k];
+                        }
                     }
                 }
             }
@@ -203,11 +219,20 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
     for (int i = 1; i < n_threads; ++i) pool.emplace_back(worker);
     worker();
     for (std::thread& t : pool) t.join();
-    if (stopped) return false;
+    if (stopped) {
+        if (direct) {
+            std::fill(state.sum.begin(), state.sum.end(), 0.0);
+            std::fill(state.sum_sq.begin(), state.sum_sq.end(), 0.0);
+        }
+        return false;
+    }
 
-    for (size_t i = 0; i < state.sum.size(); ++i) {
-        state.sum[i] += pass[i];
-        state.sum_sq[i] += pass_sq[i];
+    if (!direct) {
+        for (size_t p = 0; p < state.samples.size(); ++p)
+            for (size_t c = 0; c < 3; ++c) {
+                state.sum[p * 3 + c] += out_pass[p * 6 + c];
+                state.sum_sq[p * 3 + c] += out_pass[p * 6 + 3 + c];
+            }
     }
     for (size_t i = 0; i < state.samples.size(); ++i)
         state.samples[i] += static_cast<uint32_t>(all_active ? spp : spp * state.active[i]);

@@ -45,7 +45,8 @@ struct SceneFeatures {
     bool ambient = false;               // ambient light and a used ambient colour
     size_t prims[5] = {0, 0, 0, 0, 0};  // primitives by ShapeKind, after instancing
     size_t sets = 0, unused_textures = 0;
-    bool instancing = false;        // more than one instance: the two-level traversal
+    bool instancing = false;        // more than one instance
+    bool top_level = false;         // the two-level walk: several instances or a transformed one
     bool transforms = false;        // an instance or shape transform that is not the identity
     bool nonuniform_scale = false;  // one that scales unevenly (normals need (A^-1)^T)
     bool soft_shadows = false, depth_of_field = false, glossy = false;  // progressive features

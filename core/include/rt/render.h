@@ -59,6 +59,9 @@ struct RenderState {
     std::vector<uint8_t> active;
     int passes = 0;
     RayCounters rays;
+    /// A pass's new sums and sums of squares (6 per pixel), committed when the pass completes;
+    /// kept between calls so later passes reuse it. The first pass of a fresh state needs none.
+    std::vector<double> scratch;
 
     void reset(int w, int h);
     /// The mean of each pixel's samples (spec §9: linear, unclamped).

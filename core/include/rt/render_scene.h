@@ -99,6 +99,8 @@ enum GeomFeature : uint32_t {
     /// kind (Mixed), whatever the scene holds.
     kGeomGeneric = kGeomInstancing | kGeomTransforms,
     kGeomVariants = 32,
+    /// A scene without shapes: every query answers at once (no walk at all).
+    kGeomEmpty = kGeomVariants,
 };
 inline constexpr uint32_t geom_layout_bits(SetLayout l) {
     return static_cast<uint32_t>(l) << kGeomLayoutShift;
@@ -109,6 +111,8 @@ inline constexpr uint32_t geom_layout_bits(SetLayout l) {
 struct GeometryFeatures {
     size_t prims[5] = {0, 0, 0, 0, 0};  // by ShapeKind, after instancing
     bool instancing = false;            // more than one instance
+    bool top_level = false;             // rays walk the top-level BVH (several instances or a
+                                        // transformed one)
     bool transforms = false;            // an instance or shape transform that is not the identity
     bool nonuniform_scale = false;      // one that scales unevenly (normals need (A^-1)^T)
     std::vector<char> material_used;    // per material: some placed primitive uses it
