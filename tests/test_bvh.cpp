@@ -11,16 +11,20 @@
 namespace rt {
 namespace {
 
-std::string random_scene(std::mt19937& rng, int n) {
+// n random shapes cycling through `kinds` (0 sphere, 1 box, 2 cylinder, 3 cone, 4 triangle).
+// Half transparent with `glass` (every crossing counts in transmittance).
+std::string random_scene(std::mt19937& rng, int n, const std::vector<int>& kinds = {0, 1, 2, 3, 4},
+                         bool glass = false) {
     std::uniform_real_distribution<double> u(-5, 5), s(0.05, 0.8);
-    std::string text = "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n";
+    std::string text = glass ? "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 .5 .5 .5 1 -1 !!\n"
+                             : "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n";
     for (int i = 0; i < 3 * n; ++i)
         text += "#vertex " + std::to_string(u(rng)) + " " + std::to_string(u(rng)) + " " +
                 std::to_string(u(rng)) + " 0 0 0 0 0\n";
     for (int i = 0; i < n; ++i) {
         const std::string c =
             std::to_string(u(rng)) + " " + std::to_string(u(rng)) + " " + std::to_string(u(rng));
-        switch (i % 5) {
+        switch (kinds[static_cast<size_t>(i) % kinds.size()]) {
             case 0:
                 text += "#shape_sphere 0 " + c + " " + std::to_string(s(rng)) + "\n";
                 break;
@@ -65,6 +69,113 @@ void expect_same_hits(const RenderScene& scene, std::mt19937& rng, int rays) {
         EXPECT_TRUE(blocked_bvh);
     }
     EXPECT_GT(hits, rays / 20);
+}
+
+// The scene's geometry variant (RenderScene::geometry) and the generic walk give the same
+// answers to every query, to the bit: nearest hit, any hit and transmittance.
+void expect_variant_matches_generic(const RenderScene& scene, std::mt19937& rng, int rays) {
+    const GeometryQueries& mine = geometry_queries(scene.geometry.variant);
+    const GeometryQueries& generic = geometry_queries(kGeomGeneric);
+    ASSERT_NE(&mine, &generic);
+    std::uniform_real_distribution<double> u(-8, 8), d(-1, 1), len(0.5, 20);
+    int hits = 0, blocked = 0;
+    for (int i = 0; i < rays; ++i) {
+        Ray r{{u(rng), u(rng), u(rng)}, {d(rng), d(rng), d(rng)}};
+        if (i % 7 == 0) r.d = Vec3(0, 0, d(rng) < 0 ? -1 : 1);
+        if (glm::length(r.d) == 0) continue;
+        Hit a, b;
+        const bool ha = mine.intersect(scene, r, {0, kInf}, &a);
+        ASSERT_EQ(ha, generic.intersect(scene, r, {0, kInf}, &b)) << "ray " << i;
+        if (ha) {
+            ++hits;
+            EXPECT_EQ(a.t, b.t) << "ray " << i;
+            EXPECT_EQ(a.instance, b.instance);
+            EXPECT_EQ(a.prim, b.prim);
+            EXPECT_EQ(a.part, b.part);
+        }
+        const double t_max = len(rng);
+        const bool occ = mine.occluded(scene, r, t_max);
+        EXPECT_EQ(occ, generic.occluded(scene, r, t_max)) << "ray " << i;
+        blocked += occ;
+        EXPECT_EQ(mine.transmittance(scene, r, t_max), generic.transmittance(scene, r, t_max))
+            << "ray " << i;
+    }
+    EXPECT_GT(hits, rays / 50);
+    EXPECT_GT(blocked, rays / 100);
+}
+
+uint32_t layout_bits(const RenderScene& scene) { return scene.geometry.variant & kGeomPerSet; }
+
+// Every walk the scenes pick: one kind per set (each analytic kind, packed triangles), the
+// analytic kinds together, all five, a transformed single instance, several instances whose
+// files differ (the layout picked per set) and several of one file.
+TEST(Bvh, EveryGeometryVariantMatchesTheGenericWalk) {
+    std::mt19937 rng(17);
+    const struct {
+        std::vector<int> kinds;
+        SetLayout layout;
+    } layouts[] = {{{0}, SetLayout::Spheres},          {{1}, SetLayout::Boxes},
+                   {{2}, SetLayout::Cylinders},        {{3}, SetLayout::Cones},
+                   {{4}, SetLayout::Triangles},        {{0, 1, 2, 3}, SetLayout::Analytic},
+                   {{0, 1, 2, 3, 4}, SetLayout::Mixed}};
+    for (const auto& l : layouts) {
+        SCOPED_TRACE(static_cast<int>(l.layout));
+        const std::string text = random_scene(rng, 150, l.kinds, true);
+        const RenderScene scene = test::compile(text);
+        EXPECT_EQ(scene.geometry.variant, geom_layout_bits(l.layout));  // one instance, no xf
+        expect_variant_matches_generic(scene, rng, 1500);
+        // The same file under a transform: the top-level box test and transformed rays.
+        // (Definitions first, then the group around the shapes.)
+        const size_t shapes = text.find("#shape_");
+        const RenderScene moved = test::compile(
+            text.substr(0, shapes) + "#group_begin 1 0.2 0 0.5  0 1.5 0 -1  0 0 0.8 0  0 0 0 1\n" +
+            text.substr(shapes) + "#group_end\n");
+        // (Triangles are flattened into the file's frame: no transform is left.)
+        EXPECT_EQ(
+            moved.geometry.variant,
+            geom_layout_bits(l.layout) | (l.layout == SetLayout::Triangles ? 0u : kGeomTransforms));
+        expect_variant_matches_generic(moved, rng, 1500);
+    }
+
+    const std::string dir = ::testing::TempDir();
+    const std::string balls = (std::filesystem::path(dir) / "rt_variant_balls.ray").string();
+    const std::string mesh = (std::filesystem::path(dir) / "rt_variant_mesh.ray").string();
+    { std::ofstream(balls) << random_scene(rng, 40, {0}, true); }
+    { std::ofstream(mesh) << random_scene(rng, 60, {4}, true); }
+    auto placed = [](int file, double x) {
+        return "#group_begin 1 0 0 " + std::to_string(x) + "  0 1 0 0  0 0 1 0  0 0 0 1\n" +
+               "#ray_file_instance " + std::to_string(file) + "\n#group_end\n";
+    };
+    const std::string files = "#ray_file " + balls + "\n#ray_file " + mesh + "\n";
+    // Instanced, the top file's own shapes a third layout: each set walked by its own.
+    const std::string own = random_scene(rng, 20, {1, 2}, true);
+    const size_t own_shapes = own.find("#shape_");
+    const RenderScene differ = test::compile(files + own.substr(0, own_shapes) + placed(0, -4) +
+                                             placed(1, 0) + placed(0, 4) + own.substr(own_shapes));
+    EXPECT_EQ(differ.geometry.variant, kGeomInstancing | kGeomTransforms | kGeomPerSet);
+    expect_variant_matches_generic(differ, rng, 2000);
+    // One transformed instance: its box is tested before its rays are transformed.
+    const RenderScene one = test::compile(files + placed(0, 2));
+    EXPECT_EQ(one.geometry.variant,
+              kGeomInstancing | kGeomTransforms | geom_layout_bits(SetLayout::Spheres));
+    expect_variant_matches_generic(one, rng, 2000);
+    // Instances of one mesh only: packed triangles throughout.
+    const RenderScene same = test::compile(files + placed(1, -3) + placed(1, 3) + placed(1, 0));
+    EXPECT_EQ(layout_bits(same), geom_layout_bits(SetLayout::Triangles));
+    EXPECT_TRUE(same.geometry.variant & kGeomInstancing);
+    expect_variant_matches_generic(same, rng, 2000);
+}
+
+TEST(Bvh, SceneWithoutShapesAnswersAtOnce) {
+    const RenderScene empty = test::compile("#background 0 0 0\n#light_dir 1 1 1  0 -1 0\n");
+    EXPECT_EQ(empty.geometry.variant, static_cast<uint32_t>(kGeomEmpty));
+    const Ray r{{0, 0, 0}, {0, 0, -1}};
+    Hit h;
+    EXPECT_FALSE(intersect(empty, r, {0, kInf}, &h));
+    EXPECT_FALSE(occluded(empty, r, kInf));
+    EXPECT_EQ(transmittance(empty, r, kInf), Vec3(1.0));
+    // The generic walk agrees (an empty top-level BVH).
+    EXPECT_FALSE(geometry_queries(kGeomGeneric).intersect(empty, r, {0, kInf}, &h));
 }
 
 TEST(Bvh, MatchesBruteForceOnEveryPrimitiveKind) {
