@@ -83,6 +83,58 @@ TEST(Render, StopRequestedDuringARenderEndsIt) {
     EXPECT_EQ(state.samples[0], 0u);
 }
 
+// The first pass of a fresh state writes its sums in place, later passes go through the scratch
+// buffer: a pass stopped half way leaves the sums exactly as they were in both cases, and a
+// pixel that an adaptive pass skips keeps its sums although the scratch holds an earlier pass.
+TEST(Render, StoppedPassesAndSkippedPixelsLeaveTheSumsExactlyAsTheyWere) {
+    // (A background that is not black: every pixel's sum changes with a sample.)
+    const RenderScene s = test::compile(std::string("#background .2 .3 .4\n") + kScene);
+    RenderSettings settings;
+    settings.width = 120;
+    settings.height = 90;
+    settings.threads = 2;
+    settings.centre_first_sample = false;
+    std::atomic<bool> stop{false};
+    int calls = 0;
+    // Stops once some rows are done (the progress callback runs on the worker threads).
+    const ProgressFn stop_half_way = [&](int done, int total) {
+        if (++calls > 1 && done > 0 && done < total) stop = true;
+    };
+    RenderState state;
+    EXPECT_FALSE(render_samples(state, s, settings, 64, stop_half_way, &stop));
+    EXPECT_GT(calls, 1);
+    EXPECT_EQ(state.passes, 0);
+    for (double v : state.sum) ASSERT_EQ(v, 0.0);
+    for (double v : state.sum_sq) ASSERT_EQ(v, 0.0);
+
+    ASSERT_TRUE(render_samples(state, s, settings, 2));
+    const std::vector<double> sum = state.sum, sum_sq = state.sum_sq;
+    stop = false;
+    calls = 0;
+    EXPECT_FALSE(render_samples(state, s, settings, 64, stop_half_way, &stop));
+    EXPECT_EQ(state.sum, sum);
+    EXPECT_EQ(state.sum_sq, sum_sq);
+    EXPECT_EQ(state.passes, 1);
+
+    // A full pass fills the scratch; then every other pixel is skipped.
+    ASSERT_TRUE(render_samples(state, s, settings, 1));
+    const std::vector<double> before = state.sum;
+    state.active.assign(state.samples.size(), 0);
+    for (size_t p = 0; p < state.active.size(); p += 2) state.active[p] = 1;
+    ASSERT_TRUE(render_samples(state, s, settings, 1));
+    size_t changed = 0;
+    for (size_t p = 0; p < state.samples.size(); ++p) {
+        EXPECT_EQ(state.samples[p], p % 2 == 0 ? 4u : 3u);
+        for (size_t c = 0; c < 3; ++c) {
+            if (p % 2 == 1) {
+                EXPECT_EQ(state.sum[p * 3 + c], before[p * 3 + c]) << p;
+            }
+            changed += state.sum[p * 3 + c] != before[p * 3 + c];
+        }
+    }
+    EXPECT_EQ(changed, 3 * ((state.samples.size() + 1) / 2));  // the active pixels got samples
+}
+
 TEST(Render, ImageIsFinite) { EXPECT_EQ(count_non_finite(render_with(2, 4, 80, 60)), 0u); }
 
 }  // namespace
