@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 
 #include "rt/features.h"
 #include "test_util.h"
@@ -47,6 +49,19 @@ TEST(Features, ReadFromValuesNotSyntax) {
     EXPECT_TRUE(
         has_line(lines, "left out: 1 light(s): colour zero or all attenuation coefficients zero"));
     EXPECT_TRUE(has_line(lines, "left out: spot cut-off and drop-off: no spot light"));
+    // The geometry variant: one sphere, no transform.
+    EXPECT_TRUE(
+        has_line(lines, "left out: top-level BVH: one instance: rays walk its BVH directly"));
+    EXPECT_TRUE(has_line(lines,
+                         "left out: transforms: no group or instance transform: rays are "
+                         "never transformed"));
+    EXPECT_TRUE(
+        has_line(lines, "left out: triangle tests: no triangles: no triangle set-up per ray"));
+    EXPECT_TRUE(has_line(
+        lines, "left out: shape dispatch: spheres only: leaves call the sphere test directly"));
+    EXPECT_TRUE(has_line(explain_features(features_of("#light_dir 1 1 1  0 -1 0\n")),
+                         "left out: ray queries: the scene has no shapes, every ray sees the "
+                         "background"));
     for (const std::string& l : lines)
         EXPECT_TRUE(l.rfind("left out: ", 0) == 0 || l.rfind("kept: ", 0) == 0) << l;
 }
@@ -116,9 +131,41 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
     const std::string textured = "#texture " + std::string(RT_SOURCE_DIR) +
                                  "/scenes/textures/checker.bmp\n"
                                  "#material 0 0 0  .2 .2 .2  .8 .8 .8  0 0 0  1  0 0 0  1  0 !t!\n";
+    // The geometry variants: one kind (spheres), packed triangles, a transformed include placed
+    // once (top-level box test) and three times beside the top file's own shapes (the layout
+    // picked per set), no shapes at all.
+    const std::string balls =
+        "#shape_sphere 0  -1 0 0  0.8\n#shape_sphere 1  1 0.2 0  0.6\n"
+        "#shape_sphere 0  0 -101 0  100\n";
+    const std::string mesh =
+        "#vertex -3 -1 -3  0 0 0  0 0\n#vertex 3 -1 -3  0 0 0  1 0\n#vertex 3 -1 3  0 0 0  1 1\n"
+        "#vertex -3 -1 3  0 0 0  0 1\n#vertex 0 1.5 0  0 0 0  .5 .5\n"
+        "#shape_triangle 0  0 2 1\n#shape_triangle 0  0 3 2\n#shape_triangle 1  0 1 4\n"
+        "#shape_triangle 1  1 2 4\n#shape_triangle 0  2 3 4\n#shape_triangle 1  3 0 4\n";
+    const std::string part =
+        (std::filesystem::path(::testing::TempDir()) / "rt_features_part.ray").string();
+    { std::ofstream(part) << diffuse << shiny << balls; }
+    auto placed = [](double x, double s) {
+        return "#group_begin " + std::to_string(s) + " 0 0 " + std::to_string(x) + "  0 " +
+               std::to_string(s) + " 0 0  0 0 " + std::to_string(s) +
+               " 0  0 0 0 1\n#ray_file_instance 0\n#group_end\n";
+    };
+    const std::string include = "#ray_file " + part + "\n";
+    constexpr uint32_t kAnyWalk = ~0u;
     const struct {
         std::string name, text;
+        uint32_t geom = kAnyWalk;  // the geometry variant expected
     } scenes[] = {
+        {"spheres only", cam + dir + diffuse + shiny + balls, geom_layout_bits(SetLayout::Spheres)},
+        {"triangles only", cam + point + diffuse + glass + mesh,
+         geom_layout_bits(SetLayout::Triangles)},
+        {"one transformed instance", cam + point + include + placed(0.5, 0.7),
+         kGeomInstancing | kGeomTransforms | geom_layout_bits(SetLayout::Spheres)},
+        {"instances beside shapes",
+         cam + spot + dir + include + diffuse + glass + mesh + placed(-2, 0.5) + placed(0, 0.6) +
+             placed(2, 0.5),
+         kGeomInstancing | kGeomTransforms | kGeomPerSet},
+        {"no shapes", cam + point, kGeomEmpty},
         {"diffuse, one point light", cam + point + diffuse + diffuse + shapes},
         {"dark light only", cam + dark + diffuse + diffuse + shapes},
         {"directional", cam + dir + diffuse + diffuse + shapes},
@@ -132,6 +179,10 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
         SCOPED_TRACE(sc.name);
         RenderScene scene;
         ASSERT_NO_THROW(scene = test::compile(sc.text)) << sc.text;
+        // The walk each of the geometry scenes is there for.
+        if (sc.geom != kAnyWalk) {
+            EXPECT_EQ(scene.geometry.variant, sc.geom);
+        }
         for (int variant = 0; variant < 3; ++variant) {
             RenderSettings s;
             s.width = 48;
@@ -145,6 +196,9 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
             s.specialize = true;
             render_samples(b, scene, s, 1);
             EXPECT_EQ(a.image().rgb, b.image().rgb) << sc.name << ", settings " << variant;
+            // Not a blank image (equal blanks would prove nothing), except without shapes.
+            const auto [lo, hi] = std::minmax_element(b.sum.begin(), b.sum.end());
+            EXPECT_EQ(*lo < *hi, sc.name != "no shapes");
         }
         // The stochastic features take the generic path: still equal, shadows on and off (sphere
         // lights move the light point either way).
