@@ -72,7 +72,7 @@ void expect_same_hits(const RenderScene& scene, std::mt19937& rng, int rays) {
 }
 
 // The scene's geometry variant (RenderScene::geometry) and the generic walk give the same
-// answers to every query, to the bit: nearest hit, any hit and transmittance.
+// answers to every query, to the bit: nearest hit and its surface, any hit and transmittance.
 void expect_variant_matches_generic(const RenderScene& scene, std::mt19937& rng, int rays) {
     const GeometryQueries& mine = geometry_queries(scene.geometry.variant);
     const GeometryQueries& generic = geometry_queries(kGeomGeneric);
@@ -92,6 +92,12 @@ void expect_variant_matches_generic(const RenderScene& scene, std::mt19937& rng,
             EXPECT_EQ(a.instance, b.instance);
             EXPECT_EQ(a.prim, b.prim);
             EXPECT_EQ(a.part, b.part);
+            const SurfaceInteraction sa = mine.interaction(scene, r, a, true),
+                                     sb = generic.interaction(scene, r, b, true);
+            EXPECT_EQ(sa.p, sb.p);
+            EXPECT_EQ(sa.p_error, sb.p_error);
+            EXPECT_EQ(sa.n_shading, sb.n_shading);
+            EXPECT_EQ(sa.uv, sb.uv);
         }
         const double t_max = len(rng);
         const bool occ = mine.occluded(scene, r, t_max);

@@ -214,10 +214,77 @@ Vec3 transmitted(const RenderScene& scene, const Ray& ray, double t_max) {
     return s;
 }
 
+// What shading needs at a hit; without kXf (V) no transform is applied.
+template <uint32_t V>
+SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray, const Hit& hit,
+                                       bool uv) {
+    constexpr bool kXf = (V & kGeomTransforms) != 0;
+    const Instance& inst = scene.instances[static_cast<size_t>(hit.instance)];
+    const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
+    const Primitive& p = set.prims[hit.prim];
+    const Ray r_set = to_set<kXf>(inst, ray);
+
+    SurfacePoint sp;
+    const Transform* shape_xf =
+        !kXf || p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
+    const Ray r = shape_xf ? shape_xf->inv_ray(r_set) : r_set;
+    switch (p.kind) {
+        case ShapeKind::Sphere:
+            sp = surface_at(set.spheres[p.index], r, hit.t, hit.part, uv);
+            break;
+        case ShapeKind::Box:
+            sp = surface_at(set.boxes[p.index], r, hit.t, hit.part, uv);
+            break;
+        case ShapeKind::Cylinder:
+            sp = surface_at(set.cylinders[p.index], r, hit.t, hit.part, uv);
+            break;
+        case ShapeKind::Cone:
+            sp = surface_at(set.cones[p.index], r, hit.t, hit.part, uv);
+            break;
+        case ShapeKind::Triangle:
+            sp = surface_at(set.triangles[p.index], set.triangle_attribs[p.index], r, hit.t, uv,
+                            set.tri_origin);
+            break;
+    }
+    // Shape frame -> set frame -> world: points by M, normals by (A^-1)^T (spec §4.1). The error
+    // bound grows by |A| applied to the local bound plus the rounding of the transform itself
+    // (pbrt-v4's Transform error bounds, Pharr, Jakob, Humphreys, 4th ed. §6.8.6), plus the image
+    // under |A| of the rounding that mapping a spawned ray's origin back through M^-1 adds in the
+    // local frame: under extreme non-uniform scale (1e-4 on one axis, a translation of 100) that
+    // term dominates, and without it a spawned ray re-hit its own cone.
+    auto apply = [](const Transform& xf, SurfacePoint& s) {
+        const Mat3 a(xf.m), inv(xf.inv);
+        Mat3 abs_a, abs_inv;
+        for (int c = 0; c < 3; ++c) abs_a[c] = glm::abs(a[c]), abs_inv[c] = glm::abs(inv[c]);
+        const Vec3 p_new = xf.point(s.p);
+        const Vec3 back_err =
+            gamma(3) * (abs_inv * glm::abs(p_new) + glm::abs(Vec3(xf.inv[3])) + s.p_error);
+        s.p_error = abs_a * (s.p_error + back_err) +
+                    gamma(3) * (abs_a * glm::abs(s.p) + glm::abs(Vec3(xf.m[3])));
+        s.p = p_new;
+        s.n_geometric = glm::normalize(xf.normal_dir(s.n_geometric));
+        s.n_shading = glm::normalize(xf.normal_dir(s.n_shading));
+    };
+    if constexpr (kXf) {
+        if (shape_xf) apply(*shape_xf, sp);
+        if (!inst.identity) apply(inst.world_from_set, sp);
+    }
+
+    SurfaceInteraction si;
+    si.p = sp.p;
+    si.p_error = sp.p_error;
+    si.n_geometric = sp.n_geometric;
+    si.n_shading = sp.n_shading;
+    si.uv = sp.uv;
+    si.material = p.material;
+    return si;
+}
+
 template <uint32_t... V>
 constexpr std::array<GeometryQueries, sizeof...(V)> query_table(
     std::integer_sequence<uint32_t, V...>) {
-    return {GeometryQueries{&closest_hit<V>, &any_hit<V>, &transmitted<V>}...};
+    return {
+        GeometryQueries{&closest_hit<V>, &any_hit<V>, &transmitted<V>, &surface_interaction<V>}...};
 }
 
 // Every geometry variant, indexed by its GeomFeature bits.
@@ -227,7 +294,8 @@ constexpr auto kQueries = query_table(std::make_integer_sequence<uint32_t, kGeom
 constexpr GeometryQueries kEmptyQueries{
     [](const RenderScene&, const Ray&, Interval, Hit*) { return false; },
     [](const RenderScene&, const Ray&, double) { return false; },
-    [](const RenderScene&, const Ray&, double) { return Vec3(1.0); }};
+    [](const RenderScene&, const Ray&, double) { return Vec3(1.0); },
+    &surface_interaction<kGeomGeneric>};  // never called: nothing is hit
 
 }  // namespace
 
@@ -275,63 +343,7 @@ ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& 
 }
 
 SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit, bool uv) {
-    const Instance& inst = scene.instances[static_cast<size_t>(hit.instance)];
-    const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
-    const Primitive& p = set.prims[hit.prim];
-    const Ray r_set = to_set<true>(inst, ray);
-
-    SurfacePoint sp;
-    const Transform* shape_xf =
-        p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
-    const Ray r = shape_xf ? shape_xf->inv_ray(r_set) : r_set;
-    switch (p.kind) {
-        case ShapeKind::Sphere:
-            sp = surface_at(set.spheres[p.index], r, hit.t, hit.part, uv);
-            break;
-        case ShapeKind::Box:
-            sp = surface_at(set.boxes[p.index], r, hit.t, hit.part, uv);
-            break;
-        case ShapeKind::Cylinder:
-            sp = surface_at(set.cylinders[p.index], r, hit.t, hit.part, uv);
-            break;
-        case ShapeKind::Cone:
-            sp = surface_at(set.cones[p.index], r, hit.t, hit.part, uv);
-            break;
-        case ShapeKind::Triangle:
-            sp = surface_at(set.triangles[p.index], set.triangle_attribs[p.index], r, hit.t, uv,
-                            set.tri_origin);
-            break;
-    }
-    // Shape frame -> set frame -> world: points by M, normals by (A^-1)^T (spec §4.1). The error
-    // bound grows by |A| applied to the local bound plus the rounding of the transform itself
-    // (pbrt-v4's Transform error bounds, Pharr, Jakob, Humphreys, 4th ed. §6.8.6), plus the image
-    // under |A| of the rounding that mapping a spawned ray's origin back through M^-1 adds in the
-    // local frame: under extreme non-uniform scale (1e-4 on one axis, a translation of 100) that
-    // term dominates, and without it a spawned ray re-hit its own cone.
-    auto apply = [](const Transform& xf, SurfacePoint& s) {
-        const Mat3 a(xf.m), inv(xf.inv);
-        Mat3 abs_a, abs_inv;
-        for (int c = 0; c < 3; ++c) abs_a[c] = glm::abs(a[c]), abs_inv[c] = glm::abs(inv[c]);
-        const Vec3 p_new = xf.point(s.p);
-        const Vec3 back_err =
-            gamma(3) * (abs_inv * glm::abs(p_new) + glm::abs(Vec3(xf.inv[3])) + s.p_error);
-        s.p_error = abs_a * (s.p_error + back_err) +
-                    gamma(3) * (abs_a * glm::abs(s.p) + glm::abs(Vec3(xf.m[3])));
-        s.p = p_new;
-        s.n_geometric = glm::normalize(xf.normal_dir(s.n_geometric));
-        s.n_shading = glm::normalize(xf.normal_dir(s.n_shading));
-    };
-    if (shape_xf) apply(*shape_xf, sp);
-    if (!inst.identity) apply(inst.world_from_set, sp);
-
-    SurfaceInteraction si;
-    si.p = sp.p;
-    si.p_error = sp.p_error;
-    si.n_geometric = sp.n_geometric;
-    si.n_shading = sp.n_shading;
-    si.uv = sp.uv;
-    si.material = p.material;
-    return si;
+    return geometry_queries(scene.geometry.variant).interaction(scene, ray, hit, uv);
 }
 
 Vec3 offset_origin(const SurfaceInteraction& si, const Vec3& dir) {

@@ -90,7 +90,7 @@ Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weig
     Hit hit;
     if (!geometry.intersect(scene, ray, {0.0, kInf}, &hit)) return scene.background;
     // Texture coordinates only where a texture reads them.
-    const SurfaceInteraction si = interaction(scene, ray, hit, (F & kShadeTextures) != 0);
+    const SurfaceInteraction si = geometry.interaction(scene, ray, hit, (F & kShadeTextures) != 0);
     const Material& m = scene.materials[static_cast<size_t>(si.material)];
     const Vec3 d = glm::normalize(ray.d);
 

@@ -29,13 +29,15 @@ struct SurfaceInteraction {
 /// (RenderScene::geometry).
 bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit);
 
-/// The three ray queries of one geometry variant (GeomFeature bits, rt/render_scene.h), with the
-/// code of what the variant lacks left out: the top-level walk, transforms, the dispatch on shape
-/// kinds. kGeomGeneric walks any scene; a specialized variant only scenes it was read from.
+/// The ray queries of one geometry variant (GeomFeature bits, rt/render_scene.h) and the surface
+/// description at their hits, with the code of what the variant lacks left out: the top-level
+/// walk, transforms, the dispatch on shape kinds, the triangle set-up. kGeomGeneric serves any
+/// scene; a specialized variant only the scenes it was read from (RenderScene::geometry).
 struct GeometryQueries {
     bool (*intersect)(const RenderScene&, const Ray&, Interval, Hit*);
     bool (*occluded)(const RenderScene&, const Ray&, double);
     Vec3 (*transmittance)(const RenderScene&, const Ray&, double);
+    SurfaceInteraction (*interaction)(const RenderScene&, const Ray&, const Hit&, bool uv);
 };
 const GeometryQueries& geometry_queries(uint32_t geom_variant);
 
