@@ -31,7 +31,8 @@ options:
                       per second by kind
       --explain       print what the renderer left out for this scene and why, one line
                       each ("left out: <feature>: <reason>"), and what it kept
-      --no-specialize render with the generic renderer (every feature tested per ray)
+      --no-specialize render with the generic renderer (every feature tested per ray, every
+                      ray walks the top-level BVH and dispatches on each shape's kind)
                       instead of the one specialized to the scene; the image is the same
 
 progressive rendering (the error of each pass, against run time):
