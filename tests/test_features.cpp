@@ -137,11 +137,22 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
     const std::string balls =
         "#shape_sphere 0  -1 0 0  0.8\n#shape_sphere 1  1 0.2 0  0.6\n"
         "#shape_sphere 0  0 -101 0  100\n";
-    const std::string mesh =
+    const std::string pyramid =
         "#vertex -3 -1 -3  0 0 0  0 0\n#vertex 3 -1 -3  0 0 0  1 0\n#vertex 3 -1 3  0 0 0  1 1\n"
-        "#vertex -3 -1 3  0 0 0  0 1\n#vertex 0 1.5 0  0 0 0  .5 .5\n"
+        "#vertex -3 -1 3  0 0 0  0 1\n#vertex 0 1.5 0  0 0 0  .5 .5\n";
+    const std::string faces =
         "#shape_triangle 0  0 2 1\n#shape_triangle 0  0 3 2\n#shape_triangle 1  0 1 4\n"
         "#shape_triangle 1  1 2 4\n#shape_triangle 0  2 3 4\n#shape_triangle 1  3 0 4\n";
+    const std::string mesh = pyramid + faces;
+    // The same pyramid again, 1e-7 higher, in the other material: z-fighting triangles.
+    const std::string zfight =
+        pyramid +
+        "#vertex -3 -0.9999999 -3  0 0 0  0 0\n#vertex 3 -0.9999999 -3  0 0 0  1 0\n"
+        "#vertex 3 -0.9999999 3  0 0 0  1 1\n#vertex -3 -0.9999999 3  0 0 0  0 1\n"
+        "#vertex 0 1.5000001 0  0 0 0  .5 .5\n" +
+        faces +
+        "#shape_triangle 1  5 7 6\n#shape_triangle 1  5 8 7\n#shape_triangle 0  5 6 9\n"
+        "#shape_triangle 0  6 7 9\n#shape_triangle 1  7 8 9\n#shape_triangle 0  8 5 9\n";
     const std::string part =
         (std::filesystem::path(::testing::TempDir()) / "rt_features_part.ray").string();
     { std::ofstream(part) << diffuse << shiny << balls; }
@@ -158,6 +169,8 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
     } scenes[] = {
         {"spheres only", cam + dir + diffuse + shiny + balls, geom_layout_bits(SetLayout::Spheres)},
         {"triangles only", cam + point + diffuse + glass + mesh,
+         geom_layout_bits(SetLayout::Triangles)},
+        {"z-fighting triangles", cam + point + diffuse + shiny + zfight,
          geom_layout_bits(SetLayout::Triangles)},
         {"one transformed instance", cam + point + include + placed(0.5, 0.7),
          kGeomInstancing | kGeomTransforms | geom_layout_bits(SetLayout::Spheres)},

@@ -92,18 +92,18 @@ SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& set
     }
     const bool lit = f.lights[0] + f.lights[1] + f.lights[2] > 0;
 
-    const GeometryFeatures& g = scene.geometry;
+    // A scene built by hand, not by compile_scene, has its geometry read here.
+    const bool filled = scene.geometry.material_used.size() == scene.materials.size();
+    const GeometryFeatures read = filled ? GeometryFeatures{} : read_geometry(scene);
+    const GeometryFeatures& g = filled ? scene.geometry : read;
     for (size_t k = 0; k < 5; ++k) f.prims[k] = g.prims[k];
     f.sets = scene.sets.size();
     f.instancing = g.instancing;
     f.top_level = g.top_level;
     f.transforms = g.transforms;
     f.nonuniform_scale = g.nonuniform_scale;
-    f.geom_variant = g.variant;
-    // A scene built by hand (no compile_scene): every material counts.
-    auto material_used = [&](size_t i) {
-        return g.material_used.size() != scene.materials.size() || g.material_used[i] != 0;
-    };
+    f.geom_variant = scene.geometry.variant;  // the walk the scene's queries take
+    auto material_used = [&](size_t i) { return g.material_used[i] != 0; };
 
     std::vector<char> texture_used(scene.textures.size(), 0);
     bool any_ambient = false;
@@ -189,41 +189,48 @@ std::vector<std::string> explain_features(const SceneFeatures& f) {
     line(f.soft_shadows || f.glossy, "random sampling in shading",
          f.soft_shadows ? "soft shadows are on" : "glossy reflection is on",
          "soft shadows and glossy reflection are off");
-    // The geometry variant (RenderScene::geometry).
+    // The geometry variant (RenderScene::geometry): what the walk does.
     const size_t analytic = f.prims[0] + f.prims[1] + f.prims[2] + f.prims[3];
-    if (analytic + f.prims[4] == 0) {
+    if (f.geom_variant == kGeomEmpty) {
         out.push_back(
             "left out: ray queries: the scene has no shapes, every ray sees the background");
         return out;
     }
-    line(f.top_level, "top-level BVH",
-         f.instancing ? "the scene places several instances"
-                      : "the one instance has a transform: its box culls rays before they are "
-                        "transformed",
+    const bool generic = f.geom_variant == kGeomGeneric && !f.top_level && !f.transforms;
+    line((f.geom_variant & kGeomInstancing) != 0, "top-level BVH",
+         f.instancing  ? "the scene places several instances"
+         : f.top_level ? "the one instance has a transform: its box culls rays before they are "
+                         "transformed"
+                       : "the generic walk (the scene's geometry was not read by compile_scene)",
          "one instance: rays walk its BVH directly");
-    line(f.transforms, "transforms", "a group or instance transform",
+    line((f.geom_variant & kGeomTransforms) != 0, "transforms",
+         generic ? "the generic walk" : "a group or instance transform",
          "no group or instance transform: rays are never transformed");
     line(f.prims[4] > 0, "triangle tests", std::to_string(f.prims[4]) + " triangle(s)",
          "no triangles: no triangle set-up per ray");
     const uint32_t layout = (f.geom_variant & kGeomPerSet) >> kGeomLayoutShift;
     static const char* const kOneKind[][2] = {
         {"spheres", "sphere"}, {"boxes", "box"}, {"cylinders", "cylinder"}, {"cones", "cone"}};
-    const SetLayout first_one_kind = SetLayout::Spheres;
-    if (layout == static_cast<uint32_t>(SetLayout::Triangles)) {
+    const uint32_t first_one_kind = static_cast<uint32_t>(SetLayout::Spheres);
+    const uint32_t triangles = static_cast<uint32_t>(SetLayout::Triangles);
+    if (layout == triangles) {
         line(false, "shape dispatch", "",
              "triangles only: leaves hold packed triangles, four tested at once");
-    } else if (layout >= static_cast<uint32_t>(first_one_kind) &&
-               layout < static_cast<uint32_t>(SetLayout::Triangles)) {
-        const auto& kind = kOneKind[layout - static_cast<uint32_t>(first_one_kind)];
+    } else if (layout >= first_one_kind && layout < triangles) {
+        const auto& kind = kOneKind[layout - first_one_kind];
         line(false, "shape dispatch", "",
              std::string(kind[0]) + " only: leaves call the " + kind[1] + " test directly");
-    } else {
+    } else if (layout == kSetLayouts) {
         line(true, "shape dispatch",
-             layout == kSetLayouts ? "the instanced files differ: each is walked by its own layout"
-                                   : std::to_string(analytic) +
-                                         " analytic shape(s) of several "
-                                         "kinds" +
-                                         (f.prims[4] > 0 ? " and triangles" : ""),
+             "the instanced files differ: each is walked by its own layout (one switch per file "
+             "a ray enters)",
+             "");
+    } else {
+        int kinds = 0;
+        for (int k = 0; k < 4; ++k) kinds += f.prims[k] > 0;
+        line(true, "shape dispatch",
+             std::to_string(analytic) + " analytic shape(s) of " + std::to_string(kinds) +
+                 " kind(s)" + (f.prims[4] > 0 ? " and triangles" : "") + " in one file",
              "");
     }
     return out;

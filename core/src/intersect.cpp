@@ -10,19 +10,6 @@ namespace rt {
 
 namespace {
 
-// A ray in a set's frame with the per-ray constants of the triangle kernel, set up only where
-// the walk may meet triangles (kTriangles).
-struct SetRay {
-    Ray ray;
-    TriRay tri;
-    template <bool kTriangles>
-    static SetRay make(const Ray& r, const GeometrySet& set) {
-        SetRay sr{r, {}};
-        if constexpr (kTriangles) sr.tri = TriRay({r.o - set.tri_origin, r.d});
-        return sr;
-    }
-};
-
 // The one triangle test: lane `index % 4` of block `index / 4` (spec §5; see triangle4.h).
 ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tri, Interval t) {
     ShapeHits h;
@@ -38,15 +25,18 @@ ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tr
 
 // Every hit of one primitive of a set, for a ray in the set's frame. A set of one analytic
 // kind calls its test directly; without kXf no primitive has a transform.
+// `tri` is the ray set up for the triangle kernel, needed only where the layout has triangles
+// (Mixed).
 template <SetLayout L, bool kXf>
-ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const SetRay& sr, Interval t) {
+ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray, const TriRay* tri,
+                    Interval t) {
     if constexpr (L == SetLayout::Mixed)
-        if (p.kind == ShapeKind::Triangle) return triangle_hits(set, p.index, sr.tri, t);
-    const Ray* r = &sr.ray;
+        if (p.kind == ShapeKind::Triangle) return triangle_hits(set, p.index, *tri, t);
+    const Ray* r = &ray;
     Ray local;
     if constexpr (kXf) {
         if (p.transform >= 0) {
-            local = set.transforms[static_cast<size_t>(p.transform)].inv_ray(sr.ray);
+            local = set.transforms[static_cast<size_t>(p.transform)].inv_ray(ray);
             r = &local;
         }
     }
@@ -112,10 +102,11 @@ bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min,
                 return false;
             });
     } else {
-        const SetRay sr = SetRay::make<L == SetLayout::Mixed>(r, set);
+        TriRay tri;
+        if constexpr (L == SetLayout::Mixed) tri = TriRay({r.o - set.tri_origin, r.d});
         traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {
-            return stopped =
-                       hits(pi, prim_hits<L, kXf>(set, set.prims[pi], sr, {t_min, best}), best);
+            return stopped = hits(pi, prim_hits<L, kXf>(set, set.prims[pi], r, &tri, {t_min, best}),
+                                  best);
         });
     }
     return stopped;
@@ -228,7 +219,17 @@ SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray,
     const Transform* shape_xf =
         !kXf || p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
     const Ray r = shape_xf ? shape_xf->inv_ray(r_set) : r_set;
-    switch (p.kind) {
+    // One kind: its surface without a switch (the switch below folds away).
+    constexpr uint32_t kLayout = (V & kGeomPerSet) >> kGeomLayoutShift;
+    ShapeKind kind = p.kind;
+    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Spheres)) kind = ShapeKind::Sphere;
+    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Boxes)) kind = ShapeKind::Box;
+    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Cylinders))
+        kind = ShapeKind::Cylinder;
+    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Cones)) kind = ShapeKind::Cone;
+    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Triangles))
+        kind = ShapeKind::Triangle;
+    switch (kind) {
         case ShapeKind::Sphere:
             sp = surface_at(set.spheres[p.index], r, hit.t, hit.part, uv);
             break;
@@ -322,10 +323,11 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
     for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
         const Instance& inst = scene.instances[ii];
         const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
-        const SetRay r = SetRay::make<true>(to_set<true>(inst, ray), set);
+        const Ray r = to_set<true>(inst, ray);
+        const TriRay tri({r.o - set.tri_origin, r.d});
         for (uint32_t pi = 0; pi < set.prims.size(); ++pi) {
             const ShapeHits h =
-                prim_hits<SetLayout::Mixed, true>(set, set.prims[pi], r, {t.lo, best});
+                prim_hits<SetLayout::Mixed, true>(set, set.prims[pi], r, &tri, {t.lo, best});
             if (h.count > 0) {
                 best = h.t[0];
                 *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0]};
@@ -338,8 +340,8 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
 
 ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
                               Interval t) {
-    return prim_hits<SetLayout::Mixed, true>(set, set.prims[prim], SetRay::make<true>(ray_set, set),
-                                             t);
+    const TriRay tri({ray_set.o - set.tri_origin, ray_set.d});
+    return prim_hits<SetLayout::Mixed, true>(set, set.prims[prim], ray_set, &tri, t);
 }
 
 SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit, bool uv) {

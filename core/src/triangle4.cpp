@@ -154,18 +154,27 @@ int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_l
     const __m128 ts = _mm_xor_ps(t_scaled, sign);
     const __m128 abs_det = abs_ps(det);
     const __m128 lo = _mm_max_ps(_mm_mul_ps(_mm_set1_ps(t_lo), abs_det), delta_t_scaled);
-    const __m128 hi = _mm_mul_ps(_mm_set1_ps(t_hi), abs_det);
+    // The upper bound is rounded up (relative 2^-21, plus a few subnormal steps): a lane whose
+    // returned distance t_scaled / det lies below t_hi always passes, and the caller decides on
+    // that distance. Rounded down, t_hi * |det| could reject such a lane, and whether a hit was
+    // found would depend on how tight t_hi was when its lane was tested: the packed walk (four
+    // lanes against the bound at the start of a block) and the walk of one triangle at a time
+    // (the generic renderer) found different triangles of near-coincident pairs.
+    const __m128 hi =
+        _mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(t_hi), abs_det), _mm_set1_ps(1.0f + 0x1p-21f)),
+                   _mm_set1_ps(0x1p-146f));
     const int firm = _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(ts, lo), _mm_cmplt_ps(ts, hi)));
     // Hits inside the error band (t * |det| <= delta_t * |det|, but not below t_lo): the band is
     // a conservative bound that grows without limit relative to t as the triangle turns edge-on,
     // so a ray that grazes a mesh far from its origin could be rejected by every triangle around
     // the point it crosses (a leak). Such lanes are decided by their distance in double instead.
-    // Lanes surely behind the origin (t * |det| < -delta_t * |det|) are not in the band.
-    const int band = mask & ~firm &
-                     _mm_movemask_ps(_mm_and_ps(
-                         _mm_and_ps(_mm_cmple_ps(ts, delta_t_scaled),
-                                    _mm_cmpge_ps(ts, _mm_sub_ps(_mm_setzero_ps(), delta_t_scaled))),
-                         _mm_cmplt_ps(ts, hi)));
+    // Lanes surely behind the origin (t * |det| < -delta_t * |det|) are not in the band. The
+    // upper bound is left to the double distance, so that a band lane's fate does not depend
+    // on the float bound either.
+    const int band =
+        mask & ~firm &
+        _mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(ts, delta_t_scaled),
+                                   _mm_cmpge_ps(ts, _mm_sub_ps(_mm_setzero_ps(), delta_t_scaled))));
     mask &= firm;
     if (mask) _mm_storeu_ps(t_out, _mm_div_ps(t_scaled, det));
     for (int b = band; b;) {

@@ -57,7 +57,7 @@ struct RenderState {
     /// Adaptive sampling: how many times `spp` samples each pixel gets in the next
     /// render_samples() call (0: none). Empty: every pixel gets `spp`.
     std::vector<uint8_t> active;
-    int passes = 0;
+    int passes = 0;  // 0: every sum is zero (reset() or a new state), so a pass may write in place
     RayCounters rays;
     /// A pass's new sums and sums of squares (6 per pixel), committed when the pass completes;
     /// kept between calls so later passes reuse it. The first pass of a fresh state needs none.

@@ -107,7 +107,10 @@ inline constexpr uint32_t geom_layout_bits(SetLayout l) {
 }
 
 /// What the geometry holds, read once by compile_scene (rt/features.h adds lights, materials and
-/// settings). A scene built by hand keeps the defaults: the generic walk.
+/// settings). A scene built by hand keeps the defaults: the generic walk. The specialized walks
+/// trust it (one instance walked directly, a set's layout): code that changes the instances or
+/// sets of a compiled scene sets it again with read_geometry() (lights, camera and materials may
+/// change freely).
 struct GeometryFeatures {
     size_t prims[5] = {0, 0, 0, 0, 0};  // by ShapeKind, after instancing
     bool instancing = false;            // more than one instance

@@ -30,7 +30,10 @@ struct TriRay {
 };
 
 /// Tests the lanes of `lanes_mask`. Returns a mask of the lanes hit with t in (t_lo, t_hi) and
-/// writes their distances to t_out. A lane that the float edge test hits but whose float distance
+/// writes their distances to t_out; the upper test is conservative (a lane may come back with a
+/// distance a few float steps beyond t_hi, never one below it that is dropped), so callers
+/// compare the distances returned with their own bound, and the lanes found do not depend on
+/// how tight t_hi was. A lane that the float edge test hits but whose float distance
 /// lies inside pbrt-v4's error band around zero (a grazing hit: the band is loose when the
 /// triangle is seen nearly edge-on) gets its distance recomputed in double before it is rejected,
 /// so the band never opens a hole between triangles.
