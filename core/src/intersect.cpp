@@ -24,9 +24,8 @@ ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tr
 }
 
 // Every hit of one primitive of a set, for a ray in the set's frame. A set of one analytic
-// kind calls its test directly; without kXf no primitive has a transform.
-// `tri` is the ray set up for the triangle kernel, needed only where the layout has triangles
-// (Mixed).
+// kind calls its test directly; without kXf no primitive has a transform; `tri` is the ray set
+// up for the triangle kernel, read only where the layout has triangles (Mixed).
 template <SetLayout L, bool kXf>
 ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray, const TriRay* tri,
                     Interval t) {
