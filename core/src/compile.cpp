@@ -1,11 +1,12 @@
 // compile_scene(): the SceneDesc's files become GeometrySets (groups flattened into the file's
 // frame, one copy per file however often it is instanced), instances are flattened into a list
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
-#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "rt/features.h"
@@ -177,11 +178,10 @@ private:
         }
 
         // Analytic shapes cost several box tests each (a cone's robust test is ~200
-        // instructions, a 4-wide node test ~40): their leaves hold one shape, so the node test
-        // culls each shape by its own box. Triangles are tested four at a time.
-        const bool analytic = std::all_of(pending.begin(), pending.end(), [](const Pending& p) {
-            return !std::holds_alternative<TriangleDesc>(p.shape->geometry);
-        });
+        // instructions, a 4-wide node test ~40): sets without triangles get one shape per leaf,
+        // so the node test culls each shape by its own box. Triangles are tested four at a time.
+        set.layout = layout_of(pending);
+        const bool analytic = set.layout != SetLayout::Triangles && set.layout != SetLayout::Mixed;
         const auto t0 = std::chrono::steady_clock::now();
         set.bvh = build_bvh(bounds, analytic ? BvhBuildSettings{1, 16} : BvhBuildSettings{});
         m_scene.stats.build_seconds +=
@@ -194,7 +194,6 @@ private:
             set.prim_bounds.push_back(bounds[old]);
         }
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
-        set.layout = layout_of(set);
         pack_triangles(set);
         m_set_of_file[fi] = static_cast<int>(m_scene.sets.size());
         m_scene.sets.push_back(std::move(set));
@@ -202,14 +201,21 @@ private:
     }
 
     // The one kind a set holds gets a walk of its own; triangles-only sets get packed leaves.
-    static SetLayout layout_of(const GeometrySet& set) {
-        const size_t n = set.prims.size();
-        if (set.triangles.size() == n) return SetLayout::Triangles;
-        if (set.spheres.size() == n) return SetLayout::Spheres;
-        if (set.boxes.size() == n) return SetLayout::Boxes;
-        if (set.cylinders.size() == n) return SetLayout::Cylinders;
-        if (set.cones.size() == n) return SetLayout::Cones;
-        return set.triangles.empty() ? SetLayout::Analytic : SetLayout::Mixed;
+    static SetLayout layout_of(const std::vector<Pending>& pending) {
+        static_assert(
+            std::is_same_v<std::variant_alternative_t<0, decltype(ShapeDesc::geometry)>,
+                           SphereDesc> &&
+                std::is_same_v<std::variant_alternative_t<4, decltype(ShapeDesc::geometry)>,
+                               TriangleDesc>,
+            "ShapeDesc::geometry lists the kinds in ShapeKind's order");
+        std::array<size_t, 5> count{};
+        for (const Pending& p : pending) ++count[p.shape->geometry.index()];
+        constexpr SetLayout kOneKind[5] = {SetLayout::Spheres, SetLayout::Boxes,
+                                           SetLayout::Cylinders, SetLayout::Cones,
+                                           SetLayout::Triangles};
+        for (size_t k = 0; k < 5; ++k)
+            if (count[k] == pending.size()) return kOneKind[k];
+        return count[4] == 0 ? SetLayout::Analytic : SetLayout::Mixed;
     }
 
     // Single-precision copies of the triangles, four per block (unused lanes zero), relative to

@@ -23,14 +23,27 @@ ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tr
     return h;
 }
 
-// Every hit of one primitive of a set, for a ray in the set's frame. A set of one analytic
-// kind calls its test directly; without kXf no primitive has a transform; `tri` is the ray set
-// up for the triangle kernel, read only where the layout has triangles (Mixed).
+// The kind of a primitive in a set of layout L: a constant for the one-kind layouts, so the
+// switches on it fold away, else the primitive's own.
+template <SetLayout L>
+ShapeKind kind_of(const Primitive& p) {
+    if constexpr (L == SetLayout::Spheres) return ShapeKind::Sphere;
+    if constexpr (L == SetLayout::Boxes) return ShapeKind::Box;
+    if constexpr (L == SetLayout::Cylinders) return ShapeKind::Cylinder;
+    if constexpr (L == SetLayout::Cones) return ShapeKind::Cone;
+    if constexpr (L == SetLayout::Triangles) return ShapeKind::Triangle;
+    return p.kind;
+}
+
+// Every hit of one primitive of a set, for a ray in the set's frame. Without kXf no primitive
+// has a transform; `tri` is the ray set up for the triangle kernel, read only where the layout
+// has triangles (Mixed; Triangles sets take the packed walk).
 template <SetLayout L, bool kXf>
 ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray, const TriRay* tri,
                     Interval t) {
+    const ShapeKind kind = kind_of<L>(p);
     if constexpr (L == SetLayout::Mixed)
-        if (p.kind == ShapeKind::Triangle) return triangle_hits(set, p.index, *tri, t);
+        if (kind == ShapeKind::Triangle) return triangle_hits(set, p.index, *tri, t);
     const Ray* r = &ray;
     Ray local;
     if constexpr (kXf) {
@@ -39,29 +52,19 @@ ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray, 
             r = &local;
         }
     }
-    if constexpr (L == SetLayout::Spheres) {
-        return intersect(set.spheres[p.index], *r, t);
-    } else if constexpr (L == SetLayout::Boxes) {
-        return intersect(set.boxes[p.index], *r, t);
-    } else if constexpr (L == SetLayout::Cylinders) {
-        return intersect(set.cylinders[p.index], *r, t);
-    } else if constexpr (L == SetLayout::Cones) {
-        return intersect(set.cones[p.index], *r, t);
-    } else {
-        switch (p.kind) {
-            case ShapeKind::Sphere:
-                return intersect(set.spheres[p.index], *r, t);
-            case ShapeKind::Box:
-                return intersect(set.boxes[p.index], *r, t);
-            case ShapeKind::Cylinder:
-                return intersect(set.cylinders[p.index], *r, t);
-            case ShapeKind::Cone:
-                return intersect(set.cones[p.index], *r, t);
-            case ShapeKind::Triangle:
-                break;
-        }
-        return {};
+    switch (kind) {
+        case ShapeKind::Sphere:
+            return intersect(set.spheres[p.index], *r, t);
+        case ShapeKind::Box:
+            return intersect(set.boxes[p.index], *r, t);
+        case ShapeKind::Cylinder:
+            return intersect(set.cylinders[p.index], *r, t);
+        case ShapeKind::Cone:
+            return intersect(set.cones[p.index], *r, t);
+        case ShapeKind::Triangle:
+            break;
     }
+    return {};
 }
 
 template <bool kXf>
@@ -218,16 +221,11 @@ SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray,
     const Transform* shape_xf =
         !kXf || p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
     const Ray r = shape_xf ? shape_xf->inv_ray(r_set) : r_set;
-    // One kind: its surface without a switch (the switch below folds away).
+    // The layout every set shares fixes the kind; per set (kGeomPerSet) it is read.
     constexpr uint32_t kLayout = (V & kGeomPerSet) >> kGeomLayoutShift;
-    ShapeKind kind = p.kind;
-    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Spheres)) kind = ShapeKind::Sphere;
-    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Boxes)) kind = ShapeKind::Box;
-    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Cylinders))
-        kind = ShapeKind::Cylinder;
-    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Cones)) kind = ShapeKind::Cone;
-    if constexpr (kLayout == static_cast<uint32_t>(SetLayout::Triangles))
-        kind = ShapeKind::Triangle;
+    constexpr SetLayout kFixed =
+        kLayout < kSetLayouts ? static_cast<SetLayout>(kLayout) : SetLayout::Mixed;
+    const ShapeKind kind = kind_of<kFixed>(p);
     switch (kind) {
         case ShapeKind::Sphere:
             sp = surface_at(set.spheres[p.index], r, hit.t, hit.part, uv);

@@ -115,10 +115,10 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
     // pass of a fresh state (all sums zero) writes the sums directly and, when stopped, puts the
     // zeros back: no scratch to fill, commit or fault in.
     const bool direct = state.passes == 0;
-    double* const out_sum = direct ? state.sum.data() : nullptr;
-    double* const out_sq = direct ? state.sum_sq.data() : nullptr;
-    if (!direct) state.scratch.resize(state.sum.size() * 2);
-    double* const out_pass = direct ? nullptr : state.scratch.data();
+    const size_t n = state.sum.size();
+    if (!direct) state.scratch.resize(2 * n);
+    double* const out_sum = direct ? state.sum.data() : state.scratch.data();
+    double* const out_sq = direct ? state.sum_sq.data() : state.scratch.data() + n;
     const bool all_active = state.active.size() != state.samples.size();
 
     auto worker = [&]() {
@@ -144,8 +144,9 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                     const size_t pixel = static_cast<size_t>(y) * settings.width + x;
                     const int pixel_spp = all_active ? spp : spp * state.active[pixel];
                     if (pixel_spp == 0) {
-                        if (!direct)
-                            for (size_t k = 0; k < 6; ++k) out_pass[pixel * 6 + k] = 0.0;
+                        if (!direct)  // (in place, the sums stay as they are)
+                            for (size_t c = 0; c < 3; ++c)
+                                out_sum[pixel * 3 + c] = out_sq[pixel * 3 + c] = 0.0;
                         continue;
                     }
                     const int m =
@@ -190,14 +191,8 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
                         acc_sq += c * c;
                     }
                     for (int k = 0; k < 3; ++k) {
-                        const size_t c = static_cast<size_t>(k);
-                        if (direct) {
-                            out_sum[pixel * 3 + c] = acc[k];
-                            out_sq[pixel * 3 + c] = acc_sq[k];
-                        } else {
-                            out_pass[pixel * 6 + c] = acc[k];
-                            out_pass[pixel * 6 + 3 + c] = acc_sq[k];
-                        }
+                        out_sum[pixel * 3 + static_cast<size_t>(k)] = acc[k];
+                        out_sq[pixel * 3 + static_cast<size_t>(k)] = acc_sq[k];
                     }
                 }
             }
@@ -228,11 +223,10 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderSe
     }
 
     if (!direct) {
-        for (size_t p = 0; p < state.samples.size(); ++p)
-            for (size_t c = 0; c < 3; ++c) {
-                state.sum[p * 3 + c] += out_pass[p * 6 + c];
-                state.sum_sq[p * 3 + c] += out_pass[p * 6 + 3 + c];
-            }
+        for (size_t i = 0; i < n; ++i) {
+            state.sum[i] += out_sum[i];
+            state.sum_sq[i] += out_sq[i];
+        }
     }
     for (size_t i = 0; i < state.samples.size(); ++i)
         state.samples[i] += static_cast<uint32_t>(all_active ? spp : spp * state.active[i]);

@@ -59,7 +59,7 @@ struct RenderState {
     std::vector<uint8_t> active;
     int passes = 0;  // 0: every sum is zero (reset() or a new state), so a pass may write in place
     RayCounters rays;
-    /// A pass's new sums and sums of squares (6 per pixel), committed when the pass completes;
+    /// A pass's new sums, then its sums of squares (3 + 3 per pixel), committed when it completes;
     /// kept between calls so later passes reuse it. The first pass of a fresh state needs none.
     std::vector<double> scratch;
 
