@@ -16,13 +16,13 @@
 #include <thread>
 #include <vector>
 
-#include "rt/camera.h"
-#include "rt/features.h"
-#include "rt/intersect.h"
-#include "rt/mesh_gen.h"
-#include "rt/parser.h"
-#include "rt/render.h"
-#include "rt/render_scene.h"
+#include "rt/accel/intersect.h"
+#include "rt/compile/render_scene.h"
+#include "rt/format/parser.h"
+#include "rt/render/camera.h"
+#include "rt/render/features.h"
+#include "rt/render/render.h"
+#include "rt/scene/mesh_gen.h"
 
 #ifdef RT_HAVE_EMBREE
 #include <embree3/rtcore.h>

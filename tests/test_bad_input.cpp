@@ -6,7 +6,7 @@
 #include <fstream>
 #include <random>
 
-#include "rt/file_io.h"
+#include "rt/util/file_io.h"
 #include "test_util.h"
 
 namespace rt {

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <random>
 
-#include "rt/intersect.h"
-#include "rt/mesh_gen.h"
+#include "rt/accel/intersect.h"
+#include "rt/scene/mesh_gen.h"
 #include "test_util.h"
 
 namespace rt {

@@ -1,6 +1,6 @@
 // Camera frame and pixel mapping (spec §6), including the spec's numeric check and the default
 // camera of §6.3.
-#include "rt/camera.h"
+#include "rt/render/camera.h"
 #include "test_util.h"
 
 namespace rt {

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "rt/intersect.h"
+#include "rt/accel/intersect.h"
 #include "test_util.h"
 
 namespace rt {

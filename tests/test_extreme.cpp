@@ -18,7 +18,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <random>
 
-#include "rt/intersect.h"
+#include "rt/accel/intersect.h"
 #include "test_util.h"
 
 namespace rt {

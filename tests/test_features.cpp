@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "rt/features.h"
+#include "rt/render/features.h"
 #include "test_util.h"
 
 namespace rt {

@@ -2,7 +2,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "rt/image.h"
+#include "rt/image/image.h"
 #include "test_util.h"
 
 namespace rt {

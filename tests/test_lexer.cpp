@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "../core/src/lexer.h"
+#include "format/lexer.h"
 
 namespace rt {
 namespace {

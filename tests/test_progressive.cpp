@@ -1,7 +1,7 @@
 // Progressive rendering: determinism with the stochastic features, the error falling with the
 // sample count, the reference-free estimate against the true error, and convergence to a
 // directly supersampled image when every stochastic feature is off.
-#include "rt/progressive.h"
+#include "rt/render/progressive.h"
 #include "test_util.h"
 
 namespace rt {

@@ -1,7 +1,7 @@
 // Lighting against the closed-form equations of spec §7 and §8: the two worked examples,
 // lights, shadows through transparent occluders, mirror, glass, total internal reflection,
 // depth and cutoff, textures.
-#include "rt/shading.h"
+#include "rt/render/shading.h"
 #include "test_util.h"
 
 namespace rt {

@@ -1,6 +1,6 @@
 // Shape tests: hits, outward normals and texture coordinates of spec §5, in the local frame and
 // through groups with rotation and non-uniform scale.
-#include "rt/intersect.h"
+#include "rt/accel/intersect.h"
 #include "test_util.h"
 
 namespace rt {

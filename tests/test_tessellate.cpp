@@ -1,7 +1,7 @@
 // Preview meshes: every vertex on the analytic surface with its outward normal and spec §5 uv,
 // and the tessellated silhouette agreeing with the traced one (intersection over union).
-#include "rt/intersect.h"
-#include "rt/tessellate.h"
+#include "rt/accel/intersect.h"
+#include "rt/shapes/tessellate.h"
 #include "test_util.h"
 
 namespace rt {

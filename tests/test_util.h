@@ -5,10 +5,10 @@
 
 #include <string>
 
-#include "rt/camera.h"
-#include "rt/parser.h"
-#include "rt/render.h"
-#include "rt/render_scene.h"
+#include "rt/compile/render_scene.h"
+#include "rt/format/parser.h"
+#include "rt/render/camera.h"
+#include "rt/render/render.h"
 
 namespace rt::test {
 

@@ -2,7 +2,7 @@
 // directive of the top-level file), and edits of the camera and lights survive the round trip.
 #include <filesystem>
 
-#include "rt/writer.h"
+#include "rt/format/writer.h"
 #include "test_util.h"
 
 namespace rt {

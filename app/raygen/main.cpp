@@ -6,8 +6,8 @@
 #include <iostream>
 #include <string>
 
-#include "rt/file_io.h"
-#include "rt/mesh_gen.h"
+#include "rt/scene/mesh_gen.h"
+#include "rt/util/file_io.h"
 
 int main(int argc, char** argv) {
     size_t n = 100000;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <utility>
 
-#include "rt/image.h"
+#include "rt/image/image.h"
 
 namespace rt::cli {
 

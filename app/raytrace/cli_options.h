@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "rt/scene_desc.h"
+#include "rt/scene/scene_desc.h"
 
 namespace rt::cli {
 

@@ -12,12 +12,12 @@
 #include <sstream>
 
 #include "cli_options.h"
-#include "rt/features.h"
-#include "rt/file_io.h"
-#include "rt/parser.h"
-#include "rt/progressive.h"
-#include "rt/render.h"
-#include "rt/render_scene.h"
+#include "rt/compile/render_scene.h"
+#include "rt/format/parser.h"
+#include "rt/render/features.h"
+#include "rt/render/progressive.h"
+#include "rt/render/render.h"
+#include "rt/util/file_io.h"
 
 namespace {
 

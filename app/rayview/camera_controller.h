@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rt/camera.h"
+#include "rt/render/camera.h"
 
 namespace rt::view {
 

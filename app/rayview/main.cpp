@@ -24,12 +24,12 @@
 
 #include "camera_controller.h"
 #include "preview.h"
-#include "rt/camera.h"
-#include "rt/features.h"
-#include "rt/file_io.h"
-#include "rt/parser.h"
-#include "rt/render.h"
-#include "rt/writer.h"
+#include "rt/format/parser.h"
+#include "rt/format/writer.h"
+#include "rt/render/camera.h"
+#include "rt/render/features.h"
+#include "rt/render/render.h"
+#include "rt/util/file_io.h"
 #include "tracer.h"
 
 namespace {

@@ -8,10 +8,10 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "rt/file_io.h"
-#include "rt/sampler.h"
-#include "rt/shapes.h"
-#include "rt/tessellate.h"
+#include "rt/render/sampler.h"
+#include "rt/shapes/shapes.h"
+#include "rt/shapes/tessellate.h"
+#include "rt/util/file_io.h"
 
 namespace rt::view {
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "rt/camera.h"
-#include "rt/render_scene.h"
+#include "rt/compile/render_scene.h"
+#include "rt/render/camera.h"
 
 namespace rt::view {
 

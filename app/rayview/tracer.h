@@ -9,9 +9,9 @@
 #include <thread>
 #include <vector>
 
-#include "rt/image.h"
-#include "rt/progressive.h"
-#include "rt/render.h"
+#include "rt/image/image.h"
+#include "rt/render/progressive.h"
+#include "rt/render/render.h"
 
 namespace rt::view {
 

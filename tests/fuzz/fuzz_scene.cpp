@@ -16,8 +16,8 @@
 #include <fstream>
 #include <string>
 
-#include "rt/parser.h"
-#include "rt/render_scene.h"
+#include "rt/compile/render_scene.h"
+#include "rt/format/parser.h"
 
 namespace {
 

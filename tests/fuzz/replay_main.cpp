@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "rt/file_io.h"
+#include "rt/util/file_io.h"
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv);
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);

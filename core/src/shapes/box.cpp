@@ -1,7 +1,7 @@
 // Box (spec §5): the six faces of [c - l/2, c + l/2]. The face of a point is the axis with the
 // largest |q_i|/h_i (ties: x, then y, then z); each face's (u, v) reads upright and unmirrored
 // from outside.
-#include "rt/shapes.h"
+#include "rt/shapes/shapes.h"
 
 namespace rt {
 

@@ -1,7 +1,7 @@
 // Cone (spec §5): axis along +y, apex (cx, y1, cz), side sqrt(q_x^2 + q_z^2) = r (y1 - y)/h for
 // y in [y0, y1], closed base disc at y0 (normal -y). Side normal
 // normalize(h q_x/rho, r, h q_z/rho), (0, 1, 0) at the apex; uv as the cylinder's.
-#include "rt/shapes.h"
+#include "rt/shapes/shapes.h"
 
 namespace rt {
 

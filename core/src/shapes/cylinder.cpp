@@ -1,7 +1,7 @@
 // Cylinder (spec §5): axis along +y, side q_x^2 + q_z^2 = r^2 for y in [y0, y1], closed by caps
 // at y1 (top, normal +y) and y0 (bottom, normal -y). Side uv: (azimuth/2pi, (y - y0)/h); caps:
 // top (q_x + r)/2r, (r - q_z)/2r; bottom (q_x + r)/2r, (q_z + r)/2r.
-#include "rt/shapes.h"
+#include "rt/shapes/shapes.h"
 
 namespace rt {
 

@@ -1,6 +1,6 @@
 // Sphere (spec §5): |q| = r, q = p - c; outward normal q/r; u = azimuth/2pi about +y from -z,
 // v = acos(-q_y/r)/pi (0 at the bottom pole).
-#include "rt/shapes.h"
+#include "rt/shapes/shapes.h"
 
 namespace rt {
 

@@ -1,7 +1,7 @@
 // Triangle (spec §5): p = w1 v1 + w2 v2 + w3 v3; geometric normal normalize((v2-v1) x (v3-v1));
 // shading normal interpolated when all three vertices have normals; uv interpolated.
-#include "rt/shapes.h"
-#include "rt/triangle4.h"
+#include "rt/accel/triangle4.h"
+#include "rt/shapes/shapes.h"
 
 namespace rt {
 

@@ -1,0 +1,159 @@
+// Bounding volume hierarchy over boxes and indices. It knows nothing of shapes or of the scene
+// format: build_bvh() sees only primitive bounds and returns a 4-wide tree plus a primitive
+// order; traversal calls back with primitive indices.
+#pragma once
+
+#include <immintrin.h>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "rt/util/math.h"
+
+namespace rt {
+
+/// A 4-wide node in single precision, structure-of-arrays so one SSE instruction tests an axis
+/// of all four child boxes (116 bytes padded to 128: two cache lines). Boxes are rounded outward
+/// from the double-precision bounds, so the float traversal never misses what a double test would
+/// hit.
+struct alignas(64) Bvh4Node {
+    float lo[3][4];  // [axis][child]
+    float hi[3][4];
+    /// kEmpty, an interior node index, or kLeaf | count << kCountShift | first primitive.
+    uint32_t child[4];
+    uint32_t num_children;  // children fill slots 0 .. num_children - 1
+
+    static constexpr uint32_t kLeaf = 0x80000000u;
+    static constexpr uint32_t kCountShift = 27;
+    static constexpr uint32_t kMaxLeafCount = 15;
+    static constexpr uint32_t kFirstMask = (1u << kCountShift) - 1;
+    static constexpr uint32_t kEmpty = 0xFFFFFFFFu;
+};
+
+struct Bvh {
+    std::vector<Bvh4Node> nodes;    // nodes[0] is the root (when there is any primitive)
+    std::vector<uint32_t> indices;  // leaves cover ranges of this primitive order
+    Bounds3 root_bounds;
+
+    bool empty() const { return indices.empty(); }
+};
+
+struct BvhBuildSettings {
+    int max_leaf_size = 4;
+    int bins = 16;
+};
+
+/// Binned surface-area-heuristic build (Wald 2007) of a binary tree over the given primitive
+/// bounds, collapsed into a 4-wide tree.
+Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& settings = {});
+
+/// A ray prepared for float box tests (Ize 2013, "Robust BVH Ray Traversal"): the origin and
+/// reciprocal direction rounded to float and broadcast to SSE registers, with a per-axis slack
+/// that covers the rounding of the origin, so the slab distances bound the exact ones.
+struct BoxRay {
+    __m128 o[3], inv[3], slack[3];
+    // Axes the ray hardly moves along (|d| < 1e-30, zero included): the test there is o in
+    // [lo, hi] (closed), widened by o's rounding and by |d| t_max, how far the ray drifts
+    // along the axis before t_max; not a distance from a reciprocal.
+    bool parallel[3] = {false, false, false};
+    float drift[3] = {0.0f, 0.0f, 0.0f};  // |d| on parallel axes
+    explicit BoxRay(const Ray& r);
+};
+
+/// Tests the ray against the four child boxes of a node; returns a 4-bit hit mask and the entry
+/// distances. The far distance is widened by 2*gamma(3) in float (Ize 2013) plus the origin
+/// slack; the near one is lowered by the slack.
+inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, float t_entry[4]) {
+    constexpr float kWiden = static_cast<float>(1.0 + 2.0 * gamma_float(3));
+    const __m128 widen = _mm_set1_ps(kWiden);
+    __m128 t0 = _mm_setzero_ps();
+    __m128 t1 = _mm_set1_ps(t_max);
+    __m128 inside = _mm_castsi128_ps(_mm_set1_epi32(-1));
+    for (int a = 0; a < 3; ++a) {
+        if (ray.parallel[a]) {
+            __m128 s = ray.slack[a];
+            if (ray.drift[a] > 0.0f) s = _mm_add_ps(s, _mm_set1_ps(ray.drift[a] * t_max * kWiden));
+            inside = _mm_and_ps(
+                inside, _mm_and_ps(_mm_cmple_ps(_mm_load_ps(node.lo[a]), _mm_add_ps(ray.o[a], s)),
+                                   _mm_cmpge_ps(_mm_load_ps(node.hi[a]), _mm_sub_ps(ray.o[a], s))));
+            continue;
+        }
+        const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[a]), ray.o[a]), ray.inv[a]);
+        const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.hi[a]), ray.o[a]), ray.inv[a]);
+        const __m128 tn = _mm_sub_ps(_mm_min_ps(ta, tb), ray.slack[a]);
+        const __m128 tf = _mm_add_ps(_mm_mul_ps(_mm_max_ps(ta, tb), widen), ray.slack[a]);
+        t0 = _mm_max_ps(t0, tn);
+        t1 = _mm_min_ps(t1, tf);
+    }
+    _mm_storeu_ps(t_entry, t0);
+    return _mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(t0, t1), inside)) &
+           ((1 << node.num_children) - 1);
+}
+
+/// Traversal: `visit_leaf(first, count, t_max)` tests the leaf's primitives (positions
+/// first .. first + count - 1 of `indices`) and may shrink t_max (closest hit); it returns true
+/// to stop the whole walk (any hit). With kOrdered, children are visited
+/// nearest entry first and a subtree whose box starts beyond t_max is skipped (closest-hit
+/// queries); any-hit queries skip the sorting.
+template <bool kOrdered = true, class VisitLeaf>
+void traverse_leaves(const Bvh& bvh, const Ray& ray, double& t_max, VisitLeaf&& visit_leaf) {
+    if (bvh.empty()) return;
+    const BoxRay box_ray(ray);
+    struct Entry {
+        uint32_t child;
+        float t;
+    };
+    // Each level pushes at most 3 entries more than it pops; the build keeps the binary depth
+    // below 40 + log2(n) (bvh.cpp), so 512 entries hold any tree of up to 2^32 primitives.
+    Entry stack[512];
+    int sp = 0;
+    stack[sp++] = {0, 0.0f};
+    // Box tests in float compare against t_max rounded up.
+    auto t_max_f = [&] { return static_cast<float>(t_max) * (1.0f + 1e-6f) + 1e-30f; };
+    while (sp > 0) {
+        const Entry e = stack[--sp];
+        if (kOrdered && e.t > t_max_f()) continue;  // farther than the best hit so far
+        if (e.child & Bvh4Node::kLeaf) {
+            const uint32_t first = e.child & Bvh4Node::kFirstMask;
+            const uint32_t count = (e.child & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
+            if (visit_leaf(first, count, t_max)) return;
+            continue;
+        }
+        const Bvh4Node& node = bvh.nodes[e.child];
+        float t[4];
+        int mask = intersect_node(node, box_ray, t_max_f(), t);
+        if (!kOrdered) {
+            while (mask) {
+                const int i = __builtin_ctz(static_cast<unsigned>(mask));
+                mask &= mask - 1;
+                stack[sp++] = {node.child[i], t[i]};
+            }
+            continue;
+        }
+        // Push hit children farthest first so the nearest is popped next.
+        Entry hits[4];
+        int n = 0;
+        while (mask) {
+            const int i = __builtin_ctz(static_cast<unsigned>(mask));
+            mask &= mask - 1;
+            Entry h{node.child[i], t[i]};
+            int k = n++;
+            while (k > 0 && hits[k - 1].t < h.t) hits[k] = hits[k - 1], --k;
+            hits[k] = h;
+        }
+        for (int k = 0; k < n; ++k) stack[sp++] = hits[k];
+    }
+}
+
+/// The same walk with one call per primitive: `visit(prim_index, t_max)`.
+template <bool kOrdered = true, class Visit>
+void traverse(const Bvh& bvh, const Ray& ray, double& t_max, Visit&& visit) {
+    traverse_leaves<kOrdered>(bvh, ray, t_max, [&](uint32_t first, uint32_t count, double& t) {
+        for (uint32_t i = first; i < first + count; ++i)
+            if (visit(bvh.indices[i], t)) return true;
+        return false;
+    });
+}
+
+}  // namespace rt

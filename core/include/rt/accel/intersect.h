@@ -1,0 +1,69 @@
+// Ray queries on a RenderScene: nearest hit, shadow transmittance (every surface on the segment
+// multiplies by its transparency, spec §7.2), and the surface description at a hit. The BVH path
+// and the brute-force path give the same answers; the latter stays for tests.
+#pragma once
+
+#include "rt/compile/render_scene.h"
+
+namespace rt {
+
+struct Hit {
+    double t = kInf;
+    int instance = -1;
+    uint32_t prim = 0;
+    int part = 0;
+};
+
+/// What shading needs at a hit, in world space.
+struct SurfaceInteraction {
+    Vec3 p{0.0};
+    Vec3 p_error{0.0};      // bound on |p - exact point|, per component
+    Vec3 n_geometric{0.0};  // outward, unit
+    Vec3 n_shading{0.0};    // unit, outward side
+    Vec2 uv{0.0};
+    int material = 0;
+};
+
+/// Nearest hit with t in (t.lo, t.hi). Returns false when the ray escapes. This and occluded()
+/// and transmittance() walk the scene with the geometry variant that fits it
+/// (RenderScene::geometry).
+bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit);
+
+/// The ray queries of one geometry variant (GeomFeature bits, rt/compile/render_scene.h) and the
+/// surface description at their hits, with the code of what the variant lacks left out: the
+/// top-level walk, transforms, the dispatch on shape kinds, the triangle set-up. kGeomGeneric
+/// serves any scene; a specialized variant only the scenes it was read from
+/// (RenderScene::geometry).
+struct GeometryQueries {
+    bool (*intersect)(const RenderScene&, const Ray&, Interval, Hit*);
+    bool (*occluded)(const RenderScene&, const Ray&, double);
+    Vec3 (*transmittance)(const RenderScene&, const Ray&, double);
+    SurfaceInteraction (*interaction)(const RenderScene&, const Ray&, const Hit&, bool uv);
+};
+const GeometryQueries& geometry_queries(uint32_t geom_variant);
+
+/// The nearest hit by testing every primitive of every instance.
+bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit);
+
+/// Any hit with t in (0, t_max): the shadow query of opaque scenes and of the benchmark.
+bool occluded(const RenderScene& scene, const Ray& ray, double t_max);
+
+/// Every hit of one primitive of a set, for a ray in the set's frame (the benchmark uses it to
+/// give Embree the same analytic shapes).
+ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
+                              Interval t);
+
+/// Product of the transparencies T of every surface crossing on (0, t_max); zero as soon as an
+/// opaque surface is met (spec §7.2). A closed transparent object counts twice.
+Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max);
+
+SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit,
+                               bool uv = true);
+
+/// A ray leaving the surface point toward `dir`: the origin is pushed off along n_geometric by
+/// the point's error bound so the new ray cannot hit the same surface (pbrt's OffsetRayOrigin).
+Ray spawn_ray(const SurfaceInteraction& si, const Vec3& dir);
+/// A point moved off the surface to the side of `dir` (used for shadow rays toward a point).
+Vec3 offset_origin(const SurfaceInteraction& si, const Vec3& dir);
+
+}  // namespace rt

@@ -1,0 +1,66 @@
+// Images: linear float RGB in memory, 8-bit texture images, and reading/writing PNG, BMP, PPM,
+// JPEG (read) and PFM (float). Row 0 is the top row everywhere (spec §9).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rt/util/math.h"
+
+namespace rt {
+
+/// A linear, unclamped RGB image. Values stay double until they are written, so the 8-bit
+/// rounding of spec §9 sees the exact mean.
+struct Image {
+    int width = 0;
+    int height = 0;
+    std::vector<double> rgb;  // 3 values per pixel, row-major from the top
+
+    Image() = default;
+    Image(int w, int h) : width(w), height(h), rgb(static_cast<size_t>(w) * h * 3, 0.0) {}
+    Vec3 at(int x, int y) const {
+        const size_t i = (static_cast<size_t>(y) * width + x) * 3;
+        return {rgb[i], rgb[i + 1], rgb[i + 2]};
+    }
+    void set(int x, int y, const Vec3& c) {
+        const size_t i = (static_cast<size_t>(y) * width + x) * 3;
+        rgb[i] = c.x;
+        rgb[i + 1] = c.y;
+        rgb[i + 2] = c.z;
+    }
+};
+
+/// An 8-bit RGB texture as decoded from a file (alpha dropped, grey replicated).
+struct TextureImage {
+    int width = 0;
+    int height = 0;
+    std::vector<uint8_t> rgb;
+};
+
+/// Spec §9: byte = floor(255 * clamp(c, 0, 1) + 0.5); non-finite values become 0.
+uint8_t to_byte(double c);
+
+/// The image as 8-bit RGB, each value through to_byte() (what PNG, BMP and PPM files hold).
+std::vector<uint8_t> to_bytes(const Image& image);
+
+/// Decodes BMP, PNG, JPEG, PPM/PGM (binary and ASCII), TGA. Returns false and sets *error on
+/// failure.
+bool load_texture_image(const std::string& path, TextureImage* out, std::string* error);
+
+/// Image file kinds chosen by extension.
+enum class ImageFormat { Png, Bmp, Ppm, Pfm, Unknown };
+ImageFormat image_format_from_path(const std::string& path);
+
+/// Writes the image; throws std::runtime_error on failure. Non-finite values are written as 0
+/// (spec §9; count_non_finite() tells the caller how many there were). Writes to a temporary file
+/// in the same directory and renames it, so a failed write never leaves a partial file.
+void save_image(const Image& image, const std::string& path);
+
+/// Reads a PFM written by save_image (or any 3-channel PFM). Throws std::runtime_error.
+Image load_pfm(const std::string& path);
+
+/// Number of non-finite values in the image (spec §9: must not occur).
+size_t count_non_finite(const Image& image);
+
+}  // namespace rt

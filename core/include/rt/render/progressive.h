@@ -1,0 +1,91 @@
+// Progressive rendering with its error reported against run time: passes of render_samples()
+// on one RenderState, the error of each pass against a reference image (or estimated from the
+// samples themselves), adaptive sampling, and the report as CSV and as an SVG plot.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rt/image/image.h"
+#include "rt/render/render.h"
+
+namespace rt {
+
+/// relMSE's denominator offset: (x - ref)^2 / (ref^2 + kRelMseEpsilon), so black pixels do not
+/// dominate.
+inline constexpr double kRelMseEpsilon = 0.01;
+inline constexpr const char* kRelMseFormula =
+    "relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01)";
+
+struct ImageError {
+    double rmse = 0;       // sqrt of the mean over pixels and channels of (x - ref)^2
+    double relmse = 0;     // kRelMseFormula
+    double off_share = 0;  // share of pixels with a channel off by more than 1/255 (clamped)
+};
+
+/// Error of `image` against `ref` (same size; throws std::invalid_argument otherwise).
+ImageError compare_images(const Image& image, const Image& ref);
+
+/// Error estimated from the samples alone: the variance of each pixel's mean, s^2 / n, averaged
+/// (MSE) and divided by (mean^2 + 0.01) (relMSE). Pixels with fewer than two samples count as
+/// unknown and are left out. Unbiased for independent samples; stratification makes the true
+/// error smaller, so it errs on the safe side.
+struct ErrorEstimate {
+    double mse = 0;
+    double relmse = 0;
+};
+ErrorEstimate estimate_error(const RenderState& state);
+
+/// Adaptive sampling: shares `budget` samples among the pixels so that each pixel's total
+/// moves toward a share proportional to its estimated relative standard deviation (the optimal
+/// allocation for independent samples), taken as the maximum over its 3x3 neighbourhood so
+/// features a pixel's few samples missed are not ignored; one pixel in `explore`, on a pattern
+/// that moves every pass, gets at least one sample. Fills state.active (samples per pixel for a
+/// render_samples() call with spp = 1) and returns the number of samples allocated.
+uint64_t choose_adaptive_pixels(RenderState& state, double budget, int explore = 8);
+
+struct ProgressiveSettings {
+    double time_limit_s = 0;  // stop after this much render time (0: no limit)
+    int spp_limit = 0;        // stop at this many samples per pixel on average (0: no limit)
+    bool adaptive = false;
+};
+
+struct PassRecord {
+    double seconds = 0;  // render time so far (error computation excluded)
+    double spp = 0;      // mean samples per pixel
+    uint64_t rays = 0;
+    bool has_reference = false;
+    ImageError error;
+    ErrorEstimate estimate;
+};
+
+/// Runs passes (1, 1, 2, 4, 8, ... samples per pixel, every sample jittered; adaptive: after the
+/// first four samples, the same number of samples per pass shared by choose_adaptive_pixels())
+/// until a limit, recording each pass.
+std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& scene,
+                                        const RenderSettings& settings,
+                                        const ProgressiveSettings& progressive,
+                                        const Image* reference,
+                                        const std::function<void(const PassRecord&)>& on_pass = {},
+                                        const std::atomic<bool>* stop = nullptr);
+
+/// Least-squares slope of log(y) against log(x) over the points with x, y > 0.
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
+
+/// A pass's error: relMSE against the reference when there is one, else the estimate.
+double pass_error(const PassRecord& r);
+
+/// Time at which a run's error first reaches `target` (log-log interpolation between passes);
+/// negative when it never does. Uses relMSE when there is a reference, else the estimate.
+double time_to_reach(const std::vector<PassRecord>& run, double target);
+
+/// CSV: mode,seconds,spp,rays,rmse,relmse,off_share,estimate,estimate_relmse (one row a pass).
+std::string progress_csv(const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs);
+
+/// An SVG plot of error against time on log-log axes, with the fitted slope of each run.
+std::string progress_svg(const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs,
+                         const std::string& title);
+
+}  // namespace rt

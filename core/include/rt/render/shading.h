@@ -1,0 +1,59 @@
+// Whitted shading (spec §7, §8): emissive + ambient + Phong terms of every light with hard
+// shadows through transparent occluders, mirror reflection and Snell refraction up to a depth
+// and a path-weight cutoff. Textures modulate ambient and diffuse (spec §7.3).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rt/accel/intersect.h"
+#include "rt/compile/render_scene.h"
+#include "rt/render/features.h"
+#include "rt/render/sampler.h"
+
+namespace rt {
+
+struct ShadingSettings {
+    int max_depth = 5;      // camera rays have this depth; children get depth - 1 (spec §8)
+    double cutoff = 0.001;  // a child ray is traced only when max(weight) >= cutoff; 0 disables
+    bool shadows = true;
+    // Progressive features, off at 0 (scenes/README.md): point and spot lights become spheres
+    // of this radius (soft shadows); reflected rays spread by this roughness (glossy).
+    double light_radius = 0.0;
+    double roughness = 0.0;
+    /// The shading variant (ShadeFeature bits, rt/render/features.h): the features this scene uses.
+    /// The default, every bit, is the generic renderer.
+    uint32_t variant = kShadeAll;
+    /// The lights to iterate; null: all of the scene's (the specialized renderer passes only
+    /// those that can light something).
+    const std::vector<Light>* lights = nullptr;
+    /// The ray queries; null: the scene's own variant (RenderScene::geometry). The generic
+    /// renderer passes geometry_queries(kGeomGeneric).
+    const GeometryQueries* geometry = nullptr;
+};
+
+/// Rays traced, by kind (for the CLI's rays-per-second figures).
+struct RayCounters {
+    uint64_t camera = 0, shadow = 0, reflected = 0, refracted = 0;
+    uint64_t total() const { return camera + shadow + reflected + refracted; }
+    RayCounters& operator+=(const RayCounters& o) {
+        camera += o.camera, shadow += o.shadow, reflected += o.reflected, refracted += o.refracted;
+        return *this;
+    }
+};
+
+/// Bilinear, wrapping texture lookup of spec §7.3 (row 0 at the top, v = 0 at the bottom).
+Vec3 eval_texture(const TextureImage& tex, const Vec2& uv);
+
+/// Incoming light intensity I_l and unit direction L toward the light at point p (spec §7.2);
+/// `distance` is the shadow ray's length (infinite for directional lights). Returns false when
+/// the light contributes nothing there.
+bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
+                double* distance);
+
+/// The colour seen along a ray of the given depth and path weight. `rng` feeds the stochastic
+/// features; without one (or with them off) the result is the deterministic Whitted colour.
+Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
+               const ShadingSettings& settings, RayCounters& counters, Rng* rng = nullptr);
+
+}  // namespace rt

@@ -1,0 +1,135 @@
+// The plain scene description: what the .ray files say, after the dialect is resolved, with every
+// node remembering its file, line and column. The parser fills it; compile_scene() turns it into
+// the render representation. Nothing here renders.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "rt/image/image.h"
+#include "rt/util/error.h"
+#include "rt/util/math.h"
+
+namespace rt {
+
+enum class Dialect { V0, V1 };
+
+/// V0 writes the specular exponent and the spot drop-off as fractions of 128 (spec §3.2, §7.2):
+/// e = 128 * kspec, p = 128 * dor.
+inline constexpr double kV0ExponentScale = 128.0;
+const char* dialect_name(Dialect d);
+
+struct CameraDesc {
+    SourceLoc loc;
+    Vec3 position{0.0};
+    Vec3 direction{0.0, 0.0, -1.0};
+    Vec3 up{0.0, 1.0, 0.0};
+    double half_height_angle_rad = kPi / 6;  // spec §3.1: ha is the half-height angle
+};
+
+enum class LightKind { Directional, Point, Spot };
+
+struct LightDesc {
+    SourceLoc loc;
+    LightKind kind = LightKind::Point;
+    Vec3 color{1.0};
+    Vec3 position{0.0};   // point, spot
+    Vec3 direction{0.0};  // directional: direction of travel; spot: axis
+    double constant_atten = 1.0, linear_atten = 0.0, quadratic_atten = 0.0;
+    double cutoff_rad = kPi;
+    double spot_exponent = 0.0;  // p, already 128*dor in V0 (spec §7.2)
+};
+
+/// A material with the dialect resolved (spec §3.2): V0's kspec and scalar ktran are converted.
+struct MaterialDesc {
+    SourceLoc loc;
+    Vec3 emissive{0.0}, ambient{0.0}, diffuse{0.0}, specular{0.0};
+    double specular_exponent = 0.0;  // e
+    Vec3 transparent{0.0};           // T
+    double refractive_index = 1.0;
+    int texture = -1;  // index into the file's textures, -1 = none
+    std::string name;  // the !...! string, stored, never interpreted
+};
+
+/// The V0 built-in material that shape material index -1 refers to (spec §3.2).
+MaterialDesc v0_default_material();
+
+struct TextureDesc {
+    SourceLoc loc;
+    std::string path;  // as resolved
+    std::shared_ptr<const TextureImage> image;
+};
+
+struct VertexDesc {
+    Vec3 position{0.0};
+    Vec3 normal{0.0};  // normalised when read; zero = no normal
+    Vec2 uv{0.0};
+};
+
+struct SphereDesc {
+    Vec3 centre{0.0};
+    double radius = 1.0;
+};
+struct BoxDesc {
+    Vec3 centre{0.0};
+    Vec3 size{1.0};  // full side lengths
+};
+struct CylinderDesc {
+    Vec3 centre{0.0};
+    double radius = 1.0, height = 1.0;
+};
+struct ConeDesc {
+    Vec3 centre{0.0};
+    double radius = 1.0, height = 1.0;
+};
+struct TriangleDesc {
+    int v[3] = {0, 0, 0};  // vertex indices of this file
+};
+
+struct ShapeDesc {
+    SourceLoc loc;
+    int material = 0;  // index into the file's materials; -1 = V0 default
+    std::variant<SphereDesc, BoxDesc, CylinderDesc, ConeDesc, TriangleDesc> geometry;
+};
+
+struct InstanceDesc {
+    SourceLoc loc;
+    int ray_file = 0;  // index into the file's ray_files
+};
+
+/// A #group_begin (or #joint_begin) node: children in the frame p_parent = matrix * p_local.
+struct GroupDesc {
+    SourceLoc loc;
+    Mat4 matrix{1.0};
+    std::string joint;  // non-empty for #joint_begin
+    std::vector<ShapeDesc> shapes;
+    std::vector<GroupDesc> groups;
+    std::vector<InstanceDesc> instances;
+};
+
+/// One parsed .ray file. Its index spaces (materials, textures, vertices, ray files) are its own.
+struct FileDesc {
+    std::string path;            // as resolved (for messages)
+    std::string canonical_path;  // identity: parsed once per canonical path
+    std::vector<TextureDesc> textures;
+    std::vector<MaterialDesc> materials;
+    std::vector<VertexDesc> vertices;
+    std::vector<int> ray_files;          // #ray_file index -> index into SceneDesc::files
+    std::vector<std::string> key_files;  // as resolved (their frame 0 is in the joints)
+    GroupDesc root;                      // implicit identity group
+};
+
+struct SceneDesc {
+    Dialect dialect = Dialect::V1;
+    std::optional<CameraDesc> camera;  // absent: default camera (spec §6.3)
+    Vec3 background{0.0};
+    Vec3 ambient{0.0};
+    std::vector<LightDesc> lights;  // top-level file only
+    std::vector<FileDesc> files;    // files[0] is the top-level file
+    size_t skipped_shapes = 0;      // degenerate shapes skipped with a warning
+};
+
+}  // namespace rt

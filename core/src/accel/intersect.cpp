@@ -1,0 +1,373 @@
+#include "rt/accel/intersect.h"
+
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "rt/accel/triangle4.h"
+
+namespace rt {
+
+namespace {
+
+// The one triangle test: lane `index % 4` of block `index / 4` (spec §5; see triangle4.h).
+ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tri, Interval t) {
+    ShapeHits h;
+    float tt[4];
+    const int lane = static_cast<int>(index & 3u);
+    if (intersect_tri4(set.tri4[index >> 2], tri, 1 << lane, float_lower(t.lo), float_upper(t.hi),
+                       tt)) {
+        const double th = tt[lane];
+        if (t.contains(th)) h.add(th, 0);
+    }
+    return h;
+}
+
+// The kind of a primitive in a set of layout L: a constant for the one-kind layouts, so the
+// switches on it fold away, else the primitive's own.
+template <SetLayout L>
+ShapeKind kind_of(const Primitive& p) {
+    if constexpr (L == SetLayout::Spheres) return ShapeKind::Sphere;
+    if constexpr (L == SetLayout::Boxes) return ShapeKind::Box;
+    if constexpr (L == SetLayout::Cylinders) return ShapeKind::Cylinder;
+    if constexpr (L == SetLayout::Cones) return ShapeKind::Cone;
+    if constexpr (L == SetLayout::Triangles) return ShapeKind::Triangle;
+    return p.kind;
+}
+
+// Every hit of one primitive of a set, for a ray in the set's frame. Without kXf no primitive
+// has a transform; `tri` is the ray set up for the triangle kernel, read only where the layout
+// has triangles (Mixed; Triangles sets take the packed walk).
+template <SetLayout L, bool kXf>
+ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray, const TriRay* tri,
+                    Interval t) {
+    const ShapeKind kind = kind_of<L>(p);
+    if constexpr (L == SetLayout::Mixed)
+        if (kind == ShapeKind::Triangle) return triangle_hits(set, p.index, *tri, t);
+    const Ray* r = &ray;
+    Ray local;
+    if constexpr (kXf) {
+        if (p.transform >= 0) {
+            local = set.transforms[static_cast<size_t>(p.transform)].inv_ray(ray);
+            r = &local;
+        }
+    }
+    switch (kind) {
+        case ShapeKind::Sphere:
+            return intersect(set.spheres[p.index], *r, t);
+        case ShapeKind::Box:
+            return intersect(set.boxes[p.index], *r, t);
+        case ShapeKind::Cylinder:
+            return intersect(set.cylinders[p.index], *r, t);
+        case ShapeKind::Cone:
+            return intersect(set.cones[p.index], *r, t);
+        case ShapeKind::Triangle:
+            break;
+    }
+    return {};
+}
+
+template <bool kXf>
+Ray to_set(const Instance& inst, const Ray& ray) {
+    if constexpr (kXf) return inst.identity ? ray : inst.world_from_set.inv_ray(ray);
+    return ray;
+}
+
+// Calls hits(prim, ShapeHits, t_max) for the primitives of a set along a ray in its frame;
+// hits returns true to stop the walk. Triangle-only sets test each leaf's triangles four at a
+// time (packed in leaf order); the other layouts test one primitive at a time.
+template <bool kOrdered, SetLayout L, bool kXf, class F>
+bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
+    bool stopped = false;
+    if constexpr (L == SetLayout::Triangles) {
+        const TriRay tri({r.o - set.tri_origin, r.d});
+        traverse_leaves<kOrdered>(
+            set.bvh, r, t_max, [&](uint32_t first, uint32_t count, double& best) {
+                const uint32_t end = first + count;
+                for (uint32_t b = first >> 2; b <= (end - 1) >> 2; ++b) {
+                    // The lanes of block b that belong to this leaf.
+                    const uint32_t lo = std::max(first, b * 4), hi = std::min(end, b * 4 + 4);
+                    const int lanes = ((1 << (hi - lo)) - 1) << (lo - b * 4);
+                    float tt[4];
+                    int m = intersect_tri4(set.tri4[b], tri, lanes, float_lower(t_min),
+                                           float_upper(best), tt);
+                    while (m) {
+                        const int l = __builtin_ctz(static_cast<unsigned>(m));
+                        m &= m - 1;
+                        ShapeHits h;
+                        const double th = tt[l];
+                        if (th > t_min && th < best) h.add(th, 0);
+                        if (h.count && hits(b * 4 + static_cast<uint32_t>(l), h, best))
+                            return stopped = true;
+                    }
+                }
+                return false;
+            });
+    } else {
+        TriRay tri;
+        if constexpr (L == SetLayout::Mixed) tri = TriRay({r.o - set.tri_origin, r.d});
+        traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {
+            return stopped = hits(pi, prim_hits<L, kXf>(set, set.prims[pi], r, &tri, {t_min, best}),
+                                  best);
+        });
+    }
+    return stopped;
+}
+
+// The walk of geometry variant V over one set: its layout when every set shares it, else the
+// set's own (one switch per set visited, not per primitive).
+template <uint32_t V, bool kOrdered, class F>
+bool walk(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
+    constexpr bool kXf = (V & kGeomTransforms) != 0;
+    constexpr uint32_t kLayout = (V & kGeomPerSet) >> kGeomLayoutShift;
+    if constexpr (kLayout < kSetLayouts) {
+        return walk_set<kOrdered, static_cast<SetLayout>(kLayout), kXf>(set, r, t_max, t_min, hits);
+    } else {
+        switch (set.layout) {
+            case SetLayout::Mixed:
+                return walk_set<kOrdered, SetLayout::Mixed, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Analytic:
+                return walk_set<kOrdered, SetLayout::Analytic, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Spheres:
+                return walk_set<kOrdered, SetLayout::Spheres, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Boxes:
+                return walk_set<kOrdered, SetLayout::Boxes, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Cylinders:
+                return walk_set<kOrdered, SetLayout::Cylinders, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Cones:
+                return walk_set<kOrdered, SetLayout::Cones, kXf>(set, r, t_max, t_min, hits);
+            case SetLayout::Triangles:
+                return walk_set<kOrdered, SetLayout::Triangles, kXf>(set, r, t_max, t_min, hits);
+        }
+        return false;
+    }
+}
+
+// Calls f(instance index, ray in the set's frame, t_max) for the instances whose box the ray
+// enters; without kGeomInstancing the one instance is walked directly (no top-level BVH).
+template <uint32_t V, bool kOrdered, class F>
+void for_each_instance(const RenderScene& scene, const Ray& ray, double& t_max, F&& f) {
+    constexpr bool kXf = (V & kGeomTransforms) != 0;
+    if constexpr ((V & kGeomInstancing) == 0) {
+        f(0u, to_set<kXf>(scene.instances[0], ray), t_max);
+    } else {
+        traverse<kOrdered>(scene.top, ray, t_max, [&](uint32_t ii, double& best) {
+            return f(ii, to_set<kXf>(scene.instances[ii], ray), best);
+        });
+    }
+}
+
+template <uint32_t V>
+bool closest_hit(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
+    double t_max = t.hi;
+    bool found = false;
+    for_each_instance<V, true>(scene, ray, t_max, [&](uint32_t ii, const Ray& r, double& best) {
+        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
+        walk<V, true>(set, r, best, t.lo, [&](uint32_t pi, const ShapeHits& h, double& b) {
+            if (h.count > 0) {
+                b = h.t[0];
+                *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0]};
+                found = true;
+            }
+            return false;
+        });
+        return false;
+    });
+    return found;
+}
+
+template <uint32_t V>
+bool any_hit(const RenderScene& scene, const Ray& ray, double t_max) {
+    double limit = t_max;
+    bool hit = false;
+    for_each_instance<V, false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
+        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
+        double inner = t_max;
+        return hit = walk<V, false>(set, r, inner, 0.0, [&](uint32_t, const ShapeHits& h, double&) {
+                   return h.count > 0;
+               });
+    });
+    return hit;
+}
+
+template <uint32_t V>
+Vec3 transmitted(const RenderScene& scene, const Ray& ray, double t_max) {
+    Vec3 s(1.0);
+    double limit = t_max;  // never shrinks: every crossing counts, order does not matter
+    for_each_instance<V, false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
+        const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
+        double inner = t_max;
+        return walk<V, false>(set, r, inner, 0.0, [&](uint32_t pi, const ShapeHits& h, double&) {
+            const Primitive& p = set.prims[pi];
+            const Vec3& tr = scene.materials[static_cast<size_t>(p.material)].transparent;
+            for (int k = 0; k < h.count; ++k) s *= tr;
+            return h.count > 0 && s == Vec3(0.0);
+        });
+    });
+    return s;
+}
+
+// What shading needs at a hit; without kXf (V) no transform is applied.
+template <uint32_t V>
+SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray, const Hit& hit,
+                                       bool uv) {
+    constexpr bool kXf = (V & kGeomTransforms) != 0;
+    const Instance& inst = scene.instances[static_cast<size_t>(hit.instance)];
+    const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
+    const Primitive& p = set.prims[hit.prim];
+    const Ray r_set = to_set<kXf>(inst, ray);
+
+    SurfacePoint sp;
+    const Transform* shape_xf =
+        !kXf || p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
+    const Ray r = shape_xf ? shape_xf->inv_ray(r_set) : r_set;
+    // The layout every set shares fixes the kind; per set (kGeomPerSet) it is read.
+    constexpr uint32_t kLayout = (V & kGeomPerSet) >> kGeomLayoutShift;
+    constexpr SetLayout kFixed =
+        kLayout < kSetLayouts ? static_cast<SetLayout>(kLayout) : SetLayout::Mixed;
+    const ShapeKind kind = kind_of<kFixed>(p);
+    switch (kind) {
+        case ShapeKind::Sphere:
+            sp = surface_at(set.spheres[p.index], r, hit.t, hit.part, uv);
+            break;
+        case ShapeKind::Box:
+            sp = surface_at(set.boxes[p.index], r, hit.t, hit.part, uv);
+            break;
+        case ShapeKind::Cylinder:
+            sp = surface_at(set.cylinders[p.index], r, hit.t, hit.part, uv);
+            break;
+        case ShapeKind::Cone:
+            sp = surface_at(set.cones[p.index], r, hit.t, hit.part, uv);
+            break;
+        case ShapeKind::Triangle:
+            sp = surface_at(set.triangles[p.index], set.triangle_attribs[p.index], r, hit.t, uv,
+                            set.tri_origin);
+            break;
+    }
+    // Shape frame -> set frame -> world: points by M, normals by (A^-1)^T (spec §4.1). The error
+    // bound grows by |A| applied to the local bound plus the rounding of the transform itself
+    // (pbrt-v4's Transform error bounds, Pharr, Jakob, Humphreys, 4th ed. §6.8.6), plus the image
+    // under |A| of the rounding that mapping a spawned ray's origin back through M^-1 adds in the
+    // local frame: under extreme non-uniform scale (1e-4 on one axis, a translation of 100) that
+    // term dominates, and without it a spawned ray re-hit its own cone.
+    auto apply = [](const Transform& xf, SurfacePoint& s) {
+        const Mat3 a(xf.m), inv(xf.inv);
+        Mat3 abs_a, abs_inv;
+        for (int c = 0; c < 3; ++c) abs_a[c] = glm::abs(a[c]), abs_inv[c] = glm::abs(inv[c]);
+        const Vec3 p_new = xf.point(s.p);
+        const Vec3 back_err =
+            gamma(3) * (abs_inv * glm::abs(p_new) + glm::abs(Vec3(xf.inv[3])) + s.p_error);
+        s.p_error = abs_a * (s.p_error + back_err) +
+                    gamma(3) * (abs_a * glm::abs(s.p) + glm::abs(Vec3(xf.m[3])));
+        s.p = p_new;
+        s.n_geometric = glm::normalize(xf.normal_dir(s.n_geometric));
+        s.n_shading = glm::normalize(xf.normal_dir(s.n_shading));
+    };
+    if constexpr (kXf) {
+        if (shape_xf) apply(*shape_xf, sp);
+        if (!inst.identity) apply(inst.world_from_set, sp);
+    }
+
+    SurfaceInteraction si;
+    si.p = sp.p;
+    si.p_error = sp.p_error;
+    si.n_geometric = sp.n_geometric;
+    si.n_shading = sp.n_shading;
+    si.uv = sp.uv;
+    si.material = p.material;
+    return si;
+}
+
+template <uint32_t... V>
+constexpr std::array<GeometryQueries, sizeof...(V)> query_table(
+    std::integer_sequence<uint32_t, V...>) {
+    return {
+        GeometryQueries{&closest_hit<V>, &any_hit<V>, &transmitted<V>, &surface_interaction<V>}...};
+}
+
+// Every geometry variant, indexed by its GeomFeature bits.
+constexpr auto kQueries = query_table(std::make_integer_sequence<uint32_t, kGeomVariants>{});
+
+// No shapes: nothing is hit, nothing occludes, everything is transmitted.
+constexpr GeometryQueries kEmptyQueries{
+    [](const RenderScene&, const Ray&, Interval, Hit*) { return false; },
+    [](const RenderScene&, const Ray&, double) { return false; },
+    [](const RenderScene&, const Ray&, double) { return Vec3(1.0); },
+    &surface_interaction<kGeomGeneric>};  // never called: nothing is hit
+
+}  // namespace
+
+const GeometryQueries& geometry_queries(uint32_t variant) {
+    if (variant == kGeomEmpty) return kEmptyQueries;
+    return kQueries[variant < kGeomVariants ? variant : kGeomGeneric];
+}
+
+bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
+    return geometry_queries(scene.geometry.variant).intersect(scene, ray, t, hit);
+}
+
+bool occluded(const RenderScene& scene, const Ray& ray, double t_max) {
+    return geometry_queries(scene.geometry.variant).occluded(scene, ray, t_max);
+}
+
+Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max) {
+    return geometry_queries(scene.geometry.variant).transmittance(scene, ray, t_max);
+}
+
+bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
+    double best = t.hi;
+    bool found = false;
+    for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
+        const Instance& inst = scene.instances[ii];
+        const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
+        const Ray r = to_set<true>(inst, ray);
+        const TriRay tri({r.o - set.tri_origin, r.d});
+        for (uint32_t pi = 0; pi < set.prims.size(); ++pi) {
+            const ShapeHits h =
+                prim_hits<SetLayout::Mixed, true>(set, set.prims[pi], r, &tri, {t.lo, best});
+            if (h.count > 0) {
+                best = h.t[0];
+                *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0]};
+                found = true;
+            }
+        }
+    }
+    return found;
+}
+
+ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
+                              Interval t) {
+    const TriRay tri({ray_set.o - set.tri_origin, ray_set.d});
+    return prim_hits<SetLayout::Mixed, true>(set, set.prims[prim], ray_set, &tri, t);
+}
+
+SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit, bool uv) {
+    return geometry_queries(scene.geometry.variant).interaction(scene, ray, hit, uv);
+}
+
+Vec3 offset_origin(const SurfaceInteraction& si, const Vec3& dir) {
+    const Vec3 n = si.n_geometric;
+    // Spec §7.5: the origin moves along n_g by a bound on the point's floating-point error, not by
+    // a fixed epsilon: pbrt-v4's OffsetRayOrigin (Pharr, Jakob, Humphreys, "Physically Based
+    // Rendering", 4th ed., §6.8.6), the error-bound form of the offset that Wächter and Binder
+    // ("A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6) derive
+    // from the float grid. Distance along n that moves the point outside its error box:
+    const double d = glm::dot(glm::abs(n), si.p_error);
+    Vec3 offset = d * n;
+    if (glm::dot(dir, n) < 0) offset = -offset;
+    Vec3 po = si.p + offset;
+    // Round away from the surface so the offset point is not rounded back onto it.
+    for (int i = 0; i < 3; ++i) {
+        if (offset[i] > 0)
+            po[i] = std::nextafter(po[i], kInf);
+        else if (offset[i] < 0)
+            po[i] = std::nextafter(po[i], -kInf);
+    }
+    return po;
+}
+
+Ray spawn_ray(const SurfaceInteraction& si, const Vec3& dir) {
+    return {offset_origin(si, dir), dir};
+}
+
+}  // namespace rt

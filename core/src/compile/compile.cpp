@@ -1,0 +1,439 @@
+// compile_scene(): the SceneDesc's files become GeometrySets (groups flattened into the file's
+// frame, one copy per file however often it is instanced), instances are flattened into a list
+// of (set, world transform), and the BVHs are built: one per set and one over the instances.
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+#include "rt/compile/render_scene.h"
+#include "rt/render/features.h"
+
+namespace rt {
+
+namespace {
+
+// Geometry must stay within +-1e300 in every frame: beyond that, centroids, extents and areas
+// overflow in the BVH build and the traversal. A shape or instance past it is an error at its
+// directive (scenes/README.md).
+constexpr double kMaxCoordinate = 1e300;
+
+bool within_limits(const Bounds3& b) {
+    for (int a = 0; a < 3; ++a)
+        if (!(std::abs(b.lo[a]) <= kMaxCoordinate && std::abs(b.hi[a]) <= kMaxCoordinate))
+            return false;  // also NaN
+    return true;
+}
+
+// Tight world bounds of one primitive of a set placed by world_from_set (for the default camera).
+Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
+    if (p.kind == ShapeKind::Triangle) {
+        const Triangle& t = set.triangles[p.index];
+        Bounds3 b;
+        for (const Vec3& v : {t.p0, t.p1, t.p2})
+            b.extend(Vec3(world_from_set * glm::dvec4(v, 1.0)));
+        return b;
+    }
+    const Mat4 m = p.transform < 0
+                       ? world_from_set
+                       : world_from_set * set.transforms[static_cast<size_t>(p.transform)].m;
+    switch (p.kind) {
+        case ShapeKind::Sphere:
+            return bounds(set.spheres[p.index], m);
+        case ShapeKind::Box:
+            return bounds(set.boxes[p.index], m);
+        case ShapeKind::Cylinder:
+            return bounds(set.cylinders[p.index], m);
+        case ShapeKind::Cone:
+            return bounds(set.cones[p.index], m);
+        case ShapeKind::Triangle:
+            break;
+    }
+    return {};
+}
+
+class Compiler {
+public:
+    explicit Compiler(const SceneDesc& desc) : m_desc(desc) {}
+
+    RenderScene run() {
+        m_scene.dialect = m_desc.dialect;
+        m_scene.camera = m_desc.camera;
+        m_scene.background = m_desc.background;
+        m_scene.ambient = m_desc.ambient;
+        for (const LightDesc& l : m_desc.lights) m_scene.lights.push_back(compile_light(l));
+        compile_materials();
+        m_set_of_file.assign(m_desc.files.size(), -2);  // -2: not compiled yet
+        if (!m_desc.files.empty()) place(0, Mat4(1.0), SourceLoc{});
+        build_acceleration();
+        fill_stats();
+        m_scene.geometry = read_geometry(m_scene);
+        return std::move(m_scene);
+    }
+
+private:
+    void compile_materials() {
+        // Global arrays with per-file offsets; the V0 default material goes last.
+        for (const FileDesc& f : m_desc.files) {
+            m_texture_offset.push_back(static_cast<int>(m_scene.textures.size()));
+            for (const TextureDesc& t : f.textures) m_scene.textures.push_back(t.image);
+            m_material_offset.push_back(static_cast<int>(m_scene.materials.size()));
+            for (const MaterialDesc& md : f.materials) {
+                Material m = to_material(md);
+                if (md.texture >= 0) m.texture = m_texture_offset.back() + md.texture;
+                m_scene.materials.push_back(m);
+            }
+        }
+        m_default_material = static_cast<int>(m_scene.materials.size());
+        m_scene.materials.push_back(to_material(v0_default_material()));
+    }
+
+    static Material to_material(const MaterialDesc& d) {
+        Material m;
+        m.emissive = d.emissive;
+        m.ambient = d.ambient;
+        m.diffuse = d.diffuse;
+        m.specular = d.specular;
+        m.specular_exponent = d.specular_exponent;
+        m.transparent = d.transparent;
+        m.refractive_index = d.refractive_index;
+        return m;
+    }
+
+    // Places file `fi` in the world: compiles its set once, adds an instance for its own
+    // shapes, and recurses into the files it instances.
+    // `at` is the #ray_file_instance that placed it (none for the top file).
+    void place(size_t fi, const Mat4& world_from_file, const SourceLoc& at) {
+        const int set = set_for(fi);
+        if (set >= 0) {
+            Instance inst;
+            inst.set = set;
+            inst.world_from_set = Transform::from_matrix(world_from_file);
+            inst.identity = inst.world_from_set.is_identity();
+            if (!inst.identity && !within_limits(inst.world_from_set.apply(
+                                      m_scene.sets[static_cast<size_t>(set)].bvh.root_bounds)))
+                throw SceneError(at,
+                                 "instance reaches beyond +-1e300 in the world (coordinates "
+                                 "too large for the renderer)");
+            m_scene.instances.push_back(inst);
+        }
+        place_instances(m_desc.files[fi], m_desc.files[fi].root, world_from_file);
+    }
+
+    // A group and the matrix of its parent's frame: the walks of the group tree keep their own
+    // stack (groups nest up to 10000 deep), in the order of a recursive pre-order walk.
+    struct GroupVisit {
+        const GroupDesc* group;
+        Mat4 parent;
+    };
+    static void push_children(std::vector<GroupVisit>& todo, const GroupDesc& g, const Mat4& m) {
+        for (auto it = g.groups.rbegin(); it != g.groups.rend(); ++it) todo.push_back({&*it, m});
+    }
+
+    void place_instances(const FileDesc& f, const GroupDesc& root, const Mat4& world_from_root) {
+        std::vector<GroupVisit> todo = {{&root, world_from_root}};
+        while (!todo.empty()) {
+            const GroupVisit v = todo.back();
+            todo.pop_back();
+            const Mat4 m = v.parent * v.group->matrix;
+            for (const InstanceDesc& in : v.group->instances)
+                place(static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]), m,
+                      in.loc);
+            push_children(todo, *v.group, m);
+        }
+    }
+
+    // One shape waiting for its place in the set: its description and its group's transform.
+    struct Pending {
+        const ShapeDesc* shape;
+        int transform;  // index into the set's transforms, -1: identity
+        bool mirror;    // the transform flips orientation
+    };
+
+    // Compiles file `fi` into a set in two passes: the shapes' bounds first, then the BVH over
+    // them, then the primitives written straight in the BVH's leaf order, so a leaf reads its
+    // primitives from consecutive memory and no array is copied twice.
+    int set_for(size_t fi) {
+        if (m_set_of_file[fi] != -2) return m_set_of_file[fi];
+        GeometrySet set;
+        set.name = m_desc.files[fi].path;
+        std::vector<Pending> pending;
+        pending.reserve(count_shapes(m_desc.files[fi].root));
+        collect(set, m_desc.files[fi].root, Mat4(1.0), pending);
+        if (pending.empty()) {
+            m_set_of_file[fi] = -1;
+            return -1;
+        }
+        std::vector<Bounds3> bounds;
+        bounds.reserve(pending.size());
+        for (const Pending& p : pending) {
+            bounds.push_back(shape_bounds(set, fi, p));
+            if (!within_limits(bounds.back()))
+                throw SceneError(p.shape->loc,
+                                 "shape reaches beyond +-1e300 in its file's frame "
+                                 "(coordinates too large for the renderer)");
+        }
+
+        // Analytic shapes cost several box tests each (a cone's robust test is ~200
+        // instructions, a 4-wide node test ~40): sets without triangles get one shape per leaf,
+        // so the node test culls each shape by its own box. Triangles are tested four at a time.
+        set.layout = layout_of(pending);
+        const bool analytic = set.layout != SetLayout::Triangles && set.layout != SetLayout::Mixed;
+        const auto t0 = std::chrono::steady_clock::now();
+        set.bvh = build_bvh(bounds, analytic ? BvhBuildSettings{1, 16} : BvhBuildSettings{});
+        m_scene.stats.build_seconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+        set.prims.reserve(pending.size());
+        set.prim_bounds.reserve(pending.size());
+        for (uint32_t old : set.bvh.indices) {
+            add_shape(set, fi, pending[old]);
+            set.prim_bounds.push_back(bounds[old]);
+        }
+        std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
+        pack_triangles(set);
+        m_set_of_file[fi] = static_cast<int>(m_scene.sets.size());
+        m_scene.sets.push_back(std::move(set));
+        return m_set_of_file[fi];
+    }
+
+    // The one kind a set holds gets a walk of its own; triangles-only sets get packed leaves.
+    static SetLayout layout_of(const std::vector<Pending>& pending) {
+        static_assert(
+            std::is_same_v<std::variant_alternative_t<0, decltype(ShapeDesc::geometry)>,
+                           SphereDesc> &&
+                std::is_same_v<std::variant_alternative_t<4, decltype(ShapeDesc::geometry)>,
+                               TriangleDesc>,
+            "ShapeDesc::geometry lists the kinds in ShapeKind's order");
+        std::array<size_t, 5> count{};
+        for (const Pending& p : pending) ++count[p.shape->geometry.index()];
+        constexpr SetLayout kOneKind[5] = {SetLayout::Spheres, SetLayout::Boxes,
+                                           SetLayout::Cylinders, SetLayout::Cones,
+                                           SetLayout::Triangles};
+        for (size_t k = 0; k < 5; ++k)
+            if (count[k] == pending.size()) return kOneKind[k];
+        return count[4] == 0 ? SetLayout::Analytic : SetLayout::Mixed;
+    }
+
+    // Single-precision copies of the triangles, four per block (unused lanes zero), relative to
+    // the centre of their bounds: float then resolves a mesh to its own size, not to its
+    // distance from the origin (a mesh at 1e4 would otherwise snap to a grid of 1e-3).
+    static void pack_triangles(GeometrySet& set) {
+        Bounds3 b;
+        for (const Triangle& t : set.triangles)
+            for (const Vec3& v : {t.p0, t.p1, t.p2}) b.extend(v);
+        set.tri_origin = b.empty() ? Vec3(0.0) : b.centre();
+        set.tri4.assign((set.triangles.size() + 3) / 4, Tri4{});
+        for (size_t i = 0; i < set.triangles.size(); ++i) {
+            const Triangle& t = set.triangles[i];
+            const Vec3* v[3] = {&t.p0, &t.p1, &t.p2};
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 3; ++a)
+                    set.tri4[i / 4].p[k][a][i % 4] =
+                        static_cast<float>((*v[k])[a] - set.tri_origin[a]);
+        }
+    }
+
+    static size_t count_shapes(const GroupDesc& root) {
+        size_t n = 0;
+        std::vector<const GroupDesc*> todo = {&root};
+        while (!todo.empty()) {
+            const GroupDesc* g = todo.back();
+            todo.pop_back();
+            n += g->shapes.size();
+            for (const GroupDesc& c : g->groups) todo.push_back(&c);
+        }
+        return n;
+    }
+
+    // Flattens the group tree: one cached transform per group with shapes (none when identity).
+    void collect(GeometrySet& set, const GroupDesc& root, const Mat4& parent,
+                 std::vector<Pending>& pending) {
+        std::vector<GroupVisit> todo = {{&root, parent}};
+        while (!todo.empty()) {
+            const GroupVisit v = todo.back();
+            todo.pop_back();
+            const GroupDesc& g = *v.group;
+            const Mat4 m = v.parent * g.matrix;
+            if (!g.shapes.empty()) {
+                int xf = -1;
+                if (m != Mat4(1.0)) {
+                    xf = static_cast<int>(set.transforms.size());
+                    set.transforms.push_back(Transform::from_matrix(m));
+                }
+                const bool mirror = glm::determinant(Mat3(m)) < 0;
+                for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror});
+            }
+            push_children(todo, g, m);
+        }
+    }
+
+    // The triangle's vertices in the set's frame; a mirroring transform swaps the last two so
+    // the geometric normal stays (A^-1)^T times the local one (spec §4.1), as refraction needs.
+    static std::array<const VertexDesc*, 3> triangle_vertices(const FileDesc& f,
+                                                              const TriangleDesc& t, bool mirror) {
+        std::array<const VertexDesc*, 3> v{};
+        for (int i = 0; i < 3; ++i)
+            v[static_cast<size_t>(i)] = &f.vertices[static_cast<size_t>(t.v[i])];
+        if (mirror) std::swap(v[1], v[2]);
+        return v;
+    }
+
+    Bounds3 shape_bounds(const GeometrySet& set, size_t fi, const Pending& p) const {
+        const Transform* xf =
+            p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
+        const ShapeDesc& s = *p.shape;
+        if (const auto* td = std::get_if<TriangleDesc>(&s.geometry)) {
+            Bounds3 b;
+            for (const VertexDesc* v : triangle_vertices(m_desc.files[fi], *td, p.mirror))
+                b.extend(xf ? xf->point(v->position) : v->position);
+            return b;
+        }
+        // Analytic shapes: exact bounds under the group's transform, widened by its rounding.
+        auto tight = [&](const auto& shape) {
+            return xf ? bounds(shape, xf->m).widened() : bounds(shape);
+        };
+        if (const auto* sp = std::get_if<SphereDesc>(&s.geometry))
+            return tight(Sphere{sp->centre, sp->radius});
+        if (const auto* bx = std::get_if<BoxDesc>(&s.geometry))
+            return tight(Box{bx->centre, 0.5 * bx->size});
+        if (const auto* cy = std::get_if<CylinderDesc>(&s.geometry))
+            return tight(Cylinder{cy->centre, cy->radius, cy->height});
+        const auto& co = std::get<ConeDesc>(s.geometry);
+        return tight(Cone{co.centre, co.radius, co.height});
+    }
+
+    void add_shape(GeometrySet& set, size_t fi, const Pending& pend) {
+        const ShapeDesc& s = *pend.shape;
+        Primitive p;
+        p.material = s.material < 0 ? m_default_material : m_material_offset[fi] + s.material;
+        p.transform = pend.transform;
+        if (const auto* sp = std::get_if<SphereDesc>(&s.geometry)) {
+            p.kind = ShapeKind::Sphere;
+            p.index = static_cast<uint32_t>(set.spheres.size());
+            set.spheres.push_back({sp->centre, sp->radius});
+        } else if (const auto* bx = std::get_if<BoxDesc>(&s.geometry)) {
+            p.kind = ShapeKind::Box;
+            p.index = static_cast<uint32_t>(set.boxes.size());
+            set.boxes.push_back({bx->centre, 0.5 * bx->size});
+        } else if (const auto* cy = std::get_if<CylinderDesc>(&s.geometry)) {
+            p.kind = ShapeKind::Cylinder;
+            p.index = static_cast<uint32_t>(set.cylinders.size());
+            set.cylinders.push_back({cy->centre, cy->radius, cy->height});
+        } else if (const auto* co = std::get_if<ConeDesc>(&s.geometry)) {
+            p.kind = ShapeKind::Cone;
+            p.index = static_cast<uint32_t>(set.cones.size());
+            set.cones.push_back({co->centre, co->radius, co->height});
+        } else {
+            // Triangles are flattened into the set's frame: no per-primitive transform.
+            const Transform* xf =
+                pend.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(pend.transform)];
+            const auto v = triangle_vertices(m_desc.files[fi], std::get<TriangleDesc>(s.geometry),
+                                             pend.mirror);
+            p.kind = ShapeKind::Triangle;
+            p.index = static_cast<uint32_t>(set.triangles.size());
+            p.transform = -1;
+            Triangle tri{v[0]->position, v[1]->position, v[2]->position};
+            if (xf) tri = {xf->point(tri.p0), xf->point(tri.p1), xf->point(tri.p2)};
+            TriangleAttribs attr;
+            attr.has_normals = true;
+            for (size_t i = 0; i < 3; ++i) {
+                attr.uv[i] = v[i]->uv;
+                const Vec3 n = v[i]->normal;
+                if (n == Vec3(0.0))
+                    attr.has_normals = false;
+                else
+                    attr.n[i] = xf ? glm::normalize(xf->normal_dir(n)) : n;
+            }
+            set.triangles.push_back(tri);
+            set.triangle_attribs.push_back(attr);
+        }
+        set.prims.push_back(p);
+    }
+
+    void build_acceleration() {
+        std::vector<Bounds3> inst_bounds;
+        for (Instance& inst : m_scene.instances) {
+            const Bounds3 b = m_scene.sets[static_cast<size_t>(inst.set)].bvh.root_bounds;
+            inst.world_bounds = inst.identity ? b : inst.world_from_set.apply(b);
+            inst_bounds.push_back(inst.world_bounds);
+            if (m_scene.camera) {
+                m_scene.world_bounds.extend(inst.world_bounds);
+                continue;
+            }
+            // No camera: the default camera needs the tight world bounding box (spec §6.3).
+            const GeometrySet& set = m_scene.sets[static_cast<size_t>(inst.set)];
+            for (const Primitive& p : set.prims)
+                m_scene.world_bounds.extend(world_bounds_of(set, p, inst.world_from_set.m));
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        m_scene.top = build_bvh(inst_bounds, {1, 16});
+        // Instances in the top BVH's leaf order, as for the sets' primitives.
+        std::vector<Instance> ordered;
+        ordered.reserve(m_scene.instances.size());
+        for (uint32_t i : m_scene.top.indices) ordered.push_back(m_scene.instances[i]);
+        m_scene.instances = std::move(ordered);
+        std::iota(m_scene.top.indices.begin(), m_scene.top.indices.end(), 0u);
+        m_scene.stats.build_seconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+
+    void fill_stats() {
+        SceneStats& s = m_scene.stats;
+        s.files = m_desc.files.size();
+        s.instances = m_scene.instances.size();
+        s.lights = m_scene.lights.size();
+        s.materials = m_scene.materials.size() - 1;  // without the built-in default
+        s.textures = m_scene.textures.size();
+        for (const GeometrySet& set : m_scene.sets) s.unique_prims += set.prims.size();
+        std::vector<size_t> uses(m_scene.sets.size(), 0);
+        for (const Instance& inst : m_scene.instances) ++uses[static_cast<size_t>(inst.set)];
+        for (size_t i = 0; i < m_scene.sets.size(); ++i)
+            for (const Primitive& p : m_scene.sets[i].prims)
+                s.prims_by_kind[static_cast<int>(p.kind)] += uses[i];
+        s.skipped_shapes = m_desc.skipped_shapes;
+    }
+
+    const SceneDesc& m_desc;
+    RenderScene m_scene;
+    std::vector<int> m_set_of_file;
+    std::vector<int> m_texture_offset, m_material_offset;
+    int m_default_material = 0;
+};
+
+}  // namespace
+
+Light compile_light(const LightDesc& d) {
+    Light l;
+    l.kind = d.kind;
+    l.color = d.color;
+    l.position = d.position;
+    if (d.kind != LightKind::Point) l.direction = glm::normalize(d.direction);
+    l.constant_atten = d.constant_atten;
+    l.linear_atten = d.linear_atten;
+    l.quadratic_atten = d.quadratic_atten;
+    l.cutoff_rad = d.cutoff_rad;
+    l.spot_exponent = d.spot_exponent;
+    return l;
+}
+
+LightDesc describe_light(const Light& l) {
+    LightDesc d;
+    d.kind = l.kind;
+    d.color = l.color;
+    d.position = l.position;
+    d.direction = l.direction;
+    d.constant_atten = l.constant_atten;
+    d.linear_atten = l.linear_atten;
+    d.quadratic_atten = l.quadratic_atten;
+    d.cutoff_rad = l.cutoff_rad;
+    d.spot_exponent = l.spot_exponent;
+    return d;
+}
+
+RenderScene compile_scene(const SceneDesc& desc) { return Compiler(desc).run(); }
+
+}  // namespace rt

@@ -1,0 +1,55 @@
+// Tokenizer for .ray and .key files (spec §2): whitespace-separated tokens, // comments,
+// !...! strings, line/column tracking for LF, CRLF and CR. Streaming: no token list is built.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "rt/util/error.h"
+
+namespace rt {
+
+enum class TokenKind { Directive, Word, String, End };
+
+struct Token {
+    TokenKind kind = TokenKind::End;
+    std::string_view text;
+    int line = 0;
+    int col = 0;
+};
+
+class Lexer {
+public:
+    /// `text` must outlive the lexer. `file` names the source in locations.
+    Lexer(std::string_view text, std::shared_ptr<const std::string> file);
+
+    /// The next token; throws SceneError for an unterminated !...! string.
+    Token next();
+    /// The next token without consuming it.
+    Token peek();
+
+    SourceLoc loc(const Token& t) const { return {m_file, t.line, t.col}; }
+    const std::shared_ptr<const std::string>& file() const { return m_file; }
+    /// Bytes not yet scanned (for bounding reservations by what the text can still hold).
+    size_t remaining() const { return m_text.size() - m_pos; }
+
+private:
+    void skip_space_and_comments();
+    Token scan();
+
+    std::string_view m_text;
+    std::shared_ptr<const std::string> m_file;
+    size_t m_pos = 0;
+    int m_line = 1;
+    int m_col = 1;
+    bool m_has_peek = false;
+    Token m_peek;
+};
+
+/// Parses a `real` token per spec §2. Returns false when the token is not of the grammar;
+/// sets *non_finite when it is nan/inf or overflows.
+bool parse_real(std::string_view s, double* out, bool* non_finite);
+/// Parses an `int` token per spec §2 (32-bit signed). *out_of_range is set when it overflows.
+bool parse_int(std::string_view s, int* out, bool* out_of_range);
+
+}  // namespace rt

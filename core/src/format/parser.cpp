@@ -1,0 +1,1071 @@
+// The .ray parser (spec §2-§4, §10). One Parser walks the whole file tree: each file is parsed
+// once per canonical path into a FileDesc; the dialect is fixed by the material number counts of
+// the whole tree, and the checks that depend on it run when the tree is complete.
+#include "rt/format/parser.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "format/lexer.h"
+#include "rt/util/file_io.h"
+
+namespace fs = std::filesystem;
+
+namespace rt {
+
+const char* dialect_name(Dialect d) { return d == Dialect::V0 ? "V0" : "V1"; }
+
+MaterialDesc v0_default_material() {
+    MaterialDesc m;
+    m.ambient = Vec3(0.2);
+    m.diffuse = Vec3(0.8);
+    m.specular = Vec3(0.8);
+    m.specular_exponent = kV0ExponentScale;  // kspec 1.0
+    m.name = "V0 default material";
+    return m;
+}
+
+namespace {
+
+// Length in bytes of the valid UTF-8 sequence at s[i] (0 when it is not one).
+size_t utf8_length(std::string_view s, size_t i) {
+    const auto b = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = b(i);
+    size_t n = 0;
+    if (c >= 0xC2 && c <= 0xDF)
+        n = 2;
+    else if (c >= 0xE0 && c <= 0xEF)
+        n = 3;
+    else if (c >= 0xF0 && c <= 0xF4)
+        n = 4;
+    if (n == 0 || i + n > s.size()) return 0;
+    for (size_t k = 1; k < n; ++k)
+        if ((b(i + k) & 0xC0) != 0x80) return 0;
+    // No overlong forms, surrogates or code points above U+10FFFF.
+    if ((c == 0xE0 && b(i + 1) < 0xA0) || (c == 0xED && b(i + 1) > 0x9F) ||
+        (c == 0xF0 && b(i + 1) < 0x90) || (c == 0xF4 && b(i + 1) > 0x8F))
+        return 0;
+    return n;
+}
+
+// A token or path in a message: quoted, control bytes and invalid UTF-8 written as \xNN, and
+// cut after 200 bytes (a 100 MB token makes a short message).
+std::string quote(std::string_view s) {
+    constexpr size_t kMax = 200;
+    static constexpr char kHex[] = "0123456789abcdef";
+    std::string r = "'";
+    size_t i = 0;
+    while (i < s.size() && i < kMax) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        const size_t n = c >= 0x80 ? utf8_length(s, i) : (c < 0x20 || c == 0x7F ? 0 : 1);
+        if (n == 0) {
+            r += "\\x";
+            r += kHex[c >> 4];
+            r += kHex[c & 15];
+            ++i;
+        } else {
+            r.append(s.substr(i, n));
+            i += n;
+        }
+    }
+    r += '\'';
+    if (i < s.size()) {
+        r += "... (";
+        r += std::to_string(s.size());
+        r += " bytes)";
+    }
+    return r;
+}
+
+std::string describe(const Token& t) {
+    return t.kind == TokenKind::End ? std::string("end of file") : quote(t.text);
+}
+
+// Directives that exist only in the planned V3 dialect (spec §10 step 1).
+bool is_v3_directive(std::string_view d) {
+    static constexpr std::array<std::string_view, 11> names = {"#static_affine",
+                                                               "#dynamic_affine",
+                                                               "#shape_list_begin",
+                                                               "#shape_list_end",
+                                                               "#shape_triangles",
+                                                               "#shape_torus",
+                                                               "#shape_union",
+                                                               "#shape_intersection",
+                                                               "#shape_difference",
+                                                               "#light_sphere",
+                                                               "#shader"};
+    for (std::string_view n : names)
+        if (n == d) return true;
+    return false;
+}
+
+// Filesystem queries that never throw (a path too long or otherwise invalid is "not there").
+bool is_file(const fs::path& p) {
+    std::error_code ec;
+    return fs::is_regular_file(p, ec);
+}
+
+std::string canonical_path(const std::string& path) {
+    std::error_code ec;
+    const fs::path a = fs::absolute(path, ec);
+    if (ec) return path;
+    const fs::path c = fs::weakly_canonical(a, ec);
+    return ec ? a.lexically_normal().string() : c.string();
+}
+
+std::string lower(std::string_view s) {
+    std::string r(s);
+    for (char& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return r;
+}
+
+// Limits of this reader (scenes/README.md): they keep the recursion of every consumer of the
+// group tree and the file tree shallow, and memory bounded by the size of the input.
+constexpr int kMaxGroupDepth = 10000;          // nested #group_begin/#joint_begin in one file
+constexpr int kMaxIncludeDepth = 200;          // nested #ray_file includes
+constexpr long long kMaxPlacements = 1 << 20;  // file copies placed in the world by instancing
+
+// Items a #*_num count may declare.
+enum CountKind { kLights, kTextures, kMaterials, kVertices, kRayFiles, kKeyFiles, kCountKinds };
+constexpr std::array<const char*, kCountKinds> kCountDirective = {
+    "#light_num", "#texture_num", "#material_num", "#vertex_num", "#ray_file_num", "#key_file_num"};
+constexpr std::array<const char*, kCountKinds> kItemDirective = {
+    "light", "#texture", "#material", "#vertex", "#ray_file", "#key_file"};
+
+struct Count {
+    bool declared = false;
+    int declared_n = 0;
+    SourceLoc loc;
+    int found = 0;
+};
+
+struct KeyFile {
+    std::string path;
+    std::map<std::string, Mat4> frame0;  // lower-case DOF name -> matrix
+};
+
+// Per-file parse state.
+struct FileState {
+    Lexer lex;
+    FileDesc desc;
+    bool top = false;
+    bool graph_started = false;
+    std::array<Count, kCountKinds> counts{};
+    std::vector<KeyFile> key_files;
+    std::vector<GroupDesc*> stack;  // open groups; stack[0] = &desc.root
+    std::vector<char> stack_is_joint;
+    bool warned_joint_identity = false;
+    std::string dir;  // directory of this file, for relative paths
+    struct TextureRef {
+        SourceLoc loc;
+        int index;
+    };
+    std::vector<TextureRef> texture_refs;  // material texture indices, checked at end of file
+
+    FileState(std::string_view text, std::shared_ptr<const std::string> name)
+        : lex(text, std::move(name)) {}
+};
+
+class Parser {
+public:
+    Parser(Diagnostics& diag, const ParseOptions& options) : m_diag(diag), m_options(options) {}
+
+    SceneDesc run(const std::string& text, const std::string& name, const std::string& dir) {
+        const std::string canonical = canonical_path(name);
+        detect_dialect(text, name, canonical, dir);
+        m_scene.files.emplace_back();
+        parse_file(text, name, canonical, dir, 0);
+        finish();
+        return std::move(m_scene);
+    }
+
+    SceneDesc run_file(const std::string& path) {
+        std::string text;
+        if (!read_file(path, &text)) {
+            SourceLoc loc{std::make_shared<const std::string>(path), 0, 0};
+            throw SceneError(loc, "cannot open scene file '" + path + "'");
+        }
+        const std::string dir = fs::path(path).parent_path().string();
+        return run(text, path, dir.empty() ? "." : dir);
+    }
+
+private:
+    // ---- errors --------------------------------------------------------------------------
+    [[noreturn]] void fail(const SourceLoc& loc, const std::string& message) const {
+        std::vector<SourceLoc> chain(m_include_locs.rbegin(), m_include_locs.rend());
+        throw SceneError(loc, message, std::move(chain));
+    }
+    [[noreturn]] void fail(const FileState& fs_, const Token& t, const std::string& message) const {
+        fail(fs_.lex.loc(t), message);
+    }
+
+    // ---- token helpers -------------------------------------------------------------------
+    // Missing arguments point at the directive; a bad token points at itself (spec §2).
+    SourceLoc arg_loc(FileState& f, const Token& dir, const Token& bad) const {
+        return (bad.kind == TokenKind::End || bad.kind == TokenKind::Directive) ? f.lex.loc(dir)
+                                                                                : f.lex.loc(bad);
+    }
+
+    double real(FileState& f, const Token& dir, int count) {
+        const Token t = f.lex.next();
+        double v = 0.0;
+        bool non_finite = false;
+        if (t.kind == TokenKind::Word && parse_real(t.text, &v, &non_finite)) return v;
+        if (non_finite) fail(f, t, "non-finite number " + quote(t.text));
+        fail(arg_loc(f, dir, t), "expected " + std::to_string(count) +
+                                     (count == 1 ? " number" : " numbers") + " after " +
+                                     std::string(dir.text) + ", got " + describe(t));
+    }
+
+    Vec3 vec3(FileState& f, const Token& dir, int count) {
+        Vec3 v;
+        for (int i = 0; i < 3; ++i) v[i] = real(f, dir, count);
+        return v;
+    }
+
+    int integer(FileState& f, const Token& dir, std::string_view what, SourceLoc* loc = nullptr) {
+        const Token t = f.lex.next();
+        int v = 0;
+        bool out_of_range = false;
+        if (loc) *loc = f.lex.loc(t);
+        if (t.kind == TokenKind::Word && parse_int(t.text, &v, &out_of_range)) return v;
+        if (out_of_range) fail(f, t, "integer " + quote(t.text) + " out of range");
+        fail(arg_loc(f, dir, t),
+             "expected an integer (" + std::string(what) + "), got " + describe(t));
+    }
+
+    std::string word(FileState& f, const Token& dir, std::string_view what, bool ascii = false) {
+        const Token t = f.lex.next();
+        if (t.kind == TokenKind::Word) {
+            // Spec §2: non-ASCII bytes only in comments, strings and paths.
+            if (ascii)
+                for (char c : t.text)
+                    if (static_cast<unsigned char>(c) >= 0x80)
+                        fail(f, t, "non-ASCII byte in " + std::string(what) + " " + quote(t.text));
+            return std::string(t.text);
+        }
+        fail(arg_loc(f, dir, t), "expected " + std::string(what) + " after " +
+                                     std::string(dir.text) + ", got " + describe(t));
+    }
+
+    Vec3 colour(FileState& f, const Token& dir, int count, std::string_view what) {
+        Vec3 c;
+        for (int i = 0; i < 3; ++i) {
+            const Token t = f.lex.peek();
+            c[i] = real(f, dir, count);
+            if (c[i] < 0) fail(f, t, "negative " + std::string(what) + " " + fmt(c[i]));
+        }
+        return c;
+    }
+
+    static std::string fmt(double v) {
+        std::ostringstream ss;
+        ss << v;
+        return ss.str();
+    }
+    static std::string fmt(const Vec3& v) { return fmt(v.x) + " " + fmt(v.y) + " " + fmt(v.z); }
+
+    // ---- counts --------------------------------------------------------------------------
+    void declare_count(FileState& f, const Token& dir, CountKind k) {
+        SourceLoc loc;
+        const int n = integer(f, dir, "count", &loc);
+        Count& c = f.counts[k];
+        if (c.declared)
+            fail(f, dir,
+                 "second " + std::string(kCountDirective[k]) + " (first at " + c.loc.str() + ")");
+        if (c.found > 0)
+            fail(f, dir, std::string(kCountDirective[k]) + " after the first " + kItemDirective[k]);
+        if (n < 0) fail(loc, "negative count " + std::to_string(n));
+        c.declared = true;
+        c.declared_n = n;
+        c.loc = f.lex.loc(dir);
+        // Reserve no more than the rest of the text can hold (a #vertex takes >= 24 bytes), so a
+        // huge count cannot allocate before the file runs out.
+        if (k == kVertices)
+            f.desc.vertices.reserve(std::min(static_cast<size_t>(n), f.lex.remaining() / 24));
+    }
+
+    void count_item(FileState& f, const Token& dir, CountKind k) {
+        Count& c = f.counts[k];
+        ++c.found;
+        if (c.declared && c.found > c.declared_n)
+            fail(f, dir,
+                 "more " + std::string(k == kLights ? "lights" : kItemDirective[k]) +
+                     " than declared by " + kCountDirective[k] + " at " + c.loc.str());
+    }
+
+    // ---- paths ---------------------------------------------------------------------------
+    // Spec §4.2: relative to the naming file's directory, then the working directory.
+    std::string resolve(FileState& f, const Token& at, const std::string& path,
+                        const std::string& what) {
+        const fs::path p(path);
+        if (p.is_absolute()) {
+            if (is_file(p)) return path;
+            fail(f, at, "cannot open " + what + " " + quote(path));
+        }
+        const fs::path a = fs::path(f.dir) / p;
+        if (is_file(a)) return a.lexically_normal().string();
+        const fs::path b = fs::path(".") / p;
+        if (is_file(b)) return b.lexically_normal().string();
+        const std::string tried = a.lexically_normal() == b.lexically_normal()
+                                      ? a.string()
+                                      : a.string() + ", " + b.string();
+        fail(f, at, "cannot open " + what + " " + quote(path) + " (tried " + tried + ")");
+    }
+
+    // ---- the file loop -------------------------------------------------------------------
+    // ---- dialect detection (spec §10): a pre-scan of the whole tree, before any material is
+    // interpreted. It follows the #ray_file paths it can resolve; the parse reports the others.
+    static std::optional<std::string> find_file(const std::string& dir, const std::string& path) {
+        const fs::path p(path);
+        if (p.is_absolute()) return is_file(p) ? std::optional<std::string>(path) : std::nullopt;
+        for (const fs::path& c : {fs::path(dir) / p, fs::path(".") / p})
+            if (is_file(c)) return c.lexically_normal().string();
+        return std::nullopt;
+    }
+
+    void prescan(const std::string& text, const std::string& name, const std::string& canonical,
+                 const std::string& dir, std::vector<std::string>& visited) {
+        visited.push_back(canonical);
+        Lexer lex(text, std::make_shared<const std::string>(name));
+        for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next()) {
+            if (t.kind != TokenKind::Directive) continue;
+            if (is_v3_directive(t.text))
+                fail(lex.loc(t), quote(t.text) + " is V3 syntax; V3 scenes are not supported yet");
+            if (t.text == "#material") {
+                int n = 0;
+                bool numbers = true;
+                for (Token a = lex.peek(); a.kind == TokenKind::Word; a = lex.peek()) {
+                    lex.next();
+                    double v = 0;
+                    bool nf = false;
+                    numbers = numbers && parse_real(a.text, &v, &nf);
+                    ++n;
+                }
+                // A bad token or a missing string is reported by the parse at its place.
+                if (!numbers || (lex.peek().kind != TokenKind::String && (n == 16 || n == 18)))
+                    continue;
+                if (n != 16 && n != 18)
+                    fail(lex.loc(t),
+                         "#material needs 16 (V0) or 18 (V1) numbers before its "
+                         "!…! string, got " +
+                             std::to_string(n));
+                const Dialect d = n == 16 ? Dialect::V0 : Dialect::V1;
+                if (m_options.dialect && *m_options.dialect != d)
+                    fail(lex.loc(t),
+                         "#material has " + std::to_string(n) + " numbers, but --dialect " +
+                             (*m_options.dialect == Dialect::V0 ? "v0 needs 16" : "v1 needs 18"));
+                SourceLoc& first = d == Dialect::V0 ? m_first_v0 : m_first_v1;
+                if (!first.file) {
+                    first = lex.loc(t);
+                    const SourceLoc& other = d == Dialect::V0 ? m_first_v1 : m_first_v0;
+                    if (other.file)
+                        fail(first, "mixed dialects: V0 material at " + m_first_v0.str() +
+                                        ", V1 material at " + m_first_v1.str());
+                }
+            } else if (t.text.substr(0, 7) == "#shape_") {
+                if (lex.peek().text == "-1") m_default_use = true;
+            } else if (t.text == "#ray_file") {
+                const Token pt = lex.next();
+                if (pt.kind != TokenKind::Word) continue;
+                const auto resolved = find_file(dir, std::string(pt.text));
+                if (!resolved) continue;
+                const std::string canon = canonical_path(*resolved);
+                if (std::find(visited.begin(), visited.end(), canon) != visited.end()) continue;
+                // Too deep: the parse reports it at this directive.
+                if (m_include_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) continue;
+                const std::string* sub = cached_text(*resolved, canon);
+                if (!sub) continue;
+                const std::string sub_dir = fs::path(*resolved).parent_path().string();
+                m_include_locs.push_back(lex.loc(t));
+                prescan(*sub, *resolved, canon, sub_dir.empty() ? "." : sub_dir, visited);
+                m_include_locs.pop_back();
+            }
+        }
+    }
+
+    // Included files' texts by canonical path, read by the pre-scan and handed to the parse.
+    const std::string* cached_text(const std::string& path, const std::string& canonical) {
+        auto it = m_texts.find(canonical);
+        if (it != m_texts.end()) return &it->second;
+        std::string text;
+        if (!read_file(path, &text)) return nullptr;
+        return &m_texts.emplace(canonical, std::move(text)).first->second;
+    }
+
+    void detect_dialect(const std::string& text, const std::string& name,
+                        const std::string& canonical, const std::string& dir) {
+        std::vector<std::string> visited;
+        prescan(text, name, canonical, dir, visited);
+        if (m_options.dialect)
+            m_dialect = *m_options.dialect;
+        else if (m_first_v0.file)
+            m_dialect = Dialect::V0;
+        else if (m_first_v1.file)
+            m_dialect = Dialect::V1;
+        else
+            m_dialect = m_default_use ? Dialect::V0 : Dialect::V1;
+    }
+
+    void parse_file(const std::string& text, const std::string& name, const std::string& canonical,
+                    const std::string& dir, int index) {
+        auto file_name = std::make_shared<const std::string>(name);
+        m_open.push_back({canonical, name});
+
+        FileState f(text, file_name);
+        f.top = (index == 0);
+        f.dir = dir;
+        f.desc.path = name;
+        f.desc.canonical_path = canonical;
+        f.stack.push_back(&f.desc.root);
+        f.stack_is_joint.push_back(0);
+
+        for (Token t = f.lex.next(); t.kind != TokenKind::End; t = f.lex.next()) {
+            if (t.kind != TokenKind::Directive)
+                fail(f, t, "expected a directive, got " + quote(t.text));
+            directive(f, t);
+        }
+        end_of_file(f);
+        m_open.pop_back();
+        m_scene.files[static_cast<size_t>(index)] = std::move(f.desc);
+    }
+
+    void end_of_file(FileState& f) {
+        const Token end = f.lex.next();
+        const SourceLoc eof = f.lex.loc(end);
+        const int ntex = static_cast<int>(f.desc.textures.size());
+        for (const FileState::TextureRef& r : f.texture_refs)
+            if (r.index < -1 || r.index >= ntex)
+                fail(r.loc, "texture index " + std::to_string(r.index) + " out of range [-1," +
+                                std::to_string(ntex) + ")");
+        if (f.stack.size() > 1) {
+            const GroupDesc* g = f.stack.back();
+            fail(eof, std::string(f.stack_is_joint.back() ? "#joint_begin" : "#group_begin") +
+                          " at " + g->loc.str() + " is never closed");
+        }
+        for (int k = 0; k < kCountKinds; ++k) {
+            const Count& c = f.counts[static_cast<size_t>(k)];
+            if (c.declared && c.found < c.declared_n)
+                fail(eof, std::string(kCountDirective[static_cast<size_t>(k)]) + " at " +
+                              c.loc.str() + " declares " + std::to_string(c.declared_n) +
+                              ", found " + std::to_string(c.found));
+        }
+    }
+
+    void definition(FileState& f, const Token& dir) {
+        if (f.graph_started) fail(f, dir, "definition after the scene graph started");
+    }
+
+    void graph(FileState& f) { f.graph_started = true; }
+
+    void directive(FileState& f, const Token& d) {
+        const std::string_view n = d.text;
+        // The directives of large meshes first.
+        if (n == "#vertex") return vertex(f, d);
+        if (n == "#shape_triangle") return shape(f, d);
+        if (n == "#camera") return camera(f, d);
+        if (n == "#background" || n == "#ambient") return global_colour(f, d);
+        if (n == "#light_num") return definition(f, d), declare_count(f, d, kLights);
+        if (n == "#light_dir" || n == "#light_point" || n == "#light_spot") return light(f, d);
+        if (n == "#texture_num") return definition(f, d), declare_count(f, d, kTextures);
+        if (n == "#texture") return texture(f, d);
+        if (n == "#material_num") return definition(f, d), declare_count(f, d, kMaterials);
+        if (n == "#material") return material(f, d);
+        if (n == "#vertex_num") return definition(f, d), declare_count(f, d, kVertices);
+        if (n == "#ray_file_num") return definition(f, d), declare_count(f, d, kRayFiles);
+        if (n == "#ray_file") return ray_file(f, d);
+        if (n == "#key_file_num") return definition(f, d), declare_count(f, d, kKeyFiles);
+        if (n == "#key_file") return key_file(f, d);
+        if (n == "#group_begin") return group_begin(f, d);
+        if (n == "#group_end") return group_end(f, d, false);
+        if (n == "#joint_begin") return joint_begin(f, d);
+        if (n == "#joint_end") return group_end(f, d, true);
+        if (n == "#ray_file_instance") return instance(f, d);
+        if (n == "#shape_sphere" || n == "#shape_box" || n == "#shape_cylinder" ||
+            n == "#shape_cone" || n == "#shape_triangle")
+            return shape(f, d);
+        fail(f, d, "unknown directive " + quote(n));
+    }
+
+    // ---- definitions ---------------------------------------------------------------------
+    void camera(FileState& f, const Token& d) {
+        definition(f, d);
+        CameraDesc c;
+        c.loc = f.lex.loc(d);
+        c.position = vec3(f, d, 10);
+        c.direction = vec3(f, d, 10);
+        c.up = vec3(f, d, 10);
+        c.half_height_angle_rad = real(f, d, 10);
+        // Included files: syntax only, so the dummy all-zero cameras of sub-files pass (§3.1, §12).
+        if (!f.top) return;
+        if (glm::length(c.direction) == 0.0) fail(f, d, "camera view direction is zero");
+        if (glm::length(c.up) == 0.0) fail(f, d, "camera up vector is zero");
+        if (glm::length(glm::cross(glm::normalize(c.direction), glm::normalize(c.up))) < 1e-6)
+            fail(f, d, "camera up vector is parallel to the view direction");
+        if (!(c.half_height_angle_rad > 0.0 && c.half_height_angle_rad < kPi / 2))
+            fail(f, d,
+                 "camera half-height angle " + fmt(c.half_height_angle_rad) +
+                     " is outside (0, pi/2) radians");
+        if (m_scene.camera) {
+            m_diag.warn(
+                c.loc, "camera-repeat",
+                "second #camera ignored; the first one (" + m_scene.camera->loc.str() + ") wins");
+            return;
+        }
+        m_scene.camera = c;
+    }
+
+    void global_colour(FileState& f, const Token& d) {
+        definition(f, d);
+        const bool bg = d.text == "#background";
+        if (!f.top) {  // included files: syntax only
+            vec3(f, d, 3);
+            return;
+        }
+        const Vec3 c = colour(f, d, 3, bg ? "background colour" : "ambient colour");
+        bool& seen = bg ? m_seen_background : m_seen_ambient;
+        if (seen) {
+            m_diag.warn(f.lex.loc(d), std::string(d.text) + "-repeat",
+                        "repeated " + std::string(d.text) + " ignored; the first one wins");
+            return;
+        }
+        seen = true;
+        (bg ? m_scene.background : m_scene.ambient) = c;
+    }
+
+    void light(FileState& f, const Token& d) {
+        definition(f, d);
+        LightDesc l;
+        l.loc = f.lex.loc(d);
+        if (d.text == "#light_dir") {
+            l.kind = LightKind::Directional;
+            l.color = colour(f, d, 6, "light colour");
+            l.direction = vec3(f, d, 6);
+            if (glm::length(l.direction) == 0.0) fail(f, d, "light direction is zero");
+        } else if (d.text == "#light_point") {
+            l.kind = LightKind::Point;
+            l.color = vec3(f, d, 9);  // spec §3.1: point and spot colours need only be finite
+            l.position = vec3(f, d, 9);
+            l.constant_atten = real(f, d, 9);
+            l.linear_atten = real(f, d, 9);
+            l.quadratic_atten = real(f, d, 9);
+        } else {
+            l.kind = LightKind::Spot;
+            l.color = vec3(f, d, 14);
+            l.position = vec3(f, d, 14);
+            l.direction = vec3(f, d, 14);
+            l.constant_atten = real(f, d, 14);
+            l.linear_atten = real(f, d, 14);
+            l.quadratic_atten = real(f, d, 14);
+            const Token cut_tok = f.lex.peek();
+            l.cutoff_rad = real(f, d, 14);
+            const Token dor_tok = f.lex.peek();
+            l.spot_exponent = real(f, d, 14);  // p = 128 dor (V0) or dor (V1)
+            if (glm::length(l.direction) == 0.0) fail(f, d, "spot light direction is zero");
+            if (l.cutoff_rad < 0) fail(f, cut_tok, "negative spot cutoff " + fmt(l.cutoff_rad));
+            if (l.spot_exponent < 0)
+                fail(f, dor_tok, "negative spot drop-off " + fmt(l.spot_exponent));
+            if (m_dialect == Dialect::V0) l.spot_exponent *= kV0ExponentScale;
+            if (l.cutoff_rad > kPi / 2)
+                m_diag.warn(l.loc, "spot-cutoff",
+                            "spot cutoff " + fmt(l.cutoff_rad) +
+                                " rad is more than pi/2: the light never cuts off");
+        }
+        if (l.kind != LightKind::Directional && l.constant_atten == 0.0 && l.linear_atten == 0.0 &&
+            l.quadratic_atten == 0.0)
+            m_diag.warn(l.loc, "light-zero-atten",
+                        "attenuation coefficients are all zero: the light never contributes");
+        count_item(f, d, kLights);
+        if (!f.top) {
+            m_diag.warn(l.loc, "included-light", "lights in included files are ignored");
+            return;
+        }
+        m_scene.lights.push_back(l);
+    }
+
+    void texture(FileState& f, const Token& d) {
+        definition(f, d);
+        const Token pt = f.lex.peek();
+        const std::string path = word(f, d, "a texture file name");
+        count_item(f, d, kTextures);
+        TextureDesc t;
+        t.loc = f.lex.loc(d);
+        t.path = resolve(f, pt, path, "texture");
+        auto image = std::make_shared<TextureImage>();
+        std::string error;
+        if (!load_texture_image(t.path, image.get(), &error))
+            fail(f, pt, "cannot decode texture " + quote(t.path) + ": " + error);
+        t.image = std::move(image);
+        f.desc.textures.push_back(std::move(t));
+    }
+
+    void material(FileState& f, const Token& d) {
+        definition(f, d);
+        count_item(f, d, kMaterials);
+        // Numbers up to the !…! string; their count decides the dialect (spec §10).
+        std::array<double, 18> v{};
+        std::array<Token, 18> tok{};
+        int n = 0;
+        Token t = f.lex.next();
+        for (; t.kind == TokenKind::Word; t = f.lex.next()) {
+            double x = 0.0;
+            bool non_finite = false;
+            if (!parse_real(t.text, &x, &non_finite)) {
+                if (non_finite) fail(f, t, "non-finite number " + quote(t.text));
+                fail(f, t, "expected a number in #material, got " + quote(t.text));
+            }
+            if (n < 18) {
+                v[static_cast<size_t>(n)] = x;
+                tok[static_cast<size_t>(n)] = t;
+            }
+            ++n;
+        }
+        if (t.kind != TokenKind::String || (n != 16 && n != 18)) {
+            if (t.kind != TokenKind::String && (n == 16 || n == 18))
+                fail(arg_loc(f, d, t),
+                     "#material needs its !…! string after the numbers, got " + describe(t));
+            fail(f, d,
+                 "#material needs 16 (V0) or 18 (V1) numbers before its !…! string, got " +
+                     std::to_string(n));
+        }
+        const Dialect dialect = n == 16 ? Dialect::V0 : Dialect::V1;
+        if (dialect != m_dialect)  // the pre-scan reports this first; kept as a safeguard
+            fail(f, d,
+                 "#material has " + std::to_string(n) + " numbers in a " + dialect_name(m_dialect) +
+                     " scene");
+
+        MaterialDesc m;
+        m.loc = f.lex.loc(d);
+        m.name = std::string(t.text.substr(1, t.text.size() - 2));
+        auto rgb = [&](int i, const char* what) {
+            const Vec3 c(v[static_cast<size_t>(i)], v[static_cast<size_t>(i) + 1],
+                         v[static_cast<size_t>(i) + 2]);
+            for (int k = 0; k < 3; ++k)
+                if (c[k] < 0)
+                    fail(f, tok[static_cast<size_t>(i + k)],
+                         std::string("negative ") + what + " " + fmt(c[k]));
+            return c;
+        };
+        auto nonneg = [&](int i, const char* what) {
+            const double x = v[static_cast<size_t>(i)];
+            if (x < 0)
+                fail(f, tok[static_cast<size_t>(i)],
+                     std::string("negative ") + what + " " + fmt(x));
+            return x;
+        };
+        int ior_i = 0, tex_i = 0;
+        if (dialect == Dialect::V0) {
+            // ambient, diffuse, specular, emissive, kspec, ktran, refind, tex
+            m.ambient = rgb(0, "ambient");
+            m.diffuse = rgb(3, "diffuse");
+            m.specular = rgb(6, "specular");
+            m.emissive = rgb(9, "emissive");
+            m.specular_exponent = kV0ExponentScale * nonneg(12, "kspec");
+            m.transparent = Vec3(nonneg(13, "ktran"));
+            ior_i = 14;
+            tex_i = 15;
+        } else {
+            // emissive, ambient, diffuse, specular, n, transparent, refind, tex
+            m.emissive = rgb(0, "emissive");
+            m.ambient = rgb(3, "ambient");
+            m.diffuse = rgb(6, "diffuse");
+            m.specular = rgb(9, "specular");
+            m.specular_exponent = nonneg(12, "specular exponent");
+            m.transparent = rgb(13, "transparency");
+            ior_i = 16;
+            tex_i = 17;
+        }
+        m.refractive_index = v[static_cast<size_t>(ior_i)];
+        if (m.refractive_index <= 0) {
+            m_diag.warn(f.lex.loc(tok[static_cast<size_t>(ior_i)]), "refind",
+                        "refractive index " + fmt(m.refractive_index) + " <= 0; 1 is used");
+            m.refractive_index = 1.0;
+        }
+        const Token& tt = tok[static_cast<size_t>(tex_i)];
+        int ti = 0;
+        bool oor = false;
+        if (!parse_int(tt.text, &ti, &oor))
+            fail(f, tt, "expected an integer (texture index), got " + quote(tt.text));
+        // Definitions may come in any order: the range is checked at the end of the file.
+        m.texture = ti;
+        f.texture_refs.push_back({f.lex.loc(tt), ti});
+        f.desc.materials.push_back(std::move(m));
+    }
+
+    void vertex(FileState& f, const Token& d) {
+        definition(f, d);
+        count_item(f, d, kVertices);
+        VertexDesc v;
+        v.position = vec3(f, d, 8);
+        v.normal = vec3(f, d, 8);
+        v.uv.x = real(f, d, 8);
+        v.uv.y = real(f, d, 8);
+        const double len = glm::length(v.normal);
+        if (len > 0) v.normal /= len;
+        f.desc.vertices.push_back(v);
+    }
+
+    void ray_file(FileState& f, const Token& d) {
+        definition(f, d);
+        const Token pt = f.lex.peek();
+        const std::string path = word(f, d, "a .ray file name");
+        count_item(f, d, kRayFiles);
+        const std::string resolved = resolve(f, pt, path, "ray file");
+        const std::string canonical = canonical_path(resolved);
+
+        // A file that (transitively) includes itself is an error naming the chain.
+        for (size_t i = 0; i < m_open.size(); ++i) {
+            if (m_open[i].canonical == canonical) {
+                std::string chain;
+                for (size_t k = i; k < m_open.size(); ++k)
+                    chain += fs::path(m_open[k].name).filename().string() + " -> ";
+                chain += fs::path(resolved).filename().string();
+                fail(f, pt, "include cycle: " + chain);
+            }
+        }
+        if (m_open.size() >= static_cast<size_t>(kMaxIncludeDepth))
+            fail(f, d,
+                 "#ray_file includes nested deeper than " + std::to_string(kMaxIncludeDepth) +
+                     " files");
+        int index = -1;
+        for (size_t i = 0; i < m_scene.files.size(); ++i)
+            if (m_scene.files[i].canonical_path == canonical) index = static_cast<int>(i);
+        if (index < 0) {
+            // Read once: the dialect pre-scan kept the text.
+            const std::string* cached = cached_text(resolved, canonical);
+            if (!cached) fail(f, pt, "cannot read ray file " + quote(resolved));
+            const std::string text = std::move(m_texts[canonical]);
+            m_texts.erase(canonical);
+            index = static_cast<int>(m_scene.files.size());
+            m_scene.files.emplace_back();
+            m_scene.files.back().canonical_path = canonical;  // reserve the identity
+            m_include_locs.push_back(f.lex.loc(d));
+            const std::string sub_dir = fs::path(resolved).parent_path().string();
+            parse_file(text, resolved, canonical, sub_dir.empty() ? "." : sub_dir, index);
+            m_include_locs.pop_back();
+        }
+        f.desc.ray_files.push_back(index);
+    }
+
+    void key_file(FileState& f, const Token& d) {
+        definition(f, d);
+        const Token pt = f.lex.peek();
+        const std::string path = word(f, d, "a .key file name");
+        count_item(f, d, kKeyFiles);
+        const std::string resolved = resolve(f, pt, path, "key file");
+        std::string text;
+        if (!read_file(resolved, &text)) fail(f, pt, "cannot read key file " + quote(resolved));
+        m_include_locs.push_back(f.lex.loc(d));
+        f.key_files.push_back(parse_key_file(text, resolved));
+        f.desc.key_files.push_back(resolved);
+        m_include_locs.pop_back();
+    }
+
+    // Spec §3.4: #DOFS n names #DURATION s #FRAMES f, then f*n column-major 4x4 blocks.
+    KeyFile parse_key_file(const std::string& text, const std::string& path) {
+        FileState k(text, std::make_shared<const std::string>(path));
+        KeyFile key;
+        key.path = path;
+        auto expect = [&](std::string_view name) {
+            const Token t = k.lex.next();
+            if (t.kind != TokenKind::Directive || t.text != name)
+                fail(k.lex.loc(t), "expected " + std::string(name) + ", got " + describe(t));
+            return t;
+        };
+        const Token dofs = expect("#DOFS");
+        SourceLoc nloc;
+        const int n = integer(k, dofs, "DOF count", &nloc);
+        if (n <= 0) fail(nloc, "DOF count must be positive, got " + std::to_string(n));
+        std::vector<std::string> names;
+        for (int i = 0; i < n; ++i) names.push_back(lower(word(k, dofs, "a DOF name", true)));
+        const Token dur = expect("#DURATION");
+        const Token dur_tok = k.lex.peek();
+        if (real(k, dur, 1) <= 0) fail(k, dur_tok, "duration must be positive");
+        const Token frames = expect("#FRAMES");
+        SourceLoc floc;
+        const int nf = integer(k, frames, "frame count", &floc);
+        if (nf <= 0) fail(floc, "frame count must be positive, got " + std::to_string(nf));
+        const long long total = 16LL * n * nf;
+        long long read = 0;
+        for (int fr = 0; fr < nf; ++fr) {
+            for (int j = 0; j < n; ++j) {
+                Mat4 m(1.0);
+                const Token first = k.lex.peek();
+                for (int i = 0; i < 16; ++i, ++read) {
+                    const Token t = k.lex.next();
+                    double x = 0.0;
+                    bool nonfin = false;
+                    if (t.kind != TokenKind::Word || !parse_real(t.text, &x, &nonfin)) {
+                        if (nonfin) fail(k.lex.loc(t), "non-finite number " + quote(t.text));
+                        fail(k.lex.loc(t), "key file needs " + std::to_string(total) +
+                                               " numbers (16 per DOF per frame), got " +
+                                               std::to_string(read) + " then " + describe(t));
+                    }
+                    m[i / 4][i % 4] = x;  // column-major: GLM's own order
+                }
+                if (fr == 0) {
+                    check_matrix(m, k.lex.loc(first), "key frame matrix");
+                    key.frame0[names[static_cast<size_t>(j)]] = m;
+                }
+            }
+        }
+        const Token extra = k.lex.next();
+        if (extra.kind != TokenKind::End)
+            fail(k.lex.loc(extra), "key file has more than " + std::to_string(total) +
+                                       " numbers: unexpected " + describe(extra));
+        return key;
+    }
+
+    // ---- scene graph ---------------------------------------------------------------------
+    void check_matrix(const Mat4& m, const SourceLoc& loc, const std::string& what) {
+        // Spec §3.3 / §4.1: affine (bottom row 0 0 0 1) and non-singular.
+        if (std::abs(m[0][3]) > 1e-9 || std::abs(m[1][3]) > 1e-9 || std::abs(m[2][3]) > 1e-9 ||
+            std::abs(m[3][3] - 1.0) > 1e-9)
+            fail(loc, "projective " + what + ": the bottom row must be 0 0 0 1");
+        const Mat3 a(m);
+        // hypot: a column of length 1e200 must not overflow in its squared length.
+        auto len = [](const Vec3& c) { return std::hypot(c.x, c.y, c.z); };
+        const double scale = len(a[0]) * len(a[1]) * len(a[2]);
+        const double det = glm::determinant(a);
+        if (!std::isfinite(scale) || !std::isfinite(det))
+            fail(loc, what + " too large: its determinant overflows");
+        if (std::abs(det) <= 1e-12 * scale || scale == 0.0) fail(loc, "singular " + what);
+    }
+
+    void check_depth(FileState& f, const Token& d) {
+        if (f.stack.size() > static_cast<size_t>(kMaxGroupDepth))
+            fail(f, d,
+                 std::string(d.text) + " nests groups deeper than " +
+                     std::to_string(kMaxGroupDepth) + " levels");
+    }
+
+    void group_begin(FileState& f, const Token& d) {
+        graph(f);
+        check_depth(f, d);
+        GroupDesc g;
+        g.loc = f.lex.loc(d);
+        Mat4 m(1.0);
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) m[c][r] = real(f, d, 16);  // rows in the file
+        check_matrix(m, g.loc, "group matrix");
+        g.matrix = m;
+        GroupDesc* parent = f.stack.back();
+        parent->groups.push_back(std::move(g));
+        f.stack.push_back(&parent->groups.back());
+        f.stack_is_joint.push_back(0);
+    }
+
+    void joint_begin(FileState& f, const Token& d) {
+        graph(f);
+        check_depth(f, d);
+        GroupDesc g;
+        g.loc = f.lex.loc(d);
+        const Token nt = f.lex.peek();
+        g.joint = word(f, d, "a joint name", true);
+        // Spec §4.4: frame 0 of the DOF of that name in the file's first key file.
+        if (f.key_files.empty()) {
+            if (!f.warned_joint_identity)
+                m_diag.warn(g.loc, "joint-no-key", "no #key_file: joints use the identity");
+            f.warned_joint_identity = true;
+        } else {
+            const KeyFile& key = f.key_files.front();
+            auto it = key.frame0.find(lower(g.joint));
+            if (it == key.frame0.end())
+                fail(f, nt, "no DOF named " + quote(g.joint) + " in key file " + quote(key.path));
+            g.matrix = it->second;
+        }
+        GroupDesc* parent = f.stack.back();
+        parent->groups.push_back(std::move(g));
+        f.stack.push_back(&parent->groups.back());
+        f.stack_is_joint.push_back(1);
+    }
+
+    void group_end(FileState& f, const Token& d, bool joint) {
+        graph(f);
+        if (f.stack.size() <= 1 || (f.stack_is_joint.back() != 0) != joint) {
+            if (f.stack.size() > 1)
+                fail(f, d,
+                     std::string(d.text) + " does not match " +
+                         (f.stack_is_joint.back() ? "#joint_begin" : "#group_begin") + " at " +
+                         f.stack.back()->loc.str());
+            fail(f, d,
+                 std::string(d.text) + " without " + (joint ? "#joint_begin" : "#group_begin"));
+        }
+        f.stack.pop_back();
+        f.stack_is_joint.pop_back();
+    }
+
+    void instance(FileState& f, const Token& d) {
+        graph(f);
+        SourceLoc loc;
+        const int i = integer(f, d, "ray file index", &loc);
+        const int n = static_cast<int>(f.desc.ray_files.size());
+        if (i < 0 || i >= n)
+            fail(loc, "ray file index " + std::to_string(i) + " out of range [0," +
+                          std::to_string(n) + ")");
+        f.stack.back()->instances.push_back({f.lex.loc(d), i});
+    }
+
+    int material_index(FileState& f, const Token& d) {
+        SourceLoc loc;
+        const int m = integer(f, d, "material index", &loc);
+        const int n = static_cast<int>(f.desc.materials.size());
+        const bool v0_default = (m == -1 && m_dialect == Dialect::V0);
+        if (!v0_default && (m < 0 || m >= n)) {
+            std::string msg = "material index " + std::to_string(m) + " out of range [" +
+                              (m_dialect == Dialect::V0 ? "-1," : "0,") + std::to_string(n) + ")";
+            if (m == -1) msg += " (-1 is V0 only; try --dialect v0)";
+            fail(loc, msg);
+        }
+        return m;
+    }
+
+    void shape(FileState& f, const Token& d) {
+        graph(f);
+        ShapeDesc s;
+        s.loc = f.lex.loc(d);
+        s.material = material_index(f, d);
+        const std::string_view n = d.text;
+        auto positive = [&](double x, const Token& t, const char* what) {
+            if (x < 0) fail(f, t, std::string("negative ") + what + " " + fmt(x));
+            return x > 0;
+        };
+        bool keep = true;
+        const char* kind = "";
+        if (n == "#shape_sphere") {
+            SphereDesc g;
+            g.centre = vec3(f, d, 4);
+            const Token rt = f.lex.peek();
+            g.radius = real(f, d, 4);
+            keep = positive(g.radius, rt, "sphere radius");
+            kind = "sphere of radius 0";
+            s.geometry = g;
+        } else if (n == "#shape_box") {
+            BoxDesc g;
+            g.centre = vec3(f, d, 6);
+            for (int i = 0; i < 3; ++i) {
+                const Token st = f.lex.peek();
+                g.size[i] = real(f, d, 6);
+                keep = positive(g.size[i], st, "box size") && keep;
+            }
+            kind = "box with a zero side";
+            s.geometry = g;
+        } else if (n == "#shape_cylinder" || n == "#shape_cone") {
+            const bool cyl = n == "#shape_cylinder";
+            const Vec3 c = vec3(f, d, 5);
+            const Token rt = f.lex.peek();
+            const double r = real(f, d, 5);
+            const Token ht = f.lex.peek();
+            const double h = real(f, d, 5);
+            keep = positive(r, rt, cyl ? "cylinder radius" : "cone radius");
+            keep = positive(h, ht, cyl ? "cylinder height" : "cone height") && keep;
+            kind = cyl ? "cylinder with zero radius or height" : "cone with zero radius or height";
+            if (cyl)
+                s.geometry = CylinderDesc{c, r, h};
+            else
+                s.geometry = ConeDesc{c, r, h};
+        } else {
+            TriangleDesc g;
+            const int nv = static_cast<int>(f.desc.vertices.size());
+            for (int i = 0; i < 3; ++i) {
+                SourceLoc loc;
+                g.v[i] = integer(f, d, "vertex index", &loc);
+                if (g.v[i] < 0 || g.v[i] >= nv)
+                    fail(loc, "vertex index " + std::to_string(g.v[i]) + " out of range [0," +
+                                  std::to_string(nv) + ")");
+            }
+            keep = !degenerate_triangle(f.desc, g);
+            kind = "degenerate triangle";
+            s.geometry = g;
+        }
+        if (!keep) {
+            ++m_scene.skipped_shapes;
+            m_diag.warn(s.loc, std::string("skip:") + kind, std::string(kind) + " skipped");
+            return;
+        }
+        f.stack.back()->shapes.push_back(std::move(s));
+    }
+
+    static bool degenerate_triangle(const FileDesc& file, const TriangleDesc& t) {
+        // Spec §3.3: a repeated index, or |e1 x e2| <= 1e-12 |e1| |e2|.
+        if (t.v[0] == t.v[1] || t.v[1] == t.v[2] || t.v[0] == t.v[2]) return true;
+        const Vec3& p0 = file.vertices[static_cast<size_t>(t.v[0])].position;
+        const Vec3 e1 = file.vertices[static_cast<size_t>(t.v[1])].position - p0;
+        const Vec3 e2 = file.vertices[static_cast<size_t>(t.v[2])].position - p0;
+        return glm::length(glm::cross(e1, e2)) <= 1e-12 * glm::length(e1) * glm::length(e2);
+    }
+
+    // ---- whole tree ----------------------------------------------------------------------
+    void finish() {
+        check_placements();
+        m_scene.dialect = m_dialect;
+        if (!m_scene.camera && !m_scene.files.empty())
+            m_diag.warn({std::make_shared<const std::string>(m_scene.files[0].path), 0, 0},
+                        "no-camera", "no #camera: using the default camera");
+    }
+
+    // Instancing multiplies: a file placed k times that instances another m times places it k*m
+    // times. The compiler visits every placement, so their number is bounded here, where the
+    // instance directives still have their locations. The recursion follows the include tree,
+    // which is acyclic and at most kMaxIncludeDepth deep.
+    void check_placements() {
+        std::vector<long long> memo(m_scene.files.size(), -1);
+        if (!m_scene.files.empty()) placements(0, memo);
+    }
+
+    long long placements(size_t fi, std::vector<long long>& memo) {
+        if (memo[fi] >= 0) return memo[fi];
+        const FileDesc& file = m_scene.files[fi];
+        long long total = 1;  // the file itself
+        std::vector<const GroupDesc*> todo = {&file.root};
+        while (!todo.empty()) {
+            const GroupDesc* g = todo.back();
+            todo.pop_back();
+            for (const InstanceDesc& in : g->instances) {
+                const int sub = file.ray_files[static_cast<size_t>(in.ray_file)];
+                total += placements(static_cast<size_t>(sub), memo);
+                if (total > kMaxPlacements)
+                    fail(in.loc, "instancing places more than " + std::to_string(kMaxPlacements) +
+                                     " copies of files (nested instances multiply)");
+            }
+            for (const GroupDesc& c : g->groups) todo.push_back(&c);
+        }
+        return memo[fi] = total;
+    }
+
+    struct Open {
+        std::string canonical;
+        std::string name;
+    };
+
+    Diagnostics& m_diag;
+    ParseOptions m_options;
+    SceneDesc m_scene;
+    std::vector<SourceLoc> m_include_locs;       // #ray_file directives, outermost first
+    std::map<std::string, std::string> m_texts;  // included files read, not yet parsed
+    std::vector<Open> m_open;                    // files being parsed below the top one
+    SourceLoc m_first_v0, m_first_v1;            // first material of each dialect (pre-scan)
+    bool m_default_use = false;                  // some shape uses material index -1
+    Dialect m_dialect = Dialect::V1;
+    bool m_seen_background = false, m_seen_ambient = false;
+};
+
+}  // namespace
+
+SceneDesc parse_scene_file(const std::string& path, Diagnostics& diag,
+                           const ParseOptions& options) {
+    Parser p(diag, options);
+    return p.run_file(path);
+}
+
+SceneDesc parse_scene_string(const std::string& text, const std::string& name, Diagnostics& diag,
+                             const ParseOptions& options, const std::string& base_dir) {
+    Parser p(diag, options);
+    return p.run(text, name, base_dir);
+}
+
+}  // namespace rt

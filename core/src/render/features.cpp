@@ -1,0 +1,239 @@
+#include "rt/render/features.h"
+
+#include <array>
+
+#include "rt/render/render.h"
+
+namespace rt {
+
+namespace {
+
+bool lights_something(const Light& l) {
+    if (l.color == Vec3(0.0)) return false;
+    if (l.kind == LightKind::Directional) return true;
+    // All three coefficients zero: the denominator is never positive (spec §7.2).
+    return l.constant_atten != 0.0 || l.linear_atten != 0.0 || l.quadratic_atten != 0.0;
+}
+
+bool scales_unevenly(const Mat4& m) {
+    const double x = glm::length(Vec3(m[0])), y = glm::length(Vec3(m[1])),
+                 z = glm::length(Vec3(m[2]));
+    const double lo = std::min(x, std::min(y, z)), hi = std::max(x, std::max(y, z));
+    // Also a shear: the columns of a uniform scale times a rotation are orthogonal.
+    const double shear = std::abs(glm::dot(Vec3(m[0]), Vec3(m[1]))) +
+                         std::abs(glm::dot(Vec3(m[1]), Vec3(m[2]))) +
+                         std::abs(glm::dot(Vec3(m[0]), Vec3(m[2])));
+    return hi - lo > 1e-12 * hi || shear > 1e-12 * hi * hi;
+}
+
+}  // namespace
+
+std::vector<Light> lighting_lights(const RenderScene& scene) {
+    std::vector<Light> out;
+    for (const Light& l : scene.lights)
+        if (lights_something(l)) out.push_back(l);
+    return out;
+}
+
+GeometryFeatures read_geometry(const RenderScene& scene) {
+    GeometryFeatures g;
+    std::vector<char> set_used(scene.sets.size(), 0);
+    g.material_used.assign(scene.materials.size(), 0);
+    std::vector<std::array<size_t, 5>> set_prims(scene.sets.size());
+    for (const Instance& inst : scene.instances) {
+        const size_t si = static_cast<size_t>(inst.set);
+        const GeometrySet& set = scene.sets[si];
+        if (!set_used[si]) {  // each set once, however often it is instanced
+            set_used[si] = 1;
+            set_prims[si] = {0, 0, 0, 0, 0};
+            for (const Primitive& p : set.prims) {
+                g.material_used[static_cast<size_t>(p.material)] = 1;
+                ++set_prims[si][static_cast<size_t>(p.kind)];
+                if (p.transform >= 0) {
+                    g.transforms = true;
+                    g.nonuniform_scale |=
+                        scales_unevenly(set.transforms[static_cast<size_t>(p.transform)].m);
+                }
+            }
+        }
+        for (size_t k = 0; k < 5; ++k) g.prims[k] += set_prims[si][k];
+        if (!inst.identity) {
+            g.transforms = true;
+            g.nonuniform_scale |= scales_unevenly(inst.world_from_set.m);
+        }
+    }
+    g.instancing = scene.instances.size() > 1;
+    // The layout every placed set shares, or a walk picked per set.
+    uint32_t layout = 0;
+    bool first = true;
+    for (size_t i = 0; i < scene.sets.size(); ++i) {
+        if (!set_used[i]) continue;
+        const uint32_t l = geom_layout_bits(scene.sets[i].layout);
+        layout = first || l == layout ? l : kGeomPerSet;
+        first = false;
+    }
+    // One instance is walked directly, unless it has a transform: then the top-level box test
+    // culls the rays that miss it before they are transformed.
+    g.top_level = g.instancing || (scene.instances.size() == 1 && !scene.instances[0].identity);
+    g.variant =
+        (g.top_level ? kGeomInstancing : 0u) | (g.transforms ? kGeomTransforms : 0u) | layout;
+    if (scene.instances.empty()) g.variant = kGeomEmpty;
+    return g;
+}
+
+SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& settings) {
+    SceneFeatures f;
+    f.max_depth = settings.max_depth;
+    for (const Light& l : scene.lights) {
+        if (lights_something(l))
+            ++f.lights[static_cast<int>(l.kind)];
+        else
+            ++f.dark_lights;
+    }
+    const bool lit = f.lights[0] + f.lights[1] + f.lights[2] > 0;
+
+    // A scene built by hand, not by compile_scene, has its geometry read here.
+    const bool filled = scene.geometry.material_used.size() == scene.materials.size();
+    const GeometryFeatures read = filled ? GeometryFeatures{} : read_geometry(scene);
+    const GeometryFeatures& g = filled ? scene.geometry : read;
+    for (size_t k = 0; k < 5; ++k) f.prims[k] = g.prims[k];
+    f.sets = scene.sets.size();
+    f.instancing = g.instancing;
+    f.top_level = g.top_level;
+    f.transforms = g.transforms;
+    f.nonuniform_scale = g.nonuniform_scale;
+    f.geom_variant = scene.geometry.variant;  // the walk the scene's queries take
+    auto material_used = [&](size_t i) { return g.material_used[i] != 0; };
+
+    std::vector<char> texture_used(scene.textures.size(), 0);
+    bool any_ambient = false;
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        if (!material_used(i)) continue;
+        const Material& m = scene.materials[i];
+        f.highlights |= m.specular != Vec3(0.0);
+        f.transmissive_shadows |= m.transparent != Vec3(0.0);
+        f.refraction |= m.transparent != Vec3(0.0);
+        f.reflection |= m.specular != Vec3(0.0);
+        f.emissive |= m.emissive != Vec3(0.0);
+        any_ambient |= m.ambient != Vec3(0.0);
+        if (m.texture >= 0) {
+            f.textures = true;
+            texture_used[static_cast<size_t>(m.texture)] = 1;
+        }
+    }
+    for (char used : texture_used) f.unused_textures += !used;
+    f.ambient = any_ambient && scene.ambient != Vec3(0.0);
+    // A camera ray has depth max_depth; children are traced while depth - 1 >= 1 (spec §8).
+    f.reflection &= settings.max_depth > 1;
+    f.refraction &= settings.max_depth > 1;
+    f.shadows = settings.shadows && lit;
+    f.transmissive_shadows &= f.shadows;
+    f.highlights &= lit;
+    // Sphere lights move the light point (direction and attenuation too), shadows on or off.
+    f.soft_shadows = settings.light_radius > 0 && f.lights[1] + f.lights[2] > 0;
+    f.glossy = settings.roughness > 0 && f.reflection;
+    f.depth_of_field = settings.aperture > 0;
+    return f;
+}
+
+uint32_t SceneFeatures::shade_variant() const {
+    uint32_t v = 0;
+    if (shadows) v |= kShadeShadows;
+    if (transmissive_shadows) v |= kShadeTransmissiveShadows;
+    if (reflection) v |= kShadeReflection;
+    if (refraction) v |= kShadeRefraction;
+    if (textures) v |= kShadeTextures;
+    if (highlights) v |= kShadeHighlights;
+    if (lights[static_cast<int>(LightKind::Spot)] > 0) v |= kShadeSpot;
+    if (lights[static_cast<int>(LightKind::Point)] + lights[static_cast<int>(LightKind::Spot)] > 0)
+        v |= kShadeAttenuation;
+    if (soft_shadows || glossy) v |= kShadeStochastic;
+    return v;
+}
+
+std::vector<std::string> explain_features(const SceneFeatures& f) {
+    std::vector<std::string> out;
+    auto line = [&](bool used, const char* feature, const std::string& why_kept,
+                    const std::string& why_left) {
+        std::string s = used ? "kept: " : "left out: ";
+        s += feature;
+        s += ": ";
+        s += used ? why_kept : why_left;
+        out.push_back(std::move(s));
+    };
+    const int lit = f.lights[0] + f.lights[1] + f.lights[2];
+    const std::string n_lights = std::to_string(lit);
+    if (f.dark_lights > 0)
+        out.push_back("left out: " + std::to_string(f.dark_lights) +
+                      " light(s): colour zero or all attenuation coefficients zero");
+    line(f.lights[1] + f.lights[2] > 0, "light attenuation",
+         std::to_string(f.lights[1] + f.lights[2]) + " point or spot light(s)",
+         "no point or spot light");
+    line(f.lights[2] > 0, "spot cut-off and drop-off",
+         std::to_string(f.lights[2]) + " spot light(s)", "no spot light");
+    line(f.shadows, "shadow rays", n_lights + " light(s) that light something",
+         lit == 0 ? "no light lights anything" : "shadows are switched off");
+    line(f.transmissive_shadows, "transparent shadows", "a material lets light through",
+         f.shadows ? "no transparent material: shadow rays stop at the first hit"
+                   : "no shadow rays");
+    line(f.reflection, "reflection", "a material with a specular colour",
+         f.max_depth <= 1 ? "recursion depth 1" : "no material with a specular colour");
+    line(f.refraction, "refraction", "a transparent material",
+         f.max_depth <= 1 ? "recursion depth 1" : "no transparent material");
+    line(f.highlights, "specular highlights", "a material with a specular colour",
+         lit == 0 ? "no light lights anything" : "no material with a specular colour");
+    line(f.textures, "texture lookups", "a textured material", "no material uses a texture");
+    if (f.unused_textures > 0)
+        out.push_back("left out: " + std::to_string(f.unused_textures) +
+                      " texture(s): no material uses them");
+    line(f.soft_shadows || f.glossy, "random sampling in shading",
+         f.soft_shadows ? "soft shadows are on" : "glossy reflection is on",
+         "soft shadows and glossy reflection are off");
+    // The geometry variant (RenderScene::geometry): what the walk does.
+    const size_t analytic = f.prims[0] + f.prims[1] + f.prims[2] + f.prims[3];
+    if (f.geom_variant == kGeomEmpty) {
+        out.push_back(
+            "left out: ray queries: the scene has no shapes, every ray sees the background");
+        return out;
+    }
+    const bool generic = f.geom_variant == kGeomGeneric && !f.top_level && !f.transforms;
+    line((f.geom_variant & kGeomInstancing) != 0, "top-level BVH",
+         f.instancing  ? "the scene places several instances"
+         : f.top_level ? "the one instance has a transform: its box culls rays before they are "
+                         "transformed"
+                       : "the generic walk (the scene's geometry was not read by compile_scene)",
+         "one instance: rays walk its BVH directly");
+    line((f.geom_variant & kGeomTransforms) != 0, "transforms",
+         generic ? "the generic walk" : "a group or instance transform",
+         "no group or instance transform: rays are never transformed");
+    line(f.prims[4] > 0, "triangle tests", std::to_string(f.prims[4]) + " triangle(s)",
+         "no triangles: no triangle set-up per ray");
+    const uint32_t layout = (f.geom_variant & kGeomPerSet) >> kGeomLayoutShift;
+    static const char* const kOneKind[][2] = {
+        {"spheres", "sphere"}, {"boxes", "box"}, {"cylinders", "cylinder"}, {"cones", "cone"}};
+    const uint32_t first_one_kind = static_cast<uint32_t>(SetLayout::Spheres);
+    const uint32_t triangles = static_cast<uint32_t>(SetLayout::Triangles);
+    if (layout == triangles) {
+        line(false, "shape dispatch", "",
+             "triangles only: leaves hold packed triangles, four tested at once");
+    } else if (layout >= first_one_kind && layout < triangles) {
+        const auto& kind = kOneKind[layout - first_one_kind];
+        line(false, "shape dispatch", "",
+             std::string(kind[0]) + " only: leaves call the " + kind[1] + " test directly");
+    } else if (layout == kSetLayouts) {
+        line(true, "shape dispatch",
+             "the instanced files differ: each is walked by its own layout (one switch per file "
+             "a ray enters)",
+             "");
+    } else {
+        int kinds = 0;
+        for (int k = 0; k < 4; ++k) kinds += f.prims[k] > 0;
+        line(true, "shape dispatch",
+             std::to_string(analytic) + " analytic shape(s) of " + std::to_string(kinds) +
+                 " kind(s)" + (f.prims[4] > 0 ? " and triangles" : "") + " in one file",
+             "");
+    }
+    return out;
+}
+
+}  // namespace rt
