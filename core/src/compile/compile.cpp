@@ -18,7 +18,7 @@ namespace {
 
 // Geometry must stay within +-1e300 in every frame: beyond that, centroids, extents and areas
 // overflow in the BVH build and the traversal. A shape or instance past it is an error at its
-// directive (scenes/README.md).
+// directive (docs/format.md, "our choices").
 constexpr double kMaxCoordinate = 1e300;
 
 bool within_limits(const Bounds3& b) {

@@ -17,7 +17,7 @@ struct ShadingSettings {
     int max_depth = 5;      // camera rays have this depth; children get depth - 1 (spec §8)
     double cutoff = 0.001;  // a child ray is traced only when max(weight) >= cutoff; 0 disables
     bool shadows = true;
-    // Progressive features, off at 0 (scenes/README.md): point and spot lights become spheres
+    // Progressive features, off at 0 (docs/format.md): point and spot lights become spheres
     // of this radius (soft shadows); reflected rays spread by this roughness (glossy).
     double light_radius = 0.0;
     double roughness = 0.0;
