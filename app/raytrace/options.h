@@ -1,5 +1,6 @@
-// Command-line options of `raytrace`. Parsing never exits: it returns the options or throws
-// UsageError, which main() turns into exit code 2.
+// Command-line options of `raytrace`: the library's settings extended with what only the program
+// needs, so every setting is written once. Parsing never exits: it returns the options or throws
+// UsageError, which main() turns into exit status 2.
 #pragma once
 
 #include <optional>
@@ -7,51 +8,43 @@
 #include <string>
 #include <vector>
 
+#include "rt/render/progressive.h"
+#include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
 
-namespace rt::cli {
+namespace raytrace {
 
 struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-struct Options {
-    std::string scene;
-    std::string output = "out.png";
-    int width = 640;
-    int height = 480;
-    int depth = 5;
-    double cutoff = 0.001;
-    int spp = 1;
-    int threads = 0;
-    bool shadows = true;
-    std::optional<Dialect> dialect;
-    bool quiet = false;
-    bool stats = false;
-    bool explain = false;    // print what the specialized renderer left out, and why
-    bool specialize = true;  // false: --no-specialize, the generic renderer
-    bool spp_given = false;
-    // Progressive rendering and its error report.
-    bool progressive = false;
-    double time_limit_s = 0;
+/// --progressive and its error report. The pass limits are the library's: time_limit_s is
+/// --time, spp_limit is --spp when given; `adaptive` (--adaptive) adds an adaptive run after the
+/// uniform one.
+struct ProgressiveOptions : rt::ProgressiveSettings {
+    bool enabled = false;   // --progressive
     std::string reference;  // a .pfm file, "auto", or empty
     int reference_spp = 256;
     std::string report;  // CSV
     std::string plot;    // SVG
-    bool adaptive = false;
-    // Progressive features (each off at 0).
-    double light_radius = 0;
-    double aperture = 0;
-    double focus_distance = 0;
-    double roughness = 0;
+};
+
+struct Options : rt::RenderSettings {
+    std::string scene;
+    std::string output = "out.png";
+    int spp = 1;
+    std::optional<rt::Dialect> dialect;  // overrides the dialect detected from the materials
+    bool quiet = false;
+    bool stats = false;
+    bool explain = false;  // print what the specialized renderer left out, and why
+    ProgressiveOptions progressive;
     bool help = false;
-    uint64_t seed = 0;
 };
 
 /// Parses argv (without argv[0]). Throws UsageError.
 Options parse_options(const std::vector<std::string>& args);
 
-/// The --help text.
+/// The --help text, with every option's default.
 std::string usage_text();
 
-}  // namespace rt::cli
+}  // namespace raytrace
