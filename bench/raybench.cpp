@@ -23,6 +23,7 @@
 #include "rt/render/features.h"
 #include "rt/render/render.h"
 #include "rt/scene/mesh_gen.h"
+#include "rt/util/stopwatch.h"
 
 #ifdef RT_HAVE_EMBREE
 #include <embree3/rtcore.h>
@@ -31,11 +32,6 @@
 namespace {
 
 using namespace rt;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // Runs body(begin, end) over [0, n) in chunks on `threads` threads.
 void parallel_for(size_t n, int threads, const std::function<void(size_t, size_t)>& body) {
