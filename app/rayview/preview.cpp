@@ -331,7 +331,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
 void Preview::draw(const RenderScene& scene, const Camera& camera, int width, int height,
                    bool shadows) {
     // The program for what this scene uses: the light kinds present, textures, highlights,
-    // shadows (issue: leave out what a scene does not need).
+    // shadows (what a scene does not need is left out).
     const int lights = std::min<int>(16, static_cast<int>(scene.lights.size()));
     bool kind[3] = {false, false, false};
     for (int i = 0; i < lights; ++i)

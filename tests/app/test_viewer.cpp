@@ -52,7 +52,7 @@ TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {
     ASSERT_TRUE(v.loaded) << v.message;
     v.edits.lights[1].position = Vec3(1, 2, 3);
     v.edits.light_on[0] = 0;  // the spot off: not saved
-    v.add_point_light();  // at the eye
+    v.add_point_light();      // at the eye
     const Vec3 eye = v.edits.camera.desc().position;
     v.edits.camera.orbit(0.5, 0);
     const std::string path = ::testing::TempDir() + "rt_viewer_saved.ray";
