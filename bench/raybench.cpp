@@ -528,7 +528,7 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
 }
 
 // --leave-out: every scene rendered by the generic renderer and by the one specialized to its
-// features (issue 7), alternating, best of `repeats` renders each; the images must be equal.
+// features, alternating, best of `repeats` renders each; the images must be equal.
 void run_leave_out(const std::vector<std::filesystem::path>& files, int repeats, bool quick,
                    int threads, const std::vector<std::string>& only) {
     std::printf(

@@ -120,7 +120,7 @@ check "--no-specialize: same image" cmp -s "$tmp/spec.pfm" "$tmp/generic.pfm"
 echo "$passes passed, $fails failed"
 test "$fails" -eq 0
 
-# Bad input never crashes (issue 6): exit 1 with file:line:col, no output, for deep nesting,
+# Bad input never crashes: exit 1 with file:line:col, no output, for deep nesting,
 # binary garbage, a self-include and numbers out of range.
 for i in $(seq 1 20000); do echo "#group_begin 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1"; done >"$tmp/deep.ray"
 "$rt" "$tmp/deep.ray" -o "$tmp/deep.png" >"$tmp/deep.txt" 2>&1
