@@ -1,5 +1,8 @@
 // Shape tests: hits, outward normals and texture coordinates of spec §5, in the local frame and
-// through groups with rotation and non-uniform scale.
+// through groups with rotation and non-uniform scale; the inside test of each solid; the one
+// dispatch on a primitive's kind (visit_shape) and the bounds of a described shape.
+#include <random>
+
 #include "rt/accel/intersect.h"
 #include "test_util.h"
 
@@ -201,6 +204,179 @@ TEST(Transforms, MirrorKeepsTriangleNormalAsInverseTranspose) {
     EXPECT_VEC_NEAR(si.n_geometric, Vec3(0, 0, -1), kTol);
     EXPECT_NEAR(si.uv.x, 0.2, kTol);
     EXPECT_NEAR(si.uv.y, 0.3, kTol);
+}
+
+// ---- inside ---------------------------------------------------------------------------------
+
+TEST(Inside, SphereInteriorOnlyTheBoundaryIsOutside) {
+    const Sphere s{{1, 2, 3}, 2};
+    EXPECT_TRUE(inside(s, {1, 2, 3}));
+    EXPECT_TRUE(inside(s, {2, 3, 4}));
+    EXPECT_FALSE(inside(s, {1, 2, 6}));
+    EXPECT_FALSE(inside(s, {-5, 2, 3}));
+    // On the surface (exact in double): not inside; a hair either side decides.
+    EXPECT_FALSE(inside(s, {3, 2, 3}));
+    EXPECT_FALSE(inside(s, {1, 0, 3}));
+    EXPECT_TRUE(inside(s, {3 - 1e-9, 2, 3}));
+    EXPECT_FALSE(inside(s, {3 + 1e-9, 2, 3}));
+}
+
+TEST(Inside, BoxUsesHalfExtentsOnEveryAxis) {
+    const Box b{{1, 0, -1}, {0.5, 1, 2}};
+    EXPECT_TRUE(inside(b, {1, 0, -1}));
+    EXPECT_TRUE(inside(b, {1.4, 0.9, 0.9}));
+    EXPECT_FALSE(inside(b, {1.6, 0, -1}));   // past +x only
+    EXPECT_FALSE(inside(b, {1, -1.1, -1}));  // past -y only
+    EXPECT_FALSE(inside(b, {1, 0, 1.1}));    // past +z only
+    // Faces, edges and corners are the boundary.
+    EXPECT_FALSE(inside(b, {1.5, 0, -1}));
+    EXPECT_FALSE(inside(b, {1, 1, -1}));
+    EXPECT_FALSE(inside(b, {1.5, 1, 1}));
+    EXPECT_TRUE(inside(b, {1.5 - 1e-9, 1 - 1e-9, 1 - 1e-9}));
+    EXPECT_FALSE(inside(b, {1.5 + 1e-9, 0, -1}));
+}
+
+TEST(Inside, CylinderSideAndCaps) {
+    const Cylinder c{{0, 1, 0}, 1, 2};  // y in [0, 2]
+    EXPECT_TRUE(inside(c, {0, 1, 0}));
+    EXPECT_TRUE(inside(c, {0.6, 0.1, -0.6}));
+    EXPECT_FALSE(inside(c, {0.8, 1, 0.8}));  // outside the side, between the caps
+    EXPECT_FALSE(inside(c, {0, 2.5, 0}));    // above the top cap, on the axis
+    EXPECT_FALSE(inside(c, {0, -0.5, 0}));   // below the bottom cap
+    EXPECT_FALSE(inside(c, {1, 1, 0}));      // on the side
+    EXPECT_FALSE(inside(c, {0, 2, 0}));      // on the top cap
+    EXPECT_FALSE(inside(c, {0, 0, 0}));      // on the bottom cap
+    EXPECT_FALSE(inside(c, {0, 0, 1}));      // on the bottom rim
+    EXPECT_TRUE(inside(c, {0, 1e-9, 1 - 1e-9}));
+    EXPECT_FALSE(inside(c, {0, 1, 1 + 1e-9}));
+}
+
+TEST(Inside, ConeNarrowsToTheApex) {
+    const Cone k{{0, 0, 0}, 1, 2};  // base at y = -1 (radius 1), apex at y = 1
+    EXPECT_TRUE(inside(k, {0, 0, 0}));
+    EXPECT_TRUE(inside(k, {0.9, -0.9, 0}));
+    EXPECT_FALSE(inside(k, {0.9, 0.5, 0}));  // within the base radius, outside the side
+    EXPECT_FALSE(inside(k, {0, 1.5, 0}));    // above the apex
+    EXPECT_FALSE(inside(k, {0, -1.5, 0}));   // below the base
+    EXPECT_FALSE(inside(k, {0.5, 0, 0}));    // on the side: r (y1 - y)/h = 0.5
+    EXPECT_FALSE(inside(k, {0, 1, 0}));      // the apex
+    EXPECT_FALSE(inside(k, {0, -1, 0}));     // on the base disc
+    EXPECT_TRUE(inside(k, {0, 1 - 1e-9, 0}));
+    EXPECT_TRUE(inside(k, {0.5 - 1e-9, 0, 0}));
+    EXPECT_FALSE(inside(k, {0.5 + 1e-9, 0, 0}));
+}
+
+TEST(Inside, TrianglesBoundNoSolid) {
+    const Triangle t{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    EXPECT_FALSE(inside(t, {0.25, 0.25, 0}));  // on the triangle
+    EXPECT_FALSE(inside(t, {0.25, 0.25, 1e-9}));
+    EXPECT_FALSE(inside(t, {5, 5, 5}));
+}
+
+// A point is inside a convex solid exactly when a ray from it leaves once (outside: no hit or an
+// entry and an exit): the inside test agrees with the intersection for random points and
+// directions around each kind.
+TEST(Inside, AgreesWithTheHitCountOfRaysFromThePoint) {
+    const Shape shapes[] = {Sphere{{0.2, -0.1, 0.3}, 0.9}, Box{{0.1, 0.2, -0.1}, {0.4, 0.9, 0.6}},
+                            Cylinder{{0, 0.1, 0.2}, 0.7, 1.6}, Cone{{-0.1, 0, 0.1}, 0.8, 1.8}};
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.2, 1.2);
+    for (const Shape& shape : shapes) {
+        int in = 0, out = 0;
+        for (int i = 0; i < 4000; ++i) {
+            const Vec3 p(u(rng), u(rng), u(rng));
+            const Vec3 d = glm::normalize(Vec3(u(rng), u(rng), u(rng)) + Vec3(1e-3));
+            std::visit(
+                [&](const auto& s) {
+                    const int hits = intersect(s, Ray{p, d}, {0.0, kInf}).count;
+                    const bool is_in = inside(s, p);
+                    EXPECT_EQ(is_in, hits == 1) << s.kName << " at " << p.x << " " << p.y << " "
+                                                << p.z << ": " << hits << " hits";
+                    (is_in ? in : out) += 1;
+                },
+                shape);
+        }
+        EXPECT_GT(in, 200);  // both sides were exercised
+        EXPECT_GT(out, 200);
+    }
+}
+
+// The compile step keeps an analytic shape in its own frame with the group's transform: a
+// world point is inside when its image under the inverse transform is.
+TEST(Inside, UnderTheTransformsTheCompileStepApplies) {
+    const RenderScene scene = test::compile(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+        "#group_begin 2 0 0 5  0 1 0 0  0 0 1 0  0 0 0 1\n"  // x scaled by 2, moved to x = 5
+        "#shape_sphere 0 0 0 0 1\n#group_end\n"
+        "#group_begin 0.7071067811865476 0 0.7071067811865476 0  0 1 0 0"
+        "  -0.7071067811865476 0 0.7071067811865476 -5  0 0 0 1\n"  // 45 degrees about y
+        "#shape_box 0 0 0 0 2 2 2\n#group_end\n");
+    const GeometrySet& set = scene.sets[0];
+    auto inside_world = [&](const Vec3& w) {
+        for (const Primitive& p : set.prims) {
+            const Vec3 q = set.transforms[static_cast<size_t>(p.transform)].inv_point(w);
+            if (visit_shape(set, p, [&](const auto& s) { return inside(s, q); })) return true;
+        }
+        return false;
+    };
+    EXPECT_TRUE(inside_world({6.9, 0, 0}));   // the ellipsoid reaches x = 3..7
+    EXPECT_FALSE(inside_world({5, 1.1, 0}));  // but only y = -1..1
+    EXPECT_FALSE(inside_world({7.1, 0, 0}));
+    // The rotated cube's corners point along x and z: (1.3, 0, -5) is inside it, (0.9, 0, -4.1)
+    // past a face.
+    EXPECT_TRUE(inside_world({1.3, 0, -5}));
+    EXPECT_FALSE(inside_world({0.9, 0, -4.1}));
+    EXPECT_FALSE(inside_world({0, 0, 0}));
+}
+
+// ---- dispatch -------------------------------------------------------------------------------
+
+TEST(VisitShape, CallsWithThePrimitivesConcreteShape) {
+    const RenderScene scene = test::compile(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+        "#vertex 0 0 0 0 0 0 0 0\n#vertex 1 0 0 0 0 0 0 0\n#vertex 0 1 0 0 0 0 0 0\n"
+        "#shape_sphere 0 0 0 0 1\n#shape_box 0 3 0 0 1 1 1\n#shape_cylinder 0 6 0 0 1 1\n"
+        "#shape_cone 0 9 0 0 1 1\n#shape_triangle 0 0 1 2\n#shape_sphere 0 12 0 0 2\n");
+    const GeometrySet& set = scene.sets[0];
+    ASSERT_EQ(set.prims.size(), 6u);
+    int spheres = 0;
+    for (const Primitive& p : set.prims) {
+        const ShapeKind k =
+            visit_shape(set, p, [](const auto& s) { return std::decay_t<decltype(s)>::kKind; });
+        EXPECT_EQ(k, p.kind);
+        // The shape handed over is the primitive's own: its bounds are the set's.
+        const Bounds3 b = visit_shape(set, p, [](const auto& s) { return bounds(s); });
+        EXPECT_VEC_NEAR(b.lo, set.prim_bounds[&p - set.prims.data()].lo, 1e-9);
+        if (p.kind == ShapeKind::Sphere) {
+            // A dispatch narrowed to one kind calls without looking at the kind.
+            const double r = visit_shape<kind_bit(ShapeKind::Sphere)>(
+                set, p, [](const Sphere& s) { return s.radius; });
+            EXPECT_TRUE(r == 1.0 || r == 2.0);
+            ++spheres;
+        }
+    }
+    EXPECT_EQ(spheres, 2);
+    EXPECT_STREQ(shape_kind_name(ShapeKind::Cone), "cone");
+    EXPECT_STREQ(shape_kind_name(ShapeKind::Triangle), "triangle");
+}
+
+TEST(VisitShape, BoundsOfADescribedShapeUnderAMatrix) {
+    const SceneDesc desc = test::parse(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+        "#vertex 0 0 0 0 0 0 0 0\n#vertex 1 0 0 0 0 0 0 0\n#vertex 0 1 0 0 0 0 0 0\n"
+        "#shape_box 0 1 2 3 2 4 6\n#shape_cone 0 0 0 0 1 2\n#shape_triangle 0 0 1 2\n");
+    const FileDesc& f = desc.files[0];
+    Mat4 m(1.0);
+    m[3] = glm::dvec4(10, 0, 0, 1);                      // translate by +10 x
+    const Bounds3 box = bounds(f.root.shapes[0], f, m);  // full sizes: half extents 1, 2, 3
+    EXPECT_VEC_NEAR(box.lo, Vec3(10, 0, 0), 1e-12);
+    EXPECT_VEC_NEAR(box.hi, Vec3(12, 4, 6), 1e-12);
+    const Bounds3 cone = bounds(f.root.shapes[1], f, m);
+    EXPECT_VEC_NEAR(cone.lo, Vec3(9, -1, -1), 1e-12);
+    EXPECT_VEC_NEAR(cone.hi, Vec3(11, 1, 1), 1e-12);
+    const Bounds3 tri = bounds(f.root.shapes[2], f, m);
+    EXPECT_VEC_NEAR(tri.lo, Vec3(10, 0, 0), 1e-12);
+    EXPECT_VEC_NEAR(tri.hi, Vec3(11, 1, 0), 1e-12);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <type_traits>
 #include <utility>
 
 #include "rt/accel/triangle4.h"
@@ -23,16 +24,26 @@ ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tr
     return h;
 }
 
-// The kind of a primitive in a set of layout L: a constant for the one-kind layouts, so the
-// switches on it fold away, else the primitive's own.
-template <SetLayout L>
-ShapeKind kind_of(const Primitive& p) {
-    if constexpr (L == SetLayout::Spheres) return ShapeKind::Sphere;
-    if constexpr (L == SetLayout::Boxes) return ShapeKind::Box;
-    if constexpr (L == SetLayout::Cylinders) return ShapeKind::Cylinder;
-    if constexpr (L == SetLayout::Cones) return ShapeKind::Cone;
-    if constexpr (L == SetLayout::Triangles) return ShapeKind::Triangle;
-    return p.kind;
+// The kinds a set of layout L holds: a single one for the one-kind layouts, so the dispatch on
+// them (visit_shape) folds away.
+constexpr uint32_t layout_kinds(SetLayout l) {
+    switch (l) {
+        case SetLayout::Spheres:
+            return kind_bit(ShapeKind::Sphere);
+        case SetLayout::Boxes:
+            return kind_bit(ShapeKind::Box);
+        case SetLayout::Cylinders:
+            return kind_bit(ShapeKind::Cylinder);
+        case SetLayout::Cones:
+            return kind_bit(ShapeKind::Cone);
+        case SetLayout::Triangles:
+            return kind_bit(ShapeKind::Triangle);
+        case SetLayout::Analytic:
+            return kAnalyticKinds;
+        case SetLayout::Mixed:
+            break;
+    }
+    return kAllKinds;
 }
 
 // Every hit of one primitive of a set, for a ray in the set's frame. Without kXf no primitive
@@ -41,9 +52,8 @@ ShapeKind kind_of(const Primitive& p) {
 template <SetLayout L, bool kXf>
 ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray, const TriRay* tri,
                     Interval t) {
-    const ShapeKind kind = kind_of<L>(p);
     if constexpr (L == SetLayout::Mixed)
-        if (kind == ShapeKind::Triangle) return triangle_hits(set, p.index, *tri, t);
+        if (p.kind == ShapeKind::Triangle) return triangle_hits(set, p.index, *tri, t);
     const Ray* r = &ray;
     Ray local;
     if constexpr (kXf) {
@@ -52,19 +62,8 @@ ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray, 
             r = &local;
         }
     }
-    switch (kind) {
-        case ShapeKind::Sphere:
-            return intersect(set.spheres[p.index], *r, t);
-        case ShapeKind::Box:
-            return intersect(set.boxes[p.index], *r, t);
-        case ShapeKind::Cylinder:
-            return intersect(set.cylinders[p.index], *r, t);
-        case ShapeKind::Cone:
-            return intersect(set.cones[p.index], *r, t);
-        case ShapeKind::Triangle:
-            break;
-    }
-    return {};
+    return visit_shape<layout_kinds(L) & kAnalyticKinds>(
+        set, p, [&](const auto& shape) { return intersect(shape, *r, t); });
 }
 
 template <bool kXf>
@@ -225,25 +224,12 @@ SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray,
     constexpr uint32_t kLayout = (V & kGeomPerSet) >> kGeomLayoutShift;
     constexpr SetLayout kFixed =
         kLayout < kSetLayouts ? static_cast<SetLayout>(kLayout) : SetLayout::Mixed;
-    const ShapeKind kind = kind_of<kFixed>(p);
-    switch (kind) {
-        case ShapeKind::Sphere:
-            sp = surface_at(set.spheres[p.index], r, hit.t, hit.part, uv);
-            break;
-        case ShapeKind::Box:
-            sp = surface_at(set.boxes[p.index], r, hit.t, hit.part, uv);
-            break;
-        case ShapeKind::Cylinder:
-            sp = surface_at(set.cylinders[p.index], r, hit.t, hit.part, uv);
-            break;
-        case ShapeKind::Cone:
-            sp = surface_at(set.cones[p.index], r, hit.t, hit.part, uv);
-            break;
-        case ShapeKind::Triangle:
-            sp = surface_at(set.triangles[p.index], set.triangle_attribs[p.index], r, hit.t, uv,
-                            set.tri_origin);
-            break;
-    }
+    sp = visit_shape<layout_kinds(kFixed)>(set, p, [&](const auto& shape) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, Triangle>)
+            return surface_at(shape, set.triangle_attribs[p.index], r, hit.t, uv, set.tri_origin);
+        else
+            return surface_at(shape, r, hit.t, hit.part, uv);
+    });
     // Shape frame -> set frame -> world: points by M, normals by (A^-1)^T (spec §4.1). The error
     // bound grows by |A| applied to the local bound plus the rounding of the transform itself
     // (pbrt-v4's Transform error bounds, Pharr, Jakob, Humphreys, 4th ed. §6.8.6), plus the image

@@ -30,29 +30,10 @@ bool within_limits(const Bounds3& b) {
 
 // Tight world bounds of one primitive of a set placed by world_from_set (for the default camera).
 Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
-    if (p.kind == ShapeKind::Triangle) {
-        const Triangle& t = set.triangles[p.index];
-        Bounds3 b;
-        for (const Vec3& v : {t.p0, t.p1, t.p2})
-            b.extend(Vec3(world_from_set * glm::dvec4(v, 1.0)));
-        return b;
-    }
     const Mat4 m = p.transform < 0
                        ? world_from_set
                        : world_from_set * set.transforms[static_cast<size_t>(p.transform)].m;
-    switch (p.kind) {
-        case ShapeKind::Sphere:
-            return bounds(set.spheres[p.index], m);
-        case ShapeKind::Box:
-            return bounds(set.boxes[p.index], m);
-        case ShapeKind::Cylinder:
-            return bounds(set.cylinders[p.index], m);
-        case ShapeKind::Cone:
-            return bounds(set.cones[p.index], m);
-        case ShapeKind::Triangle:
-            break;
-    }
-    return {};
+    return visit_shape(set, p, [&](const auto& shape) { return bounds(shape, m); });
 }
 
 class Compiler {
@@ -202,20 +183,17 @@ private:
 
     // The one kind a set holds gets a walk of its own; triangles-only sets get packed leaves.
     static SetLayout layout_of(const std::vector<Pending>& pending) {
-        static_assert(
-            std::is_same_v<std::variant_alternative_t<0, decltype(ShapeDesc::geometry)>,
-                           SphereDesc> &&
-                std::is_same_v<std::variant_alternative_t<4, decltype(ShapeDesc::geometry)>,
-                               TriangleDesc>,
-            "ShapeDesc::geometry lists the kinds in ShapeKind's order");
-        std::array<size_t, 5> count{};
+        // geometry.index() is the kind (ShapeDesc); kinds past the table have no walk of their
+        // own and take the analytic one.
+        std::array<size_t, kShapeKinds> count{};
         for (const Pending& p : pending) ++count[p.shape->geometry.index()];
-        constexpr SetLayout kOneKind[5] = {SetLayout::Spheres, SetLayout::Boxes,
-                                           SetLayout::Cylinders, SetLayout::Cones,
-                                           SetLayout::Triangles};
-        for (size_t k = 0; k < 5; ++k)
+        constexpr SetLayout kOneKind[] = {SetLayout::Spheres, SetLayout::Boxes,
+                                          SetLayout::Cylinders, SetLayout::Cones,
+                                          SetLayout::Triangles};
+        for (size_t k = 0; k < std::size(kOneKind); ++k)
             if (count[k] == pending.size()) return kOneKind[k];
-        return count[4] == 0 ? SetLayout::Analytic : SetLayout::Mixed;
+        return count[static_cast<size_t>(ShapeKind::Triangle)] == 0 ? SetLayout::Analytic
+                                                                    : SetLayout::Mixed;
     }
 
     // Single-precision copies of the triangles, four per block (unused lanes zero), relative to
@@ -285,25 +263,20 @@ private:
     Bounds3 shape_bounds(const GeometrySet& set, size_t fi, const Pending& p) const {
         const Transform* xf =
             p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
-        const ShapeDesc& s = *p.shape;
-        if (const auto* td = std::get_if<TriangleDesc>(&s.geometry)) {
-            Bounds3 b;
-            for (const VertexDesc* v : triangle_vertices(m_desc.files[fi], *td, p.mirror))
-                b.extend(xf ? xf->point(v->position) : v->position);
-            return b;
-        }
-        // Analytic shapes: exact bounds under the group's transform, widened by its rounding.
-        auto tight = [&](const auto& shape) {
-            return xf ? bounds(shape, xf->m).widened() : bounds(shape);
-        };
-        if (const auto* sp = std::get_if<SphereDesc>(&s.geometry))
-            return tight(Sphere{sp->centre, sp->radius});
-        if (const auto* bx = std::get_if<BoxDesc>(&s.geometry))
-            return tight(Box{bx->centre, 0.5 * bx->size});
-        if (const auto* cy = std::get_if<CylinderDesc>(&s.geometry))
-            return tight(Cylinder{cy->centre, cy->radius, cy->height});
-        const auto& co = std::get<ConeDesc>(s.geometry);
-        return tight(Cone{co.centre, co.radius, co.height});
+        return std::visit(
+            [&](const auto& geo) {
+                Bounds3 b;
+                if constexpr (std::is_same_v<std::decay_t<decltype(geo)>, TriangleDesc>) {
+                    for (const VertexDesc* v : triangle_vertices(m_desc.files[fi], geo, p.mirror))
+                        b.extend(xf ? xf->point(v->position) : v->position);
+                } else {
+                    // Exact bounds under the group's transform, widened by its rounding.
+                    const auto& shape = to_shape(geo);
+                    b = xf ? bounds(shape, xf->m).widened() : bounds(shape);
+                }
+                return b;
+            },
+            p.shape->geometry);
     }
 
     void add_shape(GeometrySet& set, size_t fi, const Pending& pend) {
@@ -311,47 +284,44 @@ private:
         Primitive p;
         p.material = s.material < 0 ? m_default_material : m_material_offset[fi] + s.material;
         p.transform = pend.transform;
-        if (const auto* sp = std::get_if<SphereDesc>(&s.geometry)) {
-            p.kind = ShapeKind::Sphere;
-            p.index = static_cast<uint32_t>(set.spheres.size());
-            set.spheres.push_back({sp->centre, sp->radius});
-        } else if (const auto* bx = std::get_if<BoxDesc>(&s.geometry)) {
-            p.kind = ShapeKind::Box;
-            p.index = static_cast<uint32_t>(set.boxes.size());
-            set.boxes.push_back({bx->centre, 0.5 * bx->size});
-        } else if (const auto* cy = std::get_if<CylinderDesc>(&s.geometry)) {
-            p.kind = ShapeKind::Cylinder;
-            p.index = static_cast<uint32_t>(set.cylinders.size());
-            set.cylinders.push_back({cy->centre, cy->radius, cy->height});
-        } else if (const auto* co = std::get_if<ConeDesc>(&s.geometry)) {
-            p.kind = ShapeKind::Cone;
-            p.index = static_cast<uint32_t>(set.cones.size());
-            set.cones.push_back({co->centre, co->radius, co->height});
-        } else {
-            // Triangles are flattened into the set's frame: no per-primitive transform.
-            const Transform* xf =
-                pend.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(pend.transform)];
-            const auto v = triangle_vertices(m_desc.files[fi], std::get<TriangleDesc>(s.geometry),
-                                             pend.mirror);
-            p.kind = ShapeKind::Triangle;
-            p.index = static_cast<uint32_t>(set.triangles.size());
-            p.transform = -1;
-            Triangle tri{v[0]->position, v[1]->position, v[2]->position};
-            if (xf) tri = {xf->point(tri.p0), xf->point(tri.p1), xf->point(tri.p2)};
-            TriangleAttribs attr;
-            attr.has_normals = true;
-            for (size_t i = 0; i < 3; ++i) {
-                attr.uv[i] = v[i]->uv;
-                const Vec3 n = v[i]->normal;
-                if (n == Vec3(0.0))
-                    attr.has_normals = false;
-                else
-                    attr.n[i] = xf ? glm::normalize(xf->normal_dir(n)) : n;
-            }
-            set.triangles.push_back(tri);
-            set.triangle_attribs.push_back(attr);
-        }
+        std::visit(
+            [&](const auto& geo) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(geo)>, TriangleDesc>) {
+                    p.kind = ShapeKind::Triangle;
+                    p.index = static_cast<uint32_t>(set.triangles.size());
+                    p.transform = -1;  // flattened into the set's frame
+                    add_triangle(set, fi, geo, pend);
+                } else {
+                    using T = std::decay_t<decltype(to_shape(geo))>;
+                    std::vector<T>& shapes = set.shapes.of<T>();
+                    p.kind = T::kKind;
+                    p.index = static_cast<uint32_t>(shapes.size());
+                    shapes.push_back(to_shape(geo));
+                }
+            },
+            s.geometry);
         set.prims.push_back(p);
+    }
+
+    // Triangles are flattened into the set's frame: no per-primitive transform.
+    void add_triangle(GeometrySet& set, size_t fi, const TriangleDesc& td, const Pending& pend) {
+        const Transform* xf =
+            pend.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(pend.transform)];
+        const auto v = triangle_vertices(m_desc.files[fi], td, pend.mirror);
+        Triangle tri{v[0]->position, v[1]->position, v[2]->position};
+        if (xf) tri = {xf->point(tri.p0), xf->point(tri.p1), xf->point(tri.p2)};
+        TriangleAttribs attr;
+        attr.has_normals = true;
+        for (size_t i = 0; i < 3; ++i) {
+            attr.uv[i] = v[i]->uv;
+            const Vec3 n = v[i]->normal;
+            if (n == Vec3(0.0))
+                attr.has_normals = false;
+            else
+                attr.n[i] = xf ? glm::normalize(xf->normal_dir(n)) : n;
+        }
+        set.triangles.push_back(tri);
+        set.triangle_attribs.push_back(attr);
     }
 
     void build_acceleration() {

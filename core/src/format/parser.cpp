@@ -719,7 +719,7 @@ private:
         bool keep = true;
         const char* kind = "";
         if (n == "#shape_sphere") {
-            SphereDesc g;
+            Sphere g;
             g.centre = vec3(f, d, 4);
             const Token rt = f.lex.peek();
             g.radius = real(f, d, 4);
@@ -747,9 +747,9 @@ private:
             keep = positive(h, ht, cyl ? "cylinder height" : "cone height") && keep;
             kind = cyl ? "cylinder with zero radius or height" : "cone with zero radius or height";
             if (cyl)
-                s.geometry = CylinderDesc{c, r, h};
+                s.geometry = Cylinder{c, r, h};
             else
-                s.geometry = ConeDesc{c, r, h};
+                s.geometry = Cone{c, r, h};
         } else {
             TriangleDesc g;
             const int nv = static_cast<int>(f.desc.vertices.size());

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <filesystem>
+#include <variant>
 
 namespace rt {
 
@@ -120,22 +121,26 @@ private:
     }
 
     void shape(const ShapeDesc& s) {
-        if (const auto* sp = std::get_if<SphereDesc>(&s.geometry)) {
-            directive("#shape_sphere"), integer(s.material), vec(sp->centre), num(sp->radius);
-        } else if (const auto* b = std::get_if<BoxDesc>(&s.geometry)) {
-            directive("#shape_box"), integer(s.material), vec(b->centre), vec(b->size);
-        } else if (const auto* c = std::get_if<CylinderDesc>(&s.geometry)) {
-            directive("#shape_cylinder"), integer(s.material), vec(c->centre), num(c->radius),
-                num(c->height);
-        } else if (const auto* k = std::get_if<ConeDesc>(&s.geometry)) {
-            directive("#shape_cone"), integer(s.material), vec(k->centre), num(k->radius),
-                num(k->height);
-        } else {
-            const auto& t = std::get<TriangleDesc>(s.geometry);
-            directive("#shape_triangle"), integer(s.material);
-            for (int v : t.v) integer(v);
-        }
+        std::visit(
+            [&](const auto& geo) {
+                directive(directive_of(geo)), integer(s.material), params(geo);
+            },
+            s.geometry);
         end();
+    }
+
+    // One directive name and one parameter list per kind (spec §5), in the file's order.
+    static const char* directive_of(const Sphere&) { return "#shape_sphere"; }
+    static const char* directive_of(const BoxDesc&) { return "#shape_box"; }
+    static const char* directive_of(const Cylinder&) { return "#shape_cylinder"; }
+    static const char* directive_of(const Cone&) { return "#shape_cone"; }
+    static const char* directive_of(const TriangleDesc&) { return "#shape_triangle"; }
+    void params(const Sphere& g) { vec(g.centre), num(g.radius); }
+    void params(const BoxDesc& g) { vec(g.centre), vec(g.size); }
+    void params(const Cylinder& g) { vec(g.centre), num(g.radius), num(g.height); }
+    void params(const Cone& g) { vec(g.centre), num(g.radius), num(g.height); }
+    void params(const TriangleDesc& g) {
+        for (int v : g.v) integer(v);
     }
 
     const SceneDesc& m_desc;

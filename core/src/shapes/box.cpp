@@ -1,7 +1,7 @@
 // Box (spec §5): the six faces of [c - l/2, c + l/2]. The face of a point is the axis with the
 // largest |q_i|/h_i (ties: x, then y, then z); each face's (u, v) reads upright and unmirrored
-// from outside.
-#include "rt/shapes/shapes.h"
+// from outside. Inside: |q_i| < l_i/2 on every axis.
+#include "common.h"
 
 namespace rt {
 
@@ -29,7 +29,9 @@ static int face_of(const Vec3& q, const Vec3& h) {
     return axis * 2 + (q[axis] > 0 ? 1 : 0);
 }
 
-Vec2 box_face_uv(int face, const Vec3& q, const Vec3& h) {
+// Spec §5's box face table: (u, v) of local point q on `face` (axis * 2 + 1 for the + side),
+// h the half side lengths. Each face reads upright and unmirrored from outside.
+static Vec2 box_face_uv(int face, const Vec3& q, const Vec3& h) {
     const Vec3 l = 2.0 * h;
     switch (face) {
         case 1:
@@ -85,6 +87,35 @@ SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int /*part*/, bo
     sp.n_shading = sp.n_geometric;
     if (uv) sp.uv = box_face_uv(face, q, b.half);
     return sp;
+}
+
+bool inside(const Box& b, const Vec3& p_object) {
+    const Vec3 q = glm::abs(p_object - b.centre);
+    return q.x < b.half.x && q.y < b.half.y && q.z < b.half.z;
+}
+
+PreviewMesh tessellate(const Box& box, int /*detail*/) {
+    MeshBuilder b;
+    const Vec3 h = box.half;
+    // The six faces of spec §5's table: axis, sign, and the face's (u, v) at local q.
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            const double sign = side ? 1.0 : -1.0;
+            const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+            Vec3 n(0.0);
+            n[axis] = sign;
+            uint32_t v[4];
+            for (int k = 0; k < 4; ++k) {
+                Vec3 q(0.0);
+                q[axis] = sign * h[axis];
+                q[a1] = (k & 1) ? h[a1] : -h[a1];
+                q[a2] = (k & 2) ? h[a2] : -h[a2];
+                v[k] = b.vertex(box.centre + q, n, box_face_uv(axis * 2 + side, q, h));
+            }
+            b.triangle(v[0], v[1], v[3]);
+            b.triangle(v[0], v[3], v[2]);
+        }
+    return std::move(b.mesh);
 }
 
 }  // namespace rt

@@ -1,7 +1,8 @@
 // Cone (spec §5): axis along +y, apex (cx, y1, cz), side sqrt(q_x^2 + q_z^2) = r (y1 - y)/h for
 // y in [y0, y1], closed base disc at y0 (normal -y). Side normal
 // normalize(h q_x/rho, r, h q_z/rho), (0, 1, 0) at the apex; uv as the cylinder's.
-#include "rt/shapes/shapes.h"
+// Inside: y0 < y < y1 and sqrt(q_x^2 + q_z^2) < r (y1 - y)/h.
+#include "common.h"
 
 namespace rt {
 
@@ -128,6 +129,36 @@ SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part, bool 
     sp.p_error = kAnalyticRetestMargin * gamma(6) * (glm::abs(c.centre) + glm::abs(q));
     sp.n_shading = sp.n_geometric;
     return sp;
+}
+
+bool inside(const Cone& c, const Vec3& p_object) {
+    // Below the apex, above the base, and nearer the axis than the side at that height.
+    const Vec3 q = p_object - c.centre;
+    const double h2 = 0.5 * c.height;
+    if (!(q.y > -h2 && q.y < h2)) return false;
+    const double rho_side = c.radius * (h2 - q.y) / c.height;
+    return q.x * q.x + q.z * q.z < rho_side * rho_side;
+}
+
+PreviewMesh tessellate(const Cone& c, int detail) {
+    const int segments = std::max(3, detail);
+    const double h2 = 0.5 * c.height, r = c.radius, h = c.height;
+    MeshBuilder b;
+    // Side: base ring to apex. The apex is one vertex per segment, with that segment's normal,
+    // so the shading stays smooth around the axis.
+    b.grid(1, segments, [&](int i, int j, Vec3* p, Vec3* n, Vec2* uv) {
+        // The apex vertex j closes the segment (j - 1, j): it takes that segment's middle.
+        const double u = (i ? (j - 0.5) : j) / static_cast<double>(segments);
+        const double phi = 2 * kPi * u;
+        Vec3 q = around(phi, i ? 0.0 : r);
+        q.y = i ? h2 : -h2;
+        *p = c.centre + q;
+        const Vec3 dir = around(phi, 1.0);  // unit horizontal direction
+        *n = glm::normalize(Vec3(h * dir.x, r, h * dir.z));
+        *uv = {u, static_cast<double>(i)};
+    });
+    b.disc(c.centre - Vec3(0, h2, 0), r, false, segments);
+    return std::move(b.mesh);
 }
 
 }  // namespace rt

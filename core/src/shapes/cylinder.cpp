@@ -1,7 +1,8 @@
 // Cylinder (spec §5): axis along +y, side q_x^2 + q_z^2 = r^2 for y in [y0, y1], closed by caps
 // at y1 (top, normal +y) and y0 (bottom, normal -y). Side uv: (azimuth/2pi, (y - y0)/h); caps:
-// top (q_x + r)/2r, (r - q_z)/2r; bottom (q_x + r)/2r, (q_z + r)/2r.
-#include "rt/shapes/shapes.h"
+// top (q_x + r)/2r, (r - q_z)/2r; bottom (q_x + r)/2r, (q_z + r)/2r. Inside: q_x^2 + q_z^2 < r^2
+// and |q_y| < h/2.
+#include "common.h"
 
 namespace rt {
 
@@ -19,29 +20,6 @@ Bounds3 bounds(const Cylinder& c, const Mat4& m) {
     Bounds3 b = transformed_disc_bounds(c.centre + Vec3(0, 0.5 * c.height, 0), c.radius, m);
     b.extend(transformed_disc_bounds(c.centre - Vec3(0, 0.5 * c.height, 0), c.radius, m));
     return b;
-}
-
-ShapeHits convex_hits(double* cand, int* part, int n, Interval t) {
-    for (int i = 1; i < n; ++i)
-        for (int j = i; j > 0 && cand[j] < cand[j - 1]; --j)
-            std::swap(cand[j], cand[j - 1]), std::swap(part[j], part[j - 1]);
-    // A line meets a convex solid in one interval: its hits are the smallest and the largest
-    // candidate. Candidates accepted within their rounding band near a rim or an apex (a side root
-    // a hair past the cap plane, a cap point a hair outside the disc) lie between the two and are
-    // dropped, so the real exit is never displaced by a duplicate of the entry.
-    ShapeHits h;
-    if (n == 0) return h;
-    if (t.contains(cand[0])) h.add(cand[0], part[0]);
-    if (n > 1 && cand[n - 1] != cand[0] && t.contains(cand[n - 1])) h.add(cand[n - 1], part[n - 1]);
-    return h;
-}
-
-bool within_disc(double x, double z, double dx_err, double dz_err, double r) {
-    // x^2 + z^2 <= r^2 for the point as computed, widened by the error of its coordinates, so a
-    // ray through a rim is accepted by the cap even when the side rejects it (and vice versa).
-    const double err = 2.0 * (std::abs(x) * dx_err + std::abs(z) * dz_err) + dx_err * dx_err +
-                       dz_err * dz_err + gamma(3) * (x * x + z * z + r * r);
-    return x * x + z * z <= r * r + err;
 }
 
 ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t) {
@@ -117,6 +95,28 @@ SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part, b
     sp.p_error = kAnalyticRetestMargin * gamma(5) * (glm::abs(c.centre) + glm::abs(q));
     sp.n_shading = sp.n_geometric;
     return sp;
+}
+
+bool inside(const Cylinder& c, const Vec3& p_object) {
+    const Vec3 q = p_object - c.centre;
+    return q.x * q.x + q.z * q.z < c.radius * c.radius && std::abs(q.y) < 0.5 * c.height;
+}
+
+PreviewMesh tessellate(const Cylinder& c, int detail) {
+    const int segments = std::max(3, detail);
+    const double h2 = 0.5 * c.height;
+    MeshBuilder b;
+    b.grid(1, segments, [&](int i, int j, Vec3* p, Vec3* n, Vec2* uv) {
+        const double u = static_cast<double>(j) / segments;
+        Vec3 q = around(2 * kPi * u, c.radius);
+        q.y = i ? h2 : -h2;
+        *p = c.centre + q;
+        *n = Vec3(q.x, 0, q.z) / c.radius;
+        *uv = {u, static_cast<double>(i)};
+    });
+    b.disc(c.centre + Vec3(0, h2, 0), c.radius, true, segments);
+    b.disc(c.centre - Vec3(0, h2, 0), c.radius, false, segments);
+    return std::move(b.mesh);
 }
 
 }  // namespace rt

@@ -1,24 +1,8 @@
 // Sphere (spec §5): |q| = r, q = p - c; outward normal q/r; u = azimuth/2pi about +y from -z,
-// v = acos(-q_y/r)/pi (0 at the bottom pole).
-#include "rt/shapes/shapes.h"
+// v = acos(-q_y/r)/pi (0 at the bottom pole). Inside: |q| < r.
+#include "common.h"
 
 namespace rt {
-
-const char* shape_kind_name(ShapeKind k) {
-    switch (k) {
-        case ShapeKind::Sphere:
-            return "sphere";
-        case ShapeKind::Box:
-            return "box";
-        case ShapeKind::Cylinder:
-            return "cylinder";
-        case ShapeKind::Cone:
-            return "cone";
-        case ShapeKind::Triangle:
-            return "triangle";
-    }
-    return "?";
-}
 
 Bounds3 bounds(const Sphere& s) { return {s.centre - Vec3(s.radius), s.centre + Vec3(s.radius)}; }
 
@@ -27,14 +11,6 @@ Bounds3 bounds(const Sphere& s, const Mat4& m) {
     const Vec3 c = Vec3(m * glm::dvec4(s.centre, 1.0));
     Vec3 e;
     for (int i = 0; i < 3; ++i) e[i] = s.radius * glm::length(Vec3(m[0][i], m[1][i], m[2][i]));
-    return {c - e, c + e};
-}
-
-Bounds3 transformed_disc_bounds(const Vec3& centre, double r, const Mat4& m) {
-    // The disc is centre + r (cos a, 0, sin a); along axis i it spans r |(A_i0, A_i2)|.
-    const Vec3 c = Vec3(m * glm::dvec4(centre, 1.0));
-    Vec3 e;
-    for (int i = 0; i < 3; ++i) e[i] = r * std::hypot(m[0][i], m[2][i]);
     return {c - e, c + e};
 }
 
@@ -73,6 +49,27 @@ SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int /*part*/,
         sp.uv.y = std::acos(std::clamp(-q.y / s.radius, -1.0, 1.0)) / kPi;
     }
     return sp;
+}
+
+bool inside(const Sphere& s, const Vec3& p_object) {
+    const Vec3 q = p_object - s.centre;
+    return glm::dot(q, q) < s.radius * s.radius;
+}
+
+PreviewMesh tessellate(const Sphere& s, int detail) {
+    const int segments = std::max(3, detail), rings = std::max(2, detail / 2);
+    MeshBuilder b;
+    // v = acos(-q_y / r) / pi: v = 0 at the bottom pole.
+    b.grid(rings, segments, [&](int i, int j, Vec3* p, Vec3* n, Vec2* uv) {
+        const double v = static_cast<double>(i) / rings, u = static_cast<double>(j) / segments;
+        const double theta = kPi * v;
+        Vec3 q = around(2 * kPi * u, s.radius * std::sin(theta));
+        q.y = -s.radius * std::cos(theta);
+        *p = s.centre + q;
+        *n = q / s.radius;
+        *uv = {u, v};
+    });
+    return std::move(b.mesh);
 }
 
 }  // namespace rt

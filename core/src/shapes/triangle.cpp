@@ -1,5 +1,6 @@
 // Triangle (spec §5): p = w1 v1 + w2 v2 + w3 v3; geometric normal normalize((v2-v1) x (v3-v1));
-// shading normal interpolated when all three vertices have normals; uv interpolated.
+// shading normal interpolated when all three vertices have normals; uv interpolated. A triangle
+// bounds no solid: inside() is always false (a closed mesh's interior is not a triangle's).
 #include "rt/accel/triangle4.h"
 #include "rt/shapes/shapes.h"
 
@@ -10,6 +11,12 @@ Bounds3 bounds(const Triangle& t) {
     b.extend(t.p0);
     b.extend(t.p1);
     b.extend(t.p2);
+    return b;
+}
+
+Bounds3 bounds(const Triangle& t, const Mat4& m) {
+    Bounds3 b;
+    for (const Vec3& v : {t.p0, t.p1, t.p2}) b.extend(Vec3(m * glm::dvec4(v, 1.0)));
     return b;
 }
 
@@ -81,6 +88,21 @@ SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const 
     }
     if (uv) sp.uv = b0 * attr.uv[0] + b1 * attr.uv[1] + b2 * attr.uv[2];
     return sp;
+}
+
+bool inside(const Triangle& /*t*/, const Vec3& /*p_object*/) { return false; }
+
+void tessellate(const Triangle& t, const TriangleAttribs& a, PreviewMesh& out) {
+    const Vec3 ng = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
+    const Vec3 ps[3] = {t.p0, t.p1, t.p2};
+    const uint32_t first = static_cast<uint32_t>(out.positions.size());
+    for (int k = 0; k < 3; ++k) {
+        out.positions.push_back(ps[k]);
+        out.normals.push_back(a.has_normals ? a.n[k] : ng);
+        out.uvs.push_back(a.uv[k]);
+    }
+    // The file's winding: (v2 - v1) x (v3 - v1) is the geometric normal (spec §5).
+    out.indices.insert(out.indices.end(), {first, first + 1, first + 2});
 }
 
 }  // namespace rt

@@ -54,10 +54,7 @@ inline constexpr int kSetLayouts = 7;
 struct GeometrySet {
     std::string name;  // the file it came from
     std::vector<Primitive> prims;
-    std::vector<Sphere> spheres;
-    std::vector<Box> boxes;
-    std::vector<Cylinder> cylinders;
-    std::vector<Cone> cones;
+    ShapeArrays shapes;               // the analytic shapes, one array per kind (shapes.h)
     std::vector<Triangle> triangles;  // flattened into the set's frame
     std::vector<Tri4> tri4;           // the same in float, four per block: what rays test,
     Vec3 tri_origin{0.0};             // relative to this point of the set's frame

@@ -1,9 +1,21 @@
-// The five shapes of the format in their local frame (spec §5), each with the same small API:
-// bounds, intersect (every hit in an interval, nearest first) and surface_at (point, outward
-// geometric normal, shading normal, texture coordinates, and a bound on the point's error).
+// The five shapes of the format in their local frame (spec §5), each in its own file
+// core/src/shapes/<kind>.cpp with the same small API: bounds, intersect (every hit in an interval,
+// nearest first), surface_at (point, outward geometric normal, shading normal, texture
+// coordinates, and a bound on the point's error), inside (the solid's open interior) and
+// tessellate (the viewer's preview mesh). One dispatch, visit_shape(), calls a function with the
+// concrete shape of a primitive; no call site switches on the kind.
+//
+// Adding a kind: its struct here (with kKind and kName), its enumerator in ShapeKind, its place
+// in Shape, the declarations of its functions, then its file, its parser directive and its
+// writer overload.
 #pragma once
 
+#include <bit>
 #include <cstdint>
+#include <tuple>
+#include <type_traits>
+#include <variant>
+#include <vector>
 
 #include "rt/util/math.h"
 
@@ -13,26 +25,112 @@ enum class ShapeKind : uint8_t { Sphere, Box, Cylinder, Cone, Triangle };
 const char* shape_kind_name(ShapeKind k);
 
 struct Sphere {
+    static constexpr ShapeKind kKind = ShapeKind::Sphere;
+    static constexpr const char* kName = "sphere";
     Vec3 centre{0.0};
     double radius = 1.0;
 };
 struct Box {
+    static constexpr ShapeKind kKind = ShapeKind::Box;
+    static constexpr const char* kName = "box";
     Vec3 centre{0.0};
-    Vec3 half{0.5};  // half side lengths (the file gives full lengths)
+    Vec3 half{0.5};  // half side lengths (the file gives full lengths: BoxDesc)
 };
 /// Axis along +y, from centre.y - height/2 to centre.y + height/2, closed by two caps.
 struct Cylinder {
+    static constexpr ShapeKind kKind = ShapeKind::Cylinder;
+    static constexpr const char* kName = "cylinder";
     Vec3 centre{0.0};
     double radius = 1.0, height = 1.0;
 };
 /// Axis along +y: base disc (closed) at centre.y - height/2, apex at centre.y + height/2.
 struct Cone {
+    static constexpr ShapeKind kKind = ShapeKind::Cone;
+    static constexpr const char* kName = "cone";
     Vec3 centre{0.0};
     double radius = 1.0, height = 1.0;
 };
 struct Triangle {
+    static constexpr ShapeKind kKind = ShapeKind::Triangle;
+    static constexpr const char* kName = "triangle";
     Vec3 p0{0.0}, p1{0.0}, p2{0.0};
 };
+
+/// The closed set of shapes, in ShapeKind order: the one list the dispatch, the per-kind arrays
+/// and the description's variant are derived from.
+using Shape = std::variant<Sphere, Box, Cylinder, Cone, Triangle>;
+inline constexpr int kShapeKinds = static_cast<int>(std::variant_size_v<Shape>);
+template <ShapeKind K>
+using ShapeOf = std::variant_alternative_t<static_cast<size_t>(K), Shape>;
+
+constexpr uint32_t kind_bit(ShapeKind k) { return 1u << static_cast<uint32_t>(k); }
+/// Sets of kinds as bit masks, for dispatches that know which kinds can occur.
+inline constexpr uint32_t kAllKinds = (1u << kShapeKinds) - 1u;
+inline constexpr uint32_t kAnalyticKinds = kAllKinds & ~kind_bit(ShapeKind::Triangle);
+
+namespace detail {
+template <size_t... I>
+constexpr bool kinds_in_order(std::index_sequence<I...>) {
+    return ((std::variant_alternative_t<I, Shape>::kKind == static_cast<ShapeKind>(I)) && ...);
+}
+static_assert(kinds_in_order(std::make_index_sequence<kShapeKinds>{}),
+              "Shape lists the kinds in ShapeKind's order");
+static_assert(kShapeKinds <= 32, "kind masks are 32 bits");
+
+template <class V>
+struct AnalyticArrays;
+template <class... T>
+struct AnalyticArrays<std::variant<T...>> {
+    using type = decltype(std::tuple_cat(
+        std::declval<std::conditional_t<std::is_same_v<T, Triangle>, std::tuple<>,
+                                        std::tuple<std::vector<T>>>>()...));
+};
+}  // namespace detail
+
+/// One array per analytic kind (triangles have arrays of their own: GeometrySet::triangles).
+struct ShapeArrays {
+    typename detail::AnalyticArrays<Shape>::type arrays;
+    template <class T>
+    std::vector<T>& of() {
+        return std::get<std::vector<T>>(arrays);
+    }
+    template <class T>
+    const std::vector<T>& of() const {
+        return std::get<std::vector<T>>(arrays);
+    }
+};
+
+/// Calls f(std::type_identity<T>{}) for the shape type T of kind k, which must be in kKinds. A
+/// single kind is a direct call (nothing is tested), so a walk over a one-kind set folds; else
+/// the kinds are tested in order and the last one is not tested.
+template <uint32_t kKinds = kAllKinds, class F>
+decltype(auto) visit_kind(ShapeKind k, F&& f) {
+    static_assert(kKinds != 0 && (kKinds & ~kAllKinds) == 0);
+    constexpr int kFirst = std::countr_zero(kKinds);
+    using T = std::variant_alternative_t<kFirst, Shape>;
+    if constexpr ((kKinds & (kKinds - 1u)) == 0) {
+        return f(std::type_identity<T>{});
+    } else {
+        if (k == static_cast<ShapeKind>(kFirst)) return f(std::type_identity<T>{});
+        return visit_kind<kKinds&(kKinds - 1u)>(k, static_cast<F&&>(f));
+    }
+}
+
+/// THE dispatch on a primitive's kind: calls f(shape) with the concrete shape of primitive p of
+/// `set` (a GeometrySet, rt/compile/render_scene.h: a template so that this header needs none of
+/// the compile stage's types). kKinds narrows the kinds the set can hold (a set's layout), see
+/// visit_kind.
+template <uint32_t kKinds = kAllKinds, class Set, class Prim, class F>
+decltype(auto) visit_shape(const Set& set, const Prim& p, F&& f) {
+    return visit_kind<kKinds>(p.kind, [&](auto tag) -> decltype(auto) {
+        using T = typename decltype(tag)::type;
+        if constexpr (std::is_same_v<T, Triangle>)
+            return f(set.triangles[p.index]);
+        else
+            return f(set.shapes.template of<T>()[p.index]);
+    });
+}
+
 /// Per-vertex attributes of a triangle, kept apart from the positions the traversal reads.
 struct TriangleAttribs {
     Vec3 n[3]{Vec3(0.0), Vec3(0.0), Vec3(0.0)};
@@ -68,14 +166,6 @@ struct SurfacePoint {
     Vec2 uv{0.0};
 };
 
-/// The hits of a convex shape from up to four candidate roots: the smallest and the largest
-/// (entry and exit of the one interval a line shares with a convex solid), each kept when inside
-/// the interval; a root found twice (a side meeting a cap on the rim) counts once.
-ShapeHits convex_hits(double* cand, int* part, int n, Interval t);
-/// Whether (x, z) lies in the disc of radius r, widened by the errors of x and z and the
-/// rounding of the test (cap and base discs; see convex_hits).
-bool within_disc(double x, double z, double dx_err, double dz_err, double r);
-
 Bounds3 bounds(const Sphere& s);
 Bounds3 bounds(const Box& b);
 Bounds3 bounds(const Cylinder& c);
@@ -88,9 +178,7 @@ Bounds3 bounds(const Sphere& s, const Mat4& m);
 Bounds3 bounds(const Box& b, const Mat4& m);
 Bounds3 bounds(const Cylinder& c, const Mat4& m);
 Bounds3 bounds(const Cone& c, const Mat4& m);
-
-/// Bounds of a disc of radius r centred at `centre` in the local plane normal to y, under m.
-Bounds3 transformed_disc_bounds(const Vec3& centre, double r, const Mat4& m);
+Bounds3 bounds(const Triangle& t, const Mat4& m);
 
 ShapeHits intersect(const Sphere& s, const Ray& ray, Interval t);
 ShapeHits intersect(const Box& b, const Ray& ray, Interval t);
@@ -109,16 +197,39 @@ SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part, bool 
 SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t,
                         bool uv = true, const Vec3& origin = Vec3(0.0));
 
-/// Spec §5's box face table: (u, v) of local point q on `face` (axis * 2 + 1 for the + side),
-/// h the half side lengths. Each face reads upright and unmirrored from outside.
-Vec2 box_face_uv(int face, const Vec3& q, const Vec3& h);
+/// Whether the object-space point lies strictly inside the solid: points on the surface (up to
+/// the rounding of the test's few operations) and outside it are not inside. Triangles bound no
+/// solid: no point is inside one.
+bool inside(const Sphere& s, const Vec3& p_object);
+bool inside(const Box& b, const Vec3& p_object);
+bool inside(const Cylinder& c, const Vec3& p_object);
+bool inside(const Cone& c, const Vec3& p_object);
+bool inside(const Triangle& t, const Vec3& p_object);
 
-/// Spec §5's disc uv for cylinder caps and the cone base: top (q_x + r)/2r, (r - q_z)/2r;
-/// bottom (q_x + r)/2r, (q_z + r)/2r.
-inline Vec2 disc_uv(bool top, double qx, double qz, double r) {
-    return top ? Vec2((qx + r) / (2 * r), (r - qz) / (2 * r))
-               : Vec2((qx + r) / (2 * r), (qz + r) / (2 * r));
-}
+/// A triangle mesh for the viewer's rasterized preview. Positions, outward normals and texture
+/// coordinates follow spec §5, so the preview and the trace agree; no GL here, the viewer
+/// uploads these arrays.
+struct PreviewMesh {
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals;  // unit, outward (the shader applies the two-sided rule)
+    std::vector<Vec2> uvs;
+    std::vector<uint32_t> indices;  // three per triangle
+    std::vector<int> materials;     // one per triangle: index into RenderScene::materials
+
+    size_t triangle_count() const { return indices.size() / 3; }
+    /// Appends `other` with every vertex mapped by `xf` (points by M, normals by (A^-1)^T).
+    void append(const PreviewMesh& other, const Transform* xf = nullptr);
+};
+
+/// `detail` is the number of segments around the y axis (at least 3); rings follow from it. A
+/// box is its six faces whatever the detail.
+PreviewMesh tessellate(const Sphere& s, int detail);
+PreviewMesh tessellate(const Box& b, int detail = 0);
+PreviewMesh tessellate(const Cylinder& c, int detail);
+PreviewMesh tessellate(const Cone& c, int detail);
+/// Appends the triangle in the file's winding, with its vertex normals when it has them (else
+/// the geometric normal) and its vertex uvs; no material (the caller tags it).
+void tessellate(const Triangle& t, const TriangleAttribs& attr, PreviewMesh& out);
 
 /// Spec §5: azimuth about +y measured from -z, in [0, 2*pi).
 inline double azimuth(const Vec3& q) {
