@@ -139,7 +139,7 @@ TEST(Parser, ShapesAndGroups) {
     const FileDesc& f = s.files[0];
     EXPECT_EQ(f.vertices[0].normal, Vec3(0, 0, 1));  // normalised when read
     ASSERT_EQ(f.root.shapes.size(), 2u);
-    const auto& sp = std::get<SphereDesc>(f.root.shapes[0].geometry);
+    const auto& sp = std::get<Sphere>(f.root.shapes[0].geometry);
     EXPECT_EQ(sp.centre, Vec3(1, 2, 3));
     EXPECT_EQ(sp.radius, 4);
     ASSERT_EQ(f.root.groups.size(), 1u);

@@ -23,7 +23,7 @@ void expect_same_group(const GroupDesc& a, const GroupDesc& b) {
                 } else if constexpr (std::is_same_v<T, BoxDesc>) {
                     EXPECT_EQ(ga.centre, gb.centre);
                     EXPECT_EQ(ga.size, gb.size);
-                } else if constexpr (std::is_same_v<T, SphereDesc>) {
+                } else if constexpr (std::is_same_v<T, Sphere>) {
                     EXPECT_EQ(ga.centre, gb.centre);
                     EXPECT_EQ(ga.radius, gb.radius);
                 } else {

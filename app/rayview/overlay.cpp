@@ -132,27 +132,7 @@ namespace {
 // The world bounds of a group's own shapes under m.
 Bounds3 shape_bounds(const FileDesc& f, const GroupDesc& g, const Mat4& m) {
     Bounds3 b;
-    for (const ShapeDesc& shape : g.shapes) {
-        std::visit(
-            [&](const auto& geo) {
-                using T = std::decay_t<decltype(geo)>;
-                if constexpr (std::is_same_v<T, SphereDesc>) {
-                    b.extend(bounds(Sphere{geo.centre, geo.radius}, m));
-                } else if constexpr (std::is_same_v<T, BoxDesc>) {
-                    b.extend(bounds(Box{geo.centre, 0.5 * geo.size}, m));
-                } else if constexpr (std::is_same_v<T, CylinderDesc>) {
-                    b.extend(bounds(Cylinder{geo.centre, geo.radius, geo.height}, m));
-                } else if constexpr (std::is_same_v<T, ConeDesc>) {
-                    b.extend(bounds(Cone{geo.centre, geo.radius, geo.height}, m));
-                } else {
-                    for (int v : geo.v)
-                        if (v >= 0 && static_cast<size_t>(v) < f.vertices.size())
-                            b.extend(Vec3(
-                                m * glm::dvec4(f.vertices[static_cast<size_t>(v)].position, 1.0)));
-                }
-            },
-            shape.geometry);
-    }
+    for (const ShapeDesc& shape : g.shapes) b.extend(bounds(shape, f, m));
     return b;
 }
 

@@ -105,12 +105,6 @@ struct ShapeDescVariant<std::variant<T...>> {
     using type = std::variant<typename DescOf<T>::type...>;
 };
 
-/// Transitional names of the description types that are now the shapes themselves (the viewer's
-/// group boxes still spell them; they go once it calls bounds(ShapeDesc, ...)).
-using SphereDesc = Sphere;
-using CylinderDesc = Cylinder;
-using ConeDesc = Cone;
-
 struct ShapeDesc {
     SourceLoc loc;
     int material = 0;  // index into the file's materials; -1 = V0 default
