@@ -144,6 +144,7 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
     state.reset(settings.width, settings.height);
     RenderSettings pass_settings = settings;
     pass_settings.centre_first_sample = false;  // every sample jittered
+    const RenderPlan plan = make_render_plan(scene, pass_settings);
     std::vector<PassRecord> records;
     double render_seconds = 0;
     uint64_t samples_total = 0;
@@ -171,7 +172,7 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
             spp = 1;
         }
         const auto t0 = Clock::now();
-        if (!render_samples(state, scene, pass_settings, spp, {}, stop)) break;
+        if (!render_samples(state, scene, plan, pass_settings, spp, {}, stop)) break;
         render_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
         samples_total += pass_samples;
 

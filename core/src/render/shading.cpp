@@ -3,7 +3,9 @@
 #include <array>
 #include <utility>
 
-#include "rt/render/features.h"
+#include "rt/render/plan.h"
+#include "rt/render/render.h"
+#include "variants.h"
 
 namespace rt {
 
@@ -82,11 +84,10 @@ namespace {
 // `if constexpr` removes the code of every feature F lacks. With F = kShadeAll it is the generic
 // renderer, which tests each feature per ray.
 template <uint32_t F>
-Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
-           const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
+Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSettings& settings,
+           const Ray& ray, int depth, const Vec3& weight, RayCounters& counters, Rng* rng) {
     constexpr bool kStochastic = (F & kShadeStochastic) != 0;
-    const GeometryQueries& geometry =
-        settings.geometry ? *settings.geometry : geometry_queries(scene.geometry.variant);
+    const GeometryQueries& geometry = *plan.geometry;
     Hit hit;
     if (!geometry.intersect(scene, ray, {0.0, kInf}, &hit)) return scene.background;
     // Texture coordinates only where a texture reads them.
@@ -106,8 +107,7 @@ Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weig
     Vec3 c = m.emissive + m.ambient * t * scene.ambient;
     const Vec3 r_v = d - 2.0 * glm::dot(d, n) * n;  // mirror direction, also for highlights
 
-    const std::vector<Light>& lights = settings.lights ? *settings.lights : scene.lights;
-    for (const Light& scene_light : lights) {
+    for (const Light& scene_light : plan.lights) {
         Light light = scene_light;
         if constexpr (kStochastic) {
             // Soft shadows: a point or spot light is a sphere of radius light_radius, sampled
@@ -176,8 +176,8 @@ Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weig
                     }
                 }
                 ++counters.reflected;
-                c += m.specular * trace<F>(scene, spawn_ray(si, dir), depth - 1, w_refl, settings,
-                                           counters, rng);
+                c += m.specular * trace<F>(scene, plan, settings, spawn_ray(si, dir), depth - 1,
+                                           w_refl, counters, rng);
             }
         }
         if constexpr ((F & kShadeRefraction) != 0) {
@@ -191,17 +191,14 @@ Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weig
                 if (k >= 0.0) {
                     const Vec3 dir = eta * d + (eta * cos_i - std::sqrt(k)) * n;
                     ++counters.refracted;
-                    c += m.transparent * trace<F>(scene, spawn_ray(si, dir), depth - 1, w_refr,
-                                                  settings, counters, rng);
+                    c += m.transparent * trace<F>(scene, plan, settings, spawn_ray(si, dir),
+                                                  depth - 1, w_refr, counters, rng);
                 }
             }
         }
     }
     return c;
 }
-
-using TraceFn = Vec3 (*)(const RenderScene&, const Ray&, int, const Vec3&, const ShadingSettings&,
-                         RayCounters&, Rng*);
 
 // The variants compiled: a combination that cannot occur maps to one that can (transparent
 // shadows need shadows; spot lights are attenuated), and the rarely used stochastic features run
@@ -214,8 +211,9 @@ constexpr uint32_t canonical(uint32_t v) {
 }
 
 template <uint32_t... I>
-constexpr std::array<TraceFn, sizeof...(I)> trace_table(std::integer_sequence<uint32_t, I...>) {
-    return {&trace<canonical(I)>...};
+constexpr std::array<ShadingVariant, sizeof...(I)> trace_table(
+    std::integer_sequence<uint32_t, I...>) {
+    return {ShadingVariant{&trace<canonical(I)>}...};
 }
 
 // Every variant, indexed by its ShadeFeature bits.
@@ -223,10 +221,13 @@ constexpr auto kTraceVariants = trace_table(std::make_integer_sequence<uint32_t,
 
 }  // namespace
 
-Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
-               const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
-    return kTraceVariants[settings.variant & kShadeAll](scene, ray, depth, weight, settings,
-                                                        counters, rng);
+const ShadingVariant& shading_variant(uint32_t shade_variant) {
+    return kTraceVariants[shade_variant & kShadeAll];
+}
+
+Vec3 trace_ray(const RenderScene& scene, const RenderPlan& plan, const RenderSettings& settings,
+               const Ray& ray, int depth, const Vec3& weight, RayCounters& counters, Rng* rng) {
+    return plan.shading->trace(scene, plan, settings, ray, depth, weight, counters, rng);
 }
 
 }  // namespace rt
