@@ -12,9 +12,8 @@
 #include <sstream>
 
 #include "cli_options.h"
-#include "rt/compile/render_scene.h"
+#include "rt/compile/compile.h"
 #include "rt/format/parser.h"
-#include "rt/render/features.h"
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
 #include "rt/util/file_io.h"
@@ -123,9 +122,10 @@ rt::Image auto_reference(const rt::cli::Options& opt, const rt::SceneDesc& desc,
     ref_settings.seed = settings.seed + 0x5EED5EEDull;  // independent of the measured run
     ref_settings.centre_first_sample = false;  // the progressive sequence: unbiased in chunks
     rt::RenderState ref;
+    const rt::RenderPlan ref_plan = rt::make_render_plan(scene, ref_settings);
     for (int done = 0; done < opt.reference_spp;) {
         const int n = std::min(16, opt.reference_spp - done);
-        rt::render_samples(ref, scene, ref_settings, n);
+        rt::render_samples(ref, scene, ref_plan, ref_settings, n);
         done += n;
         if (!opt.quiet && isatty(STDOUT_FILENO)) {
             std::printf("\r  %d / %d spp", done, opt.reference_spp);
@@ -290,8 +290,10 @@ int run(const rt::cli::Options& opt) {
 
     const auto t_compile = Clock::now();
     rt::RenderScene scene;
+    rt::CompileReport st;
     try {
-        scene = rt::compile_scene(desc);  // its errors (geometry beyond 1e300) carry file:line:col
+        scene =
+            rt::compile_scene(desc, &st);  // its errors (geometry beyond 1e300) carry file:line:col
     } catch (const rt::SceneError& e) {
         std::cerr << e.what() << "\n";
         return 1;
@@ -311,11 +313,11 @@ int run(const rt::cli::Options& opt) {
     settings.focus_distance = opt.focus_distance;
     settings.roughness = opt.roughness;
     settings.specialize = opt.specialize;
+    const rt::RenderPlan plan = rt::make_render_plan(scene, settings);
 
-    const rt::SceneStats& st = scene.stats;
     if (!opt.quiet) {
         std::printf("scene     %s (%s, %zu file%s)\n", opt.scene.c_str(),
-                    rt::dialect_name(scene.dialect), st.files, st.files == 1 ? "" : "s");
+                    rt::dialect_name(desc.dialect), st.files, st.files == 1 ? "" : "s");
         std::printf("shapes   ");
         for (int k = 0; k < 5; ++k)
             std::printf(" %s %zu%s", rt::shape_kind_name(static_cast<rt::ShapeKind>(k)),
@@ -335,8 +337,8 @@ int run(const rt::cli::Options& opt) {
         std::printf("renderer  %s\n", opt.specialize
                                           ? "specialized to the scene (--no-specialize: generic)"
                                           : "generic (--no-specialize): every feature kept");
-        for (const std::string& line : rt::explain_features(rt::scene_features(scene, settings)))
-            std::printf("%s\n", line.c_str());
+        for (const rt::PlanReason& reason : plan.reasons)
+            std::printf("%s\n", rt::reason_line(reason).c_str());
         std::fflush(stdout);
     }
 
@@ -363,7 +365,7 @@ int run(const rt::cli::Options& opt) {
 
     const auto t_render = Clock::now();
     rt::RenderState state;
-    rt::render_samples(state, scene, settings, opt.spp, progress);
+    rt::render_samples(state, scene, plan, settings, opt.spp, progress);
     const double render_s = seconds_since(t_render);
 
     try {
@@ -388,7 +390,7 @@ int run(const rt::cli::Options& opt) {
         std::printf("wrote     %s\n", opt.output.c_str());
     }
     if (opt.stats) {
-        const double build_s = scene.stats.build_seconds;
+        const double build_s = st.build_seconds;
         std::printf("\nphase            seconds\n");
         std::printf("parse         %10.3f\n", parse_s);
         std::printf("compile       %10.3f   (of which BVH build %.3f)\n", compile_s, build_s);

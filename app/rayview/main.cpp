@@ -24,10 +24,10 @@
 
 #include "camera_controller.h"
 #include "preview.h"
+#include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
 #include "rt/render/camera.h"
-#include "rt/render/features.h"
 #include "rt/render/render.h"
 #include "rt/util/file_io.h"
 #include "tracer.h"
@@ -54,8 +54,15 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
         s->path = path;
         s->desc = parse_scene_file(path, diag);
         s->scene = compile_scene(s->desc);
-        s->file_camera =
-            s->scene.camera ? *s->scene.camera : default_camera(s->scene.world_bounds, 640, 480);
+        if (s->desc.camera) {
+            s->file_camera = *s->desc.camera;
+        } else {
+            const CameraPose d = default_camera(s->scene.world_bounds, 640, 480);
+            s->file_camera.position = d.position;
+            s->file_camera.direction = d.direction;
+            s->file_camera.up = d.up;
+            s->file_camera.half_height_angle_rad = d.half_height_angle_rad;
+        }
         s->lights = s->scene.lights;
         s->light_on.assign(s->lights.size(), 1);
         return s;
@@ -217,7 +224,7 @@ int render_headless(const std::string& path) {
     const std::string out = std::filesystem::path(path).stem().string() + ".png";
     RenderSettings settings;
     RenderState state;
-    render_samples(state, s->scene, settings, 16);
+    render_samples(state, s->scene, make_render_plan(s->scene, settings), settings, 16);
     try {
         save_image(state.image(), out);
     } catch (const std::exception& e) {
@@ -327,7 +334,7 @@ int main(int argc, char** argv) {
         auto served_input_time = input_time;                 // the input the running trace answers
         bool input_pending = false;
         double moving_div = 2.0;  // the preview's resolution divisor while the view moves
-        std::vector<std::string> explained;         // explain_features() of the running trace
+        std::vector<std::string> explained;         // the running trace's plan.reasons
         bool print_left_out = !screenshot.empty();  // once, for --frames runs (tests, logs)
         double frame_total_s = 0, frame_max_s = 0;
         int frame_count = 0;
@@ -670,7 +677,8 @@ int main(int argc, char** argv) {
                 // Lights are dragged in the preview: a click near a point or spot light's marker
                 // picks it, and the drag moves it parallel to the image.
                 const Camera view_cam =
-                    make_camera(orbit.desc(), static_cast<int>(pane_w), static_cast<int>(pane_h));
+                    make_camera(compile_camera(orbit.desc()), static_cast<int>(pane_w),
+                                static_cast<int>(pane_h));
                 auto to_pane = [&](const Vec3& p, double* depth) {
                     const Vec3 v = p - view_cam.position;
                     *depth = glm::dot(v, view_cam.forward);
@@ -730,7 +738,7 @@ int main(int argc, char** argv) {
                 // Fly: WASD along the view and sideways, Q/E down and up, at a speed scaled to
                 // the scene (its diagonal per 4 seconds).
                 if (!io.WantCaptureKeyboard) {
-                    const Camera cam = make_camera(orbit.desc(), 4, 4);
+                    const Camera cam = make_camera(compile_camera(orbit.desc()), 4, 4);
                     const Bounds3& b = loaded->scene.world_bounds;
                     const double speed =
                         (b.empty() ? 1.0 : glm::length(b.diagonal())) / 4.0 * frame_s;
@@ -761,14 +769,16 @@ int main(int argc, char** argv) {
                 if (dirty && trace_caught_up) {
                     // Stop, edit, restart: the scene is only changed while no trace runs.
                     tracer.stop();
-                    loaded->scene.camera = orbit.desc();
+                    loaded->scene.camera = compile_camera(orbit.desc());
                     loaded->scene.lights.clear();
                     for (size_t i = 0; i < loaded->lights.size(); ++i)
                         if (loaded->light_on[i]) loaded->scene.lights.push_back(loaded->lights[i]);
                     settings.width = trace_w;
                     settings.height = trace_h;
                     tracer.restart(loaded->scene, settings, target_spp);
-                    explained = explain_features(scene_features(loaded->scene, settings));
+                    explained.clear();
+                    for (const PlanReason& r : tracer.plan().reasons)
+                        explained.push_back(reason_line(r));
                     if (print_left_out)
                         for (const std::string& l : explained)
                             if (l.rfind("left out", 0) == 0)
@@ -804,7 +814,8 @@ int main(int argc, char** argv) {
                     preview_fb.h != drawn_h) {
                     glBindFramebuffer(GL_FRAMEBUFFER, preview_fb.fbo);
                     // The camera of the latest input, also while a restart waits.
-                    const Camera cam = make_camera(orbit.desc(), preview_fb.w, preview_fb.h);
+                    const Camera cam =
+                        make_camera(compile_camera(orbit.desc()), preview_fb.w, preview_fb.h);
                     preview->draw(loaded->scene, cam, preview_fb.w, preview_fb.h, settings.shadows);
                     std::vector<view::LineVertex> lines =
                         view::overlay_lines(loaded->scene, show_lights, box_depth);

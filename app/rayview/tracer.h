@@ -24,6 +24,8 @@ public:
     /// Starts tracing `scene` (which must outlive the trace and stay unchanged until stop()):
     /// a coarse pass first, then passes of one sample per pixel up to `target_spp`.
     void restart(const RenderScene& scene, const RenderSettings& settings, int target_spp);
+    /// The plan of the trace started last (made by restart(), once per restart).
+    const RenderPlan& plan() const { return m_plan; }
 
     struct Status {
         int spp = 0;
@@ -40,6 +42,7 @@ public:
 private:
     void run(const RenderScene* scene, RenderSettings settings, int target_spp);
 
+    RenderPlan m_plan;  // written by restart() only while no trace runs
     std::thread m_thread;
     std::atomic<bool> m_stop{false};
     mutable std::mutex m_mutex;

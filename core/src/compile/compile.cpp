@@ -1,6 +1,8 @@
 // compile_scene(): the SceneDesc's files become GeometrySets (groups flattened into the file's
 // frame, one copy per file however often it is instanced), instances are flattened into a list
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
+#include "rt/compile/compile.h"
+
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -8,8 +10,6 @@
 #include <type_traits>
 #include <variant>
 #include <vector>
-
-#include "rt/compile/compile.h"
 
 namespace rt {
 

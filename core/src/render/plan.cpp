@@ -28,7 +28,6 @@ bool scales_unevenly(const Mat4& m) {
     return hi - lo > 1e-12 * hi || shear > 1e-12 * hi * hi;
 }
 
-
 // The geometry variant: what the walk does.
 void explain_geometry(const GeometryFeatures& g, std::vector<PlanReason>& out) {
     auto line = [&](bool used, const char* feature, const std::string& why_kept,
@@ -214,8 +213,8 @@ std::vector<PlanReason> explain_features(const SceneFeatures& f) {
          lit == 0 ? "no light lights anything" : "no material with a specular colour");
     line(f.textures, "texture lookups", "a textured material", "no material uses a texture");
     if (f.unused_textures > 0)
-        out.push_back({std::to_string(f.unused_textures) + " texture(s)", false,
-                       "no material uses them"});
+        out.push_back(
+            {std::to_string(f.unused_textures) + " texture(s)", false, "no material uses them"});
     line(f.soft_shadows || f.glossy, "random sampling in shading",
          f.soft_shadows ? "soft shadows are on" : "glossy reflection is on",
          "soft shadows and glossy reflection are off");
@@ -256,8 +255,7 @@ bool occluded(const RenderScene& scene, const RenderPlan& plan, const Ray& ray, 
     return plan.geometry->occluded(scene, ray, t_max);
 }
 
-Vec3 transmittance(const RenderScene& scene, const RenderPlan& plan, const Ray& ray,
-                   double t_max) {
+Vec3 transmittance(const RenderScene& scene, const RenderPlan& plan, const Ray& ray, double t_max) {
     return plan.geometry->transmittance(scene, ray, t_max);
 }
 

@@ -1,7 +1,7 @@
 // The render representation: flat arrays with resolved indices and cached matrices, built from a
-// SceneDesc by compile_scene() (rt/compile/compile.h). Each .ray file that is instanced is compiled once into a
-// GeometrySet (its groups flattened into the file's frame) with its own BVH; instances place a
-// set in the world. The renderer never sees text.
+// SceneDesc by compile_scene() (rt/compile/compile.h). Each .ray file that is instanced is compiled
+// once into a GeometrySet (its groups flattened into the file's frame) with its own BVH; instances
+// place a set in the world. The renderer never sees text.
 #pragma once
 
 #include <memory>
