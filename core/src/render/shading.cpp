@@ -80,6 +80,47 @@ bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_lig
 
 namespace {
 
+// The light as one sample sees it: with soft shadows (F stochastic, a radius set), a point or
+// spot light is a sphere of radius light_radius, sampled uniformly over the disc it shows the
+// point p; its emission rules stay.
+template <uint32_t F>
+Light sampled_light(const Light& scene_light, const Vec3& p, const RenderSettings& settings,
+                    Rng* rng) {
+    Light light = scene_light;
+    if constexpr ((F & kShadeStochastic) != 0) {
+        if (rng && settings.light_radius > 0.0 && light.kind != LightKind::Directional) {
+            const Vec3 axis = light.position - p;
+            if (glm::dot(axis, axis) > 0.0) {
+                Vec3 a, b;
+                orthonormal_basis(glm::normalize(axis), &a, &b);
+                const Vec2 q = settings.light_radius * rng->disc();
+                light.position += q.x * a + q.y * b;
+            }
+        }
+    }
+    return light;
+}
+
+// The shadow ray from si toward the light (unit direction l): false when it is blocked, else
+// true with *s the transmittance of the surfaces it crosses (1 when F has no transparent
+// shadows: then the first hit decides).
+template <uint32_t F>
+bool shadow_ray_passes(const RenderScene& scene, const GeometryQueries& geometry,
+                       const SurfaceInteraction& si, const Light& light, const Vec3& l, Vec3* s,
+                       RayCounters& counters) {
+    ++counters.shadow;
+    const Vec3 o = offset_origin(si, l);
+    // Toward a point light the segment from the offset point to the light itself, t in (0, 1).
+    const bool directional = light.kind == LightKind::Directional;
+    const Ray shadow_ray{o, directional ? l : light.position - o};
+    const double t_max = directional ? kInf : 1.0;
+    if constexpr ((F & kShadeTransmissiveShadows) != 0) {
+        *s = geometry.transmittance(scene, shadow_ray, t_max);
+        return *s != Vec3(0.0);
+    }
+    return !geometry.occluded(scene, shadow_ray, t_max);
+}
+
 // The Whitted colour along a ray (spec §7, §8), compiled once per variant F (ShadeFeature bits):
 // `if constexpr` removes the code of every feature F lacks. With F = kShadeAll it is the generic
 // renderer, which tests each feature per ray.
@@ -108,44 +149,17 @@ Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSetting
     const Vec3 r_v = d - 2.0 * glm::dot(d, n) * n;  // mirror direction, also for highlights
 
     for (const Light& scene_light : plan.lights) {
-        Light light = scene_light;
-        if constexpr (kStochastic) {
-            // Soft shadows: a point or spot light is a sphere of radius light_radius, sampled
-            // uniformly over the disc it shows the shading point; its emission rules stay.
-            if (rng && settings.light_radius > 0.0 && light.kind != LightKind::Directional) {
-                const Vec3 axis = light.position - si.p;
-                if (glm::dot(axis, axis) > 0.0) {
-                    Vec3 a, b;
-                    orthonormal_basis(glm::normalize(axis), &a, &b);
-                    const Vec2 q = settings.light_radius * rng->disc();
-                    light.position += q.x * a + q.y * b;
-                }
-            }
-        }
+        const Light light = sampled_light<F>(scene_light, si.p, settings, rng);
         Vec3 intensity, l;
         double dist = 0.0;
         if (!light_at<F>(light, si.p, &intensity, &l, &dist)) continue;
         const double n_dot_l = glm::dot(n, l);
         if (!(n_dot_l > 0.0)) continue;
         Vec3 s(1.0);
-        if constexpr ((F & kShadeShadows) != 0) {
-            if (settings.shadows) {
-                ++counters.shadow;
-                const Vec3 o = offset_origin(si, l);
-                // Toward a point light the segment from the offset point to the light itself,
-                // t in (0, 1).
-                const bool directional = light.kind == LightKind::Directional;
-                const Ray shadow_ray{o, directional ? l : light.position - o};
-                const double t_max = directional ? kInf : 1.0;
-                if constexpr ((F & kShadeTransmissiveShadows) != 0) {
-                    s = geometry.transmittance(scene, shadow_ray, t_max);
-                    if (s == Vec3(0.0)) continue;
-                } else {
-                    // No material lets light through: the first hit decides.
-                    if (geometry.occluded(scene, shadow_ray, t_max)) continue;
-                }
-            }
-        }
+        if constexpr ((F & kShadeShadows) != 0)
+            if (settings.shadows &&
+                !shadow_ray_passes<F>(scene, geometry, si, light, l, &s, counters))
+                continue;
         if constexpr ((F & kShadeHighlights) != 0) {
             // At most 1 (both unit; rounding can exceed it, and x^huge would overflow).
             const double r_dot_l = std::min(glm::dot(r_v, l), 1.0);
