@@ -22,6 +22,7 @@
 #include "rt/render/camera.h"
 #include "rt/render/render.h"
 #include "rt/scene/mesh_gen.h"
+#include "rt/util/stopwatch.h"
 
 #ifdef RT_HAVE_EMBREE
 #include <embree3/rtcore.h>
@@ -30,11 +31,6 @@
 namespace {
 
 using namespace rt;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // Runs body(begin, end) over [0, n) in chunks on `threads` threads.
 void parallel_for(size_t n, int threads, const std::function<void(size_t, size_t)>& body) {
@@ -537,7 +533,7 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
 }
 
 // --leave-out: every scene rendered by the generic renderer and by the one specialized to its
-// features (issue 7), alternating, best of `repeats` renders each; the images must be equal.
+// features, alternating, best of `repeats` renders each; the images must be equal.
 void run_leave_out(const std::vector<std::filesystem::path>& files, int repeats, bool quick,
                    int threads, const std::vector<std::string>& only) {
     std::printf(

@@ -3,8 +3,8 @@
 # installs what is missing. Needs root (or sudo) the first time on a new machine.
 set -euo pipefail
 
-# Required to build the core, the CLIs and the tests.
-required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev)
+# Required to build the core, the CLIs and the tests (CLI11 parses raytrace's options).
+required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev libcli11-dev)
 # Optional: Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa
 # and Xvfb are for the viewer and its headless GL tests.
 # clang and libFuzzer (libclang-rt-14-dev) build the fuzz target of scripts/test.sh, which skips

@@ -43,8 +43,10 @@ check "no temporary left" test ! -e "$tmp/bad.png.part"
 
 "$rt" "$tmp/ok.ray" --width 0 -o "$tmp/x.png" >/dev/null 2>&1
 check "bad width exits 2" test $? -eq 2
-"$rt" "$tmp/ok.ray" --bogus >/dev/null 2>&1
+"$rt" "$tmp/ok.ray" --bogus >/dev/null 2>"$tmp/usage.txt"
 check "unknown option exits 2" test $? -eq 2
+check "unknown option message" grep -q "^raytrace: .*--bogus" "$tmp/usage.txt"
+check "usage error points to --help" grep -q "see raytrace --help" "$tmp/usage.txt"
 "$rt" >/dev/null 2>&1
 check "no scene exits 2" test $? -eq 2
 "$rt" "$tmp/ok.ray" -o "$tmp/x.tiff" >/dev/null 2>&1
@@ -53,6 +55,8 @@ check "unknown format exits 2" test $? -eq 2
 check "bad dialect exits 2" test $? -eq 2
 "$rt" --help | grep -q -- "--no-shadows"
 check "help lists options" test $? -eq 0
+"$rt" --help | grep -q -- "--width N=640"
+check "help shows defaults" test $? -eq 0
 
 "$rt" "$tmp/nothere.ray" -o "$tmp/n.png" >"$tmp/err2.txt" 2>&1
 check "missing scene exits 1" test $? -eq 1
@@ -116,7 +120,7 @@ check "--no-specialize: same image" cmp -s "$tmp/spec.pfm" "$tmp/generic.pfm"
 echo "$passes passed, $fails failed"
 test "$fails" -eq 0
 
-# Bad input never crashes (issue 6): exit 1 with file:line:col, no output, for deep nesting,
+# Bad input never crashes: exit 1 with file:line:col, no output, for deep nesting,
 # binary garbage, a self-include and numbers out of range.
 for i in $(seq 1 20000); do echo "#group_begin 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1"; done >"$tmp/deep.ray"
 "$rt" "$tmp/deep.ray" -o "$tmp/deep.png" >"$tmp/deep.txt" 2>&1

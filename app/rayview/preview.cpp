@@ -17,59 +17,10 @@ namespace rt::view {
 
 namespace {
 
-// Compiles one shader file with `defines` inserted after its #version line.
-GLuint compile(GLenum kind, const std::string& path, const std::vector<std::string>& defines) {
-    std::string src;
-    if (!read_file(path, &src)) throw std::runtime_error("cannot open shader '" + path + "'");
-    const size_t eol = src.find('\n');
-    std::string prelude;
-    for (const std::string& d : defines) {
-        prelude += "#define ";
-        prelude += d;
-        prelude += " 1\n";
-    }
-    if (eol != std::string::npos) src.insert(eol + 1, prelude);
-    const char* text = src.c_str();
-    const GLuint shader = glCreateShader(kind);
-    glShaderSource(shader, 1, &text, nullptr);
-    glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[4096];
-        glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-        glDeleteShader(shader);
-        std::string message = path;  // "shaders/preview.frag: 0:12(5): error: ..."
-        message += ": ";
-        message += log;
-        throw std::runtime_error(message);
-    }
-    return shader;
-}
-
 GLint loc(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
 GLint loc(GLuint program, const std::string& name) { return loc(program, name.c_str()); }
 
-void set_vec3(GLuint program, const std::string& name, const Vec3& v) {
-    glUniform3f(loc(program, name), static_cast<float>(v.x), static_cast<float>(v.y),
-                static_cast<float>(v.z));
-}
-
 }  // namespace
-
-Bounds3 view_bounds(const RenderScene& scene) {
-    // The scene and what the overlay draws around it (light markers, arrows, cones), so the
-    // near and far planes never clip either; the preview and its lines share them, so their
-    // depths agree.
-    Bounds3 b = scene.world_bounds;
-    if (b.empty()) return b;
-    const double size = glm::length(b.diagonal());
-    const Vec3 centre = b.centre();
-    for (const Light& l : scene.lights)
-        b.extend(l.kind == LightKind::Directional ? centre - 0.3 * size * l.direction : l.position);
-    const Vec3 margin(0.2 * size);  // marker arms, spot cones (0.15 of the size), rounding
-    return {b.lo - margin, b.hi + margin};
-}
 
 GlMatrices camera_matrices(const Camera& camera, const Bounds3& world) {
     // View space: x along right, y along up', z along -forward (the tracer's frame, spec §6.1).
@@ -116,62 +67,11 @@ GlMatrices camera_matrices(const Camera& camera, const Bounds3& world) {
 
 namespace {
 
-// Compiles and links dir/vert + dir/frag with `defines`; errors name the files.
-GLuint make_program(const std::string& dir, const std::string& vert, const std::string& frag,
-                    const std::vector<std::string>& defines = {}) {
-    const GLuint vs = compile(GL_VERTEX_SHADER, dir + "/" + vert, defines);
-    GLuint fs = 0;
-    try {
-        fs = compile(GL_FRAGMENT_SHADER, dir + "/" + frag, defines);
-    } catch (...) {
-        glDeleteShader(vs);
-        throw;
-    }
-    const GLuint program = glCreateProgram();
-    glAttachShader(program, vs);
-    glAttachShader(program, fs);
-    glLinkProgram(program);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[4096];
-        glGetProgramInfoLog(program, sizeof log, nullptr, log);
-        glDeleteProgram(program);
-        std::string message = dir;
-        message += "/{";
-        message += vert;
-        message += ",";
-        message += frag;
-        message += "}: link: ";
-        message += log;
-        throw std::runtime_error(message);
-    }
-    return program;
-}
-
-void set_matrix(GLuint program, const char* name, const double m[4][4]) {  // m[row][col]
-    float out[16];
-    for (int col = 0; col < 4; ++col)
-        for (int row = 0; row < 4; ++row) out[col * 4 + row] = static_cast<float>(m[row][col]);
-    glUniformMatrix4fv(loc(program, name), 1, GL_FALSE, out);
-}
-
 // The frames of the six cube faces of a point or spot light's shadow map; preview.frag's
 // kFace* tables are the same.
 const Vec3 kFaceForward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
 const Vec3 kFaceRight[6] = {{0, 0, -1}, {0, 0, 1}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {-1, 0, 0}};
 const Vec3 kFaceUp[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
-
-std::string indexed(const char* name, int i) {
-    // Built by appending: GCC 12 warns falsely (-Wrestrict) on "[" + std::to_string(i).
-    std::string k = name;
-    k += '[';
-    k += std::to_string(i);
-    k += ']';
-    return k;
-}
 
 }  // namespace
 
@@ -180,53 +80,25 @@ Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
     // combinations of defines compile on first use (the same source with less of it).
     program_for(
         {"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR", "RT_SHADOWS"});
-    try {
-        m_line_program = make_program(shader_dir, "lines.vert", "lines.frag");
-        m_shadow_program = make_program(shader_dir, "preview.vert", "shadow.frag");
-    } catch (...) {
-        for (const auto& [key, program] : m_programs) glDeleteProgram(program);
-        glDeleteProgram(m_line_program);
-        throw;
-    }
-    glGenVertexArrays(1, &m_line_vao);
-    glGenBuffers(1, &m_line_vbo);
-}
-
-Preview::~Preview() {
-    release();
-    if (m_shadow_tex) glDeleteTextures(1, &m_shadow_tex);
-    if (m_shadow_fbo) glDeleteFramebuffers(1, &m_shadow_fbo);
-    glDeleteBuffers(1, &m_line_vbo);
-    glDeleteVertexArrays(1, &m_line_vao);
-    glDeleteProgram(m_shadow_program);
-    glDeleteProgram(m_line_program);
-    for (const auto& [key, program] : m_programs) glDeleteProgram(program);
+    m_line_program = make_program(shader_dir, "lines.vert", "lines.frag");
+    m_shadow_program = make_program(shader_dir, "preview.vert", "shadow.frag");
+    m_line_vao = GlVertexArray::make();
+    m_line_vbo = GlBuffer::make();
 }
 
 unsigned Preview::program_for(const std::vector<std::string>& defines) {
     const auto it = m_programs.find(defines);
-    if (it != m_programs.end()) return it->second;
-    const GLuint program = make_program(m_shader_dir, "preview.vert", "preview.frag", defines);
-    m_programs.emplace(defines, program);
-    return program;
-}
-
-void Preview::release() {
-    for (SetBuffers& s : m_sets) {
-        if (!s.vao) continue;
-        glDeleteBuffers(1, &s.vbo);
-        glDeleteBuffers(1, &s.ebo);
-        glDeleteVertexArrays(1, &s.vao);
-    }
-    m_sets.clear();
-    if (!m_textures.empty())
-        glDeleteTextures(static_cast<GLsizei>(m_textures.size()), m_textures.data());
-    m_textures.clear();
-    m_shadows_valid = false;
+    if (it != m_programs.end()) return it->second.id();
+    GlProgram program = make_program(m_shader_dir, "preview.vert", "preview.frag", defines);
+    const unsigned id = program.id();
+    m_programs.emplace(defines, std::move(program));
+    return id;
 }
 
 void Preview::load(const RenderScene& scene, int detail) {
-    release();
+    m_sets.clear();
+    m_textures.clear();
+    m_shadows_valid = false;
     // What the scene uses decides what is uploaded: sets no instance places are not tessellated,
     // texture coordinates only for sets with a textured material, textures only when used.
     std::vector<char> placed(scene.sets.size(), 0), texture_used(scene.textures.size(), 0);
@@ -273,14 +145,14 @@ void Preview::load(const RenderScene& scene, int detail) {
                 indices.push_back(mesh.indices[t * 3 + static_cast<size_t>(k)]);
             buf.ranges.back().count += 3;
         }
-        glGenVertexArrays(1, &buf.vao);
-        glBindVertexArray(buf.vao);
-        glGenBuffers(1, &buf.vbo);
-        glBindBuffer(GL_ARRAY_BUFFER, buf.vbo);
+        buf.vao = GlVertexArray::make();
+        glBindVertexArray(buf.vao.id());
+        buf.vbo = GlBuffer::make();
+        glBindBuffer(GL_ARRAY_BUFFER, buf.vbo.id());
         glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
                      vertices.data(), GL_STATIC_DRAW);
-        glGenBuffers(1, &buf.ebo);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf.ebo);
+        buf.ebo = GlBuffer::make();
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf.ebo.id());
         glBufferData(GL_ELEMENT_ARRAY_BUFFER,
                      static_cast<GLsizeiptr>(indices.size() * sizeof(unsigned)), indices.data(),
                      GL_STATIC_DRAW);
@@ -298,18 +170,17 @@ void Preview::load(const RenderScene& scene, int detail) {
             glDisableVertexAttribArray(2);  // reads the constant (0, 0)
         }
         glBindVertexArray(0);
-        m_sets.push_back(buf);
+        m_sets.push_back(std::move(buf));
     }
     // Textures: 8-bit RGB, row 0 first, bilinear with wrap and no mipmaps (spec §7.3).
     for (size_t ti = 0; ti < scene.textures.size(); ++ti) {
-        GLuint id = 0;
         if (!texture_used[ti]) {
-            m_textures.push_back(0);  // never bound
+            m_textures.emplace_back();  // never bound
             continue;
         }
         const auto& tex = scene.textures[ti];
-        glGenTextures(1, &id);
-        glBindTexture(GL_TEXTURE_2D, id);
+        GlTexture id = GlTexture::make();
+        glBindTexture(GL_TEXTURE_2D, id.id());
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, tex->width, tex->height, 0, GL_RGB,
                      GL_UNSIGNED_BYTE, tex->rgb.data());
@@ -317,7 +188,7 @@ void Preview::load(const RenderScene& scene, int detail) {
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-        m_textures.push_back(id);
+        m_textures.push_back(std::move(id));
     }
 }
 
@@ -358,9 +229,9 @@ void Preview::render_shadow_maps(const RenderScene& scene) {
     m_shadows_valid = true;
     if (layers == 0) return;
 
-    if (!m_shadow_fbo) glGenFramebuffers(1, &m_shadow_fbo);
-    if (!m_shadow_tex) glGenTextures(1, &m_shadow_tex);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, m_shadow_tex);
+    if (!m_shadow_fbo) m_shadow_fbo = GlFramebuffer::make();
+    if (!m_shadow_tex) m_shadow_tex = GlTexture::make();
+    glBindTexture(GL_TEXTURE_2D_ARRAY, m_shadow_tex.id());
     if (layers > m_shadow_layers) {
         glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT24, kShadowResolution,
                      kShadowResolution, layers, 0, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, nullptr);
@@ -375,21 +246,21 @@ void Preview::render_shadow_maps(const RenderScene& scene) {
 
     GLint previous_fbo = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, m_shadow_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_shadow_fbo.id());
     glDrawBuffer(GL_NONE);
     glReadBuffer(GL_NONE);
     glViewport(0, 0, kShadowResolution, kShadowResolution);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    glUseProgram(m_shadow_program);
+    glUseProgram(m_shadow_program.id());
     for (const ShadowView& v : views) {
         if (v.layer < 0) continue;
         const bool radial = v.kind != LightKind::Directional;
-        glUniform1i(loc(m_shadow_program, "u_radial"), radial ? 1 : 0);
-        set_vec3(m_shadow_program, "u_light_position", v.position);
-        glUniform1f(loc(m_shadow_program, "u_far"), static_cast<float>(v.scale));
+        glUniform1i(loc(m_shadow_program.id(), "u_radial"), radial ? 1 : 0);
+        set_vec3(m_shadow_program.id(), "u_light_position", v.position);
+        glUniform1f(loc(m_shadow_program.id(), "u_far"), static_cast<float>(v.scale));
         for (int face = 0; face < (radial ? 6 : 1); ++face) {
-            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, m_shadow_tex, 0,
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, m_shadow_tex.id(), 0,
                                       v.layer + face);
             glClear(GL_DEPTH_BUFFER_BIT);
             if (radial) {
@@ -401,7 +272,7 @@ void Preview::render_shadow_maps(const RenderScene& scene) {
                 c.up = kFaceUp[face];
                 c.tan_w = c.tan_h = 1.0;
                 const GlMatrices m = camera_matrices(c, w);
-                glUniformMatrix4fv(loc(m_shadow_program, "u_clip_from_world"), 1, GL_FALSE,
+                glUniformMatrix4fv(loc(m_shadow_program.id(), "u_clip_from_world"), 1, GL_FALSE,
                                    m.clip_from_world);
             } else {
                 // Orthographic along the direction of travel over the scene's bounding sphere.
@@ -412,9 +283,9 @@ void Preview::render_shadow_maps(const RenderScene& scene) {
                     m[r][3] = -glm::dot(axes[r], v.centre) / v.scale;
                 }
                 m[3][3] = 1.0;
-                set_matrix(m_shadow_program, "u_clip_from_world", m);
+                set_matrix(m_shadow_program.id(), "u_clip_from_world", m);
             }
-            draw_instances(scene, m_shadow_program, true);
+            draw_instances(scene, m_shadow_program.id(), true);
         }
     }
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));  // draw buffers are
@@ -435,7 +306,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
         glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
         const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
         if (!buf.vao) continue;
-        glBindVertexArray(buf.vao);
+        glBindVertexArray(buf.vao.id());
         for (const Range& range : buf.ranges) {
             const Material& m = scene.materials[static_cast<size_t>(range.material)];
             if (opaque_only && m.transparent != Vec3(0.0)) continue;
@@ -447,7 +318,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
                 glUniform1f(loc(program, "u_exponent"), static_cast<float>(m.specular_exponent));
                 glUniform1i(loc(program, "u_textured"), m.texture >= 0 ? 1 : 0);
                 if (m.texture >= 0)
-                    glBindTexture(GL_TEXTURE_2D, m_textures[static_cast<size_t>(m.texture)]);
+                    glBindTexture(GL_TEXTURE_2D, m_textures[static_cast<size_t>(m.texture)].id());
             }
             glDrawElements(
                 GL_TRIANGLES, static_cast<GLsizei>(range.count), GL_UNSIGNED_INT,
@@ -460,7 +331,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
 void Preview::draw(const RenderScene& scene, const Camera& camera, int width, int height,
                    bool shadows) {
     // The program for what this scene uses: the light kinds present, textures, highlights,
-    // shadows (issue: leave out what a scene does not need).
+    // shadows (what a scene does not need is left out).
     const int lights = std::min<int>(16, static_cast<int>(scene.lights.size()));
     bool kind[3] = {false, false, false};
     for (int i = 0; i < lights; ++i)
@@ -521,7 +392,7 @@ void Preview::draw(const RenderScene& scene, const Camera& camera, int width, in
         glUniform1i(loc(program, "u_shadow_map"), 1);
         glUniform1f(loc(program, "u_shadow_res"), static_cast<float>(kShadowResolution));
         glActiveTexture(GL_TEXTURE1);
-        glBindTexture(GL_TEXTURE_2D_ARRAY, m_shadow_tex);
+        glBindTexture(GL_TEXTURE_2D_ARRAY, m_shadow_tex.id());
     }
     glActiveTexture(GL_TEXTURE0);
     draw_instances(scene, program, false);
@@ -530,11 +401,12 @@ void Preview::draw(const RenderScene& scene, const Camera& camera, int width, in
 void Preview::draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
                          const Camera& camera) const {
     if (lines.empty()) return;
-    glUseProgram(m_line_program);
+    glUseProgram(m_line_program.id());
     const GlMatrices mats = camera_matrices(camera, view_bounds(scene));
-    glUniformMatrix4fv(loc(m_line_program, "u_clip_from_world"), 1, GL_FALSE, mats.clip_from_world);
-    glBindVertexArray(m_line_vao);
-    glBindBuffer(GL_ARRAY_BUFFER, m_line_vbo);
+    glUniformMatrix4fv(loc(m_line_program.id(), "u_clip_from_world"), 1, GL_FALSE,
+                       mats.clip_from_world);
+    glBindVertexArray(m_line_vao.id());
+    glBindBuffer(GL_ARRAY_BUFFER, m_line_vbo.id());
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(lines.size() * sizeof(LineVertex)),
                  lines.data(), GL_STREAM_DRAW);
     glEnableVertexAttribArray(0);
@@ -544,184 +416,6 @@ void Preview::draw_lines(const std::vector<LineVertex>& lines, const RenderScene
                           reinterpret_cast<const void*>(3 * sizeof(float)));
     glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(lines.size()));
     glBindVertexArray(0);
-}
-
-namespace {
-
-struct LineBuilder {
-    std::vector<LineVertex> out;
-    void segment(const Vec3& a, const Vec3& b, const Vec3& c) {
-        LineVertex va{}, vb{};
-        for (int k = 0; k < 3; ++k) {
-            va.position[k] = static_cast<float>(a[k]);
-            vb.position[k] = static_cast<float>(b[k]);
-            va.color[k] = vb.color[k] = static_cast<float>(c[k]);
-        }
-        out.push_back(va);
-        out.push_back(vb);
-    }
-    // The 12 edges of a box, its corners mapped by `xf` when given.
-    void box(const Vec3& lo, const Vec3& hi, const Vec3& c, const Transform* xf) {
-        auto corner = [&](int i) {
-            const Vec3 p{(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z};
-            return xf ? xf->point(p) : p;
-        };
-        for (int i = 0; i < 8; ++i)
-            for (int bit : {1, 2, 4})
-                if (!(i & bit)) segment(corner(i), corner(i | bit), c);
-    }
-};
-
-Vec3 marker_colour(const Vec3& c) {
-    const double m = std::max(c.x, std::max(c.y, c.z));
-    return m > 0 ? glm::clamp(c / m, 0.2, 1.0) : Vec3(1.0);
-}
-
-}  // namespace
-
-std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth) {
-    LineBuilder b;
-    const Bounds3& w = scene.world_bounds;
-    const double size = w.empty() ? 1.0 : glm::length(w.diagonal());
-    if (lights) {
-        for (const Light& l : scene.lights) {
-            const Vec3 c = marker_colour(l.color);
-            const double s = 0.03 * size;
-            if (l.kind == LightKind::Directional) {
-                // An arrow along the direction of travel, ending at the scene's centre.
-                const Vec3 end = w.empty() ? Vec3(0.0) : w.centre();
-                const Vec3 start = end - 0.3 * size * l.direction;
-                b.segment(start, end, c);
-                Vec3 a1, a2;
-                orthonormal_basis(l.direction, &a1, &a2);
-                for (const Vec3& side : {a1, -a1, a2, -a2})
-                    b.segment(end, end - 2 * s * l.direction + s * side, c);
-                continue;
-            }
-            for (int axis = 0; axis < 3; ++axis) {
-                Vec3 d(0.0);
-                d[axis] = s;
-                b.segment(l.position - d, l.position + d, c);
-            }
-            if (l.kind == LightKind::Spot) {
-                // The cut-off cone, 0.15 of the scene's size long.
-                Vec3 a1, a2;
-                orthonormal_basis(l.direction, &a1, &a2);
-                const double len = 0.15 * size, angle = std::min(l.cutoff_rad, 1.4);
-                Vec3 prev(0.0);
-                for (int k = 0; k <= 16; ++k) {
-                    const double phi = 2 * kPi * k / 16;
-                    const Vec3 rim =
-                        l.position +
-                        len * (std::cos(angle) * l.direction +
-                               std::sin(angle) * (std::cos(phi) * a1 + std::sin(phi) * a2));
-                    if (k % 4 == 0) b.segment(l.position, rim, c);
-                    if (k > 0) b.segment(prev, rim, c);
-                    prev = rim;
-                }
-            }
-        }
-    }
-    if (bvh_depth > 0) {
-        for (const Instance& inst : scene.instances) {
-            const Transform* xf = inst.identity ? nullptr : &inst.world_from_set;
-            const Bvh& bvh = scene.sets[static_cast<size_t>(inst.set)].bvh;
-            b.box(inst.world_bounds.lo, inst.world_bounds.hi, Vec3(1, 1, 0.3), nullptr);
-            // Node boxes level by level, dimmer deeper down.
-            std::vector<std::pair<uint32_t, int>> stack;
-            if (!bvh.empty()) stack.push_back({0u, 1});
-            while (!stack.empty()) {
-                const auto [node_index, depth] = stack.back();
-                stack.pop_back();
-                const Bvh4Node& node = bvh.nodes[node_index];
-                const double fade = 1.0 / depth;
-                for (uint32_t c = 0; c < node.num_children; ++c) {
-                    const Vec3 lo(node.lo[0][c], node.lo[1][c], node.lo[2][c]);
-                    const Vec3 hi(node.hi[0][c], node.hi[1][c], node.hi[2][c]);
-                    b.box(lo, hi, Vec3(0.3, 1.0, 0.5) * fade + Vec3(0.1), xf);
-                    if (!(node.child[c] & Bvh4Node::kLeaf) && depth < bvh_depth)
-                        stack.push_back({node.child[c], depth + 1});
-                }
-            }
-        }
-    }
-    return std::move(b.out);
-}
-
-namespace {
-
-// The world bounds of a group's own shapes under m.
-Bounds3 shape_bounds(const FileDesc& f, const GroupDesc& g, const Mat4& m) {
-    Bounds3 b;
-    for (const ShapeDesc& shape : g.shapes) {
-        std::visit(
-            [&](const auto& geo) {
-                using T = std::decay_t<decltype(geo)>;
-                if constexpr (std::is_same_v<T, SphereDesc>) {
-                    b.extend(bounds(Sphere{geo.centre, geo.radius}, m));
-                } else if constexpr (std::is_same_v<T, BoxDesc>) {
-                    b.extend(bounds(Box{geo.centre, 0.5 * geo.size}, m));
-                } else if constexpr (std::is_same_v<T, CylinderDesc>) {
-                    b.extend(bounds(Cylinder{geo.centre, geo.radius, geo.height}, m));
-                } else if constexpr (std::is_same_v<T, ConeDesc>) {
-                    b.extend(bounds(Cone{geo.centre, geo.radius, geo.height}, m));
-                } else {
-                    for (int v : geo.v)
-                        if (v >= 0 && static_cast<size_t>(v) < f.vertices.size())
-                            b.extend(Vec3(
-                                m * glm::dvec4(f.vertices[static_cast<size_t>(v)].position, 1.0)));
-                }
-            },
-            shape.geometry);
-    }
-    return b;
-}
-
-}  // namespace
-
-std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth) {
-    if (depth <= 0 || desc.files.empty()) return {};
-    // A walk with an explicit stack (groups nest 10^4 deep and includes 200 files deep), each
-    // group's bounds the union of its shapes' and its children's, a box drawn when it closes.
-    struct Frame {
-        int file;
-        const GroupDesc* group;
-        Mat4 m;
-        int level;
-        Bounds3 b;
-        size_t child = 0, instance = 0;
-    };
-    LineBuilder lines;
-    size_t budget = 200000;  // group visits: a scene of millions of instances draws a sample
-    std::vector<Frame> stack;
-    auto push = [&](int file, const GroupDesc& g, const Mat4& parent, int level) {
-        const Mat4 m = parent * g.matrix;
-        stack.push_back(
-            {file, &g, m, level, shape_bounds(desc.files[static_cast<size_t>(file)], g, m)});
-        --budget;
-    };
-    push(0, desc.files[0].root, Mat4(1.0), 0);
-    while (!stack.empty()) {
-        Frame& top = stack.back();
-        const FileDesc& f = desc.files[static_cast<size_t>(top.file)];
-        if (budget > 0 && top.child < top.group->groups.size()) {
-            const GroupDesc& child = top.group->groups[top.child++];
-            push(top.file, child, top.m, top.level + 1);  // invalidates `top`
-        } else if (budget > 0 && top.instance < top.group->instances.size()) {
-            const InstanceDesc& inst = top.group->instances[top.instance++];
-            const int sub = f.ray_files[static_cast<size_t>(inst.ray_file)];
-            push(sub, desc.files[static_cast<size_t>(sub)].root, top.m, top.level + 1);
-        } else {
-            const Frame done = top;
-            stack.pop_back();
-            if (done.level >= 1 && done.level <= depth && !done.b.empty())
-                lines.box(done.b.lo, done.b.hi,
-                          Vec3(1.0, 0.55, 0.2) / static_cast<double>(done.level) + Vec3(0.15),
-                          nullptr);
-            if (!stack.empty()) stack.back().b.extend(done.b);
-        }
-    }
-    return std::move(lines.out);
 }
 
 }  // namespace rt::view

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "gl_util.h"
+#include "overlay.h"
 #include "rt/compile/render_scene.h"
 #include "rt/render/camera.h"
 
@@ -22,33 +24,11 @@ struct GlMatrices {
 /// and far planes enclose `world` (see view_bounds).
 GlMatrices camera_matrices(const Camera& camera, const Bounds3& world);
 
-/// The scene's bounds grown by what the overlay draws around it (light markers and arrows).
-Bounds3 view_bounds(const RenderScene& scene);
-
-/// One end of an overlay line segment.
-struct LineVertex {
-    float position[3];
-    float color[3];
-};
-
-/// Overlay geometry: a marker per light (a cross for point lights, a cone for spots, an arrow for
-/// directional ones) and, up to `bvh_depth` levels, the boxes of the instances and of their
-/// BVH nodes (the flattened groups' boxes), in world space.
-std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth);
-
-/// The boxes of the scene graph's groups (#group_begin blocks and included files, each instance
-/// of an include on its own), world-aligned, down to nesting level `depth` (1: the top-level
-/// groups), in colours that fade with depth. Not the BVH: the structure the file describes.
-std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth);
-
 class Preview {
 public:
     /// Compiles the preview program from `shader_dir`; throws std::runtime_error with the shader
     /// file's name and the compiler's log.
     explicit Preview(const std::string& shader_dir);
-    ~Preview();
-    Preview(const Preview&) = delete;
-    Preview& operator=(const Preview&) = delete;
 
     /// Uploads the scene's meshes (tessellated with `detail` segments) and textures.
     void load(const RenderScene& scene, int detail = 48);
@@ -76,7 +56,8 @@ private:
         unsigned first, count;  // in indices
     };
     struct SetBuffers {
-        unsigned vao = 0, vbo = 0, ebo = 0;
+        GlVertexArray vao;  // none for a set no instance places
+        GlBuffer vbo, ebo;
         std::vector<Range> ranges;
     };
     // What a shadow map was rendered for, to know when to render it again.
@@ -88,23 +69,25 @@ private:
         Vec3 position{0.0}, direction{0.0};
         bool operator==(const ShadowView&) const = default;
     };
-    void release();
     unsigned program_for(const std::vector<std::string>& defines);
     void render_shadow_maps(const RenderScene& scene);
     void draw_instances(const RenderScene& scene, unsigned program, bool opaque_only) const;
 
     std::string m_shader_dir;
-    std::map<std::vector<std::string>, unsigned> m_programs;  // by defines
+    std::map<std::vector<std::string>, GlProgram> m_programs;  // by defines
     std::vector<std::string> m_defines;
     size_t m_uploaded_floats = 0;
-    unsigned m_shadow_program = 0, m_shadow_fbo = 0, m_shadow_tex = 0;
+    GlProgram m_shadow_program;
+    GlFramebuffer m_shadow_fbo;
+    GlTexture m_shadow_tex;
     int m_shadow_layers = 0;
     std::vector<ShadowView> m_shadow_views;
     bool m_shadows_valid = false;
-    unsigned m_line_program = 0;
-    unsigned m_line_vao = 0, m_line_vbo = 0;
+    GlProgram m_line_program;
+    GlVertexArray m_line_vao;
+    GlBuffer m_line_vbo;
     std::vector<SetBuffers> m_sets;
-    std::vector<unsigned> m_textures;
+    std::vector<GlTexture> m_textures;  // none for a texture no material drawn uses
 };
 
 }  // namespace rt::view

@@ -4,6 +4,8 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <cassert>
+
 namespace rt::view {
 
 void Tracer::stop() {
@@ -15,12 +17,11 @@ void Tracer::stop() {
 }
 
 void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, int target_spp) {
-    stop();
+    assert(!m_thread.joinable() && "stop() before restart()");
     {
         std::lock_guard lock(m_mutex);
         m_status = {};
         m_history.clear();
-        m_updated = false;  // an image of the previous run is no longer news
     }
     m_plan = make_render_plan(scene, settings);
     m_thread =

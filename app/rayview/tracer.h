@@ -22,7 +22,8 @@ public:
     /// Stops the trace and waits for it: afterwards the scene may be edited.
     void stop();
     /// Starts tracing `scene` (which must outlive the trace and stay unchanged until stop()):
-    /// a coarse pass first, then passes of one sample per pixel up to `target_spp`.
+    /// a coarse pass first, then passes of one sample per pixel up to `target_spp`. The trace
+    /// must be stopped (the caller stops it before it edits the scene).
     void restart(const RenderScene& scene, const RenderSettings& settings, int target_spp);
     /// The plan of the trace started last (made by restart(), once per restart).
     const RenderPlan& plan() const { return m_plan; }

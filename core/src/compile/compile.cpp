@@ -17,7 +17,7 @@ namespace {
 
 // Geometry must stay within +-1e300 in every frame: beyond that, centroids, extents and areas
 // overflow in the BVH build and the traversal. A shape or instance past it is an error at its
-// directive (scenes/README.md).
+// directive (docs/format.md, "our choices").
 constexpr double kMaxCoordinate = 1e300;
 
 bool within_limits(const Bounds3& b) {
@@ -416,20 +416,6 @@ Light compile_light(const LightDesc& d) {
     l.cutoff_rad = d.cutoff_rad;
     l.spot_exponent = d.spot_exponent;
     return l;
-}
-
-LightDesc describe_light(const Light& l) {
-    LightDesc d;
-    d.kind = l.kind;
-    d.color = l.color;
-    d.position = l.position;
-    d.direction = l.direction;
-    d.constant_atten = l.constant_atten;
-    d.linear_atten = l.linear_atten;
-    d.quadratic_atten = l.quadratic_atten;
-    d.cutoff_rad = l.cutoff_rad;
-    d.spot_exponent = l.spot_exponent;
-    return d;
 }
 
 CameraPose compile_camera(const CameraDesc& d) {

@@ -1,6 +1,7 @@
-// The .ray parser (spec §2-§4, §10). One Parser walks the whole file tree: each file is parsed
+// The .ray directives (spec §2-§4, §10). One Parser walks the whole file tree: each file is parsed
 // once per canonical path into a FileDesc; the dialect is fixed by the material number counts of
-// the whole tree, and the checks that depend on it run when the tree is complete.
+// the whole tree (the pre-scan in dialect.cpp), and the checks that depend on it run when the tree
+// is complete. The helpers that parser_impl.h declares for all three parts are defined here too.
 #include "rt/format/parser.h"
 
 #include <algorithm>
@@ -11,13 +12,12 @@
 #include <sstream>
 
 #include "format/lexer.h"
+#include "format/parser_impl.h"
 #include "rt/util/file_io.h"
 
 namespace fs = std::filesystem;
 
 namespace rt {
-
-const char* dialect_name(Dialect d) { return d == Dialect::V0 ? "V0" : "V1"; }
 
 MaterialDesc v0_default_material() {
     MaterialDesc m;
@@ -28,6 +28,8 @@ MaterialDesc v0_default_material() {
     m.name = "V0 default material";
     return m;
 }
+
+namespace parser_impl {
 
 namespace {
 
@@ -51,6 +53,8 @@ size_t utf8_length(std::string_view s, size_t i) {
         return 0;
     return n;
 }
+
+}  // namespace
 
 // A token or path in a message: quoted, control bytes and invalid UTF-8 written as \xNN, and
 // cut after 200 bytes (a 100 MB token makes a short message).
@@ -85,25 +89,6 @@ std::string describe(const Token& t) {
     return t.kind == TokenKind::End ? std::string("end of file") : quote(t.text);
 }
 
-// Directives that exist only in the planned V3 dialect (spec §10 step 1).
-bool is_v3_directive(std::string_view d) {
-    static constexpr std::array<std::string_view, 11> names = {"#static_affine",
-                                                               "#dynamic_affine",
-                                                               "#shape_list_begin",
-                                                               "#shape_list_end",
-                                                               "#shape_triangles",
-                                                               "#shape_torus",
-                                                               "#shape_union",
-                                                               "#shape_intersection",
-                                                               "#shape_difference",
-                                                               "#light_sphere",
-                                                               "#shader"};
-    for (std::string_view n : names)
-        if (n == d) return true;
-    return false;
-}
-
-// Filesystem queries that never throw (a path too long or otherwise invalid is "not there").
 bool is_file(const fs::path& p) {
     std::error_code ec;
     return fs::is_regular_file(p, ec);
@@ -123,56 +108,139 @@ std::string lower(std::string_view s) {
     return r;
 }
 
-// Limits of this reader (scenes/README.md): they keep the recursion of every consumer of the
-// group tree and the file tree shallow, and memory bounded by the size of the input.
-constexpr int kMaxGroupDepth = 10000;          // nested #group_begin/#joint_begin in one file
-constexpr int kMaxIncludeDepth = 200;          // nested #ray_file includes
-constexpr long long kMaxPlacements = 1 << 20;  // file copies placed in the world by instancing
+// ---- token helpers ------------------------------------------------------------------------------
+// Missing arguments point at the directive; a bad token points at itself (spec §2).
+SourceLoc ParserBase::arg_loc(FileState& f, const Token& dir, const Token& bad) const {
+    return (bad.kind == TokenKind::End || bad.kind == TokenKind::Directive) ? f.lex.loc(dir)
+                                                                            : f.lex.loc(bad);
+}
 
-// Items a #*_num count may declare.
-enum CountKind { kLights, kTextures, kMaterials, kVertices, kRayFiles, kKeyFiles, kCountKinds };
-constexpr std::array<const char*, kCountKinds> kCountDirective = {
-    "#light_num", "#texture_num", "#material_num", "#vertex_num", "#ray_file_num", "#key_file_num"};
-constexpr std::array<const char*, kCountKinds> kItemDirective = {
-    "light", "#texture", "#material", "#vertex", "#ray_file", "#key_file"};
+double ParserBase::real(FileState& f, const Token& dir, int count) {
+    const Token t = f.lex.next();
+    double v = 0.0;
+    bool non_finite = false;
+    if (t.kind == TokenKind::Word && parse_real(t.text, &v, &non_finite)) return v;
+    if (non_finite) fail(f, t, "non-finite number " + quote(t.text));
+    fail(arg_loc(f, dir, t), "expected " + std::to_string(count) +
+                                 (count == 1 ? " number" : " numbers") + " after " +
+                                 std::string(dir.text) + ", got " + describe(t));
+}
 
-struct Count {
-    bool declared = false;
-    int declared_n = 0;
+Vec3 ParserBase::vec3(FileState& f, const Token& dir, int count) {
+    Vec3 v;
+    for (int i = 0; i < 3; ++i) v[i] = real(f, dir, count);
+    return v;
+}
+
+int ParserBase::integer(FileState& f, const Token& dir, std::string_view what, SourceLoc* loc) {
+    const Token t = f.lex.next();
+    int v = 0;
+    bool out_of_range = false;
+    if (loc) *loc = f.lex.loc(t);
+    if (t.kind == TokenKind::Word && parse_int(t.text, &v, &out_of_range)) return v;
+    if (out_of_range) fail(f, t, "integer " + quote(t.text) + " out of range");
+    fail(arg_loc(f, dir, t), "expected an integer (" + std::string(what) + "), got " + describe(t));
+}
+
+std::string ParserBase::word(FileState& f, const Token& dir, std::string_view what, bool ascii) {
+    const Token t = f.lex.next();
+    if (t.kind == TokenKind::Word) {
+        // Spec §2: non-ASCII bytes only in comments, strings and paths.
+        if (ascii)
+            for (char c : t.text)
+                if (static_cast<unsigned char>(c) >= 0x80)
+                    fail(f, t, "non-ASCII byte in " + std::string(what) + " " + quote(t.text));
+        return std::string(t.text);
+    }
+    fail(arg_loc(f, dir, t), "expected " + std::string(what) + " after " + std::string(dir.text) +
+                                 ", got " + describe(t));
+}
+
+Vec3 ParserBase::colour(FileState& f, const Token& dir, int count, std::string_view what) {
+    Vec3 c;
+    for (int i = 0; i < 3; ++i) {
+        const Token t = f.lex.peek();
+        c[i] = real(f, dir, count);
+        if (c[i] < 0) fail(f, t, "negative " + std::string(what) + " " + fmt(c[i]));
+    }
+    return c;
+}
+
+std::string ParserBase::fmt(double v) {
+    std::ostringstream ss;
+    ss << v;
+    return ss.str();
+}
+std::string ParserBase::fmt(const Vec3& v) { return fmt(v.x) + " " + fmt(v.y) + " " + fmt(v.z); }
+
+// ---- counts -------------------------------------------------------------------------------------
+void ParserBase::declare_count(FileState& f, const Token& dir, CountKind k) {
     SourceLoc loc;
-    int found = 0;
-};
+    const int n = integer(f, dir, "count", &loc);
+    Count& c = f.counts[k];
+    if (c.declared)
+        fail(f, dir,
+             "second " + std::string(kCountDirective[k]) + " (first at " + c.loc.str() + ")");
+    if (c.found > 0)
+        fail(f, dir, std::string(kCountDirective[k]) + " after the first " + kItemDirective[k]);
+    if (n < 0) fail(loc, "negative count " + std::to_string(n));
+    c.declared = true;
+    c.declared_n = n;
+    c.loc = f.lex.loc(dir);
+    // Reserve no more than the rest of the text can hold (a #vertex takes >= 24 bytes), so a
+    // huge count cannot allocate before the file runs out.
+    if (k == kVertices)
+        f.desc.vertices.reserve(std::min(static_cast<size_t>(n), f.lex.remaining() / 24));
+}
 
-struct KeyFile {
-    std::string path;
-    std::map<std::string, Mat4> frame0;  // lower-case DOF name -> matrix
-};
+void ParserBase::count_item(FileState& f, const Token& dir, CountKind k) {
+    Count& c = f.counts[k];
+    ++c.found;
+    if (c.declared && c.found > c.declared_n)
+        fail(f, dir,
+             "more " + std::string(k == kLights ? "lights" : kItemDirective[k]) +
+                 " than declared by " + kCountDirective[k] + " at " + c.loc.str());
+}
 
-// Per-file parse state.
-struct FileState {
-    Lexer lex;
-    FileDesc desc;
-    bool top = false;
-    bool graph_started = false;
-    std::array<Count, kCountKinds> counts{};
-    std::vector<KeyFile> key_files;
-    std::vector<GroupDesc*> stack;  // open groups; stack[0] = &desc.root
-    std::vector<char> stack_is_joint;
-    bool warned_joint_identity = false;
-    std::string dir;  // directory of this file, for relative paths
-    struct TextureRef {
-        SourceLoc loc;
-        int index;
-    };
-    std::vector<TextureRef> texture_refs;  // material texture indices, checked at end of file
+// ---- paths --------------------------------------------------------------------------------------
+// Spec §4.2: relative to the naming file's directory, then the working directory.
+std::string ParserBase::resolve(FileState& f, const Token& at, const std::string& path,
+                                const std::string& what) {
+    const fs::path p(path);
+    if (p.is_absolute()) {
+        if (is_file(p)) return path;
+        fail(f, at, "cannot open " + what + " " + quote(path));
+    }
+    const fs::path a = fs::path(f.dir) / p;
+    if (is_file(a)) return a.lexically_normal().string();
+    const fs::path b = fs::path(".") / p;
+    if (is_file(b)) return b.lexically_normal().string();
+    const std::string tried =
+        a.lexically_normal() == b.lexically_normal() ? a.string() : a.string() + ", " + b.string();
+    fail(f, at, "cannot open " + what + " " + quote(path) + " (tried " + tried + ")");
+}
 
-    FileState(std::string_view text, std::shared_ptr<const std::string> name)
-        : lex(text, std::move(name)) {}
-};
+// ---- matrices -----------------------------------------------------------------------------------
+void ParserBase::check_matrix(const Mat4& m, const SourceLoc& loc, const std::string& what) {
+    // Spec §3.3 / §4.1: affine (bottom row 0 0 0 1) and non-singular.
+    if (std::abs(m[0][3]) > 1e-9 || std::abs(m[1][3]) > 1e-9 || std::abs(m[2][3]) > 1e-9 ||
+        std::abs(m[3][3] - 1.0) > 1e-9)
+        fail(loc, "projective " + what + ": the bottom row must be 0 0 0 1");
+    const Mat3 a(m);
+    // hypot: a column of length 1e200 must not overflow in its squared length.
+    auto len = [](const Vec3& c) { return std::hypot(c.x, c.y, c.z); };
+    const double scale = len(a[0]) * len(a[1]) * len(a[2]);
+    const double det = glm::determinant(a);
+    if (!std::isfinite(scale) || !std::isfinite(det))
+        fail(loc, what + " too large: its determinant overflows");
+    if (std::abs(det) <= 1e-12 * scale || scale == 0.0) fail(loc, "singular " + what);
+}
 
-class Parser {
+namespace {
+
+class Parser : public ParserBase {
 public:
-    Parser(Diagnostics& diag, const ParseOptions& options) : m_diag(diag), m_options(options) {}
+    Parser(Diagnostics& diag, const ParseOptions& options) : ParserBase(diag, options) {}
 
     SceneDesc run(const std::string& text, const std::string& name, const std::string& dir) {
         const std::string canonical = canonical_path(name);
@@ -194,223 +262,7 @@ public:
     }
 
 private:
-    // ---- errors --------------------------------------------------------------------------
-    [[noreturn]] void fail(const SourceLoc& loc, const std::string& message) const {
-        std::vector<SourceLoc> chain(m_include_locs.rbegin(), m_include_locs.rend());
-        throw SceneError(loc, message, std::move(chain));
-    }
-    [[noreturn]] void fail(const FileState& fs_, const Token& t, const std::string& message) const {
-        fail(fs_.lex.loc(t), message);
-    }
-
-    // ---- token helpers -------------------------------------------------------------------
-    // Missing arguments point at the directive; a bad token points at itself (spec §2).
-    SourceLoc arg_loc(FileState& f, const Token& dir, const Token& bad) const {
-        return (bad.kind == TokenKind::End || bad.kind == TokenKind::Directive) ? f.lex.loc(dir)
-                                                                                : f.lex.loc(bad);
-    }
-
-    double real(FileState& f, const Token& dir, int count) {
-        const Token t = f.lex.next();
-        double v = 0.0;
-        bool non_finite = false;
-        if (t.kind == TokenKind::Word && parse_real(t.text, &v, &non_finite)) return v;
-        if (non_finite) fail(f, t, "non-finite number " + quote(t.text));
-        fail(arg_loc(f, dir, t), "expected " + std::to_string(count) +
-                                     (count == 1 ? " number" : " numbers") + " after " +
-                                     std::string(dir.text) + ", got " + describe(t));
-    }
-
-    Vec3 vec3(FileState& f, const Token& dir, int count) {
-        Vec3 v;
-        for (int i = 0; i < 3; ++i) v[i] = real(f, dir, count);
-        return v;
-    }
-
-    int integer(FileState& f, const Token& dir, std::string_view what, SourceLoc* loc = nullptr) {
-        const Token t = f.lex.next();
-        int v = 0;
-        bool out_of_range = false;
-        if (loc) *loc = f.lex.loc(t);
-        if (t.kind == TokenKind::Word && parse_int(t.text, &v, &out_of_range)) return v;
-        if (out_of_range) fail(f, t, "integer " + quote(t.text) + " out of range");
-        fail(arg_loc(f, dir, t),
-             "expected an integer (" + std::string(what) + "), got " + describe(t));
-    }
-
-    std::string word(FileState& f, const Token& dir, std::string_view what, bool ascii = false) {
-        const Token t = f.lex.next();
-        if (t.kind == TokenKind::Word) {
-            // Spec §2: non-ASCII bytes only in comments, strings and paths.
-            if (ascii)
-                for (char c : t.text)
-                    if (static_cast<unsigned char>(c) >= 0x80)
-                        fail(f, t, "non-ASCII byte in " + std::string(what) + " " + quote(t.text));
-            return std::string(t.text);
-        }
-        fail(arg_loc(f, dir, t), "expected " + std::string(what) + " after " +
-                                     std::string(dir.text) + ", got " + describe(t));
-    }
-
-    Vec3 colour(FileState& f, const Token& dir, int count, std::string_view what) {
-        Vec3 c;
-        for (int i = 0; i < 3; ++i) {
-            const Token t = f.lex.peek();
-            c[i] = real(f, dir, count);
-            if (c[i] < 0) fail(f, t, "negative " + std::string(what) + " " + fmt(c[i]));
-        }
-        return c;
-    }
-
-    static std::string fmt(double v) {
-        std::ostringstream ss;
-        ss << v;
-        return ss.str();
-    }
-    static std::string fmt(const Vec3& v) { return fmt(v.x) + " " + fmt(v.y) + " " + fmt(v.z); }
-
-    // ---- counts --------------------------------------------------------------------------
-    void declare_count(FileState& f, const Token& dir, CountKind k) {
-        SourceLoc loc;
-        const int n = integer(f, dir, "count", &loc);
-        Count& c = f.counts[k];
-        if (c.declared)
-            fail(f, dir,
-                 "second " + std::string(kCountDirective[k]) + " (first at " + c.loc.str() + ")");
-        if (c.found > 0)
-            fail(f, dir, std::string(kCountDirective[k]) + " after the first " + kItemDirective[k]);
-        if (n < 0) fail(loc, "negative count " + std::to_string(n));
-        c.declared = true;
-        c.declared_n = n;
-        c.loc = f.lex.loc(dir);
-        // Reserve no more than the rest of the text can hold (a #vertex takes >= 24 bytes), so a
-        // huge count cannot allocate before the file runs out.
-        if (k == kVertices)
-            f.desc.vertices.reserve(std::min(static_cast<size_t>(n), f.lex.remaining() / 24));
-    }
-
-    void count_item(FileState& f, const Token& dir, CountKind k) {
-        Count& c = f.counts[k];
-        ++c.found;
-        if (c.declared && c.found > c.declared_n)
-            fail(f, dir,
-                 "more " + std::string(k == kLights ? "lights" : kItemDirective[k]) +
-                     " than declared by " + kCountDirective[k] + " at " + c.loc.str());
-    }
-
-    // ---- paths ---------------------------------------------------------------------------
-    // Spec §4.2: relative to the naming file's directory, then the working directory.
-    std::string resolve(FileState& f, const Token& at, const std::string& path,
-                        const std::string& what) {
-        const fs::path p(path);
-        if (p.is_absolute()) {
-            if (is_file(p)) return path;
-            fail(f, at, "cannot open " + what + " " + quote(path));
-        }
-        const fs::path a = fs::path(f.dir) / p;
-        if (is_file(a)) return a.lexically_normal().string();
-        const fs::path b = fs::path(".") / p;
-        if (is_file(b)) return b.lexically_normal().string();
-        const std::string tried = a.lexically_normal() == b.lexically_normal()
-                                      ? a.string()
-                                      : a.string() + ", " + b.string();
-        fail(f, at, "cannot open " + what + " " + quote(path) + " (tried " + tried + ")");
-    }
-
     // ---- the file loop -------------------------------------------------------------------
-    // ---- dialect detection (spec §10): a pre-scan of the whole tree, before any material is
-    // interpreted. It follows the #ray_file paths it can resolve; the parse reports the others.
-    static std::optional<std::string> find_file(const std::string& dir, const std::string& path) {
-        const fs::path p(path);
-        if (p.is_absolute()) return is_file(p) ? std::optional<std::string>(path) : std::nullopt;
-        for (const fs::path& c : {fs::path(dir) / p, fs::path(".") / p})
-            if (is_file(c)) return c.lexically_normal().string();
-        return std::nullopt;
-    }
-
-    void prescan(const std::string& text, const std::string& name, const std::string& canonical,
-                 const std::string& dir, std::vector<std::string>& visited) {
-        visited.push_back(canonical);
-        Lexer lex(text, std::make_shared<const std::string>(name));
-        for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next()) {
-            if (t.kind != TokenKind::Directive) continue;
-            if (is_v3_directive(t.text))
-                fail(lex.loc(t), quote(t.text) + " is V3 syntax; V3 scenes are not supported yet");
-            if (t.text == "#material") {
-                int n = 0;
-                bool numbers = true;
-                for (Token a = lex.peek(); a.kind == TokenKind::Word; a = lex.peek()) {
-                    lex.next();
-                    double v = 0;
-                    bool nf = false;
-                    numbers = numbers && parse_real(a.text, &v, &nf);
-                    ++n;
-                }
-                // A bad token or a missing string is reported by the parse at its place.
-                if (!numbers || (lex.peek().kind != TokenKind::String && (n == 16 || n == 18)))
-                    continue;
-                if (n != 16 && n != 18)
-                    fail(lex.loc(t),
-                         "#material needs 16 (V0) or 18 (V1) numbers before its "
-                         "!…! string, got " +
-                             std::to_string(n));
-                const Dialect d = n == 16 ? Dialect::V0 : Dialect::V1;
-                if (m_options.dialect && *m_options.dialect != d)
-                    fail(lex.loc(t),
-                         "#material has " + std::to_string(n) + " numbers, but --dialect " +
-                             (*m_options.dialect == Dialect::V0 ? "v0 needs 16" : "v1 needs 18"));
-                SourceLoc& first = d == Dialect::V0 ? m_first_v0 : m_first_v1;
-                if (!first.file) {
-                    first = lex.loc(t);
-                    const SourceLoc& other = d == Dialect::V0 ? m_first_v1 : m_first_v0;
-                    if (other.file)
-                        fail(first, "mixed dialects: V0 material at " + m_first_v0.str() +
-                                        ", V1 material at " + m_first_v1.str());
-                }
-            } else if (t.text.substr(0, 7) == "#shape_") {
-                if (lex.peek().text == "-1") m_default_use = true;
-            } else if (t.text == "#ray_file") {
-                const Token pt = lex.next();
-                if (pt.kind != TokenKind::Word) continue;
-                const auto resolved = find_file(dir, std::string(pt.text));
-                if (!resolved) continue;
-                const std::string canon = canonical_path(*resolved);
-                if (std::find(visited.begin(), visited.end(), canon) != visited.end()) continue;
-                // Too deep: the parse reports it at this directive.
-                if (m_include_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) continue;
-                const std::string* sub = cached_text(*resolved, canon);
-                if (!sub) continue;
-                const std::string sub_dir = fs::path(*resolved).parent_path().string();
-                m_include_locs.push_back(lex.loc(t));
-                prescan(*sub, *resolved, canon, sub_dir.empty() ? "." : sub_dir, visited);
-                m_include_locs.pop_back();
-            }
-        }
-    }
-
-    // Included files' texts by canonical path, read by the pre-scan and handed to the parse.
-    const std::string* cached_text(const std::string& path, const std::string& canonical) {
-        auto it = m_texts.find(canonical);
-        if (it != m_texts.end()) return &it->second;
-        std::string text;
-        if (!read_file(path, &text)) return nullptr;
-        return &m_texts.emplace(canonical, std::move(text)).first->second;
-    }
-
-    void detect_dialect(const std::string& text, const std::string& name,
-                        const std::string& canonical, const std::string& dir) {
-        std::vector<std::string> visited;
-        prescan(text, name, canonical, dir, visited);
-        if (m_options.dialect)
-            m_dialect = *m_options.dialect;
-        else if (m_first_v0.file)
-            m_dialect = Dialect::V0;
-        else if (m_first_v1.file)
-            m_dialect = Dialect::V1;
-        else
-            m_dialect = m_default_use ? Dialect::V0 : Dialect::V1;
-    }
-
     void parse_file(const std::string& text, const std::string& name, const std::string& canonical,
                     const std::string& dir, int index) {
         auto file_name = std::make_shared<const std::string>(name);
@@ -765,77 +617,7 @@ private:
         m_include_locs.pop_back();
     }
 
-    // Spec §3.4: #DOFS n names #DURATION s #FRAMES f, then f*n column-major 4x4 blocks.
-    KeyFile parse_key_file(const std::string& text, const std::string& path) {
-        FileState k(text, std::make_shared<const std::string>(path));
-        KeyFile key;
-        key.path = path;
-        auto expect = [&](std::string_view name) {
-            const Token t = k.lex.next();
-            if (t.kind != TokenKind::Directive || t.text != name)
-                fail(k.lex.loc(t), "expected " + std::string(name) + ", got " + describe(t));
-            return t;
-        };
-        const Token dofs = expect("#DOFS");
-        SourceLoc nloc;
-        const int n = integer(k, dofs, "DOF count", &nloc);
-        if (n <= 0) fail(nloc, "DOF count must be positive, got " + std::to_string(n));
-        std::vector<std::string> names;
-        for (int i = 0; i < n; ++i) names.push_back(lower(word(k, dofs, "a DOF name", true)));
-        const Token dur = expect("#DURATION");
-        const Token dur_tok = k.lex.peek();
-        if (real(k, dur, 1) <= 0) fail(k, dur_tok, "duration must be positive");
-        const Token frames = expect("#FRAMES");
-        SourceLoc floc;
-        const int nf = integer(k, frames, "frame count", &floc);
-        if (nf <= 0) fail(floc, "frame count must be positive, got " + std::to_string(nf));
-        const long long total = 16LL * n * nf;
-        long long read = 0;
-        for (int fr = 0; fr < nf; ++fr) {
-            for (int j = 0; j < n; ++j) {
-                Mat4 m(1.0);
-                const Token first = k.lex.peek();
-                for (int i = 0; i < 16; ++i, ++read) {
-                    const Token t = k.lex.next();
-                    double x = 0.0;
-                    bool nonfin = false;
-                    if (t.kind != TokenKind::Word || !parse_real(t.text, &x, &nonfin)) {
-                        if (nonfin) fail(k.lex.loc(t), "non-finite number " + quote(t.text));
-                        fail(k.lex.loc(t), "key file needs " + std::to_string(total) +
-                                               " numbers (16 per DOF per frame), got " +
-                                               std::to_string(read) + " then " + describe(t));
-                    }
-                    m[i / 4][i % 4] = x;  // column-major: GLM's own order
-                }
-                if (fr == 0) {
-                    check_matrix(m, k.lex.loc(first), "key frame matrix");
-                    key.frame0[names[static_cast<size_t>(j)]] = m;
-                }
-            }
-        }
-        const Token extra = k.lex.next();
-        if (extra.kind != TokenKind::End)
-            fail(k.lex.loc(extra), "key file has more than " + std::to_string(total) +
-                                       " numbers: unexpected " + describe(extra));
-        return key;
-    }
-
     // ---- scene graph ---------------------------------------------------------------------
-    void check_matrix(const Mat4& m, const SourceLoc& loc, const std::string& what) {
-        // Spec §3.3 / §4.1: affine (bottom row 0 0 0 1) and non-singular.
-        if (std::abs(m[0][3]) > 1e-9 || std::abs(m[1][3]) > 1e-9 || std::abs(m[2][3]) > 1e-9 ||
-            std::abs(m[3][3] - 1.0) > 1e-9)
-            fail(loc, "projective " + what + ": the bottom row must be 0 0 0 1");
-        const Mat3 a(m);
-        // hypot: a column of length 1e200 must not overflow in its squared length.
-        auto len = [](const Vec3& c) { return std::hypot(c.x, c.y, c.z); };
-        const double scale = len(a[0]) * len(a[1]) * len(a[2]);
-        const double det = glm::determinant(a);
-        if (!std::isfinite(scale) || !std::isfinite(det))
-            fail(loc, what + " too large: its determinant overflows");
-        if (std::abs(det) <= 1e-12 * scale || scale == 0.0) fail(loc, "singular " + what);
-    }
-
     void check_depth(FileState& f, const Token& d) {
         if (f.stack.size() > static_cast<size_t>(kMaxGroupDepth))
             fail(f, d,
@@ -1042,29 +824,23 @@ private:
         std::string name;
     };
 
-    Diagnostics& m_diag;
-    ParseOptions m_options;
     SceneDesc m_scene;
-    std::vector<SourceLoc> m_include_locs;       // #ray_file directives, outermost first
-    std::map<std::string, std::string> m_texts;  // included files read, not yet parsed
-    std::vector<Open> m_open;                    // files being parsed below the top one
-    SourceLoc m_first_v0, m_first_v1;            // first material of each dialect (pre-scan)
-    bool m_default_use = false;                  // some shape uses material index -1
-    Dialect m_dialect = Dialect::V1;
+    std::vector<Open> m_open;  // files being parsed below the top one
     bool m_seen_background = false, m_seen_ambient = false;
 };
 
 }  // namespace
+}  // namespace parser_impl
 
 SceneDesc parse_scene_file(const std::string& path, Diagnostics& diag,
                            const ParseOptions& options) {
-    Parser p(diag, options);
+    parser_impl::Parser p(diag, options);
     return p.run_file(path);
 }
 
 SceneDesc parse_scene_string(const std::string& text, const std::string& name, Diagnostics& diag,
                              const ParseOptions& options, const std::string& base_dir) {
-    Parser p(diag, options);
+    parser_impl::Parser p(diag, options);
     return p.run(text, name, base_dir);
 }
 

@@ -1,10 +1,10 @@
 #include "rt/render/progressive.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
+
+#include "rt/util/stopwatch.h"
 
 namespace rt {
 
@@ -140,7 +140,6 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
                                         const Image* reference,
                                         const std::function<void(const PassRecord&)>& on_pass,
                                         const std::atomic<bool>* stop) {
-    using Clock = std::chrono::steady_clock;
     state.reset(settings.width, settings.height);
     RenderSettings pass_settings = settings;
     pass_settings.centre_first_sample = false;  // every sample jittered
@@ -173,7 +172,7 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
         }
         const auto t0 = Clock::now();
         if (!render_samples(state, scene, plan, pass_settings, spp, {}, stop)) break;
-        render_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+        render_seconds += seconds_since(t0);
         samples_total += pass_samples;
 
         PassRecord r;
@@ -193,162 +192,6 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
     }
     state.active.clear();
     return records;
-}
-
-double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int n = 0;
-    for (size_t i = 0; i < x.size() && i < y.size(); ++i) {
-        if (!(x[i] > 0) || !(y[i] > 0)) continue;
-        const double lx = std::log(x[i]), ly = std::log(y[i]);
-        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-        ++n;
-    }
-    if (n < 2) return 0;
-    const double den = n * sxx - sx * sx;
-    return den != 0 ? (n * sxy - sx * sy) / den : 0;
-}
-
-double pass_error(const PassRecord& r) {
-    return r.has_reference ? r.error.relmse : r.estimate.relmse;
-}
-
-double time_to_reach(const std::vector<PassRecord>& run, double target) {
-    for (size_t i = 0; i < run.size(); ++i) {
-        const double e = pass_error(run[i]);
-        if (!(e > 0) || e > target) continue;
-        if (i == 0) return run[0].seconds;
-        // Interpolate on log-log axes between the pass before and this one.
-        const double e0 = pass_error(run[i - 1]), t0 = run[i - 1].seconds, t1 = run[i].seconds;
-        if (!(e0 > target) || !(t0 > 0)) return t1;
-        const double f = std::log(e0 / target) / std::log(e0 / e);
-        return std::exp(std::log(t0) + f * (std::log(t1) - std::log(t0)));
-    }
-    return -1;
-}
-
-std::string progress_csv(const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs) {
-    std::string s = "mode,seconds,spp,rays,rmse,relmse,off_share,estimate,estimate_relmse\n";
-    char buf[256];
-    for (const auto& [mode, run] : runs)
-        for (const PassRecord& r : run) {
-            if (r.has_reference)
-                std::snprintf(buf, sizeof buf, "%s,%.6f,%.4f,%llu,%.8g,%.8g,%.6f,%.8g,%.8g\n",
-                              mode.c_str(), r.seconds, r.spp,
-                              static_cast<unsigned long long>(r.rays), r.error.rmse, r.error.relmse,
-                              r.error.off_share, r.estimate.mse, r.estimate.relmse);
-            else
-                std::snprintf(buf, sizeof buf, "%s,%.6f,%.4f,%llu,,,,%.8g,%.8g\n", mode.c_str(),
-                              r.seconds, r.spp, static_cast<unsigned long long>(r.rays),
-                              r.estimate.mse, r.estimate.relmse);
-            s += buf;
-        }
-    return s;
-}
-
-std::string progress_svg(const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs,
-                         const std::string& title) {
-    // Plot area and log-scaled ranges over every point.
-    const double W = 720, H = 480, left = 80, right = 200, top = 50, bottom = 60;
-    double tmin = kInf, tmax = 0, emin = kInf, emax = 0;
-    for (const auto& [mode, run] : runs)
-        for (const PassRecord& r : run) {
-            const double es[2] = {r.has_reference ? r.error.relmse : 0, r.estimate.relmse};
-            for (double e : es)
-                if (e > 0 && r.seconds > 0) {
-                    tmin = std::min(tmin, r.seconds), tmax = std::max(tmax, r.seconds);
-                    emin = std::min(emin, e), emax = std::max(emax, e);
-                }
-        }
-    if (!(tmax > 0)) tmin = 0.01, tmax = 1, emin = 1e-4, emax = 1;
-    const double lt0 = std::floor(std::log10(tmin)),
-                 lt1 = std::max(lt0 + 1, std::ceil(std::log10(tmax)));
-    const double le0 = std::floor(std::log10(emin)),
-                 le1 = std::max(le0 + 1, std::ceil(std::log10(emax)));
-    auto px = [&](double t) {
-        return left + (std::log10(t) - lt0) / (lt1 - lt0) * (W - left - right);
-    };
-    auto py = [&](double e) {
-        return H - bottom - (std::log10(e) - le0) / (le1 - le0) * (H - top - bottom);
-    };
-    char buf[512];
-    std::string s;
-    std::snprintf(buf, sizeof buf,
-                  "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
-                  "font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%%\" "
-                  "height=\"100%%\" fill=\"white\"/>\n",
-                  W, H);
-    s += buf;
-    auto escape = [](const std::string& in) {
-        std::string out;
-        for (char c : in)
-            out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
-        return out;
-    };
-    std::snprintf(buf, sizeof buf, "<text x=\"%.0f\" y=\"24\" font-size=\"15\">%s</text>\n", left,
-                  escape(title).c_str());
-    s += buf;
-    // Grid and decade labels.
-    for (double d = lt0; d <= lt1; d += 1) {
-        const double x = px(std::pow(10, d));
-        std::snprintf(buf, sizeof buf,
-                      "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>"
-                      "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">1e%.0f</text>\n",
-                      x, top, x, H - bottom, x, H - bottom + 18, d);
-        s += buf;
-    }
-    for (double d = le0; d <= le1; d += 1) {
-        const double y = py(std::pow(10, d));
-        std::snprintf(buf, sizeof buf,
-                      "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>"
-                      "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">1e%.0f</text>\n",
-                      left, y, W - right, y, left - 6, y + 4, d);
-        s += buf;
-    }
-    std::snprintf(buf, sizeof buf,
-                  "<rect x=\"%.0f\" y=\"%.0f\" width=\"%.0f\" height=\"%.0f\" fill=\"none\" "
-                  "stroke=\"black\"/>\n<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">render "
-                  "time (s)</text>\n<text x=\"18\" y=\"%.0f\" transform=\"rotate(-90 18 %.0f)\" "
-                  "text-anchor=\"middle\">relative MSE</text>\n",
-                  left, top, W - left - right, H - top - bottom, (left + W - right) / 2, H - 18,
-                  (top + H - bottom) / 2, (top + H - bottom) / 2);
-    s += buf;
-    const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
-    double legend_y = top + 10;
-    for (size_t k = 0; k < runs.size(); ++k) {
-        const auto& [mode, run] = runs[k];
-        const char* colour = colours[k % 4];
-        for (int series = 0; series < 2; ++series) {
-            // Series 0: relMSE against the reference; 1: the estimate from the samples.
-            std::vector<double> xs, ys;
-            std::string path;
-            for (const PassRecord& r : run) {
-                const double e =
-                    series == 0 ? (r.has_reference ? r.error.relmse : 0) : r.estimate.relmse;
-                if (!(e > 0) || !(r.seconds > 0)) continue;
-                xs.push_back(r.seconds), ys.push_back(e);
-                std::snprintf(buf, sizeof buf, "%s%.1f,%.1f", path.empty() ? "" : " ",
-                              px(r.seconds), py(e));
-                path += buf;
-            }
-            if (xs.size() < 2) continue;
-            s += "<polyline points=\"" + path + "\" fill=\"none\" stroke=\"" + colour +
-                 "\" stroke-width=\"2\"" + (series == 1 ? " stroke-dasharray=\"6 4\"" : "") +
-                 "/>\n";
-            std::snprintf(buf, sizeof buf,
-                          "<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">%s %s: slope %.2f</text>\n",
-                          W - right + 10, legend_y, colour, escape(mode).c_str(),
-                          series == 0 ? "relMSE" : "estimate", loglog_slope(xs, ys));
-            s += buf;
-            legend_y += 18;
-        }
-    }
-    std::snprintf(buf, sizeof buf,
-                  "<text x=\"%.0f\" y=\"%.0f\" font-size=\"11\">%s; dashed: estimated from the "
-                  "samples (variance of the mean)</text>\n</svg>\n",
-                  left, top - 10, kRelMseFormula);
-    s += buf;
-    return s;
 }
 
 }  // namespace rt

@@ -28,7 +28,5 @@ RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr
 /// for lights).
 Light compile_light(const LightDesc& desc);
 CameraPose compile_camera(const CameraDesc& desc);
-/// Back from render to description (the viewer saves edited lights through the description).
-LightDesc describe_light(const Light& light);
 
 }  // namespace rt

@@ -1,11 +1,11 @@
-// Progressive rendering with its error reported against run time: passes of render_samples()
-// on one RenderState, the error of each pass against a reference image (or estimated from the
-// samples themselves), adaptive sampling, and the report as CSV and as an SVG plot.
+// Progressive rendering with its error measured against run time: passes of render_samples() on
+// one RenderState, the error of each pass against a reference image (or estimated from the
+// samples themselves), and adaptive sampling. Presenting the passes (tables, CSV, plots) is the
+// programs' job.
 #pragma once
 
 #include <atomic>
 #include <functional>
-#include <string>
 #include <vector>
 
 #include "rt/image/image.h"
@@ -16,12 +16,10 @@ namespace rt {
 /// relMSE's denominator offset: (x - ref)^2 / (ref^2 + kRelMseEpsilon), so black pixels do not
 /// dominate.
 inline constexpr double kRelMseEpsilon = 0.01;
-inline constexpr const char* kRelMseFormula =
-    "relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01)";
 
 struct ImageError {
-    double rmse = 0;       // sqrt of the mean over pixels and channels of (x - ref)^2
-    double relmse = 0;     // kRelMseFormula
+    double rmse = 0;    // sqrt of the mean over pixels and channels of (x - ref)^2
+    double relmse = 0;  // mean over pixels and channels of (x - ref)^2 / (ref^2 + kRelMseEpsilon)
     double off_share = 0;  // share of pixels with a channel off by more than 1/255 (clamped)
 };
 
@@ -70,22 +68,5 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
                                         const Image* reference,
                                         const std::function<void(const PassRecord&)>& on_pass = {},
                                         const std::atomic<bool>* stop = nullptr);
-
-/// Least-squares slope of log(y) against log(x) over the points with x, y > 0.
-double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
-
-/// A pass's error: relMSE against the reference when there is one, else the estimate.
-double pass_error(const PassRecord& r);
-
-/// Time at which a run's error first reaches `target` (log-log interpolation between passes);
-/// negative when it never does. Uses relMSE when there is a reference, else the estimate.
-double time_to_reach(const std::vector<PassRecord>& run, double target);
-
-/// CSV: mode,seconds,spp,rays,rmse,relmse,off_share,estimate,estimate_relmse (one row a pass).
-std::string progress_csv(const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs);
-
-/// An SVG plot of error against time on log-log axes, with the fitted slope of each run.
-std::string progress_svg(const std::vector<std::pair<std::string, std::vector<PassRecord>>>& runs,
-                         const std::string& title);
 
 }  // namespace rt

@@ -25,7 +25,7 @@ struct RenderSettings {
     bool shadows = true;
     int threads = 0;  // 0: all cores
     uint64_t seed = 0;
-    // Progressive features, each off at 0 (scenes/README.md).
+    // Progressive features, each off at 0 (docs/format.md, "our choices").
     double light_radius = 0.0;    // soft shadows: point and spot lights become spheres
     double aperture = 0.0;        // depth of field: lens radius, scene units
     double focus_distance = 0.0;  // distance of the plane in focus along the view direction;

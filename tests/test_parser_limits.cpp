@@ -1,4 +1,4 @@
-// Bad input never crashes (issue 6): huge counts and indices, numbers out of range, deep nesting,
+// Bad input never crashes: huge counts and indices, numbers out of range, deep nesting,
 // include cycles and chains, instancing that multiplies, a 100 MB file, binary garbage, NUL
 // bytes, truncated files and invalid UTF-8 all end in a `file:line:col: error: ...` (or a
 // correct scene), in bounded memory and time.

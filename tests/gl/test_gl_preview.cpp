@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <memory>
 
-#include "../app/rayview/preview.h"
+#include "preview.h"
 #include "test_util.h"
 
 namespace rt {

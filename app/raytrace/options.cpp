@@ -1,0 +1,197 @@
+#include "options.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "rt/image/image.h"
+
+namespace raytrace {
+
+namespace {
+
+constexpr const char* kDescription =
+    "Renders a .ray scene (V0 or V1 dialect) with Whitted ray tracing.";
+constexpr const char* kFooter =
+    "exit status: 0 success, 1 scene error (printed as file:line:col: error: ...) or an output\n"
+    "that cannot be written, 2 usage error.";
+
+// CLI11 reads "-1" into an unsigned number as its two's complement; a seed must not wrap.
+const CLI::Validator kNoMinus(
+    [](const std::string& value) {
+        return value.find('-') == std::string::npos ? std::string() : "must not be negative";
+    },
+    "");
+
+// CLI11 parses every option straight into its field of `o`; the help shows each field's
+// default as it is when the options are added (the defaults of Options and RenderSettings).
+void add_render_options(CLI::App& app, Options& o) {
+    app.add_option("scene", o.scene, "the .ray file")->type_name("SCENE.ray")->required();
+    app.add_option("-o,--output", o.output,
+                   "output image; format by extension: .png .bmp .ppm (8-bit) or\n"
+                   ".pfm (float, unclamped)")
+        ->type_name("FILE");
+    app.add_option("--width", o.width, "image width in pixels")->type_name("N");
+    app.add_option("--height", o.height, "image height in pixels")->type_name("N");
+    app.add_option("--depth", o.max_depth, "recursion depth of camera rays (>= 1)")->type_name("N");
+    app.add_option("--cutoff", o.cutoff, "skip child rays whose path weight is below X")
+        ->type_name("X");
+    app.add_option("--spp", o.spp,
+                   "samples per pixel; 1 = pixel centres, N > 1 = stratified jitter\n"
+                   "(with a progressive feature on, every sample is jittered)")
+        ->type_name("N");
+    app.add_option("--seed", o.seed, "random seed of the jitter and the progressive features")
+        ->type_name("N")
+        ->check(kNoMinus);
+    app.add_option("--threads", o.threads,
+                   "worker threads, up to 256; 0 = all cores (the image is the same\n"
+                   "for any count)")
+        ->type_name("N");
+    app.add_flag_callback(
+        "--no-shadows", [&o] { o.shadows = false; }, "no shadow rays (lights always visible)");
+    app.add_option_function<std::string>(
+           "--dialect",
+           [&o](const std::string& d) {
+               o.dialect = d == "v0" ? rt::Dialect::V0 : rt::Dialect::V1;
+           },
+           "v0 or v1: override the dialect detected from the materials")
+        ->type_name("D")
+        ->transform(CLI::IsMember({"v0", "v1"}, CLI::ignore_case));
+    app.add_flag("--stats", o.stats,
+                 "print time per phase (parse, compile, BVH build, render) and rays\n"
+                 "per second by kind");
+    app.add_flag("--explain", o.explain,
+                 "print what the renderer left out for this scene and why, one line\n"
+                 "each (\"left out: <feature>: <reason>\"), and what it kept");
+    app.add_flag_callback(
+        "--no-specialize", [&o] { o.specialize = false; },
+        "render with the generic renderer (every feature tested per ray,\n"
+        "every ray walks the top-level BVH and dispatches on each shape's\n"
+        "kind) instead of the one specialized to the scene; the image is\n"
+        "the same");
+}
+
+void add_progressive_options(CLI::App& app, Options& o) {
+    const std::string group = "progressive rendering (the error of each pass, against run time)";
+    ProgressiveOptions& p = o.progressive;
+    app.add_flag("--progressive", p.enabled,
+                 "render in passes of 1, 1, 2, 4, 8, ... samples per pixel until\n"
+                 "--time or --spp is reached, and report the error of every pass")
+        ->group(group);
+    app.add_option("--time", p.time_limit_s, "stop after S seconds of rendering")
+        ->type_name("S")
+        ->group(group);
+    app.add_option("--reference", p.reference,
+                   "a .pfm image to measure the error against, or 'auto' (rendered\n"
+                   "at --reference-spp samples and cached); without it the error is\n"
+                   "estimated from the samples themselves")
+        ->type_name("R")
+        ->group(group);
+    app.add_option("--reference-spp", p.reference_spp, "samples per pixel of the auto reference")
+        ->type_name("N")
+        ->group(group);
+    app.add_option("--report", p.report,
+                   "one row per pass: mode,seconds,spp,rays,rmse,relmse,off_share,\n"
+                   "estimate,estimate_relmse")
+        ->type_name("F.csv")
+        ->group(group);
+    app.add_option("--plot", p.plot, "error against time on log-log axes, with fitted slopes")
+        ->type_name("F.svg")
+        ->group(group);
+    app.add_flag("--adaptive", p.adaptive,
+                 "also run adaptive sampling (samples go to the pixels with the\n"
+                 "largest estimated error) and compare the time each needs to reach\n"
+                 "one error")
+        ->group(group);
+}
+
+void add_feature_options(CLI::App& app, Options& o) {
+    const std::string group = "progressive features (off by default; see scenes/README.md)";
+    app.add_option("--light-radius", o.light_radius,
+                   "point and spot lights become spheres of radius R (soft shadows)")
+        ->type_name("R")
+        ->group(group);
+    app.add_option("--aperture", o.aperture, "lens radius A (depth of field)")
+        ->type_name("A")
+        ->group(group);
+    app.add_option("--focus-distance", o.focus_distance,
+                   "distance in focus along the view direction (0: the scene centre)")
+        ->type_name("F")
+        ->group(group);
+    app.add_option("--roughness", o.roughness, "glossy reflection: mirror directions spread by X")
+        ->type_name("X")
+        ->group(group);
+}
+
+void make_app(CLI::App& app, Options& o) {
+    app.description(kDescription);
+    app.footer(kFooter);
+    app.get_formatter()->column_width(28);
+    app.option_defaults()->always_capture_default();
+    app.set_help_flag("-h,--help", "this text");
+    add_render_options(app, o);
+    add_progressive_options(app, o);
+    add_feature_options(app, o);
+    app.add_flag("-q,--quiet", o.quiet, "print errors and warnings only");
+}
+
+// The checks across options and of ranges, after CLI11 has converted every value.
+void validate(const Options& o, bool spp_given) {
+    if (o.width < 1 || o.height < 1 || o.width > 32768 || o.height > 32768)
+        throw UsageError("--width and --height must be between 1 and 32768");
+    if (o.max_depth < 1) throw UsageError("--depth must be at least 1");
+    if (!(o.cutoff >= 0.0)) throw UsageError("--cutoff must not be negative");
+    if (o.spp < 1) throw UsageError("--spp must be at least 1");
+    if (o.threads < 0 || o.threads > 256) throw UsageError("--threads must be between 0 and 256");
+    const ProgressiveOptions& p = o.progressive;
+    for (const auto& [name, v] : {std::pair<const char*, double>{"--light-radius", o.light_radius},
+                                  {"--aperture", o.aperture},
+                                  {"--focus-distance", o.focus_distance},
+                                  {"--roughness", o.roughness},
+                                  {"--time", p.time_limit_s}})
+        if (!(v >= 0.0) || !std::isfinite(v))
+            throw UsageError(std::string(name) + " must be a finite number >= 0");
+    if (p.reference_spp < 2) throw UsageError("--reference-spp must be at least 2");
+    const bool progressive_only = p.time_limit_s > 0 || !p.reference.empty() || !p.report.empty() ||
+                                  !p.plot.empty() || p.adaptive;
+    if (progressive_only && !p.enabled)
+        throw UsageError("--time, --reference, --report, --plot and --adaptive need --progressive");
+    if (p.enabled && p.time_limit_s <= 0 && !spp_given)
+        throw UsageError("--progressive needs --time S or --spp N");
+    if (!p.reference.empty() && p.reference != "auto" &&
+        rt::image_format_from_path(p.reference) != rt::ImageFormat::Pfm)
+        throw UsageError("--reference takes a .pfm file or 'auto'");
+    if (rt::image_format_from_path(o.output) == rt::ImageFormat::Unknown)
+        throw UsageError("unknown output format '" + o.output + "' (use .png, .bmp, .ppm or .pfm)");
+}
+
+}  // namespace
+
+std::string usage_text() {
+    Options o;
+    CLI::App app("", "raytrace");
+    make_app(app, o);
+    return app.help();
+}
+
+Options parse_options(const std::vector<std::string>& args) {
+    Options o;
+    CLI::App app("", "raytrace");
+    make_app(app, o);
+    std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them reversed
+    try {
+        app.parse(reversed);
+    } catch (const CLI::CallForHelp&) {
+        o.help = true;
+        return o;
+    } catch (const CLI::ParseError& e) {
+        throw UsageError(e.what());
+    }
+    const bool spp_given = app.count("--spp") > 0;
+    validate(o, spp_given);
+    if (spp_given && o.progressive.enabled) o.progressive.spp_limit = o.spp;
+    return o;
+}
+
+}  // namespace raytrace

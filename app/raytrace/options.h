@@ -1,0 +1,50 @@
+// Command-line options of `raytrace`: the library's settings extended with what only the program
+// needs, so every setting is written once. Parsing never exits: it returns the options or throws
+// UsageError, which main() turns into exit status 2.
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rt/render/progressive.h"
+#include "rt/render/render.h"
+#include "rt/scene/scene_desc.h"
+
+namespace raytrace {
+
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// --progressive and its error report. The pass limits are the library's: time_limit_s is
+/// --time, spp_limit is --spp when given; `adaptive` (--adaptive) adds an adaptive run after the
+/// uniform one.
+struct ProgressiveOptions : rt::ProgressiveSettings {
+    bool enabled = false;   // --progressive
+    std::string reference;  // a .pfm file, "auto", or empty
+    int reference_spp = 256;
+    std::string report;  // CSV
+    std::string plot;    // SVG
+};
+
+struct Options : rt::RenderSettings {
+    std::string scene;
+    std::string output = "out.png";
+    int spp = 1;
+    std::optional<rt::Dialect> dialect;  // overrides the dialect detected from the materials
+    bool quiet = false;
+    bool stats = false;
+    bool explain = false;  // print what the specialized renderer left out, and why
+    ProgressiveOptions progressive;
+    bool help = false;
+};
+
+/// Parses argv (without argv[0]). Throws UsageError.
+Options parse_options(const std::vector<std::string>& args);
+
+/// The --help text, with every option's default.
+std::string usage_text();
+
+}  // namespace raytrace

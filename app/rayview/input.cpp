@@ -1,0 +1,108 @@
+#include "input.h"
+
+#include <GLFW/glfw3.h>
+
+#include <cmath>
+
+#include "rt/compile/compile.h"
+#include "rt/render/camera.h"
+
+namespace rt::view {
+
+namespace {
+
+// Lights are dragged in the preview: a click near a point or spot light's marker picks it, and
+// the drag moves it parallel to the image.
+bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const PaneLayout& p,
+                 bool over_preview) {
+    std::vector<LightDesc>& lights = v.edits.lights;
+    const Camera view_cam = make_camera(compile_camera(v.edits.camera.desc()),
+                                        static_cast<int>(p.pane_w), static_cast<int>(p.pane_h));
+    auto to_pane = [&](const Vec3& pos, double* depth) {
+        const Vec3 d = pos - view_cam.position;
+        *depth = glm::dot(d, view_cam.forward);
+        const double x = glm::dot(d, view_cam.right) / (*depth * view_cam.tan_w);
+        const double y = glm::dot(d, view_cam.up) / (*depth * view_cam.tan_h);
+        return ImVec2(p.panel_w + static_cast<float>((x + 1) / 2) * p.pane_w,
+                      static_cast<float>((1 - y) / 2) * p.pane_h);
+    };
+    if (over_preview && v.settings.show_lights && ImGui::IsMouseClicked(ImGuiMouseButton_Left) &&
+        !io.KeyShift) {
+        for (size_t i = 0; i < lights.size(); ++i) {
+            if (lights[i].kind == LightKind::Directional) continue;
+            double depth = 0;
+            const ImVec2 at = to_pane(lights[i].position, &depth);
+            const float ddx = at.x - io.MousePos.x, ddy = at.y - io.MousePos.y;
+            if (depth > 0 && ddx * ddx + ddy * ddy < 144.0f)
+                input.dragged_light = static_cast<int>(i);
+        }
+    }
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) input.dragged_light = -1;
+    if (input.dragged_light < 0 || (io.MouseDelta.x == 0 && io.MouseDelta.y == 0)) return false;
+    LightDesc& l = lights[static_cast<size_t>(input.dragged_light)];
+    double depth = 0;
+    to_pane(l.position, &depth);
+    const double per_pixel = 2 * depth * view_cam.tan_h / static_cast<double>(p.pane_h);
+    l.position += per_pixel * (static_cast<double>(io.MouseDelta.x) * view_cam.right -
+                               static_cast<double>(io.MouseDelta.y) * view_cam.up);
+    return true;
+}
+
+// Drag orbits, shift or middle drag pans, right drag looks around, the wheel dollies.
+bool mouse_camera(OrbitCamera& orbit, const ImGuiIO& io, const PaneLayout& p) {
+    bool edited = false;
+    const double dx = static_cast<double>(io.MouseDelta.x),
+                 dy = static_cast<double>(io.MouseDelta.y);
+    const bool pan = ImGui::IsMouseDown(ImGuiMouseButton_Middle) ||
+                     (io.KeyShift && ImGui::IsMouseDown(ImGuiMouseButton_Left));
+    const double h = static_cast<double>(p.pane_h);
+    if (pan && (dx != 0 || dy != 0)) {
+        orbit.pan(-dx / h, dy / h);  // the scene follows the mouse
+        edited = true;
+    } else if (ImGui::IsMouseDown(ImGuiMouseButton_Left) && (dx != 0 || dy != 0)) {
+        orbit.orbit(dx * 0.005, -dy * 0.005);
+        edited = true;
+    }
+    if (ImGui::IsMouseDown(ImGuiMouseButton_Right) && (dx != 0 || dy != 0)) {
+        orbit.look(dx * 0.004, -dy * 0.004);
+        edited = true;
+    }
+    if (io.MouseWheel != 0) {
+        orbit.dolly(std::pow(0.9, static_cast<double>(io.MouseWheel)));
+        edited = true;
+    }
+    return edited;
+}
+
+// Fly: WASD along the view and sideways, Q/E down and up, at a speed scaled to the scene (its
+// diagonal per 4 seconds).
+bool fly_camera(OrbitCamera& orbit, const Bounds3& world, double frame_s) {
+    const Camera cam = make_camera(compile_camera(orbit.desc()), 4, 4);
+    const double speed = (world.empty() ? 1.0 : glm::length(world.diagonal())) / 4.0 * frame_s;
+    Vec3 move(0.0);
+    if (ImGui::IsKeyDown(GLFW_KEY_W)) move += cam.forward;
+    if (ImGui::IsKeyDown(GLFW_KEY_S)) move -= cam.forward;
+    if (ImGui::IsKeyDown(GLFW_KEY_D)) move += cam.right;
+    if (ImGui::IsKeyDown(GLFW_KEY_A)) move -= cam.right;
+    if (ImGui::IsKeyDown(GLFW_KEY_E)) move += Vec3(0, 1, 0);
+    if (ImGui::IsKeyDown(GLFW_KEY_Q)) move -= Vec3(0, 1, 0);
+    if (move == Vec3(0.0)) return false;
+    orbit.move(speed * move);
+    return true;
+}
+
+}  // namespace
+
+bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const PaneLayout& layout,
+                  const PaneHover& hover, double frame_s) {
+    bool edited = drag_lights(v, input, io, layout, hover.preview);
+    // Camera input only over the panes (never what ImGui's controls want).
+    if ((hover.preview || hover.trace) && input.dragged_light < 0)
+        edited |= mouse_camera(v.edits.camera, io, layout);
+    if (!io.WantCaptureKeyboard)
+        edited |= fly_camera(v.edits.camera, v.loaded->scene.world_bounds, frame_s);
+    if (edited) v.mark_edited();
+    return edited;
+}
+
+}  // namespace rt::view

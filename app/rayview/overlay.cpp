@@ -1,0 +1,206 @@
+#include "overlay.h"
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+#include <utility>
+#include <variant>
+
+#include "rt/render/sampler.h"
+#include "rt/shapes/shapes.h"
+
+namespace rt::view {
+
+Bounds3 view_bounds(const RenderScene& scene) {
+    // The scene and what the overlay draws around it (light markers, arrows, cones), so the
+    // near and far planes never clip either; the preview and its lines share them, so their
+    // depths agree.
+    Bounds3 b = scene.world_bounds;
+    if (b.empty()) return b;
+    const double size = glm::length(b.diagonal());
+    const Vec3 centre = b.centre();
+    for (const Light& l : scene.lights)
+        b.extend(l.kind == LightKind::Directional ? centre - 0.3 * size * l.direction : l.position);
+    const Vec3 margin(0.2 * size);  // marker arms, spot cones (0.15 of the size), rounding
+    return {b.lo - margin, b.hi + margin};
+}
+
+namespace {
+
+struct LineBuilder {
+    std::vector<LineVertex> out;
+    void segment(const Vec3& a, const Vec3& b, const Vec3& c) {
+        LineVertex va{}, vb{};
+        for (int k = 0; k < 3; ++k) {
+            va.position[k] = static_cast<float>(a[k]);
+            vb.position[k] = static_cast<float>(b[k]);
+            va.color[k] = vb.color[k] = static_cast<float>(c[k]);
+        }
+        out.push_back(va);
+        out.push_back(vb);
+    }
+    // The 12 edges of a box, its corners mapped by `xf` when given.
+    void box(const Vec3& lo, const Vec3& hi, const Vec3& c, const Transform* xf) {
+        auto corner = [&](int i) {
+            const Vec3 p{(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z};
+            return xf ? xf->point(p) : p;
+        };
+        for (int i = 0; i < 8; ++i)
+            for (int bit : {1, 2, 4})
+                if (!(i & bit)) segment(corner(i), corner(i | bit), c);
+    }
+};
+
+Vec3 marker_colour(const Vec3& c) {
+    const double m = std::max(c.x, std::max(c.y, c.z));
+    return m > 0 ? glm::clamp(c / m, 0.2, 1.0) : Vec3(1.0);
+}
+
+}  // namespace
+
+std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth) {
+    LineBuilder b;
+    const Bounds3& w = scene.world_bounds;
+    const double size = w.empty() ? 1.0 : glm::length(w.diagonal());
+    if (lights) {
+        for (const Light& l : scene.lights) {
+            const Vec3 c = marker_colour(l.color);
+            const double s = 0.03 * size;
+            if (l.kind == LightKind::Directional) {
+                // An arrow along the direction of travel, ending at the scene's centre.
+                const Vec3 end = w.empty() ? Vec3(0.0) : w.centre();
+                const Vec3 start = end - 0.3 * size * l.direction;
+                b.segment(start, end, c);
+                Vec3 a1, a2;
+                orthonormal_basis(l.direction, &a1, &a2);
+                for (const Vec3& side : {a1, -a1, a2, -a2})
+                    b.segment(end, end - 2 * s * l.direction + s * side, c);
+                continue;
+            }
+            for (int axis = 0; axis < 3; ++axis) {
+                Vec3 d(0.0);
+                d[axis] = s;
+                b.segment(l.position - d, l.position + d, c);
+            }
+            if (l.kind == LightKind::Spot) {
+                // The cut-off cone, 0.15 of the scene's size long.
+                Vec3 a1, a2;
+                orthonormal_basis(l.direction, &a1, &a2);
+                const double len = 0.15 * size, angle = std::min(l.cutoff_rad, 1.4);
+                Vec3 prev(0.0);
+                for (int k = 0; k <= 16; ++k) {
+                    const double phi = 2 * kPi * k / 16;
+                    const Vec3 rim =
+                        l.position +
+                        len * (std::cos(angle) * l.direction +
+                               std::sin(angle) * (std::cos(phi) * a1 + std::sin(phi) * a2));
+                    if (k % 4 == 0) b.segment(l.position, rim, c);
+                    if (k > 0) b.segment(prev, rim, c);
+                    prev = rim;
+                }
+            }
+        }
+    }
+    if (bvh_depth > 0) {
+        for (const Instance& inst : scene.instances) {
+            const Transform* xf = inst.identity ? nullptr : &inst.world_from_set;
+            const Bvh& bvh = scene.sets[static_cast<size_t>(inst.set)].bvh;
+            b.box(inst.world_bounds.lo, inst.world_bounds.hi, Vec3(1, 1, 0.3), nullptr);
+            // Node boxes level by level, dimmer deeper down.
+            std::vector<std::pair<uint32_t, int>> stack;
+            if (!bvh.empty()) stack.push_back({0u, 1});
+            while (!stack.empty()) {
+                const auto [node_index, depth] = stack.back();
+                stack.pop_back();
+                const Bvh4Node& node = bvh.nodes[node_index];
+                const double fade = 1.0 / depth;
+                for (uint32_t c = 0; c < node.num_children; ++c) {
+                    const Vec3 lo(node.lo[0][c], node.lo[1][c], node.lo[2][c]);
+                    const Vec3 hi(node.hi[0][c], node.hi[1][c], node.hi[2][c]);
+                    b.box(lo, hi, Vec3(0.3, 1.0, 0.5) * fade + Vec3(0.1), xf);
+                    if (!(node.child[c] & Bvh4Node::kLeaf) && depth < bvh_depth)
+                        stack.push_back({node.child[c], depth + 1});
+                }
+            }
+        }
+    }
+    return std::move(b.out);
+}
+
+namespace {
+
+// The world bounds of a group's own shapes under m.
+Bounds3 shape_bounds(const FileDesc& f, const GroupDesc& g, const Mat4& m) {
+    Bounds3 b;
+    for (const ShapeDesc& shape : g.shapes) {
+        std::visit(
+            [&](const auto& geo) {
+                using T = std::decay_t<decltype(geo)>;
+                if constexpr (std::is_same_v<T, SphereDesc>) {
+                    b.extend(bounds(Sphere{geo.centre, geo.radius}, m));
+                } else if constexpr (std::is_same_v<T, BoxDesc>) {
+                    b.extend(bounds(Box{geo.centre, 0.5 * geo.size}, m));
+                } else if constexpr (std::is_same_v<T, CylinderDesc>) {
+                    b.extend(bounds(Cylinder{geo.centre, geo.radius, geo.height}, m));
+                } else if constexpr (std::is_same_v<T, ConeDesc>) {
+                    b.extend(bounds(Cone{geo.centre, geo.radius, geo.height}, m));
+                } else {
+                    for (int v : geo.v)
+                        if (v >= 0 && static_cast<size_t>(v) < f.vertices.size())
+                            b.extend(Vec3(
+                                m * glm::dvec4(f.vertices[static_cast<size_t>(v)].position, 1.0)));
+                }
+            },
+            shape.geometry);
+    }
+    return b;
+}
+
+}  // namespace
+
+std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth) {
+    if (depth <= 0 || desc.files.empty()) return {};
+    // A walk with an explicit stack (groups nest 10^4 deep and includes 200 files deep), each
+    // group's bounds the union of its shapes' and its children's, a box drawn when it closes.
+    struct Frame {
+        int file;
+        const GroupDesc* group;
+        Mat4 m;
+        int level;
+        Bounds3 b;
+        size_t child = 0, instance = 0;
+    };
+    LineBuilder lines;
+    size_t budget = 200000;  // group visits: a scene of millions of instances draws a sample
+    std::vector<Frame> stack;
+    auto push = [&](int file, const GroupDesc& g, const Mat4& parent, int level) {
+        const Mat4 m = parent * g.matrix;
+        stack.push_back(
+            {file, &g, m, level, shape_bounds(desc.files[static_cast<size_t>(file)], g, m)});
+        --budget;
+    };
+    push(0, desc.files[0].root, Mat4(1.0), 0);
+    while (!stack.empty()) {
+        Frame& top = stack.back();
+        const FileDesc& f = desc.files[static_cast<size_t>(top.file)];
+        if (budget > 0 && top.child < top.group->groups.size()) {
+            const GroupDesc& child = top.group->groups[top.child++];
+            push(top.file, child, top.m, top.level + 1);  // invalidates `top`
+        } else if (budget > 0 && top.instance < top.group->instances.size()) {
+            const InstanceDesc& inst = top.group->instances[top.instance++];
+            const int sub = f.ray_files[static_cast<size_t>(inst.ray_file)];
+            push(sub, desc.files[static_cast<size_t>(sub)].root, top.m, top.level + 1);
+        } else {
+            const Frame done = top;
+            stack.pop_back();
+            if (done.level >= 1 && done.level <= depth && !done.b.empty())
+                lines.box(done.b.lo, done.b.hi,
+                          Vec3(1.0, 0.55, 0.2) / static_cast<double>(done.level) + Vec3(0.15),
+                          nullptr);
+            if (!stack.empty()) stack.back().b.extend(done.b);
+        }
+    }
+    return std::move(lines.out);
+}
+
+}  // namespace rt::view

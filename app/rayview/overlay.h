@@ -1,0 +1,31 @@
+// What the viewer draws over the preview, as world-space line segments: light markers, BVH node
+// boxes and the scene graph's group boxes. Geometry only, no GL: the preview draws the lines.
+#pragma once
+
+#include <vector>
+
+#include "rt/compile/render_scene.h"
+#include "rt/scene/scene_desc.h"
+
+namespace rt::view {
+
+/// One end of an overlay line segment.
+struct LineVertex {
+    float position[3];
+    float color[3];
+};
+
+/// The scene's bounds grown by what the overlay draws around it (light markers and arrows).
+Bounds3 view_bounds(const RenderScene& scene);
+
+/// Overlay geometry: a marker per light (a cross for point lights, a cone for spots, an arrow for
+/// directional ones) and, up to `bvh_depth` levels, the boxes of the instances and of their
+/// BVH nodes (the flattened groups' boxes), in world space.
+std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth);
+
+/// The boxes of the scene graph's groups (#group_begin blocks and included files, each instance
+/// of an include on its own), world-aligned, down to nesting level `depth` (1: the top-level
+/// groups), in colours that fade with depth. Not the BVH: the structure the file describes.
+std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth);
+
+}  // namespace rt::view

@@ -1,0 +1,267 @@
+#include "panels.h"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace rt::view {
+
+namespace {
+
+// A float slider over a double setting.
+bool slider(const char* label, double* value, float lo, float hi, const char* format = "%.3f") {
+    float f = static_cast<float>(*value);
+    if (!ImGui::SliderFloat(label, &f, lo, hi, format)) return false;
+    *value = f;
+    return true;
+}
+
+// A three-float drag over a Vec3.
+bool drag3(const char* label, Vec3* v, float speed) {
+    float f[3] = {static_cast<float>(v->x), static_cast<float>(v->y), static_cast<float>(v->z)};
+    if (!ImGui::DragFloat3(label, f, speed)) return false;
+    *v = Vec3(f[0], f[1], f[2]);
+    return true;
+}
+
+const char* kind_name(LightKind k) {
+    return k == LightKind::Directional ? "directional" : k == LightKind::Point ? "point" : "spot";
+}
+
+// One light's controls. Directions are shown and edited made unit, as the renderer uses them.
+bool light_editor(LightDesc& l, char* on) {
+    bool edited = false;
+    bool checked = *on != 0;
+    if (ImGui::Checkbox(kind_name(l.kind), &checked)) {
+        *on = checked ? 1 : 0;
+        edited = true;
+    }
+    float col[3] = {static_cast<float>(l.color.x), static_cast<float>(l.color.y),
+                    static_cast<float>(l.color.z)};
+    if (ImGui::ColorEdit3("colour", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR))
+        l.color = Vec3(col[0], col[1], col[2]), edited = true;
+    if (l.kind != LightKind::Directional) {
+        edited |= drag3("position", &l.position, 0.05f);
+        float a[3] = {static_cast<float>(l.constant_atten), static_cast<float>(l.linear_atten),
+                      static_cast<float>(l.quadratic_atten)};
+        if (ImGui::DragFloat3("attenuation", a, 0.005f, 0.0f, 100.0f))
+            l.constant_atten = a[0], l.linear_atten = a[1], l.quadratic_atten = a[2], edited = true;
+    }
+    if (l.kind != LightKind::Point) {
+        const Vec3 unit = glm::normalize(l.direction);
+        float d[3] = {static_cast<float>(unit.x), static_cast<float>(unit.y),
+                      static_cast<float>(unit.z)};
+        if (ImGui::DragFloat3("direction", d, 0.01f) && glm::length(Vec3(d[0], d[1], d[2])) > 0)
+            l.direction = glm::normalize(Vec3(d[0], d[1], d[2])), edited = true;
+    }
+    if (l.kind == LightKind::Spot) {
+        edited |= slider("cut-off (rad)", &l.cutoff_rad, 0.0f, 3.1416f);
+        edited |= slider("drop-off exponent", &l.spot_exponent, 0.0f, 256.0f);
+    }
+    return edited;
+}
+
+}  // namespace
+
+PanelState::PanelState(const std::string& path) {
+    std::snprintf(path_buf, sizeof path_buf, "%s", path.c_str());
+}
+
+std::vector<std::string> completions(const std::string& typed) {
+    namespace fs = std::filesystem;
+    const fs::path p(typed);
+    const fs::path dir = typed.empty() || typed.back() == '/' ? fs::path(typed) : p.parent_path();
+    const std::string prefix = typed.empty() || typed.back() == '/' ? "" : p.filename().string();
+    std::vector<std::string> out;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir.empty() ? fs::path(".") : dir, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.rfind(prefix, 0) != 0) continue;
+        std::string ext = e.path().extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (e.is_directory(ec) || ext == ".ray")
+            out.push_back((dir / name).string() + (e.is_directory(ec) ? "/" : ""));
+    }
+    std::sort(out.begin(), out.end());
+    if (out.size() > 8) out.resize(8);
+    return out;
+}
+
+bool file_panel(ViewerState& v, PanelState& ui) {
+    if (v.loaded && v.loaded->id != ui.path_for) {  // a file opened: show its path
+        std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.loaded->path.c_str());
+        ui.path_for = v.loaded->id;
+    }
+    bool opened = false;
+    if (ImGui::InputText("scene", ui.path_buf, sizeof ui.path_buf)) ui.completing = true;
+    // Completion: the .ray files (and folders) that start with what is typed.
+    if (ui.completing) {
+        if (ui.completed_for != ui.path_buf) {  // list the folder only when the text changes
+            ui.completed_for = ui.path_buf;
+            ui.completion_list = completions(ui.path_buf);
+        }
+        for (const std::string& c : ui.completion_list)
+            if (ImGui::Selectable(c.c_str())) {
+                std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", c.c_str());
+                ui.completing = c.back() == '/';  // a folder: keep completing inside it
+            }
+    }
+    if (ImGui::Button("Open")) {
+        ui.completing = false;
+        opened |= v.open(ui.path_buf, false);
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Reload") && v.loaded) opened |= v.open(v.loaded->path, true);
+    ImGui::SameLine();
+    ImGui::TextDisabled("(or drop a .ray file)");
+    if (v.recent.size() > 1 && ImGui::CollapsingHeader("recent files")) {
+        for (size_t i = 1; i < v.recent.size(); ++i)
+            if (ImGui::Selectable(v.recent[i].c_str())) {
+                const std::string file = v.recent[i];
+                opened |= v.open(file, false);
+                break;
+            }
+    }
+    if (!v.message.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", v.message.c_str());
+    return opened;
+}
+
+bool settings_panel(ViewerState& v, const PaneLayout& layout) {
+    bool edited = false;
+    const bool keys = !ImGui::GetIO().WantCaptureKeyboard;
+    ImGui::Separator();
+    ImGui::TextWrapped(
+        "Camera: drag orbits, shift/middle drag pans, wheel dollies, "
+        "right drag looks around, WASD/QE fly");
+    if (ImGui::Button("Frame (F)") || (keys && ImGui::IsKeyPressed(GLFW_KEY_F))) {
+        v.edits.camera.frame(v.loaded->scene.world_bounds, static_cast<double>(layout.pane_w) /
+                                                               static_cast<double>(layout.pane_h));
+        edited = true;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Home") || (keys && ImGui::IsKeyPressed(GLFW_KEY_HOME))) {
+        v.edits.camera.set_from(v.loaded->file_camera, v.loaded->scene.world_bounds);
+        edited = true;
+    }
+    ViewSettings& s = v.settings;
+    RenderSettings& r = s.render;
+    ImGui::Separator();
+    ImGui::RadioButton("both", &s.layout, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("preview", &s.layout, 1);
+    ImGui::SameLine();
+    ImGui::RadioButton("trace", &s.layout, 2);
+    edited |= ImGui::Checkbox("shadows", &r.shadows);
+    ImGui::SameLine();
+    ImGui::Checkbox("light markers", &s.show_lights);
+    ImGui::SliderInt("group boxes (levels)", &s.group_depth, 0, 8);
+    ImGui::SliderInt("BVH boxes (levels)", &s.box_depth, 0, 8);
+    edited |= ImGui::SliderInt("depth", &r.max_depth, 1, 10);
+    edited |= slider("cutoff", &r.cutoff, 0.0f, 0.1f, "%.4f");
+    edited |= ImGui::SliderInt("target spp", &s.target_spp, 1, 4096);
+    edited |= ImGui::SliderFloat("resolution", &s.resolution_scale, 0.1f, 1.0f);
+    edited |= ImGui::SliderInt("threads (0 = all)", &r.threads, 0, 64);
+    edited |= slider("light radius", &r.light_radius, 0.0f, 2.0f);
+    edited |= slider("aperture", &r.aperture, 0.0f, 0.5f);
+    edited |= slider("roughness", &r.roughness, 0.0f, 1.0f);
+    return edited;
+}
+
+bool lights_panel(ViewerState& v) {
+    bool edited = false;
+    ImGui::Separator();
+    ImGui::Text("Lights");
+    for (size_t i = 0; i < v.edits.lights.size(); ++i) {
+        ImGui::PushID(static_cast<int>(i));
+        edited |= light_editor(v.edits.lights[i], &v.edits.light_on[i]);
+        if (ImGui::Button("remove")) {
+            v.remove_light(i);
+            edited = true;
+            ImGui::PopID();
+            break;
+        }
+        ImGui::Separator();
+        ImGui::PopID();
+    }
+    if (ImGui::Button("add point light")) {
+        v.add_point_light();
+        edited = true;
+    }
+    return edited;
+}
+
+void status_panel(const ViewerState& v, const std::vector<std::string>& preview_defines,
+                  double frame_s) {
+    ImGui::Separator();
+    const Tracer::Status st = v.tracer.status();
+    ImGui::Text("%d spp, %.2f Mray/s, %.1f s since the last change", st.spp,
+                st.rays_per_second / 1e6, st.seconds);
+    ImGui::Text("estimated relMSE %.3g", st.estimate);
+    ImGui::Text("frame %.1f ms, first traced pass %.0f ms after the last change", 1000 * frame_s,
+                v.first_pass_ms);
+    // What the renderer left out for this scene, recomputed on each restart: the lights and
+    // settings change it.
+    int left = 0;
+    for (const std::string& l : v.explained) left += l.rfind("left out", 0) == 0;
+    std::string header = "renderer: ";
+    header += std::to_string(left);
+    header += " feature(s) left out###leftout";
+    if (ImGui::CollapsingHeader(header.c_str())) {
+        for (const std::string& l : v.explained) ImGui::TextWrapped("%s", l.c_str());
+        std::string shader = "preview shader:";
+        for (const std::string& d : preview_defines) {
+            shader += ' ';
+            shader += d;
+        }
+        ImGui::TextWrapped("%s", shader.c_str());
+    }
+    std::vector<float> logs;
+    for (const auto& [t, e] : v.tracer.history()) logs.push_back(std::log10(e));
+    if (!logs.empty())
+        ImGui::PlotLines("log10 error", logs.data(), static_cast<int>(logs.size()), 0, nullptr,
+                         FLT_MAX, FLT_MAX, ImVec2(0, 60));
+}
+
+void save_panel(ViewerState& v, PanelState& ui) {
+    ImGui::InputText("save as", ui.save_buf, sizeof ui.save_buf);
+    ImGui::InputText("scene file", ui.scene_buf, sizeof ui.scene_buf);
+    if (ImGui::Button("Save scene (camera and lights)")) {
+        try {
+            v.save_scene(ui.scene_buf);
+            v.message = std::string("saved ") + ui.scene_buf;
+        } catch (const std::exception& e) {
+            v.message = e.what();
+        }
+    }
+    if (ImGui::Button("Save image (.png .pfm ...)")) {
+        try {
+            v.save_trace(ui.save_buf);
+            v.message = std::string("saved ") + ui.save_buf;
+        } catch (const std::exception& e) {
+            v.message = e.what();
+        }
+    }
+}
+
+void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
+                   const std::vector<std::string>& preview_defines, double frame_s) {
+    ImGui::SetNextWindowPos(ImVec2(0, 0));
+    ImGui::SetNextWindowSize(ImVec2(layout.panel_w, layout.pane_h));
+    ImGui::Begin("rayview", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
+    file_panel(v, ui);  // opening a file marks its own edit
+    if (v.loaded) {
+        bool edited = settings_panel(v, layout);
+        edited |= lights_panel(v);
+        if (edited) v.mark_edited();
+        status_panel(v, preview_defines, frame_s);
+        save_panel(v, ui);
+    }
+    ImGui::End();
+}
+
+}  // namespace rt::view

@@ -1,0 +1,45 @@
+// The control panel left of the panes, as small ImGui functions in the order they appear. Each
+// returns whether it edited what the trace shows (as ImGui's widgets return true when edited);
+// control_panel() marks those edits for the restart.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "panes.h"
+#include "viewer.h"
+
+namespace rt::view {
+
+/// The panel's own text fields and lists.
+struct PanelState {
+    explicit PanelState(const std::string& path);
+    char path_buf[1024];
+    char save_buf[1024] = "rayview.png";
+    char scene_buf[1024] = "edited.ray";
+    int path_for = 0;                          // the scene (LoadedScene::id) path_buf shows
+    bool completing = false;                   // the path field lists matching files
+    std::string completed_for;                 // the typed path the list below belongs to
+    std::vector<std::string> completion_list;  // completions(completed_for)
+};
+
+/// .ray files whose path starts with what is typed (the directory part lists its folder).
+std::vector<std::string> completions(const std::string& typed);
+
+/// The scene's path with completion, Open, Reload, the recent files and the last message.
+bool file_panel(ViewerState& v, PanelState& ui);
+/// Camera buttons, layout and overlays, and the renderer's settings.
+bool settings_panel(ViewerState& v, const PaneLayout& layout);
+/// Every light: on or off, colour, position, attenuation, direction, spot cone; add, remove.
+bool lights_panel(ViewerState& v);
+/// The trace's progress, what the renderer left out, the error plot.
+void status_panel(const ViewerState& v, const std::vector<std::string>& preview_defines,
+                  double frame_s);
+/// Saving the scene (camera and lights) and the traced image.
+void save_panel(ViewerState& v, PanelState& ui);
+
+/// The whole panel as one ImGui window.
+void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
+                   const std::vector<std::string>& preview_defines, double frame_s);
+
+}  // namespace rt::view

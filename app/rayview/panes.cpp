@@ -1,0 +1,105 @@
+#define GL_GLEXT_PROTOTYPES
+#include "panes.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdint>
+
+namespace rt::view {
+
+namespace {
+
+ImTextureID texture_id(unsigned id) {
+    return reinterpret_cast<ImTextureID>(static_cast<intptr_t>(id));
+}
+
+}  // namespace
+
+PaneLayout pane_layout(int layout, int fb_w, int fb_h) {
+    PaneLayout p;
+    p.panes = layout == 0 ? 2 : 1;
+    p.pane_w =
+        std::max(64.0f, (static_cast<float>(fb_w) - p.panel_w) / static_cast<float>(p.panes));
+    p.pane_h = std::max(64.0f, static_cast<float>(fb_h));
+    return p;
+}
+
+Panes::Panes(const std::string& shader_dir) : m_preview(shader_dir) {}
+
+PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
+    const ViewSettings& s = v.settings;
+    v.set_trace_size(std::max(16, static_cast<int>(p.pane_w * s.resolution_scale)),
+                     std::max(16, static_cast<int>(p.pane_h * s.resolution_scale)));
+
+    ImGui::SetNextWindowPos(ImVec2(p.panel_w, 0));
+    ImGui::SetNextWindowSize(ImVec2(static_cast<float>(p.panes) * p.pane_w, p.pane_h));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+    ImGui::Begin("panes", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
+                     ImGuiWindowFlags_NoBringToFrontOnFocus);
+    // While the view moves, the preview draws at a lower resolution (software GL fills pixels
+    // slowly): half, and less while frames take longer than 30 ms, back towards half below
+    // 20 ms; a quarter second after the last change, full.
+    const bool moving = v.moving();
+    if (moving && frame_s > 0.030) m_moving_div = std::min(4.0, m_moving_div * 1.25);
+    if (moving && frame_s < 0.020) m_moving_div = std::max(2.0, m_moving_div / 1.1);
+    const double div = moving ? m_moving_div : 1.0;
+    m_target.resize(static_cast<int>(static_cast<double>(p.pane_w) / div),
+                    static_cast<int>(static_cast<double>(p.pane_h) / div));
+    PaneHover hover;
+    if (s.layout != 2) {
+        ImGui::Image(texture_id(m_target.color.id()), ImVec2(p.pane_w, p.pane_h), ImVec2(0, 1),
+                     ImVec2(1, 0));
+        hover.preview = ImGui::IsItemHovered();
+        ImGui::SameLine(0, 0);
+    }
+    if (s.layout != 1) {
+        if (m_trace.texture)
+            ImGui::Image(texture_id(m_trace.texture.id()), ImVec2(p.pane_w, p.pane_h));
+        else
+            ImGui::Dummy(ImVec2(p.pane_w, p.pane_h));
+        hover.trace = ImGui::IsItemHovered();
+    }
+    ImGui::End();
+    ImGui::PopStyleVar();
+    return hover;
+}
+
+void Panes::draw(ViewerState& v) {
+    if (v.take_trace_image()) m_trace.upload(v.last_trace);
+    const LoadedScene& loaded = *v.loaded;
+    if (loaded.id != m_loaded_id) {
+        m_preview.load(loaded.scene);
+        m_loaded_id = loaded.id;
+    }
+    const ViewSettings& s = v.settings;
+    const bool overlay_changed = s.show_lights != m_drawn_lights || s.box_depth != m_drawn_depth ||
+                                 s.group_depth != m_drawn_group_depth;
+    if (!v.preview_stale && !overlay_changed && m_target.w == m_drawn_w && m_target.h == m_drawn_h)
+        return;
+    glBindFramebuffer(GL_FRAMEBUFFER, m_target.fbo.id());
+    // The camera of the latest input, also while a restart waits.
+    const Camera cam = make_camera(compile_camera(v.edits.camera.desc()), m_target.w, m_target.h);
+    m_preview.draw(loaded.scene, cam, m_target.w, m_target.h, s.render.shadows);
+    std::vector<LineVertex> lines = overlay_lines(loaded.scene, s.show_lights, s.box_depth);
+    if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for) {
+        // Walked again only when the scene or the level changes.
+        m_group_lines = group_box_lines(loaded.desc, s.group_depth);
+        m_group_lines_depth = s.group_depth;
+        m_group_lines_for = loaded.id;
+    }
+    lines.insert(lines.end(), m_group_lines.begin(), m_group_lines.end());
+    m_preview.draw_lines(lines, loaded.scene, cam);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    v.preview_stale = false;
+    m_drawn_lights = s.show_lights;
+    m_drawn_depth = s.box_depth;
+    m_drawn_group_depth = s.group_depth;
+    m_drawn_w = m_target.w;
+    m_drawn_h = m_target.h;
+}
+
+}  // namespace rt::view

@@ -1,0 +1,56 @@
+// The two panes right of the control panel: the GL preview (left) and the trace (right), or one
+// of them alone. Owns the viewer's GL objects: the Preview, its framebuffer and the trace's
+// texture. The preview is redrawn only when something it shows changed (software GL spends most
+// of a frame on it).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gl_util.h"
+#include "overlay.h"
+#include "preview.h"
+#include "viewer.h"
+
+namespace rt::view {
+
+/// Where things go in the window (pixels): the control panel, then the panes.
+struct PaneLayout {
+    float panel_w = 330;
+    int panes = 2;  // shown side by side
+    float pane_w = 0, pane_h = 0;
+};
+/// Both panes side by side, or one of them alone at full size (`layout`: ViewSettings::layout).
+PaneLayout pane_layout(int layout, int fb_w, int fb_h);
+
+/// Which pane the mouse is over (never true while it is over the control panel).
+struct PaneHover {
+    bool preview = false, trace = false;
+};
+
+class Panes {
+public:
+    /// Compiles the preview's shaders from `shader_dir`; throws std::runtime_error naming the file.
+    explicit Panes(const std::string& shader_dir);
+
+    /// Sizes the trace and the preview's framebuffer for this frame and shows both panes.
+    PaneHover show(ViewerState& v, const PaneLayout& layout, double frame_s);
+    /// Uploads a new trace image, and redraws the preview when what it shows changed.
+    void draw(ViewerState& v);
+    /// The preview shader's defines (for the status panel).
+    const std::vector<std::string>& preview_defines() const { return m_preview.active_defines(); }
+
+private:
+    Preview m_preview;
+    ImageTexture m_trace;
+    RenderTarget m_target;      // the preview is drawn here, shown as an image
+    double m_moving_div = 2.0;  // the preview's resolution divisor while the view moves
+    int m_loaded_id = 0;        // the scene m_preview holds (LoadedScene::id)
+    // What m_target holds, so it is redrawn only when that changes.
+    bool m_drawn_lights = true;
+    int m_drawn_depth = -1, m_drawn_group_depth = -1, m_drawn_w = 0, m_drawn_h = 0;
+    std::vector<LineVertex> m_group_lines;  // group_box_lines() of that scene and depth
+    int m_group_lines_depth = -1, m_group_lines_for = 0;
+};
+
+}  // namespace rt::view

@@ -1,0 +1,175 @@
+#define GL_GLEXT_PROTOTYPES
+#include "script.h"
+
+#include <GL/gl.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace rt::view {
+
+std::vector<ScriptLine> read_script(const std::string& path) {
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error("cannot open script '" + path + "'");
+    std::vector<ScriptLine> lines;
+    std::string line;
+    while (std::getline(f, line)) {
+        std::istringstream ss(line);
+        ScriptLine l;
+        if (!(ss >> l.frame >> l.command)) continue;
+        for (std::string a; ss >> a;) l.args.push_back(a);
+        lines.push_back(l);
+    }
+    return lines;
+}
+
+int parse_run_options(int argc, char** argv, const std::string& default_scene, RunOptions* out) {
+    out->scene = default_scene;
+    std::string script_path;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "-h" || a == "--help") {
+            std::printf(
+                "usage: rayview [--frames N --screenshot OUT.png] [SCENE.ray]\n"
+                "Opens the scene (default: the showpiece) in a window: OpenGL preview "
+                "beside the progressive ray trace.\n"
+                "--frames N --screenshot F  run N frames, save the whole window to F, exit\n");
+            return 0;
+        } else if (a == "--frames" && i + 1 < argc) {
+            out->frames = std::atoi(argv[++i]);
+            if (out->frames <= 0) {
+                std::fprintf(stderr, "rayview: --frames needs a positive count\n");
+                return 2;
+            }
+        } else if (a == "--screenshot" && i + 1 < argc) {
+            out->screenshot = argv[++i];
+        } else if (a == "--script" && i + 1 < argc) {
+            script_path = argv[++i];
+        } else if (!a.empty() && a[0] == '-') {
+            std::fprintf(stderr, "rayview: unknown option '%s' (see rayview --help)\n", a.c_str());
+            return 2;
+        } else {
+            out->scene = a;
+        }
+    }
+    if (!out->screenshot.empty() && out->frames == 0) out->frames = 60;
+    if (!script_path.empty()) {
+        try {
+            out->script = read_script(script_path);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "rayview: %s\n", e.what());
+            return 2;
+        }
+        for (const ScriptLine& l : out->script) out->frames = std::max(out->frames, l.frame + 2);
+    }
+    return -1;
+}
+
+void save_window(int width, int height, const std::string& path) {
+    std::vector<unsigned char> px(static_cast<size_t>(width) * height * 3);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, px.data());
+    Image shot(width, height);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const size_t i = (static_cast<size_t>(height - 1 - y) * width + x) * 3;
+            shot.set(x, y, Vec3(px[i], px[i + 1], px[i + 2]) / 255.0);
+        }
+    save_image(shot, path);
+}
+
+double FrameStats::tick() {
+    const auto now = std::chrono::steady_clock::now();
+    const double frame_s = std::chrono::duration<double>(now - m_last).count();
+    m_last = now;
+    if (m_count++ > 0) {
+        m_total_s += frame_s;
+        m_max_s = std::max(m_max_s, frame_s);
+        if (m_count > 3) m_ms.push_back(1000 * frame_s);  // after start-up
+    }
+    return frame_s;
+}
+
+void FrameStats::print(const ViewerState& v) const {
+    std::printf(
+        "rayview: %d frames, mean %.1f ms, max %.1f ms; first traced pass %.0f ms "
+        "after the last change\n",
+        m_count, 1000 * m_total_s / (m_count - 1), 1000 * m_max_s, v.first_pass_ms);
+    auto quantile = [](std::vector<double> x, double q) {
+        std::sort(x.begin(), x.end());
+        return x.empty() ? 0.0 : x[static_cast<size_t>(q * static_cast<double>(x.size() - 1))];
+    };
+    std::printf(
+        "rayview: frames after start-up: median %.1f ms, p95 %.1f ms; first "
+        "traced pass after a change: median %.0f ms, p95 %.0f ms (%zu changes)\n",
+        quantile(m_ms, 0.5), quantile(m_ms, 0.95), quantile(v.first_pass_samples, 0.5),
+        quantile(v.first_pass_samples, 0.95), v.first_pass_samples.size());
+}
+
+ScriptRun::ScriptRun(const RunOptions& options)
+    : m_lines(options.script), m_frames_left(options.frames), m_screenshot(options.screenshot) {}
+
+void ScriptRun::restarted() {
+    for (const std::string& cause : m_causes)
+        std::printf("rayview: frame %d: %s: trace restarted\n", m_frame, cause.c_str());
+    m_causes.clear();
+}
+
+void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) const {
+    auto arg = [&](size_t i) { return i < l.args.size() ? std::atof(l.args[i].c_str()) : 0.0; };
+    ViewSettings& s = v.settings;
+    if (l.command == "orbit") {
+        v.edits.camera.orbit(arg(0), arg(1));
+        v.mark_edited();
+    } else if (l.command == "open" && !l.args.empty()) {
+        v.open(l.args[0], false);
+    } else if (l.command == "light" && l.args.size() >= 5) {
+        const size_t i = static_cast<size_t>(std::atoi(l.args[0].c_str()));
+        if (i < v.edits.lights.size()) v.edits.lights[i].color = Vec3(arg(2), arg(3), arg(4));
+        v.mark_edited();
+    } else if (l.command == "shadows" && !l.args.empty()) {
+        s.render.shadows = l.args[0] == "on";
+        v.mark_edited();
+    } else if (l.command == "boxes" && l.args.size() >= 2) {
+        s.group_depth = std::atoi(l.args[0].c_str());
+        s.box_depth = std::atoi(l.args[1].c_str());
+    } else if (l.command == "layout" && !l.args.empty()) {
+        s.layout = l.args[0] == "preview" ? 1 : l.args[0] == "trace" ? 2 : 0;
+    } else if (l.command == "resolution" && !l.args.empty()) {
+        s.resolution_scale = static_cast<float>(arg(0));
+    } else if (l.command == "screenshot" && !l.args.empty()) {
+        save_window(fb_w, fb_h, l.args[0]);
+        std::printf("rayview: frame %d: %s (trace at %d spp)\n", m_frame, l.args[0].c_str(),
+                    v.tracer.status().spp);
+    }
+}
+
+bool ScriptRun::end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code) {
+    for (const ScriptLine& l : m_lines) {
+        if (l.frame != m_frame || !v.loaded) continue;
+        run(l, v, fb_w, fb_h);
+        if (v.edit_pending()) m_causes.push_back(l.command);  // reported at the restart
+    }
+    ++m_frame;
+    if (m_frames_left <= 0 || --m_frames_left > 0) return false;
+    if (!m_screenshot.empty()) {
+        try {
+            save_window(fb_w, fb_h, m_screenshot);
+            std::printf("rayview: saved %s\n", m_screenshot.c_str());
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "rayview: %s\n", e.what());
+            *exit_code = 1;
+        }
+    }
+    return true;
+}
+
+void ScriptRun::print_summary(const FrameStats& stats, const ViewerState& v) const {
+    if (stats.count() > 1 && !m_screenshot.empty()) stats.print(v);
+}
+
+}  // namespace rt::view

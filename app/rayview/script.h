@@ -1,0 +1,79 @@
+// Scripted runs of the viewer, for tests and measurements: the command line (--frames N,
+// --screenshot F, --script S), the script interpreter, saving the window as an image, and the
+// frame statistics a --frames run prints at the end.
+//
+// A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn:
+// orbit DYAW DPITCH | open PATH | light I colour R G B | shadows on|off |
+// boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | resolution SCALE | screenshot PATH.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "viewer.h"
+
+namespace rt::view {
+
+struct ScriptLine {
+    int frame = 0;
+    std::string command;
+    std::vector<std::string> args;
+};
+
+/// Reads a script; throws std::runtime_error when the file cannot be opened.
+std::vector<ScriptLine> read_script(const std::string& path);
+
+struct RunOptions {
+    std::string scene;
+    int frames = 0;  // > 0: run this many frames, save the window, exit
+    std::string screenshot;
+    std::vector<ScriptLine> script;
+};
+
+/// Reads the command line into `out` (the scene defaults to `default_scene`). Returns -1 to run,
+/// else the exit code (0 after --help, 2 for a bad option or an unreadable script).
+int parse_run_options(int argc, char** argv, const std::string& default_scene, RunOptions* out);
+
+/// The whole window as drawn (the current framebuffer), rows flipped to top-first. Throws.
+void save_window(int width, int height, const std::string& path);
+
+/// Frame times: the last frame's, and the statistics of a --frames run.
+class FrameStats {
+public:
+    /// Once a frame: returns the time since the previous call (seconds).
+    double tick();
+    int count() const { return m_count; }
+    /// The summary line of a --frames run.
+    void print(const ViewerState& v) const;
+
+private:
+    std::chrono::steady_clock::time_point m_last = std::chrono::steady_clock::now();
+    double m_total_s = 0, m_max_s = 0;
+    int m_count = 0;
+    std::vector<double> m_ms;  // after start-up
+};
+
+/// Runs the script and counts down --frames.
+class ScriptRun {
+public:
+    explicit ScriptRun(const RunOptions& options);
+    /// The trace restarted this frame: reports the script commands whose edits it answers.
+    void restarted();
+    /// After the frame is drawn: runs this frame's commands; at the last frame saves the
+    /// --screenshot (a failure sets `*exit_code` to 1). Returns true when the run is over.
+    bool end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code);
+    /// After the last frame: the frame statistics, for --screenshot runs.
+    void print_summary(const FrameStats& stats, const ViewerState& v) const;
+
+private:
+    void run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) const;
+
+    std::vector<ScriptLine> m_lines;
+    int m_frames_left;
+    std::string m_screenshot;
+    int m_frame = 0;
+    std::vector<std::string> m_causes;  // commands whose edits await a restart
+};
+
+}  // namespace rt::view

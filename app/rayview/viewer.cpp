@@ -1,0 +1,221 @@
+#include "viewer.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+#include "rt/compile/compile.h"
+#include "rt/format/parser.h"
+#include "rt/format/writer.h"
+#include "rt/render/camera.h"
+#include "rt/util/file_io.h"
+
+namespace rt::view {
+
+namespace {
+
+std::filesystem::file_time_type modified(const std::string& path) {
+    std::error_code ec;
+    return std::filesystem::last_write_time(path, ec);
+}
+
+double seconds_since(ViewerState::Clock::time_point t) {
+    return std::chrono::duration<double>(ViewerState::Clock::now() - t).count();
+}
+
+// The edits into the compiled scene, while no trace runs: the camera, the lights that are on
+// (compiled from their descriptions) and the trace's size.
+void apply_edits(const SceneEdits& edits, int trace_w, int trace_h, RenderScene* scene,
+                 RenderSettings* settings) {
+    scene->camera = compile_camera(edits.camera.desc());
+    scene->lights.clear();
+    for (size_t i = 0; i < edits.lights.size(); ++i)
+        if (edits.light_on[i]) scene->lights.push_back(compile_light(edits.lights[i]));
+    settings->width = trace_w;
+    settings->height = trace_h;
+}
+
+}  // namespace
+
+std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error) {
+    try {
+        Diagnostics diag;
+        auto s = std::make_unique<LoadedScene>();
+        s->path = path;
+        s->desc = parse_scene_file(path, diag);
+        s->scene = compile_scene(s->desc);
+        if (s->desc.camera) {
+            s->file_camera = *s->desc.camera;
+        } else {  // spec §6.3's default camera, framed for 4:3
+            const CameraPose d = default_camera(s->scene.world_bounds, 640, 480);
+            s->file_camera.position = d.position;
+            s->file_camera.direction = d.direction;
+            s->file_camera.up = d.up;
+            s->file_camera.half_height_angle_rad = d.half_height_angle_rad;
+        }
+        return s;
+    } catch (const std::exception& e) {
+        *error = e.what();
+        return nullptr;
+    }
+}
+
+int render_headless(const std::string& path) {
+    std::string error;
+    const auto s = load_scene(path, &error);
+    if (!s) {
+        std::cerr << error << "\n";
+        return 1;
+    }
+    const std::string out = std::filesystem::path(path).stem().string() + ".png";
+    RenderSettings settings;
+    RenderState state;
+    render_samples(state, s->scene, make_render_plan(s->scene, settings), settings, 16);
+    try {
+        save_image(state.image(), out);
+    } catch (const std::exception& e) {
+        std::cerr << "rayview: error: " << e.what() << "\n";
+        return 1;
+    }
+    std::printf("rayview: rendered %s headless (16 spp) to %s\n", path.c_str(), out.c_str());
+    return 0;
+}
+
+ViewerState::ViewerState(const std::string& path, bool print_left_out)
+    : m_print_left_out(print_left_out) {
+    // The trace leaves one core to the interface thread, so frames stay smooth.
+    settings.render.threads = std::max(1, resolve_thread_count(0) - 1);
+    loaded = load_scene(path, &message);
+    if (!loaded) return;  // keeps running with the message shown
+    loaded->id = ++m_scenes_opened;
+    recent.push_back(loaded->path);
+    on_loaded();
+}
+
+ViewerState::~ViewerState() { tracer.stop(); }
+
+void ViewerState::on_loaded() {
+    tracer.stop();
+    edits.camera.set_from(loaded->file_camera, loaded->scene.world_bounds);
+    edits.lights = loaded->desc.lights;
+    edits.light_on.assign(edits.lights.size(), 1);
+    loaded->file_time = modified(loaded->path);
+    mark_edited();
+}
+
+bool ViewerState::open(const std::string& file, bool keep_camera) {
+    std::string err;
+    auto next = load_scene(file, &err);
+    if (!next) {
+        message = err;
+        if (loaded) loaded->file_time = modified(loaded->path);  // do not retry every frame
+        return false;
+    }
+    const OrbitCamera kept = edits.camera;
+    tracer.stop();  // it traces the scene that is replaced here
+    loaded = std::move(next);
+    loaded->id = ++m_scenes_opened;
+    message.clear();
+    on_loaded();
+    if (keep_camera) edits.camera = kept;
+    std::vector<std::string> files{loaded->path};  // first, and not again below; 8 at most
+    for (const std::string& f : recent)
+        if (f != loaded->path && files.size() < 8) files.push_back(f);
+    recent = std::move(files);
+    return true;
+}
+
+void ViewerState::poll_files() {
+    if (!dropped.empty()) {
+        const std::string file = dropped.back();
+        dropped.clear();
+        open(file, false);
+    }
+    const auto now = Clock::now();
+    if (loaded && now - m_last_check > std::chrono::milliseconds(500)) {
+        m_last_check = now;
+        if (modified(loaded->path) != loaded->file_time) open(loaded->path, true);
+    }
+}
+
+void ViewerState::save_scene(const std::string& path) const {
+    SceneDesc desc = loaded->desc;
+    desc.camera = edits.camera.desc();
+    desc.lights.clear();
+    for (size_t i = 0; i < edits.lights.size(); ++i)
+        if (edits.light_on[i]) desc.lights.push_back(edits.lights[i]);
+    write_file_atomic(path, write_scene(desc));  // a temporary name, then renamed
+}
+
+void ViewerState::save_trace(const std::string& path) const {
+    if (last_trace.width == 0) throw std::runtime_error("nothing traced yet");
+    save_image(last_trace, path);
+}
+
+void ViewerState::set_trace_size(int w, int h) {
+    if (w == m_trace_w && h == m_trace_h) return;
+    m_trace_w = w;
+    m_trace_h = h;
+    mark_edited();
+}
+
+void ViewerState::add_point_light() {
+    LightDesc l;
+    l.kind = LightKind::Point;
+    l.position = edits.camera.desc().position;
+    edits.lights.push_back(l);
+    edits.light_on.push_back(1);
+    mark_edited();
+}
+
+void ViewerState::remove_light(size_t i) {
+    edits.lights.erase(edits.lights.begin() + static_cast<long>(i));
+    edits.light_on.erase(edits.light_on.begin() + static_cast<long>(i));
+    mark_edited();
+}
+
+bool ViewerState::restart_if_due() {
+    if (!loaded) return false;
+    const bool trace_caught_up = first_pass_ms >= 0 || seconds_since(m_change_time) > 0.1;
+    if (m_edited) preview_stale = true;  // the preview follows every frame
+    if (m_edited && !m_input_pending) {
+        m_input_pending = true;
+        m_input_time = Clock::now();
+    }
+    if (!m_edited || !trace_caught_up) return false;
+    restart();
+    return true;
+}
+
+// Stop, edit, restart: the compiled scene only changes while no trace runs.
+void ViewerState::restart() {
+    tracer.stop();
+    apply_edits(edits, m_trace_w, m_trace_h, &loaded->scene, &settings.render);
+    tracer.restart(loaded->scene, settings.render, settings.target_spp);
+    explained.clear();
+    for (const PlanReason& r : tracer.plan().reasons) explained.push_back(reason_line(r));
+    if (m_print_left_out)
+        for (const std::string& l : explained)
+            if (l.rfind("left out", 0) == 0) std::printf("rayview: %s\n", l.c_str());
+    m_print_left_out = false;
+    m_edited = false;
+    m_input_pending = false;
+    m_served_input_time = m_input_time;
+    m_change_time = Clock::now();
+    first_pass_ms = -1;
+}
+
+bool ViewerState::take_trace_image() {
+    if (!tracer.take_image(&last_trace)) return false;
+    if (first_pass_ms < 0) {
+        // From the edit, not the (possibly deferred) restart.
+        first_pass_ms =
+            std::chrono::duration<double, std::milli>(Clock::now() - m_served_input_time).count();
+        first_pass_samples.push_back(first_pass_ms);
+    }
+    return true;
+}
+
+bool ViewerState::moving() const { return seconds_since(m_change_time) < 0.25; }
+
+}  // namespace rt::view

@@ -1,0 +1,125 @@
+// The viewer's state without any window or GL: the open scene (its description and what it
+// compiled to), the user's edits to it, the settings, and the progressive trace. Every edit is
+// marked with mark_edited(); restart_if_due() then takes the one restart path: stop the trace,
+// apply the edits to the compiled scene, start again (yocto-gl's reset_display()).
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "camera_controller.h"
+#include "rt/compile/render_scene.h"
+#include "rt/image/image.h"
+#include "rt/render/render.h"
+#include "rt/scene/scene_desc.h"
+#include "tracer.h"
+
+namespace rt::view {
+
+/// A scene as read from its file. `scene`'s camera and lights are those of the last restart;
+/// the edits live in ViewerState::edits until then.
+struct LoadedScene {
+    std::string path;
+    SceneDesc desc;  // as parsed
+    RenderScene scene;
+    CameraDesc file_camera;                     // Home returns here
+    std::filesystem::file_time_type file_time;  // the file's time when last read
+    int id = 0;  // counts the scenes opened, so views of the scene know when it changed
+};
+
+/// The user's edits, on the description side: the camera and every light, on or off.
+struct SceneEdits {
+    OrbitCamera camera;
+    std::vector<LightDesc> lights;
+    std::vector<char> light_on;
+};
+
+/// What the user sets: the renderer's settings and the viewer's own knobs.
+struct ViewSettings {
+    RenderSettings render;
+    int target_spp = 256;
+    float resolution_scale = 0.5f;  // trace pixels per pane pixel
+    bool show_lights = true;        // light markers over the preview
+    int box_depth = 0;              // BVH levels drawn over the preview, 0 = off
+    int group_depth = 0;            // scene graph group levels drawn over it, 0 = off
+    int layout = 0;                 // 0 both panes, 1 preview alone, 2 trace alone
+};
+
+/// Reads and compiles a scene; nullptr and `*error` on failure.
+std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error);
+
+/// Without a display: the same renderer, headless (16 spp), to SCENE.png in the working
+/// directory. Returns the exit code.
+int render_headless(const std::string& path);
+
+struct ViewerState {
+    using Clock = std::chrono::steady_clock;
+
+    /// Opens `path`; on an error the message is kept in `message`. `print_left_out`: print the
+    /// features the renderer leaves out at the first restart (for --frames runs).
+    ViewerState(const std::string& path, bool print_left_out);
+    ~ViewerState();
+    ViewerState(const ViewerState&) = delete;
+    ViewerState& operator=(const ViewerState&) = delete;
+
+    // ---- the scene file ----
+    /// Opens a file; on an error the message is shown and the previous scene stays.
+    bool open(const std::string& file, bool keep_camera);
+    /// Opens the last file dropped onto the window, and reloads the open file (camera kept) when
+    /// it changed on disk (its time is checked twice a second, not every frame).
+    void poll_files();
+    /// The description with the viewer's camera and lights, as a .ray file. Throws.
+    void save_scene(const std::string& path) const;
+    /// The latest traced image. Throws.
+    void save_trace(const std::string& path) const;
+
+    // ---- edits and the one restart path ----
+    /// Something the trace shows changed: restart_if_due() restarts the trace.
+    void mark_edited() { m_edited = true; }
+    bool edit_pending() const { return m_edited; }
+    /// The trace's size in pixels (from the pane's size and the resolution scale).
+    void set_trace_size(int w, int h);
+    void add_point_light();
+    void remove_light(size_t i);
+    /// The restart policy: with an edit pending, restarts once the running trace's first pass is
+    /// on screen or 100 ms after the last restart, not every frame (otherwise no traced image
+    /// would appear until a drag stops). Returns whether it restarted.
+    bool restart_if_due();
+    /// Takes the trace's latest image into `last_trace`; false when there is none new.
+    bool take_trace_image();
+    /// Less than a quarter second since the last restart: the view is moving.
+    bool moving() const;
+
+    std::unique_ptr<LoadedScene> loaded;  // null until a file opens
+    SceneEdits edits;
+    ViewSettings settings;
+    std::string message;               // the last error or "saved ..." shown in the panel
+    std::vector<std::string> recent;   // files opened, most recent first
+    std::vector<std::string> dropped;  // files dropped onto the window, picked up by poll_files
+
+    Tracer tracer;  // after `loaded`: stops before the scene it traces dies
+    Image last_trace;
+    std::vector<std::string> explained;      // the running trace's plan.reasons
+    bool preview_stale = true;               // an edit the preview has not drawn yet
+    double first_pass_ms = -1;               // edit -> first traced image on screen; -1: waiting
+    std::vector<double> first_pass_samples;  // every first_pass_ms, for the --frames summary
+
+private:
+    void on_loaded();
+    void restart();
+
+    bool m_edited = true;
+    bool m_print_left_out = false;
+    int m_trace_w = 0, m_trace_h = 0;
+    int m_scenes_opened = 0;
+    bool m_input_pending = false;                          // an edit waits for the restart policy
+    Clock::time_point m_input_time = Clock::now();         // the first edit since the restart
+    Clock::time_point m_served_input_time = m_input_time;  // the edit the running trace answers
+    Clock::time_point m_change_time{};                     // the last restart
+    Clock::time_point m_last_check = Clock::now();         // the file's time was read
+};
+
+}  // namespace rt::view

@@ -1,0 +1,146 @@
+// raytrace's options: every value lands in its field of Options (the library's RenderSettings
+// extended), the defaults are the library's, and usage errors throw UsageError.
+#include <gtest/gtest.h>
+
+#include "raytrace/options.h"
+
+namespace raytrace {
+namespace {
+
+Options parse(std::vector<std::string> args) { return parse_options(args); }
+
+TEST(Options, DefaultsAreTheLibrarysSettings) {
+    const Options o = parse({"a.ray"});
+    const rt::RenderSettings s;
+    EXPECT_EQ(o.scene, "a.ray");
+    EXPECT_EQ(o.output, "out.png");
+    EXPECT_EQ(o.width, s.width);
+    EXPECT_EQ(o.height, s.height);
+    EXPECT_EQ(o.max_depth, s.max_depth);
+    EXPECT_EQ(o.cutoff, s.cutoff);
+    EXPECT_EQ(o.shadows, s.shadows);
+    EXPECT_EQ(o.specialize, s.specialize);
+    EXPECT_EQ(o.spp, 1);
+    EXPECT_FALSE(o.progressive.enabled);
+    EXPECT_EQ(o.progressive.spp_limit, 0);
+    EXPECT_EQ(o.progressive.reference_spp, 256);
+    EXPECT_FALSE(o.dialect);
+}
+
+TEST(Options, EveryOptionSetsItsField) {
+    const Options o = parse({"--width",   "20",          "--height",     "10",
+                             "--depth",   "3",           "--cutoff",     "0.5",
+                             "--spp",     "4",           "--seed",       "9",
+                             "--threads", "2",           "--no-shadows", "--dialect",
+                             "V0",        "--stats",     "--explain",    "--no-specialize",
+                             "-q",        "-o",          "x.pfm",        "--light-radius",
+                             "0.25",      "--aperture",  "0.125",        "--focus-distance",
+                             "3",         "--roughness", "0.5",          "s.ray"});
+    EXPECT_EQ(o.scene, "s.ray");
+    EXPECT_EQ(o.output, "x.pfm");
+    EXPECT_EQ(o.width, 20);
+    EXPECT_EQ(o.height, 10);
+    EXPECT_EQ(o.max_depth, 3);
+    EXPECT_EQ(o.cutoff, 0.5);
+    EXPECT_EQ(o.spp, 4);
+    EXPECT_EQ(o.seed, 9u);
+    EXPECT_EQ(o.threads, 2);
+    EXPECT_FALSE(o.shadows);
+    EXPECT_EQ(o.dialect, rt::Dialect::V0);
+    EXPECT_TRUE(o.stats && o.explain && o.quiet);
+    EXPECT_FALSE(o.specialize);
+    EXPECT_EQ(o.light_radius, 0.25);
+    EXPECT_EQ(o.aperture, 0.125);
+    EXPECT_EQ(o.focus_distance, 3);
+    EXPECT_EQ(o.roughness, 0.5);
+    EXPECT_EQ(o.progressive.spp_limit, 0);  // not progressive
+}
+
+TEST(Options, ProgressiveLimitsAreTheLibrarysSettings) {
+    const Options o =
+        parse({"s.ray", "--progressive", "--spp", "8", "--time", "2.5", "--adaptive", "--reference",
+               "auto", "--reference-spp", "64", "--report", "r.csv", "--plot", "p.svg"});
+    EXPECT_TRUE(o.progressive.enabled);
+    EXPECT_EQ(o.progressive.spp_limit, 8);
+    EXPECT_EQ(o.progressive.time_limit_s, 2.5);
+    EXPECT_TRUE(o.progressive.adaptive);
+    EXPECT_EQ(o.progressive.reference, "auto");
+    EXPECT_EQ(o.progressive.reference_spp, 64);
+    EXPECT_EQ(o.progressive.report, "r.csv");
+    EXPECT_EQ(o.progressive.plot, "p.svg");
+    EXPECT_EQ(parse({"s.ray", "--progressive", "--time", "1"}).progressive.spp_limit, 0);
+}
+
+TEST(Options, UsageErrorsThrow) {
+    const std::vector<std::vector<std::string>> bad = {
+        {},
+        {"a.ray", "b.ray"},
+        {"a.ray", "--bogus"},
+        {"a.ray", "--width"},
+        {"a.ray", "--width", "abc"},
+        {"a.ray", "--width", "0"},
+        {"a.ray", "--height", "40000"},
+        {"a.ray", "--depth", "0"},
+        {"a.ray", "--cutoff", "-1"},
+        {"a.ray", "--spp", "0"},
+        {"a.ray", "--threads", "257"},
+        {"a.ray", "--seed", "-1"},
+        {"a.ray", "--dialect", "v7"},
+        {"a.ray", "--aperture", "-1"},
+        {"a.ray", "--roughness", "inf"},
+        {"a.ray", "--time", "2"},
+        {"a.ray", "--report", "r.csv"},
+        {"a.ray", "--progressive"},
+        {"a.ray", "--progressive", "--spp", "4", "--reference", "r.png"},
+        {"a.ray", "--progressive", "--spp", "4", "--reference-spp", "1"},
+        {"a.ray", "-o", "x.tiff"}};
+    for (const auto& args : bad) {
+        std::string line;
+        for (const std::string& a : args) line += a + " ";
+        EXPECT_THROW(parse(args), UsageError) << line;
+    }
+    // The messages name the problem.
+    try {
+        parse({"a.ray", "--progressive"});
+        FAIL();
+    } catch (const UsageError& e) {
+        EXPECT_STREQ(e.what(), "--progressive needs --time S or --spp N");
+    }
+}
+
+TEST(Options, HelpListsEveryOptionWithItsDefault) {
+    EXPECT_TRUE(parse({"--help"}).help);
+    EXPECT_TRUE(parse({"a.ray", "--bogus", "-h"}).help);
+    const std::string help = usage_text();
+    for (const char* opt : {"-o,--output FILE=out.png",
+                            "--width N=640",
+                            "--height N=480",
+                            "--depth N=5",
+                            "--cutoff X=0.001",
+                            "--spp N=1",
+                            "--seed N=0",
+                            "--threads N=0",
+                            "--no-shadows",
+                            "--dialect D",
+                            "--stats",
+                            "--explain",
+                            "--no-specialize",
+                            "--progressive",
+                            "--time S=0",
+                            "--reference R",
+                            "--reference-spp N=256",
+                            "--report F.csv",
+                            "--plot F.svg",
+                            "--adaptive",
+                            "--light-radius R=0",
+                            "--aperture A=0",
+                            "--focus-distance F=0",
+                            "--roughness X=0",
+                            "-q,--quiet",
+                            "-h,--help"})
+        EXPECT_NE(help.find(opt), std::string::npos) << opt;
+    EXPECT_NE(help.find("exit status: 0 success"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace raytrace

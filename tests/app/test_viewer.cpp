@@ -1,0 +1,87 @@
+// The viewer's state without a window: an edit reaches the traced scene only through the one
+// restart path (stop, apply the edits, restart), and a saved scene holds the edited lights as
+// described.
+#include <chrono>
+#include <thread>
+
+#include "rt/format/parser.h"
+#include "test_util.h"
+#include "viewer.h"
+
+namespace rt::view {
+namespace {
+
+// A spot, a point and a directional light.
+const std::string kLights = RT_SOURCE_DIR "/scenes/lights.ray";
+
+// Waits for the restart policy (it may hold an edit up to 100 ms for the running trace).
+void restart(ViewerState& v) {
+    for (int i = 0; i < 1000 && !v.restart_if_due(); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ASSERT_FALSE(v.edit_pending());
+}
+
+TEST(Viewer, EditsReachTheTracedSceneAtTheRestart) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.set_trace_size(32, 24);
+    restart(v);  // opening the file is an edit
+    ASSERT_EQ(v.loaded->scene.lights.size(), 3u);
+    EXPECT_EQ(v.settings.render.width, 32);
+    EXPECT_EQ(v.settings.render.height, 24);
+
+    v.edits.lights[0].color = Vec3(0, 0, 3);
+    v.edits.light_on[2] = 0;  // the directional light off
+    v.edits.camera.orbit(0.3, 0.1);
+    v.mark_edited();
+    EXPECT_EQ(v.loaded->scene.lights[0].color, Vec3(1.6, 0.3, 0.3));  // not before the restart
+    restart(v);
+    const RenderScene& s = v.loaded->scene;
+    ASSERT_EQ(s.lights.size(), 2u);
+    EXPECT_EQ(s.lights[0].color, Vec3(0, 0, 3));
+    EXPECT_EQ(s.lights[0].kind, LightKind::Spot);
+    EXPECT_VEC_NEAR(s.lights[0].direction, glm::normalize(Vec3(0.3, -1, -0.2)), 1e-15);
+    EXPECT_EQ(s.lights[1].kind, LightKind::Point);
+    ASSERT_TRUE(s.camera);
+    EXPECT_EQ(s.camera->position, v.edits.camera.desc().position);
+    EXPECT_EQ(s.camera->direction, v.edits.camera.desc().direction);
+}
+
+TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.edits.lights[1].position = Vec3(1, 2, 3);
+    v.edits.light_on[0] = 0;  // the spot off: not saved
+    v.add_point_light();      // at the eye
+    const Vec3 eye = v.edits.camera.desc().position;
+    v.edits.camera.orbit(0.5, 0);
+    const std::string path = ::testing::TempDir() + "rt_viewer_saved.ray";
+    v.save_scene(path);
+    Diagnostics diag;
+    const SceneDesc d = parse_scene_file(path, diag);
+    ASSERT_EQ(d.lights.size(), 3u);
+    EXPECT_EQ(d.lights[0].kind, LightKind::Point);
+    EXPECT_VEC_NEAR(d.lights[0].position, Vec3(1, 2, 3), 1e-9);
+    EXPECT_VEC_NEAR(d.lights[0].color, Vec3(0.3, 1.4, 0.4), 1e-9);
+    EXPECT_EQ(d.lights[1].kind, LightKind::Directional);
+    EXPECT_EQ(d.lights[2].kind, LightKind::Point);
+    EXPECT_VEC_NEAR(d.lights[2].position, eye, 1e-6);
+    ASSERT_TRUE(d.camera);
+    EXPECT_VEC_NEAR(d.camera->position, v.edits.camera.desc().position, 1e-6);
+}
+
+TEST(Viewer, AFailedOpenKeepsTheSceneAndSaysWhy) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    const int id = v.loaded->id;
+    EXPECT_FALSE(v.open(RT_SOURCE_DIR "/scenes/no_such_file.ray", false));
+    EXPECT_EQ(v.loaded->id, id);
+    EXPECT_NE(v.message.find("no_such_file.ray"), std::string::npos) << v.message;
+    EXPECT_TRUE(v.open(kLights, true));
+    EXPECT_GT(v.loaded->id, id);
+    EXPECT_TRUE(v.message.empty());
+    EXPECT_EQ(v.recent.size(), 1u);  // the same file once
+}
+
+}  // namespace
+}  // namespace rt::view
