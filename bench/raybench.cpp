@@ -17,10 +17,9 @@
 #include <vector>
 
 #include "rt/accel/intersect.h"
-#include "rt/compile/render_scene.h"
+#include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/render/camera.h"
-#include "rt/render/features.h"
 #include "rt/render/render.h"
 #include "rt/scene/mesh_gen.h"
 #include "rt/util/stopwatch.h"
@@ -67,10 +66,11 @@ struct Result {
 struct Workload {
     std::string name;
     RenderScene scene;
+    CompileReport report;
     size_t triangles = 0;  // unique triangles (for bytes per triangle)
 };
 
-RenderScene compile_mesh(const TriangleMesh& mesh) {
+RenderScene compile_mesh(const TriangleMesh& mesh, CompileReport* report) {
     SceneDesc desc;
     FileDesc file;
     file.path = "generated";
@@ -94,14 +94,15 @@ RenderScene compile_mesh(const TriangleMesh& mesh) {
     LightDesc light;
     light.position = Vec3(2, 2, 3);
     desc.lights.push_back(light);
-    return compile_scene(desc);
+    return compile_scene(desc, report);
 }
 
 // Primary rays from the camera, shadow rays from their hits toward the first light (or up),
 // random rays from points in the scene's box in uniform directions.
-void make_rays(const RenderScene& scene, int w, int h, RayBatch* primary, RayBatch* shadow,
-               RayBatch* random) {
-    const Camera cam = make_camera(scene, w, h);
+void make_rays(const RenderScene& scene, const RenderPlan& plan, RayBatch* primary,
+               RayBatch* shadow, RayBatch* random) {
+    const Camera& cam = plan.camera;
+    const int w = cam.width, h = cam.height;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             primary->rays.push_back(cam.generate(x, y, 0.5, 0.5));
@@ -113,8 +114,8 @@ void make_rays(const RenderScene& scene, int w, int h, RayBatch* primary, RayBat
     const double push = 1e-5 * glm::length(scene.world_bounds.diagonal());
     for (const Ray& r : primary->rays) {
         Hit hit;
-        if (!intersect(scene, r, {0, kInf}, &hit)) continue;
-        const SurfaceInteraction si = interaction(scene, r, hit);
+        if (!intersect(scene, plan, r, {0, kInf}, &hit)) continue;
+        const SurfaceInteraction si = interaction(scene, plan, r, hit);
         const bool to_point =
             !scene.lights.empty() && scene.lights[0].kind != LightKind::Directional;
         const Vec3 dir = to_point               ? scene.lights[0].position - si.p
@@ -143,12 +144,13 @@ void make_rays(const RenderScene& scene, int w, int h, RayBatch* primary, RayBat
 
 // ---- ours ------------------------------------------------------------------------------------
 
-void ours_closest(const RenderScene& scene, const RayBatch& batch, std::vector<Result>& out,
-                  int threads) {
+// The ray queries with the walk the plan picked for the scene (what the renderer uses).
+void ours_closest(const RenderScene& scene, const RenderPlan& plan, const RayBatch& batch,
+                  std::vector<Result>& out, int threads) {
     parallel_for(batch.rays.size(), threads, [&](size_t b, size_t e) {
         for (size_t i = b; i < e; ++i) {
             Hit hit;
-            if (intersect(scene, batch.rays[i], {0, batch.t_max[i]}, &hit))
+            if (intersect(scene, plan, batch.rays[i], {0, batch.t_max[i]}, &hit))
                 out[i] = {hit.t, hit.instance, hit.prim};
             else
                 out[i] = {};
@@ -156,11 +158,11 @@ void ours_closest(const RenderScene& scene, const RayBatch& batch, std::vector<R
     });
 }
 
-void ours_occluded(const RenderScene& scene, const RayBatch& batch, std::vector<Result>& out,
-                   int threads) {
+void ours_occluded(const RenderScene& scene, const RenderPlan& plan, const RayBatch& batch,
+                   std::vector<Result>& out, int threads) {
     parallel_for(batch.rays.size(), threads, [&](size_t b, size_t e) {
         for (size_t i = b; i < e; ++i)
-            out[i].t = occluded(scene, batch.rays[i], batch.t_max[i]) ? 1.0 : -1.0;
+            out[i].t = occluded(scene, plan, batch.rays[i], batch.t_max[i]) ? 1.0 : -1.0;
     });
 }
 
@@ -430,15 +432,18 @@ std::string rate(double v) {
 
 void run_workload(Workload& w, int repeats, int threads, bool quick) {
     const int width = quick ? 320 : 640, height = quick ? 240 : 480;
+    RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    const RenderPlan plan = make_render_plan(w.scene, settings);
     RayBatch primary, shadow, random;
-    make_rays(w.scene, width, height, &primary, &shadow, &random);
+    make_rays(w.scene, plan, &primary, &shadow, &random);
     std::printf(
         "\n%s: %zu triangles, %zu primitives after instancing; %zu primary, %zu shadow, "
         "%zu random rays\n",
         w.name.c_str(), w.triangles,
-        w.scene.stats.prims_by_kind[0] + w.scene.stats.prims_by_kind[1] +
-            w.scene.stats.prims_by_kind[2] + w.scene.stats.prims_by_kind[3] +
-            w.scene.stats.prims_by_kind[4],
+        w.report.prims_by_kind[0] + w.report.prims_by_kind[1] + w.report.prims_by_kind[2] +
+            w.report.prims_by_kind[3] + w.report.prims_by_kind[4],
         primary.rays.size(), shadow.rays.size(), random.rays.size());
 
     const double ours_build = [&] {
@@ -486,8 +491,8 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
         for (int ti = 0; ti < 2; ++ti) {
             const int nt = ti == 0 ? 1 : threads;
             row.ours[ti] = median_rate(b.rays.size(), repeats, [&] {
-                row.any_hit ? ours_occluded(w.scene, b, ours, nt)
-                            : ours_closest(w.scene, b, ours, nt);
+                row.any_hit ? ours_occluded(w.scene, plan, b, ours, nt)
+                            : ours_closest(w.scene, plan, b, ours, nt);
             });
 #ifdef RT_HAVE_EMBREE
             row.embree[ti] = median_rate(b.rays.size(), repeats, [&] {
@@ -560,7 +565,8 @@ void run_leave_out(const std::vector<std::filesystem::path>& files, int repeats,
                 settings.specialize = specialize == 1;
                 RenderState state;
                 const auto t0 = std::chrono::steady_clock::now();
-                render_samples(state, scene, settings, 1);
+                // The plan as a 1-spp raytrace run makes it: once, inside the time.
+                render_samples(state, scene, make_render_plan(scene, settings), settings, 1);
                 times[specialize].push_back(
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
                 images[specialize] = state.image();
@@ -650,7 +656,7 @@ int main(int argc, char** argv) {
         w.name = name;
         const TriangleMesh mesh = make_blob_mesh(n);
         w.triangles = mesh.triangles.size();
-        w.scene = compile_mesh(mesh);
+        w.scene = compile_mesh(mesh, &w.report);
         run_workload(w, repeats, threads, quick);
     }
     std::vector<std::filesystem::path> files;
@@ -665,7 +671,7 @@ int main(int argc, char** argv) {
         w.name = name;
         Diagnostics diag;
         try {
-            w.scene = compile_scene(parse_scene_file(f.string(), diag));
+            w.scene = compile_scene(parse_scene_file(f.string(), diag), &w.report);
         } catch (const SceneError& e) {
             std::printf("\n%s: skipped: %s\n", name.c_str(), e.what());
             continue;

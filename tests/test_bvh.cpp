@@ -5,6 +5,7 @@
 #include <fstream>
 #include <random>
 
+#include "render/variants.h"
 #include "rt/accel/intersect.h"
 #include "rt/scene/mesh_gen.h"
 #include "test_util.h"
@@ -72,10 +73,10 @@ void expect_same_hits(const RenderScene& scene, std::mt19937& rng, int rays) {
     EXPECT_GT(hits, rays / 20);
 }
 
-// The scene's geometry variant (RenderScene::geometry) and the generic walk give the same
+// The geometry variant read from the scene and the generic walk give the same
 // answers to every query, to the bit: nearest hit and its surface, any hit and transmittance.
 void expect_variant_matches_generic(const RenderScene& scene, std::mt19937& rng, int rays) {
-    const GeometryQueries& mine = geometry_queries(scene.geometry.variant);
+    const GeometryQueries& mine = geometry_queries(read_geometry(scene).variant);
     const GeometryQueries& generic = geometry_queries(kGeomGeneric);
     ASSERT_NE(&mine, &generic);
     std::uniform_real_distribution<double> u(-8, 8), d(-1, 1), len(0.5, 20);
@@ -113,7 +114,9 @@ void expect_variant_matches_generic(const RenderScene& scene, std::mt19937& rng,
     EXPECT_GT(blocked, rays / 100);
 }
 
-uint32_t layout_bits(const RenderScene& scene) { return scene.geometry.variant & kGeomPerSet; }
+uint32_t layout_bits(const RenderScene& scene) {
+    return read_geometry(scene).variant & kGeomPerSet;
+}
 
 // Every walk the scenes pick: one kind per set (each analytic kind, packed triangles), the
 // analytic kinds together, all five, a transformed single instance, several instances whose
@@ -131,7 +134,7 @@ TEST(Bvh, EveryGeometryVariantMatchesTheGenericWalk) {
         SCOPED_TRACE(static_cast<int>(l.layout));
         const std::string text = random_scene(rng, 150, l.kinds, true);
         const RenderScene scene = test::compile(text);
-        EXPECT_EQ(scene.geometry.variant, geom_layout_bits(l.layout));  // one instance, no xf
+        EXPECT_EQ(read_geometry(scene).variant, geom_layout_bits(l.layout));  // one instance, no xf
         expect_variant_matches_generic(scene, rng, 1500);
         // The same file under a transform: the top-level box test and transformed rays.
         // (Definitions first, then the group around the shapes.)
@@ -141,7 +144,7 @@ TEST(Bvh, EveryGeometryVariantMatchesTheGenericWalk) {
             text.substr(shapes) + "#group_end\n");
         // (Triangles are flattened into the file's frame: no transform is left.)
         EXPECT_EQ(
-            moved.geometry.variant,
+            read_geometry(moved).variant,
             geom_layout_bits(l.layout) | (l.layout == SetLayout::Triangles ? 0u : kGeomTransforms));
         expect_variant_matches_generic(moved, rng, 1500);
     }
@@ -161,21 +164,21 @@ TEST(Bvh, EveryGeometryVariantMatchesTheGenericWalk) {
     const size_t own_shapes = own.find("#shape_");
     const RenderScene differ = test::compile(files + own.substr(0, own_shapes) + placed(0, -4) +
                                              placed(1, 0) + placed(0, 4) + own.substr(own_shapes));
-    EXPECT_EQ(differ.geometry.variant, kGeomInstancing | kGeomTransforms | kGeomPerSet);
+    EXPECT_EQ(read_geometry(differ).variant, kGeomInstancing | kGeomTransforms | kGeomPerSet);
     expect_variant_matches_generic(differ, rng, 2000);
     // Two files placed where they are (identity): the top-level walk without transforms.
     const RenderScene still = test::compile(files + "#ray_file_instance 0\n#ray_file_instance 1\n");
-    EXPECT_EQ(still.geometry.variant, kGeomInstancing | kGeomPerSet);
+    EXPECT_EQ(read_geometry(still).variant, kGeomInstancing | kGeomPerSet);
     expect_variant_matches_generic(still, rng, 2000);
     // One transformed instance: its box is tested before its rays are transformed.
     const RenderScene one = test::compile(files + placed(0, 2));
-    EXPECT_EQ(one.geometry.variant,
+    EXPECT_EQ(read_geometry(one).variant,
               kGeomInstancing | kGeomTransforms | geom_layout_bits(SetLayout::Spheres));
     expect_variant_matches_generic(one, rng, 2000);
     // Instances of one mesh only: packed triangles throughout.
     const RenderScene same = test::compile(files + placed(1, -3) + placed(1, 3) + placed(1, 0));
     EXPECT_EQ(layout_bits(same), geom_layout_bits(SetLayout::Triangles));
-    EXPECT_TRUE(same.geometry.variant & kGeomInstancing);
+    EXPECT_TRUE(read_geometry(same).variant & kGeomInstancing);
     expect_variant_matches_generic(same, rng, 2000);
 }
 
@@ -207,13 +210,13 @@ TEST(Bvh, NearCoincidentTrianglesGiveThePackedAndTheGenericWalkTheSameHit) {
         }
     }
     const RenderScene scene = test::compile(text + shapes);
-    ASSERT_EQ(scene.geometry.variant, geom_layout_bits(SetLayout::Triangles));
+    ASSERT_EQ(read_geometry(scene).variant, geom_layout_bits(SetLayout::Triangles));
     expect_variant_matches_generic(scene, rng, 60000);
 }
 
 TEST(Bvh, SceneWithoutShapesAnswersAtOnce) {
     const RenderScene empty = test::compile("#background 0 0 0\n#light_dir 1 1 1  0 -1 0\n");
-    EXPECT_EQ(empty.geometry.variant, static_cast<uint32_t>(kGeomEmpty));
+    EXPECT_EQ(read_geometry(empty).variant, static_cast<uint32_t>(kGeomEmpty));
     const Ray r{{0, 0, 0}, {0, 0, -1}};
     Hit h;
     EXPECT_FALSE(intersect(empty, r, {0, kInf}, &h));

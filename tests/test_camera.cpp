@@ -8,7 +8,7 @@ namespace {
 
 TEST(Camera, SpecCheckPixelZeroZero) {
     // matthew-richard__cg2/test.ray's camera at 640x480.
-    CameraDesc d;
+    CameraPose d;
     d.position = Vec3(0, 10, 10);
     d.direction = Vec3(0, -1, -1);
     d.up = Vec3(0, 1, -1);
@@ -28,7 +28,7 @@ TEST(Camera, SpecCheckPixelZeroZero) {
 }
 
 TEST(Camera, UpIsReorthogonalised) {
-    CameraDesc d;
+    CameraPose d;
     d.direction = Vec3(0, 0, -1);
     d.up = Vec3(0, 1, 1);
     const Camera c = make_camera(d, 100, 100);
@@ -37,14 +37,14 @@ TEST(Camera, UpIsReorthogonalised) {
 
 TEST(Camera, DefaultCameraFramesTheWorld) {
     Bounds3 b{{-1, -2, -3}, {3, 2, 1}};
-    const CameraDesc d = default_camera(b, 640, 480);
+    const CameraPose d = default_camera(b, 640, 480);
     const double r = 0.5 * glm::length(b.diagonal());
     // phi = min(ha, atan(tan_w)) = pi/6 for a landscape image.
     EXPECT_VEC_NEAR(d.position, Vec3(1, 0, -1 + r / std::sin(kPi / 6)), 1e-12);
     EXPECT_EQ(d.direction, Vec3(0, 0, -1));
     EXPECT_NEAR(d.half_height_angle_rad, kPi / 6, 1e-15);
     // Portrait: atan(tan_w) is the smaller angle.
-    const CameraDesc p = default_camera(b, 100, 400);
+    const CameraPose p = default_camera(b, 100, 400);
     const double phi = std::atan(std::tan(kPi / 6) * 0.25);
     EXPECT_NEAR(p.position.z, -1 + r / std::sin(phi), 1e-9);
     // Empty scene: C = 0, R = 1.

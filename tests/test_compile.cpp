@@ -10,16 +10,18 @@ namespace rt {
 namespace {
 
 TEST(Compile, MaterialsAndV0Default) {
-    const RenderScene s = test::compile(
-        "#material .1 .1 .1  .5 .5 .5  .2 .2 .2  0 0 0  .5 .25 1.5 -1 !!\n"
-        "#shape_sphere -1 0 0 0 1\n#shape_sphere 0 3 0 0 1\n");
+    CompileReport report;
+    const RenderScene s = compile_scene(
+        test::parse("#material .1 .1 .1  .5 .5 .5  .2 .2 .2  0 0 0  .5 .25 1.5 -1 !!\n"
+                    "#shape_sphere -1 0 0 0 1\n#shape_sphere 0 3 0 0 1\n"),
+        &report);
     ASSERT_EQ(s.sets.size(), 1u);
     const GeometrySet& set = s.sets[0];
     const Material& def = s.materials[static_cast<size_t>(set.prims[0].material)];
     EXPECT_EQ(def.diffuse, Vec3(.8));
     EXPECT_EQ(def.specular_exponent, 128);
     EXPECT_EQ(s.materials[static_cast<size_t>(set.prims[1].material)].diffuse, Vec3(.5));
-    EXPECT_EQ(s.stats.materials, 1u);
+    EXPECT_EQ(report.materials, 1u);
 }
 
 TEST(Compile, GroupsFlattenAndTrianglesMoveToTheSetFrame) {
@@ -51,11 +53,14 @@ TEST(Compile, IncludedFileCompiledOnceAndNestedInstancesCompose) {
                                       "#ray_file_instance 0\n#group_end\n#ray_file_instance 0\n"
                                       "#ray_file_instance 1\n";
     Diagnostics diag;
-    const RenderScene s = compile_scene(parse_scene_file((dir / "top.ray").string(), diag));
+    CompileReport report;
+    const RenderScene s =
+        compile_scene(parse_scene_file((dir / "top.ray").string(), diag), &report);
     EXPECT_EQ(s.sets.size(), 1u);       // only leaf.ray has shapes
     EXPECT_EQ(s.instances.size(), 5u);  // 2 via mid (twice) + 1 direct
-    EXPECT_EQ(s.stats.prims_by_kind[0], 5u);
-    EXPECT_EQ(s.stats.unique_prims, 1u);
+    EXPECT_EQ(report.prims_by_kind[0], 5u);
+    EXPECT_EQ(report.unique_prims, 1u);
+    EXPECT_EQ(report.instances, 5u);
     Hit h;
     // The instance at (5, 0, 100): mid's translated leaf under top's z translation.
     ASSERT_TRUE(intersect(s, {{5, 0, 110}, {0, 0, -1}}, {0, kInf}, &h));

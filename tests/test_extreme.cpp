@@ -981,7 +981,7 @@ TEST(Extreme, DegenerateInputRendersFiniteImages) {
         s.cutoff = 0.0;  // depth alone bounds the recursion
         s.threads = 1;
         RenderState state;
-        ASSERT_TRUE(render_samples(state, scene, s, 1)) << c.name;
+        ASSERT_TRUE(render_samples(state, scene, make_render_plan(scene, s), s, 1)) << c.name;
         const Image img = state.image();
         double sum = 0;
         for (const double v : img.rgb) sum += v;

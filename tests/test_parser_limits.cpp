@@ -119,8 +119,9 @@ TEST(BadInput, DeepNestingHasALimit) {
     const std::string ok2 = "#camera 0 0 0 0 0 -1 0 1 0 0.5\n#ambient 1 1 1\n" + std::string(kMat) +
                             repeat(kIdentityGroup, 10000) + "#shape_sphere 0 0 0 -3 1\n" +
                             repeat("#group_end\n", 10000);
-    const RenderScene scene = test::compile(ok2);
-    EXPECT_EQ(scene.stats.unique_prims, 1u);
+    CompileReport report;
+    const RenderScene scene = compile_scene(test::parse(ok2), &report);
+    EXPECT_EQ(report.unique_prims, 1u);
     const Image img = test::render(scene, 4, 4);
     EXPECT_GT(img.rgb[3 * (2 * 4 + 2)], 0.0);  // the sphere covers the centre
     // Unclosed: reported at the end of the file, naming the innermost open group.

@@ -28,7 +28,7 @@ RenderSettings small(int threads = 2) {
 
 Image render_spp(const RenderScene& scene, RenderSettings s, int spp) {
     RenderState state;
-    render_samples(state, scene, s, spp);
+    render_samples(state, scene, make_render_plan(scene, s), s, spp);
     return state.image();
 }
 
@@ -60,7 +60,7 @@ TEST(Progressive, ErrorFallsAsOneOverSamplesAndTheEstimateTracksIt) {
     RenderState state;
     int total = 0;
     for (int n : {2, 2, 4, 8, 16, 32}) {
-        render_samples(state, scene, s, n);
+        render_samples(state, scene, make_render_plan(scene, s), s, n);
         total += n;
         const ImageError e = compare_images(state.image(), ref);
         spp.push_back(total);
@@ -118,7 +118,7 @@ TEST(Progressive, AdaptiveSamplingSpendsSamplesWhereTheErrorIs) {
     s.light_radius = 0.6;
     s.centre_first_sample = false;
     RenderState state;
-    render_samples(state, scene, s, 4);
+    render_samples(state, scene, make_render_plan(scene, s), s, 4);
     const uint64_t budget = 4 * state.samples.size();
     const uint64_t allocated = choose_adaptive_pixels(state, static_cast<double>(budget));
     EXPECT_NEAR(static_cast<double>(allocated), static_cast<double>(budget), 0.05 * budget);
@@ -128,14 +128,14 @@ TEST(Progressive, AdaptiveSamplingSpendsSamplesWhereTheErrorIs) {
     for (uint8_t k : active) none += k == 0, many += k > 8;
     EXPECT_GT(none, active.size() / 10);
     EXPECT_GT(many, 0u);
-    render_samples(state, scene, s, 1);
+    render_samples(state, scene, make_render_plan(scene, s), s, 1);
     for (size_t i = 0; i < state.samples.size(); ++i) EXPECT_EQ(state.samples[i], 4u + active[i]);
 }
 
 TEST(Progressive, CoarsePreviewRepeatsBlockCentres) {
     const RenderScene scene = test::compile(kScene);
     const RenderSettings s = small();
-    const Image coarse = render_coarse(scene, s, 4);
+    const Image coarse = render_coarse(scene, make_render_plan(scene, s), s, 4);
     const Camera cam = make_camera(scene, s.width, s.height);
     // Block (1, 2) covers pixels x 4..7, y 8..11; its centre is (6.0, 10.0).
     EXPECT_VEC_NEAR(coarse.at(5, 9), test::shade(scene, cam.generate(6, 10, 0.0, 0.0)), 1e-12);

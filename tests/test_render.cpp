@@ -22,7 +22,7 @@ Image render_with(int threads, int spp, int w = 64, int h = 48) {
     settings.height = h;
     settings.threads = threads;
     RenderState state;
-    render_samples(state, s, settings, spp);
+    render_samples(state, s, make_render_plan(s, settings), settings, spp);
     return state.image();
 }
 
@@ -59,9 +59,9 @@ TEST(Render, StopLeavesTheStateUnchanged) {
     settings.height = 32;
     RenderState state;
     std::atomic<bool> stop{true};
-    EXPECT_FALSE(render_samples(state, s, settings, 1, {}, &stop));
+    EXPECT_FALSE(render_samples(state, s, make_render_plan(s, settings), settings, 1, {}, &stop));
     EXPECT_EQ(state.samples[0], 0u);
-    EXPECT_TRUE(render_samples(state, s, settings, 2));
+    EXPECT_TRUE(render_samples(state, s, make_render_plan(s, settings), settings, 2));
     EXPECT_EQ(state.samples[0], 2u);
     EXPECT_GT(state.rays.camera, 0u);
 }
@@ -78,7 +78,8 @@ TEST(Render, StopRequestedDuringARenderEndsIt) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
         stop = true;
     });
-    EXPECT_FALSE(render_samples(state, s, settings, 4096, {}, &stop));
+    EXPECT_FALSE(
+        render_samples(state, s, make_render_plan(s, settings), settings, 4096, {}, &stop));
     stopper.join();
     EXPECT_EQ(state.samples[0], 0u);
 }
@@ -101,27 +102,29 @@ TEST(Render, StoppedPassesAndSkippedPixelsLeaveTheSumsExactlyAsTheyWere) {
         if (++calls > 1 && done > 0 && done < total) stop = true;
     };
     RenderState state;
-    EXPECT_FALSE(render_samples(state, s, settings, 64, stop_half_way, &stop));
+    EXPECT_FALSE(render_samples(state, s, make_render_plan(s, settings), settings, 64,
+                                stop_half_way, &stop));
     EXPECT_GT(calls, 1);
     EXPECT_EQ(state.passes, 0);
     for (double v : state.sum) ASSERT_EQ(v, 0.0);
     for (double v : state.sum_sq) ASSERT_EQ(v, 0.0);
 
-    ASSERT_TRUE(render_samples(state, s, settings, 2));
+    ASSERT_TRUE(render_samples(state, s, make_render_plan(s, settings), settings, 2));
     const std::vector<double> sum = state.sum, sum_sq = state.sum_sq;
     stop = false;
     calls = 0;
-    EXPECT_FALSE(render_samples(state, s, settings, 64, stop_half_way, &stop));
+    EXPECT_FALSE(render_samples(state, s, make_render_plan(s, settings), settings, 64,
+                                stop_half_way, &stop));
     EXPECT_EQ(state.sum, sum);
     EXPECT_EQ(state.sum_sq, sum_sq);
     EXPECT_EQ(state.passes, 1);
 
     // A full pass fills the scratch; then every other pixel is skipped.
-    ASSERT_TRUE(render_samples(state, s, settings, 1));
+    ASSERT_TRUE(render_samples(state, s, make_render_plan(s, settings), settings, 1));
     const std::vector<double> before = state.sum;
     state.active.assign(state.samples.size(), 0);
     for (size_t p = 0; p < state.active.size(); p += 2) state.active[p] = 1;
-    ASSERT_TRUE(render_samples(state, s, settings, 1));
+    ASSERT_TRUE(render_samples(state, s, make_render_plan(s, settings), settings, 1));
     size_t changed = 0;
     for (size_t p = 0; p < state.samples.size(); ++p) {
         EXPECT_EQ(state.samples[p], p % 2 == 0 ? 4u : 3u);

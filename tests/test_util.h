@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "rt/compile/render_scene.h"
+#include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/render/camera.h"
 #include "rt/render/render.h"
@@ -42,15 +42,25 @@ inline Image render(const RenderScene& scene, int w, int h, int depth = 5, doubl
     s.shadows = shadows;
     s.threads = 2;
     RenderState state;
-    render_samples(state, scene, s, 1);
+    render_samples(state, scene, make_render_plan(scene, s), s, 1);
     return state.image();
+}
+
+/// render_samples() with the plan made for this call.
+inline bool render_samples(RenderState& state, const RenderScene& scene,
+                           const RenderSettings& settings, int spp) {
+    return rt::render_samples(state, scene, make_render_plan(scene, settings), settings, spp);
 }
 
 /// Colour along one ray through the scene, depth 5, cutoff 0.001.
 inline Vec3 shade(const RenderScene& scene, const Ray& ray, int depth = 5, double cutoff = 0.001,
                   bool shadows = true) {
+    RenderSettings s;
+    s.max_depth = depth;
+    s.cutoff = cutoff;
+    s.shadows = shadows;
     RayCounters c;
-    return trace_ray(scene, ray, depth, Vec3(1.0), {depth, cutoff, shadows}, c);
+    return trace_ray(scene, make_render_plan(scene, s), s, ray, depth, Vec3(1.0), c);
 }
 
 }  // namespace rt::test

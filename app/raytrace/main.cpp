@@ -10,7 +10,7 @@
 #include "output.h"
 #include "reference_cache.h"
 #include "report.h"
-#include "rt/compile/render_scene.h"
+#include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
@@ -21,7 +21,8 @@ namespace {
 using namespace raytrace;
 
 // Parses and compiles the scene, printing its warnings and errors; nullopt on an error.
-std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* desc, Timings* t) {
+std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* desc,
+                                          rt::CompileReport* report, Timings* t) {
     rt::Diagnostics diag;
     bool warned = false;  // the parser's warnings, printed once
     auto print_warnings = [&]() {
@@ -36,7 +37,7 @@ std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* des
         t->parse_s = rt::seconds_since(t_parse);
         print_warnings();
         const auto t_compile = rt::Clock::now();
-        rt::RenderScene scene = rt::compile_scene(*desc);  // errors carry file:line:col too
+        rt::RenderScene scene = rt::compile_scene(*desc, report);  // errors: file:line:col too
         t->compile_s = rt::seconds_since(t_compile);
         return scene;
     } catch (const rt::SceneError& e) {
@@ -46,17 +47,18 @@ std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* des
     }
 }
 
-int render_plain(const Options& opt, const rt::RenderScene& scene, Timings t) {
+int render_plain(const Options& opt, const rt::RenderScene& scene, const rt::RenderPlan& plan,
+                 const rt::CompileReport& report, Timings t) {
     const auto t_render = rt::Clock::now();
     rt::RenderState state;
-    rt::render_samples(state, scene, opt, opt.spp, terminal_progress_bar(opt.quiet));
+    rt::render_samples(state, scene, plan, opt, opt.spp, terminal_progress_bar(opt.quiet));
     t.render_s = rt::seconds_since(t_render);
     write_outputs(state.image(), opt.output, {}, opt.scene);
     if (!opt.quiet) {
         print_render_summary(t, state.rays);
         std::printf("wrote     %s\n", opt.output.c_str());
     }
-    if (opt.stats) print_stats(t, scene.stats.build_seconds, state.rays);
+    if (opt.stats) print_stats(t, report.build_seconds, state.rays);
     return 0;
 }
 
@@ -98,13 +100,15 @@ int render_progressive(const Options& opt, const rt::SceneDesc& desc,
 int run(const Options& opt) {
     if (!probe_outputs({opt.output, opt.progressive.report, opt.progressive.plot})) return 1;
     rt::SceneDesc desc;
+    rt::CompileReport report;
     Timings t;
-    const std::optional<rt::RenderScene> scene = load_scene(opt, &desc, &t);
+    const std::optional<rt::RenderScene> scene = load_scene(opt, &desc, &report, &t);
     if (!scene) return 1;
-    if (!opt.quiet) print_scene_summary(opt, *scene);
-    if (opt.explain) print_explain(opt, *scene);  // also with --quiet: it was asked for
+    const rt::RenderPlan plan = rt::make_render_plan(*scene, opt);
+    if (!opt.quiet) print_scene_summary(opt, desc, report);
+    if (opt.explain) print_explain(opt, plan);  // also with --quiet: it was asked for
     return opt.progressive.enabled ? render_progressive(opt, desc, *scene)
-                                   : render_plain(opt, *scene, t);
+                                   : render_plain(opt, *scene, plan, report, t);
 }
 
 }  // namespace

@@ -67,9 +67,10 @@ rt::Image render_reference(const Options& opt, const rt::RenderScene& scene) {
     settings.seed = opt.seed + 0x5EED5EEDull;
     settings.centre_first_sample = false;  // the progressive sequence: unbiased in chunks
     rt::RenderState ref;
+    const rt::RenderPlan plan = rt::make_render_plan(scene, settings);
     for (int done = 0; done < spp;) {
         const int n = std::min(16, spp - done);
-        rt::render_samples(ref, scene, settings, n);
+        rt::render_samples(ref, scene, plan, settings, n);
         done += n;
         if (tty) {
             std::printf("\r  %d / %d spp", done, spp);

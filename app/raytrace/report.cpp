@@ -9,7 +9,6 @@
 #include <limits>
 #include <memory>
 
-#include "rt/render/features.h"
 #include "rt/util/stopwatch.h"
 
 namespace raytrace {
@@ -212,10 +211,10 @@ std::string progress_svg(const std::vector<ProgressRun>& runs, const std::string
     return s + svg_close(a);
 }
 
-void print_scene_summary(const Options& opt, const rt::RenderScene& scene) {
-    const rt::SceneStats& st = scene.stats;
+void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
+                         const rt::CompileReport& st) {
     std::printf("scene     %s (%s, %zu file%s)\n", opt.scene.c_str(),
-                rt::dialect_name(scene.dialect), st.files, st.files == 1 ? "" : "s");
+                rt::dialect_name(desc.dialect), st.files, st.files == 1 ? "" : "s");
     std::printf("shapes   ");
     for (int k = 0; k < 5; ++k)
         std::printf(" %s %zu%s", rt::shape_kind_name(static_cast<rt::ShapeKind>(k)),
@@ -231,12 +230,12 @@ void print_scene_summary(const Options& opt, const rt::RenderScene& scene) {
     std::fflush(stdout);
 }
 
-void print_explain(const Options& opt, const rt::RenderScene& scene) {
+void print_explain(const Options& opt, const rt::RenderPlan& plan) {
     std::printf("renderer  %s\n", opt.specialize
                                       ? "specialized to the scene (--no-specialize: generic)"
                                       : "generic (--no-specialize): every feature kept");
-    for (const std::string& line : rt::explain_features(rt::scene_features(scene, opt)))
-        std::printf("%s\n", line.c_str());
+    for (const rt::PlanReason& reason : plan.reasons)
+        std::printf("%s\n", rt::reason_line(reason).c_str());
     std::fflush(stdout);
 }
 

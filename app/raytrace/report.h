@@ -7,7 +7,8 @@
 #include <vector>
 
 #include "options.h"
-#include "rt/compile/render_scene.h"
+#include "rt/compile/compile.h"
+#include "rt/render/plan.h"
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
 
@@ -47,10 +48,11 @@ std::string progress_csv(const std::vector<ProgressRun>& runs);
 std::string progress_svg(const std::vector<ProgressRun>& runs, const std::string& title);
 
 /// The scene's summary (files, shapes by kind, lights, ...) and the render settings.
-void print_scene_summary(const Options& opt, const rt::RenderScene& scene);
+void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
+                         const rt::CompileReport& report);
 
 /// --explain: which renderer runs, and what it left out of this scene and why.
-void print_explain(const Options& opt, const rt::RenderScene& scene);
+void print_explain(const Options& opt, const rt::RenderPlan& plan);
 
 /// A progress bar on stderr when it is a terminal (and not --quiet), else no callback, so
 /// scripts and logs stay clean.

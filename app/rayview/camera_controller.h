@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rt/compile/compile.h"
 #include "rt/render/camera.h"
 
 namespace rt::view {
@@ -53,7 +54,7 @@ struct OrbitCamera {
     }
     /// Pan by a fraction of the view's height in the image plane (right, up).
     void pan(double right, double up) {
-        const Camera cam = make_camera(desc(), 1, 1);
+        const Camera cam = make_camera(compile_camera(desc()), 1, 1);
         const double h = 2 * distance * cam.tan_h;
         target += (right * h) * cam.right + (up * h) * cam.up;
     }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "rt/compile/compile.h"
 #include "rt/render/camera.h"
 
 namespace rt::view {
@@ -15,8 +16,8 @@ namespace {
 bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const PaneLayout& p,
                  bool over_preview) {
     std::vector<LightDesc>& lights = v.edits.lights;
-    const Camera view_cam =
-        make_camera(v.edits.camera.desc(), static_cast<int>(p.pane_w), static_cast<int>(p.pane_h));
+    const Camera view_cam = make_camera(compile_camera(v.edits.camera.desc()),
+                                        static_cast<int>(p.pane_w), static_cast<int>(p.pane_h));
     auto to_pane = [&](const Vec3& pos, double* depth) {
         const Vec3 d = pos - view_cam.position;
         *depth = glm::dot(d, view_cam.forward);
@@ -76,7 +77,7 @@ bool mouse_camera(OrbitCamera& orbit, const ImGuiIO& io, const PaneLayout& p) {
 // Fly: WASD along the view and sideways, Q/E down and up, at a speed scaled to the scene (its
 // diagonal per 4 seconds).
 bool fly_camera(OrbitCamera& orbit, const Bounds3& world, double frame_s) {
-    const Camera cam = make_camera(orbit.desc(), 4, 4);
+    const Camera cam = make_camera(compile_camera(orbit.desc()), 4, 4);
     const double speed = (world.empty() ? 1.0 : glm::length(world.diagonal())) / 4.0 * frame_s;
     Vec3 move(0.0);
     if (ImGui::IsKeyDown(GLFW_KEY_W)) move += cam.forward;

@@ -23,6 +23,7 @@ void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, i
         m_status = {};
         m_history.clear();
     }
+    m_plan = make_render_plan(scene, settings);
     m_thread =
         std::thread([this, &scene, settings, target_spp] { run(&scene, settings, target_spp); });
 }
@@ -35,7 +36,7 @@ void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_s
     // interface thread and the GL driver's threads get the cores when they need them.
     setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
     // A cheap first pass so a moving camera stays interactive.
-    Image coarse = render_coarse(*scene, settings, 8, &m_stop);
+    Image coarse = render_coarse(*scene, m_plan, settings, 8, &m_stop);
     if (m_stop) return;
     {
         std::lock_guard lock(m_mutex);
@@ -48,7 +49,7 @@ void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_s
            (target_spp <= 0 ||
             (!state.samples.empty() && static_cast<int>(state.samples[0]) < target_spp) ||
             state.samples.empty())) {
-        if (!render_samples(state, *scene, settings, 1, {}, &m_stop)) return;
+        if (!render_samples(state, *scene, m_plan, settings, 1, {}, &m_stop)) return;
         const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         const ErrorEstimate est = estimate_error(state);
         Image img = state.image();

@@ -25,6 +25,8 @@ public:
     /// a coarse pass first, then passes of one sample per pixel up to `target_spp`. The trace
     /// must be stopped (the caller stops it before it edits the scene).
     void restart(const RenderScene& scene, const RenderSettings& settings, int target_spp);
+    /// The plan of the trace started last (made by restart(), once per restart).
+    const RenderPlan& plan() const { return m_plan; }
 
     struct Status {
         int spp = 0;
@@ -41,6 +43,7 @@ public:
 private:
     void run(const RenderScene* scene, RenderSettings settings, int target_spp);
 
+    RenderPlan m_plan;  // written by restart() only while no trace runs
     std::thread m_thread;
     std::atomic<bool> m_stop{false};
     mutable std::mutex m_mutex;

@@ -4,10 +4,10 @@
 #include <cstdio>
 #include <iostream>
 
+#include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
 #include "rt/render/camera.h"
-#include "rt/render/features.h"
 #include "rt/util/file_io.h"
 
 namespace rt::view {
@@ -27,7 +27,7 @@ double seconds_since(ViewerState::Clock::time_point t) {
 // (compiled from their descriptions) and the trace's size.
 void apply_edits(const SceneEdits& edits, int trace_w, int trace_h, RenderScene* scene,
                  RenderSettings* settings) {
-    scene->camera = edits.camera.desc();
+    scene->camera = compile_camera(edits.camera.desc());
     scene->lights.clear();
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) scene->lights.push_back(compile_light(edits.lights[i]));
@@ -44,8 +44,15 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
         s->path = path;
         s->desc = parse_scene_file(path, diag);
         s->scene = compile_scene(s->desc);
-        s->file_camera =
-            s->scene.camera ? *s->scene.camera : default_camera(s->scene.world_bounds, 640, 480);
+        if (s->desc.camera) {
+            s->file_camera = *s->desc.camera;
+        } else {  // spec §6.3's default camera, framed for 4:3
+            const CameraPose d = default_camera(s->scene.world_bounds, 640, 480);
+            s->file_camera.position = d.position;
+            s->file_camera.direction = d.direction;
+            s->file_camera.up = d.up;
+            s->file_camera.half_height_angle_rad = d.half_height_angle_rad;
+        }
         return s;
     } catch (const std::exception& e) {
         *error = e.what();
@@ -63,7 +70,7 @@ int render_headless(const std::string& path) {
     const std::string out = std::filesystem::path(path).stem().string() + ".png";
     RenderSettings settings;
     RenderState state;
-    render_samples(state, s->scene, settings, 16);
+    render_samples(state, s->scene, make_render_plan(s->scene, settings), settings, 16);
     try {
         save_image(state.image(), out);
     } catch (const std::exception& e) {
@@ -185,7 +192,8 @@ void ViewerState::restart() {
     tracer.stop();
     apply_edits(edits, m_trace_w, m_trace_h, &loaded->scene, &settings.render);
     tracer.restart(loaded->scene, settings.render, settings.target_spp);
-    explained = explain_features(scene_features(loaded->scene, settings.render));
+    explained.clear();
+    for (const PlanReason& r : tracer.plan().reasons) explained.push_back(reason_line(r));
     if (m_print_left_out)
         for (const std::string& l : explained)
             if (l.rfind("left out", 0) == 0) std::printf("rayview: %s\n", l.c_str());

@@ -102,7 +102,7 @@ struct ViewerState {
 
     Tracer tracer;  // after `loaded`: stops before the scene it traces dies
     Image last_trace;
-    std::vector<std::string> explained;      // explain_features() of the running trace
+    std::vector<std::string> explained;      // the running trace's plan.reasons
     bool preview_stale = true;               // an edit the preview has not drawn yet
     double first_pass_ms = -1;               // edit -> first traced image on screen; -1: waiting
     std::vector<double> first_pass_samples;  // every first_pass_ms, for the --frames summary

@@ -16,7 +16,7 @@
 #include <fstream>
 #include <string>
 
-#include "rt/compile/render_scene.h"
+#include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 
 namespace {

@@ -152,7 +152,7 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     ASSERT_NE(gl.ctx, nullptr);
     view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
     preview.load(scene, 32);
-    CameraDesc cd;
+    CameraPose cd;
     cd.position = Vec3(0, 1, 8);
     cd.direction = Vec3(0, -0.1, -1);
     const Camera cam = make_camera(cd, kW, kH);

@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "render/variants.h"
 #include "rt/accel/triangle4.h"
 
 namespace rt {
@@ -289,15 +290,15 @@ const GeometryQueries& geometry_queries(uint32_t variant) {
 }
 
 bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
-    return geometry_queries(scene.geometry.variant).intersect(scene, ray, t, hit);
+    return closest_hit<kGeomGeneric>(scene, ray, t, hit);
 }
 
 bool occluded(const RenderScene& scene, const Ray& ray, double t_max) {
-    return geometry_queries(scene.geometry.variant).occluded(scene, ray, t_max);
+    return any_hit<kGeomGeneric>(scene, ray, t_max);
 }
 
 Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max) {
-    return geometry_queries(scene.geometry.variant).transmittance(scene, ray, t_max);
+    return transmitted<kGeomGeneric>(scene, ray, t_max);
 }
 
 bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit) {
@@ -328,7 +329,7 @@ ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& 
 }
 
 SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit, bool uv) {
-    return geometry_queries(scene.geometry.variant).interaction(scene, ray, hit, uv);
+    return surface_interaction<kGeomGeneric>(scene, ray, hit, uv);
 }
 
 Vec3 offset_origin(const SurfaceInteraction& si, const Vec3& dir) {

@@ -1,6 +1,8 @@
 // compile_scene(): the SceneDesc's files become GeometrySets (groups flattened into the file's
 // frame, one copy per file however often it is instanced), instances are flattened into a list
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
+#include "rt/compile/compile.h"
+
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -8,9 +10,6 @@
 #include <type_traits>
 #include <variant>
 #include <vector>
-
-#include "rt/compile/render_scene.h"
-#include "rt/render/features.h"
 
 namespace rt {
 
@@ -38,11 +37,10 @@ Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& 
 
 class Compiler {
 public:
-    explicit Compiler(const SceneDesc& desc) : m_desc(desc) {}
+    Compiler(const SceneDesc& desc, CompileReport& report) : m_desc(desc), m_report(report) {}
 
     RenderScene run() {
-        m_scene.dialect = m_desc.dialect;
-        m_scene.camera = m_desc.camera;
+        if (m_desc.camera) m_scene.camera = compile_camera(*m_desc.camera);
         m_scene.background = m_desc.background;
         m_scene.ambient = m_desc.ambient;
         for (const LightDesc& l : m_desc.lights) m_scene.lights.push_back(compile_light(l));
@@ -50,8 +48,7 @@ public:
         m_set_of_file.assign(m_desc.files.size(), -2);  // -2: not compiled yet
         if (!m_desc.files.empty()) place(0, Mat4(1.0), SourceLoc{});
         build_acceleration();
-        fill_stats();
-        m_scene.geometry = read_geometry(m_scene);
+        fill_report();
         return std::move(m_scene);
     }
 
@@ -165,7 +162,7 @@ private:
         const bool analytic = set.layout != SetLayout::Triangles && set.layout != SetLayout::Mixed;
         const auto t0 = std::chrono::steady_clock::now();
         set.bvh = build_bvh(bounds, analytic ? BvhBuildSettings{1, 16} : BvhBuildSettings{});
-        m_scene.stats.build_seconds +=
+        m_report.build_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
         set.prims.reserve(pending.size());
@@ -347,12 +344,12 @@ private:
         for (uint32_t i : m_scene.top.indices) ordered.push_back(m_scene.instances[i]);
         m_scene.instances = std::move(ordered);
         std::iota(m_scene.top.indices.begin(), m_scene.top.indices.end(), 0u);
-        m_scene.stats.build_seconds +=
+        m_report.build_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
 
-    void fill_stats() {
-        SceneStats& s = m_scene.stats;
+    void fill_report() {
+        CompileReport& s = m_report;
         s.files = m_desc.files.size();
         s.instances = m_scene.instances.size();
         s.lights = m_scene.lights.size();
@@ -368,6 +365,7 @@ private:
     }
 
     const SceneDesc& m_desc;
+    CompileReport& m_report;
     RenderScene m_scene;
     std::vector<int> m_set_of_file;
     std::vector<int> m_texture_offset, m_material_offset;
@@ -390,20 +388,15 @@ Light compile_light(const LightDesc& d) {
     return l;
 }
 
-LightDesc describe_light(const Light& l) {
-    LightDesc d;
-    d.kind = l.kind;
-    d.color = l.color;
-    d.position = l.position;
-    d.direction = l.direction;
-    d.constant_atten = l.constant_atten;
-    d.linear_atten = l.linear_atten;
-    d.quadratic_atten = l.quadratic_atten;
-    d.cutoff_rad = l.cutoff_rad;
-    d.spot_exponent = l.spot_exponent;
-    return d;
+CameraPose compile_camera(const CameraDesc& d) {
+    return {d.position, d.direction, d.up, d.half_height_angle_rad};
 }
 
-RenderScene compile_scene(const SceneDesc& desc) { return Compiler(desc).run(); }
+RenderScene compile_scene(const SceneDesc& desc, CompileReport* report) {
+    CompileReport local;
+    CompileReport& r = report ? *report : local;
+    r = {};
+    return Compiler(desc, r).run();
+}
 
 }  // namespace rt

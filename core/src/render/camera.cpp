@@ -2,7 +2,7 @@
 
 namespace rt {
 
-Camera make_camera(const CameraDesc& desc, int width, int height) {
+Camera make_camera(const CameraPose& desc, int width, int height) {
     Camera c;
     c.position = desc.position;
     c.forward = glm::normalize(desc.direction);
@@ -22,8 +22,8 @@ double framing_distance(double radius, double half_height_angle_rad, double aspe
     return radius / std::sin(phi);
 }
 
-CameraDesc default_camera(const Bounds3& world, int width, int height) {
-    CameraDesc d;
+CameraPose default_camera(const Bounds3& world, int width, int height) {
+    CameraPose d;
     d.half_height_angle_rad = kPi / 6;
     Vec3 centre(0.0);
     double radius = 1.0;

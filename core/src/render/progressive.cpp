@@ -143,6 +143,7 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
     state.reset(settings.width, settings.height);
     RenderSettings pass_settings = settings;
     pass_settings.centre_first_sample = false;  // every sample jittered
+    const RenderPlan plan = make_render_plan(scene, pass_settings);
     std::vector<PassRecord> records;
     double render_seconds = 0;
     uint64_t samples_total = 0;
@@ -170,7 +171,7 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
             spp = 1;
         }
         const auto t0 = Clock::now();
-        if (!render_samples(state, scene, pass_settings, spp, {}, stop)) break;
+        if (!render_samples(state, scene, plan, pass_settings, spp, {}, stop)) break;
         render_seconds += seconds_since(t0);
         samples_total += pass_samples;
 

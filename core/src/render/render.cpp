@@ -4,6 +4,7 @@
 #include <mutex>
 #include <thread>
 
+#include "parallel.h"
 #include "rt/render/sampler.h"
 
 namespace rt {
@@ -28,57 +29,6 @@ Image RenderState::image() const {
     return img;
 }
 
-Image render_coarse(const RenderScene& scene, const RenderSettings& settings, int block,
-                    const std::atomic<bool>* stop) {
-    block = std::max(1, block);
-    Image img(settings.width, settings.height);
-    const Camera camera = make_camera(scene, settings.width, settings.height);
-    std::vector<Light> lights;
-    const ShadingSettings shading = settings.shading(scene, &lights);  // no Rng: deterministic
-    const int bx = (settings.width + block - 1) / block, by = (settings.height + block - 1) / block;
-    std::atomic<int> next{0};
-    auto worker = [&]() {
-        RayCounters counters;
-        for (int b = next.fetch_add(1); b < bx * by; b = next.fetch_add(1)) {
-            if (stop && stop->load(std::memory_order_relaxed)) return;
-            const int x0 = (b % bx) * block, y0 = (b / bx) * block;
-            const int x1 = std::min(x0 + block, settings.width),
-                      y1 = std::min(y0 + block, settings.height);
-            // The block's centre, in pixel units.
-            const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
-            const int ix = static_cast<int>(cx), iy = static_cast<int>(cy);
-            const Vec3 c = trace_ray(scene, camera.generate(ix, iy, cx - ix, cy - iy),
-                                     settings.max_depth, Vec3(1.0), shading, counters);
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) img.set(x, y, c);
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int i = 1; i < resolve_thread_count(settings.threads); ++i) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    return img;
-}
-
-ShadingSettings RenderSettings::shading(const RenderScene& scene,
-                                        std::vector<Light>* lights) const {
-    ShadingSettings s = shading();
-    if (!specialize) {
-        s.geometry = &geometry_queries(kGeomGeneric);
-        return s;
-    }
-    const SceneFeatures f = scene_features(scene, *this);
-    s.variant = f.shade_variant();
-    s.geometry = &geometry_queries(f.geom_variant);
-    // Dark lights are skipped, except where random samples are drawn per light (soft shadows):
-    // skipping one there would shift every later sample, and the images must stay the same.
-    if (!(s.variant & kShadeStochastic)) {
-        *lights = lighting_lights(scene);
-        s.lights = lights;
-    }
-    return s;
-}
-
 int resolve_thread_count(int threads) {
     if (threads > 0) return std::min(threads, 256);
     return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 256u));
@@ -88,150 +38,204 @@ namespace {
 
 constexpr int kTile = 16;
 
+// A rectangle of pixels, [x0, x1) x [y0, y1).
+struct PixelRect {
+    int x0, y0, x1, y1;
+};
+
+// Tile `tile` of a grid of size x size tiles over the image, row-major.
+PixelRect tile_rect(int tile, int size, const RenderSettings& settings) {
+    const int tiles_x = (settings.width + size - 1) / size;
+    const int x0 = (tile % tiles_x) * size, y0 = (tile / tiles_x) * size;
+    return {x0, y0, std::min(x0 + size, settings.width), std::min(y0 + size, settings.height)};
+}
+
+int tile_count(int size, const RenderSettings& settings) {
+    return ((settings.width + size - 1) / size) * ((settings.height + size - 1) / size);
+}
+
+// What every pixel of one render_samples() call shares.
+struct Pass {
+    const RenderScene& scene;
+    const RenderPlan& plan;
+    const RenderSettings& settings;
+    bool stochastic;
+};
+
+// Where the s-th of a pixel's n samples of this call falls in the pixel, in [0,1)^2. The pixel
+// has `base` samples from earlier calls; `stratum` is ceil(sqrt(n)), `shift` the pixel's R2 shift.
+Vec2 sample_position(const Pass& pass, int s, int n, uint32_t base, int stratum, Vec2 shift,
+                     Rng& rng) {
+    const uint32_t index = base + static_cast<uint32_t>(s);
+    if (!pass.settings.centre_first_sample) {
+        // Progressive passes: the R2 sequence (Roberts 2018) under a random shift per pixel, so
+        // any run of sample indices, across passes too, is spread over the pixel without bias.
+        constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+        return {std::fmod(shift.x + index * a1, 1.0), std::fmod(shift.y + index * a2, 1.0)};
+    }
+    if (n > 1 || base > 0 || pass.stochastic) {
+        // Spec §6.2: one uniform sample in each of the first n strata of a ceil(sqrt(n))^2
+        // grid, row-major.
+        const double sx = (s % stratum + rng.uniform()) / stratum;
+        const double sy = (s / stratum + rng.uniform()) / stratum;
+        return {sx, sy};
+    }
+    return {0.5, 0.5};  // one sample: the pixel centre
+}
+
+// The camera ray through pixel (x, y) at `sample`; with an aperture, from a point of the lens.
+Ray camera_ray(const Pass& pass, int x, int y, Vec2 sample, Rng& rng) {
+    const Camera& camera = pass.plan.camera;
+    Ray ray = camera.generate(x, y, sample.x, sample.y);
+    if (pass.settings.aperture > 0) {
+        // Thin lens: from a point of the aperture toward the focused point.
+        const Vec3 focused =
+            ray.o + ray.d * (pass.plan.focus_distance / glm::dot(ray.d, camera.forward));
+        const Vec2 lens = pass.settings.aperture * rng.disc();
+        ray.o += lens.x * camera.right + lens.y * camera.up;
+        ray.d = glm::normalize(focused - ray.o);
+    }
+    return ray;
+}
+
+// The sum and the sum of squares of n new samples of pixel (x, y), which has `base` already.
+struct PixelSums {
+    Vec3 sum{0.0}, sum_sq{0.0};
+};
+
+PixelSums render_pixel(const Pass& pass, int x, int y, int n, uint32_t base, RayCounters& rays) {
+    const RenderSettings& settings = pass.settings;
+    const size_t pixel = static_cast<size_t>(y) * settings.width + x;
+    const int stratum = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+    Vec2 shift(0.0);
+    if (!settings.centre_first_sample) {
+        Rng pixel_rng(settings.seed, pixel, uint64_t{1} << 40);
+        shift = Vec2(pixel_rng.uniform(), pixel_rng.uniform());
+    }
+    PixelSums sums;
+    for (int s = 0; s < n; ++s) {
+        // Every sample's random numbers come from (seed, pixel, index): any thread, same image.
+        Rng rng(settings.seed, pixel, base + static_cast<uint32_t>(s));
+        const Vec2 sample = sample_position(pass, s, n, base, stratum, shift, rng);
+        const Ray ray = camera_ray(pass, x, y, sample, rng);
+        ++rays.camera;
+        const Vec3 c = trace_ray(pass.scene, pass.plan, settings, ray, settings.max_depth,
+                                 Vec3(1.0), rays, pass.stochastic ? &rng : nullptr);
+        sums.sum += c;
+        sums.sum_sq += c * c;
+    }
+    return sums;
+}
+
+// Where one render_samples() call writes its sums: the state's own sums (the first pass of a
+// fresh state, whose sums are all zero) or the scratch buffer, committed when the pass completes.
+struct PassOutput {
+    double* sum;
+    double* sum_sq;
+    bool direct;
+};
+
+// One tile of a pass; false when a stop request was seen (within one pixel row: milliseconds even
+// at many samples per pixel; the pass is then discarded).
+bool render_tile(const Pass& pass, const RenderState& state, const PixelRect& r, int spp,
+                 const PassOutput& out, const std::atomic<bool>* stop, RayCounters& rays) {
+    const bool all_active = state.active.size() != state.samples.size();
+    for (int y = r.y0; y < r.y1; ++y) {
+        if (stop && stop->load(std::memory_order_relaxed)) return false;
+        for (int x = r.x0; x < r.x1; ++x) {
+            const size_t pixel = static_cast<size_t>(y) * pass.settings.width + x;
+            const int n = all_active ? spp : spp * state.active[pixel];
+            PixelSums sums;  // zero: in place, the sums stay as they are
+            if (n == 0 && out.direct) continue;
+            if (n > 0) sums = render_pixel(pass, x, y, n, state.samples[pixel], rays);
+            for (size_t c = 0; c < 3; ++c) {
+                out.sum[pixel * 3 + c] = sums.sum[static_cast<int>(c)];
+                out.sum_sq[pixel * 3 + c] = sums.sum_sq[static_cast<int>(c)];
+            }
+        }
+    }
+    return true;
+}
+
+// Adds a completed pass's sums and sample counts to the state.
+void commit_pass(RenderState& state, const PassOutput& out, int spp) {
+    const bool all_active = state.active.size() != state.samples.size();
+    if (!out.direct) {
+        for (size_t i = 0; i < state.sum.size(); ++i) {
+            state.sum[i] += out.sum[i];
+            state.sum_sq[i] += out.sum_sq[i];
+        }
+    }
+    for (size_t i = 0; i < state.samples.size(); ++i)
+        state.samples[i] += static_cast<uint32_t>(all_active ? spp : spp * state.active[i]);
+    ++state.passes;
+}
+
 }  // namespace
 
-bool render_samples(RenderState& state, const RenderScene& scene, const RenderSettings& settings,
-                    int spp, const ProgressFn& progress, const std::atomic<bool>* stop) {
+Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
+                    const RenderSettings& settings, int block, const std::atomic<bool>* stop) {
+    block = std::max(1, block);
+    Image img(settings.width, settings.height);
+    RayCounters rays;
+    parallel_tiles(resolve_thread_count(settings.threads), tile_count(block, settings), stop, rays,
+                   [&](int tile, RayCounters& counters) {
+                       const PixelRect r = tile_rect(tile, block, settings);
+                       // The block's centre, in pixel units; no Rng: deterministic.
+                       const double cx = 0.5 * (r.x0 + r.x1), cy = 0.5 * (r.y0 + r.y1);
+                       const int ix = static_cast<int>(cx), iy = static_cast<int>(cy);
+                       const Ray ray = plan.camera.generate(ix, iy, cx - ix, cy - iy);
+                       const Vec3 c = trace_ray(scene, plan, settings, ray, settings.max_depth,
+                                                Vec3(1.0), counters);
+                       for (int y = r.y0; y < r.y1; ++y)
+                           for (int x = r.x0; x < r.x1; ++x) img.set(x, y, c);
+                       return true;
+                   });
+    return img;
+}
+
+bool render_samples(RenderState& state, const RenderScene& scene, const RenderPlan& plan,
+                    const RenderSettings& settings, int spp, const ProgressFn& progress,
+                    const std::atomic<bool>* stop) {
     if (state.width != settings.width || state.height != settings.height)
         state.reset(settings.width, settings.height);
     if (spp <= 0) return true;
-    const Camera camera = make_camera(scene, settings.width, settings.height);
-    std::vector<Light> lights;
-    const ShadingSettings shading = settings.shading(scene, &lights);
-    const bool stochastic = settings.stochastic();
-    const double focus = settings.focus_distance > 0
-                             ? settings.focus_distance
-                             : glm::length(scene.world_bounds.centre() - camera.position);
-
-    const int tiles_x = (settings.width + kTile - 1) / kTile;
-    const int tiles_y = (settings.height + kTile - 1) / kTile;
-    const int tiles = tiles_x * tiles_y;
-    std::atomic<int> next{0};
-    std::atomic<int> rows_done{0};
-    std::atomic<bool> stopped{false};
-    std::mutex mutex;
-    RayCounters total;
+    const Pass pass{scene, plan, settings, settings.stochastic()};
     // New sums go to a scratch buffer and are committed only when the pass completes. The first
     // pass of a fresh state (all sums zero) writes the sums directly and, when stopped, puts the
     // zeros back: no scratch to fill, commit or fault in.
     const bool direct = state.passes == 0;
     const size_t n = state.sum.size();
     if (!direct) state.scratch.resize(2 * n);
-    double* const out_sum = direct ? state.sum.data() : state.scratch.data();
-    double* const out_sq = direct ? state.sum_sq.data() : state.scratch.data() + n;
-    const bool all_active = state.active.size() != state.samples.size();
+    const PassOutput out{direct ? state.sum.data() : state.scratch.data(),
+                         direct ? state.sum_sq.data() : state.scratch.data() + n, direct};
 
-    auto worker = [&]() {
-        RayCounters counters;
-        for (;;) {
-            if (stop && stop->load(std::memory_order_relaxed)) {
-                stopped = true;
-                break;
-            }
-            const int tile = next.fetch_add(1);
-            if (tile >= tiles) break;
-            const int tx = (tile % tiles_x) * kTile, ty = (tile / tiles_x) * kTile;
-            const int x1 = std::min(tx + kTile, settings.width);
-            const int y1 = std::min(ty + kTile, settings.height);
-            for (int y = ty; y < y1 && !stopped.load(std::memory_order_relaxed); ++y) {
-                // A stop request is seen within one pixel row of a tile (milliseconds even at
-                // many samples per pixel); the pass is then discarded.
-                if (stop && stop->load(std::memory_order_relaxed)) {
-                    stopped = true;
-                    break;
-                }
-                for (int x = tx; x < x1; ++x) {
-                    const size_t pixel = static_cast<size_t>(y) * settings.width + x;
-                    const int pixel_spp = all_active ? spp : spp * state.active[pixel];
-                    if (pixel_spp == 0) {
-                        if (!direct)  // (in place, the sums stay as they are)
-                            for (size_t c = 0; c < 3; ++c)
-                                out_sum[pixel * 3 + c] = out_sq[pixel * 3 + c] = 0.0;
-                        continue;
-                    }
-                    const int m =
-                        static_cast<int>(std::ceil(std::sqrt(static_cast<double>(pixel_spp))));
-                    const uint32_t base = state.samples[pixel];
-                    Vec3 acc(0.0), acc_sq(0.0);
-                    // Progressive passes: the R2 sequence (Roberts 2018) under a random shift
-                    // per pixel, so any run of sample indices, across passes too, is spread
-                    // over the pixel without bias.
-                    Vec2 shift(0.0);
-                    if (!settings.centre_first_sample) {
-                        Rng pixel_rng(settings.seed, pixel, uint64_t{1} << 40);
-                        shift = Vec2(pixel_rng.uniform(), pixel_rng.uniform());
-                    }
-                    for (int s = 0; s < pixel_spp; ++s) {
-                        const uint32_t index = base + static_cast<uint32_t>(s);
-                        Rng rng(settings.seed, pixel, index);
-                        double sx = 0.5, sy = 0.5;
-                        if (!settings.centre_first_sample) {
-                            constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
-                            sx = std::fmod(shift.x + index * a1, 1.0);
-                            sy = std::fmod(shift.y + index * a2, 1.0);
-                        } else if (pixel_spp > 1 || base > 0 || stochastic) {
-                            // Spec §6.2: one uniform sample in each of the first spp strata of
-                            // a ceil(sqrt(spp))^2 grid, row-major.
-                            sx = (s % m + rng.uniform()) / m;
-                            sy = (s / m + rng.uniform()) / m;
-                        }
-                        Ray ray = camera.generate(x, y, sx, sy);
-                        if (settings.aperture > 0) {
-                            // Thin lens: from a point of the aperture toward the focused point.
-                            const Vec3 focused =
-                                ray.o + ray.d * (focus / glm::dot(ray.d, camera.forward));
-                            const Vec2 lens = settings.aperture * rng.disc();
-                            ray.o += lens.x * camera.right + lens.y * camera.up;
-                            ray.d = glm::normalize(focused - ray.o);
-                        }
-                        ++counters.camera;
-                        const Vec3 c = trace_ray(scene, ray, settings.max_depth, Vec3(1.0), shading,
-                                                 counters, stochastic ? &rng : nullptr);
-                        acc += c;
-                        acc_sq += c * c;
-                    }
-                    for (int k = 0; k < 3; ++k) {
-                        out_sum[pixel * 3 + static_cast<size_t>(k)] = acc[k];
-                        out_sq[pixel * 3 + static_cast<size_t>(k)] = acc_sq[k];
-                    }
-                }
-            }
-            if (tx + kTile >= settings.width) {
-                // Last tile of a tile row: report progress by rows.
-                rows_done += y1 - ty;
-            }
+    const int tiles_x = (settings.width + kTile - 1) / kTile;
+    std::atomic<int> rows_done{0};
+    std::mutex progress_mutex;
+    RayCounters rays;
+    const bool done = parallel_tiles(
+        resolve_thread_count(settings.threads), tile_count(kTile, settings), stop, rays,
+        [&](int tile, RayCounters& counters) {
+            const PixelRect r = tile_rect(tile, kTile, settings);
+            const bool finished = render_tile(pass, state, r, spp, out, stop, counters);
+            // Progress by rows: the last tile of a tile row counts its rows.
+            if (r.x1 == settings.width) rows_done += r.y1 - r.y0;
             if (progress && tile % tiles_x == 0) {
-                std::lock_guard lock(mutex);
+                std::lock_guard lock(progress_mutex);
                 progress(rows_done.load(), settings.height);
             }
-        }
-        std::lock_guard lock(mutex);
-        total += counters;
-    };
-
-    const int n_threads = std::min(resolve_thread_count(settings.threads), tiles);
-    std::vector<std::thread> pool;
-    for (int i = 1; i < n_threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (stopped) {
+            return finished;
+        });
+    if (!done) {
         if (direct) {
             std::fill(state.sum.begin(), state.sum.end(), 0.0);
             std::fill(state.sum_sq.begin(), state.sum_sq.end(), 0.0);
         }
         return false;
     }
-
-    if (!direct) {
-        for (size_t i = 0; i < n; ++i) {
-            state.sum[i] += out_sum[i];
-            state.sum_sq[i] += out_sq[i];
-        }
-    }
-    for (size_t i = 0; i < state.samples.size(); ++i)
-        state.samples[i] += static_cast<uint32_t>(all_active ? spp : spp * state.active[i]);
-    ++state.passes;
-    state.rays += total;
+    commit_pass(state, out, spp);
+    state.rays += rays;
     if (progress) progress(settings.height, settings.height);
     return true;
 }

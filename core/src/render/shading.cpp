@@ -3,7 +3,9 @@
 #include <array>
 #include <utility>
 
-#include "rt/render/features.h"
+#include "rt/render/plan.h"
+#include "rt/render/render.h"
+#include "variants.h"
 
 namespace rt {
 
@@ -78,15 +80,59 @@ bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_lig
 
 namespace {
 
+// The light as one sample sees it: with soft shadows (F stochastic, a radius set), a point or
+// spot light is a sphere of radius light_radius, sampled uniformly over the disc it shows the
+// point p (the moved light is written to *moved); its emission rules stay.
+template <uint32_t F>
+[[gnu::always_inline]] inline const Light& sampled_light(const Light& light, const Vec3& p,
+                                                         const RenderSettings& settings, Rng* rng,
+                                                         Light* moved) {
+    if constexpr ((F & kShadeStochastic) != 0) {
+        if (rng && settings.light_radius > 0.0 && light.kind != LightKind::Directional) {
+            const Vec3 axis = light.position - p;
+            if (glm::dot(axis, axis) > 0.0) {
+                Vec3 a, b;
+                orthonormal_basis(glm::normalize(axis), &a, &b);
+                const Vec2 q = settings.light_radius * rng->disc();
+                *moved = light;
+                moved->position += q.x * a + q.y * b;
+                return *moved;
+            }
+        }
+    }
+    return light;
+}
+
+// The shadow ray from si toward the light (unit direction l): false when it is blocked, else
+// true with *s the transmittance of the surfaces it crosses (1 when F has no transparent
+// shadows: then the first hit decides). Inlined: as a call it costs 1% of a render.
+template <uint32_t F>
+[[gnu::always_inline]] inline bool shadow_ray_passes(const RenderScene& scene,
+                                                     const GeometryQueries& geometry,
+                                                     const SurfaceInteraction& si,
+                                                     const Light& light, const Vec3& l, Vec3* s,
+                                                     RayCounters& counters) {
+    ++counters.shadow;
+    const Vec3 o = offset_origin(si, l);
+    // Toward a point light the segment from the offset point to the light itself, t in (0, 1).
+    const bool directional = light.kind == LightKind::Directional;
+    const Ray shadow_ray{o, directional ? l : light.position - o};
+    const double t_max = directional ? kInf : 1.0;
+    if constexpr ((F & kShadeTransmissiveShadows) != 0) {
+        *s = geometry.transmittance(scene, shadow_ray, t_max);
+        return *s != Vec3(0.0);
+    }
+    return !geometry.occluded(scene, shadow_ray, t_max);
+}
+
 // The Whitted colour along a ray (spec §7, §8), compiled once per variant F (ShadeFeature bits):
 // `if constexpr` removes the code of every feature F lacks. With F = kShadeAll it is the generic
 // renderer, which tests each feature per ray.
 template <uint32_t F>
-Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
-           const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
+Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSettings& settings,
+           const Ray& ray, int depth, const Vec3& weight, RayCounters& counters, Rng* rng) {
     constexpr bool kStochastic = (F & kShadeStochastic) != 0;
-    const GeometryQueries& geometry =
-        settings.geometry ? *settings.geometry : geometry_queries(scene.geometry.variant);
+    const GeometryQueries& geometry = *plan.geometry;
     Hit hit;
     if (!geometry.intersect(scene, ray, {0.0, kInf}, &hit)) return scene.background;
     // Texture coordinates only where a texture reads them.
@@ -106,46 +152,19 @@ Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weig
     Vec3 c = m.emissive + m.ambient * t * scene.ambient;
     const Vec3 r_v = d - 2.0 * glm::dot(d, n) * n;  // mirror direction, also for highlights
 
-    const std::vector<Light>& lights = settings.lights ? *settings.lights : scene.lights;
-    for (const Light& scene_light : lights) {
-        Light light = scene_light;
-        if constexpr (kStochastic) {
-            // Soft shadows: a point or spot light is a sphere of radius light_radius, sampled
-            // uniformly over the disc it shows the shading point; its emission rules stay.
-            if (rng && settings.light_radius > 0.0 && light.kind != LightKind::Directional) {
-                const Vec3 axis = light.position - si.p;
-                if (glm::dot(axis, axis) > 0.0) {
-                    Vec3 a, b;
-                    orthonormal_basis(glm::normalize(axis), &a, &b);
-                    const Vec2 q = settings.light_radius * rng->disc();
-                    light.position += q.x * a + q.y * b;
-                }
-            }
-        }
+    for (const Light& scene_light : plan.lights) {
+        Light moved;
+        const Light& light = sampled_light<F>(scene_light, si.p, settings, rng, &moved);
         Vec3 intensity, l;
         double dist = 0.0;
         if (!light_at<F>(light, si.p, &intensity, &l, &dist)) continue;
         const double n_dot_l = glm::dot(n, l);
         if (!(n_dot_l > 0.0)) continue;
         Vec3 s(1.0);
-        if constexpr ((F & kShadeShadows) != 0) {
-            if (settings.shadows) {
-                ++counters.shadow;
-                const Vec3 o = offset_origin(si, l);
-                // Toward a point light the segment from the offset point to the light itself,
-                // t in (0, 1).
-                const bool directional = light.kind == LightKind::Directional;
-                const Ray shadow_ray{o, directional ? l : light.position - o};
-                const double t_max = directional ? kInf : 1.0;
-                if constexpr ((F & kShadeTransmissiveShadows) != 0) {
-                    s = geometry.transmittance(scene, shadow_ray, t_max);
-                    if (s == Vec3(0.0)) continue;
-                } else {
-                    // No material lets light through: the first hit decides.
-                    if (geometry.occluded(scene, shadow_ray, t_max)) continue;
-                }
-            }
-        }
+        if constexpr ((F & kShadeShadows) != 0)
+            if (settings.shadows &&
+                !shadow_ray_passes<F>(scene, geometry, si, light, l, &s, counters))
+                continue;
         if constexpr ((F & kShadeHighlights) != 0) {
             // At most 1 (both unit; rounding can exceed it, and x^huge would overflow).
             const double r_dot_l = std::min(glm::dot(r_v, l), 1.0);
@@ -176,8 +195,8 @@ Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weig
                     }
                 }
                 ++counters.reflected;
-                c += m.specular * trace<F>(scene, spawn_ray(si, dir), depth - 1, w_refl, settings,
-                                           counters, rng);
+                c += m.specular * trace<F>(scene, plan, settings, spawn_ray(si, dir), depth - 1,
+                                           w_refl, counters, rng);
             }
         }
         if constexpr ((F & kShadeRefraction) != 0) {
@@ -191,17 +210,14 @@ Vec3 trace(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weig
                 if (k >= 0.0) {
                     const Vec3 dir = eta * d + (eta * cos_i - std::sqrt(k)) * n;
                     ++counters.refracted;
-                    c += m.transparent * trace<F>(scene, spawn_ray(si, dir), depth - 1, w_refr,
-                                                  settings, counters, rng);
+                    c += m.transparent * trace<F>(scene, plan, settings, spawn_ray(si, dir),
+                                                  depth - 1, w_refr, counters, rng);
                 }
             }
         }
     }
     return c;
 }
-
-using TraceFn = Vec3 (*)(const RenderScene&, const Ray&, int, const Vec3&, const ShadingSettings&,
-                         RayCounters&, Rng*);
 
 // The variants compiled: a combination that cannot occur maps to one that can (transparent
 // shadows need shadows; spot lights are attenuated), and the rarely used stochastic features run
@@ -214,8 +230,9 @@ constexpr uint32_t canonical(uint32_t v) {
 }
 
 template <uint32_t... I>
-constexpr std::array<TraceFn, sizeof...(I)> trace_table(std::integer_sequence<uint32_t, I...>) {
-    return {&trace<canonical(I)>...};
+constexpr std::array<ShadingVariant, sizeof...(I)> trace_table(
+    std::integer_sequence<uint32_t, I...>) {
+    return {ShadingVariant{&trace<canonical(I)>}...};
 }
 
 // Every variant, indexed by its ShadeFeature bits.
@@ -223,10 +240,13 @@ constexpr auto kTraceVariants = trace_table(std::make_integer_sequence<uint32_t,
 
 }  // namespace
 
-Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
-               const ShadingSettings& settings, RayCounters& counters, Rng* rng) {
-    return kTraceVariants[settings.variant & kShadeAll](scene, ray, depth, weight, settings,
-                                                        counters, rng);
+const ShadingVariant& shading_variant(uint32_t shade_variant) {
+    return kTraceVariants[shade_variant & kShadeAll];
+}
+
+Vec3 trace_ray(const RenderScene& scene, const RenderPlan& plan, const RenderSettings& settings,
+               const Ray& ray, int depth, const Vec3& weight, RayCounters& counters, Rng* rng) {
+    return plan.shading->trace(scene, plan, settings, ray, depth, weight, counters, rng);
 }
 
 }  // namespace rt

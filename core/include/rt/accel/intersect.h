@@ -24,23 +24,10 @@ struct SurfaceInteraction {
     int material = 0;
 };
 
-/// Nearest hit with t in (t.lo, t.hi). Returns false when the ray escapes. This and occluded()
-/// and transmittance() walk the scene with the geometry variant that fits it
-/// (RenderScene::geometry).
+/// Nearest hit with t in (t.lo, t.hi). Returns false when the ray escapes. This and occluded(),
+/// transmittance() and interaction() take the generic walk, which serves any scene; the
+/// overloads that take a RenderPlan (rt/render/plan.h) take the walk that fits the scene.
 bool intersect(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit);
-
-/// The ray queries of one geometry variant (GeomFeature bits, rt/compile/render_scene.h) and the
-/// surface description at their hits, with the code of what the variant lacks left out: the
-/// top-level walk, transforms, the dispatch on shape kinds, the triangle set-up. kGeomGeneric
-/// serves any scene; a specialized variant only the scenes it was read from
-/// (RenderScene::geometry).
-struct GeometryQueries {
-    bool (*intersect)(const RenderScene&, const Ray&, Interval, Hit*);
-    bool (*occluded)(const RenderScene&, const Ray&, double);
-    Vec3 (*transmittance)(const RenderScene&, const Ray&, double);
-    SurfaceInteraction (*interaction)(const RenderScene&, const Ray&, const Hit&, bool uv);
-};
-const GeometryQueries& geometry_queries(uint32_t geom_variant);
 
 /// The nearest hit by testing every primitive of every instance.
 bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit);

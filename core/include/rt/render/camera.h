@@ -21,13 +21,13 @@ struct Camera {
 };
 
 /// Builds the camera from the position, view direction, up vector and half-height angle.
-Camera make_camera(const CameraDesc& desc, int width, int height);
+Camera make_camera(const CameraPose& desc, int width, int height);
 /// The scene's camera, or the default camera of spec §6.3 when the file has none.
 Camera make_camera(const RenderScene& scene, int width, int height);
 /// Spec §6.3's framing: the distance from which a sphere of `radius` fits the view, with
 /// phi = min(ha, atan(tan_w)), tan_w = aspect * tan(ha).
 double framing_distance(double radius, double half_height_angle_rad, double aspect);
 /// The default camera of spec §6.3 for the given world bounds.
-CameraDesc default_camera(const Bounds3& world, int width, int height);
+CameraPose default_camera(const Bounds3& world, int width, int height);
 
 }  // namespace rt

@@ -1,6 +1,7 @@
 // Rendering: an explicit state (per-pixel sums and sample counts) and one call that adds samples
-// to it. The CLI, the viewer and the tests all call render_samples(). Every pixel's samples are
-// derived from (seed, pixel, sample index), so the image is the same for any thread count.
+// to it, with a plan made once per scene and settings (rt/render/plan.h). The CLI, the viewer and
+// the tests all call render_samples(). Every pixel's samples are derived from (seed, pixel, sample
+// index), so the image is the same for any thread count.
 #pragma once
 
 #include <atomic>
@@ -11,6 +12,7 @@
 #include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/camera.h"
+#include "rt/render/plan.h"
 #include "rt/render/shading.h"
 
 namespace rt {
@@ -33,18 +35,11 @@ struct RenderSettings {
     /// N strata of a ceil(sqrt(N))^2 grid). False (progressive rendering): the pixel's samples
     /// follow a randomly shifted R2 sequence indexed by its sample count, unbiased across passes.
     bool centre_first_sample = true;
-    /// Render with the variant specialized to the scene's features (rt/render/features.h); false:
-    /// the generic renderer (raytrace --no-specialize), for comparison. Both give the same image.
+    /// Leave out what the scene does not need (make_render_plan); false: the generic renderer
+    /// (raytrace --no-specialize), for comparison. Both give the same image.
     bool specialize = true;
 
     bool stochastic() const { return light_radius > 0 || aperture > 0 || roughness > 0; }
-    /// The generic shading settings (every feature tested per ray).
-    ShadingSettings shading() const {
-        return {max_depth, cutoff, shadows, light_radius, roughness};
-    }
-    /// The shading settings for `scene`: with `specialize`, its variant and the lights that can
-    /// light something (stored in `lights`, which must outlive the result).
-    ShadingSettings shading(const RenderScene& scene, std::vector<Light>* lights) const;
 };
 
 /// Accumulated samples. Sums are doubles so millions of samples stay exact enough; the sums of
@@ -72,16 +67,17 @@ struct RenderState {
 using ProgressFn = std::function<void(int rows_done, int rows_total)>;
 
 /// Adds `spp` samples to every pixel (or spp times state.active[p] to pixel p). Where the samples
-/// fall is set by RenderSettings::centre_first_sample.
+/// fall is set by RenderSettings::centre_first_sample. `plan` is make_render_plan(scene, settings).
 /// `stop`, when set, is polled between tiles; a stopped call leaves the state unchanged.
 /// Returns false when stopped.
-bool render_samples(RenderState& state, const RenderScene& scene, const RenderSettings& settings,
-                    int spp, const ProgressFn& progress = {},
+bool render_samples(RenderState& state, const RenderScene& scene, const RenderPlan& plan,
+                    const RenderSettings& settings, int spp, const ProgressFn& progress = {},
                     const std::atomic<bool>* stop = nullptr);
 
 /// A cheap preview for a moving camera: one centre sample per block x block pixels, copied over
 /// the block. It does not touch any RenderState.
-Image render_coarse(const RenderScene& scene, const RenderSettings& settings, int block,
+Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
+                    const RenderSettings& settings, int block,
                     const std::atomic<bool>* stop = nullptr);
 
 /// Number of threads render_samples() uses for a settings value (0 = all cores).

@@ -8,29 +8,12 @@
 
 #include "rt/accel/intersect.h"
 #include "rt/compile/render_scene.h"
-#include "rt/render/features.h"
 #include "rt/render/sampler.h"
 
 namespace rt {
 
-struct ShadingSettings {
-    int max_depth = 5;      // camera rays have this depth; children get depth - 1 (spec §8)
-    double cutoff = 0.001;  // a child ray is traced only when max(weight) >= cutoff; 0 disables
-    bool shadows = true;
-    // Progressive features, off at 0 (docs/format.md): point and spot lights become spheres
-    // of this radius (soft shadows); reflected rays spread by this roughness (glossy).
-    double light_radius = 0.0;
-    double roughness = 0.0;
-    /// The shading variant (ShadeFeature bits, rt/render/features.h): the features this scene uses.
-    /// The default, every bit, is the generic renderer.
-    uint32_t variant = kShadeAll;
-    /// The lights to iterate; null: all of the scene's (the specialized renderer passes only
-    /// those that can light something).
-    const std::vector<Light>* lights = nullptr;
-    /// The ray queries; null: the scene's own variant (RenderScene::geometry). The generic
-    /// renderer passes geometry_queries(kGeomGeneric).
-    const GeometryQueries* geometry = nullptr;
-};
+struct RenderPlan;
+struct RenderSettings;
 
 /// Rays traced, by kind (for the CLI's rays-per-second figures).
 struct RayCounters {
@@ -51,9 +34,12 @@ Vec3 eval_texture(const TextureImage& tex, const Vec2& uv);
 bool eval_light(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
                 double* distance);
 
-/// The colour seen along a ray of the given depth and path weight. `rng` feeds the stochastic
-/// features; without one (or with them off) the result is the deterministic Whitted colour.
-Vec3 trace_ray(const RenderScene& scene, const Ray& ray, int depth, const Vec3& weight,
-               const ShadingSettings& settings, RayCounters& counters, Rng* rng = nullptr);
+/// The colour seen along a ray of the given depth and path weight, by the plan's shading code
+/// and ray queries over the plan's lights; `settings` gives the cutoff, shadows and progressive
+/// features (those the plan was made with). `rng` feeds the stochastic features; without one (or
+/// with them off) the result is the deterministic Whitted colour.
+Vec3 trace_ray(const RenderScene& scene, const RenderPlan& plan, const RenderSettings& settings,
+               const Ray& ray, int depth, const Vec3& weight, RayCounters& counters,
+               Rng* rng = nullptr);
 
 }  // namespace rt

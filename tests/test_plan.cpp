@@ -1,12 +1,13 @@
-// Leave out what a scene does not need (issue 7): the features are read from values, not syntax,
-// and the specialized renderer gives the generic renderer's image, bit for bit.
+// The render plan: the features are read from values, not syntax, the plan leaves out what the
+// scene does not need, and the specialized renderer gives the generic renderer's image, bit for
+// bit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 
-#include "rt/render/features.h"
+#include "render/variants.h"
 #include "test_util.h"
 
 namespace rt {
@@ -25,6 +26,13 @@ bool has_line(const std::vector<std::string>& lines, const std::string& text) {
     return std::find(lines.begin(), lines.end(), text) != lines.end();
 }
 
+// The --explain lines of a scene's features.
+std::vector<std::string> explain_lines(const SceneFeatures& f) {
+    std::vector<std::string> out;
+    for (const PlanReason& r : explain_features(f)) out.push_back(reason_line(r));
+    return out;
+}
+
 TEST(Features, ReadFromValuesNotSyntax) {
     // A specular colour of zero reflects nothing; a transparent colour of zero lets nothing
     // through; a light of colour zero lights nothing.
@@ -40,10 +48,10 @@ TEST(Features, ReadFromValuesNotSyntax) {
     EXPECT_FALSE(f.textures);
     EXPECT_TRUE(f.shadows);
     EXPECT_FALSE(f.transmissive_shadows);
-    EXPECT_FALSE(f.instancing);
-    EXPECT_EQ(f.prims[static_cast<int>(ShapeKind::Sphere)], 1u);
+    EXPECT_FALSE(f.geometry.instancing);
+    EXPECT_EQ(f.geometry.prims[static_cast<int>(ShapeKind::Sphere)], 1u);
     EXPECT_EQ(f.shade_variant(), static_cast<uint32_t>(kShadeShadows));
-    const auto lines = explain_features(f);
+    const auto lines = explain_lines(f);
     EXPECT_TRUE(has_line(lines, "left out: refraction: no transparent material"));
     EXPECT_TRUE(has_line(lines, "left out: reflection: no material with a specular colour"));
     EXPECT_TRUE(
@@ -59,7 +67,7 @@ TEST(Features, ReadFromValuesNotSyntax) {
         has_line(lines, "left out: triangle tests: no triangles: no triangle set-up per ray"));
     EXPECT_TRUE(has_line(
         lines, "left out: shape dispatch: spheres only: leaves call the sphere test directly"));
-    EXPECT_TRUE(has_line(explain_features(features_of("#light_dir 1 1 1  0 -1 0\n")),
+    EXPECT_TRUE(has_line(explain_lines(features_of("#light_dir 1 1 1  0 -1 0\n")),
                          "left out: ray queries: the scene has no shapes, every ray sees the "
                          "background"));
     for (const std::string& l : lines)
@@ -83,7 +91,7 @@ TEST(Features, OnlyMaterialsThatArePlacedCount) {
     f = features_of(light + kDiffuse + glass + "#shape_sphere 1 0 0 0 1\n", 1);
     EXPECT_FALSE(f.refraction);
     EXPECT_FALSE(f.reflection);
-    EXPECT_TRUE(has_line(explain_features(f), "left out: refraction: recursion depth 1"));
+    EXPECT_TRUE(has_line(explain_lines(f), "left out: refraction: recursion depth 1"));
     // Shadows switched off: no shadow rays, hence no transparent shadows either.
     f = features_of(light + kDiffuse + glass + "#shape_sphere 1 0 0 0 1\n", 5, false);
     EXPECT_FALSE(f.shadows);
@@ -93,7 +101,7 @@ TEST(Features, OnlyMaterialsThatArePlacedCount) {
                     "#shape_sphere 0 0 0 0 1\n");
     EXPECT_EQ(f.dark_lights, 1);
     EXPECT_FALSE(f.shadows);
-    EXPECT_TRUE(has_line(explain_features(f), "left out: shadow rays: no light lights anything"));
+    EXPECT_TRUE(has_line(explain_lines(f), "left out: shadow rays: no light lights anything"));
 }
 
 TEST(Features, TransformsAndScale) {
@@ -101,17 +109,93 @@ TEST(Features, TransformsAndScale) {
     SceneFeatures f = features_of(head +
                                   "#group_begin 2 0 0 0  0 2 0 0  0 0 2 0  0 0 0 1\n"
                                   "#shape_sphere 0 0 0 0 1\n#group_end\n");
-    EXPECT_TRUE(f.transforms);
-    EXPECT_FALSE(f.nonuniform_scale);
+    EXPECT_TRUE(f.geometry.transforms);
+    EXPECT_FALSE(f.geometry.nonuniform_scale);
     f = features_of(head +
                     "#group_begin 1 0 0 0  0 3 0 0  0 0 1 0  0 0 0 1\n"
                     "#shape_sphere 0 0 0 0 1\n#group_end\n");
-    EXPECT_TRUE(f.nonuniform_scale);
+    EXPECT_TRUE(f.geometry.nonuniform_scale);
+}
+
+TEST(Plan, ChoosesTheVariantAndTheLightsThatLight) {
+    const RenderScene scene = test::compile(
+        std::string("#light_point 0 0 0  0 5 0  1 0 0\n#light_dir 1 1 1  0 -1 0\n") +
+        "#light_point 1 1 1  0 5 0  1 0 0\n" + kDiffuse + "#shape_sphere 0 0 0 0 1\n");
+    RenderSettings s;
+    const RenderPlan special = make_render_plan(scene, s);
+    EXPECT_TRUE(special.specialized);
+    ASSERT_EQ(special.lights.size(), 2u);  // the dark point light is left out
+    EXPECT_EQ(special.lights[0].kind, LightKind::Directional);
+    EXPECT_EQ(special.lights[1].color, Vec3(1.0));
+    EXPECT_EQ(special.shading, &shading_variant(kShadeShadows | kShadeAttenuation));
+    EXPECT_EQ(special.geometry, &geometry_queries(read_geometry(scene).variant));
+    EXPECT_NE(special.geometry, &geometry_queries(kGeomGeneric));
+    // Soft shadows draw random samples per light: every light stays, the generic shading runs.
+    s.light_radius = 0.2;
+    const RenderPlan soft = make_render_plan(scene, s);
+    EXPECT_EQ(soft.lights.size(), 3u);
+    EXPECT_EQ(soft.shading->trace, shading_variant(kShadeAll).trace);  // compiled once
+    // --no-specialize: every light, the generic shading and walk; the same reasons.
+    s.light_radius = 0;
+    s.specialize = false;
+    const RenderPlan generic = make_render_plan(scene, s);
+    EXPECT_FALSE(generic.specialized);
+    EXPECT_EQ(generic.lights.size(), 3u);
+    EXPECT_EQ(generic.shading, &shading_variant(kShadeAll));
+    EXPECT_EQ(generic.geometry, &geometry_queries(kGeomGeneric));
+    ASSERT_EQ(generic.reasons.size(), special.reasons.size());
+    for (size_t i = 0; i < generic.reasons.size(); ++i)
+        EXPECT_EQ(reason_line(generic.reasons[i]), reason_line(special.reasons[i]));
+}
+
+TEST(Plan, ReasonsAreDataThatFormatAsExplainLines) {
+    EXPECT_EQ(reason_line({"shadow rays", true, "1 light(s) that light something"}),
+              "kept: shadow rays: 1 light(s) that light something");
+    EXPECT_EQ(reason_line({"reflection", false, "recursion depth 1"}),
+              "left out: reflection: recursion depth 1");
+    const RenderScene scene = test::compile(std::string("#light_dir 1 1 1  0 -1 0\n") + kDiffuse +
+                                            "#shape_sphere 0 0 0 0 1\n");
+    RenderSettings s;
+    s.max_depth = 1;
+    const RenderPlan plan = make_render_plan(scene, s);
+    const auto refl = std::find_if(plan.reasons.begin(), plan.reasons.end(),
+                                   [](const PlanReason& r) { return r.feature == "reflection"; });
+    ASSERT_NE(refl, plan.reasons.end());
+    EXPECT_FALSE(refl->kept);
+    EXPECT_EQ(refl->why, "recursion depth 1");
+    EXPECT_EQ(explain_lines(scene_features(scene, s)).size(), plan.reasons.size());
+}
+
+TEST(Plan, ResolvesTheCameraAndTheFocusDistance) {
+    // No camera in the file: the default camera of spec §6.3 at the settings' aspect ratio.
+    const RenderScene scene = test::compile(std::string("#light_dir 1 1 1  0 -1 0\n") + kDiffuse +
+                                            "#shape_sphere 0 0 0 -5 1\n");
+    ASSERT_FALSE(scene.camera);
+    RenderSettings s;
+    s.width = 100;
+    s.height = 400;
+    const RenderPlan tall = make_render_plan(scene, s);
+    EXPECT_VEC_NEAR(tall.camera.position, default_camera(scene.world_bounds, 100, 400).position,
+                    1e-12);
+    EXPECT_EQ(tall.camera.width, 100);
+    s.width = 640;
+    s.height = 480;
+    const RenderPlan wide = make_render_plan(scene, s);
+    EXPECT_GT(tall.camera.position.z, wide.camera.position.z + 0.5);  // further back when narrow
+    // The focus plane: the scene's centre unless the settings name one.
+    EXPECT_NEAR(wide.focus_distance, wide.camera.position.z + 5.0, 1e-9);
+    s.focus_distance = 3.5;
+    EXPECT_EQ(make_render_plan(scene, s).focus_distance, 3.5);
+    // A camera in the file is compiled once into a pose the plan frames.
+    const RenderScene placed = test::compile(std::string("#camera 1 2 3  0 0 -1  0 1 0  0.5\n") +
+                                             kDiffuse + "#shape_sphere 0 0 0 0 1\n");
+    ASSERT_TRUE(placed.camera);
+    EXPECT_EQ(make_render_plan(placed, s).camera.position, Vec3(1, 2, 3));
 }
 
 // Scenes that switch features on one at a time and all at once: the specialized and the generic
 // renderer give identical images.
-TEST(Features, SpecializedImagesEqualGenericImages) {
+TEST(Plan, SpecializedImagesEqualGenericImages) {
     const std::string shapes =
         "#vertex -2 -0.5 1  0 0 0  0 0\n#vertex 2 -0.5 1  0 0 0  1 0\n"
         "#vertex 0 1 1.5  0 0 0  .5 1\n"
@@ -194,7 +278,7 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
         ASSERT_NO_THROW(scene = test::compile(sc.text)) << sc.text;
         // The walk each of the geometry scenes is there for.
         if (sc.geom != kAnyWalk) {
-            EXPECT_EQ(scene.geometry.variant, sc.geom);
+            EXPECT_EQ(read_geometry(scene).variant, sc.geom);
         }
         for (int variant = 0; variant < 3; ++variant) {
             RenderSettings s;
@@ -205,9 +289,9 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
             s.max_depth = variant == 2 ? 1 : 5;
             RenderState a, b;
             s.specialize = false;
-            render_samples(a, scene, s, 1);
+            test::render_samples(a, scene, s, 1);
             s.specialize = true;
-            render_samples(b, scene, s, 1);
+            test::render_samples(b, scene, s, 1);
             EXPECT_EQ(a.image().rgb, b.image().rgb) << sc.name << ", settings " << variant;
             // Not a blank image (equal blanks would prove nothing), except without shapes.
             const auto [lo, hi] = std::minmax_element(b.sum.begin(), b.sum.end());
@@ -224,9 +308,9 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
             s.centre_first_sample = false;
             RenderState a, b;
             s.specialize = false;
-            render_samples(a, scene, s, 2);
+            test::render_samples(a, scene, s, 2);
             s.specialize = true;
-            render_samples(b, scene, s, 2);
+            test::render_samples(b, scene, s, 2);
             EXPECT_EQ(a.image().rgb, b.image().rgb) << sc.name << ", soft, shadows " << shadows;
         }
         RenderSettings s;
@@ -237,9 +321,9 @@ TEST(Features, SpecializedImagesEqualGenericImages) {
         s.centre_first_sample = false;
         RenderState a, b;
         s.specialize = false;
-        render_samples(a, scene, s, 2);
+        test::render_samples(a, scene, s, 2);
         s.specialize = true;
-        render_samples(b, scene, s, 2);
+        test::render_samples(b, scene, s, 2);
         EXPECT_EQ(a.image().rgb, b.image().rgb) << sc.name << ", stochastic";
     }
 }

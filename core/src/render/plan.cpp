@@ -1,8 +1,10 @@
-#include "rt/render/features.h"
+// make_render_plan(): what the scene uses, the variant that leaves the rest out, and why.
+#include "rt/render/plan.h"
 
 #include <array>
 
 #include "rt/render/render.h"
+#include "variants.h"
 
 namespace rt {
 
@@ -26,14 +28,54 @@ bool scales_unevenly(const Mat4& m) {
     return hi - lo > 1e-12 * hi || shear > 1e-12 * hi * hi;
 }
 
-}  // namespace
-
-std::vector<Light> lighting_lights(const RenderScene& scene) {
-    std::vector<Light> out;
-    for (const Light& l : scene.lights)
-        if (lights_something(l)) out.push_back(l);
-    return out;
+// The geometry variant: what the walk does.
+void explain_geometry(const GeometryFeatures& g, std::vector<PlanReason>& out) {
+    auto line = [&](bool used, const char* feature, const std::string& why_kept,
+                    const std::string& why_left) {
+        out.push_back({feature, used, used ? why_kept : why_left});
+    };
+    if (g.variant == kGeomEmpty) {
+        line(false, "ray queries", "", "the scene has no shapes, every ray sees the background");
+        return;
+    }
+    line((g.variant & kGeomInstancing) != 0, "top-level BVH",
+         g.instancing ? "the scene places several instances"
+                      : "the one instance has a transform: its box culls rays before they are "
+                        "transformed",
+         "one instance: rays walk its BVH directly");
+    line((g.variant & kGeomTransforms) != 0, "transforms", "a group or instance transform",
+         "no group or instance transform: rays are never transformed");
+    line(g.prims[4] > 0, "triangle tests", std::to_string(g.prims[4]) + " triangle(s)",
+         "no triangles: no triangle set-up per ray");
+    const uint32_t layout = (g.variant & kGeomPerSet) >> kGeomLayoutShift;
+    static const char* const kOneKind[][2] = {
+        {"spheres", "sphere"}, {"boxes", "box"}, {"cylinders", "cylinder"}, {"cones", "cone"}};
+    const uint32_t first_one_kind = static_cast<uint32_t>(SetLayout::Spheres);
+    const uint32_t triangles = static_cast<uint32_t>(SetLayout::Triangles);
+    if (layout == triangles) {
+        line(false, "shape dispatch", "",
+             "triangles only: leaves hold packed triangles, four tested at once");
+    } else if (layout >= first_one_kind && layout < triangles) {
+        const auto& kind = kOneKind[layout - first_one_kind];
+        line(false, "shape dispatch", "",
+             std::string(kind[0]) + " only: leaves call the " + kind[1] + " test directly");
+    } else if (layout == kSetLayouts) {
+        line(true, "shape dispatch",
+             "the instanced files differ: each is walked by its own layout (one switch per file "
+             "a ray enters)",
+             "");
+    } else {
+        const size_t analytic = g.prims[0] + g.prims[1] + g.prims[2] + g.prims[3];
+        int kinds = 0;
+        for (int k = 0; k < 4; ++k) kinds += g.prims[k] > 0;
+        line(true, "shape dispatch",
+             std::to_string(analytic) + " analytic shape(s) of " + std::to_string(kinds) +
+                 " kind(s)" + (g.prims[4] > 0 ? " and triangles" : "") + " in one file",
+             "");
+    }
 }
+
+}  // namespace
 
 GeometryFeatures read_geometry(const RenderScene& scene) {
     GeometryFeatures g;
@@ -91,18 +133,8 @@ SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& set
             ++f.dark_lights;
     }
     const bool lit = f.lights[0] + f.lights[1] + f.lights[2] > 0;
-
-    // A scene built by hand, not by compile_scene, has its geometry read here.
-    const bool filled = scene.geometry.material_used.size() == scene.materials.size();
-    const GeometryFeatures read = filled ? GeometryFeatures{} : read_geometry(scene);
-    const GeometryFeatures& g = filled ? scene.geometry : read;
-    for (size_t k = 0; k < 5; ++k) f.prims[k] = g.prims[k];
-    f.sets = scene.sets.size();
-    f.instancing = g.instancing;
-    f.top_level = g.top_level;
-    f.transforms = g.transforms;
-    f.nonuniform_scale = g.nonuniform_scale;
-    f.geom_variant = scene.geometry.variant;  // the walk the scene's queries take
+    f.geometry = read_geometry(scene);
+    const GeometryFeatures& g = f.geometry;
     auto material_used = [&](size_t i) { return g.material_used[i] != 0; };
 
     std::vector<char> texture_used(scene.textures.size(), 0);
@@ -151,21 +183,18 @@ uint32_t SceneFeatures::shade_variant() const {
     return v;
 }
 
-std::vector<std::string> explain_features(const SceneFeatures& f) {
-    std::vector<std::string> out;
+std::vector<PlanReason> explain_features(const SceneFeatures& f) {
+    std::vector<PlanReason> out;
     auto line = [&](bool used, const char* feature, const std::string& why_kept,
                     const std::string& why_left) {
-        std::string s = used ? "kept: " : "left out: ";
-        s += feature;
-        s += ": ";
-        s += used ? why_kept : why_left;
-        out.push_back(std::move(s));
+        out.push_back({feature, used, used ? why_kept : why_left});
     };
+    const GeometryFeatures& g = f.geometry;
     const int lit = f.lights[0] + f.lights[1] + f.lights[2];
     const std::string n_lights = std::to_string(lit);
     if (f.dark_lights > 0)
-        out.push_back("left out: " + std::to_string(f.dark_lights) +
-                      " light(s): colour zero or all attenuation coefficients zero");
+        out.push_back({std::to_string(f.dark_lights) + " light(s)", false,
+                       "colour zero or all attenuation coefficients zero"});
     line(f.lights[1] + f.lights[2] > 0, "light attenuation",
          std::to_string(f.lights[1] + f.lights[2]) + " point or spot light(s)",
          "no point or spot light");
@@ -184,56 +213,55 @@ std::vector<std::string> explain_features(const SceneFeatures& f) {
          lit == 0 ? "no light lights anything" : "no material with a specular colour");
     line(f.textures, "texture lookups", "a textured material", "no material uses a texture");
     if (f.unused_textures > 0)
-        out.push_back("left out: " + std::to_string(f.unused_textures) +
-                      " texture(s): no material uses them");
+        out.push_back(
+            {std::to_string(f.unused_textures) + " texture(s)", false, "no material uses them"});
     line(f.soft_shadows || f.glossy, "random sampling in shading",
          f.soft_shadows ? "soft shadows are on" : "glossy reflection is on",
          "soft shadows and glossy reflection are off");
-    // The geometry variant (RenderScene::geometry): what the walk does.
-    const size_t analytic = f.prims[0] + f.prims[1] + f.prims[2] + f.prims[3];
-    if (f.geom_variant == kGeomEmpty) {
-        out.push_back(
-            "left out: ray queries: the scene has no shapes, every ray sees the background");
-        return out;
-    }
-    const bool generic = f.geom_variant == kGeomGeneric && !f.top_level && !f.transforms;
-    line((f.geom_variant & kGeomInstancing) != 0, "top-level BVH",
-         f.instancing  ? "the scene places several instances"
-         : f.top_level ? "the one instance has a transform: its box culls rays before they are "
-                         "transformed"
-                       : "the generic walk (the scene's geometry was not read by compile_scene)",
-         "one instance: rays walk its BVH directly");
-    line((f.geom_variant & kGeomTransforms) != 0, "transforms",
-         generic ? "the generic walk" : "a group or instance transform",
-         "no group or instance transform: rays are never transformed");
-    line(f.prims[4] > 0, "triangle tests", std::to_string(f.prims[4]) + " triangle(s)",
-         "no triangles: no triangle set-up per ray");
-    const uint32_t layout = (f.geom_variant & kGeomPerSet) >> kGeomLayoutShift;
-    static const char* const kOneKind[][2] = {
-        {"spheres", "sphere"}, {"boxes", "box"}, {"cylinders", "cylinder"}, {"cones", "cone"}};
-    const uint32_t first_one_kind = static_cast<uint32_t>(SetLayout::Spheres);
-    const uint32_t triangles = static_cast<uint32_t>(SetLayout::Triangles);
-    if (layout == triangles) {
-        line(false, "shape dispatch", "",
-             "triangles only: leaves hold packed triangles, four tested at once");
-    } else if (layout >= first_one_kind && layout < triangles) {
-        const auto& kind = kOneKind[layout - first_one_kind];
-        line(false, "shape dispatch", "",
-             std::string(kind[0]) + " only: leaves call the " + kind[1] + " test directly");
-    } else if (layout == kSetLayouts) {
-        line(true, "shape dispatch",
-             "the instanced files differ: each is walked by its own layout (one switch per file "
-             "a ray enters)",
-             "");
-    } else {
-        int kinds = 0;
-        for (int k = 0; k < 4; ++k) kinds += f.prims[k] > 0;
-        line(true, "shape dispatch",
-             std::to_string(analytic) + " analytic shape(s) of " + std::to_string(kinds) +
-                 " kind(s)" + (f.prims[4] > 0 ? " and triangles" : "") + " in one file",
-             "");
-    }
+    explain_geometry(g, out);
     return out;
+}
+
+std::string reason_line(const PlanReason& r) {
+    return (r.kept ? "kept: " : "left out: ") + r.feature + ": " + r.why;
+}
+
+RenderPlan make_render_plan(const RenderScene& scene, const RenderSettings& settings) {
+    RenderPlan plan;
+    plan.camera = make_camera(scene, settings.width, settings.height);
+    plan.focus_distance = settings.focus_distance > 0
+                              ? settings.focus_distance
+                              : glm::length(scene.world_bounds.centre() - plan.camera.position);
+    const SceneFeatures f = scene_features(scene, settings);
+    plan.reasons = explain_features(f);
+    plan.specialized = settings.specialize;
+    const uint32_t shade = settings.specialize ? f.shade_variant() : kShadeAll;
+    plan.shading = &shading_variant(shade);
+    plan.geometry = &geometry_queries(settings.specialize ? f.geometry.variant : kGeomGeneric);
+    // Dark lights are skipped, except where random samples are drawn per light (soft shadows):
+    // skipping one there would shift every later sample, and the images must stay the same.
+    const bool skip_dark = settings.specialize && !(shade & kShadeStochastic);
+    for (const Light& l : scene.lights)
+        if (!skip_dark || lights_something(l)) plan.lights.push_back(l);
+    return plan;
+}
+
+bool intersect(const RenderScene& scene, const RenderPlan& plan, const Ray& ray, Interval t,
+               Hit* hit) {
+    return plan.geometry->intersect(scene, ray, t, hit);
+}
+
+bool occluded(const RenderScene& scene, const RenderPlan& plan, const Ray& ray, double t_max) {
+    return plan.geometry->occluded(scene, ray, t_max);
+}
+
+Vec3 transmittance(const RenderScene& scene, const RenderPlan& plan, const Ray& ray, double t_max) {
+    return plan.geometry->transmittance(scene, ray, t_max);
+}
+
+SurfaceInteraction interaction(const RenderScene& scene, const RenderPlan& plan, const Ray& ray,
+                               const Hit& hit, bool uv) {
+    return plan.geometry->interaction(scene, ray, hit, uv);
 }
 
 }  // namespace rt

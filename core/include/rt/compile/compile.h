@@ -1,0 +1,32 @@
+// Description -> render representation: compile_scene() resolves indices, flattens groups,
+// instances sets and builds the BVHs; what it did and how long the builds took come back beside
+// the scene, not inside it.
+#pragma once
+
+#include <cstddef>
+
+#include "rt/compile/render_scene.h"
+#include "rt/scene/scene_desc.h"
+
+namespace rt {
+
+/// What compile_scene() made of a description.
+struct CompileReport {
+    size_t files = 0;
+    size_t prims_by_kind[5] = {0, 0, 0, 0, 0};  // after instancing
+    size_t unique_prims = 0;                    // before instancing
+    size_t instances = 0;
+    size_t lights = 0, materials = 0, textures = 0;
+    size_t skipped_shapes = 0;  // degenerate shapes the parser skipped
+    double build_seconds = 0;   // BVH builds (included in compile_scene's time)
+};
+
+/// SceneDesc -> RenderScene; `report`, when given, receives the counts and the BVH build time.
+RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr);
+
+/// A light and the camera of the description as the renderer uses them (directions made unit
+/// for lights).
+Light compile_light(const LightDesc& desc);
+CameraPose compile_camera(const CameraDesc& desc);
+
+}  // namespace rt

@@ -1,0 +1,117 @@
+// The variants of "leave out what a scene does not need" (private to the core): the switches
+// of the shading code (shading.cpp) and of the ray queries (intersect.cpp), and what a scene
+// uses, read from its values. make_render_plan() (plan.cpp) is the one place that chooses a
+// variant; everything else reads the choice from the RenderPlan.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rt/accel/intersect.h"
+#include "rt/compile/render_scene.h"
+#include "rt/render/plan.h"
+#include "rt/render/shading.h"
+
+namespace rt {
+
+/// The shading variant's switches: one compiled instance of the shading code per combination
+/// (shading.cpp), each with the code of the features it lacks removed at compile time.
+enum ShadeFeature : uint32_t {
+    kShadeShadows = 1u << 0,              // shadow rays at all
+    kShadeTransmissiveShadows = 1u << 1,  // shadow rays multiply every crossing's T (else: any hit)
+    kShadeReflection = 1u << 2,           // mirror rays (some K_S != 0, depth > 1)
+    kShadeRefraction = 1u << 3,           // refracted rays (some T != 0, depth > 1)
+    kShadeTextures = 1u << 4,             // texture lookups
+    kShadeHighlights = 1u << 5,           // the Phong highlight term (some K_S != 0)
+    kShadeSpot = 1u << 6,                 // spot cut-off and drop-off
+    kShadeAttenuation = 1u << 7,          // point or spot lights (distance and attenuation)
+    kShadeStochastic = 1u << 8,           // soft shadows or glossy reflection (random samples)
+    kShadeAll = (1u << 9) - 1,
+};
+
+/// The geometry variant's switches (one compiled walk per combination, intersect.cpp): bit 0 the
+/// top-level walk over instances, bit 1 shape and instance transforms, bits 2..4 the SetLayout
+/// every set shares, or kGeomPerSet when the sets differ (each set's walk is then picked per set).
+enum GeomFeature : uint32_t {
+    kGeomInstancing = 1u << 0,
+    kGeomTransforms = 1u << 1,
+    kGeomLayoutShift = 2,
+    kGeomPerSet = 7u << kGeomLayoutShift,
+    /// The generic walk: the top-level BVH, transforms, and every primitive dispatched on its
+    /// kind (Mixed), whatever the scene holds.
+    kGeomGeneric = kGeomInstancing | kGeomTransforms,
+    kGeomVariants = 32,
+    /// A scene without shapes: every query answers at once (no walk at all).
+    kGeomEmpty = kGeomVariants,
+};
+inline constexpr uint32_t geom_layout_bits(SetLayout l) {
+    return static_cast<uint32_t>(l) << kGeomLayoutShift;
+}
+
+/// The ray queries of one geometry variant and the surface description at their hits, with the
+/// code of what the variant lacks left out: the top-level walk, transforms, the dispatch on shape
+/// kinds, the triangle set-up. kGeomGeneric serves any scene; a specialized variant only the
+/// scenes it was read from.
+struct GeometryQueries {
+    bool (*intersect)(const RenderScene&, const Ray&, Interval, Hit*);
+    bool (*occluded)(const RenderScene&, const Ray&, double);
+    Vec3 (*transmittance)(const RenderScene&, const Ray&, double);
+    SurfaceInteraction (*interaction)(const RenderScene&, const Ray&, const Hit&, bool uv);
+};
+/// The queries of a GeomFeature combination (intersect.cpp).
+const GeometryQueries& geometry_queries(uint32_t geom_variant);
+
+/// The shading code of one ShadeFeature combination (shading.cpp).
+struct ShadingVariant {
+    Vec3 (*trace)(const RenderScene&, const RenderPlan&, const RenderSettings&, const Ray&,
+                  int depth, const Vec3& weight, RayCounters&, Rng*);
+};
+const ShadingVariant& shading_variant(uint32_t shade_variant);
+
+/// What the geometry holds and the walk that fits it.
+struct GeometryFeatures {
+    size_t prims[5] = {0, 0, 0, 0, 0};  // by ShapeKind, after instancing
+    bool instancing = false;            // more than one instance
+    bool top_level = false;             // rays walk the top-level BVH (several instances or a
+                                        // transformed one)
+    bool transforms = false;            // an instance or shape transform that is not the identity
+    bool nonuniform_scale = false;      // one that scales unevenly (normals need (A^-1)^T)
+    std::vector<char> material_used;    // per material: some placed primitive uses it
+    uint32_t variant = kGeomGeneric;    // GeomFeature bits of the walk that fits
+};
+
+/// What a scene uses with the given settings, read from its values and not only from its syntax
+/// (a material with zero specular colour reflects nothing; a light of colour zero lights nothing).
+struct SceneFeatures {
+    GeometryFeatures geometry;
+    // Lights that can light something (colour not zero, some attenuation coefficient not zero),
+    // by kind: directional, point, spot (the LightKind order).
+    int lights[3] = {0, 0, 0};
+    int dark_lights = 0;                // lights that light nothing, left out
+    bool shadows = false;               // shadow rays: the setting on and a light that lights
+    bool transmissive_shadows = false;  // a used material lets light through
+    bool reflection = false;            // a used material reflects and the depth allows it
+    bool refraction = false;            // a used material transmits and the depth allows it
+    bool highlights = false;            // a used material has a specular colour
+    bool textures = false;              // a used material is textured
+    bool emissive = false;              // a used material emits
+    bool ambient = false;               // ambient light and a used ambient colour
+    size_t unused_textures = 0;
+    bool soft_shadows = false, depth_of_field = false, glossy = false;  // progressive features
+    int max_depth = 1;
+
+    /// The ShadeFeature bits of the variant that renders this scene.
+    uint32_t shade_variant() const;
+};
+
+/// Reads what the scene's geometry holds (one pass over the placed sets' primitives).
+GeometryFeatures read_geometry(const RenderScene& scene);
+
+/// Reads what the scene uses: its geometry, the lights, the used materials and the settings.
+/// Materials count only when some instanced primitive uses them.
+SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& settings);
+
+/// Why each feature is kept or left out (the RenderPlan's reasons).
+std::vector<PlanReason> explain_features(const SceneFeatures& f);
+
+}  // namespace rt
