@@ -11,6 +11,8 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <iterator>
+#include <numeric>
 #include <random>
 #include <string>
 #include <thread>
@@ -442,8 +444,8 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
         "\n%s: %zu triangles, %zu primitives after instancing; %zu primary, %zu shadow, "
         "%zu random rays\n",
         w.name.c_str(), w.triangles,
-        w.report.prims_by_kind[0] + w.report.prims_by_kind[1] + w.report.prims_by_kind[2] +
-            w.report.prims_by_kind[3] + w.report.prims_by_kind[4],
+        std::accumulate(std::begin(w.report.prims_by_kind), std::end(w.report.prims_by_kind),
+                        size_t{0}),
         primary.rays.size(), shadow.rays.size(), random.rays.size());
 
     const double ours_build = [&] {

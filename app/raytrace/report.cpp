@@ -216,9 +216,9 @@ void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
     std::printf("scene     %s (%s, %zu file%s)\n", opt.scene.c_str(),
                 rt::dialect_name(desc.dialect), st.files, st.files == 1 ? "" : "s");
     std::printf("shapes   ");
-    for (int k = 0; k < 5; ++k)
+    for (int k = 0; k < rt::kShapeKinds; ++k)
         std::printf(" %s %zu%s", rt::shape_kind_name(static_cast<rt::ShapeKind>(k)),
-                    st.prims_by_kind[k], k < 4 ? "," : "");
+                    st.prims_by_kind[k], k + 1 < rt::kShapeKinds ? "," : "");
     std::printf("  (after instancing; %zu unique; %zu degenerate skipped)\n", st.unique_prims,
                 st.skipped_shapes);
     std::printf("triangles %zu, lights %zu, materials %zu, textures %zu, instances %zu\n",

@@ -45,7 +45,8 @@ void explain_geometry(const GeometryFeatures& g, std::vector<PlanReason>& out) {
          "one instance: rays walk its BVH directly");
     line((g.variant & kGeomTransforms) != 0, "transforms", "a group or instance transform",
          "no group or instance transform: rays are never transformed");
-    line(g.prims[4] > 0, "triangle tests", std::to_string(g.prims[4]) + " triangle(s)",
+    const size_t n_triangles = g.prims[static_cast<int>(ShapeKind::Triangle)];
+    line(n_triangles > 0, "triangle tests", std::to_string(n_triangles) + " triangle(s)",
          "no triangles: no triangle set-up per ray");
     const uint32_t layout = (g.variant & kGeomPerSet) >> kGeomLayoutShift;
     static const char* const kOneKind[][2] = {
@@ -65,12 +66,17 @@ void explain_geometry(const GeometryFeatures& g, std::vector<PlanReason>& out) {
              "a ray enters)",
              "");
     } else {
-        const size_t analytic = g.prims[0] + g.prims[1] + g.prims[2] + g.prims[3];
+        const int tri = static_cast<int>(ShapeKind::Triangle);
+        size_t analytic = 0;
         int kinds = 0;
-        for (int k = 0; k < 4; ++k) kinds += g.prims[k] > 0;
+        for (int k = 0; k < kShapeKinds; ++k) {
+            if (k == tri) continue;
+            analytic += g.prims[k];
+            kinds += g.prims[k] > 0;
+        }
         line(true, "shape dispatch",
              std::to_string(analytic) + " analytic shape(s) of " + std::to_string(kinds) +
-                 " kind(s)" + (g.prims[4] > 0 ? " and triangles" : "") + " in one file",
+                 " kind(s)" + (g.prims[tri] > 0 ? " and triangles" : "") + " in one file",
              "");
     }
 }

@@ -70,14 +70,14 @@ const ShadingVariant& shading_variant(uint32_t shade_variant);
 
 /// What the geometry holds and the walk that fits it.
 struct GeometryFeatures {
-    size_t prims[5] = {0, 0, 0, 0, 0};  // by ShapeKind, after instancing
-    bool instancing = false;            // more than one instance
-    bool top_level = false;             // rays walk the top-level BVH (several instances or a
-                                        // transformed one)
-    bool transforms = false;            // an instance or shape transform that is not the identity
-    bool nonuniform_scale = false;      // one that scales unevenly (normals need (A^-1)^T)
-    std::vector<char> material_used;    // per material: some placed primitive uses it
-    uint32_t variant = kGeomGeneric;    // GeomFeature bits of the walk that fits
+    size_t prims[kShapeKinds] = {};   // by ShapeKind, after instancing
+    bool instancing = false;          // more than one instance
+    bool top_level = false;           // rays walk the top-level BVH (several instances or a
+                                      // transformed one)
+    bool transforms = false;          // an instance or shape transform that is not the identity
+    bool nonuniform_scale = false;    // one that scales unevenly (normals need (A^-1)^T)
+    std::vector<char> material_used;  // per material: some placed primitive uses it
+    uint32_t variant = kGeomGeneric;  // GeomFeature bits of the walk that fits
 };
 
 /// What a scene uses with the given settings, read from its values and not only from its syntax

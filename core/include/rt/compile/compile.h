@@ -13,8 +13,8 @@ namespace rt {
 /// What compile_scene() made of a description.
 struct CompileReport {
     size_t files = 0;
-    size_t prims_by_kind[5] = {0, 0, 0, 0, 0};  // after instancing
-    size_t unique_prims = 0;                    // before instancing
+    size_t prims_by_kind[kShapeKinds] = {};  // after instancing
+    size_t unique_prims = 0;                 // before instancing
     size_t instances = 0;
     size_t lights = 0, materials = 0, textures = 0;
     size_t skipped_shapes = 0;  // degenerate shapes the parser skipped

@@ -12,9 +12,9 @@
 #include "rt/accel/bvh.h"
 #include "rt/accel/triangle4.h"
 #include "rt/image/image.h"
-#include "rt/scene/scene_desc.h"
 #include "rt/shapes/shapes.h"
 #include "rt/util/error.h"
+#include "rt/util/light_kind.h"
 
 namespace rt {
 

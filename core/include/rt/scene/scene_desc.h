@@ -12,6 +12,7 @@
 #include "rt/image/image.h"
 #include "rt/shapes/shapes.h"
 #include "rt/util/error.h"
+#include "rt/util/light_kind.h"
 #include "rt/util/math.h"
 
 namespace rt {
@@ -30,8 +31,6 @@ struct CameraDesc {
     Vec3 up{0.0, 1.0, 0.0};
     double half_height_angle_rad = kPi / 6;  // spec §3.1: ha is the half-height angle
 };
-
-enum class LightKind { Directional, Point, Spot };
 
 struct LightDesc {
     SourceLoc loc;
