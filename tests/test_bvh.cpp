@@ -7,7 +7,6 @@
 
 #include "render/variants.h"
 #include "rt/accel/intersect.h"
-#include "rt/scene/mesh_gen.h"
 #include "test_util.h"
 
 namespace rt {
@@ -293,49 +292,6 @@ TEST(Bvh, TinyDirectionComponentsDriftIntoBoxes) {
     ASSERT_TRUE(intersect(scene, flat, {0, kInf}, &h));
     ASSERT_TRUE(intersect_brute_force(scene, flat, {0, kInf}, &hb));
     EXPECT_EQ(h.t, hb.t);
-}
-
-// Triangles are tested in single precision: a ray spawned at a hit must clear the float
-// rounding of the triangle and of its own origin (this caught shadow acne on meshes).
-TEST(Intersect, SpawnedRaysNeverHitTheirOwnTriangle) {
-    const TriangleMesh mesh = make_blob_mesh(20000);
-    std::string defs = "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n", tris;
-    for (const Vec3& p : mesh.positions)
-        defs += "#vertex " + std::to_string(p.x) + " " + std::to_string(p.y) + " " +
-                std::to_string(p.z) + " 0 0 0 0 0\n";
-    for (const auto& t : mesh.triangles)
-        tris += "#shape_triangle 0 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " +
-                std::to_string(t[2]) + "\n";
-    // Far from the origin too, where the float rounding of ray origins is large.
-    for (const double offset : {0.0, 1e4}) {
-        const RenderScene scene =
-            test::compile(defs + "#group_begin 1 0 0 " + std::to_string(offset) +
-                          " 0 1 0 0 0 0 1 0 0 0 0 1\n" + tris + "#group_end\n");
-        std::mt19937 rng(9);
-        std::uniform_real_distribution<double> u(-1, 1);
-        int spawned = 0;
-        for (int i = 0; i < 20000; ++i) {
-            const Vec3 target = Vec3(offset, 0, 0) + 0.8 * Vec3(u(rng), u(rng), u(rng));
-            const Vec3 origin =
-                Vec3(offset, 0, 0) + 4.0 * glm::normalize(Vec3(u(rng), u(rng), u(rng)));
-            const Ray r{origin, glm::normalize(target - origin)};
-            Hit h;
-            if (!intersect(scene, r, {0, kInf}, &h)) continue;
-            const SurfaceInteraction si = interaction(scene, r, h);
-            // A random direction on the side the ray came from.
-            const Vec3 n = glm::dot(r.d, si.n_geometric) < 0 ? si.n_geometric : -si.n_geometric;
-            Vec3 d(u(rng), u(rng), u(rng));
-            if (glm::dot(d, n) < 0) d = -d;
-            if (glm::dot(d, n) < 1e-3) continue;
-            Hit again;
-            const Ray s = spawn_ray(si, d);
-            if (intersect(scene, s, {0, kInf}, &again)) {
-                EXPECT_NE(again.prim, h.prim) << i;
-            }
-            ++spawned;
-        }
-        EXPECT_GT(spawned, 10000);
-    }
 }
 
 TEST(Bvh, GeometricChainOfSizesKeepsTheTreeShallow) {

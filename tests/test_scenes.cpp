@@ -1,15 +1,18 @@
 // Whole scenes: every scene of scenes/ and every complete public scene renders without error
 // and with no NaN or Inf; the public scenes that are malformed as published fail with a
-// file:line:col message and never crash.
+// file:line:col message and never crash; degenerate input still renders finite images.
 #include <filesystem>
 #include <set>
 
+#include "extreme_util.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
 
 namespace rt {
 namespace {
+
+using namespace test;  // the helpers of extreme_util.h
 
 Image render_file(const fs::path& path, Diagnostics& diag, int w = 160, int h = 120) {
     const RenderScene s = compile_scene(parse_scene_file(path.string(), diag));
@@ -105,6 +108,108 @@ TEST(PublicScenes, MalformedScenesFailAsTheSpecSays) {
         } catch (const SceneError& e) {
             EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
         }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Degenerate input: every image finite, every render finished.
+
+bool all_finite(const Image& img) {
+    for (const double v : img.rgb)
+        if (!std::isfinite(v)) return false;
+    return true;
+}
+
+TEST(Scenes, DegenerateInputRendersFiniteImages) {
+    const std::string camera = "#camera 0 0.5 6  0 -0.08 -1  0 1 0  0.5\n";
+    const std::string light = "#light_point 1 1 1  2 3 4  1 0 0\n";
+    auto v1 = [](const std::string& spec, const std::string& n, const std::string& tr,
+                 const std::string& ior) {
+        std::string s = "#material 0 0 0  0.1 0.1 0.1  0.7 0.6 0.5  ";
+        s += spec + "  " + n + "  " + tr + "  " + ior + " -1 !!\n";
+        return s;
+    };
+    const std::string plain = v1("0.3 0.3 0.3", "20", "0 0 0", "1");
+    const std::string body = "#shape_sphere 0 0 0.5 0 1\n#shape_box 0 0 -1 0 8 0.2 8\n";
+    struct Case {
+        const char* name;
+        std::string text;
+        int depth;
+    };
+    const Case cases[] = {
+        {"zero-area and repeated-vertex triangles",
+         camera + light + plain +
+             "#vertex 0 0 0 0 0 0 0 0\n#vertex 1 1 1 0 0 0 1 0\n#vertex 2 2 2 0 0 0 0 1\n"
+             "#vertex 1e-9 0 0 0 0 0 0 0\n#vertex 0 1 0 0 0 0 0 0\n"
+             "#shape_triangle 0 0 1 2\n#shape_triangle 0 0 0 1\n#shape_triangle 0 0 3 4\n" +
+             body,
+         5},
+        {"group scaled by 1e-6 on one axis",
+         camera + light + plain + "#group_begin 1 0 0 0  0 1e-6 0 0  0 0 1 0  0 0 0 1\n" + body +
+             "#shape_cylinder 0 0 0 0 1 2\n#shape_cone 0 1 0 0 1 2\n#group_end\n" + body,
+         5},
+        {"rotated group scaled by 1e-6",
+         camera + light + plain +
+             "#group_begin 0.6 -0.8e-6 0 0.1  0.8 0.6e-6 0 0.2  0 0 1 0  0 0 0 1\n" + body +
+             "#group_end\n",
+         5},
+        {"light inside a sphere and a box",
+         camera +
+             "#light_point 1 1 1  0 0.5 0  1 0 0\n#light_spot 1 1 1  0 -1 0  0 -1 0  1 0 0  "
+             "0.5 1\n" +
+             plain + body,
+         5},
+        {"attenuation all zero", camera + "#light_point 1 1 1  2 3 4  0 0 0\n" + plain + body, 5},
+        {"spot exponent 1e6",
+         camera + "#light_spot 1 1 1  0 3 0  0 -1 0  1 0 0  1.5 1e6\n" + plain + body, 5},
+        {"specular exponent 0", camera + light + v1("1 1 1", "0", "0 0 0", "1") + body, 5},
+        {"specular exponent 1e4", camera + light + v1("1 1 1", "1e4", "0 0 0", "1") + body, 5},
+        {"refraction index 1", camera + light + v1("0.1 0.1 0.1", "20", "0.9 0.9 0.9", "1") + body,
+         8},
+        {"refraction index 1e-3",
+         camera + light + v1("0.1 0.1 0.1", "20", "0.9 0.9 0.9", "1e-3") + body, 8},
+        {"refraction index 10",
+         camera + light + v1("0.1 0.1 0.1", "20", "0.9 0.9 0.9", "10") + body, 8},
+        {"mirror box, depth 0",
+         "#camera 0 0 0  0 0.1 -1  0 1 0  0.6\n" + light +
+             "#light_point 1 1 1  0.3 0.2 0.1  1 0 0\n" + v1("1 1 1", "50", "0 0 0", "1") +
+             "#shape_box 0 0 0 0 4 3 5\n#shape_sphere 0 0.5 -0.3 -1 0.4\n",
+         0},
+        {"mirror box, depth 100",
+         "#camera 0 0 0  0 0.1 -1  0 1 0  0.6\n" +
+             std::string("#light_point 1 1 1  0.3 0.2 0.1  1 0 0\n") +
+             v1("1 1 1", "50", "0 0 0", "1") +
+             "#shape_box 0 0 0 0 4 3 5\n#shape_sphere 0 0.5 -0.3 -1 0.4\n",
+         100},
+    };
+    for (const Case& c : cases) {
+        const RenderScene scene = test::compile(c.text);
+        RenderSettings s;
+        s.width = s.height = 32;
+        s.max_depth = c.depth;
+        s.cutoff = 0.0;  // depth alone bounds the recursion
+        s.threads = 1;
+        RenderState state;
+        ASSERT_TRUE(render_samples(state, scene, make_render_plan(scene, s), s, 1)) << c.name;
+        const Image img = state.image();
+        double sum = 0;
+        for (const double v : img.rgb) sum += v;
+        std::printf("[ degenerate ] %-40s finite %d, mean %.4g, %llu rays\n", c.name,
+                    all_finite(img), sum / static_cast<double>(img.rgb.size()),
+                    static_cast<unsigned long long>(state.rays.total()));
+        EXPECT_TRUE(all_finite(img)) << c.name;
+        EXPECT_EQ(img.width, 32);
+    }
+    // Zero-length directions are parse errors (spec §3.1: d != 0), reported clearly.
+    const std::string errors[][2] = {
+        {"#camera 0 0 5  0 0 0  0 1 0  0.5\n", "camera view direction is zero"},
+        {"#light_dir 1 1 1  0 0 0\n", "light direction is zero"},
+        {"#light_spot 1 1 1  0 3 0  0 0 0  1 0 0  0.5 1\n", "spot light direction is zero"},
+    };
+    for (const auto& e : errors) {
+        const std::string msg = test::parse_error(e[0] + plain + body);
+        EXPECT_NE(msg.find("test.ray:1:"), std::string::npos) << msg;
+        EXPECT_NE(msg.find(e[1]), std::string::npos) << msg;
     }
 }
 

@@ -1,8 +1,6 @@
-// Extreme cases (issue 6): shadow acne against scene scale, tiny/huge/far spheres against a
-// long-double oracle, re-intersection of spawned rays under extreme non-uniform scale, watertight
-// meshes, grazing and tangent rays, and degenerate input that must still render finite images.
-// Geometry is generated in code; every test counts failures and asserts the exact count (zero
-// unless stated).
+// Each shape's intersection at the extremes, against long-double oracles: tiny, huge and far
+// spheres, a far mesh, grazing and tangent rays on every kind, rays through cylinder rims and
+// cone apexes, and axis-parallel rays on a box's slab planes.
 //
 // Tangent convention (what "agrees with the oracle" means): surfaces are closed sets. A ray whose
 // exact (long-double) distance to a surface is zero -- a tangent ray, a ray through a cylinder's
@@ -12,166 +10,15 @@
 // double rounding either answer is accepted, but never NaN. A tangent ray is reported as one hit
 // (the double root once). A ray lying in a triangle's plane does not hit it (zero projected area:
 // the determinant of Woop, Benthin and Wald's test is zero).
-#include <array>
-#include <cstdio>
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/quaternion.hpp>
-#include <random>
-
-#include "rt/accel/intersect.h"
-#include "test_util.h"
+#include "extreme_util.h"
 
 namespace rt {
 namespace {
 
+using namespace test;  // the helpers of extreme_util.h
 using LD = long double;
-constexpr double kBand = 1e-9;
 
-std::string num(double v) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
-}
-std::string vec(const Vec3& v) {
-    std::string s = num(v.x);
-    s += ' ';
-    s += num(v.y);
-    s += ' ';
-    s += num(v.z);
-    return s;
-}
-std::string group_begin(const Mat4& m) {
-    std::string s = "#group_begin";
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) {
-            s += ' ';
-            s += num(m[c][r]);
-        }
-    s += '\n';
-    return s;
-}
-// V1 materials: opaque grey, and half transparent (transmittance counts crossings: 0.5^k).
-const char* kOpaque = "#material 0 0 0  0.2 0.2 0.2  0.8 0.8 0.8  0 0 0  10  0 0 0  1 -1 !!\n";
-const char* kHalf = "#material 0 0 0  0 0 0  1 1 1  0 0 0  1  0.5 0.5 0.5  1 -1 !!\n";
-
-std::string vertex(const Vec3& p) {
-    std::string s = "#vertex ";
-    s += vec(p);
-    s += " 0 0 0 0 0\n";
-    return s;
-}
-std::string triangle(int a, int b, int c, int m = 0) {
-    std::string s = "#shape_triangle ";
-    s += std::to_string(m);
-    s += ' ';
-    s += std::to_string(a);
-    s += ' ';
-    s += std::to_string(b);
-    s += ' ';
-    s += std::to_string(c);
-    s += '\n';
-    return s;
-}
-
-Vec3 random_unit(std::mt19937& rng) {
-    std::normal_distribution<double> g;
-    for (;;) {
-        const Vec3 v(g(rng), g(rng), g(rng));
-        const double l = glm::length(v);
-        if (l > 1e-6) return v / l;
-    }
-}
-// A random unit direction with dot(d, n) >= min_cos (n unit).
-Vec3 random_in_hemisphere(std::mt19937& rng, const Vec3& n, double min_cos) {
-    for (;;) {
-        Vec3 d = random_unit(rng);
-        if (glm::dot(d, n) < 0) d = -d;
-        if (glm::dot(d, n) >= min_cos) return d;
-    }
-}
-Mat4 random_rotation(std::mt19937& rng) {
-    std::normal_distribution<double> g;
-    glm::dquat q(g(rng), g(rng), g(rng), g(rng));
-    return Mat4(glm::mat3_cast(glm::normalize(q)));
-}
-
-// ---------------------------------------------------------------------------------------------
-// Shadow acne against scale.
-
-struct AcneCount {
-    int plane_hits = 0, wrong = 0, wrong_fixed_eps = 0;
-};
-
-// A plane (a box top or two triangles) through `c`, tilted (an axis-aligned float plane shares
-// the float grid of the ray origins, which hides the rounding), seen from 8.5 units away and lit
-// by a point light about 5 degrees over it. Nothing can shadow the plane, so any occluded shadow
-// ray is acne. The shadow ray is built as shading does (offset_origin, segment to the light); the
-// witness offsets by a fixed 1e-4 along the normal instead.
-AcneCount count_acne(const Vec3& c, bool triangles) {
-    const Mat4 tilt = glm::rotate(glm::rotate(Mat4(1.0), 0.3, Vec3(1, 0, 0)), 0.2, Vec3(0, 0, 1));
-    Mat4 m = tilt;
-    m[3] = glm::dvec4(c, 1);
-    auto world = [&](const Vec3& p) { return Vec3(m * glm::dvec4(p, 1)); };
-    std::string text = kOpaque;
-    if (triangles) {
-        const double h = 10;
-        text += vertex(world({-h, 0, -h})) + vertex(world({h, 0, -h})) + vertex(world({h, 0, h})) +
-                vertex(world({-h, 0, h}));
-        // Far away, a small triangle at the origin as well (out of the light's way): the scene
-        // spans the whole distance, so the float copy of the triangles (relative to the centre
-        // of their bounds) rounds at the scale of c, as a big world's would.
-        const bool far = glm::length(c) > 100;
-        if (far) text += vertex({0, 0, 0}) + vertex({1, 0, 0}) + vertex({0, 1, 0});
-        text += triangle(0, 2, 1) + triangle(0, 3, 2);
-        if (far) text += triangle(4, 5, 6);
-    } else {
-        text += group_begin(m) + "#shape_box 0 0 -0.5 0 20 1 20\n#group_end\n";
-    }
-    const RenderScene scene = test::compile(text);
-    const Vec3 eye = world({0, 3, 8}), light = world({30, 3, -10});
-    AcneCount n;
-    const int res = 64;
-    for (int j = 0; j < res; ++j)
-        for (int i = 0; i < res; ++i) {
-            const Vec3 target =
-                world({-6 + 12.0 * (i + 0.5) / res, 0, -6 + 12.0 * (j + 0.5) / res});
-            const Ray r{eye, glm::normalize(target - eye)};
-            Hit hit;
-            if (!intersect(scene, r, {0, kInf}, &hit)) continue;
-            ++n.plane_hits;
-            const SurfaceInteraction si = interaction(scene, r, hit);
-            const Vec3 l = glm::normalize(light - si.p);
-            const Vec3 o = offset_origin(si, l);
-            if (transmittance(scene, {o, light - o}, 1.0) != Vec3(1.0)) ++n.wrong;
-            const Vec3 n_l = glm::dot(si.n_geometric, l) > 0 ? si.n_geometric : -si.n_geometric;
-            const Vec3 o_fixed = si.p + 1e-4 * n_l;
-            if (transmittance(scene, {o_fixed, light - o_fixed}, 1.0) != Vec3(1.0))
-                ++n.wrong_fixed_eps;
-        }
-    return n;
-}
-
-TEST(Extreme, NoShadowAcneAtAnyScaleWhileAFixedEpsilonFailsFarAway) {
-    const Vec3 dir = glm::normalize(Vec3(1, 1, 1));
-    for (const double dist : {1.0, 1e3, 1e5}) {
-        // Not representable in float: the float triangles sit off the double plane.
-        const Vec3 c = dist * dir + Vec3(0.1234567, 0.0765432, -0.0456789);
-        for (const bool tris : {false, true}) {
-            const AcneCount n = count_acne(c, tris);
-            SCOPED_TRACE(std::string(tris ? "triangles" : "box") + " at " + num(dist));
-            std::printf(
-                "[ acne ] %-9s at %-6g: %d plane pixels, %d wrongly shadowed, %d with a "
-                "fixed 1e-4 offset\n",
-                tris ? "triangles" : "box", dist, n.plane_hits, n.wrong, n.wrong_fixed_eps);
-            EXPECT_EQ(n.plane_hits, 64 * 64);
-            EXPECT_EQ(n.wrong, 0);
-            // The witness: at 1e5 a fixed epsilon is below the float rounding of the triangles.
-            if (tris && dist == 1e5) {
-                EXPECT_GT(n.wrong_fixed_eps, 64 * 64 / 10);
-            }
-        }
-    }
-}
+constexpr double kBand = 1e-9;  // the band of double rounding of the convention above
 
 // ---------------------------------------------------------------------------------------------
 // Tiny, huge and far spheres against a long-double oracle.
@@ -243,7 +90,7 @@ SphereStats check_sphere(const Vec3& centre, double radius, const Vec3& eye, int
 // A small mesh far from the origin: its float copy is relative to the centre of its bounds, so
 // hit distances resolve the mesh, not its distance from the origin (stored absolutely, a mesh at
 // 1e4 snaps to a float grid of 1e-3: relative distance errors of 1e-3 seen from 1 unit away).
-TEST(Extreme, FarMeshHitDistancesResolveTheMesh) {
+TEST(ShapesRobust, FarMeshHitDistancesResolveTheMesh) {
     for (const double dist : {1e4, 1e6}) {
         const Vec3 c = dist * glm::normalize(Vec3(1, 0.7, 0.4)) + Vec3(0.123456789, 0, 0);
         std::string text = kOpaque;
@@ -274,7 +121,7 @@ TEST(Extreme, FarMeshHitDistancesResolveTheMesh) {
     }
 }
 
-TEST(Extreme, TinyHugeAndFarSpheresMatchALongDoubleOracle) {
+TEST(ShapesRobust, TinyHugeAndFarSpheresMatchALongDoubleOracle) {
     struct Case {
         const char* name;
         Vec3 centre;
@@ -300,199 +147,6 @@ TEST(Extreme, TinyHugeAndFarSpheresMatchALongDoubleOracle) {
         EXPECT_GT(s.hits, s.rays / 4);
         EXPECT_LE(s.max_rel, 1e-5);
     }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Re-intersection under extreme non-uniform scale, through the group (transform) path.
-
-std::string shape_text(ShapeKind k) {
-    switch (k) {
-        case ShapeKind::Sphere:
-            return "#shape_sphere 0 0.1 -0.2 0.3 1\n";
-        case ShapeKind::Box:
-            return "#shape_box 0 0.1 -0.2 0.3 2 1 1.5\n";
-        case ShapeKind::Cylinder:
-            return "#shape_cylinder 0 0.1 -0.2 0.3 1 2\n";
-        case ShapeKind::Cone:
-            return "#shape_cone 0 0.1 -0.2 0.3 1 2\n";
-        case ShapeKind::Triangle:
-            return triangle(0, 1, 2);
-    }
-    return "";
-}
-
-TEST(Extreme, SpawnedRaysNeverReHitAndInwardRaysHitTheFarSideOnceUnderExtremeScale) {
-    std::mt19937 rng(61);
-    std::uniform_real_distribution<double> uni(-1, 1), expo(-4, 4);
-    const ShapeKind kinds[] = {ShapeKind::Sphere, ShapeKind::Box, ShapeKind::Cylinder,
-                               ShapeKind::Cone, ShapeKind::Triangle};
-    const int kTransforms = 400, kRays = 100;
-    for (const ShapeKind kind : kinds) {
-        int hits = 0, outward = 0, rehit = 0, inward = 0, not_once = 0, wrong_side = 0;
-        for (int k = 0; k < kTransforms; ++k) {
-            const Vec3 scale(std::pow(10.0, expo(rng)), std::pow(10.0, expo(rng)),
-                             std::pow(10.0, expo(rng)));
-            Mat4 m = glm::scale(Mat4(1.0), scale);
-            if (k % 2) m = random_rotation(rng) * m;  // half of them rotated as well
-            m[3] = glm::dvec4(100 * uni(rng), 100 * uni(rng), 100 * uni(rng), 1);
-            std::string text = kHalf;
-            text += vertex({-1, -1, 0.1}) + vertex({1, -0.9, -0.1}) + vertex({0.1, 1, 0.3});
-            text += group_begin(m) + shape_text(kind) + "#group_end\n";
-            const RenderScene scene = test::compile(text);
-            const Vec3 lo = scene.world_bounds.lo, hi = scene.world_bounds.hi;
-            const double size = glm::length(hi - lo);
-            for (int i = 0; i < kRays; ++i) {
-                // Aim at the image of a random point inside the shape's local frame.
-                const Vec3 local(0.4 * uni(rng), 0.4 * uni(rng), 0.1 * uni(rng));
-                const Vec3 target = Vec3(m * glm::dvec4(local + Vec3(0.1, -0.2, 0.3), 1));
-                const Vec3 d = random_unit(rng);
-                const Ray r{target - 2 * size * d, d};
-                Hit h;
-                if (!intersect(scene, r, {0, kInf}, &h)) continue;
-                ++hits;
-                const SurfaceInteraction si = interaction(scene, r, h);
-                ASSERT_TRUE(is_finite(si.p) && is_finite(si.n_geometric));
-                const Vec3 n = glm::dot(r.d, si.n_geometric) < 0 ? si.n_geometric : -si.n_geometric;
-                if (kind != ShapeKind::Triangle && n != si.n_geometric) ++wrong_side;
-                // Outward: nothing at all may be hit (the only surface is convex).
-                const Ray out = spawn_ray(si, random_in_hemisphere(rng, n, 0.01));
-                ++outward;
-                if (transmittance(scene, out, kInf) != Vec3(1.0)) ++rehit;
-                // Inward: a closed shape's far side exactly once; a triangle nothing.
-                const Ray in = spawn_ray(si, random_in_hemisphere(rng, -n, 0.01));
-                ++inward;
-                const Vec3 expect(kind == ShapeKind::Triangle ? 1.0 : 0.5);
-                if (transmittance(scene, in, kInf) != expect) ++not_once;
-            }
-        }
-        SCOPED_TRACE(shape_kind_name(kind));
-        std::printf(
-            "[ respawn ] %-8s %d hits, %d outward rays: %d re-hits; %d inward rays: %d not "
-            "hitting the far side exactly once; %d inward normals\n",
-            shape_kind_name(kind), hits, outward, rehit, inward, not_once, wrong_side);
-        EXPECT_GT(hits, kTransforms * kRays / 5);
-        EXPECT_EQ(rehit, 0);
-        EXPECT_EQ(not_once, 0);
-        EXPECT_EQ(wrong_side, 0);
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Watertight meshes.
-
-struct Mesh {
-    std::vector<Vec3> v;
-    std::vector<std::array<int, 3>> t;
-};
-
-// A latitude-longitude sphere of radius about 1 with every vertex jittered (radius and
-// position).
-Mesh jittered_sphere(int n_lat, int n_lon, std::mt19937& rng) {
-    std::uniform_real_distribution<double> u(-1, 1);
-    Mesh m;
-    m.v.push_back({0, -1, 0});
-    for (int i = 1; i < n_lat; ++i)
-        for (int j = 0; j < n_lon; ++j) {
-            const double th = kPi * (i + 0.3 * u(rng)) / n_lat;
-            const double ph = 2 * kPi * (j + 0.3 * u(rng)) / n_lon;
-            const double r = 1 + 0.05 * u(rng);
-            m.v.push_back(
-                r * Vec3(std::sin(th) * std::cos(ph), -std::cos(th), std::sin(th) * std::sin(ph)));
-        }
-    m.v.push_back({0, 1, 0});
-    const int top = static_cast<int>(m.v.size()) - 1;
-    auto id = [&](int i, int j) { return 1 + (i - 1) * n_lon + (j % n_lon); };
-    for (int j = 0; j < n_lon; ++j) {
-        m.t.push_back({0, id(1, j + 1), id(1, j)});
-        m.t.push_back({top, id(n_lat - 1, j), id(n_lat - 1, j + 1)});
-        for (int i = 1; i < n_lat - 1; ++i) {
-            m.t.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
-            m.t.push_back({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
-        }
-    }
-    return m;
-}
-
-Mesh box_mesh() {
-    Mesh m;
-    for (int i = 0; i < 8; ++i)
-        m.v.push_back({(i & 1) ? 1.0 : -1.0, (i & 2) ? 0.7 : -0.7, (i & 4) ? 1.3 : -1.3});
-    const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
-                             {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-    for (const auto& q : quads) {
-        m.t.push_back({q[0], q[1], q[2]});
-        m.t.push_back({q[0], q[2], q[3]});
-    }
-    return m;
-}
-
-struct LeakCount {
-    long rays = 0, leaks = 0;
-};
-
-// Rays from random points inside (within `inner` of the centre) toward every vertex, every edge
-// midpoint and random directions: each must hit the mesh.
-LeakCount count_leaks(const Mesh& mesh, const Mat4& m, double inner, int origins, int random_dirs,
-                      std::mt19937& rng) {
-    std::string text = kOpaque;
-    for (const Vec3& p : mesh.v) text += vertex(p);
-    text += group_begin(m);
-    for (const auto& t : mesh.t) text += triangle(t[0], t[1], t[2]);
-    text += "#group_end\n";
-    const RenderScene scene = test::compile(text);
-    std::vector<Vec3> targets;
-    for (const Vec3& p : mesh.v) targets.push_back(Vec3(m * glm::dvec4(p, 1)));
-    for (const auto& t : mesh.t)
-        for (int e = 0; e < 3; ++e)
-            if (t[e] < t[(e + 1) % 3])  // each edge once
-                targets.push_back(
-                    Vec3(m * glm::dvec4(0.5 * (mesh.v[t[e]] + mesh.v[t[(e + 1) % 3]]), 1)));
-    std::uniform_real_distribution<double> u(-1, 1);
-    LeakCount n;
-    for (int k = 0; k < origins; ++k) {
-        const Vec3 o = Vec3(m * glm::dvec4(inner * Vec3(u(rng), u(rng), u(rng)), 1));
-        auto shoot = [&](const Vec3& d) {
-            Hit h;
-            ++n.rays;
-            if (!intersect(scene, {o, d}, {0, kInf}, &h)) ++n.leaks;
-        };
-        for (const Vec3& t : targets) shoot(t - o);
-        for (int i = 0; i < random_dirs; ++i) shoot(random_unit(rng));
-    }
-    return n;
-}
-
-TEST(Extreme, ClosedMeshesNeverLeak) {
-    std::mt19937 rng(7);
-    const Mesh sphere = jittered_sphere(24, 48, rng);  // 2208 triangles
-    const Mesh box = box_mesh();
-    Mat4 far = random_rotation(rng);
-    far[3] = glm::dvec4(1234.567, -987.6543, 345.678, 1);
-    Mat4 rotated = random_rotation(rng);
-    long total_rays = 0, total_leaks = 0;
-    struct Case {
-        const char* name;
-        const Mesh* mesh;
-        Mat4 m;
-        double inner;
-        int origins, random_dirs;
-    };
-    const Case cases[] = {
-        {"sphere", &sphere, Mat4(1.0), 0.5, 60, 2000},
-        {"sphere far+rotated", &sphere, far, 0.5, 60, 2000},
-        {"box", &box, Mat4(1.0), 0.6, 20000, 10},
-        {"box rotated", &box, rotated, 0.6, 20000, 10},
-        {"box far+rotated", &box, far, 0.6, 20000, 10},
-    };
-    for (const Case& c : cases) {
-        const LeakCount n = count_leaks(*c.mesh, c.m, c.inner, c.origins, c.random_dirs, rng);
-        std::printf("[ watertight ] %-20s %ld rays, %ld leaks\n", c.name, n.rays, n.leaks);
-        EXPECT_EQ(n.leaks, 0) << c.name;
-        total_rays += n.rays;
-        total_leaks += n.leaks;
-    }
-    std::printf("[ watertight ] total %ld rays, %ld leaks\n", total_rays, total_leaks);
-    EXPECT_GT(total_rays, 2000000);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -621,7 +275,7 @@ Vec3 random_tangent(std::mt19937& rng, const Vec3& n) {
     return glm::normalize(v - glm::dot(v, n) * n);
 }
 
-TEST(Extreme, GrazingRaysAgreeWithALongDoubleOracle) {
+TEST(ShapesRobust, GrazingRaysAgreeWithALongDoubleOracle) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1, 1), u01(0, 1);
     const double theta = 1e-6;
@@ -706,7 +360,7 @@ TEST(Extreme, GrazingRaysAgreeWithALongDoubleOracle) {
 // A plane of two float triangles: the renderer tests the float copy of the vertices from a float
 // origin, so a grazing hit moves along the plane by (origin rounding) / theta (about 0.06 here);
 // hit and miss are asserted with a margin of 1 around the edges of a 20 x 20 plane.
-TEST(Extreme, GrazingRaysOnATrianglePlane) {
+TEST(ShapesRobust, GrazingRaysOnATrianglePlane) {
     const Mat4 tilt = glm::rotate(Mat4(1.0), 0.4, glm::normalize(Vec3(1, 0.2, 0.3)));
     auto world = [&](const Vec3& p) { return Vec3(tilt * glm::dvec4(p, 1)); };
     const double h = 10;
@@ -754,7 +408,7 @@ TEST(Extreme, GrazingRaysOnATrianglePlane) {
 }
 
 // Exact touches: by the convention above they hit, at the touching point.
-TEST(Extreme, RaysThroughCylinderRimsAndConeApexesHit) {
+TEST(ShapesRobust, RaysThroughCylinderRimsAndConeApexesHit) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(-1, 1), u01(0, 1);
     // Cylinder rim: rays into the solid through a rim point enter there and leave once more.
@@ -881,7 +535,7 @@ int slab_plane_errors(bool through_scene, int* rays) {
     return wrong;
 }
 
-TEST(Extreme, AxisParallelRaysOnSlabPlanesHitTheBox) {
+TEST(ShapesRobust, AxisParallelRaysOnSlabPlanesHitTheBox) {
     int rays = 0;
     const int wrong = slab_plane_errors(false, &rays);
     std::printf(
@@ -895,113 +549,11 @@ TEST(Extreme, AxisParallelRaysOnSlabPlanesHitTheBox) {
 // reciprocal of 1e30 and a slack of 2, so a ray whose origin lay exactly on a node's upper slab
 // plane got a far distance of 2 and every node farther away was culled (4500 of these 6000 rays
 // missed); a zero component is now a containment test of its own.
-TEST(Extreme, AxisParallelRaysOnSlabPlanesHitThroughTheBvh) {
+TEST(ShapesRobust, AxisParallelRaysOnSlabPlanesHitThroughTheBvh) {
     int rays = 0;
     const int wrong = slab_plane_errors(true, &rays);
     std::printf("[ touch ] box slab planes through the BVH: %d rays, %d wrong\n", rays, wrong);
     EXPECT_EQ(wrong, 0);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Degenerate input: every image finite, every render finished.
-
-bool all_finite(const Image& img) {
-    for (const double v : img.rgb)
-        if (!std::isfinite(v)) return false;
-    return true;
-}
-
-TEST(Extreme, DegenerateInputRendersFiniteImages) {
-    const std::string camera = "#camera 0 0.5 6  0 -0.08 -1  0 1 0  0.5\n";
-    const std::string light = "#light_point 1 1 1  2 3 4  1 0 0\n";
-    auto v1 = [](const std::string& spec, const std::string& n, const std::string& tr,
-                 const std::string& ior) {
-        std::string s = "#material 0 0 0  0.1 0.1 0.1  0.7 0.6 0.5  ";
-        s += spec + "  " + n + "  " + tr + "  " + ior + " -1 !!\n";
-        return s;
-    };
-    const std::string plain = v1("0.3 0.3 0.3", "20", "0 0 0", "1");
-    const std::string body = "#shape_sphere 0 0 0.5 0 1\n#shape_box 0 0 -1 0 8 0.2 8\n";
-    struct Case {
-        const char* name;
-        std::string text;
-        int depth;
-    };
-    const Case cases[] = {
-        {"zero-area and repeated-vertex triangles",
-         camera + light + plain +
-             "#vertex 0 0 0 0 0 0 0 0\n#vertex 1 1 1 0 0 0 1 0\n#vertex 2 2 2 0 0 0 0 1\n"
-             "#vertex 1e-9 0 0 0 0 0 0 0\n#vertex 0 1 0 0 0 0 0 0\n"
-             "#shape_triangle 0 0 1 2\n#shape_triangle 0 0 0 1\n#shape_triangle 0 0 3 4\n" +
-             body,
-         5},
-        {"group scaled by 1e-6 on one axis",
-         camera + light + plain + "#group_begin 1 0 0 0  0 1e-6 0 0  0 0 1 0  0 0 0 1\n" + body +
-             "#shape_cylinder 0 0 0 0 1 2\n#shape_cone 0 1 0 0 1 2\n#group_end\n" + body,
-         5},
-        {"rotated group scaled by 1e-6",
-         camera + light + plain +
-             "#group_begin 0.6 -0.8e-6 0 0.1  0.8 0.6e-6 0 0.2  0 0 1 0  0 0 0 1\n" + body +
-             "#group_end\n",
-         5},
-        {"light inside a sphere and a box",
-         camera +
-             "#light_point 1 1 1  0 0.5 0  1 0 0\n#light_spot 1 1 1  0 -1 0  0 -1 0  1 0 0  "
-             "0.5 1\n" +
-             plain + body,
-         5},
-        {"attenuation all zero", camera + "#light_point 1 1 1  2 3 4  0 0 0\n" + plain + body, 5},
-        {"spot exponent 1e6",
-         camera + "#light_spot 1 1 1  0 3 0  0 -1 0  1 0 0  1.5 1e6\n" + plain + body, 5},
-        {"specular exponent 0", camera + light + v1("1 1 1", "0", "0 0 0", "1") + body, 5},
-        {"specular exponent 1e4", camera + light + v1("1 1 1", "1e4", "0 0 0", "1") + body, 5},
-        {"refraction index 1", camera + light + v1("0.1 0.1 0.1", "20", "0.9 0.9 0.9", "1") + body,
-         8},
-        {"refraction index 1e-3",
-         camera + light + v1("0.1 0.1 0.1", "20", "0.9 0.9 0.9", "1e-3") + body, 8},
-        {"refraction index 10",
-         camera + light + v1("0.1 0.1 0.1", "20", "0.9 0.9 0.9", "10") + body, 8},
-        {"mirror box, depth 0",
-         "#camera 0 0 0  0 0.1 -1  0 1 0  0.6\n" + light +
-             "#light_point 1 1 1  0.3 0.2 0.1  1 0 0\n" + v1("1 1 1", "50", "0 0 0", "1") +
-             "#shape_box 0 0 0 0 4 3 5\n#shape_sphere 0 0.5 -0.3 -1 0.4\n",
-         0},
-        {"mirror box, depth 100",
-         "#camera 0 0 0  0 0.1 -1  0 1 0  0.6\n" +
-             std::string("#light_point 1 1 1  0.3 0.2 0.1  1 0 0\n") +
-             v1("1 1 1", "50", "0 0 0", "1") +
-             "#shape_box 0 0 0 0 4 3 5\n#shape_sphere 0 0.5 -0.3 -1 0.4\n",
-         100},
-    };
-    for (const Case& c : cases) {
-        const RenderScene scene = test::compile(c.text);
-        RenderSettings s;
-        s.width = s.height = 32;
-        s.max_depth = c.depth;
-        s.cutoff = 0.0;  // depth alone bounds the recursion
-        s.threads = 1;
-        RenderState state;
-        ASSERT_TRUE(render_samples(state, scene, make_render_plan(scene, s), s, 1)) << c.name;
-        const Image img = state.image();
-        double sum = 0;
-        for (const double v : img.rgb) sum += v;
-        std::printf("[ degenerate ] %-40s finite %d, mean %.4g, %llu rays\n", c.name,
-                    all_finite(img), sum / static_cast<double>(img.rgb.size()),
-                    static_cast<unsigned long long>(state.rays.total()));
-        EXPECT_TRUE(all_finite(img)) << c.name;
-        EXPECT_EQ(img.width, 32);
-    }
-    // Zero-length directions are parse errors (spec §3.1: d != 0), reported clearly.
-    const std::string errors[][2] = {
-        {"#camera 0 0 5  0 0 0  0 1 0  0.5\n", "camera view direction is zero"},
-        {"#light_dir 1 1 1  0 0 0\n", "light direction is zero"},
-        {"#light_spot 1 1 1  0 3 0  0 0 0  1 0 0  0.5 1\n", "spot light direction is zero"},
-    };
-    for (const auto& e : errors) {
-        const std::string msg = test::parse_error(e[0] + plain + body);
-        EXPECT_NE(msg.find("test.ray:1:"), std::string::npos) << msg;
-        EXPECT_NE(msg.find(e[1]), std::string::npos) << msg;
-    }
 }
 
 }  // namespace
