@@ -79,7 +79,7 @@ int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_l
     // JCGT 2(1) 2013, §3) rests on a shared edge giving exactly opposite values in its two
     // triangles, which holds for round(round(a*b) - round(c*d)) but not for a fused multiply-add
     // (fma(a, b, -c*d) != -fma(c, d, -a*b)): with -O3 -march=native GCC fused these and 50168 of
-    // 2.9 million rays leaked out of closed meshes (tests/test_extreme.cpp). cross_ps forbids it.
+    // 2.9 million rays leaked out of closed meshes (tests/test_intersect.cpp). cross_ps forbids it.
     __m128 e0 = cross_ps(x[1], y[2], y[1], x[2]);
     __m128 e1 = cross_ps(x[2], y[0], y[2], x[0]);
     __m128 e2 = cross_ps(x[0], y[1], y[0], x[1]);
