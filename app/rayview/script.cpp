@@ -3,6 +3,7 @@
 
 #include <GL/gl.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -30,31 +31,27 @@ std::vector<ScriptLine> read_script(const std::string& path) {
 int parse_run_options(int argc, char** argv, const std::string& default_scene, RunOptions* out) {
     out->scene = default_scene;
     std::string script_path;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "-h" || a == "--help") {
-            std::printf(
-                "usage: rayview [--frames N --screenshot OUT.png] [SCENE.ray]\n"
-                "Opens the scene (default: the showpiece) in a window: OpenGL preview "
-                "beside the progressive ray trace.\n"
-                "--frames N --screenshot F  run N frames, save the whole window to F, exit\n");
-            return 0;
-        } else if (a == "--frames" && i + 1 < argc) {
-            out->frames = std::atoi(argv[++i]);
-            if (out->frames <= 0) {
-                std::fprintf(stderr, "rayview: --frames needs a positive count\n");
-                return 2;
-            }
-        } else if (a == "--screenshot" && i + 1 < argc) {
-            out->screenshot = argv[++i];
-        } else if (a == "--script" && i + 1 < argc) {
-            script_path = argv[++i];
-        } else if (!a.empty() && a[0] == '-') {
-            std::fprintf(stderr, "rayview: unknown option '%s' (see rayview --help)\n", a.c_str());
-            return 2;
-        } else {
-            out->scene = a;
-        }
+    CLI::App app{
+        "Opens a .ray scene in a window: the OpenGL preview beside its progressive ray trace.",
+        "rayview"};
+    app.add_option("scene", out->scene, "the .ray file (default: the showpiece)")
+        ->type_name("SCENE.ray");
+    app.add_option("--frames", out->frames, "run N frames, save the window (--screenshot), exit")
+        ->type_name("N")
+        ->check(CLI::Range(1, 100000000));
+    app.add_option("--screenshot", out->screenshot, "where --frames saves the whole window")
+        ->type_name("OUT.png");
+    app.add_option("--script", script_path,
+                   "replay input at given frames (commands: app/rayview/script.h)")
+        ->type_name("FILE");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+        std::printf("%s", app.help().c_str());
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "rayview: %s (see rayview --help)\n", e.what());
+        return 2;
     }
     if (!out->screenshot.empty() && out->frames == 0) out->frames = 60;
     if (!script_path.empty()) {
