@@ -107,7 +107,7 @@ void add_progressive_options(CLI::App& app, Options& o) {
 }
 
 void add_feature_options(CLI::App& app, Options& o) {
-    const std::string group = "progressive features (off by default; see scenes/README.md)";
+    const std::string group = "progressive features (off by default; see docs/format.md)";
     app.add_option("--light-radius", o.light_radius,
                    "point and spot lights become spheres of radius R (soft shadows)")
         ->type_name("R")
