@@ -3,7 +3,6 @@
 // directly supersampled image when every stochastic feature is off.
 #include <cmath>
 
-
 #include "rt/render/progressive.h"
 #include "test_util.h"
 
@@ -96,7 +95,7 @@ TEST(Progressive, ConvergesToTheDirectlySupersampledImageWithFeaturesOff) {
     RenderState state;
     ProgressiveSettings p;
     p.spp_limit = 256;
-    const auto runs = run_progressive(state, scene, s, p, &direct);
+    const auto runs = run_progressive(state, scene, make_render_plan(scene, s), s, p, &direct);
     ASSERT_FALSE(runs.empty());
     EXPECT_GE(runs.back().spp, 256);
     EXPECT_LT(runs.back().error.rmse, 4e-3);

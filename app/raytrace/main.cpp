@@ -64,7 +64,8 @@ int render_plain(const Options& opt, const rt::RenderScene& scene, const rt::Ren
 
 // The uniform run, and with --adaptive an adaptive one, each printed pass by pass.
 std::vector<ProgressRun> run_passes(const Options& opt, const rt::RenderScene& scene,
-                                    const rt::Image* reference, rt::RenderState& state) {
+                                    const rt::RenderPlan& plan, const rt::Image* reference,
+                                    rt::RenderState& state) {
     std::vector<ProgressRun> runs;
     for (const bool adaptive : {false, true}) {
         if (adaptive && !opt.progressive.adaptive) break;
@@ -75,17 +76,18 @@ std::vector<ProgressRun> run_passes(const Options& opt, const rt::RenderScene& s
         auto on_pass = [&](const rt::PassRecord& r) {
             if (!opt.quiet) print_pass(r);
         };
-        runs.push_back({mode, rt::run_progressive(state, scene, opt, ps, reference, on_pass)});
+        runs.push_back(
+            {mode, rt::run_progressive(state, scene, plan, opt, ps, reference, on_pass)});
     }
     return runs;
 }
 
-int render_progressive(const Options& opt, const rt::SceneDesc& desc,
-                       const rt::RenderScene& scene) {
+int render_progressive(const Options& opt, const rt::SceneDesc& desc, const rt::RenderScene& scene,
+                       const rt::RenderPlan& plan) {
     const std::optional<rt::Image> reference = load_reference(opt, desc, scene);
     rt::RenderState state;
     const std::vector<ProgressRun> runs =
-        run_passes(opt, scene, reference ? &*reference : nullptr, state);
+        run_passes(opt, scene, plan, reference ? &*reference : nullptr, state);
     if (!opt.quiet) print_progress_summary(runs);
     std::vector<TextFile> texts;
     const ProgressiveOptions& p = opt.progressive;
@@ -106,8 +108,8 @@ int run(const Options& opt) {
     if (!scene) return 1;
     const rt::RenderPlan plan = rt::make_render_plan(*scene, opt);
     if (!opt.quiet) print_scene_summary(opt, desc, report);
-    if (opt.explain) print_explain(opt, plan);  // also with --quiet: it was asked for
-    return opt.progressive.enabled ? render_progressive(opt, desc, *scene)
+    if (opt.explain) print_explain(plan);  // also with --quiet: it was asked for
+    return opt.progressive.enabled ? render_progressive(opt, desc, *scene, plan)
                                    : render_plain(opt, *scene, plan, report, t);
 }
 

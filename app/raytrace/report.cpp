@@ -230,10 +230,11 @@ void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
     std::fflush(stdout);
 }
 
-void print_explain(const Options& opt, const rt::RenderPlan& plan) {
-    std::printf("renderer  %s\n", opt.specialize
+void print_explain(const rt::RenderPlan& plan) {
+    std::printf("renderer  %s\n", plan.specialized
                                       ? "specialized to the scene (--no-specialize: generic)"
-                                      : "generic (--no-specialize): every feature kept");
+                                      : "generic (--no-specialize): every feature kept; the lines "
+                                        "below say what the specialized renderer would leave out");
     for (const rt::PlanReason& reason : plan.reasons)
         std::printf("%s\n", rt::reason_line(reason).c_str());
     std::fflush(stdout);

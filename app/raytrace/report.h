@@ -52,7 +52,7 @@ void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
                          const rt::CompileReport& report);
 
 /// --explain: which renderer runs, and what it left out of this scene and why.
-void print_explain(const Options& opt, const rt::RenderPlan& plan);
+void print_explain(const rt::RenderPlan& plan);
 
 /// A progress bar on stderr when it is a terminal (and not --quiet), else no callback, so
 /// scripts and logs stay clean.

@@ -178,17 +178,31 @@ private:
         return m_set_of_file[fi];
     }
 
+    // The walk of a set that holds only shapes of kind k; a kind without a walk of its own
+    // takes the analytic walk.
+    static constexpr SetLayout one_kind_layout(ShapeKind k) {
+        switch (k) {
+            case ShapeKind::Sphere:
+                return SetLayout::Spheres;
+            case ShapeKind::Box:
+                return SetLayout::Boxes;
+            case ShapeKind::Cylinder:
+                return SetLayout::Cylinders;
+            case ShapeKind::Cone:
+                return SetLayout::Cones;
+            case ShapeKind::Triangle:
+                return SetLayout::Triangles;
+            default:
+                return SetLayout::Analytic;
+        }
+    }
+
     // The one kind a set holds gets a walk of its own; triangles-only sets get packed leaves.
     static SetLayout layout_of(const std::vector<Pending>& pending) {
-        // geometry.index() is the kind (ShapeDesc); kinds past the table have no walk of their
-        // own and take the analytic one.
-        std::array<size_t, kShapeKinds> count{};
+        std::array<size_t, kShapeKinds> count{};  // geometry.index() is the kind (ShapeDesc)
         for (const Pending& p : pending) ++count[p.shape->geometry.index()];
-        constexpr SetLayout kOneKind[] = {SetLayout::Spheres, SetLayout::Boxes,
-                                          SetLayout::Cylinders, SetLayout::Cones,
-                                          SetLayout::Triangles};
-        for (size_t k = 0; k < std::size(kOneKind); ++k)
-            if (count[k] == pending.size()) return kOneKind[k];
+        for (size_t k = 0; k < count.size(); ++k)
+            if (count[k] == pending.size()) return one_kind_layout(static_cast<ShapeKind>(k));
         return count[static_cast<size_t>(ShapeKind::Triangle)] == 0 ? SetLayout::Analytic
                                                                     : SetLayout::Mixed;
     }

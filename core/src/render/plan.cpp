@@ -87,13 +87,13 @@ GeometryFeatures read_geometry(const RenderScene& scene) {
     GeometryFeatures g;
     std::vector<char> set_used(scene.sets.size(), 0);
     g.material_used.assign(scene.materials.size(), 0);
-    std::vector<std::array<size_t, 5>> set_prims(scene.sets.size());
+    std::vector<std::array<size_t, kShapeKinds>> set_prims(scene.sets.size());
     for (const Instance& inst : scene.instances) {
         const size_t si = static_cast<size_t>(inst.set);
         const GeometrySet& set = scene.sets[si];
         if (!set_used[si]) {  // each set once, however often it is instanced
             set_used[si] = 1;
-            set_prims[si] = {0, 0, 0, 0, 0};
+            set_prims[si] = {};
             for (const Primitive& p : set.prims) {
                 g.material_used[static_cast<size_t>(p.material)] = 1;
                 ++set_prims[si][static_cast<size_t>(p.kind)];
@@ -104,7 +104,7 @@ GeometryFeatures read_geometry(const RenderScene& scene) {
                 }
             }
         }
-        for (size_t k = 0; k < 5; ++k) g.prims[k] += set_prims[si][k];
+        for (size_t k = 0; k < kShapeKinds; ++k) g.prims[k] += set_prims[si][k];
         if (!inst.identity) {
             g.transforms = true;
             g.nonuniform_scale |= scales_unevenly(inst.world_from_set.m);

@@ -135,15 +135,14 @@ uint64_t choose_adaptive_pixels(RenderState& state, double budget, int explore) 
 }
 
 std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& scene,
-                                        const RenderSettings& settings,
+                                        const RenderPlan& plan, const RenderSettings& settings,
                                         const ProgressiveSettings& progressive,
                                         const Image* reference,
                                         const std::function<void(const PassRecord&)>& on_pass,
                                         const std::atomic<bool>* stop) {
     state.reset(settings.width, settings.height);
     RenderSettings pass_settings = settings;
-    pass_settings.centre_first_sample = false;  // every sample jittered
-    const RenderPlan plan = make_render_plan(scene, pass_settings);
+    pass_settings.centre_first_sample = false;  // every sample jittered (the plan is the same)
     std::vector<PassRecord> records;
     double render_seconds = 0;
     uint64_t samples_total = 0;

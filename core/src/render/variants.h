@@ -44,6 +44,8 @@ enum GeomFeature : uint32_t {
     /// A scene without shapes: every query answers at once (no walk at all).
     kGeomEmpty = kGeomVariants,
 };
+// The layout field holds every SetLayout and, above them, kGeomPerSet.
+static_assert(kSetLayouts <= (kGeomPerSet >> kGeomLayoutShift), "widen the layout bits");
 inline constexpr uint32_t geom_layout_bits(SetLayout l) {
     return static_cast<uint32_t>(l) << kGeomLayoutShift;
 }

@@ -1,10 +1,8 @@
-// The helpers of common.h, the kind names, and the bounds of a described shape.
+// The helpers of common.h and the kind names.
 #include "common.h"
 
 #include <array>
 #include <utility>
-
-#include "rt/scene/scene_desc.h"
 
 namespace rt {
 
@@ -19,23 +17,6 @@ constexpr auto kKindNames = kind_names(std::make_index_sequence<kShapeKinds>{});
 const char* shape_kind_name(ShapeKind k) {
     const auto i = static_cast<size_t>(k);
     return i < kKindNames.size() ? kKindNames[i] : "?";
-}
-
-Bounds3 bounds(const ShapeDesc& shape, const FileDesc& file, const Mat4& m) {
-    return std::visit(
-        [&](const auto& geo) {
-            Bounds3 b;
-            if constexpr (std::is_same_v<std::decay_t<decltype(geo)>, TriangleDesc>) {
-                for (int v : geo.v)
-                    if (v >= 0 && static_cast<size_t>(v) < file.vertices.size())
-                        b.extend(Vec3(
-                            m * glm::dvec4(file.vertices[static_cast<size_t>(v)].position, 1.0)));
-            } else {
-                b = bounds(to_shape(geo), m);
-            }
-            return b;
-        },
-        shape.geometry);
 }
 
 Bounds3 transformed_disc_bounds(const Vec3& centre, double r, const Mat4& m) {

@@ -63,7 +63,7 @@ struct PassRecord {
 /// first four samples, the same number of samples per pass shared by choose_adaptive_pixels())
 /// until a limit, recording each pass.
 std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& scene,
-                                        const RenderSettings& settings,
+                                        const RenderPlan& plan, const RenderSettings& settings,
                                         const ProgressiveSettings& progressive,
                                         const Image* reference,
                                         const std::function<void(const PassRecord&)>& on_pass = {},
