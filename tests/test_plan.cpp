@@ -148,6 +148,28 @@ TEST(Plan, ChoosesTheVariantAndTheLightsThatLight) {
         EXPECT_EQ(reason_line(generic.reasons[i]), reason_line(special.reasons[i]));
 }
 
+TEST(Plan, UsesSayWhatThePreviewCompilesFor) {
+    // A dark spot light lights nothing: its kind is not used; a textured material is not used
+    // when nothing placed has it; shadows need a light that lights.
+    const std::string lights =
+        "#light_spot 0 0 0  0 5 0  0 -1 0  1 0 0  0.5 1\n#light_point 1 1 1  0 5 0  1 0 0\n";
+    const std::string unused =
+        "#texture " + std::string(RT_SOURCE_DIR) + "/scenes/textures/checker.bmp\n" + kDiffuse +
+        "#material 0 0 0  .1 .1 .1  .7 .7 .7  .5 .5 .5  9  0 0 0  1  0 !t!\n";
+    RenderSettings s;
+    const RenderPlan p =
+        make_render_plan(test::compile(lights + unused + "#shape_sphere 0 0 0 0 1\n"), s);
+    EXPECT_TRUE(p.uses.light_kinds[static_cast<int>(LightKind::Point)]);
+    EXPECT_FALSE(p.uses.light_kinds[static_cast<int>(LightKind::Spot)]);
+    EXPECT_FALSE(p.uses.light_kinds[static_cast<int>(LightKind::Directional)]);
+    EXPECT_FALSE(p.uses.textures);
+    EXPECT_FALSE(p.uses.highlights);
+    EXPECT_TRUE(p.uses.shadows);
+    s.shadows = false;
+    EXPECT_FALSE(make_render_plan(test::compile(lights + unused + "#shape_sphere 0 0 0 0 1\n"), s)
+                     .uses.shadows);
+}
+
 TEST(Plan, ReasonsAreDataThatFormatAsExplainLines) {
     EXPECT_EQ(reason_line({"shadow rays", true, "1 light(s) that light something"}),
               "kept: shadow rays: 1 light(s) that light something");

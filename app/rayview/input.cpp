@@ -33,11 +33,16 @@ bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const Pan
             double depth = 0;
             const ImVec2 at = to_pane(lights[i].position, &depth);
             const float ddx = at.x - io.MousePos.x, ddy = at.y - io.MousePos.y;
-            if (depth > 0 && ddx * ddx + ddy * ddy < 144.0f)
+            if (depth > 0 && ddx * ddx + ddy * ddy < 144.0f) {
                 input.dragged_light = static_cast<int>(i);
+                input.dragged_scene = v.loaded->id;
+            }
         }
     }
-    if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) input.dragged_light = -1;
+    // A release ends the drag; so does a reload or a removed light under it.
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Left) || input.dragged_scene != v.loaded->id ||
+        input.dragged_light >= static_cast<int>(lights.size()))
+        input.dragged_light = -1;
     if (input.dragged_light < 0 || (io.MouseDelta.x == 0 && io.MouseDelta.y == 0)) return false;
     LightDesc& l = lights[static_cast<size_t>(input.dragged_light)];
     double depth = 0;

@@ -14,6 +14,7 @@ namespace rt::view {
 /// What input remembers between frames.
 struct InputState {
     int dragged_light = -1;  // index into ViewerState::edits.lights while dragged
+    int dragged_scene = -1;  // LoadedScene::id of the scene whose light is dragged
 };
 
 /// Applies this frame's input; marks the edit and returns true when something moved.

@@ -83,7 +83,7 @@ void Panes::draw(ViewerState& v) {
     glBindFramebuffer(GL_FRAMEBUFFER, m_target.fbo.id());
     // The camera of the latest input, also while a restart waits.
     const Camera cam = make_camera(compile_camera(v.edits.camera.desc()), m_target.w, m_target.h);
-    m_preview.draw(loaded.scene, cam, m_target.w, m_target.h, s.render.shadows);
+    m_preview.draw(loaded.scene, v.tracer.plan(), cam, m_target.w, m_target.h);
     std::vector<LineVertex> lines = overlay_lines(loaded.scene, s.show_lights, s.box_depth);
     if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for) {
         // Walked again only when the scene or the level changes.

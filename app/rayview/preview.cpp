@@ -192,15 +192,15 @@ void Preview::load(const RenderScene& scene, int detail) {
     }
 }
 
-void Preview::render_shadow_maps(const RenderScene& scene) {
+void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights) {
     // Which lights get a map, and the view each is rendered with.
     std::vector<ShadowView> views;
     const Bounds3& w = scene.world_bounds;
     const Vec3 centre = w.empty() ? Vec3(0.0) : w.centre();
     const double half = w.empty() ? 1.0 : std::max(0.5 * glm::length(w.diagonal()), 1e-30) * 1.01;
     int layers = 0;
-    for (size_t i = 0; i < scene.lights.size() && i < 16; ++i) {
-        const Light& l = scene.lights[i];
+    for (size_t i = 0; i < lights.size() && i < 16; ++i) {
+        const Light& l = lights[i];
         ShadowView v;
         v.kind = l.kind;
         v.position = l.position;
@@ -328,29 +328,21 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
     glBindVertexArray(0);
 }
 
-void Preview::draw(const RenderScene& scene, const Camera& camera, int width, int height,
-                   bool shadows) {
-    // The program for what this scene uses: the light kinds present, textures, highlights,
-    // shadows (what a scene does not need is left out).
-    const int lights = std::min<int>(16, static_cast<int>(scene.lights.size()));
-    bool kind[3] = {false, false, false};
-    for (int i = 0; i < lights; ++i)
-        kind[static_cast<int>(scene.lights[static_cast<size_t>(i)].kind)] = true;
-    bool textures = false, specular = false;  // among the materials drawn
-    for (const SetBuffers& buf : m_sets)
-        for (const Range& range : buf.ranges) {
-            const Material& m = scene.materials[static_cast<size_t>(range.material)];
-            textures |= m.texture >= 0;
-            specular |= m.specular != Vec3(0.0);
-        }
-    shadows = shadows && lights > 0;
-    if (shadows) render_shadow_maps(scene);
+void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camera& camera,
+                   int width, int height) {
+    // The program for what the plan says this scene uses: the light kinds that light, textures,
+    // highlights, shadows (what a scene does not need is left out, as in the trace).
+    const int lights = std::min<int>(16, static_cast<int>(plan.lights.size()));
+    const PlanUses& uses = plan.uses;
+    const bool shadows = uses.shadows && lights > 0;
+    if (shadows) render_shadow_maps(scene, plan.lights);
     std::vector<std::string> defines;
-    if (kind[static_cast<int>(LightKind::Point)]) defines.push_back("RT_POINT");
-    if (kind[static_cast<int>(LightKind::Spot)]) defines.push_back("RT_SPOT");
-    if (kind[static_cast<int>(LightKind::Directional)]) defines.push_back("RT_DIRECTIONAL");
-    if (textures) defines.push_back("RT_TEXTURES");
-    if (specular) defines.push_back("RT_SPECULAR");
+    if (uses.light_kinds[static_cast<int>(LightKind::Point)]) defines.push_back("RT_POINT");
+    if (uses.light_kinds[static_cast<int>(LightKind::Spot)]) defines.push_back("RT_SPOT");
+    if (uses.light_kinds[static_cast<int>(LightKind::Directional)])
+        defines.push_back("RT_DIRECTIONAL");
+    if (uses.textures) defines.push_back("RT_TEXTURES");
+    if (uses.highlights) defines.push_back("RT_SPECULAR");
     if (shadows) defines.push_back("RT_SHADOWS");
     const GLuint program = program_for(defines);
     m_defines = defines;
@@ -368,7 +360,7 @@ void Preview::draw(const RenderScene& scene, const Camera& camera, int width, in
     set_vec3(program, "u_ambient_light", scene.ambient);
     glUniform1i(loc(program, "u_light_count"), lights);
     for (int i = 0; i < lights; ++i) {
-        const Light& l = scene.lights[static_cast<size_t>(i)];
+        const Light& l = plan.lights[static_cast<size_t>(i)];
         glUniform1i(loc(program, indexed("u_light_kind", i)), static_cast<int>(l.kind));
         set_vec3(program, indexed("u_light_color", i), l.color);
         set_vec3(program, indexed("u_light_position", i), l.position);

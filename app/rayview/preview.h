@@ -12,6 +12,7 @@
 #include "overlay.h"
 #include "rt/compile/render_scene.h"
 #include "rt/render/camera.h"
+#include "rt/render/plan.h"
 
 namespace rt::view {
 
@@ -32,11 +33,12 @@ public:
 
     /// Uploads the scene's meshes (tessellated with `detail` segments) and textures.
     void load(const RenderScene& scene, int detail = 48);
-    /// Clears to the scene's background and draws every instance. With `shadows`, the first
-    /// kMaxShadowLights lights cast shadows from opaque materials through shadow maps, rendered
-    /// again only when the lights or the scene change.
-    void draw(const RenderScene& scene, const Camera& camera, int width, int height,
-              bool shadows = false);
+    /// Clears to the scene's background and draws every instance, lit by the plan's lights with
+    /// a program compiled for what the plan says the scene uses. With the plan's shadows, the
+    /// first kMaxShadowLights lights cast shadows from opaque materials through shadow maps,
+    /// rendered again only when the lights or the scene change.
+    void draw(const RenderScene& scene, const RenderPlan& plan, const Camera& camera, int width,
+              int height);
     /// Draws line segments (pairs of vertices) over what draw() left, depth-tested.
     void draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
                     const Camera& camera) const;
@@ -70,7 +72,7 @@ private:
         bool operator==(const ShadowView&) const = default;
     };
     unsigned program_for(const std::vector<std::string>& defines);
-    void render_shadow_maps(const RenderScene& scene);
+    void render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights);
     void draw_instances(const RenderScene& scene, unsigned program, bool opaque_only) const;
 
     std::string m_shader_dir;

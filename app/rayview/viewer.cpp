@@ -176,7 +176,9 @@ void ViewerState::remove_light(size_t i) {
 
 bool ViewerState::restart_if_due() {
     if (!loaded) return false;
-    const bool trace_caught_up = first_pass_ms >= 0 || seconds_since(m_change_time) > 0.1;
+    // A new scene restarts at once: the preview draws with the plan of the scene it shows.
+    const bool trace_caught_up =
+        first_pass_ms >= 0 || seconds_since(m_change_time) > 0.1 || loaded->id != m_traced_id;
     if (m_edited) preview_stale = true;  // the preview follows every frame
     if (m_edited && !m_input_pending) {
         m_input_pending = true;
@@ -192,6 +194,7 @@ void ViewerState::restart() {
     tracer.stop();
     apply_edits(edits, m_trace_w, m_trace_h, &loaded->scene, &settings.render);
     tracer.restart(loaded->scene, settings.render, settings.target_spp);
+    m_traced_id = loaded->id;
     explained.clear();
     for (const PlanReason& r : tracer.plan().reasons) explained.push_back(reason_line(r));
     if (m_print_left_out)

@@ -86,7 +86,8 @@ struct ViewerState {
     void remove_light(size_t i);
     /// The restart policy: with an edit pending, restarts once the running trace's first pass is
     /// on screen or 100 ms after the last restart, not every frame (otherwise no traced image
-    /// would appear until a drag stops). Returns whether it restarted.
+    /// would appear until a drag stops), and at once for a new scene. Returns whether it
+    /// restarted. The trace's plan (tracer.plan()) is then that of the scene shown.
     bool restart_if_due();
     /// Takes the trace's latest image into `last_trace`; false when there is none new.
     bool take_trace_image();
@@ -115,6 +116,7 @@ private:
     bool m_print_left_out = false;
     int m_trace_w = 0, m_trace_h = 0;
     int m_scenes_opened = 0;
+    int m_traced_id = -1;                                  // LoadedScene::id the trace started on
     bool m_input_pending = false;                          // an edit waits for the restart policy
     Clock::time_point m_input_time = Clock::now();         // the first edit since the restart
     Clock::time_point m_served_input_time = m_input_time;  // the edit the running trace answers

@@ -18,6 +18,15 @@ namespace {
 
 constexpr int kW = 160, kH = 120;
 
+// The plan the viewer draws the preview with: the trace's, at the preview's size.
+RenderPlan plan_for(const RenderScene& scene, bool shadows = false) {
+    RenderSettings settings;
+    settings.width = kW;
+    settings.height = kH;
+    settings.shadows = shadows;
+    return make_render_plan(scene, settings);
+}
+
 struct Offscreen {
     OSMesaContext ctx = nullptr;
     std::vector<unsigned char> rgba = std::vector<unsigned char>(kW * kH * 4);
@@ -58,7 +67,7 @@ Comparison compare(const std::string& text) {
     view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
     preview.load(scene, 96);
     const Camera cam = make_camera(scene, kW, kH);
-    preview.draw(scene, cam, kW, kH);
+    preview.draw(scene, plan_for(scene), cam, kW, kH);
     glFinish();
     const Image traced = test::render(scene, kW, kH, 1, 0.001, false);  // local shading only
     int both = 0, either = 0, close = 0;
@@ -117,7 +126,7 @@ TEST(GlPreview, PublicAndOwnScenesAgreeWithTheTrace) {
         view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
         preview.load(scene, 96);
         const Camera cam = make_camera(scene, kW, kH);
-        preview.draw(scene, cam, kW, kH);
+        preview.draw(scene, plan_for(scene), cam, kW, kH);
         glFinish();
         int both = 0, either = 0;
         Vec3 bg;
@@ -158,7 +167,7 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     const Camera cam = make_camera(cd, kW, kH);
     RenderScene framed = scene;
     framed.camera = cd;
-    preview.draw(framed, cam, kW, kH);
+    preview.draw(framed, plan_for(framed), cam, kW, kH);
     glFinish();
     const std::vector<unsigned char> plain = gl.rgba;
     preview.draw_lines(view::overlay_lines(framed, true, 2), framed, cam);
@@ -214,10 +223,10 @@ TEST(GlPreview, ShadowsAgreeWithTheTrace) {
         view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
         preview.load(scene, 96);
         const Camera cam = make_camera(scene, kW, kH);
-        preview.draw(scene, cam, kW, kH, false);
+        preview.draw(scene, plan_for(scene, false), cam, kW, kH);
         glFinish();
         const std::vector<unsigned char> lit = gl.rgba;
-        preview.draw(scene, cam, kW, kH, true);
+        preview.draw(scene, plan_for(scene, true), cam, kW, kH);
         glFinish();
         const std::vector<std::string>& defines = preview.active_defines();
         EXPECT_NE(std::find(defines.begin(), defines.end(), "RT_SHADOWS"), defines.end());
@@ -254,14 +263,14 @@ TEST(GlPreview, UploadsAndCompilesOnlyWhatTheSceneUses) {
     view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
     preview.load(a, 16);
     const size_t plain_floats = preview.uploaded_floats();
-    preview.draw(a, make_camera(a, kW, kH), kW, kH, false);
+    preview.draw(a, plan_for(a, false), make_camera(a, kW, kH), kW, kH);
     EXPECT_EQ(preview.active_defines(), std::vector<std::string>{"RT_DIRECTIONAL"});
 
     Diagnostics diag;
     const RenderScene b =
         compile_scene(parse_scene_file(std::string(RT_SOURCE_DIR) + "/scenes/textures.ray", diag));
     preview.load(b, 16);
-    preview.draw(b, make_camera(b, kW, kH), kW, kH, false);
+    preview.draw(b, plan_for(b, false), make_camera(b, kW, kH), kW, kH);
     const auto& d = preview.active_defines();
     EXPECT_NE(std::find(d.begin(), d.end(), "RT_TEXTURES"), d.end());
     // The same sphere with a texture: 8 floats a vertex (uv) instead of 6.
@@ -286,7 +295,7 @@ TEST(GlPreview, MatchesTheGoldenImage) {
         compile_scene(parse_scene_file(std::string(RT_SOURCE_DIR) + "/scenes/shapes.ray", diag));
     view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
     preview.load(scene, 48);
-    preview.draw(scene, make_camera(scene, kW, kH), kW, kH);
+    preview.draw(scene, plan_for(scene), make_camera(scene, kW, kH), kW, kH);
     glFinish();
     Image img(kW, kH);
     for (int y = 0; y < kH; ++y)

@@ -249,6 +249,10 @@ RenderPlan make_render_plan(const RenderScene& scene, const RenderSettings& sett
     const bool skip_dark = settings.specialize && !(shade & kShadeStochastic);
     for (const Light& l : scene.lights)
         if (!skip_dark || lights_something(l)) plan.lights.push_back(l);
+    for (const Light& l : plan.lights) plan.uses.light_kinds[static_cast<int>(l.kind)] = true;
+    plan.uses.textures = f.textures;
+    plan.uses.highlights = f.highlights;
+    plan.uses.shadows = f.shadows;
     return plan;
 }
 

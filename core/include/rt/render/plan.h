@@ -32,6 +32,14 @@ struct PlanReason {
 /// "kept: <feature>: <why>" or "left out: <feature>: <why>".
 std::string reason_line(const PlanReason& reason);
 
+/// What the scene uses, as plain facts (the viewer's preview compiles its shaders for them).
+struct PlanUses {
+    bool light_kinds[3] = {false, false, false};  // among RenderPlan::lights, by LightKind
+    bool textures = false;                        // a placed primitive's material is textured
+    bool highlights = false;  // a placed primitive's material has a specular colour
+    bool shadows = false;     // shadows are on and some light lights something
+};
+
 struct RenderPlan {
     Camera camera;  // the scene's, or the default camera of spec §6.3 at the settings' size
     double focus_distance = 0.0;  // thin lens: the settings' or the distance to the scene's centre
@@ -39,6 +47,7 @@ struct RenderPlan {
     bool specialized = false;     // false: the generic renderer (RenderSettings::specialize)
     /// What the scene uses, one reason per feature, however the plan was made.
     std::vector<PlanReason> reasons;
+    PlanUses uses;
     const ShadingVariant* shading = nullptr;
     const GeometryQueries* geometry = nullptr;
 };
