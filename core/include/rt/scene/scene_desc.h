@@ -74,6 +74,7 @@ struct VertexDesc {
 struct BoxDesc {
     Vec3 centre{0.0};
     Vec3 size{1.0};  // full side lengths
+    bool operator==(const BoxDesc&) const = default;
 };
 inline Box to_shape(const BoxDesc& b) { return {b.centre, 0.5 * b.size}; }
 template <class T>
@@ -82,6 +83,7 @@ const T& to_shape(const T& shape) {
 }
 struct TriangleDesc {
     int v[3] = {0, 0, 0};  // vertex indices of this file
+    bool operator==(const TriangleDesc&) const = default;
 };
 
 /// The description type of each shape kind.

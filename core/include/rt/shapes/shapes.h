@@ -29,12 +29,14 @@ struct Sphere {
     static constexpr const char* kName = "sphere";
     Vec3 centre{0.0};
     double radius = 1.0;
+    bool operator==(const Sphere&) const = default;
 };
 struct Box {
     static constexpr ShapeKind kKind = ShapeKind::Box;
     static constexpr const char* kName = "box";
     Vec3 centre{0.0};
     Vec3 half{0.5};  // half side lengths (the file gives full lengths: BoxDesc)
+    bool operator==(const Box&) const = default;
 };
 /// Axis along +y, from centre.y - height/2 to centre.y + height/2, closed by two caps.
 struct Cylinder {
@@ -42,6 +44,7 @@ struct Cylinder {
     static constexpr const char* kName = "cylinder";
     Vec3 centre{0.0};
     double radius = 1.0, height = 1.0;
+    bool operator==(const Cylinder&) const = default;
 };
 /// Axis along +y: base disc (closed) at centre.y - height/2, apex at centre.y + height/2.
 struct Cone {
@@ -49,11 +52,13 @@ struct Cone {
     static constexpr const char* kName = "cone";
     Vec3 centre{0.0};
     double radius = 1.0, height = 1.0;
+    bool operator==(const Cone&) const = default;
 };
 struct Triangle {
     static constexpr ShapeKind kKind = ShapeKind::Triangle;
     static constexpr const char* kName = "triangle";
     Vec3 p0{0.0}, p1{0.0}, p2{0.0};
+    bool operator==(const Triangle&) const = default;
 };
 
 /// The closed set of shapes, in ShapeKind order: the one list the dispatch, the per-kind arrays
