@@ -19,7 +19,7 @@ ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tr
     const int lane = static_cast<int>(index & 3u);
     if (intersect_tri4(set.tri4[index >> 2], tri, 1 << lane, float_lower(t.lo), float_upper(t.hi),
                        tt)) {
-        const double th = tt[lane];
+        const double th = static_cast<double>(tt[lane]);
         if (t.contains(th)) h.add(th, 0);
     }
     return h;
@@ -95,7 +95,7 @@ bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min,
                         const int l = __builtin_ctz(static_cast<unsigned>(m));
                         m &= m - 1;
                         ShapeHits h;
-                        const double th = tt[l];
+                        const double th = static_cast<double>(tt[l]);
                         if (th > t_min && th < best) h.add(th, 0);
                         if (h.count && hits(b * 4 + static_cast<uint32_t>(l), h, best))
                             return stopped = true;

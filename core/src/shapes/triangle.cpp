@@ -48,8 +48,8 @@ ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
     ShapeHits h;
     float tt[4];
     if (intersect_tri4(block, TriRay(ray), 1, float_lower(t.lo), float_upper(t.hi), tt) &&
-        t.contains(tt[0]))
-        h.add(tt[0], 0);
+        t.contains(static_cast<double>(tt[0])))
+        h.add(static_cast<double>(tt[0]), 0);
     return h;
 }
 

@@ -121,6 +121,15 @@ decltype(auto) visit_kind(ShapeKind k, F&& f) {
     }
 }
 
+/// The shape of type T that primitive p of `set` is (p.kind must be T's kind).
+template <class T, class Set, class Prim>
+const T& shape_of(const Set& set, const Prim& p) {
+    if constexpr (std::is_same_v<T, Triangle>)
+        return set.triangles[p.index];
+    else
+        return set.shapes.template of<T>()[p.index];
+}
+
 /// THE dispatch on a primitive's kind: calls f(shape) with the concrete shape of primitive p of
 /// `set` (a GeometrySet, rt/compile/render_scene.h: a template so that this header needs none of
 /// the compile stage's types). kKinds narrows the kinds the set can hold (a set's layout), see
@@ -128,11 +137,7 @@ decltype(auto) visit_kind(ShapeKind k, F&& f) {
 template <uint32_t kKinds = kAllKinds, class Set, class Prim, class F>
 decltype(auto) visit_shape(const Set& set, const Prim& p, F&& f) {
     return visit_kind<kKinds>(p.kind, [&](auto tag) -> decltype(auto) {
-        using T = typename decltype(tag)::type;
-        if constexpr (std::is_same_v<T, Triangle>)
-            return f(set.triangles[p.index]);
-        else
-            return f(set.shapes.template of<T>()[p.index]);
+        return f(shape_of<typename decltype(tag)::type>(set, p));
     });
 }
 
