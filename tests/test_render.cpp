@@ -1,6 +1,7 @@
 // render_samples(): pixel centres at 1 spp, identical images for any thread count, stratified
-// supersampling, stop requests.
+// supersampling, stop requests, plans of another size refused.
 #include <chrono>
+#include <stdexcept>
 #include <thread>
 
 #include "test_util.h"
@@ -33,6 +34,19 @@ TEST(Render, OneSampleIsThePixelCentre) {
     for (int y = 0; y < 48; y += 7)
         for (int x = 0; x < 64; x += 5)
             EXPECT_VEC_NEAR(img.at(x, y), test::shade(s, cam.generate(x, y, 0.5, 0.5)), 1e-6);
+}
+
+TEST(Render, APlanForAnotherSizeIsRefused) {
+    const RenderScene s = test::compile(kScene);
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    const RenderPlan plan = make_render_plan(s, settings);
+    settings.width = 32;  // the plan's camera maps 64 x 48 pixels
+    RenderState state;
+    EXPECT_THROW(render_samples(state, s, plan, settings, 1), std::invalid_argument);
+    EXPECT_THROW(render_coarse(s, plan, settings, 4), std::invalid_argument);
+    EXPECT_EQ(state.passes, 0);
 }
 
 TEST(Render, SameImageForAnyThreadCount) {

@@ -128,7 +128,10 @@ void make_app(CLI::App& app, Options& o) {
     app.description(kDescription);
     app.footer(kFooter);
     app.get_formatter()->column_width(28);
-    app.option_defaults()->always_capture_default();
+    // A repeated option takes its last value, as before CLI11 (scripts/run.sh passes -o and
+    // forwards the user's own arguments after it).
+    app.option_defaults()->always_capture_default()->multi_option_policy(
+        CLI::MultiOptionPolicy::TakeLast);
     app.set_help_flag("-h,--help", "this text");
     add_render_options(app, o);
     add_progressive_options(app, o);

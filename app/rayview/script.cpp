@@ -34,6 +34,7 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
     CLI::App app{
         "Opens a .ray scene in a window: the OpenGL preview beside its progressive ray trace.",
         "rayview"};
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.add_option("scene", out->scene, "the .ray file (default: the showpiece)")
         ->type_name("SCENE.ray");
     app.add_option("--frames", out->frames, "run N frames, save the window (--screenshot), exit")
@@ -148,7 +149,13 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
 bool ScriptRun::end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code) {
     for (const ScriptLine& l : m_lines) {
         if (l.frame != m_frame || !v.loaded) continue;
-        run(l, v, fb_w, fb_h);
+        try {
+            run(l, v, fb_w, fb_h);
+        } catch (const std::exception& e) {  // a screenshot that cannot be written
+            std::fprintf(stderr, "rayview: frame %d: %s\n", m_frame, e.what());
+            *exit_code = 1;
+            return true;
+        }
         if (v.edit_pending()) m_causes.push_back(l.command);  // reported at the restart
     }
     ++m_frame;

@@ -4,8 +4,6 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
-#include <cassert>
-
 namespace rt::view {
 
 void Tracer::stop() {
@@ -17,7 +15,7 @@ void Tracer::stop() {
 }
 
 void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, int target_spp) {
-    assert(!m_thread.joinable() && "stop() before restart()");
+    stop();  // nothing to do when the caller stopped it (it must, before changing the scene)
     {
         std::lock_guard lock(m_mutex);
         m_status = {};
@@ -45,10 +43,8 @@ void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_s
     }
     settings.centre_first_sample = false;  // progressive: every sample jittered
     RenderState state;
-    while (!m_stop &&
-           (target_spp <= 0 ||
-            (!state.samples.empty() && static_cast<int>(state.samples[0]) < target_spp) ||
-            state.samples.empty())) {
+    while (!m_stop && (target_spp <= 0 || state.samples.empty() ||
+                       static_cast<int>(state.samples[0]) < target_spp)) {
         if (!render_samples(state, *scene, m_plan, settings, 1, {}, &m_stop)) return;
         const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         const ErrorEstimate est = estimate_error(state);

@@ -9,6 +9,7 @@
 #include "rt/format/writer.h"
 #include "rt/render/camera.h"
 #include "rt/util/file_io.h"
+#include "rt/util/stopwatch.h"
 
 namespace rt::view {
 
@@ -17,10 +18,6 @@ namespace {
 std::filesystem::file_time_type modified(const std::string& path) {
     std::error_code ec;
     return std::filesystem::last_write_time(path, ec);
-}
-
-double seconds_since(ViewerState::Clock::time_point t) {
-    return std::chrono::duration<double>(ViewerState::Clock::now() - t).count();
 }
 
 // The edits into the compiled scene, while no trace runs: the camera, the lights that are on
@@ -103,7 +100,7 @@ void ViewerState::on_loaded() {
     mark_edited();
 }
 
-bool ViewerState::open(const std::string& file, bool keep_camera) {
+bool ViewerState::open(std::string file, bool keep_camera) {
     std::string err;
     auto next = load_scene(file, &err);
     if (!next) {
@@ -175,7 +172,7 @@ void ViewerState::remove_light(size_t i) {
 }
 
 bool ViewerState::restart_if_due() {
-    if (!loaded) return false;
+    if (!loaded || m_trace_w <= 0 || m_trace_h <= 0) return false;  // no pane to trace for yet
     // A new scene restarts at once: the preview draws with the plan of the scene it shows.
     const bool trace_caught_up =
         first_pass_ms >= 0 || seconds_since(m_change_time) > 0.1 || loaded->id != m_traced_id;

@@ -67,7 +67,7 @@ struct ViewerState {
 
     // ---- the scene file ----
     /// Opens a file; on an error the message is shown and the previous scene stays.
-    bool open(const std::string& file, bool keep_camera);
+    bool open(std::string file, bool keep_camera);  // by value: callers pass loaded->path
     /// Opens the last file dropped onto the window, and reloads the open file (camera kept) when
     /// it changed on disk (its time is checked twice a second, not every frame).
     void poll_files();

@@ -56,6 +56,14 @@ TEST(Options, EveryOptionSetsItsField) {
     EXPECT_EQ(o.progressive.spp_limit, 0);  // not progressive
 }
 
+TEST(Options, ARepeatedOptionTakesItsLastValue) {
+    // scripts/run.sh passes -o and then the user's own arguments, which may repeat it.
+    const Options o =
+        parse({"a.ray", "-o", "x.png", "--width", "20", "-o", "y.png", "--width", "30"});
+    EXPECT_EQ(o.output, "y.png");
+    EXPECT_EQ(o.width, 30);
+}
+
 TEST(Options, ProgressiveLimitsAreTheLibrarysSettings) {
     const Options o =
         parse({"s.ray", "--progressive", "--spp", "8", "--time", "2.5", "--adaptive", "--reference",

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "parallel.h"
@@ -35,6 +37,15 @@ int resolve_thread_count(int threads) {
 }
 
 namespace {
+
+// A plan's camera is made for one image size: rendering another would map its pixels wrongly.
+void check_plan_size(const RenderPlan& plan, const RenderSettings& settings) {
+    if (plan.camera.width != settings.width || plan.camera.height != settings.height)
+        throw std::invalid_argument("render plan made for " + std::to_string(plan.camera.width) +
+                                    "x" + std::to_string(plan.camera.height) + ", rendered at " +
+                                    std::to_string(settings.width) + "x" +
+                                    std::to_string(settings.height));
+}
 
 constexpr int kTile = 16;
 
@@ -175,6 +186,7 @@ void commit_pass(RenderState& state, const PassOutput& out, int spp) {
 
 Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
                     const RenderSettings& settings, int block, const std::atomic<bool>* stop) {
+    check_plan_size(plan, settings);
     block = std::max(1, block);
     Image img(settings.width, settings.height);
     RayCounters rays;
@@ -197,6 +209,7 @@ Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
 bool render_samples(RenderState& state, const RenderScene& scene, const RenderPlan& plan,
                     const RenderSettings& settings, int spp, const ProgressFn& progress,
                     const std::atomic<bool>* stop) {
+    check_plan_size(plan, settings);
     if (state.width != settings.width || state.height != settings.height)
         state.reset(settings.width, settings.height);
     if (spp <= 0) return true;

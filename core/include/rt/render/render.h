@@ -63,19 +63,20 @@ struct RenderState {
     Image image() const;
 };
 
-/// Progress report: pixels rows done so far out of the total.
+/// Progress report: pixel rows done so far out of the total.
 using ProgressFn = std::function<void(int rows_done, int rows_total)>;
 
 /// Adds `spp` samples to every pixel (or spp times state.active[p] to pixel p). Where the samples
-/// fall is set by RenderSettings::centre_first_sample. `plan` is make_render_plan(scene, settings).
-/// `stop`, when set, is polled between tiles; a stopped call leaves the state unchanged.
-/// Returns false when stopped.
+/// fall is set by RenderSettings::centre_first_sample. `plan` is make_render_plan(scene, settings)
+/// (a plan made for another image size throws std::invalid_argument). `stop`, when set, is
+/// polled between tiles and pixel rows; a stopped call leaves the state unchanged. Returns false
+/// when stopped.
 bool render_samples(RenderState& state, const RenderScene& scene, const RenderPlan& plan,
                     const RenderSettings& settings, int spp, const ProgressFn& progress = {},
                     const std::atomic<bool>* stop = nullptr);
 
 /// A cheap preview for a moving camera: one centre sample per block x block pixels, copied over
-/// the block. It does not touch any RenderState.
+/// the block. It does not touch any RenderState; when stopped, the blocks not reached stay black.
 Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
                     const RenderSettings& settings, int block,
                     const std::atomic<bool>* stop = nullptr);

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <bit>
+#include <cassert>
 #include <cstdint>
 #include <tuple>
 #include <type_traits>
@@ -114,6 +115,8 @@ decltype(auto) visit_kind(ShapeKind k, F&& f) {
     constexpr int kFirst = std::countr_zero(kKinds);
     using T = std::variant_alternative_t<kFirst, Shape>;
     if constexpr ((kKinds & (kKinds - 1u)) == 0) {
+        static_cast<void>(k);  // checked in debug builds only
+        assert(k == static_cast<ShapeKind>(kFirst) && "a kind outside kKinds");
         return f(std::type_identity<T>{});
     } else {
         if (k == static_cast<ShapeKind>(kFirst)) return f(std::type_identity<T>{});
