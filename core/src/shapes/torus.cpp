@@ -36,8 +36,10 @@ double mul_add(double a, double b, double c) {
 
 // Newton's method kept inside the bracket [a, b] of a sign change of f (fa = f(a)), bisecting
 // when a step leaves it; f(x, &df) returns f and its derivative.
+// Stops after a Newton step below `tol` (its error is then of the order of the step squared)
+// or when the bracket is a few ulp wide.
 template <class F>
-double bracketed_root(const F& f, double a, double b, double fa, double fb) {
+double bracketed_root(const F& f, double a, double b, double fa, double fb, double tol) {
     double x = fa != fb ? a + (b - a) * (fa / (fa - fb)) : 0.5 * (a + b);
     if (!(x > a && x < b)) x = 0.5 * (a + b);
     for (int i = 0; i < 80; ++i) {
@@ -45,10 +47,14 @@ double bracketed_root(const F& f, double a, double b, double fa, double fb) {
         const double fx = f(x, &df);
         if (fx == 0.0) return x;
         ((fx < 0.0) == (fa < 0.0) ? a : b) = x;
-        double xn = x - fx / df;
-        if (!(xn > a && xn < b)) xn = 0.5 * (a + b);
-        if (std::abs(xn - x) <= 1e-15 * (1.0 + std::abs(x)) || !(b - a > 0.0)) return xn;
-        x = xn;
+        const double xn = x - fx / df;
+        if (xn > a && xn < b) {
+            if (std::abs(xn - x) <= tol) return xn;  // a Newton step: converged
+            x = xn;
+        } else {
+            x = 0.5 * (a + b);
+            if (!(b - a > 4e-16 * (1.0 + std::abs(x)))) return x;
+        }
     }
     return x;
 }
@@ -168,7 +174,7 @@ ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t) {
         const double bnd = i < ni ? inflect[i] : hi;
         const double db = d1(bnd, &dummy);
         if ((da < 0.0) != (db < 0.0) && da != 0.0 && db != 0.0)
-            cuts[nc++] = bracketed_root(d1, a, bnd, da, db);
+            cuts[nc++] = bracketed_root(d1, a, bnd, da, db, 1e-9);
         a = bnd, da = db;
     }
     cuts[nc++] = hi;
@@ -177,7 +183,7 @@ ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t) {
     for (int i = 1; i < nc; ++i) {
         const double fb = r.f(cuts[i], &dummy);
         if ((fa < 0.0) != (fb < 0.0)) {
-            const double s = bracketed_root(f, cuts[i - 1], cuts[i], fa, fb);
+            const double s = bracketed_root(f, cuts[i - 1], cuts[i], fa, fb, 1e-10);
             const double th = r.t0 + s * r.scale;
             if (t.contains(th) && (h.count == 0 || th > h.t[h.count - 1])) h.add(th, 0);
         }
