@@ -792,5 +792,56 @@ TEST(ShapesRobust, TorusAxisAndHoleRays) {
     }
 }
 
+// Rays spawned at torus hits (offset by the point's error bound, spec §7.5), reflected outward
+// or refracted inward, never re-hit their own point, under a group transform with non-uniform
+// scale and far from the origin; inward rays always find the far side.
+TEST(ShapesRobust, TorusSpawnedRaysNeverReHit) {
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<double> u01(0, 1);
+    for (int grouped = 0; grouped < 2; ++grouped)
+        for (const Torus& tor : robust_tori()) {
+            // In the group's frame, or directly (the shape's own error bound alone then keeps the
+            // spawned ray off its surface).
+            SceneDesc desc =
+                test::parse(std::string(kOpaque) +
+                            (grouped ? "#group_begin 3 0 0 100  0 0.5 0 -50  0 0 1 20  0 0 0 1\n"
+                                       "#shape_sphere 0 0 0 0 1\n#group_end\n"
+                                     : "#shape_sphere 0 0 0 0 1\n"));
+            (grouped ? desc.files[0].root.groups[0].shapes[0] : desc.files[0].root.shapes[0])
+                .geometry = tor;
+            const RenderScene scene = compile_scene(desc);
+            const double size = tor.ring + tor.tube;
+            int rehit = 0, lost = 0, spawned = 0;
+            for (int i = 0; i < 3000; ++i) {
+                Vec3 p, n;
+                torus_point(tor, u01(rng), u01(rng), &p, &n);
+                const Vec3 target = grouped ? Vec3(3 * p.x + 100, 0.5 * p.y - 50, p.z + 20) : p;
+                const Vec3 eye = target + 30.0 * size * random_unit(rng);
+                const Ray r{eye, glm::normalize(target - eye)};
+                Hit h;
+                if (!intersect(scene, r, {0, kInf}, &h)) continue;
+                const SurfaceInteraction si = interaction(scene, r, h);
+                // Outward (away from the surface) and inward directions.
+                const Vec3 out = random_in_hemisphere(rng, si.n_geometric, 0.05);
+                const Vec3 in = random_in_hemisphere(rng, -si.n_geometric, 0.05);
+                Hit ho, hi;
+                ++spawned;
+                if (intersect(scene, {offset_origin(si, out), out}, {0, kInf}, &ho) &&
+                    ho.t < 1e-6 * size)
+                    ++rehit;
+                if (!intersect(scene, {offset_origin(si, in), in}, {0, kInf}, &hi))
+                    ++lost;
+                else if (hi.t < 1e-6 * size)
+                    ++rehit;
+            }
+            std::printf(
+                "[ torus ] spawned %s r %g R %g: %d points, %d re-hits, %d inward rays lost\n",
+                grouped ? "grouped" : "direct", tor.tube, tor.ring, spawned, rehit, lost);
+            EXPECT_GT(spawned, 500);
+            EXPECT_EQ(rehit, 0);
+            EXPECT_EQ(lost, 0);
+        }
+}
+
 }  // namespace
 }  // namespace rt
