@@ -10,6 +10,9 @@
 // double rounding either answer is accepted, but never NaN. A tangent ray is reported as one hit
 // (the double root once). A ray lying in a triangle's plane does not hit it (zero projected area:
 // the determinant of Woop, Benthin and Wald's test is zero).
+#include <algorithm>
+#include <vector>
+
 #include "extreme_util.h"
 
 namespace rt {
@@ -554,6 +557,290 @@ TEST(ShapesRobust, AxisParallelRaysOnSlabPlanesHitThroughTheBvh) {
     const int wrong = slab_plane_errors(true, &rays);
     std::printf("[ touch ] box slab planes through the BVH: %d rays, %d wrong\n", rays, wrong);
     EXPECT_EQ(wrong, 0);
+}
+
+}  // namespace
+}  // namespace rt
+
+// ---------------------------------------------------------------------------------------------
+// The torus (spec §13.7) against a long-double oracle: f(t) = (rho - R)^2 + y^2 - r^2 along the
+// ray, sampled over the bounding sphere's chord; each sign change between samples is bisected,
+// and each local minimum of the samples is refined by ternary search, so that a chord narrower
+// than the sample spacing is found too. A ray is in the band (either answer accepted) when a
+// local extremum of f lies within the band of a tangent: a chord shorter than kTorusBand times
+// the tube radius (spec §13.7), or a distance from the surface within the rounding of double.
+
+namespace rt {
+namespace {
+
+constexpr LD kTorusBand = 1e-6L;
+constexpr LD kUlpBand = 4.4e-16L;  // 4 units of rounding of double
+
+struct TorusOracle {
+    std::vector<LD> roots;  // every crossing ahead of the origin, ascending
+    bool band = false;      // a near-tangent: hit or miss both accepted there
+};
+
+TorusOracle torus_oracle(const Torus& tor, const Ray& ray) {
+    const LD R = tor.ring, r = tor.tube;
+    LD q0[3], d[3];
+    for (int i = 0; i < 3; ++i) q0[i] = LD(ray.o[i]) - LD(tor.centre[i]), d[i] = LD(ray.d[i]);
+    auto f = [&](LD t) {
+        LD q[3];
+        for (int i = 0; i < 3; ++i) q[i] = q0[i] + t * d[i];
+        const LD dr = std::sqrt(q[0] * q[0] + q[2] * q[2]) - R;
+        return dr * dr + q[1] * q[1] - r * r;
+    };
+    const LD dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    const LD tc = -(q0[0] * d[0] + q0[1] * d[1] + q0[2] * d[2]) / dd;
+    LD near2 = 0;
+    for (int i = 0; i < 3; ++i) near2 += (q0[i] + tc * d[i]) * (q0[i] + tc * d[i]);
+    TorusOracle o;
+    const LD size = R + r;
+    if (near2 >= size * size) return o;
+    const LD half = std::sqrt((size * size - near2) / dd) * 1.001L;
+    const LD lo = std::max(LD(0), tc - half), hi = tc + half;
+    if (!(hi > lo)) return o;
+    auto bisect = [&](LD a, LD b) {
+        const bool neg_a = f(a) < 0;
+        for (int k = 0; k < 200 && b - a > 0; ++k) {
+            const LD m = 0.5L * (a + b);
+            if (m <= a || m >= b) break;
+            ((f(m) < 0) == neg_a ? a : b) = m;
+        }
+        return 0.5L * (a + b);
+    };
+    const int n = 4096;
+    std::vector<LD> ts(n + 1), fs(n + 1);
+    for (int i = 0; i <= n; ++i) ts[i] = lo + (hi - lo) * i / n, fs[i] = f(ts[i]);
+    for (int i = 0; i < n; ++i)
+        if ((fs[i] < 0) != (fs[i + 1] < 0)) o.roots.push_back(bisect(ts[i], ts[i + 1]));
+    // Each discrete extremum of the samples (a minimum outside, a maximum inside: a chord, or a
+    // gap between two chords, narrower than the spacing), refined by ternary search.
+    for (int i = 1; i < n; ++i) {
+        const LD sg = fs[i] < 0 ? -1 : 1;  // maximise -f inside, i.e. look for f's maximum
+        if (!(sg * fs[i] <= sg * fs[i - 1] && sg * fs[i] <= sg * fs[i + 1])) continue;
+        auto g = [&](LD t) { return sg * f(t); };
+        LD a = ts[i - 1], b = ts[i + 1];
+        for (int k = 0; k < 200; ++k) {
+            const LD m1 = a + (b - a) / 3, m2 = b - (b - a) / 3;
+            if (g(m1) < g(m2))
+                b = m2;
+            else
+                a = m1;
+        }
+        const LD tm = 0.5L * (a + b), gm = g(tm);
+        // |f| ~ 2 r delta at a distance delta from the surface, (chord / 2)^2 across a chord.
+        // The band of a tangent: a chord shorter than kTorusBand r, or a distance from the surface
+        // below kUlpBand (R + r), the rounding of a point in double (a chord of 1e-6 r in a tube of
+        // r = 1e-3 R is a distance of one ulp of R from the tangent: the bound of double
+        // precision).
+        const LD band = kTorusBand * r, ulp = kUlpBand * size;
+        if ((gm >= 0 && gm < 2 * r * std::max(band, ulp)) ||
+            (gm < 0 && -gm < std::max(0.25L * band * band, 2 * r * ulp)))
+            o.band = true;
+        if (gm < 0 && (fs[i - 1] < 0) == (fs[i] < 0) && (fs[i + 1] < 0) == (fs[i] < 0)) {
+            o.roots.push_back(bisect(ts[i - 1], tm));
+            o.roots.push_back(bisect(tm, ts[i + 1]));
+        }
+    }
+    std::sort(o.roots.begin(), o.roots.end());
+    return o;
+}
+
+struct TorusStats {
+    int rays = 0, hits = 0, band = 0, wrong_count = 0, nan = 0;
+    double max_rel = 0;
+};
+
+void check_torus(const Torus& tor, const Ray& ray, TorusStats& st) {
+    ++st.rays;
+    const ShapeHits h = intersect(tor, ray, {0, kInf});
+    for (int k = 0; k < h.count; ++k)
+        if (!std::isfinite(h.t[k])) ++st.nan;
+    const TorusOracle o = torus_oracle(tor, ray);
+    if (o.band) {
+        ++st.band;
+        return;
+    }
+    if (h.count != static_cast<int>(o.roots.size())) {
+        ++st.wrong_count;
+        return;
+    }
+    st.hits += h.count;
+    // |t - t*| <= 1e-9 max(t*, R + r) in distances: t is in units of |d|.
+    const LD floor = LD(tor.ring + tor.tube) / std::sqrt(LD(glm::dot(ray.d, ray.d)));
+    for (int k = 0; k < h.count; ++k) {
+        const LD ts = o.roots[static_cast<size_t>(k)];
+        st.max_rel = std::max(st.max_rel,
+                              static_cast<double>(std::abs(LD(h.t[k]) - ts) / std::max(ts, floor)));
+    }
+}
+
+// A point of the torus at (u, v) of spec §13.7, with its outward normal.
+void torus_point(const Torus& tor, double u, double v, Vec3* p, Vec3* n) {
+    const double phi = 2 * kPi * u, theta = 2 * kPi * v;
+    const Vec3 dir(-std::sin(phi), 0, -std::cos(phi));
+    *n = Vec3(std::cos(theta) * dir.x, std::sin(theta), std::cos(theta) * dir.z);
+    *p = tor.centre + (tor.ring + tor.tube * std::cos(theta)) * dir +
+         Vec3(0, tor.tube * std::sin(theta), 0);
+}
+
+void report_torus(const char* name, const TorusStats& st) {
+    std::printf(
+        "[ torus ] %-22s %d rays, %d hits, %d in the band; %d wrong counts, %d NaN; max rel "
+        "t err %.3g\n",
+        name, st.rays, st.hits, st.band, st.wrong_count, st.nan, st.max_rel);
+    EXPECT_EQ(st.wrong_count, 0) << name;
+    EXPECT_EQ(st.nan, 0) << name;
+    EXPECT_LE(st.max_rel, 1e-9) << name;
+    EXPECT_LT(st.band, st.rays / 2) << name;
+    EXPECT_GT(st.hits, st.rays / 4) << name;
+}
+
+// Ordinary, thin (r/R = 1e-3), horn and spindle tori, off the origin.
+std::vector<Torus> robust_tori() {
+    return {{{0.3, -0.7, 1.1}, 0.4, 1.2},
+            {{-2, 1, 0.5}, 1e-3, 1.0},
+            {{0, 0, 0}, 0.75, 0.75},
+            {{1, 2, 3}, 2.0, 1.0},
+            {{5, -3, 2}, 1.5, 1.0}};
+}
+
+TEST(ShapesRobust, TorusRaysFromNearAndFarMatchALongDoubleOracle) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u01(0, 1);
+    for (const Torus& tor : robust_tori()) {
+        const double size = tor.ring + tor.tube;
+        TorusStats st;
+        for (int i = 0; i < 1500; ++i) {
+            // Aimed at a point near the surface from 1 to 1e3 torus sizes away, |d| not 1.
+            Vec3 p, n;
+            torus_point(tor, u01(rng), u01(rng), &p, &n);
+            const double dist = size * std::pow(10.0, 3.0 * u01(rng));
+            const Vec3 aim = p + 0.5 * tor.tube * (u01(rng) - 0.5) * random_unit(rng);
+            const Vec3 o = aim + dist * random_unit(rng);
+            check_torus(tor, {o, (aim - o) * (0.1 + 10 * u01(rng)) / dist}, st);
+        }
+        char name[64];
+        std::snprintf(name, sizeof name, "far r %g R %g", tor.tube, tor.ring);
+        report_torus(name, st);
+    }
+}
+
+// Rays through a surface point at angles of 1e-2 .. 1e-7 to its tangent plane (silhouettes, and
+// chords inside thin tubes), from up to 1e3 torus sizes away.
+TEST(ShapesRobust, TorusGrazingRaysMatchALongDoubleOracle) {
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> u01(0, 1);
+    for (const Torus& tor : robust_tori()) {
+        const double size = tor.ring + tor.tube;
+        TorusStats st;
+        for (int i = 0; i < 1500; ++i) {
+            Vec3 p, n;
+            torus_point(tor, u01(rng), u01(rng), &p, &n);
+            const Vec3 t_dir = random_tangent(rng, n);
+            const double theta = std::pow(10.0, -2.0 - 5.0 * u01(rng)) * (i % 2 ? 1 : -1);
+            const Vec3 d = std::cos(theta) * t_dir - std::sin(theta) * n;
+            const double dist = size * std::pow(10.0, 3.0 * u01(rng));
+            check_torus(tor, {p - dist * d, d}, st);
+        }
+        char name[64];
+        std::snprintf(name, sizeof name, "graze r %g R %g", tor.tube, tor.ring);
+        report_torus(name, st);
+        EXPECT_LT(st.band, st.rays / 4);
+    }
+}
+
+// Along the axis (the hole, or a spindle torus's dimples, where the quartic has double roots),
+// nearly along it, and through the hole from afar.
+TEST(ShapesRobust, TorusAxisAndHoleRays) {
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<double> u01(0, 1);
+    for (const Torus& tor : robust_tori()) {
+        const double size = tor.ring + tor.tube;
+        for (double dist : {2.0, 1e3}) {
+            for (double sy : {1.0, -1.0}) {
+                const Ray axis{tor.centre + Vec3(0, sy * dist * size, 0), {0, -sy, 0}};
+                const ShapeHits h = intersect(tor, axis, {0, kInf});
+                if (tor.tube <= tor.ring) {
+                    EXPECT_EQ(h.count, 0) << tor.tube << " " << tor.ring;
+                } else {
+                    const double y = std::sqrt(tor.tube * tor.tube - tor.ring * tor.ring);
+                    ASSERT_EQ(h.count, 2) << tor.tube << " " << tor.ring;
+                    EXPECT_NEAR(h.t[0], dist * size - y, 1e-7 * dist * size);
+                    EXPECT_NEAR(h.t[1], dist * size + y, 1e-7 * dist * size);
+                }
+            }
+        }
+        TorusStats st;
+        for (int i = 0; i < 600; ++i) {
+            // Off the axis by up to the hole (or the tube), tilted by up to 1e-3.
+            const double off = u01(rng) * (tor.ring > tor.tube ? tor.ring - tor.tube : tor.tube);
+            const double phi = 2 * kPi * u01(rng);
+            const Vec3 target = tor.centre + Vec3(off * std::cos(phi), 0, off * std::sin(phi));
+            const double dist = size * std::pow(10.0, 3.0 * u01(rng));
+            const Vec3 d =
+                glm::normalize(Vec3(0, -1, 0) + 1e-3 * (u01(rng) - 0.5) * random_unit(rng));
+            check_torus(tor, {target - dist * d, d}, st);
+        }
+        std::printf("[ torus ] axis r %g R %g: %d rays, %d hits, %d band, %d wrong, max rel %.3g\n",
+                    tor.tube, tor.ring, st.rays, st.hits, st.band, st.wrong_count, st.max_rel);
+        EXPECT_EQ(st.wrong_count, 0);
+        EXPECT_EQ(st.nan, 0);
+        EXPECT_LE(st.max_rel, 1e-9);
+    }
+}
+
+// Rays spawned at torus hits (offset by the point's error bound, spec §7.5), reflected outward
+// or refracted inward, never re-hit their own point, under a group transform with non-uniform
+// scale and far from the origin; inward rays always find the far side.
+TEST(ShapesRobust, TorusSpawnedRaysNeverReHit) {
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<double> u01(0, 1);
+    for (int grouped = 0; grouped < 2; ++grouped)
+        for (const Torus& tor : robust_tori()) {
+            // In the group's frame, or directly (the shape's own error bound alone then keeps the
+            // spawned ray off its surface).
+            SceneDesc desc =
+                test::parse(std::string(kOpaque) +
+                            (grouped ? "#group_begin 3 0 0 100  0 0.5 0 -50  0 0 1 20  0 0 0 1\n"
+                                       "#shape_sphere 0 0 0 0 1\n#group_end\n"
+                                     : "#shape_sphere 0 0 0 0 1\n"));
+            (grouped ? desc.files[0].root.groups[0].shapes[0] : desc.files[0].root.shapes[0])
+                .geometry = tor;
+            const RenderScene scene = compile_scene(desc);
+            const double size = tor.ring + tor.tube;
+            int rehit = 0, lost = 0, spawned = 0;
+            for (int i = 0; i < 3000; ++i) {
+                Vec3 p, n;
+                torus_point(tor, u01(rng), u01(rng), &p, &n);
+                const Vec3 target = grouped ? Vec3(3 * p.x + 100, 0.5 * p.y - 50, p.z + 20) : p;
+                const Vec3 eye = target + 30.0 * size * random_unit(rng);
+                const Ray r{eye, glm::normalize(target - eye)};
+                Hit h;
+                if (!intersect(scene, r, {0, kInf}, &h)) continue;
+                const SurfaceInteraction si = interaction(scene, r, h);
+                // Outward (away from the surface) and inward directions.
+                const Vec3 out = random_in_hemisphere(rng, si.n_geometric, 0.05);
+                const Vec3 in = random_in_hemisphere(rng, -si.n_geometric, 0.05);
+                Hit ho, hi;
+                ++spawned;
+                if (intersect(scene, {offset_origin(si, out), out}, {0, kInf}, &ho) &&
+                    ho.t < 1e-6 * size)
+                    ++rehit;
+                if (!intersect(scene, {offset_origin(si, in), in}, {0, kInf}, &hi))
+                    ++lost;
+                else if (hi.t < 1e-6 * size)
+                    ++rehit;
+            }
+            std::printf(
+                "[ torus ] spawned %s r %g R %g: %d points, %d re-hits, %d inward rays lost\n",
+                grouped ? "grouped" : "direct", tor.tube, tor.ring, spawned, rehit, lost);
+            EXPECT_GT(spawned, 500);
+            EXPECT_EQ(rehit, 0);
+            EXPECT_EQ(lost, 0);
+        }
 }
 
 }  // namespace

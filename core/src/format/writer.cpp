@@ -135,10 +135,15 @@ private:
     static const char* directive_of(const Cylinder&) { return "#shape_cylinder"; }
     static const char* directive_of(const Cone&) { return "#shape_cone"; }
     static const char* directive_of(const TriangleDesc&) { return "#shape_triangle"; }
+    // The torus is a V3 shape (spec §13.7): V0 and V1 have no directive for it.
+    [[noreturn]] static const char* directive_of(const Torus&) {
+        throw SceneError({}, "a torus cannot be written in V0 or V1 (#shape_torus is V3 only)");
+    }
     void params(const Sphere& g) { vec(g.centre), num(g.radius); }
     void params(const BoxDesc& g) { vec(g.centre), vec(g.size); }
     void params(const Cylinder& g) { vec(g.centre), num(g.radius), num(g.height); }
     void params(const Cone& g) { vec(g.centre), num(g.radius), num(g.height); }
+    void params(const Torus& g) { vec(g.centre), num(g.tube), num(g.ring); }
     void params(const TriangleDesc& g) {
         for (int v : g.v) integer(v);
     }

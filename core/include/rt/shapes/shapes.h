@@ -1,4 +1,4 @@
-// The five shapes of the format in their local frame (spec §5), each in its own file
+// The shapes of the format in their local frame (spec §5, the torus §13.7), each in its own file
 // core/src/shapes/<kind>.cpp with the same small API: bounds, intersect (every hit in an interval,
 // nearest first), surface_at (point, outward geometric normal, shading normal, texture
 // coordinates, and a bound on the point's error), inside (the solid's open interior) and
@@ -22,7 +22,7 @@
 
 namespace rt {
 
-enum class ShapeKind : uint8_t { Sphere, Box, Cylinder, Cone, Triangle };
+enum class ShapeKind : uint8_t { Sphere, Box, Cylinder, Cone, Triangle, Torus };
 const char* shape_kind_name(ShapeKind k);
 
 struct Sphere {
@@ -61,10 +61,19 @@ struct Triangle {
     Vec3 p0{0.0}, p1{0.0}, p2{0.0};
     bool operator==(const Triangle&) const = default;
 };
+/// Axis along +y through centre (spec §13.7): (rho - ring)^2 + q_y^2 = tube^2. A spindle torus
+/// (tube > ring) is its outer surface only.
+struct Torus {
+    static constexpr ShapeKind kKind = ShapeKind::Torus;
+    static constexpr const char* kName = "torus";
+    Vec3 centre{0.0};
+    double tube = 0.25, ring = 1.0;  // r (iRadius, minor) and R (oRadius, major)
+    bool operator==(const Torus&) const = default;
+};
 
 /// The closed set of shapes, in ShapeKind order: the one list the dispatch, the per-kind arrays
 /// and the description's variant are derived from.
-using Shape = std::variant<Sphere, Box, Cylinder, Cone, Triangle>;
+using Shape = std::variant<Sphere, Box, Cylinder, Cone, Triangle, Torus>;
 inline constexpr int kShapeKinds = static_cast<int>(std::variant_size_v<Shape>);
 template <ShapeKind K>
 using ShapeOf = std::variant_alternative_t<static_cast<size_t>(K), Shape>;
@@ -151,12 +160,14 @@ struct TriangleAttribs {
     bool has_normals = false;  // all three vertices have non-zero normals
 };
 
-/// Up to two hits of a convex shape inside an interval, nearest first. `part` tells which
-/// surface piece was hit (box face, cylinder side or cap, ...), for surface_at.
+/// The hits of a shape inside an interval, nearest first: up to two for the convex shapes, up
+/// to four for the torus. `part` tells which surface piece was hit (box face, cylinder side or
+/// cap, ...), for surface_at.
 struct ShapeHits {
+    static constexpr int kMax = 4;
     int count = 0;
-    double t[2] = {0.0, 0.0};
-    int part[2] = {0, 0};
+    double t[kMax] = {0.0, 0.0, 0.0, 0.0};
+    int part[kMax] = {0, 0, 0, 0};
     void add(double tt, int p) {
         t[count] = tt;
         part[count] = p;
@@ -184,6 +195,7 @@ Bounds3 bounds(const Box& b);
 Bounds3 bounds(const Cylinder& c);
 Bounds3 bounds(const Cone& c);
 Bounds3 bounds(const Triangle& t);
+Bounds3 bounds(const Torus& t);
 
 /// Tight bounds of the shape under an affine transform p' = m p (exact for every kind, so the
 /// default camera frames what is really there).
@@ -192,6 +204,7 @@ Bounds3 bounds(const Box& b, const Mat4& m);
 Bounds3 bounds(const Cylinder& c, const Mat4& m);
 Bounds3 bounds(const Cone& c, const Mat4& m);
 Bounds3 bounds(const Triangle& t, const Mat4& m);
+Bounds3 bounds(const Torus& t, const Mat4& m);
 
 ShapeHits intersect(const Sphere& s, const Ray& ray, Interval t);
 ShapeHits intersect(const Box& b, const Ray& ray, Interval t);
@@ -199,12 +212,15 @@ ShapeHits intersect(const Cylinder& c, const Ray& ray, Interval t);
 ShapeHits intersect(const Cone& c, const Ray& ray, Interval t);
 /// The renderer's triangle test (watertight, single precision: triangle4.h) on one triangle.
 ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t);
+/// Every crossing of the torus surface in the interval (up to four), nearest first.
+ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t);
 
 /// `uv` false: texture coordinates are not computed (left at 0) for scenes without textures.
 SurfacePoint surface_at(const Sphere& s, const Ray& ray, double t, int part, bool uv = true);
 SurfacePoint surface_at(const Box& b, const Ray& ray, double t, int part, bool uv = true);
 SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part, bool uv = true);
 SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part, bool uv = true);
+SurfacePoint surface_at(const Torus& tor, const Ray& ray, double t, int part, bool uv = true);
 /// For triangles, `origin` is the point the float copy of the set's triangles is relative to
 /// (GeometrySet::tri_origin): the point's error bound is the float rounding about it.
 SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t,
@@ -218,6 +234,7 @@ bool inside(const Box& b, const Vec3& p_object);
 bool inside(const Cylinder& c, const Vec3& p_object);
 bool inside(const Cone& c, const Vec3& p_object);
 bool inside(const Triangle& t, const Vec3& p_object);
+bool inside(const Torus& t, const Vec3& p_object);
 
 /// A triangle mesh for the viewer's rasterized preview. Positions, outward normals and texture
 /// coordinates follow spec §5, so the preview and the trace agree; no GL here, the viewer
@@ -240,6 +257,7 @@ PreviewMesh tessellate(const Sphere& s, int detail);
 PreviewMesh tessellate(const Box& b, int detail = 0);
 PreviewMesh tessellate(const Cylinder& c, int detail);
 PreviewMesh tessellate(const Cone& c, int detail);
+PreviewMesh tessellate(const Torus& t, int detail);
 /// Appends the triangle in the file's winding, with its vertex normals when it has them (else
 /// the geometric normal) and its vertex uvs; no material (the caller tags it).
 void tessellate(const Triangle& t, const TriangleAttribs& attr, PreviewMesh& out);

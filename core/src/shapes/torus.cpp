@@ -1,0 +1,254 @@
+// Torus (spec §13.7): axis along +y through c, q = p - c, rho = sqrt(q_x^2 + q_z^2); surface
+// (rho - R)^2 + q_y^2 = r^2 with r = tube (iRadius, minor radius) and R = ring (oRadius, major
+// radius). A spindle torus (r > R) is its outer surface only: the roots of the quartic on the
+// inner "lemon" (rho + R)^2 + q_y^2 = r^2 are not part of it. Outward normal: the gradient of
+// f = (rho - R)^2 + q_y^2 - r^2, i.e. from the tube's centre circle to the point; (0, sign q_y, 0)
+// at the cusps of a spindle torus (rho = 0). uv: u = azimuth about +y from -z / 2pi (as the
+// sphere), v = atan2(q_y, rho - R) / 2pi in [0, 1): 0 on the outer equator, 1/4 on the top
+// circle, 1/2 on the inner equator, 3/4 on the bottom circle. Inside: f < 0.
+//
+// The torus is a V3 shape (#shape_torus): until the V3 parser lands it is reachable from code and
+// tests only (the V0/V1 writer refuses it).
+#include "common.h"
+
+namespace rt {
+
+namespace {
+
+// a * b + c with one rounding (Dekker's product, Knuth's sum: the build has no FMA).
+double mul_add(double a, double b, double c) {
+    constexpr double kSplit = 134217729.0;  // 2^27 + 1
+    auto split = [](double x, double& hi, double& lo) {
+        const double s = kSplit * x;
+        hi = s - (s - x);
+        lo = x - hi;
+    };
+    double ah, al, bh, bl;
+    split(a, ah, al);
+    split(b, bh, bl);
+    const double p = a * b;
+    const double pe = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+    const double s = p + c;
+    const double bb = s - p;
+    const double se = (p - (s - bb)) + (c - bb);
+    return s + (pe + se);
+}
+
+// Newton's method kept inside the bracket [a, b] of a sign change of f (fa = f(a)), bisecting
+// when a step leaves it; f(x, &df) returns f and its derivative.
+// Stops after a Newton step below `tol` (its error is then of the order of the step squared)
+// or when the bracket is a few ulp wide.
+template <class F>
+double bracketed_root(const F& f, double a, double b, double fa, double fb, double tol) {
+    double x = fa != fb ? a + (b - a) * (fa / (fa - fb)) : 0.5 * (a + b);
+    if (!(x > a && x < b)) x = 0.5 * (a + b);
+    for (int i = 0; i < 80; ++i) {
+        double df = 0.0;
+        const double fx = f(x, &df);
+        if (fx == 0.0) return x;
+        ((fx < 0.0) == (fa < 0.0) ? a : b) = x;
+        const double xn = x - fx / df;
+        if (xn > a && xn < b) {
+            if (std::abs(xn - x) <= tol) return xn;  // a Newton step: converged
+            x = xn;
+        } else {
+            x = 0.5 * (a + b);
+            if (!(b - a > 4e-16 * (1.0 + std::abs(x)))) return x;
+        }
+    }
+    return x;
+}
+
+// The ray in the torus's frame, scaled by 1 / (R + r) and moved to its point nearest the centre:
+// the quartic's coefficients are then of order 1 whatever the ray's distance (spec §13.7).
+struct TorusRay {
+    Vec3 p;        // origin: the point of the line nearest c, in units of R + r
+    Vec3 e;        // unit direction
+    double t0;     // ray parameter of p
+    double scale;  // ray parameter per unit of sigma: (R + r) / |d|
+    double ring, tube;
+    // f = (rho - R)^2 + y^2 - r^2 at p + sigma e, and df/dsigma.
+    double f(double s, double* df) const {
+        const Vec3 q = p + s * e;
+        const double rho = std::sqrt(q.x * q.x + q.z * q.z);
+        const double dr = rho - ring;
+        *df = rho > 0.0 ? 2.0 * dr * (q.x * e.x + q.z * e.z) / rho + 2.0 * q.y * e.y : 0.0;
+        return dr * dr + q.y * q.y - tube * tube;
+    }
+};
+
+// The real roots of c2 x^2 + c1 x + c0 in (lo, hi), ascending.
+int quadratic_roots(double c2, double c1, double c0, double lo, double hi, double* out) {
+    double r[2];
+    int n = 0;
+    if (c2 == 0.0) {
+        if (c1 != 0.0) r[n++] = -c0 / c1;
+    } else {
+        const double disc = c1 * c1 - 4.0 * c2 * c0;
+        if (disc >= 0.0) {
+            const double q = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));
+            r[n++] = q / c2;
+            if (q != 0.0) r[n++] = c0 / q;
+        }
+    }
+    if (n == 2 && r[0] > r[1]) std::swap(r[0], r[1]);
+    int m = 0;
+    for (int i = 0; i < n; ++i)
+        if (r[i] > lo && r[i] < hi) out[m++] = r[i];
+    return m;
+}
+
+}  // namespace
+
+Bounds3 bounds(const Torus& t) {
+    const Vec3 e(t.ring + t.tube, t.tube, t.ring + t.tube);
+    return {t.centre - e, t.centre + e};
+}
+
+Bounds3 bounds(const Torus& t, const Mat4& m) {
+    // The solid is the ring circle swept by a ball of radius r: its image's extent along world
+    // axis i is that of the transformed circle plus r times the length of row i of A (exact).
+    Bounds3 b = transformed_disc_bounds(t.centre, t.ring, m);
+    for (int i = 0; i < 3; ++i) {
+        const double e = t.tube * glm::length(Vec3(m[0][i], m[1][i], m[2][i]));
+        b.lo[i] -= e, b.hi[i] += e;
+    }
+    return b;
+}
+
+ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t) {
+    ShapeHits h;
+    const double dd = glm::dot(ray.d, ray.d), size = tor.ring + tor.tube;
+    if (!(dd > 0.0) || !(size > 0.0)) return h;
+    TorusRay r;
+    r.ring = tor.ring / size, r.tube = tor.tube / size;
+    const double len = std::sqrt(dd), inv = 1.0 / size;
+    r.e = ray.d / len;
+    r.scale = size / len;
+    // q = o - c exactly as hi + lo, then p = q + t0 d with one rounding: p is accurate to its own
+    // size (at most R + r), not to the ray's distance.
+    Vec3 qh = ray.o - tor.centre, ql;
+    for (int i = 0; i < 3; ++i) {
+        const double bb = qh[i] - ray.o[i];
+        ql[i] = (ray.o[i] - (qh[i] - bb)) + (-tor.centre[i] - bb);
+    }
+    r.t0 = -glm::dot(qh, ray.d) / dd;
+    for (int i = 0; i < 3; ++i) r.p[i] = (mul_add(r.t0, ray.d[i], qh[i]) + ql[i]) * inv;
+    const double pp = glm::dot(r.p, r.p);
+    if (!(pp < 1.0)) return h;  // the line misses the bounding sphere
+    // sigma range: the bounding sphere's chord, the slab |y| <= r and the interval.
+    const double w = std::sqrt(1.0 - pp) + 1e-12;
+    double lo = std::max(-w, (t.lo - r.t0) / r.scale), hi = std::min(w, (t.hi - r.t0) / r.scale);
+    const double slab = r.tube * (1.0 + 1e-12);
+    if (r.e.y != 0.0) {
+        double a = (-slab - r.p.y) / r.e.y, b = (slab - r.p.y) / r.e.y;
+        if (a > b) std::swap(a, b);
+        lo = std::max(lo, a), hi = std::min(hi, b);
+    } else if (std::abs(r.p.y) > slab) {
+        return h;
+    }
+    if (!(lo < hi)) return h;
+    // The quartic (|P|^2 + R^2 - r^2)^2 - 4 R^2 (P_x^2 + P_z^2) in sigma: its critical points
+    // (roots of the cubic Q', bracketed by the roots of Q'') split [lo, hi] into pieces where it
+    // is monotone, with at most one root each. A piece holds a crossing of the torus when f, not
+    // the quartic, changes sign over it: f is accurate where the quartic cancels (thin tori,
+    // grazing rays), and the lemon roots of a spindle torus, where f keeps its sign, drop out.
+    const Vec3& p = r.p;
+    const Vec3& e = r.e;
+    const double R2 = r.ring * r.ring, ee = glm::dot(e, e), b = glm::dot(p, e);
+    const double k = pp + R2 - r.tube * r.tube;
+    const double exz = e.x * e.x + e.z * e.z, bxz = p.x * e.x + p.z * e.z;
+    const double c4 = ee * ee, c3 = 4.0 * ee * b, c2 = 4.0 * b * b + 2.0 * ee * k - 4.0 * R2 * exz;
+    const double c1 = 4.0 * b * k - 8.0 * R2 * bxz;  // (c0, the value, is never needed)
+    auto d1 = [&](double s, double* d2) {
+        *d2 = (12.0 * c4 * s + 6.0 * c3) * s + 2.0 * c2;
+        return ((4.0 * c4 * s + 3.0 * c3) * s + 2.0 * c2) * s + c1;
+    };
+    double inflect[2];
+    const int ni = quadratic_roots(12.0 * c4, 6.0 * c3, 2.0 * c2, lo, hi, inflect);
+    double cuts[6];
+    int nc = 0;
+    cuts[nc++] = lo;
+    double a = lo, dummy = 0.0, da = d1(lo, &dummy);
+    for (int i = 0; i <= ni; ++i) {
+        const double bnd = i < ni ? inflect[i] : hi;
+        const double db = d1(bnd, &dummy);
+        if ((da < 0.0) != (db < 0.0) && da != 0.0 && db != 0.0)
+            cuts[nc++] = bracketed_root(d1, a, bnd, da, db, 1e-9);
+        a = bnd, da = db;
+    }
+    cuts[nc++] = hi;
+    auto f = [&](double s, double* df) { return r.f(s, df); };
+    double fa = r.f(lo, &dummy);
+    for (int i = 1; i < nc; ++i) {
+        const double fb = r.f(cuts[i], &dummy);
+        if ((fa < 0.0) != (fb < 0.0)) {
+            const double s = bracketed_root(f, cuts[i - 1], cuts[i], fa, fb, 1e-10);
+            const double th = r.t0 + s * r.scale;
+            if (t.contains(th) && (h.count == 0 || th > h.t[h.count - 1])) h.add(th, 0);
+        }
+        fa = fb;
+    }
+    return h;
+}
+
+SurfacePoint surface_at(const Torus& tor, const Ray& ray, double t, int /*part*/, bool uv) {
+    SurfacePoint sp;
+    Vec3 q = ray.at(t) - tor.centre;
+    const double rho = std::sqrt(q.x * q.x + q.z * q.z);
+    if (rho > 0.0) {
+        // Re-project onto the tube: the point at distance r from the centre circle's point of
+        // the same azimuth, along the gradient of f.
+        const Vec3 c(tor.ring * q.x / rho, 0.0, tor.ring * q.z / rho);
+        const Vec3 w = q - c;
+        const double wl = glm::length(w);
+        sp.n_geometric = wl > 0.0 ? w / wl : Vec3(q.x / rho, 0.0, q.z / rho);
+        q = c + tor.tube * sp.n_geometric;
+    } else {
+        // A cusp of a spindle torus, on the axis.
+        const double sy = q.y < 0.0 ? -1.0 : 1.0;
+        sp.n_geometric = Vec3(0.0, sy, 0.0);
+        q = Vec3(0.0, sy * std::sqrt(std::max(0.0, (tor.tube - tor.ring) * (tor.tube + tor.ring))),
+                 0.0);
+    }
+    sp.p = tor.centre + q;
+    sp.p_error = kAnalyticRetestMargin * gamma(8) *
+                 (glm::abs(tor.centre) + glm::abs(q) + Vec3(tor.ring + tor.tube));
+    sp.n_shading = sp.n_geometric;
+    if (uv) {
+        double theta = std::atan2(q.y, std::sqrt(q.x * q.x + q.z * q.z) - tor.ring);
+        if (theta < 0.0) theta += 2 * kPi;
+        sp.uv = {azimuth(q) / (2 * kPi), std::min(theta / (2 * kPi), std::nextafter(1.0, 0.0))};
+    }
+    return sp;
+}
+
+bool inside(const Torus& t, const Vec3& p_object) {
+    const Vec3 q = p_object - t.centre;
+    const double dr = std::sqrt(q.x * q.x + q.z * q.z) - t.ring;
+    return dr * dr + q.y * q.y < t.tube * t.tube;
+}
+
+PreviewMesh tessellate(const Torus& t, int detail) {
+    const int segments = std::max(3, detail), rows = std::max(2, detail / 4);
+    // Two grids, theta in [0, theta_max] and [2pi - theta_max, 2pi]: the whole tube (theta_max =
+    // pi), or for a spindle torus the outer surface down to the cusps, where rho = 0.
+    const double theta_max = t.tube > t.ring ? std::acos(-t.ring / t.tube) : kPi;
+    MeshBuilder b;
+    for (int half = 0; half < 2; ++half) {
+        const double theta0 = half ? 2 * kPi - theta_max : 0.0;
+        b.grid(rows, segments, [&](int i, int j, Vec3* p, Vec3* n, Vec2* uv) {
+            const double u = static_cast<double>(j) / segments;
+            const double theta = theta0 + theta_max * static_cast<double>(i) / rows;
+            const double phi = 2 * kPi * u;
+            const Vec3 dir = around(phi, 1.0);  // unit horizontal direction
+            *n = Vec3(std::cos(theta) * dir.x, std::sin(theta), std::cos(theta) * dir.z);
+            *p = t.centre + around(phi, std::max(0.0, t.ring + t.tube * std::cos(theta)));
+            p->y += t.tube * std::sin(theta);
+            *uv = {u, theta / (2 * kPi)};
+        });
+    }
+    return std::move(b.mesh);
+}
+
+}  // namespace rt
