@@ -215,10 +215,17 @@ void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
                          const rt::CompileReport& st) {
     std::printf("scene     %s (%s, %zu file%s)\n", opt.scene.c_str(),
                 rt::dialect_name(desc.dialect), st.files, st.files == 1 ? "" : "s");
-    std::printf("shapes   ");
-    for (int k = 0; k < rt::kShapeKinds; ++k)
-        std::printf(" %s %zu%s", rt::shape_kind_name(static_cast<rt::ShapeKind>(k)),
-                    st.prims_by_kind[k], k + 1 < rt::kShapeKinds ? "," : "");
+    // The kinds the scene has (every kind at zero: "none").
+    std::string kinds;
+    for (int k = 0; k < rt::kShapeKinds; ++k) {
+        if (st.prims_by_kind[k] == 0) continue;
+        if (!kinds.empty()) kinds += ", ";
+        char kind[64];
+        std::snprintf(kind, sizeof kind, "%s %zu",
+                      rt::shape_kind_name(static_cast<rt::ShapeKind>(k)), st.prims_by_kind[k]);
+        kinds += kind;
+    }
+    std::printf("shapes    %s", kinds.empty() ? "none" : kinds.c_str());
     std::printf("  (after instancing; %zu unique; %zu degenerate skipped)\n", st.unique_prims,
                 st.skipped_shapes);
     std::printf("triangles %zu, lights %zu, materials %zu, textures %zu, instances %zu\n",
