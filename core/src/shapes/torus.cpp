@@ -74,7 +74,13 @@ struct TorusRay {
     double t0;     // ray parameter of p
     double scale;  // ray parameter per unit of sigma: (R + r) / |d|
     double ring, tube;
-    // f = (rho - R)^2 + y^2 - r^2 at p + sigma e, and df/dsigma.
+    // f = (rho - R)^2 + y^2 - r^2 at p + sigma e.
+    double f(double s) const {
+        const Vec3 q = p + s * e;
+        const double dr = std::sqrt(q.x * q.x + q.z * q.z) - ring;
+        return dr * dr + q.y * q.y - tube * tube;
+    }
+    // f and df/dsigma.
     double f(double s, double* df) const {
         const Vec3 q = p + s * e;
         const double rho = std::sqrt(q.x * q.x + q.z * q.z);
@@ -123,12 +129,16 @@ struct TorusQuartic {
 // (Q's sign is then that of f): f's Newton then only polishes, or where Q cancels corrects, it.
 void add_crossing(const TorusRay& r, const TorusQuartic& q, double a, double b, double fa,
                   double fb, Interval t, ShapeHits& h) {
-    double x0 = kNoSeed, dummy = 0.0;
+    double x0 = kNoSeed;
     if (r.ring > r.tube) {
-        const double qa = q.value(a, &dummy), qb = q.value(b, &dummy);
+        double dqa = 0.0, dqb = 0.0, d2a = 0.0, d2b = 0.0;
+        const double qa = q.value(a, &dqa), qb = q.value(b, &dqb);
+        q.d1(a, &d2a), q.d1(b, &d2b);
+        // Start from a Newton step off the end where Q and Q'' agree in sign (Fourier's rule).
+        double xs = (qa < 0.0) == (d2a < 0.0) ? a - qa / dqa : b - qb / dqb;
         auto quartic = [&](double s, double* dq) { return q.value(s, dq); };
         if ((qa < 0.0) == (fa < 0.0) && (qb < 0.0) == (fb < 0.0) && qa != 0.0 && qb != 0.0)
-            x0 = bracketed_root(quartic, a, b, qa, qb, 1e-5);
+            x0 = bracketed_root(quartic, a, b, qa, qb, 1e-5, xs);
     }
     auto f = [&](double s, double* df) { return r.f(s, df); };
     const double s = bracketed_root(f, a, b, fa, fb, 1e-10, x0);
@@ -205,10 +215,10 @@ ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t) {
     bnd[nb++] = lo;
     nb += quadratic_roots(12.0 * c4, 6.0 * c3, 2.0 * c2, lo, hi, bnd + 1);
     bnd[nb++] = hi;
-    double dummy = 0.0, fa = r.f(lo, &dummy), da = q.d1(lo, &dummy);
+    double dummy = 0.0, fa = r.f(lo), da = q.d1(lo, &dummy);
     for (int i = 1; i < nb; ++i) {
         const double a = bnd[i - 1], bb = bnd[i];
-        const double fb = r.f(bb, &dummy), db = q.d1(bb, &dummy);
+        const double fb = r.f(bb), db = q.d1(bb, &dummy);
         if ((fa < 0.0) != (fb < 0.0)) {
             add_crossing(r, q, a, bb, fa, fb, t, h);
         } else if ((da < 0.0) != (db < 0.0) && da != 0.0 && db != 0.0) {
@@ -216,11 +226,15 @@ ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t) {
             // critical point c. Any split point where f changes sign brackets both; only when a
             // rough c does not is c found exactly, as its sign then decides.
             auto d1 = [&](double s, double* d2) { return q.d1(s, d2); };
-            double c = bracketed_root(d1, a, bb, da, db, 1e-3);
-            double fc = r.f(c, &dummy);
+            double d2a = 0.0, d2b = 0.0;
+            q.d1(a, &d2a), q.d1(bb, &d2b);
+            const double d3a = 24.0 * q.c[4] * a + 6.0 * q.c[3];  // Fourier's rule, as for Q
+            const double xs = (da < 0.0) == (d3a < 0.0) ? a - da / d2a : bb - db / d2b;
+            double c = bracketed_root(d1, a, bb, da, db, 3e-2, xs);
+            double fc = r.f(c);
             if ((fc < 0.0) == (fa < 0.0)) {
                 c = bracketed_root(d1, a, bb, da, db, 1e-9, c);
-                fc = r.f(c, &dummy);
+                fc = r.f(c);
             }
             if ((fc < 0.0) != (fa < 0.0)) {
                 add_crossing(r, q, a, c, fa, fc, t, h);
