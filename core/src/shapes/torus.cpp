@@ -15,6 +15,8 @@ namespace rt {
 
 namespace {
 
+constexpr double kNoSeed = std::numeric_limits<double>::quiet_NaN();
+
 // a * b + c with one rounding (Dekker's product, Knuth's sum: the build has no FMA).
 double mul_add(double a, double b, double c) {
     constexpr double kSplit = 134217729.0;  // 2^27 + 1
@@ -37,10 +39,13 @@ double mul_add(double a, double b, double c) {
 // Newton's method kept inside the bracket [a, b] of a sign change of f (fa = f(a)), bisecting
 // when a step leaves it; f(x, &df) returns f and its derivative.
 // Stops after a Newton step below `tol` (its error is then of the order of the step squared)
-// or when the bracket is a few ulp wide.
+// or when the bracket is a few ulp wide. Starts from x0 when it lies inside the bracket, else
+// from the secant's root.
 template <class F>
-double bracketed_root(const F& f, double a, double b, double fa, double fb, double tol) {
-    double x = fa != fb ? a + (b - a) * (fa / (fa - fb)) : 0.5 * (a + b);
+double bracketed_root(const F& f, double a, double b, double fa, double fb, double tol,
+                      double x0 = kNoSeed) {
+    double x = x0;
+    if (!(x > a && x < b)) x = fa != fb ? a + (b - a) * (fa / (fa - fb)) : 0.5 * (a + b);
     if (!(x > a && x < b)) x = 0.5 * (a + b);
     for (int i = 0; i < 80; ++i) {
         double df = 0.0;
@@ -48,8 +53,10 @@ double bracketed_root(const F& f, double a, double b, double fa, double fb, doub
         if (fx == 0.0) return x;
         ((fx < 0.0) == (fa < 0.0) ? a : b) = x;
         const double xn = x - fx / df;
+        // Converged: a step below tol that stays in the closed bracket (x itself, now an end of
+        // the bracket, when the step rounds to nothing).
+        if (std::abs(xn - x) <= tol && xn >= a && xn <= b) return xn;
         if (xn > a && xn < b) {
-            if (std::abs(xn - x) <= tol) return xn;  // a Newton step: converged
             x = xn;
         } else {
             x = 0.5 * (a + b);
@@ -67,7 +74,13 @@ struct TorusRay {
     double t0;     // ray parameter of p
     double scale;  // ray parameter per unit of sigma: (R + r) / |d|
     double ring, tube;
-    // f = (rho - R)^2 + y^2 - r^2 at p + sigma e, and df/dsigma.
+    // f = (rho - R)^2 + y^2 - r^2 at p + sigma e.
+    double f(double s) const {
+        const Vec3 q = p + s * e;
+        const double dr = std::sqrt(q.x * q.x + q.z * q.z) - ring;
+        return dr * dr + q.y * q.y - tube * tube;
+    }
+    // f and df/dsigma.
     double f(double s, double* df) const {
         const Vec3 q = p + s * e;
         const double rho = std::sqrt(q.x * q.x + q.z * q.z);
@@ -96,6 +109,41 @@ int quadratic_roots(double c2, double c1, double c0, double lo, double hi, doubl
     for (int i = 0; i < n; ++i)
         if (r[i] > lo && r[i] < hi) out[m++] = r[i];
     return m;
+}
+
+// The quartic Q in sigma (coefficients c[0] + c[1] s + ...) and its derivatives.
+struct TorusQuartic {
+    double c[5];
+    double value(double s, double* dq) const {
+        *dq = ((4.0 * c[4] * s + 3.0 * c[3]) * s + 2.0 * c[2]) * s + c[1];
+        return (((c[4] * s + c[3]) * s + c[2]) * s + c[1]) * s + c[0];
+    }
+    double d1(double s, double* d2) const {
+        *d2 = (12.0 * c[4] * s + 6.0 * c[3]) * s + 2.0 * c[2];
+        return ((4.0 * c[4] * s + 3.0 * c[3]) * s + 2.0 * c[2]) * s + c[1];
+    }
+};
+
+// The one crossing of f in the bracket [a, b] (fa = f(a), fb = f(b) of opposite signs) added to
+// h when it lies in t. Newton on Q, a polynomial (no square root), seeds Newton on f where R > r
+// (Q's sign is then that of f): f's Newton then only polishes, or where Q cancels corrects, it.
+void add_crossing(const TorusRay& r, const TorusQuartic& q, double a, double b, double fa,
+                  double fb, Interval t, ShapeHits& h) {
+    double x0 = kNoSeed;
+    if (r.ring > r.tube) {
+        double dqa = 0.0, dqb = 0.0, d2a = 0.0, d2b = 0.0;
+        const double qa = q.value(a, &dqa), qb = q.value(b, &dqb);
+        q.d1(a, &d2a), q.d1(b, &d2b);
+        // Start from a Newton step off the end where Q and Q'' agree in sign (Fourier's rule).
+        double xs = (qa < 0.0) == (d2a < 0.0) ? a - qa / dqa : b - qb / dqb;
+        auto quartic = [&](double s, double* dq) { return q.value(s, dq); };
+        if ((qa < 0.0) == (fa < 0.0) && (qb < 0.0) == (fb < 0.0) && qa != 0.0 && qb != 0.0)
+            x0 = bracketed_root(quartic, a, b, qa, qb, 1e-5, xs);
+    }
+    auto f = [&](double s, double* df) { return r.f(s, df); };
+    const double s = bracketed_root(f, a, b, fa, fb, 1e-10, x0);
+    const double th = r.t0 + s * r.scale;
+    if (t.contains(th) && (h.count == 0 || th > h.t[h.count - 1])) h.add(th, 0);
 }
 
 }  // namespace
@@ -159,35 +207,41 @@ ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t) {
     const double k = pp + R2 - r.tube * r.tube;
     const double exz = e.x * e.x + e.z * e.z, bxz = p.x * e.x + p.z * e.z;
     const double c4 = ee * ee, c3 = 4.0 * ee * b, c2 = 4.0 * b * b + 2.0 * ee * k - 4.0 * R2 * exz;
-    const double c1 = 4.0 * b * k - 8.0 * R2 * bxz;  // (c0, the value, is never needed)
-    auto d1 = [&](double s, double* d2) {
-        *d2 = (12.0 * c4 * s + 6.0 * c3) * s + 2.0 * c2;
-        return ((4.0 * c4 * s + 3.0 * c3) * s + 2.0 * c2) * s + c1;
-    };
-    double inflect[2];
-    const int ni = quadratic_roots(12.0 * c4, 6.0 * c3, 2.0 * c2, lo, hi, inflect);
-    double cuts[6];
-    int nc = 0;
-    cuts[nc++] = lo;
-    double a = lo, dummy = 0.0, da = d1(lo, &dummy);
-    for (int i = 0; i <= ni; ++i) {
-        const double bnd = i < ni ? inflect[i] : hi;
-        const double db = d1(bnd, &dummy);
-        if ((da < 0.0) != (db < 0.0) && da != 0.0 && db != 0.0)
-            cuts[nc++] = bracketed_root(d1, a, bnd, da, db, 1e-9);
-        a = bnd, da = db;
-    }
-    cuts[nc++] = hi;
-    auto f = [&](double s, double* df) { return r.f(s, df); };
-    double fa = r.f(lo, &dummy);
-    for (int i = 1; i < nc; ++i) {
-        const double fb = r.f(cuts[i], &dummy);
+    const double c1 = 4.0 * b * k - 8.0 * R2 * bxz;  // (c0, the value, seeds the roots)
+    const double c0 = k * k - 4.0 * R2 * (p.x * p.x + p.z * p.z);
+    const TorusQuartic q{{c0, c1, c2, c3, c4}};
+    double bnd[4];
+    int nb = 0;
+    bnd[nb++] = lo;
+    nb += quadratic_roots(12.0 * c4, 6.0 * c3, 2.0 * c2, lo, hi, bnd + 1);
+    bnd[nb++] = hi;
+    double dummy = 0.0, fa = r.f(lo), da = q.d1(lo, &dummy);
+    for (int i = 1; i < nb; ++i) {
+        const double a = bnd[i - 1], bb = bnd[i];
+        const double fb = r.f(bb), db = q.d1(bb, &dummy);
         if ((fa < 0.0) != (fb < 0.0)) {
-            const double s = bracketed_root(f, cuts[i - 1], cuts[i], fa, fb, 1e-10);
-            const double th = r.t0 + s * r.scale;
-            if (t.contains(th) && (h.count == 0 || th > h.t[h.count - 1])) h.add(th, 0);
+            add_crossing(r, q, a, bb, fa, fb, t, h);
+        } else if ((da < 0.0) != (db < 0.0) && da != 0.0 && db != 0.0) {
+            // Q is convex or concave here (no inflection inside): 0 or 2 crossings, split by its
+            // critical point c. Any split point where f changes sign brackets both; only when a
+            // rough c does not is c found exactly, as its sign then decides.
+            auto d1 = [&](double s, double* d2) { return q.d1(s, d2); };
+            double d2a = 0.0, d2b = 0.0;
+            q.d1(a, &d2a), q.d1(bb, &d2b);
+            const double d3a = 24.0 * q.c[4] * a + 6.0 * q.c[3];  // Fourier's rule, as for Q
+            const double xs = (da < 0.0) == (d3a < 0.0) ? a - da / d2a : bb - db / d2b;
+            double c = bracketed_root(d1, a, bb, da, db, 3e-2, xs);
+            double fc = r.f(c);
+            if ((fc < 0.0) == (fa < 0.0)) {
+                c = bracketed_root(d1, a, bb, da, db, 1e-9, c);
+                fc = r.f(c);
+            }
+            if ((fc < 0.0) != (fa < 0.0)) {
+                add_crossing(r, q, a, c, fa, fc, t, h);
+                add_crossing(r, q, c, bb, fc, fb, t, h);
+            }
         }
-        fa = fb;
+        fa = fb, da = db;
     }
     return h;
 }
