@@ -311,7 +311,7 @@ TEST(Parser, TextureMayBeDeclaredAfterTheMaterialThatUsesIt) {
 
 TEST(Parser, PointAndSpotColoursMayBeNegative) {
     const SceneDesc s = parse("#light_point -1 0 0  0 0 0  1 0 0\n");
-    EXPECT_EQ(s.lights[0].color, Vec3(-1, 0, 0));
+    EXPECT_EQ(s.lights[0].diffuse, Vec3(-1, 0, 0));
 }
 
 TEST(Parser, DialectErrorsComeBeforeOtherErrors) {

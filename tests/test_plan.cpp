@@ -126,7 +126,7 @@ TEST(Plan, ChoosesTheVariantAndTheLightsThatLight) {
     EXPECT_TRUE(special.specialized);
     ASSERT_EQ(special.lights.size(), 2u);  // the dark point light is left out
     EXPECT_EQ(special.lights[0].kind, LightKind::Directional);
-    EXPECT_EQ(special.lights[1].color, Vec3(1.0));
+    EXPECT_EQ(special.lights[1].diffuse, Vec3(1.0));
     EXPECT_EQ(special.shading, &shading_variant(kShadeShadows | kShadeAttenuation));
     EXPECT_EQ(special.geometry, &geometry_queries(read_geometry(scene).variant));
     EXPECT_NE(special.geometry, &geometry_queries(kGeomGeneric));

@@ -38,7 +38,10 @@ void expect_same(const SceneDesc& a, const SceneDesc& b) {
     for (size_t i = 0; i < a.lights.size(); ++i) {
         const LightDesc &x = a.lights[i], &y = b.lights[i];
         EXPECT_EQ(x.kind, y.kind);
-        EXPECT_EQ(x.color, y.color);
+        EXPECT_EQ(x.ambient, y.ambient);
+        EXPECT_EQ(x.diffuse, y.diffuse);
+        EXPECT_EQ(x.specular, y.specular);
+        EXPECT_EQ(x.radius, y.radius);
         EXPECT_EQ(x.position, y.position);
         EXPECT_EQ(x.direction, y.direction);
         EXPECT_EQ(x.constant_atten, y.constant_atten);
@@ -100,7 +103,7 @@ TEST(Writer, V0AndEditsRoundTrip) {
     ASSERT_EQ(a.dialect, Dialect::V0);
     // The viewer's edits: camera and lights.
     a.camera->position = Vec3(0.1, 2.0 / 3.0, 7);
-    a.lights[0].color = Vec3(0.5, 0.25, 1e-3);
+    a.lights[0].set_colour(Vec3(0.5, 0.25, 1e-3));
     LightDesc p;
     p.kind = LightKind::Point;
     p.position = Vec3(1, 2, 3);

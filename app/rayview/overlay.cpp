@@ -64,7 +64,7 @@ std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int
     const double size = w.empty() ? 1.0 : glm::length(w.diagonal());
     if (lights) {
         for (const Light& l : scene.lights) {
-            const Vec3 c = marker_colour(l.color);
+            const Vec3 c = marker_colour(l.diffuse);
             const double s = 0.03 * size;
             if (l.kind == LightKind::Directional) {
                 // An arrow along the direction of travel, ending at the scene's centre.

@@ -30,7 +30,17 @@ bool drag3(const char* label, Vec3* v, float speed) {
 }
 
 const char* kind_name(LightKind k) {
-    return k == LightKind::Directional ? "directional" : k == LightKind::Point ? "point" : "spot";
+    switch (k) {
+        case LightKind::Directional:
+            return "directional";
+        case LightKind::Point:
+            return "point";
+        case LightKind::Spot:
+            return "spot";
+        case LightKind::Sphere:
+            break;
+    }
+    return "sphere";
 }
 
 // One light's controls. Directions are shown and edited made unit, as the renderer uses them.
@@ -41,10 +51,10 @@ bool light_editor(LightDesc& l, char* on) {
         *on = checked ? 1 : 0;
         edited = true;
     }
-    float col[3] = {static_cast<float>(l.color.x), static_cast<float>(l.color.y),
-                    static_cast<float>(l.color.z)};
+    float col[3] = {static_cast<float>(l.diffuse.x), static_cast<float>(l.diffuse.y),
+                    static_cast<float>(l.diffuse.z)};
     if (ImGui::ColorEdit3("colour", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR))
-        l.color = Vec3(col[0], col[1], col[2]), edited = true;
+        l.set_colour(Vec3(col[0], col[1], col[2])), edited = true;
     if (l.kind != LightKind::Directional) {
         edited |= drag3("position", &l.position, 0.05f);
         float a[3] = {static_cast<float>(l.constant_atten), static_cast<float>(l.linear_atten),

@@ -205,7 +205,7 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
         v.kind = l.kind;
         v.position = l.position;
         v.direction = l.direction;
-        if (layers / 6 < kMaxShadowLights && l.color != Vec3(0.0)) {
+        if (layers / 6 < kMaxShadowLights && l.diffuse != Vec3(0.0)) {
             v.layer = layers;
             layers += 6;
             if (l.kind == LightKind::Directional) {
@@ -362,7 +362,7 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     for (int i = 0; i < lights; ++i) {
         const Light& l = plan.lights[static_cast<size_t>(i)];
         glUniform1i(loc(program, indexed("u_light_kind", i)), static_cast<int>(l.kind));
-        set_vec3(program, indexed("u_light_color", i), l.color);
+        set_vec3(program, indexed("u_light_color", i), l.diffuse);
         set_vec3(program, indexed("u_light_position", i), l.position);
         set_vec3(program, indexed("u_light_direction", i), l.direction);
         set_vec3(program, indexed("u_light_atten", i),

@@ -127,7 +127,7 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
         v.open(l.args[0], false);
     } else if (l.command == "light" && l.args.size() >= 5) {
         const size_t i = static_cast<size_t>(std::atoi(l.args[0].c_str()));
-        if (i < v.edits.lights.size()) v.edits.lights[i].color = Vec3(arg(2), arg(3), arg(4));
+        if (i < v.edits.lights.size()) v.edits.lights[i].set_colour(Vec3(arg(2), arg(3), arg(4)));
         v.mark_edited();
     } else if (l.command == "shadows" && !l.args.empty()) {
         s.render.shadows = l.args[0] == "on";

@@ -30,15 +30,15 @@ TEST(Viewer, EditsReachTheTracedSceneAtTheRestart) {
     EXPECT_EQ(v.settings.render.width, 32);
     EXPECT_EQ(v.settings.render.height, 24);
 
-    v.edits.lights[0].color = Vec3(0, 0, 3);
+    v.edits.lights[0].set_colour(Vec3(0, 0, 3));
     v.edits.light_on[2] = 0;  // the directional light off
     v.edits.camera.orbit(0.3, 0.1);
     v.mark_edited();
-    EXPECT_EQ(v.loaded->scene.lights[0].color, Vec3(1.6, 0.3, 0.3));  // not before the restart
+    EXPECT_EQ(v.loaded->scene.lights[0].diffuse, Vec3(1.6, 0.3, 0.3));  // not before the restart
     restart(v);
     const RenderScene& s = v.loaded->scene;
     ASSERT_EQ(s.lights.size(), 2u);
-    EXPECT_EQ(s.lights[0].color, Vec3(0, 0, 3));
+    EXPECT_EQ(s.lights[0].diffuse, Vec3(0, 0, 3));
     EXPECT_EQ(s.lights[0].kind, LightKind::Spot);
     EXPECT_VEC_NEAR(s.lights[0].direction, glm::normalize(Vec3(0.3, -1, -0.2)), 1e-15);
     EXPECT_EQ(s.lights[1].kind, LightKind::Point);
@@ -62,7 +62,7 @@ TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {
     ASSERT_EQ(d.lights.size(), 3u);
     EXPECT_EQ(d.lights[0].kind, LightKind::Point);
     EXPECT_VEC_NEAR(d.lights[0].position, Vec3(1, 2, 3), 1e-9);
-    EXPECT_VEC_NEAR(d.lights[0].color, Vec3(0.3, 1.4, 0.4), 1e-9);
+    EXPECT_VEC_NEAR(d.lights[0].diffuse, Vec3(0.3, 1.4, 0.4), 1e-9);
     EXPECT_EQ(d.lights[1].kind, LightKind::Directional);
     EXPECT_EQ(d.lights[2].kind, LightKind::Point);
     EXPECT_VEC_NEAR(d.lights[2].position, eye, 1e-6);

@@ -391,9 +391,13 @@ private:
 Light compile_light(const LightDesc& d) {
     Light l;
     l.kind = d.kind;
-    l.color = d.color;
+    l.ambient = d.ambient;
+    l.diffuse = d.diffuse;
+    l.specular = d.specular;
+    l.radius = d.radius;
     l.position = d.position;
-    if (d.kind != LightKind::Point) l.direction = glm::normalize(d.direction);
+    if (d.kind == LightKind::Directional || d.kind == LightKind::Spot)
+        l.direction = glm::normalize(d.direction);
     l.constant_atten = d.constant_atten;
     l.linear_atten = d.linear_atten;
     l.quadratic_atten = d.quadratic_atten;

@@ -12,7 +12,17 @@ namespace fs = std::filesystem;
 
 namespace rt {
 
-const char* dialect_name(Dialect d) { return d == Dialect::V0 ? "V0" : "V1"; }
+const char* dialect_name(Dialect d) {
+    switch (d) {
+        case Dialect::V0:
+            return "V0";
+        case Dialect::V1:
+            return "V1";
+        case Dialect::V3:
+            break;
+    }
+    return "V3";
+}
 
 namespace parser_impl {
 

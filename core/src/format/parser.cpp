@@ -395,19 +395,19 @@ private:
         l.loc = f.lex.loc(d);
         if (d.text == "#light_dir") {
             l.kind = LightKind::Directional;
-            l.color = colour(f, d, 6, "light colour");
+            l.set_colour(colour(f, d, 6, "light colour"));
             l.direction = vec3(f, d, 6);
             if (glm::length(l.direction) == 0.0) fail(f, d, "light direction is zero");
         } else if (d.text == "#light_point") {
             l.kind = LightKind::Point;
-            l.color = vec3(f, d, 9);  // spec §3.1: point and spot colours need only be finite
+            l.set_colour(vec3(f, d, 9));  // spec §3.1: point and spot colours need only be finite
             l.position = vec3(f, d, 9);
             l.constant_atten = real(f, d, 9);
             l.linear_atten = real(f, d, 9);
             l.quadratic_atten = real(f, d, 9);
         } else {
             l.kind = LightKind::Spot;
-            l.color = vec3(f, d, 14);
+            l.set_colour(vec3(f, d, 14));
             l.position = vec3(f, d, 14);
             l.direction = vec3(f, d, 14);
             l.constant_atten = real(f, d, 14);

@@ -75,17 +75,20 @@ private:
             m_desc.dialect == Dialect::V0 ? l.spot_exponent / kV0ExponentScale : l.spot_exponent;
         switch (l.kind) {
             case LightKind::Directional:
-                directive("#light_dir"), vec(l.color), vec(l.direction);
+                directive("#light_dir"), vec(l.diffuse), vec(l.direction);
                 break;
             case LightKind::Point:
-                directive("#light_point"), vec(l.color), vec(l.position);
+                directive("#light_point"), vec(l.diffuse), vec(l.position);
                 num(l.constant_atten), num(l.linear_atten), num(l.quadratic_atten);
                 break;
             case LightKind::Spot:
-                directive("#light_spot"), vec(l.color), vec(l.position), vec(l.direction);
+                directive("#light_spot"), vec(l.diffuse), vec(l.position), vec(l.direction);
                 num(l.constant_atten), num(l.linear_atten), num(l.quadratic_atten);
                 num(l.cutoff_rad), num(dor);
                 break;
+            case LightKind::Sphere:
+                throw SceneError(l.loc, "a sphere light cannot be written in V0 or V1 "
+                                        "(#light_sphere is V3 only)");
         }
         end();
     }

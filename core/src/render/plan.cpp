@@ -11,7 +11,7 @@ namespace rt {
 namespace {
 
 bool lights_something(const Light& l) {
-    if (l.color == Vec3(0.0)) return false;
+    if (l.ambient == Vec3(0.0) && l.diffuse == Vec3(0.0) && l.specular == Vec3(0.0)) return false;
     if (l.kind == LightKind::Directional) return true;
     // All three coefficients zero: the denominator is never positive (spec §7.2).
     return l.constant_atten != 0.0 || l.linear_atten != 0.0 || l.quadratic_atten != 0.0;

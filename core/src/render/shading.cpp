@@ -36,10 +36,10 @@ namespace {
 template <bool kAttenuation, bool kSpot>
 bool light_kinds(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_light,
                  double* distance) {
-    if (light.color == Vec3(0.0)) return false;  // lights nothing (not 0 * inf = NaN either)
+    if (light.diffuse == Vec3(0.0)) return false;  // lights nothing (not 0 * inf = NaN either)
     if (!kAttenuation || light.kind == LightKind::Directional) {
         *to_light = -light.direction;
-        *intensity = light.color;
+        *intensity = light.diffuse;
         *distance = kInf;
         return true;
     }
@@ -58,7 +58,7 @@ bool light_kinds(const Light& light, const Vec3& p, Vec3* intensity, Vec3* to_li
         if (light.spot_exponent != 0.0)
             factor *= std::pow(std::max(0.0, cos_a), light.spot_exponent);
     }
-    *intensity = light.color * factor;
+    *intensity = light.diffuse * factor;
     *to_light = l;
     *distance = dist;
     return factor > 0.0;

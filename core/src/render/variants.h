@@ -88,7 +88,7 @@ struct SceneFeatures {
     GeometryFeatures geometry;
     // Lights that can light something (colour not zero, some attenuation coefficient not zero),
     // by kind: directional, point, spot (the LightKind order).
-    int lights[3] = {0, 0, 0};
+    int lights[kLightKinds] = {};
     int dark_lights = 0;                // lights that light nothing, left out
     bool shadows = false;               // shadow rays: the setting on and a light that lights
     bool transmissive_shadows = false;  // a used material lets light through

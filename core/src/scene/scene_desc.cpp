@@ -23,3 +23,19 @@ Bounds3 bounds(const ShapeDesc& shape, const FileDesc& file, const Mat4& m) {
 }
 
 }  // namespace rt
+
+namespace rt {
+
+const char* csg_op_name(CsgOp op) {
+    switch (op) {
+        case CsgOp::Union:
+            return "union";
+        case CsgOp::Intersection:
+            return "intersection";
+        case CsgOp::Difference:
+            break;
+    }
+    return "difference";
+}
+
+}  // namespace rt

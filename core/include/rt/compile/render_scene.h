@@ -26,14 +26,18 @@ struct Material {
     int texture = -1;  // index into RenderScene::textures
 };
 
+/// A light (spec §7.2, §13.3). A V0/V1 light's one colour is its diffuse and specular colour.
 struct Light {
     LightKind kind = LightKind::Point;
-    Vec3 color{1.0};
+    Vec3 ambient{0.0};   // A_l: V3, attenuated and spot-limited, never shadowed (spec §13.9)
+    Vec3 diffuse{1.0};   // D_l
+    Vec3 specular{1.0};  // S'_l
     Vec3 position{0.0};
     Vec3 direction{0.0, -1.0, 0.0};  // unit; directional: direction of travel; spot: axis
     double constant_atten = 1.0, linear_atten = 0.0, quadratic_atten = 0.0;
     double cutoff_rad = kPi;
     double spot_exponent = 0.0;
+    double radius = 0.0;  // sphere lights: the shadow factor is averaged over this sphere
 };
 
 /// One primitive of a set: its kind, its index in the kind's array, its material and, for the
@@ -85,6 +89,8 @@ struct RenderScene {
     std::optional<CameraPose> camera;  // absent: default camera (spec §6.3, at the render's size)
     Vec3 background{0.0};
     Vec3 ambient{0.0};
+    /// V3 (spec §13.9): the texel multiplies K_E, K_A, K_D and K_S; V0/V1: K_A and K_D only.
+    bool texture_all_terms = false;
     std::vector<Light> lights;
     std::vector<Material> materials;
     std::vector<std::shared_ptr<const TextureImage>> textures;

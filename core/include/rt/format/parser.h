@@ -10,8 +10,14 @@
 
 namespace rt {
 
+/// What to do with a texture that cannot be opened or decoded: the error the spec requires, or a
+/// stand-in (a magenta/grey checker) with one warning per missing file, recorded in
+/// SceneDesc::missing_textures (--missing-textures checker).
+enum class MissingTextures { Error, Checker };
+
 struct ParseOptions {
-    std::optional<Dialect> dialect;  ///< --dialect: overrides detection (spec §10 step 4)
+    std::optional<Dialect> dialect;  ///< --dialect: overrides detection (spec §10 step 5)
+    MissingTextures missing_textures = MissingTextures::Error;
 };
 
 /// Parses a scene file and its includes. Throws SceneError.

@@ -17,7 +17,7 @@
 
 namespace rt {
 
-enum class Dialect { V0, V1 };
+enum class Dialect { V0, V1, V3 };
 
 /// V0 writes the specular exponent and the spot drop-off as fractions of 128 (spec §3.2, §7.2):
 /// e = 128 * kspec, p = 128 * dor.
@@ -32,15 +32,24 @@ struct CameraDesc {
     double half_height_angle_rad = kPi / 6;  // spec §3.1: ha is the half-height angle
 };
 
+/// A light. V0/V1 lights have one colour, which is their diffuse and their specular colour (and no
+/// ambient); V3 lights have three (spec §13.3).
 struct LightDesc {
     SourceLoc loc;
     LightKind kind = LightKind::Point;
-    Vec3 color{1.0};
-    Vec3 position{0.0};   // point, spot
+    Vec3 ambient{0.0};    // A_l (V3 only; attenuated like the others, never shadowed)
+    Vec3 diffuse{1.0};    // D_l: the V0/V1 colour
+    Vec3 specular{1.0};   // S'_l: the V0/V1 colour
+    Vec3 position{0.0};   // point, spot; sphere: centre
     Vec3 direction{0.0};  // directional: direction of travel; spot: axis
     double constant_atten = 1.0, linear_atten = 0.0, quadratic_atten = 0.0;
     double cutoff_rad = kPi;
     double spot_exponent = 0.0;  // p, already 128*dor in V0 (spec §7.2)
+    double radius = 0.0;         // sphere lights (spec §13.3)
+
+    /// Whether the light is a V0/V1 one-colour light (no ambient, diffuse = specular).
+    bool one_colour() const { return ambient == Vec3(0.0) && diffuse == specular; }
+    void set_colour(const Vec3& c) { ambient = Vec3(0.0), diffuse = specular = c; }
 };
 
 /// A material with the dialect resolved (spec §3.2): V0's kspec and scalar ktran are converted.
@@ -118,14 +127,38 @@ struct InstanceDesc {
     int ray_file = 0;  // index into the file's ray_files
 };
 
-/// A #group_begin (or #joint_begin) node: children in the frame p_parent = matrix * p_local.
+enum class CsgOp { Union, Intersection, Difference };
+const char* csg_op_name(CsgOp op);  // "union", "intersection", "difference"
+
+struct CsgDesc;
+
+/// A list of shapes in the frame p_parent = matrix * p_local: a V0/V1 #group_begin (or
+/// #joint_begin), a V3 #static_affine (or #dynamic_affine) and its one child, a V3
+/// #shape_list_begin (identity), a #shape_triangles list (its triangles, each with the list's
+/// material), an operand of a CSG node. Children of one kind keep their order; the kinds are
+/// not interleaved (a list is a union of surfaces, so their order does not matter).
+///
+/// The V3 parser folds: a #static_affine, #dynamic_affine or CSG operand whose one child is a
+/// #shape_list_begin list is that list with the matrix (or joint) set, so parse -> write ->
+/// parse gives the same description.
 struct GroupDesc {
     SourceLoc loc;
     Mat4 matrix{1.0};
-    std::string joint;  // non-empty for #joint_begin
+    std::string joint;  // non-empty for #joint_begin and #dynamic_affine (the DOF name)
     std::vector<ShapeDesc> shapes;
     std::vector<GroupDesc> groups;
     std::vector<InstanceDesc> instances;
+    std::vector<CsgDesc> csgs;  // V3 only
+};
+
+/// A V3 CSG node (spec §13.8). Every operand is one child of the node, wrapped in a list (so a
+/// union of a sphere and a #shape_list_begin list of two boxes has two operands); a difference
+/// has exactly two (A - B). An empty operand (a degenerate shape skipped with a warning) is an
+/// empty shape: no surface, nothing inside.
+struct CsgDesc {
+    SourceLoc loc;
+    CsgOp op = CsgOp::Union;
+    std::vector<GroupDesc> operands;
 };
 
 /// One parsed .ray file. Its index spaces (materials, textures, vertices, ray files) are its own.
@@ -137,7 +170,7 @@ struct FileDesc {
     std::vector<VertexDesc> vertices;
     std::vector<int> ray_files;          // #ray_file index -> index into SceneDesc::files
     std::vector<std::string> key_files;  // as resolved (their frame 0 is in the joints)
-    GroupDesc root;                      // implicit identity group
+    GroupDesc root;                      // implicit identity group (V3: the root list)
 };
 
 /// Tight bounds of a shape of `file` under p' = m p (exact for the analytic kinds, the hull of
@@ -152,6 +185,11 @@ struct SceneDesc {
     std::vector<LightDesc> lights;  // top-level file only
     std::vector<FileDesc> files;    // files[0] is the top-level file
     size_t skipped_shapes = 0;      // degenerate shapes skipped with a warning
+    /// V3 #shader of the top-level file (the last one wins): recorded, never opened (spec §13.3).
+    std::string shader_vertex, shader_fragment;
+    /// Textures that could not be opened or decoded and stand in as a checker
+    /// (ParseOptions::missing_textures), as named in their file.
+    std::vector<std::string> missing_textures;
 };
 
 }  // namespace rt
