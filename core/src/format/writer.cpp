@@ -87,8 +87,9 @@ private:
                 num(l.cutoff_rad), num(dor);
                 break;
             case LightKind::Sphere:
-                throw SceneError(l.loc, "a sphere light cannot be written in V0 or V1 "
-                                        "(#light_sphere is V3 only)");
+                throw SceneError(l.loc,
+                                 "a sphere light cannot be written in V0 or V1 "
+                                 "(#light_sphere is V3 only)");
         }
         end();
     }

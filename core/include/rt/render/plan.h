@@ -35,9 +35,9 @@ std::string reason_line(const PlanReason& reason);
 /// What the scene uses, as plain facts (the viewer's preview compiles its shaders for them).
 struct PlanUses {
     bool light_kinds[kLightKinds] = {};  // among RenderPlan::lights, by LightKind
-    bool textures = false;                        // a placed primitive's material is textured
-    bool highlights = false;  // a placed primitive's material has a specular colour
-    bool shadows = false;     // shadows are on and some light lights something
+    bool textures = false;               // a placed primitive's material is textured
+    bool highlights = false;             // a placed primitive's material has a specular colour
+    bool shadows = false;                // shadows are on and some light lights something
 };
 
 struct RenderPlan {

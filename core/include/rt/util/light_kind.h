@@ -1,5 +1,5 @@
-// The kinds of light (spec §3.1; the sphere light of V3, §13.3), shared by the description and the render representation
-// so that neither has to include the other.
+// The kinds of light (spec §3.1; the sphere light of V3, §13.3), shared by the description and the
+// render representation so that neither has to include the other.
 #pragma once
 
 namespace rt {
