@@ -756,5 +756,29 @@ TEST(ParserV3Public, EveryV3SceneParses) {
     EXPECT_GT(tori, 10u);
 }
 
+// Every prefix of a V3 file with lists, CSG and transforms either parses or gives a located
+// error (no crash, no other exception).
+TEST(ParserV3Public, EveryPrefixParsesOrFailsCleanly) {
+    const std::string text =
+        kMat + "#vertex 0 0 0 0 0 0 0 0\n#vertex 1 0 0 0 0 0 0 0\n#vertex 0 1 0 0 0 0 0 0\n" +
+        "#shape_intersection\n #shape_list_begin\n  #shape_sphere 0 0 -0.95 0 1.5\n" +
+        "  #shape_difference #shape_torus 0 0 0 0 0.25 1 // c\n  " + kAffineId +
+        "  #shape_list_begin #shape_box 0 0 0 0 1 1 1 #shape_list_end\n #shape_list_end\n" +
+        "#dynamic_affine arm #shape_triangles 0 #shape_list_begin #shape_triangle 0 1 2\n" +
+        "#shape_list_end\n";
+    EXPECT_EQ(v3(text).files[0].root.csgs.size(), 1u);
+    int errors = 0;
+    for (size_t n = 0; n < text.size(); ++n) {
+        try {
+            Diagnostics diag;
+            parse(text.substr(0, n), &diag, v3_options());
+        } catch (const SceneError& e) {
+            EXPECT_GT(e.loc().line, 0) << e.what();
+            ++errors;
+        }
+    }
+    EXPECT_GT(errors, 100);
+}
+
 }  // namespace
 }  // namespace rt
