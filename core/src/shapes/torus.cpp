@@ -46,12 +46,12 @@ struct Bracket {
     double a, b, ga, gb, x;
 };
 
-// Newton's method kept inside each bracket, bisecting when a step leaves it; g(x, &dg) returns g
-// and its derivative. The brackets are refined in lockstep: their iterations are independent, so
-// the processor overlaps their square roots and divisions.
-// A bracket stops after a Newton step below `tol` (its error is then of the order of the step
-// squared) or when it is a few ulp wide. Starts from x when it lies inside the bracket, else from
-// the secant's root.
+// Newton's method (or a faster one) kept inside each bracket, bisecting when a step leaves it;
+// g(x, &step) returns g and the step to subtract from x (Newton's: g / g'). The brackets are
+// refined in lockstep: their iterations are independent, so the processor overlaps their square
+// roots and divisions. A bracket stops after a Newton step below `tol` (its error is then of the
+// order of the step squared) or when it is a few ulp wide. Starts from x when it lies inside the
+// bracket, else from the secant's root.
 template <class G>
 void bracketed_roots(const G& g, Bracket* br, int n, double tol) {
     bool done[kLanes];
@@ -66,12 +66,12 @@ void bracketed_roots(const G& g, Bracket* br, int n, double tol) {
         for (int i = 0; i < n; ++i) {
             if (done[i]) continue;
             Bracket& k = br[i];
-            double dg = 0.0;
-            const double gx = g(k.x, &dg);
+            double step = 0.0;
+            const double gx = g(k.x, &step);
             bool stop = gx == 0.0;
             if (!stop) {
                 ((gx < 0.0) == (k.ga < 0.0) ? k.a : k.b) = k.x;
-                const double xn = k.x - gx / dg;
+                const double xn = k.x - step;
                 // Converged: a step below tol that stays in the closed bracket (x itself, now an
                 // end of the bracket, when the step rounds to nothing).
                 if (std::abs(xn - k.x) <= tol && xn >= k.a && xn <= k.b) {
@@ -111,13 +111,15 @@ struct TorusRay {
         const double dr = std::sqrt(q.x * q.x + q.z * q.z) - ring;
         return dr * dr + q.y * q.y - tube * tube;
     }
-    // f and df/dsigma.
-    double f(double s, double* df) const {
+    // f and Newton's step f / (df/dsigma) with one division (NaN on the axis, where f has no
+    // derivative: the caller then bisects).
+    double f(double s, double* step) const {
         const Vec3 q = p + s * e;
         const double rho = std::sqrt(q.x * q.x + q.z * q.z);
         const double dr = rho - ring;
-        *df = rho > 0.0 ? 2.0 * dr * (q.x * e.x + q.z * e.z) / rho + 2.0 * q.y * e.y : 0.0;
-        return dr * dr + q.y * q.y - tube * tube;
+        const double v = dr * dr + q.y * q.y - tube * tube;
+        *step = v * rho / (2.0 * dr * (q.x * e.x + q.z * e.z) + 2.0 * q.y * e.y * rho);
+        return v;
     }
     // rho^2 at sigma.
     double rho2(double s) const {
@@ -182,10 +184,18 @@ void add_crossings(const TorusRay& r, const TorusQuartic& q, Bracket* br, int n,
             qb[m] = {k.a, k.b, qa, qbv, xs};
             lane[m++] = i;
         }
-        bracketed_roots([&](double s, double* dq) { return q.value(s, dq); }, qb, m, 1e-8);
+        // Halley's steps 2 Q Q' / (2 Q'^2 - Q Q''), one division each: Q only seeds f's Newton.
+        auto halley = [&](double s, double* step) {
+            double dq = 0.0, d2 = 0.0;
+            const double v = q.value(s, &dq);
+            q.d1(s, &d2);
+            *step = 2.0 * v * dq / (2.0 * dq * dq - v * d2);
+            return v;
+        };
+        bracketed_roots(halley, qb, m, 1e-8);
         for (int j = 0; j < m; ++j) br[lane[j]].x = qb[j].x;
     }
-    bracketed_roots([&](double s, double* df) { return r.f(s, df); }, br, n, 1e-10);
+    bracketed_roots([&](double s, double* step) { return r.f(s, step); }, br, n, 1e-10);
     for (int i = 0; i < n; ++i) {
         const double th = r.t0 + br[i].x * r.scale;
         if (t.contains(th) && h.count < ShapeHits::kMax && (h.count == 0 || th > h.t[h.count - 1]))
@@ -244,7 +254,12 @@ bool sigma_range(const TorusRay& r, double pp, Interval t, double& lo, double& h
 // The critical point of Q in [a, b], where Q is convex or concave (Q' = da, db at the ends):
 // first roughly, then exactly when f's sign there does not split the piece's crossings.
 double critical_point(const TorusQuartic& q, double a, double b, double da, double db) {
-    auto d1 = [&](double s, double* d2) { return q.d1(s, d2); };
+    auto d1 = [&](double s, double* step) {
+        double d2 = 0.0;
+        const double v = q.d1(s, &d2);
+        *step = v / d2;
+        return v;
+    };
     double d2a = 0.0, d2b = 0.0;
     q.d1(a, &d2a), q.d1(b, &d2b);
     const double d3a = 24.0 * q.c[4] * a + 6.0 * q.c[3];  // Fourier's rule, as for Q
