@@ -238,12 +238,13 @@ bool sigma_range(const TorusRay& r, double pp, Interval t, double& lo, double& h
         return false;
     }
     if (!(lo < hi)) return false;
-    // The cylinder: exz s^2 + 2 bxz s + pxz <= 1 (a miss when its discriminant is negative).
+    // The cylinder: exz s^2 + 2 bxz s + pxz <= 1 (a miss when its discriminant is negative, or
+    // for a vertical line outside it).
     const Vec3& p = r.p;
     const Vec3& e = r.e;
     const double exz = e.x * e.x + e.z * e.z, bxz = p.x * e.x + p.z * e.z;
     const double c = p.x * p.x + p.z * p.z - (1.0 + 1e-12);
-    if (bxz * bxz - exz * c < 0.0) return false;
+    if (bxz * bxz - exz * c < 0.0 || (exz == 0.0 && c > 0.0)) return false;
     if (r.ring > r.tube) {
         const double hole = (r.ring - r.tube) * (r.ring - r.tube) - 1e-12;
         if (r.rho2(lo) < hole && r.rho2(hi) < hole) return false;
