@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <filesystem>
+#include <iterator>
 #include <variant>
 
 namespace rt {
@@ -115,6 +116,7 @@ private:
     void light_v3(const LightDesc& l) {
         static const char* const kDirective[] = {"#light_dir", "#light_point", "#light_spot",
                                                  "#light_sphere"};
+        static_assert(std::size(kDirective) == kLightKinds);
         directive(kDirective[static_cast<int>(l.kind)]);
         vec(l.ambient), vec(l.diffuse), vec(l.specular);
         switch (l.kind) {
