@@ -388,18 +388,6 @@ TEST(Writer, V3FeaturesInV1AreRefused) {
               std::string::npos);
 }
 
-// Until the V3 parser is merged, parse_scene_string refuses V3 text.
-bool v3_parser_missing() {
-    try {
-        test::parse(
-            "#material 0 0 0  .1 .1 .1  .5 .5 .5  0 0 0  1  0 0 0  1  -1 !m!\n"
-            "#shape_torus 0 0 0 0 0.25 1\n");
-    } catch (const SceneError& e) {
-        return std::string(e.what()).find("V3 scenes are not supported yet") != std::string::npos;
-    }
-    return false;
-}
-
 // parse -> write -> parse gives the same description; the written text is V3 again.
 void expect_round_trip(const std::string& path, const ParseOptions& options) {
     SCOPED_TRACE(path);
@@ -414,7 +402,6 @@ void expect_round_trip(const std::string& path, const ParseOptions& options) {
 }
 
 TEST(WriterV3, RichSceneRoundTrips) {
-    if (v3_parser_missing()) GTEST_SKIP() << "V3 scenes are not supported yet by the parser";
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("rt_writer_v3_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
@@ -479,7 +466,6 @@ TEST(WriterV3, RichSceneRoundTrips) {
 // Every file of the public V3 sets, read as V3 (their sub-files, such as _sphere.ray, have no V3
 // marker of their own and a dummy camera), and the files detected as V3 also as detected.
 TEST(WriterV3, PublicScenesRoundTrip) {
-    if (v3_parser_missing()) GTEST_SKIP() << "V3 scenes are not supported yet by the parser";
     ParseOptions detected;
     detected.missing_textures = MissingTextures::Checker;  // their textures were never published
     ParseOptions forced = detected;
