@@ -42,7 +42,11 @@ Bounds3 combine_csg_bounds(CsgNodeKind kind, const Bounds3* child, uint32_t coun
         b.lo = glm::max(b.lo, child[i].lo);
         b.hi = glm::min(b.hi, child[i].hi);
     }
-    return b.empty() ? Bounds3{} : b;
+    if (b.empty()) return {};
+    // A point "on" another child is up to its tolerance (1e-9 of its size and distance from
+    // the origin) outside it, and outside its box: grown by more than that.
+    const Vec3 grow = 1e-7 * (glm::abs(b.lo) + glm::abs(b.hi));
+    return {b.lo - grow, b.hi + grow};
 }
 
 Bounds3 shape_world_bounds(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
@@ -486,9 +490,13 @@ private:
 
     void add_shape(GeometrySet& set, size_t fi, const Pending& pend) {
         if (pend.csg >= 0) {
-            // Its first leaf's fields (see Primitive), and the tree.
+            // A leaf's fields (see Primitive), an analytic one where there is one (a walk that
+            // forgets the test then does not take it for a triangle), and the tree.
             const CsgRoot& root = set.csg.roots[static_cast<size_t>(pend.csg)];
-            Primitive p = set.csg.leaves[root.first_leaf].prim;
+            uint32_t shown = root.first_leaf;
+            for (uint32_t l = root.first_leaf + root.leaf_count; l-- > root.first_leaf;)
+                if (set.csg.leaves[l].prim.kind != ShapeKind::Triangle) shown = l;
+            Primitive p = set.csg.leaves[shown].prim;
             p.csg = pend.csg;
             set.prims.push_back(p);
             return;

@@ -45,9 +45,10 @@ struct Light {
 ///
 /// A CSG node (spec §13.8) is one primitive too: csg >= 0 is its index into the set's
 /// CsgArrays::roots, and its surfaces are those of its leaves that the node accepts. Never
-/// visit_shape() such a primitive: its kind, index, material and transform are those of its
-/// first leaf (so a walk that forgets the test still reads a real shape, not past an array),
-/// which is not what it is. Only Mixed-layout sets hold CSG primitives.
+/// visit_shape() such a primitive: its kind, index, material and transform are those of one of
+/// its leaves, the first analytic one if any (so a walk that forgets the test still reads a real
+/// shape, not past an array), which is not what it is. Only Mixed-layout sets hold CSG
+/// primitives.
 struct Primitive {
     ShapeKind kind = ShapeKind::Sphere;
     uint32_t index = 0;
