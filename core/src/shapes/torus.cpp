@@ -403,4 +403,14 @@ PreviewMesh tessellate(const Torus& t, int detail) {
     return std::move(b.mesh);
 }
 
+// The CSG sign function and tolerance of spec §13.8 (kept apart from the intersection code).
+double csg_sign(const Torus& t, const Vec3& p_object) {
+    const Vec3 q = p_object - t.centre;
+    return std::hypot(std::hypot(q.x, q.z) - t.ring, q.y) - t.tube;
+}
+
+double csg_epsilon(const Torus& t) {
+    return kCsgTolerance * (glm::length(t.centre) + t.ring + t.tube);
+}
+
 }  // namespace rt
