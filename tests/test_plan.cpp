@@ -413,7 +413,8 @@ TEST(Features, V3LightsSwitchTheirCodeOnlyWhenTheyAddSomething) {
     lines = explain_lines(f);
     EXPECT_TRUE(has_line(lines,
                          "kept: sphere light sampling: 1 sphere light(s): shadow rays to 64 "
-                         "point(s) on each (--light-samples)"));
+                         "point(s) on each (--light-samples; progressive: one random point a "
+                         "sample)"));
     EXPECT_TRUE(has_line(lines, "kept: light attenuation: 1 point, spot or sphere light(s)"));
     s.shadows = false;
     EXPECT_TRUE(has_line(explain_lines(scene_features(with_lights(plain, {sphere}), s)),

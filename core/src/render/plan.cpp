@@ -224,7 +224,8 @@ void explain_lights(const SceneFeatures& f, std::vector<PlanReason>& out) {
          "no spot light");
     line(sphere > 0 && f.shadows, "sphere light sampling",
          std::to_string(sphere) + " sphere light(s): shadow rays to " +
-             std::to_string(f.light_samples) + " point(s) on each (--light-samples)",
+             std::to_string(f.light_samples) +
+             " point(s) on each (--light-samples; progressive: one random point a sample)",
          sphere > 0 ? "no shadow rays" : "no sphere light");
     line(f.light_ambient, "light ambient terms",
          std::to_string(f.ambient_lights) + " light(s) with an ambient colour",
