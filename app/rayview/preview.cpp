@@ -205,7 +205,7 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
         v.kind = l.kind;
         v.position = l.position;
         v.direction = l.direction;
-        if (layers / 6 < kMaxShadowLights && l.diffuse != Vec3(0.0)) {
+        if (layers / 6 < kMaxShadowLights && (l.diffuse != Vec3(0.0) || l.specular != Vec3(0.0))) {
             v.layer = layers;
             layers += 6;
             if (l.kind == LightKind::Directional) {
@@ -337,7 +337,11 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     const bool shadows = uses.shadows && lights > 0;
     if (shadows) render_shadow_maps(scene, plan.lights);
     std::vector<std::string> defines;
-    if (uses.light_kinds[static_cast<int>(LightKind::Point)]) defines.push_back("RT_POINT");
+    // A sphere light shades as a point light at its centre (spec §13.9: L, f_l and the
+    // highlight use the centre; only the shadow factor is an area integral).
+    if (uses.light_kinds[static_cast<int>(LightKind::Point)] ||
+        uses.light_kinds[static_cast<int>(LightKind::Sphere)])
+        defines.push_back("RT_POINT");
     if (uses.light_kinds[static_cast<int>(LightKind::Spot)]) defines.push_back("RT_SPOT");
     if (uses.light_kinds[static_cast<int>(LightKind::Directional)])
         defines.push_back("RT_DIRECTIONAL");
@@ -361,8 +365,11 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     glUniform1i(loc(program, "u_light_count"), lights);
     for (int i = 0; i < lights; ++i) {
         const Light& l = plan.lights[static_cast<size_t>(i)];
-        glUniform1i(loc(program, indexed("u_light_kind", i)), static_cast<int>(l.kind));
-        set_vec3(program, indexed("u_light_color", i), l.diffuse);
+        const LightKind kind = l.kind == LightKind::Sphere ? LightKind::Point : l.kind;
+        glUniform1i(loc(program, indexed("u_light_kind", i)), static_cast<int>(kind));
+        set_vec3(program, indexed("u_light_ambient", i), l.ambient);
+        set_vec3(program, indexed("u_light_diffuse", i), l.diffuse);
+        set_vec3(program, indexed("u_light_specular", i), l.specular);
         set_vec3(program, indexed("u_light_position", i), l.position);
         set_vec3(program, indexed("u_light_direction", i), l.direction);
         set_vec3(program, indexed("u_light_atten", i),
@@ -380,6 +387,7 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
         }
     }
     glUniform1i(loc(program, "u_texture"), 0);
+    glUniform1i(loc(program, "u_texture_all"), scene.texture_all_terms ? 1 : 0);
     if (shadows) {
         glUniform1i(loc(program, "u_shadow_map"), 1);
         glUniform1f(loc(program, "u_shadow_res"), static_cast<float>(kShadowResolution));

@@ -125,10 +125,11 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
         v.mark_edited();
     } else if (l.command == "open" && !l.args.empty()) {
         v.open(l.args[0], false);
-    } else if (l.command == "light" && l.args.size() >= 5) {
+    } else if (l.command == "light" && l.args.size() >= 3) {
         const size_t i = static_cast<size_t>(std::atoi(l.args[0].c_str()));
-        if (i < v.edits.lights.size()) v.edits.lights[i].set_colour(Vec3(arg(2), arg(3), arg(4)));
-        v.mark_edited();
+        if (i < v.edits.lights.size() &&
+            edit_light(l.args[1], arg(2), arg(3), arg(4), &v.edits.lights[i]))
+            v.mark_edited();
     } else if (l.command == "shadows" && !l.args.empty()) {
         s.render.shadows = l.args[0] == "on";
         v.mark_edited();

@@ -3,7 +3,8 @@
 // frame statistics a --frames run prints at the end.
 //
 // A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn:
-// orbit DYAW DPITCH | open PATH | light I colour R G B | shadows on|off |
+// orbit DYAW DPITCH | open PATH | light I colour|ambient|diffuse|specular R G B |
+// light I radius R | shadows on|off |
 // boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | resolution SCALE | screenshot PATH.
 #pragma once
 

@@ -34,6 +34,24 @@ void apply_edits(const SceneEdits& edits, int trace_w, int trace_h, RenderScene*
 
 }  // namespace
 
+bool edit_light(const std::string& what, double a, double b, double c, LightDesc* l) {
+    const Vec3 rgb(a, b, c);
+    if (what == "colour") {
+        l->set_colour(rgb);
+    } else if (what == "ambient") {
+        l->ambient = rgb;
+    } else if (what == "diffuse") {
+        l->diffuse = rgb;
+    } else if (what == "specular") {
+        l->specular = rgb;
+    } else if (what == "radius" && l->kind == LightKind::Sphere) {
+        l->radius = std::max(0.0, a);
+    } else {
+        return false;
+    }
+    return true;
+}
+
 std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error) {
     try {
         Diagnostics diag;

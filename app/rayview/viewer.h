@@ -48,6 +48,12 @@ struct ViewSettings {
     int layout = 0;                 // 0 both panes, 1 preview alone, 2 trace alone
 };
 
+/// A light edit (the script's `light` command) WHAT (colour: a V0/V1 light's one colour, which sets
+/// ambient 0 and diffuse = specular; ambient, diffuse, specular: one of a V3 light's colours;
+/// radius: a sphere light's, a >= 0) with arguments (a, b, c). False, and `*l` unchanged, for
+/// another WHAT.
+bool edit_light(const std::string& what, double a, double b, double c, LightDesc* l);
+
 /// Reads and compiles a scene; nullptr and `*error` on failure.
 std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error);
 

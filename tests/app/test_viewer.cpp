@@ -83,5 +83,48 @@ TEST(Viewer, AFailedOpenKeepsTheSceneAndSaysWhy) {
     EXPECT_EQ(v.recent.size(), 1u);  // the same file once
 }
 
+// The script's light command: one colour (V0/V1: ambient 0, diffuse = specular), each of a V3
+// light's three colours, a sphere light's radius; anything else leaves the light as it was.
+TEST(Viewer, ScriptEditsOneOrThreeLightColoursAndTheRadius) {
+    LightDesc l;
+    l.ambient = Vec3(0.1);
+    ASSERT_TRUE(edit_light("colour", 1, 2, 3, &l));
+    EXPECT_EQ(l.ambient, Vec3(0.0));
+    EXPECT_EQ(l.diffuse, Vec3(1, 2, 3));
+    EXPECT_EQ(l.specular, Vec3(1, 2, 3));
+    EXPECT_TRUE(l.one_colour());
+    ASSERT_TRUE(edit_light("ambient", 0.5, 0, 0, &l));
+    ASSERT_TRUE(edit_light("specular", 0, 0, 1, &l));
+    EXPECT_EQ(l.ambient, Vec3(0.5, 0, 0));
+    EXPECT_EQ(l.diffuse, Vec3(1, 2, 3));
+    EXPECT_EQ(l.specular, Vec3(0, 0, 1));
+    ASSERT_TRUE(edit_light("diffuse", 0, 1, 0, &l));
+    EXPECT_EQ(l.diffuse, Vec3(0, 1, 0));
+    const LightDesc before = l;
+    EXPECT_FALSE(edit_light("radius", 2, 0, 0, &l));  // a point light has none
+    EXPECT_FALSE(edit_light("shininess", 2, 0, 0, &l));
+    EXPECT_EQ(l.radius, before.radius);
+    EXPECT_EQ(l.diffuse, before.diffuse);
+    l.kind = LightKind::Sphere;
+    ASSERT_TRUE(edit_light("radius", 0.75, 0, 0, &l));
+    EXPECT_EQ(l.radius, 0.75);
+    ASSERT_TRUE(edit_light("radius", -1, 0, 0, &l));
+    EXPECT_EQ(l.radius, 0.0);
+}
+
+// Three-colour edits reach the traced scene through the restart path.
+TEST(Viewer, ThreeColourEditsReachTheTracedScene) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.set_trace_size(16, 12);
+    restart(v);
+    v.edits.lights[1].ambient = Vec3(0.2, 0.3, 0.4);
+    v.edits.lights[1].specular = Vec3(0, 1, 0);
+    v.mark_edited();
+    restart(v);
+    EXPECT_EQ(v.loaded->scene.lights[1].ambient, Vec3(0.2, 0.3, 0.4));
+    EXPECT_EQ(v.loaded->scene.lights[1].specular, Vec3(0, 1, 0));
+}
+
 }  // namespace
 }  // namespace rt::view
