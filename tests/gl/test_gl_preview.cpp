@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <memory>
+#include <type_traits>
+#include <variant>
 
 #include "preview.h"
 #include "test_util.h"
@@ -60,10 +62,9 @@ struct Comparison {
     double colour_match = 0;  // share of commonly covered pixels within 3/255 per channel
 };
 
-Comparison compare(const std::string& text) {
+Comparison compare(const RenderScene& scene) {
     Offscreen gl;
     EXPECT_NE(gl.ctx, nullptr);
-    const RenderScene scene = test::compile(text);
     view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
     preview.load(scene, 96);
     const Camera cam = make_camera(scene, kW, kH);
@@ -91,9 +92,32 @@ Comparison compare(const std::string& text) {
             both ? static_cast<double>(close) / both : 1.0};
 }
 
+Comparison compare(const std::string& text) { return compare(test::compile(text)); }
+
 const char* kMaterials =
     "#material 0 0 0  .1 .1 .1  .7 .3 .2  .4 .4 .4  30  0 0 0  1  -1 !a!\n"
     "#material .05 .05 .1  .1 .1 .1  .2 .5 .8  0 0 0  1  0 0 0  1  -1 !b!\n";
+
+// A shape's description (a box's full sizes; triangles are not made here).
+ShapeDesc shape(const Shape& s) {
+    ShapeDesc d;
+    std::visit(
+        [&](const auto& v) {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, Box>)
+                d.geometry = BoxDesc{v.centre, 2.0 * v.half};
+            else if constexpr (!std::is_same_v<T, Triangle>)
+                d.geometry = v;
+        },
+        s);
+    return d;
+}
+
+GroupDesc operand(const Shape& s) {
+    GroupDesc g;
+    g.shapes.push_back(shape(s));
+    return g;
+}
 
 TEST(GlPreview, ShapesUnderTransformsAgreeWithTheTrace) {
     const Comparison c = compare(
@@ -113,6 +137,28 @@ TEST(GlPreview, ShapesUnderTransformsAgreeWithTheTrace) {
     EXPECT_GE(c.iou, 0.98);
     // Interpolated normals on the tessellation differ slightly from the exact ones.
     EXPECT_GE(c.colour_match, 0.90);
+}
+
+// Tori (spec §13.7; no file names one until the V3 parser: built as a description), plain,
+// thin, spindle (r > R) and under a rotating, shearing transform.
+TEST(GlPreview, ToriAgreeWithTheTrace) {
+    SceneDesc desc = test::parse(std::string("#camera 0 2 11  0 -0.2 -1  0 1 0  0.45\n"
+                                             "#background 0.1 0.1 0.1\n#ambient .3 .3 .3\n"
+                                             "#light_point 1 1 1  3 4 5  1 0 0.01\n"
+                                             "#light_dir .4 .4 .4  -1 -1 -1\n") +
+                                 kMaterials);
+    GroupDesc& root = desc.files[0].root;
+    root.shapes.push_back(shape(Torus{Vec3(-2.5, 1, 0), 0.5, 1.5}));
+    root.shapes.push_back(shape(Torus{Vec3(2.5, 1.5, 0), 0.08, 1.2}));
+    root.shapes.push_back(shape(Torus{Vec3(0, -2.2, 0), 1.0, 0.6}));
+    GroupDesc tilted;
+    tilted.matrix = Mat4(0.8, 0.3, 0, 0, -0.2, 0.9, 0.4, 0, 0, -0.4, 0.9, 0, 2.5, -1.5, 0, 1);
+    tilted.shapes.push_back(shape(Torus{Vec3(0.0), 0.35, 1.0}));
+    tilted.shapes.back().material = 1;
+    root.groups.push_back(tilted);
+    const Comparison c = compare(compile_scene(desc));
+    EXPECT_GE(c.iou, 0.98);
+    EXPECT_GE(c.colour_match, 0.85);
 }
 
 TEST(GlPreview, PublicAndOwnScenesAgreeWithTheTrace) {
@@ -154,6 +200,20 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     const auto lights = view::overlay_lines(scene, true, 0);
     EXPECT_GT(lights.size(), 12u);  // a cross, a cone and an arrow
     EXPECT_EQ(lights.size() % 2, 0u);
+    // A sphere light: its cross and three circles of 32 segments at its radius.
+    RenderScene with_sphere = scene;
+    Light sphere;
+    sphere.kind = LightKind::Sphere;
+    sphere.position = Vec3(1, 2, 3);
+    sphere.radius = 0.5;
+    with_sphere.lights = {sphere};
+    const auto marker = view::overlay_lines(with_sphere, true, 0);
+    ASSERT_EQ(marker.size(), 2u * (3 + 3 * 32));
+    for (size_t i = 6; i < marker.size(); ++i)
+        EXPECT_NEAR(
+            glm::length(Vec3(marker[i].position[0], marker[i].position[1], marker[i].position[2]) -
+                        sphere.position),
+            0.5, 1e-6);
     const auto boxes = view::overlay_lines(scene, false, 2);
     EXPECT_GE(boxes.size(), 2u * 12 * 2);  // the instance's box and its nodes' boxes
     // Drawn: the overlay changes pixels of the preview.
@@ -198,6 +258,46 @@ TEST(GlPreview, GroupBoxesFollowTheSceneGraph) {
     EXPECT_NEAR(b.hi.y, 5.5, 1e-6);
     EXPECT_EQ(view::group_box_lines(desc, 2).size(), 48u);
     EXPECT_EQ(view::group_box_lines(desc, 8).size(), 48u);
+}
+
+// The bounds of `lines` (pairs of vertices) from vertex `first` on, `count` vertices.
+Bounds3 line_bounds(const std::vector<view::LineVertex>& lines, size_t first, size_t count) {
+    Bounds3 b;
+    for (size_t i = first; i < first + count && i < lines.size(); ++i)
+        b.extend(Vec3(lines[i].position[0], lines[i].position[1], lines[i].position[2]));
+    return b;
+}
+
+// CSG nodes get a box each (intersection: the operands' boxes intersected; difference: A's),
+// their operands one level deeper; an operand that only wraps a transform adds no level.
+TEST(GlPreview, GroupBoxesIncludeCsgNodes) {
+    SceneDesc desc;
+    desc.dialect = Dialect::V3;
+    desc.files.resize(1);
+    GroupDesc& root = desc.files[0].root;
+    CsgDesc lens;
+    lens.op = CsgOp::Intersection;
+    lens.operands = {operand(Sphere{Vec3(0.0), 1.0}), operand(Box{Vec3(1, 0, 0), Vec3(1.0)})};
+    CsgDesc ring;
+    ring.op = CsgOp::Difference;
+    GroupDesc moved;  // a #static_affine of a sphere, wrapped as the operand A
+    moved.matrix[3] = glm::dvec4(5, 0, 0, 1);
+    moved.shapes.push_back(shape(Sphere{Vec3(0.0), 1.0}));
+    GroupDesc a;
+    a.groups.push_back(moved);
+    ring.operands = {a, operand(Box{Vec3(5, 0, 0), Vec3(10.0)})};
+    root.csgs = {lens, ring};
+    const auto one = view::group_box_lines(desc, 1);
+    ASSERT_EQ(one.size(), 2u * 24);  // the two nodes
+    const Bounds3 lens_box = line_bounds(one, 0, 24), ring_box = line_bounds(one, 24, 24);
+    EXPECT_VEC_NEAR(lens_box.lo, Vec3(0, -1, -1), 1e-6);
+    EXPECT_VEC_NEAR(lens_box.hi, Vec3(1, 1, 1), 1e-6);
+    EXPECT_VEC_NEAR(ring_box.lo, Vec3(4, -1, -1), 1e-6);  // A's box, not B's
+    EXPECT_VEC_NEAR(ring_box.hi, Vec3(6, 1, 1), 1e-6);
+    // Level 2: the lens's two operands, the ring's moved sphere (its wrapper adds no box) and
+    // its box B.
+    EXPECT_EQ(view::group_box_lines(desc, 2).size(), 6u * 24);
+    EXPECT_EQ(view::group_box_lines(desc, 8).size(), 6u * 24);
 }
 
 // Shadows: the pixels that shadows darken in the preview (shadow maps) and in the trace (shadow
@@ -316,6 +416,111 @@ TEST(GlPreview, MatchesTheGoldenImage) {
         close += ok;
     }
     EXPECT_GE(close, kW * kH * 99 / 100);
+}
+
+// The preview of `scene` at kW x kH: the colour (0..1) at the centre pixel.
+Vec3 centre_colour(const RenderScene& scene) {
+    Offscreen gl;
+    EXPECT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 32);
+    preview.draw(scene, plan_for(scene), make_camera(scene, kW, kH), kW, kH);
+    glFinish();
+    return gl.at(kW / 2, kH / 2) / 255.0;
+}
+
+// A wall facing the camera at z = -0.95 (normal +z), seen along -z, no global ambient:
+// E = (.05 0 0), K_A = .2, K_D = (.3 .2 .1), K_S = .2 with e = 1.
+RenderScene wall() {
+    RenderScene s = test::compile(
+        "#camera 0 0 5  0 0 -1  0 1 0  0.3\n#background 0 0 0\n"
+        "#material .05 0 0  .2 .2 .2  .3 .2 .1  .2 .2 .2  1  0 0 0  1  -1 !w!\n"
+        "#shape_box 0 0 0 -1  10 10 0.1\n");
+    s.lights.clear();
+    return s;
+}
+
+Light light(LightKind kind, const Vec3& a, const Vec3& d, const Vec3& s) {
+    Light l;
+    l.kind = kind;
+    l.ambient = a;
+    l.diffuse = d;
+    l.specular = s;
+    return l;
+}
+
+// Spec §13.9: ambient, diffuse and specular colours per light; the ambient term is attenuated
+// and spot-limited but needs no N.L > 0; sphere lights shade from their centre.
+TEST(GlPreview, ThreeColourLightsShadeAsTheSpecSays) {
+    const Vec3 a(0.5), d(1, 0.5, 0.5), sp(0.5, 1, 0.5);
+    RenderScene s = wall();
+    // Head-on directional light: N.L = 1 and R_v.L = 1 at the centre (up to the half-pixel
+    // offset of the centre pixel's ray): E + K_A A + K_D D + K_S S'.
+    Light dir = light(LightKind::Directional, a, d, sp);
+    dir.direction = Vec3(0, 0, -1);
+    s.lights = {dir};
+    EXPECT_VEC_NEAR(centre_colour(s), Vec3(0.55, 0.4, 0.25), 2.5 / 255);
+    // A point light behind the wall (N.L < 0) with ca = 2: only its ambient, halved.
+    Light behind = light(LightKind::Point, a, d, sp);
+    behind.position = Vec3(0, 0, -3);
+    behind.constant_atten = 2;
+    s.lights = {behind};
+    EXPECT_VEC_NEAR(centre_colour(s), Vec3(0.05 + 0.05, 0.05, 0.05), 2.5 / 255);
+    // A spot whose cone misses the centre: no ambient either.
+    Light spot = light(LightKind::Spot, a, d, sp);
+    spot.position = Vec3(0, 0, 3);
+    spot.direction = Vec3(1, 0, 0);
+    spot.cutoff_rad = 0.3;
+    s.lights = {spot};
+    EXPECT_VEC_NEAR(centre_colour(s), Vec3(0.05, 0, 0), 2.5 / 255);
+    // A sphere light: a point light at its centre (ca = 1, la = 1 at distance 3.95: f = 1/4.95).
+    Light sphere = light(LightKind::Sphere, a, d, Vec3(0.0));
+    sphere.position = Vec3(0, 0, 3);
+    sphere.radius = 0.5;
+    sphere.linear_atten = 1;
+    s.lights = {sphere};
+    const double f = 1 / 4.95;
+    EXPECT_VEC_NEAR(centre_colour(s), Vec3(0.05, 0, 0) + f * Vec3(0.1 + 0.3, 0.1 + 0.1, 0.1 + 0.05),
+                    2.5 / 255);
+    // A V0/V1 light (one colour, no ambient) under the global ambient: K_A * ambient + K_D * c.
+    Light one = light(LightKind::Directional, Vec3(0.0), Vec3(0.0), Vec3(0.0));
+    one.diffuse = one.specular = Vec3(0.5);
+    one.direction = Vec3(0, 0, -1);
+    s.lights = {one};
+    s.ambient = Vec3(1.0);
+    EXPECT_VEC_NEAR(centre_colour(s),
+                    Vec3(0.05 + 0.2 + 0.15 + 0.1, 0.2 + 0.1 + 0.1, 0.2 + 0.05 + 0.1), 2.5 / 255);
+}
+
+// Spec §13.9: with texture_all_terms (V3) the texel multiplies K_E too, else only K_A and K_D.
+TEST(GlPreview, TextureModulatesEveryTermInV3) {
+    RenderScene s = test::compile(
+        "#camera 0 0 5  0 0 -1  0 1 0  0.3\n#background 0 0 0\n#light_dir 0 0 0  0 0 -1\n"
+        "#texture " +
+        std::string(RT_SOURCE_DIR) +
+        "/scenes/textures/checker.bmp\n"
+        "#material .8 .8 .8  0 0 0  0 0 0  0 0 0  1  0 0 0  1  0 !w!\n"
+        "#shape_box 0 0 0 -1  10 10 0.1\n");
+    for (const bool all : {false, true}) {
+        s.texture_all_terms = all;
+        Offscreen gl;
+        ASSERT_NE(gl.ctx, nullptr);
+        view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+        preview.load(s, 8);
+        preview.draw(s, plan_for(s), make_camera(s, kW, kH), kW, kH);
+        glFinish();
+        int dark = 0, emissive = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                dark += gl.at(x, y).x < 0.5 * 0.8 * 255;
+                emissive += std::abs(gl.at(x, y).x - to_byte(0.8)) <= 1;
+            }
+        if (all) {
+            EXPECT_GT(dark, kW * kH / 10);
+        } else {
+            EXPECT_EQ(emissive, kW * kH);
+        }
+    }
 }
 
 TEST(GlPreview, ShaderErrorsNameTheFile) {
