@@ -158,6 +158,13 @@ bool file_panel(ViewerState& v, PanelState& ui) {
             }
     }
     if (!v.message.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", v.message.c_str());
+    if (!v.checker_offer.empty() && ImGui::Button("open with checker stand-ins"))
+        opened |= v.open_with_checker();
+    if (v.loaded) {
+        const std::string stand_ins = stand_in_text(v.loaded->desc);
+        if (!stand_ins.empty())
+            ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s", stand_ins.c_str());
+    }
     return opened;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -45,6 +46,13 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
     app.add_option("--script", script_path,
                    "replay input at given frames (commands: app/rayview/script.h)")
         ->type_name("FILE");
+    const std::map<std::string, MissingTextures> missing{{"error", MissingTextures::Error},
+                                                         {"checker", MissingTextures::Checker}};
+    app.add_option("--missing-textures", out->missing_textures,
+                   "a texture that cannot be opened: error (default) or checker (a stand-in, "
+                   "listed in the panel)")
+        ->type_name("error|checker")
+        ->transform(CLI::CheckedTransformer(missing, CLI::ignore_case).description(""));
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {

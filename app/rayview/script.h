@@ -30,6 +30,7 @@ struct RunOptions {
     int frames = 0;  // > 0: run this many frames, save the window, exit
     std::string screenshot;
     std::vector<ScriptLine> script;
+    MissingTextures missing_textures = MissingTextures::Error;  // --missing-textures
 };
 
 /// Reads the command line into `out` (the scene defaults to `default_scene`). Returns -1 to run,

@@ -34,6 +34,9 @@ done
 for i in 1 2 3 4; do
     check "edit before screenshot $i changes the window" bash -c "! cmp -s '$tmp/$((i - 1)).png' '$tmp/$i.png'"
 done
+"$rv" --missing-textures bogus "$src/scenes/lights.ray" >"$tmp/bad.txt" 2>&1
+check "--missing-textures takes error or checker only" test $? -eq 2
+check "--help lists --missing-textures" bash -c "'$rv' --help | grep -q -- '--missing-textures error|checker'"
 cat "$tmp/out.txt"
 echo "$passes passed, $fails failed"
 test "$fails" -eq 0
