@@ -78,8 +78,8 @@ const Vec3 kFaceUp[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0},
 Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
     // Compiled at once with every feature on, so a broken shader file fails here; the other
     // combinations of defines compile on first use (the same source with less of it).
-    program_for(
-        {"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR", "RT_SHADOWS"});
+    program_for({"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR",
+                 "RT_SHADOWS", "RT_CSG"});
     m_line_program = make_program(shader_dir, "lines.vert", "lines.frag");
     m_shadow_program = make_program(shader_dir, "preview.vert", "shadow.frag");
     m_line_vao = GlVertexArray::make();
