@@ -95,10 +95,87 @@ unsigned Preview::program_for(const std::vector<std::string>& defines) {
     return id;
 }
 
+Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
+                                        const CsgTexels& csg, size_t* floats) {
+    // Interleaved position, normal (uv) and (CSG leaf) as floats; triangles grouped by material.
+    const bool leaves = !csg.leaf_of_vertex.empty();
+    const int per_vertex = (textured ? 8 : 6) + (leaves ? 1 : 0);
+    std::vector<float> vertices;
+    vertices.reserve(mesh.positions.size() * static_cast<size_t>(per_vertex));
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(mesh.positions[i][k]));
+        for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(mesh.normals[i][k]));
+        if (textured)
+            for (int k = 0; k < 2; ++k) vertices.push_back(static_cast<float>(mesh.uvs[i][k]));
+        if (leaves) vertices.push_back(csg.leaf_of_vertex[i]);
+    }
+    *floats += vertices.size();
+    std::vector<size_t> order(mesh.triangle_count());
+    std::iota(order.begin(), order.end(), size_t{0});
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return mesh.materials[a] < mesh.materials[b]; });
+    std::vector<unsigned> indices;
+    SetBuffers buf;
+    for (size_t t : order) {
+        const int m = mesh.materials[t];
+        if (buf.ranges.empty() || buf.ranges.back().material != m)
+            buf.ranges.push_back({m, static_cast<unsigned>(indices.size()), 0});
+        for (int k = 0; k < 3; ++k) indices.push_back(mesh.indices[t * 3 + static_cast<size_t>(k)]);
+        buf.ranges.back().count += 3;
+    }
+    buf.vao = GlVertexArray::make();
+    glBindVertexArray(buf.vao.id());
+    buf.vbo = GlBuffer::make();
+    glBindBuffer(GL_ARRAY_BUFFER, buf.vbo.id());
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
+                 vertices.data(), GL_STATIC_DRAW);
+    buf.ebo = GlBuffer::make();
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf.ebo.id());
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(indices.size() * sizeof(unsigned)), indices.data(),
+                 GL_STATIC_DRAW);
+    const GLsizei stride = per_vertex * static_cast<GLsizei>(sizeof(float));
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<const void*>(3 * sizeof(float)));
+    if (textured) {
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
+                              reinterpret_cast<const void*>(6 * sizeof(float)));
+    } else {
+        glDisableVertexAttribArray(2);  // reads the constant (0, 0)
+    }
+    if (leaves) {
+        glEnableVertexAttribArray(3);
+        glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride,
+                              reinterpret_cast<const void*>((per_vertex - 1) * sizeof(float)));
+    } else {
+        glDisableVertexAttribArray(3);  // reads the constant draw() sets: -1, no leaf
+    }
+    glBindVertexArray(0);
+    if (leaves) {
+        buf.csg_buffer = GlBuffer::make();
+        glBindBuffer(GL_TEXTURE_BUFFER, buf.csg_buffer.id());
+        glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(csg.texels.size() * sizeof(float)),
+                     csg.texels.data(), GL_STATIC_DRAW);
+        buf.csg_texture = GlTexture::make();
+        glBindTexture(GL_TEXTURE_BUFFER, buf.csg_texture.id());
+        glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buf.csg_buffer.id());
+        glBindTexture(GL_TEXTURE_BUFFER, 0);
+        buf.csg_nodes = csg.nodes;
+        buf.csg_children = csg.children;
+        buf.csg_leaves = csg.leaves;
+    }
+    return buf;
+}
+
 void Preview::load(const RenderScene& scene, int detail) {
     m_sets.clear();
     m_textures.clear();
     m_shadows_valid = false;
+    m_csg = false;
     // What the scene uses decides what is uploaded: sets no instance places are not tessellated,
     // texture coordinates only for sets with a textured material, textures only when used.
     std::vector<char> placed(scene.sets.size(), 0), texture_used(scene.textures.size(), 0);
@@ -110,67 +187,22 @@ void Preview::load(const RenderScene& scene, int detail) {
             m_sets.emplace_back();
             continue;
         }
-        bool textured = false;
-        for (const Primitive& p : set.prims) {
-            const int t = scene.materials[static_cast<size_t>(p.material)].texture;
+        PreviewMesh mesh = tessellate_set(set, detail);
+        CsgTexels csg;
+        add_csg_leaves(set, detail, &mesh, &csg);
+        bool textured = false;  // the materials drawn, CSG leaves' included
+        std::vector<char> seen(scene.materials.size(), 0);
+        for (const int m : mesh.materials) {
+            if (seen[static_cast<size_t>(m)]) continue;
+            seen[static_cast<size_t>(m)] = 1;
+            const int t = scene.materials[static_cast<size_t>(m)].texture;
             if (t >= 0) {
                 textured = true;
                 texture_used[static_cast<size_t>(t)] = 1;
             }
         }
-        const PreviewMesh mesh = tessellate_set(set, detail);
-        // Interleaved position, normal (and uv) as floats; triangles grouped by material.
-        const int per_vertex = textured ? 8 : 6;
-        std::vector<float> vertices;
-        vertices.reserve(mesh.positions.size() * static_cast<size_t>(per_vertex));
-        for (size_t i = 0; i < mesh.positions.size(); ++i) {
-            for (int k = 0; k < 3; ++k)
-                vertices.push_back(static_cast<float>(mesh.positions[i][k]));
-            for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(mesh.normals[i][k]));
-            if (textured)
-                for (int k = 0; k < 2; ++k) vertices.push_back(static_cast<float>(mesh.uvs[i][k]));
-        }
-        m_uploaded_floats += vertices.size();
-        std::vector<size_t> order(mesh.triangle_count());
-        std::iota(order.begin(), order.end(), size_t{0});
-        std::stable_sort(order.begin(), order.end(),
-                         [&](size_t a, size_t b) { return mesh.materials[a] < mesh.materials[b]; });
-        std::vector<unsigned> indices;
-        SetBuffers buf;
-        for (size_t t : order) {
-            const int m = mesh.materials[t];
-            if (buf.ranges.empty() || buf.ranges.back().material != m)
-                buf.ranges.push_back({m, static_cast<unsigned>(indices.size()), 0});
-            for (int k = 0; k < 3; ++k)
-                indices.push_back(mesh.indices[t * 3 + static_cast<size_t>(k)]);
-            buf.ranges.back().count += 3;
-        }
-        buf.vao = GlVertexArray::make();
-        glBindVertexArray(buf.vao.id());
-        buf.vbo = GlBuffer::make();
-        glBindBuffer(GL_ARRAY_BUFFER, buf.vbo.id());
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
-                     vertices.data(), GL_STATIC_DRAW);
-        buf.ebo = GlBuffer::make();
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf.ebo.id());
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                     static_cast<GLsizeiptr>(indices.size() * sizeof(unsigned)), indices.data(),
-                     GL_STATIC_DRAW);
-        const GLsizei stride = per_vertex * static_cast<GLsizei>(sizeof(float));
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-        glEnableVertexAttribArray(1);
-        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
-                              reinterpret_cast<const void*>(3 * sizeof(float)));
-        if (textured) {
-            glEnableVertexAttribArray(2);
-            glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
-                                  reinterpret_cast<const void*>(6 * sizeof(float)));
-        } else {
-            glDisableVertexAttribArray(2);  // reads the constant (0, 0)
-        }
-        glBindVertexArray(0);
-        m_sets.push_back(std::move(buf));
+        m_csg |= !csg.leaf_of_vertex.empty();
+        m_sets.push_back(upload_set(mesh, textured, csg, &m_uploaded_floats));
     }
     // Textures: 8-bit RGB, row 0 first, bilinear with wrap and no mipmaps (spec §7.3).
     for (size_t ti = 0; ti < scene.textures.size(); ++ti) {
@@ -307,6 +339,14 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
         const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
         if (!buf.vao) continue;
         glBindVertexArray(buf.vao.id());
+        if (shading && buf.csg_texture) {
+            glActiveTexture(GL_TEXTURE2);
+            glBindTexture(GL_TEXTURE_BUFFER, buf.csg_texture.id());
+            glActiveTexture(GL_TEXTURE0);
+            glUniform1i(loc(program, "u_csg_nodes"), buf.csg_nodes);
+            glUniform1i(loc(program, "u_csg_children"), buf.csg_children);
+            glUniform1i(loc(program, "u_csg_leaves"), buf.csg_leaves);
+        }
         for (const Range& range : buf.ranges) {
             const Material& m = scene.materials[static_cast<size_t>(range.material)];
             if (opaque_only && m.transparent != Vec3(0.0)) continue;
@@ -348,6 +388,7 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     if (uses.textures) defines.push_back("RT_TEXTURES");
     if (uses.highlights) defines.push_back("RT_SPECULAR");
     if (shadows) defines.push_back("RT_SHADOWS");
+    if (m_csg) defines.push_back("RT_CSG");
     const GLuint program = program_for(defines);
     m_defines = defines;
 
@@ -388,6 +429,8 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     }
     glUniform1i(loc(program, "u_texture"), 0);
     glUniform1i(loc(program, "u_texture_all"), scene.texture_all_terms ? 1 : 0);
+    glUniform1i(loc(program, "u_csg"), 2);
+    glVertexAttrib1f(3, -1.0f);  // the leaf of vertices of sets without CSG: none
     if (shadows) {
         glUniform1i(loc(program, "u_shadow_map"), 1);
         glUniform1f(loc(program, "u_shadow_res"), static_cast<float>(kShadowResolution));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "csg_preview.h"
 #include "gl_util.h"
 #include "overlay.h"
 #include "rt/compile/render_scene.h"
@@ -61,7 +62,12 @@ private:
         GlVertexArray vao;  // none for a set no instance places
         GlBuffer vbo, ebo;
         std::vector<Range> ranges;
+        GlBuffer csg_buffer;  // the CSG trees (csg_preview.h), none without CSG
+        GlTexture csg_texture;
+        int csg_nodes = 0, csg_children = 0, csg_leaves = 0;
     };
+    static SetBuffers upload_set(const PreviewMesh& mesh, bool textured, const CsgTexels& csg,
+                                 size_t* floats);
     // What a shadow map was rendered for, to know when to render it again.
     struct ShadowView {
         int layer = -1;  // first layer in the array, -1: none
@@ -89,6 +95,7 @@ private:
     GlVertexArray m_line_vao;
     GlBuffer m_line_vbo;
     std::vector<SetBuffers> m_sets;
+    bool m_csg = false;                 // a placed set has CSG nodes: programs with RT_CSG
     std::vector<GlTexture> m_textures;  // none for a texture no material drawn uses
 };
 
