@@ -60,6 +60,7 @@ struct Offscreen {
 struct Comparison {
     double iou = 0;
     double colour_match = 0;  // share of commonly covered pixels within 3/255 per channel
+    int covered = 0;          // pixels the trace covers
 };
 
 Comparison compare(const RenderScene& scene) {
@@ -71,7 +72,7 @@ Comparison compare(const RenderScene& scene) {
     preview.draw(scene, plan_for(scene), cam, kW, kH);
     glFinish();
     const Image traced = test::render(scene, kW, kH, 1, 0.001, false);  // local shading only
-    int both = 0, either = 0, close = 0;
+    int both = 0, either = 0, close = 0, covered = 0;
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
             Hit h;
@@ -82,6 +83,7 @@ Comparison compare(const RenderScene& scene) {
             const bool drawn = g != bg;
             both += hit && drawn;
             either += hit || drawn;
+            covered += hit;
             if (hit && drawn) {
                 Vec3 t;
                 for (int k = 0; k < 3; ++k) t[k] = to_byte(traced.at(x, y)[k]);
@@ -89,7 +91,7 @@ Comparison compare(const RenderScene& scene) {
             }
         }
     return {either ? static_cast<double>(both) / either : 1.0,
-            both ? static_cast<double>(close) / both : 1.0};
+            both ? static_cast<double>(close) / both : 1.0, covered};
 }
 
 Comparison compare(const std::string& text) { return compare(test::compile(text)); }
@@ -157,6 +159,7 @@ TEST(GlPreview, ToriAgreeWithTheTrace) {
     tilted.shapes.back().material = 1;
     root.groups.push_back(tilted);
     const Comparison c = compare(compile_scene(desc));
+    EXPECT_GT(c.covered, kW * kH / 20);  // the tori are there
     EXPECT_GE(c.iou, 0.98);
     EXPECT_GE(c.colour_match, 0.85);
 }
