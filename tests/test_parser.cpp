@@ -276,9 +276,11 @@ INSTANTIATE_TEST_SUITE_P(
                   "test.ray:2:1: error: mixed dialects: V0 material at test.ray:2:1, V1 material "
                   "at test.ray:1:1"},
         ErrorCase{"#static_affine 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1",
-                  "test.ray:1:1: error: '#static_affine' is V3 syntax; V3 scenes are not "
-                  "supported yet"},
-        ErrorCase{"#background 1 1 1 #shape_torus", "test.ray:1:19: error: '#shape_torus' is V3"},
+                  "test.ray:1:47: error: #static_affine at test.ray:1:1 has no shape before end "
+                  "of file"},
+        ErrorCase{"#background 1 1 1 #shape_torus",
+                  "test.ray:1:19: error: mixed dialects: V3 '#shape_torus' at test.ray:1:19, V1 "
+                  "'#background' at test.ray:1:1"},
         ErrorCase{"#texture missing.bmp",
                   "test.ray:1:10: error: cannot open texture 'missing.bmp' (tried ./missing.bmp)"},
         ErrorCase{"#ray_file nothere.ray",
@@ -320,8 +322,11 @@ TEST(Parser, DialectErrorsComeBeforeOtherErrors) {
         "#material 0 0 0 0 0 0 0 0 0 0 0 0 1 0 0 0 1 -1 !!\n"
         "#material 0 0 0 0 0 0 0 0 0 0 0 0 1 0 1 -1 !!\n#shape_sphere 5 0 0 0 1\n");
     EXPECT_NE(err.find("test.ray:2:1: error: mixed dialects"), std::string::npos) << err;
-    const std::string v3 = parse_error("#shape_sphere 5 0 0 0 1\n#shader a b\n");
-    EXPECT_NE(v3.find("test.ray:2:1: error: '#shader' is V3 syntax"), std::string::npos) << v3;
+    const std::string v3 = parse_error("#shape_sphere 5 0 0 0 1\n#shader a b\n#ambient 1 1 1\n");
+    EXPECT_NE(v3.find("test.ray:3:1: error: mixed dialects: V3 '#shader' at test.ray:2:1, V1 "
+                      "'#ambient' at test.ray:3:1"),
+              std::string::npos)
+        << v3;
 }
 
 TEST(Parser, DialectOverrideRejectsTheOtherCount) {

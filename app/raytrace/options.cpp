@@ -12,7 +12,7 @@ namespace raytrace {
 namespace {
 
 constexpr const char* kDescription =
-    "Renders a .ray scene (V0 or V1 dialect) with Whitted ray tracing.";
+    "Renders a .ray scene (V0, V1 or V3 dialect) with Whitted ray tracing.";
 constexpr const char* kFooter =
     "exit status: 0 success, 1 scene error (printed as file:line:col: error: ...) or an output\n"
     "that cannot be written, 2 usage error.";
@@ -53,11 +53,23 @@ void add_render_options(CLI::App& app, Options& o) {
     app.add_option_function<std::string>(
            "--dialect",
            [&o](const std::string& d) {
-               o.dialect = d == "v0" ? rt::Dialect::V0 : rt::Dialect::V1;
+               o.dialect = d == "v0"   ? rt::Dialect::V0
+                           : d == "v1" ? rt::Dialect::V1
+                                       : rt::Dialect::V3;
            },
-           "v0 or v1: override the dialect detected from the materials")
+           "v0, v1 or v3: override the dialect detected from the file tree")
         ->type_name("D")
-        ->transform(CLI::IsMember({"v0", "v1"}, CLI::ignore_case));
+        ->transform(CLI::IsMember({"v0", "v1", "v3"}, CLI::ignore_case));
+    app.add_option_function<std::string>(
+           "--missing-textures",
+           [&o](const std::string& m) {
+               o.missing_textures =
+                   m == "checker" ? rt::MissingTextures::Checker : rt::MissingTextures::Error;
+           },
+           "error or checker: a texture that cannot be opened or decoded is an\n"
+           "error, or a magenta/grey checker with a warning")
+        ->type_name("M")
+        ->transform(CLI::IsMember({"error", "checker"}, CLI::ignore_case));
     app.add_flag("--stats", o.stats,
                  "print time per phase (parse, compile, BVH build, render) and rays\n"
                  "per second by kind");

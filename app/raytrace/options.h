@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "rt/format/parser.h"
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
@@ -33,7 +34,8 @@ struct Options : rt::RenderSettings {
     std::string scene;
     std::string output = "out.png";
     int spp = 1;
-    std::optional<rt::Dialect> dialect;  // overrides the dialect detected from the materials
+    std::optional<rt::Dialect> dialect;  // overrides the dialect detected from the file tree
+    rt::MissingTextures missing_textures = rt::MissingTextures::Error;  // --missing-textures
     bool quiet = false;
     bool stats = false;
     bool explain = false;  // print what the specialized renderer left out, and why

@@ -1,6 +1,6 @@
 // The dialect pre-scan (spec §10): before any material is interpreted, the whole file tree is
-// scanned for #material number counts (16 = V0, 18 = V1), V3-only directives and uses of the V0
-// default material. The texts it reads are kept for the parse (cached_text).
+// scanned for V3 markers, V0/V1 markers, #material number counts (16 = V0, 18 = V1) and uses of
+// the V0 default material. The texts it reads are kept for the parse (cached_text).
 #include <algorithm>
 #include <array>
 #include <filesystem>
@@ -28,7 +28,7 @@ namespace parser_impl {
 
 namespace {
 
-// Directives that exist only in the planned V3 dialect (spec §10 step 1).
+// Directives that exist only in the V3 dialect (spec §10 step 1).
 bool is_v3_directive(std::string_view d) {
     static constexpr std::array<std::string_view, 11> names = {"#static_affine",
                                                                "#dynamic_affine",
@@ -46,76 +46,179 @@ bool is_v3_directive(std::string_view d) {
     return false;
 }
 
+// V0/V1-only directives (spec §10 step 1), besides the #*_num counts.
+bool is_v01_directive(std::string_view d) {
+    static constexpr std::array<std::string_view, 6> names = {
+        "#group_begin", "#group_end", "#joint_begin", "#joint_end", "#background", "#ambient"};
+    for (std::string_view n : names)
+        if (n == d) return true;
+    return d.size() > 4 && d.substr(d.size() - 4) == "_num";
+}
+
+// Consumes the words up to the next directive: how many, and whether all are reals / ints.
+int count_words(Lexer& lex, bool* reals, bool* ints) {
+    int n = 0;
+    *reals = *ints = true;
+    for (Token a = lex.peek(); a.kind == TokenKind::Word; a = lex.peek()) {
+        lex.next();
+        double v = 0;
+        int k = 0;
+        bool flag = false;
+        *reals = *reals && parse_real(a.text, &v, &flag);
+        *ints = *ints && parse_int(a.text, &k, &flag);
+        ++n;
+    }
+    return n;
+}
+
+const char* forced_name(Dialect d) {
+    return d == Dialect::V0 ? "v0" : d == Dialect::V1 ? "v1" : "v3";
+}
+
 }  // namespace
 
-std::optional<std::string> ParserBase::find_file(const std::string& dir, const std::string& path) {
+struct ParserBase::Scan {
+    bool v3_paths = false;  // locate #ray_file paths by spec §13.2 rather than §4.2
+    bool follow = true;     // follow #ray_file
+    std::vector<std::string> visited;
+    std::vector<std::pair<std::string, SourceLoc>> found;  // #ray_file resolutions, in order
+    SourceLoc v3_loc, v01_loc;                             // first marker of each kind
+    std::string v3_what, v01_what;
+    int v3_order = 0, v01_order = 0, order = 0;
+};
+
+std::optional<std::string> ParserBase::find_file(const std::string& dir, const std::string& path,
+                                                 bool v3) const {
     const fs::path p(path);
     if (p.is_absolute()) return is_file(p) ? std::optional<std::string>(path) : std::nullopt;
-    for (const fs::path& c : {fs::path(dir) / p, fs::path(".") / p})
+    std::vector<fs::path> candidates;
+    if (v3) candidates.push_back(fs::path(m_top_dir) / p);
+    candidates.push_back(fs::path(dir) / p);
+    candidates.push_back(fs::path(".") / p);
+    for (const fs::path& c : candidates)
         if (is_file(c)) return c.lexically_normal().string();
     return std::nullopt;
 }
 
+// Spec §10 step 1 and step 5: records the first marker of each kind, or refuses it under
+// --dialect of the other kind.
+void ParserBase::prescan_marker(const SourceLoc& loc, std::string_view what, bool v3, Scan& scan) {
+    if (m_options.dialect) {
+        const Dialect forced = *m_options.dialect;
+        const std::string by =
+            std::string(dialect_name(forced)) + " by --dialect " + forced_name(forced);
+        if (v3 && forced != Dialect::V3)
+            fail(loc, std::string(what) + " is V3 syntax; the tree was forced to " + by);
+        if (!v3 && forced == Dialect::V3)
+            fail(loc, std::string(what) + " is V0/V1 syntax; the tree was forced to " + by);
+        return;
+    }
+    SourceLoc& first = v3 ? scan.v3_loc : scan.v01_loc;
+    if (first.file) return;
+    first = loc;
+    (v3 ? scan.v3_what : scan.v01_what) = std::string(what);
+    (v3 ? scan.v3_order : scan.v01_order) = ++scan.order;
+}
+
+void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string& dir, Scan& scan) {
+    const SourceLoc loc = lex.loc(t);
+    const std::string q = quote(t.text);
+    if (t.text == "#version")
+        fail(loc, "'#version' belongs to the HMC CS155 ray format, not a Kazhdan .ray file");
+    if (is_v3_directive(t.text)) return prescan_marker(loc, q, true, scan);
+    if (is_v01_directive(t.text)) return prescan_marker(loc, q, false, scan);
+    bool reals = false, ints = false;
+    if (t.text == "#light_dir" || t.text == "#light_point" || t.text == "#light_spot") {
+        const int v01 = t.text == "#light_dir" ? 6 : t.text == "#light_point" ? 9 : 14;
+        const int v3 = t.text == "#light_dir" ? 12 : t.text == "#light_point" ? 15 : 20;
+        const int n = count_words(lex, &reals, &ints);
+        if (!reals) return;  // the parse reports the bad token at its place
+        if (n != v01 && n != v3)
+            fail(loc, std::string(t.text) + " needs " + std::to_string(v01) + " (V0/V1) or " +
+                          std::to_string(v3) + " (V3) numbers, got " + std::to_string(n));
+        return prescan_marker(loc, q + " with " + std::to_string(n) + " numbers", n == v3, scan);
+    }
+    if (t.text == "#material") {
+        int n = 0;
+        bool numbers = true;
+        for (Token a = lex.peek(); a.kind == TokenKind::Word; a = lex.peek()) {
+            lex.next();
+            double v = 0;
+            bool nf = false;
+            numbers = numbers && parse_real(a.text, &v, &nf);
+            ++n;
+        }
+        // A bad token or a missing string is reported by the parse at its place.
+        if (!numbers || (lex.peek().kind != TokenKind::String && (n == 16 || n == 18))) return;
+        if (n != 16 && n != 18)
+            fail(loc,
+                 "#material needs 16 (V0) or 18 (V1) numbers before its "
+                 "!…! string, got " +
+                     std::to_string(n));
+        const Dialect d = n == 16 ? Dialect::V0 : Dialect::V1;
+        if (m_options.dialect && *m_options.dialect != d &&
+            !(*m_options.dialect == Dialect::V3 && d == Dialect::V1))
+            fail(loc, "#material has " + std::to_string(n) + " numbers, but --dialect " +
+                          (*m_options.dialect == Dialect::V0   ? "v0 needs 16"
+                           : *m_options.dialect == Dialect::V1 ? "v1 needs 18"
+                                                               : "v3 needs 18"));
+        if (d == Dialect::V0) prescan_marker(loc, "'#material' with 16 numbers", false, scan);
+        SourceLoc& first = d == Dialect::V0 ? m_first_v0 : m_first_v1;
+        if (!first.file) {
+            first = loc;
+            const SourceLoc& other = d == Dialect::V0 ? m_first_v1 : m_first_v0;
+            if (other.file && !scan.v3_loc.file)
+                fail(first, "mixed dialects: V0 material at " + m_first_v0.str() +
+                                ", V1 material at " + m_first_v1.str());
+        }
+    } else if (t.text.substr(0, 7) == "#shape_") {
+        if (lex.peek().text == "-1") m_default_use = true;
+        if (t.text == "#shape_triangle" && count_words(lex, &reals, &ints) == 4 && ints)
+            prescan_marker(loc, "'#shape_triangle' with 4 integers", false, scan);
+    } else if (t.text == "#ray_file" && scan.follow) {
+        const Token pt = lex.next();
+        if (pt.kind != TokenKind::Word) return;
+        const auto resolved = find_file(dir, std::string(pt.text), scan.v3_paths);
+        scan.found.emplace_back(resolved ? *resolved : std::string(), lex.loc(pt));
+        if (!resolved) return;
+        const std::string canon = canonical_path(*resolved);
+        if (std::find(scan.visited.begin(), scan.visited.end(), canon) != scan.visited.end())
+            return;
+        // Too deep: the parse reports it at this directive.
+        if (m_include_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) return;
+        const std::string* sub = cached_text(*resolved, canon);
+        if (!sub) return;
+        const std::string sub_dir = fs::path(*resolved).parent_path().string();
+        m_include_locs.push_back(loc);
+        prescan(*sub, *resolved, canon, sub_dir.empty() ? "." : sub_dir, scan);
+        m_include_locs.pop_back();
+    }
+}
+
 // Follows the #ray_file paths it can resolve; the parse reports the others.
 void ParserBase::prescan(const std::string& text, const std::string& name,
-                         const std::string& canonical, const std::string& dir,
-                         std::vector<std::string>& visited) {
-    visited.push_back(canonical);
-    Lexer lex(text, std::make_shared<const std::string>(name));
-    for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next()) {
-        if (t.kind != TokenKind::Directive) continue;
-        if (is_v3_directive(t.text))
-            fail(lex.loc(t), quote(t.text) + " is V3 syntax; V3 scenes are not supported yet");
-        if (t.text == "#material") {
-            int n = 0;
-            bool numbers = true;
-            for (Token a = lex.peek(); a.kind == TokenKind::Word; a = lex.peek()) {
-                lex.next();
-                double v = 0;
-                bool nf = false;
-                numbers = numbers && parse_real(a.text, &v, &nf);
-                ++n;
-            }
-            // A bad token or a missing string is reported by the parse at its place.
-            if (!numbers || (lex.peek().kind != TokenKind::String && (n == 16 || n == 18)))
-                continue;
-            if (n != 16 && n != 18)
-                fail(lex.loc(t),
-                     "#material needs 16 (V0) or 18 (V1) numbers before its "
-                     "!…! string, got " +
-                         std::to_string(n));
-            const Dialect d = n == 16 ? Dialect::V0 : Dialect::V1;
-            if (m_options.dialect && *m_options.dialect != d)
-                fail(lex.loc(t),
-                     "#material has " + std::to_string(n) + " numbers, but --dialect " +
-                         (*m_options.dialect == Dialect::V0 ? "v0 needs 16" : "v1 needs 18"));
-            SourceLoc& first = d == Dialect::V0 ? m_first_v0 : m_first_v1;
-            if (!first.file) {
-                first = lex.loc(t);
-                const SourceLoc& other = d == Dialect::V0 ? m_first_v1 : m_first_v0;
-                if (other.file)
-                    fail(first, "mixed dialects: V0 material at " + m_first_v0.str() +
-                                    ", V1 material at " + m_first_v1.str());
-            }
-        } else if (t.text.substr(0, 7) == "#shape_") {
-            if (lex.peek().text == "-1") m_default_use = true;
-        } else if (t.text == "#ray_file") {
-            const Token pt = lex.next();
-            if (pt.kind != TokenKind::Word) continue;
-            const auto resolved = find_file(dir, std::string(pt.text));
-            if (!resolved) continue;
-            const std::string canon = canonical_path(*resolved);
-            if (std::find(visited.begin(), visited.end(), canon) != visited.end()) continue;
-            // Too deep: the parse reports it at this directive.
-            if (m_include_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) continue;
-            const std::string* sub = cached_text(*resolved, canon);
-            if (!sub) continue;
-            const std::string sub_dir = fs::path(*resolved).parent_path().string();
-            m_include_locs.push_back(lex.loc(t));
-            prescan(*sub, *resolved, canon, sub_dir.empty() ? "." : sub_dir, visited);
-            m_include_locs.pop_back();
-        }
-    }
+                         const std::string& canonical, const std::string& dir, Scan& scan) {
+    scan.visited.push_back(canonical);
+    auto file = std::make_shared<const std::string>(name);
+    // Spec §10 step 0: other formats named .ray.
+    const std::string_view body =
+        std::string_view(text).substr(text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0);
+    if (body.substr(0, 13) == "SBT-raytracer")
+        fail({file, 1, 1},
+             "this is an SBT-raytracer scene (U. Washington CSE 457 / UT Austin CS 354 format), "
+             "not a Kazhdan .ray file");
+    Lexer lex(text, file);
+    for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next())
+        if (t.kind == TokenKind::Directive) prescan_directive(lex, t, dir, scan);
+}
+
+void ParserBase::run_prescan(const std::string& text, const std::string& name,
+                             const std::string& canonical, const std::string& dir, bool v3,
+                             Scan& scan) {
+    m_first_v0 = m_first_v1 = SourceLoc{};
+    m_default_use = false;
+    scan.v3_paths = v3;
+    prescan(text, name, canonical, dir, scan);
 }
 
 // Included files' texts by canonical path, read by the pre-scan and handed to the parse.
@@ -129,10 +232,44 @@ const std::string* ParserBase::cached_text(const std::string& path, const std::s
 
 void ParserBase::detect_dialect(const std::string& text, const std::string& name,
                                 const std::string& canonical, const std::string& dir) {
-    std::vector<std::string> visited;
-    prescan(text, name, canonical, dir, visited);
+    m_top_dir = dir;
+    const bool forced_v3 = m_options.dialect == Dialect::V3;
+    // Spec §10 step 6: §13.2 paths once the top-level file itself is V3.
+    Scan top;
+    top.follow = false;
+    if (!forced_v3) run_prescan(text, name, canonical, dir, false, top);
+    Scan scan;
+    run_prescan(text, name, canonical, dir, forced_v3 || top.v3_loc.file != nullptr, scan);
+    if (scan.v3_loc.file && !scan.v3_paths) {
+        // V3 only through an included file: locate the paths again by §13.2.
+        Scan again;
+        run_prescan(text, name, canonical, dir, true, again);
+        size_t i = 0;
+        while (i < scan.found.size() && i < again.found.size() &&
+               scan.found[i].first == again.found[i].first)
+            ++i;
+        if (i < scan.found.size() || i < again.found.size()) {
+            if (!again.v3_loc.file)
+                fail(i < again.found.size() ? again.found[i].second : scan.found[i].second,
+                     "the dialect of this tree depends on path resolution");
+            scan = std::move(again);
+        }
+    }
+    if (scan.v3_loc.file && scan.v01_loc.file) {
+        const SourceLoc& at = scan.v3_order > scan.v01_order ? scan.v3_loc : scan.v01_loc;
+        const bool v0 = scan.v01_what.find("16 numbers") != std::string::npos;
+        std::string v01 = scan.v01_what.substr(0, scan.v01_what.find(" with "));
+        fail(at, "mixed dialects: V3 " + scan.v3_what.substr(0, scan.v3_what.find(" with ")) +
+                     " at " + scan.v3_loc.str() + ", " + (v0 ? "V0 " : "V1 ") + v01 + " at " +
+                     scan.v01_loc.str());
+    }
+    if (scan.v3_loc.file)
+        m_v3_marker =
+            scan.v3_what.substr(0, scan.v3_what.find(" with ")) + " at " + scan.v3_loc.str();
     if (m_options.dialect)
         m_dialect = *m_options.dialect;
+    else if (scan.v3_loc.file)
+        m_dialect = Dialect::V3;
     else if (m_first_v0.file)
         m_dialect = Dialect::V0;
     else if (m_first_v1.file)

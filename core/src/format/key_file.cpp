@@ -22,8 +22,11 @@ KeyFile ParserBase::parse_key_file(const std::string& text, const std::string& p
     SourceLoc nloc;
     const int n = integer(k, dofs, "DOF count", &nloc);
     if (n <= 0) fail(nloc, "DOF count must be positive, got " + std::to_string(n));
-    std::vector<std::string> names;
-    for (int i = 0; i < n; ++i) names.push_back(lower(word(k, dofs, "a DOF name", true)));
+    std::vector<std::string> names, exact;
+    for (int i = 0; i < n; ++i) {
+        exact.push_back(word(k, dofs, "a DOF name", true));
+        names.push_back(lower(exact.back()));
+    }
     const Token dur = expect("#DURATION");
     const Token dur_tok = k.lex.peek();
     if (real(k, dur, 1) <= 0) fail(k, dur_tok, "duration must be positive");
@@ -50,8 +53,14 @@ KeyFile ParserBase::parse_key_file(const std::string& text, const std::string& p
                 m[i / 4][i % 4] = x;  // column-major: GLM's own order
             }
             if (fr == 0) {
+                // V3 (spec §14.1): numbers 4, 8, 12 and 16 are ignored.
+                if (m_dialect == Dialect::V3) {
+                    m[0][3] = m[1][3] = m[2][3] = 0.0;
+                    m[3][3] = 1.0;
+                }
                 check_matrix(m, k.lex.loc(first), "key frame matrix");
                 key.frame0[names[static_cast<size_t>(j)]] = m;
+                key.frame0_exact[exact[static_cast<size_t>(j)]] = m;
             }
         }
     }

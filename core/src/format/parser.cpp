@@ -203,21 +203,68 @@ void ParserBase::count_item(FileState& f, const Token& dir, CountKind k) {
 }
 
 // ---- paths --------------------------------------------------------------------------------------
-// Spec §4.2: relative to the naming file's directory, then the working directory.
-std::string ParserBase::resolve(FileState& f, const Token& at, const std::string& path,
-                                const std::string& what) {
+// Spec §4.2: relative to the naming file's directory, then the working directory. V3 (spec §13.2):
+// the top-level file's directory first, then those two with a warning.
+std::optional<std::string> ParserBase::try_resolve(FileState& f, const Token& at,
+                                                   const std::string& path, std::string* tried) {
     const fs::path p(path);
     if (p.is_absolute()) {
-        if (is_file(p)) return path;
-        fail(f, at, "cannot open " + what + " " + quote(path));
+        if (tried) tried->clear();
+        return is_file(p) ? std::optional<std::string>(path) : std::nullopt;
     }
-    const fs::path a = fs::path(f.dir) / p;
-    if (is_file(a)) return a.lexically_normal().string();
-    const fs::path b = fs::path(".") / p;
-    if (is_file(b)) return b.lexically_normal().string();
-    const std::string tried =
-        a.lexically_normal() == b.lexically_normal() ? a.string() : a.string() + ", " + b.string();
+    const bool v3 = m_dialect == Dialect::V3;
+    std::vector<fs::path> places;
+    if (v3) places.push_back(fs::path(m_top_dir) / p);
+    places.push_back(fs::path(f.dir) / p);
+    places.push_back(fs::path(".") / p);
+    std::vector<fs::path> unique;
+    for (const fs::path& c : places)
+        if (std::find_if(unique.begin(), unique.end(), [&](const fs::path& u) {
+                return u.lexically_normal() == c.lexically_normal();
+            }) == unique.end())
+            unique.push_back(c);
+    for (size_t i = 0; i < unique.size(); ++i) {
+        if (!is_file(unique[i])) continue;
+        const std::string found = unique[i].lexically_normal().string();
+        if (v3 && i > 0)
+            m_diag.warn(f.lex.loc(at), "v3-path:" + path,
+                        quote(path) + " found as " + found + ", not in " + m_top_dir +
+                            " (V3 resolves paths against the top-level file's directory)");
+        return found;
+    }
+    if (tried) {
+        tried->clear();
+        for (const fs::path& c : unique) *tried += (tried->empty() ? "" : ", ") + c.string();
+    }
+    return std::nullopt;
+}
+
+std::string ParserBase::resolve(FileState& f, const Token& at, const std::string& path,
+                                const std::string& what) {
+    std::string tried;
+    if (auto found = try_resolve(f, at, path, &tried)) return *found;
+    if (tried.empty()) fail(f, at, "cannot open " + what + " " + quote(path));
     fail(f, at, "cannot open " + what + " " + quote(path) + " (tried " + tried + ")");
+}
+
+void ParserBase::validate_camera(FileState& f, const Token& d, const CameraDesc& c) {
+    if (glm::length(c.direction) == 0.0) fail(f, d, "camera view direction is zero");
+    if (glm::length(c.up) == 0.0) fail(f, d, "camera up vector is zero");
+    if (glm::length(glm::cross(glm::normalize(c.direction), glm::normalize(c.up))) < 1e-6)
+        fail(f, d, "camera up vector is parallel to the view direction");
+    if (!(c.half_height_angle_rad > 0.0 && c.half_height_angle_rad < kPi / 2))
+        fail(f, d,
+             "camera half-height angle " + fmt(c.half_height_angle_rad) +
+                 " is outside (0, pi/2) radians");
+}
+
+bool ParserBase::degenerate_triangle(const FileDesc& file, const TriangleDesc& t) {
+    // Spec §3.3: a repeated index, or |e1 x e2| <= 1e-12 |e1| |e2|.
+    if (t.v[0] == t.v[1] || t.v[1] == t.v[2] || t.v[0] == t.v[2]) return true;
+    const Vec3& p0 = file.vertices[static_cast<size_t>(t.v[0])].position;
+    const Vec3 e1 = file.vertices[static_cast<size_t>(t.v[1])].position - p0;
+    const Vec3 e2 = file.vertices[static_cast<size_t>(t.v[2])].position - p0;
+    return glm::length(glm::cross(e1, e2)) <= 1e-12 * glm::length(e1) * glm::length(e2);
 }
 
 // ---- matrices -----------------------------------------------------------------------------------
@@ -238,9 +285,9 @@ void ParserBase::check_matrix(const Mat4& m, const SourceLoc& loc, const std::st
 
 namespace {
 
-class Parser : public ParserBase {
+class Parser final : public ParserV3 {
 public:
-    Parser(Diagnostics& diag, const ParseOptions& options) : ParserBase(diag, options) {}
+    Parser(Diagnostics& diag, const ParseOptions& options) : ParserV3(diag, options) {}
 
     SceneDesc run(const std::string& text, const std::string& name, const std::string& dir) {
         const std::string canonical = canonical_path(name);
@@ -276,10 +323,15 @@ private:
         f.stack.push_back(&f.desc.root);
         f.stack_is_joint.push_back(0);
 
+        const bool v3 = m_dialect == Dialect::V3;
+        if (v3) f.v3.push_back({});  // the root list
         for (Token t = f.lex.next(); t.kind != TokenKind::End; t = f.lex.next()) {
             if (t.kind != TokenKind::Directive)
                 fail(f, t, "expected a directive, got " + quote(t.text));
-            directive(f, t);
+            if (v3)
+                v3_directive(f, t);
+            else
+                directive(f, t);
         }
         end_of_file(f);
         m_open.pop_back();
@@ -294,6 +346,7 @@ private:
             if (r.index < -1 || r.index >= ntex)
                 fail(r.loc, "texture index " + std::to_string(r.index) + " out of range [-1," +
                                 std::to_string(ntex) + ")");
+        if (m_dialect == Dialect::V3) return v3_end_of_file(f, eof);
         if (f.stack.size() > 1) {
             const GroupDesc* g = f.stack.back();
             fail(eof, std::string(f.stack_is_joint.back() ? "#joint_begin" : "#group_begin") +
@@ -354,14 +407,7 @@ private:
         c.half_height_angle_rad = real(f, d, 10);
         // Included files: syntax only, so the dummy all-zero cameras of sub-files pass (§3.1, §12).
         if (!f.top) return;
-        if (glm::length(c.direction) == 0.0) fail(f, d, "camera view direction is zero");
-        if (glm::length(c.up) == 0.0) fail(f, d, "camera up vector is zero");
-        if (glm::length(glm::cross(glm::normalize(c.direction), glm::normalize(c.up))) < 1e-6)
-            fail(f, d, "camera up vector is parallel to the view direction");
-        if (!(c.half_height_angle_rad > 0.0 && c.half_height_angle_rad < kPi / 2))
-            fail(f, d,
-                 "camera half-height angle " + fmt(c.half_height_angle_rad) +
-                     " is outside (0, pi/2) radians");
+        validate_camera(f, d, c);
         if (m_scene.camera) {
             m_diag.warn(
                 c.loc, "camera-repeat",
@@ -439,23 +485,44 @@ private:
         m_scene.lights.push_back(l);
     }
 
-    void texture(FileState& f, const Token& d) {
+    void texture(FileState& f, const Token& d) override {
         definition(f, d);
         const Token pt = f.lex.peek();
         const std::string path = word(f, d, "a texture file name");
         count_item(f, d, kTextures);
         TextureDesc t;
         t.loc = f.lex.loc(d);
-        t.path = resolve(f, pt, path, "texture");
+        const bool checker = m_options.missing_textures == MissingTextures::Checker;
+        std::string tried;
+        const std::optional<std::string> found = try_resolve(f, pt, path, &tried);
         auto image = std::make_shared<TextureImage>();
-        std::string error;
-        if (!load_texture_image(t.path, image.get(), &error))
-            fail(f, pt, "cannot decode texture " + quote(t.path) + ": " + error);
+        std::string problem;
+        if (found) {
+            t.path = *found;
+            std::string error;
+            if (!load_texture_image(t.path, image.get(), &error))
+                problem = "cannot decode texture " + quote(t.path) + ": " + error;
+        } else {
+            t.path = path;
+            problem = "cannot open texture " + quote(path) +
+                      (tried.empty() ? std::string() : " (tried " + tried + ")");
+        }
+        if (!problem.empty()) {
+            if (!checker) fail(f, pt, problem);
+            // --missing-textures checker: a loud stand-in, one warning per missing file.
+            *image = checker_texture();
+            const auto& missing = m_scene.missing_textures;
+            if (std::find(missing.begin(), missing.end(), path) == missing.end()) {
+                m_scene.missing_textures.push_back(path);
+                m_diag.warn(f.lex.loc(pt), "missing-texture:" + path,
+                            problem + "; a checker stands in");
+            }
+        }
         t.image = std::move(image);
         f.desc.textures.push_back(std::move(t));
     }
 
-    void material(FileState& f, const Token& d) {
+    void material(FileState& f, const Token& d) override {
         definition(f, d);
         count_item(f, d, kMaterials);
         // Numbers up to the !…! string; their count decides the dialect (spec §10).
@@ -485,7 +552,7 @@ private:
                      std::to_string(n));
         }
         const Dialect dialect = n == 16 ? Dialect::V0 : Dialect::V1;
-        if (dialect != m_dialect)  // the pre-scan reports this first; kept as a safeguard
+        if (dialect != (m_dialect == Dialect::V3 ? Dialect::V1 : m_dialect))  // pre-scan first
             fail(f, d,
                  "#material has " + std::to_string(n) + " numbers in a " + dialect_name(m_dialect) +
                      " scene");
@@ -548,7 +615,7 @@ private:
         f.desc.materials.push_back(std::move(m));
     }
 
-    void vertex(FileState& f, const Token& d) {
+    void vertex(FileState& f, const Token& d) override {
         definition(f, d);
         count_item(f, d, kVertices);
         VertexDesc v;
@@ -561,7 +628,7 @@ private:
         f.desc.vertices.push_back(v);
     }
 
-    void ray_file(FileState& f, const Token& d) {
+    void ray_file(FileState& f, const Token& d) override {
         definition(f, d);
         const Token pt = f.lex.peek();
         const std::string path = word(f, d, "a .ray file name");
@@ -603,7 +670,7 @@ private:
         f.desc.ray_files.push_back(index);
     }
 
-    void key_file(FileState& f, const Token& d) {
+    void key_file(FileState& f, const Token& d) override {
         definition(f, d);
         const Token pt = f.lex.peek();
         const std::string path = word(f, d, "a .key file name");
@@ -613,6 +680,7 @@ private:
         if (!read_file(resolved, &text)) fail(f, pt, "cannot read key file " + quote(resolved));
         m_include_locs.push_back(f.lex.loc(d));
         f.key_files.push_back(parse_key_file(text, resolved));
+        f.key_files.back().named = path;
         f.desc.key_files.push_back(resolved);
         m_include_locs.pop_back();
     }
@@ -692,7 +760,7 @@ private:
         f.stack.back()->instances.push_back({f.lex.loc(d), i});
     }
 
-    int material_index(FileState& f, const Token& d) {
+    int material_index(FileState& f, const Token& d) override {
         SourceLoc loc;
         const int m = integer(f, d, "material index", &loc);
         const int n = static_cast<int>(f.desc.materials.size());
@@ -711,6 +779,10 @@ private:
         ShapeDesc s;
         s.loc = f.lex.loc(d);
         s.material = material_index(f, d);
+        if (primitive(f, d, s)) f.stack.back()->shapes.push_back(std::move(s));
+    }
+
+    bool primitive(FileState& f, const Token& d, ShapeDesc& s) override {
         const std::string_view n = d.text;
         auto positive = [&](double x, const Token& t, const char* what) {
             if (x < 0) fail(f, t, std::string("negative ") + what + " " + fmt(x));
@@ -767,25 +839,15 @@ private:
         if (!keep) {
             ++m_scene.skipped_shapes;
             m_diag.warn(s.loc, std::string("skip:") + kind, std::string(kind) + " skipped");
-            return;
         }
-        f.stack.back()->shapes.push_back(std::move(s));
-    }
-
-    static bool degenerate_triangle(const FileDesc& file, const TriangleDesc& t) {
-        // Spec §3.3: a repeated index, or |e1 x e2| <= 1e-12 |e1| |e2|.
-        if (t.v[0] == t.v[1] || t.v[1] == t.v[2] || t.v[0] == t.v[2]) return true;
-        const Vec3& p0 = file.vertices[static_cast<size_t>(t.v[0])].position;
-        const Vec3 e1 = file.vertices[static_cast<size_t>(t.v[1])].position - p0;
-        const Vec3 e2 = file.vertices[static_cast<size_t>(t.v[2])].position - p0;
-        return glm::length(glm::cross(e1, e2)) <= 1e-12 * glm::length(e1) * glm::length(e2);
+        return keep;
     }
 
     // ---- whole tree ----------------------------------------------------------------------
     void finish() {
         check_placements();
         m_scene.dialect = m_dialect;
-        if (!m_scene.camera && !m_scene.files.empty())
+        if (!m_scene.camera && !m_scene.files.empty() && !v3_all_zero_camera)
             m_diag.warn({std::make_shared<const std::string>(m_scene.files[0].path), 0, 0},
                         "no-camera", "no #camera: using the default camera");
     }
@@ -815,6 +877,8 @@ private:
                                      " copies of files (nested instances multiply)");
             }
             for (const GroupDesc& c : g->groups) todo.push_back(&c);
+            for (const CsgDesc& c : g->csgs)
+                for (const GroupDesc& o : c.operands) todo.push_back(&o);
         }
         return memo[fi] = total;
     }
@@ -824,7 +888,6 @@ private:
         std::string name;
     };
 
-    SceneDesc m_scene;
     std::vector<Open> m_open;  // files being parsed below the top one
     bool m_seen_background = false, m_seen_ambient = false;
 };

@@ -35,6 +35,8 @@ std::string lower(std::string_view s);
 constexpr int kMaxGroupDepth = 10000;          // nested #group_begin/#joint_begin in one file
 constexpr int kMaxIncludeDepth = 200;          // nested #ray_file includes
 constexpr long long kMaxPlacements = 1 << 20;  // file copies placed in the world by instancing
+constexpr int kMaxCsgDepth = 100;              // V3 CSG nodes nested in one file
+constexpr int kMaxV3Depth = 1000;              // V3 lists, transforms and CSG nodes nested
 
 // Items a #*_num count may declare.
 enum CountKind { kLights, kTextures, kMaterials, kVertices, kRayFiles, kKeyFiles, kCountKinds };
@@ -52,7 +54,33 @@ struct Count {
 
 struct KeyFile {
     std::string path;
-    std::map<std::string, Mat4> frame0;  // lower-case DOF name -> matrix
+    std::string named;                         // the path as written in the .ray file
+    std::map<std::string, Mat4> frame0;        // lower-case DOF name -> matrix
+    std::map<std::string, Mat4> frame0_exact;  // DOF name as written -> matrix (V3 binding)
+};
+
+// One open construct of a V3 shapes part (spec §13.5). The parser keeps them on an explicit
+// stack, so deep nesting never recurses; a finished construct is delivered to the one below.
+struct V3Frame {
+    enum Kind { Root, List, Affine, TrianglesHead, Triangles, CsgHead, CsgList, Difference };
+    Kind kind = Root;
+    SourceLoc loc;
+    std::string name;        // the directive that opened it
+    GroupDesc group;         // Root, List, Triangles, Affine
+    CsgDesc csg;             // CsgHead, CsgList, Difference
+    int material = 0;        // Triangles
+    bool has_child = false;  // Affine
+};
+
+// A finished V3 shape handed to its parent frame.
+struct V3Node {
+    enum Kind { Empty, Shape, Instance, Group, List, Csg };
+    Kind kind = Empty;
+    SourceLoc loc;
+    ShapeDesc shape;
+    InstanceDesc instance;
+    GroupDesc group;  // Group and List (List: a #shape_list_begin list, which folds)
+    CsgDesc csg;
 };
 
 // Per-file parse state.
@@ -72,6 +100,13 @@ struct FileState {
         int index;
     };
     std::vector<TextureRef> texture_refs;  // material texture indices, checked at end of file
+    // V3 (spec §13.1): the part the file is in (0 global, 1 local, 2 shapes) and where the local
+    // and shapes parts started; the open shape constructs; one warning per file for lights.
+    int v3_part = 0;
+    SourceLoc v3_local_start, v3_shapes_start;
+    std::vector<V3Frame> v3;
+    int v3_csg_depth = 0;
+    bool warned_included_light = false, warned_dynamic_identity = false;
 
     FileState(std::string_view text, std::shared_ptr<const std::string> name)
         : lex(text, std::move(name)) {}
@@ -105,6 +140,11 @@ protected:
     void count_item(FileState& f, const Token& dir, CountKind k);
     std::string resolve(FileState& f, const Token& at, const std::string& path,
                         const std::string& what);
+    /// resolve() without the error: nullopt, with the places tried in *tried.
+    std::optional<std::string> try_resolve(FileState& f, const Token& at, const std::string& path,
+                                           std::string* tried);
+    void validate_camera(FileState& f, const Token& d, const CameraDesc& c);
+    static bool degenerate_triangle(const FileDesc& file, const TriangleDesc& t);
     void check_matrix(const Mat4& m, const SourceLoc& loc, const std::string& what);
 
     // ---- dialect detection (dialect.cpp) -------------------------------------------------
@@ -120,14 +160,66 @@ protected:
     std::vector<SourceLoc> m_include_locs;       // #ray_file directives, outermost first
     std::map<std::string, std::string> m_texts;  // included files read, not yet parsed
     Dialect m_dialect = Dialect::V1;
+    SceneDesc m_scene;
+    std::string m_top_dir = ".";  // directory of the top-level file (V3 paths, spec §13.2)
+    // First marker of each kind (spec §10 step 1), for messages: "V3 '#static_affine' at F:L:C".
+    std::string m_v3_marker;
 
 private:
-    static std::optional<std::string> find_file(const std::string& dir, const std::string& path);
+    struct Scan;
+    std::optional<std::string> find_file(const std::string& dir, const std::string& path,
+                                         bool v3) const;
     void prescan(const std::string& text, const std::string& name, const std::string& canonical,
-                 const std::string& dir, std::vector<std::string>& visited);
+                 const std::string& dir, Scan& scan);
+    void prescan_directive(Lexer& lex, const Token& t, const std::string& dir, Scan& scan);
+    void prescan_marker(const SourceLoc& loc, std::string_view what, bool v3, Scan& scan);
+    void run_prescan(const std::string& text, const std::string& name, const std::string& canonical,
+                     const std::string& dir, bool v3, Scan& scan);
 
     SourceLoc m_first_v0, m_first_v1;  // first material of each dialect (pre-scan)
     bool m_default_use = false;        // some shape uses material index -1
+};
+
+/// The V3 directives (parser_v3.cpp). The definitions V3 shares with V1 (#texture, #material,
+/// #vertex, #ray_file, #key_file and the four classic primitives) are the V1 parser's, reached
+/// through these hooks.
+class ParserV3 : public ParserBase {
+protected:
+    using ParserBase::ParserBase;
+    virtual ~ParserV3() = default;
+
+    virtual void texture(FileState& f, const Token& d) = 0;
+    virtual void material(FileState& f, const Token& d) = 0;
+    virtual void vertex(FileState& f, const Token& d) = 0;
+    virtual void ray_file(FileState& f, const Token& d) = 0;
+    virtual void key_file(FileState& f, const Token& d) = 0;
+    virtual int material_index(FileState& f, const Token& d) = 0;
+    /// Sphere, box, cylinder or cone after its material index; false when it is skipped.
+    virtual bool primitive(FileState& f, const Token& d, ShapeDesc& s) = 0;
+
+    void v3_directive(FileState& f, const Token& d);
+    void v3_end_of_file(FileState& f, const SourceLoc& eof);
+    bool v3_all_zero_camera = false;
+    SourceLoc m_camera_loc;  // the last top-level #camera
+
+private:
+    void v3_order(FileState& f, const Token& d, int part);
+    void v3_camera(FileState& f, const Token& d);
+    void v3_light(FileState& f, const Token& d);
+    void v3_shader(FileState& f, const Token& d);
+    void v3_shape(FileState& f, const Token& d);
+    bool v3_list_directive(FileState& f, const Token& d);
+    void v3_push(FileState& f, const Token& d, V3Frame::Kind kind);
+    void v3_deliver(FileState& f, V3Node node);
+    void v3_receive(FileState& f, V3Frame& to, V3Node& node);
+    V3Node v3_finish(FileState& f, V3Frame& fr);
+    void v3_affine(FileState& f, const Token& d);
+    void v3_dynamic(FileState& f, const Token& d);
+    Mat4 v3_bind(FileState& f, const Token& nt, const std::string& name);
+    void v3_torus(FileState& f, const Token& d, ShapeDesc& s, bool& keep);
+    void v3_triangle(FileState& f, const Token& d);
+    void v3_instance(FileState& f, const Token& d);
+    void v3_skip(ShapeDesc& s, const char* kind);
 };
 
 }  // namespace rt::parser_impl

@@ -101,6 +101,22 @@ bool load_texture_image(const std::string& path, TextureImage* out, std::string*
     return true;
 }
 
+TextureImage checker_texture() {
+    constexpr int kSize = 64, kSquare = 8;
+    TextureImage t;
+    t.width = t.height = kSize;
+    t.rgb.resize(static_cast<size_t>(kSize) * kSize * 3);
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const bool magenta = ((x / kSquare) + (y / kSquare)) % 2 == 0;
+            uint8_t* p = &t.rgb[(static_cast<size_t>(y) * kSize + x) * 3];
+            p[0] = magenta ? 255 : 128;
+            p[1] = magenta ? 0 : 128;
+            p[2] = magenta ? 255 : 128;
+        }
+    return t;
+}
+
 ImageFormat image_format_from_path(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

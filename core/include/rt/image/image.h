@@ -48,6 +48,10 @@ std::vector<uint8_t> to_bytes(const Image& image);
 /// failure.
 bool load_texture_image(const std::string& path, TextureImage* out, std::string* error);
 
+/// The stand-in for a texture that cannot be opened or decoded (--missing-textures checker): a
+/// loud magenta and grey checker of 8x8 squares on a 64x64 image, magenta at the top left.
+TextureImage checker_texture();
+
 /// Image file kinds chosen by extension.
 enum class ImageFormat { Png, Bmp, Ppm, Pfm, Unknown };
 ImageFormat image_format_from_path(const std::string& path);
