@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "rt/format/parser.h"
+#include "rt/util/file_io.h"
 #include "test_util.h"
 #include "viewer.h"
 
@@ -124,6 +125,40 @@ TEST(Viewer, ThreeColourEditsReachTheTracedScene) {
     restart(v);
     EXPECT_EQ(v.loaded->scene.lights[1].ambient, Vec3(0.2, 0.3, 0.4));
     EXPECT_EQ(v.loaded->scene.lights[1].specular, Vec3(0, 1, 0));
+}
+
+// A scene whose texture cannot be opened: the error, then the offer to open it with a checker
+// standing in, and the panel's note on the stand-in; --missing-textures checker opens it at once.
+TEST(Viewer, MissingTexturesOpenWithCheckerStandIns) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_missing_texture.ray";
+    write_file_atomic(path,
+                      "#texture no_such_texture.png\n"
+                      "#material 0 0 0  .1 .1 .1  .8 .8 .8  0 0 0  1  0 0 0  1  0 !m!\n"
+                      "#light_dir 1 1 1  0 -1 0\n#shape_sphere 0 0 0 0 1\n");
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    EXPECT_TRUE(v.checker_offer.empty());
+    EXPECT_FALSE(v.open(path, false));
+    EXPECT_NE(v.message.find("no_such_texture.png"), std::string::npos) << v.message;
+    EXPECT_EQ(v.checker_offer, path);
+    EXPECT_EQ(v.loaded->path, kLights);  // the previous scene stays
+    EXPECT_EQ(stand_in_text(v.loaded->desc), "");
+    ASSERT_TRUE(v.open_with_checker()) << v.message;
+    EXPECT_EQ(v.loaded->path, path);
+    EXPECT_TRUE(v.checker_offer.empty());
+    EXPECT_EQ(v.loaded->missing_textures, MissingTextures::Checker);
+    ASSERT_EQ(v.loaded->desc.missing_textures, std::vector<std::string>{"no_such_texture.png"});
+    EXPECT_NE(stand_in_text(v.loaded->desc).find("no_such_texture.png"), std::string::npos);
+    // Another failure (not a texture) makes no offer.
+    EXPECT_FALSE(v.open(RT_SOURCE_DIR "/scenes/no_such_file.ray", false));
+    EXPECT_TRUE(v.checker_offer.empty());
+
+    ViewerState direct(path, false, MissingTextures::Checker);
+    ASSERT_TRUE(direct.loaded) << direct.message;
+    EXPECT_EQ(direct.loaded->desc.missing_textures.size(), 1u);
+    ViewerState refused(path, false);
+    EXPECT_FALSE(refused.loaded);
+    EXPECT_EQ(refused.checker_offer, path);
 }
 
 }  // namespace
