@@ -157,13 +157,20 @@ bool file_panel(ViewerState& v, PanelState& ui) {
                 break;
             }
     }
-    if (!v.message.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", v.message.c_str());
+    if (!v.message.empty()) {  // wrapped: errors name files and their includes
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
+        ImGui::TextWrapped("%s", v.message.c_str());
+        ImGui::PopStyleColor();
+    }
     if (!v.checker_offer.empty() && ImGui::Button("open with checker stand-ins"))
         opened |= v.open_with_checker();
     if (v.loaded) {
         const std::string stand_ins = stand_in_text(v.loaded->desc);
-        if (!stand_ins.empty())
-            ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s", stand_ins.c_str());
+        if (!stand_ins.empty()) {
+            ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.8f, 0.3f, 1));
+            ImGui::TextWrapped("%s", stand_ins.c_str());
+            ImGui::PopStyleColor();
+        }
     }
     return opened;
 }
