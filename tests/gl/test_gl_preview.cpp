@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <type_traits>
@@ -493,6 +494,34 @@ TEST(GlPreview, ThreeColourLightsShadeAsTheSpecSays) {
     s.ambient = Vec3(1.0);
     EXPECT_VEC_NEAR(centre_colour(s),
                     Vec3(0.05 + 0.2 + 0.15 + 0.1, 0.2 + 0.1 + 0.1, 0.2 + 0.05 + 0.1), 2.5 / 255);
+}
+
+// Spec §13.10 (worked example 3, untextured) parsed from a V3 file. The example's colour at a
+// point of the plane y = 0 seen from the eye (the formula of §13.9 with its numbers).
+Vec3 worked_example_three(const Vec3& p, const Vec3& eye) {
+    const Vec3 to_light = Vec3(5.0) - p, n(0, 1, 0);
+    const double dist = glm::length(to_light);
+    const Vec3 l = to_light / dist, d = glm::normalize(p - eye);
+    const double f = 1 / (0.01 + 0.02 * dist + 0.03 * dist * dist);
+    const double spec = std::pow(std::max(0.0, glm::dot(d - 2 * glm::dot(d, n) * n, l)), 100);
+    return Vec3(0.1) + Vec3(0.3 * 0.5) * f + Vec3(0.1, 0.1, 0.5) * Vec3(1, 0.5, 1) * l.y * f +
+           Vec3(0.2, 0.4, 0.6) * spec * f;
+}
+
+TEST(GlPreview, WorkedExampleThreeOfTheSpec) {
+    const Vec3 eye(0, 10, 10);
+    EXPECT_VEC_NEAR(worked_example_three(Vec3(3, 0, 6), eye) * 255.0, Vec3(92.35, 87.43, 196.67),
+                    0.01);
+    const RenderScene s = test::compile(
+        "#camera 0 10 10  3 -10 -4  0 1 0  0.3\n"
+        "#light_point 0.5 0.5 0.5  1 0.5 1  0.2 0.4 0.6  5 5 5  0.01 0.02 0.03\n"
+        "#material 0.1 0.1 0.1  0.3 0.3 0.3  0.1 0.1 0.5  1 1 1  100  0 0 0  1  -1 !!\n"
+        "#shape_box 0  0 -0.5 0  40 1 40\n");
+    // The centre pixel's ray meets the plane half a pixel from P = (3, 0, 6).
+    const Ray ray = make_camera(s, kW, kH).generate(kW / 2, kH / 2, 0.5, 0.5);
+    const Vec3 p = ray.o - ray.o.y / ray.d.y * ray.d;
+    EXPECT_LT(glm::length(p - Vec3(3, 0, 6)), 0.05);
+    EXPECT_VEC_NEAR(centre_colour(s) * 255.0, worked_example_three(p, eye) * 255.0, 1.5);
 }
 
 // Spec §13.9: with texture_all_terms (V3) the texel multiplies K_E too, else only K_A and K_D.
