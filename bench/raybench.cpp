@@ -269,7 +269,7 @@ struct EmbreeScene {
             Map map;
             std::vector<uint32_t> analytic;
             for (uint32_t i = 0; i < s.prims.size(); ++i) {
-                if (s.prims[i].kind == ShapeKind::Triangle)
+                if (s.prims[i].kind == ShapeKind::Triangle && s.prims[i].csg < 0)
                     map.tri_prims.push_back(i);
                 else
                     analytic.push_back(i);

@@ -3,6 +3,7 @@
 // message, and the public V3 scenes.
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "test_util.h"
 
@@ -709,13 +710,15 @@ TEST_F(ParserV3Files, DynamicAffineBindsToTheKeyFiles) {
     EXPECT_EQ(none.warnings()[0].count, 1);
 }
 
-// Every .ray file of the three public V3 folders, each opened on its own (sub-files get the
-// default camera and a warning), with checker stand-ins for the unpublished textures.
+// Every .ray file of the three public V3 folders, each opened on its own as a user would (no
+// --dialect; sub-files get the default camera and a warning), with checker stand-ins for the
+// unpublished textures. Six sub-files hold no V3 marker: they read as V1 (spec §10 step 4), and
+// with --dialect v3 as V3, to the same shapes.
 TEST(ParserV3Public, EveryV3SceneParses) {
     const fs::path root(RT_PUBLIC_SCENES_DIR);
     if (!fs::exists(root)) GTEST_SKIP() << "no " << root;
-    ParseOptions o = v3_options();
-    o.missing_textures = MissingTextures::Checker;
+    const std::set<std::string> no_marker = {"_sphere.ray",   "_box.ray",   "_cone.ray",
+                                             "_cylinder.ray", "_stool.ray", "_table.ray"};
     int files = 0;
     size_t csgs = 0, tori = 0;
     for (const char* folder : {"henry-md__ray-tracer", "aarxa__RayForge-CPP-Ray-Tracing-Engine",
@@ -723,12 +726,15 @@ TEST(ParserV3Public, EveryV3SceneParses) {
         for (const auto& e : fs::directory_iterator(root / folder)) {
             if (e.path().extension() != ".ray") continue;
             ++files;
-            Diagnostics diag;
+            const std::string name = e.path().filename().string();
             try {
-                const SceneDesc s = parse_scene_file(e.path().string(), diag, o);
-                EXPECT_EQ(s.dialect, Dialect::V3);
+                Diagnostics diag;
+                ParseOptions detect;
+                detect.missing_textures = MissingTextures::Checker;
+                const SceneDesc s = parse_scene_file(e.path().string(), diag, detect);
+                EXPECT_EQ(s.dialect, no_marker.count(name) ? Dialect::V1 : Dialect::V3) << name;
                 // The course's sub-files carry the all-zero dummy camera.
-                if (e.path().filename().string()[0] == '_') {
+                if (name[0] == '_') {
                     EXPECT_FALSE(s.camera) << e.path();
                     EXPECT_TRUE(diag.has("camera-zero")) << e.path();
                 }
@@ -737,15 +743,12 @@ TEST(ParserV3Public, EveryV3SceneParses) {
                     for (const ShapeDesc& sh : f.root.shapes)
                         tori += std::holds_alternative<Torus>(sh.geometry) ? 1 : 0;
                 }
-                // Files with a V3 marker are V3 without --dialect too.
-                if (e.path().filename().string()[0] != '_' || e.path().filename() == "_torus.ray" ||
-                    e.path().filename() == "_lens.ray") {
-                    Diagnostics d2;
-                    ParseOptions detect;
-                    detect.missing_textures = MissingTextures::Checker;
-                    EXPECT_EQ(parse_scene_file(e.path().string(), d2, detect).dialect, Dialect::V3)
-                        << e.path();
-                }
+                ParseOptions forced = v3_options();
+                forced.missing_textures = MissingTextures::Checker;
+                Diagnostics d2;
+                const SceneDesc v3 = parse_scene_file(e.path().string(), d2, forced);
+                EXPECT_EQ(v3.dialect, Dialect::V3);
+                EXPECT_EQ(v3.files.size(), s.files.size()) << name;
             } catch (const SceneError& err) {
                 ADD_FAILURE() << err.what();
             }
@@ -781,4 +784,22 @@ TEST(ParserV3Public, EveryPrefixParsesOrFailsCleanly) {
 }
 
 }  // namespace
+
+// The dummy camera outside V3: a marker-less sub-file opened on its own reads as V1 and gets the
+// default camera with a warning; any other invalid camera stays an error.
+TEST(ParserV3, DummyCameraInAV1FileIsTheDefaultCamera) {
+    Diagnostics diag;
+    const SceneDesc s = parse_scene_string(
+        "#camera 0 0 0  0 0 0  0 0 0  0\n"
+        "#material 0 0 0  1 1 1  1 1 1  0 0 0  1  0 0 0  1  -1 !!\n#shape_sphere 0 0 0 0 1\n",
+        "sub.ray", diag);
+    EXPECT_EQ(s.dialect, Dialect::V1);
+    EXPECT_FALSE(s.camera);
+    EXPECT_TRUE(diag.has("camera-zero"));
+    EXPECT_FALSE(diag.has("no-camera"));
+    Diagnostics d2;
+    EXPECT_THROW(parse_scene_string("#camera 0 0 0  0 0 0  0 1 0  0.5\n", "bad.ray", d2),
+                 SceneError);
+}
+
 }  // namespace rt

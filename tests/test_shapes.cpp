@@ -369,6 +369,28 @@ TEST(Torus, TheSpecsCheckValues) {
     EXPECT_EQ(intersect(tor, {{0, 10, 0}, {0, -1, 0}}, {0, kInf}).count, 0);  // the hole
 }
 
+// The quick rejections (a line that misses the outer cylinder rho = R + r, or stays in the hole's
+// cylinder rho < R - r across the slab |y| <= r) keep their edges: near-vertical lines 1e-9
+// inside the tube's inner and outer equators cross it over chords of 9e-5 r, 1e-9 outside they
+// miss. Vertical lines (no horizontal direction) and lines tilted by 1e-12 (through rho at y = 0).
+TEST(Torus, TheHoleAndCylinderRejectionsKeepTheirEdges) {
+    const Vec3 c(0.5, -1, 2);
+    const Torus tor{c, 1, 3};
+    const double y = std::sqrt(1.0 - (1.0 - 1e-9) * (1.0 - 1e-9));  // the chord's half-height
+    for (double tilt : {0.0, 1e-12}) {
+        for (double rho : {2.0 + 1e-9, 4.0 - 1e-9}) {
+            const Ray ray{c + Vec3(rho - 10 * tilt, 10, 0), {tilt, -1, 0}};
+            const std::vector<double> h = torus_hits(tor, ray);
+            ASSERT_EQ(h.size(), 2u) << rho << " " << tilt;
+            EXPECT_NEAR(h[0], 10 - y, 1e-8);
+            EXPECT_NEAR(h[1], 10 + y, 1e-8);
+        }
+        for (double rho : {2.0 - 1e-9, 4.0 + 1e-9})
+            EXPECT_TRUE(torus_hits(tor, {c + Vec3(rho - 10 * tilt, 10, 0), {tilt, -1, 0}}).empty())
+                << rho;
+    }
+}
+
 TEST(Torus, IntervalsOriginsInsideAndUnnormalisedDirections) {
     const Torus tor{{1, 2, 3}, 1, 3};
     const Ray r{{-9, 2, 3}, {2, 0, 0}};  // |d| = 2: distances halve

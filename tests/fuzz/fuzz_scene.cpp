@@ -4,9 +4,10 @@
 // replays files: the crasher regression corpus in tests/fuzz/crashers).
 //
 // Includes, textures and key files cannot escape: the harness works in a private temporary
-// directory holding a few fixture files (inc.ray, inc0.ray, loop.ray, tex.ppm, anim.key), and
-// every '/' that could end up in a path is replaced by '_' before parsing, so only names in that
-// directory resolve.
+// directory holding a few fixture files (inc.ray, inc0.ray, the V3 inc3.ray, loop.ray, tex.ppm,
+// anim.key), and every '/' that could end up in a path is replaced by '_' before parsing, so only
+// names in that directory resolve. A texture that does not resolve (such as tex.bmp, the course's
+// name) stands in as a checker (--missing-textures checker), so such scenes get past loading.
 #include <unistd.h>
 
 #include <cstdint>
@@ -48,6 +49,13 @@ void setup() {
     write("inc0.ray",
           "#material .1 .1 .1 .5 .5 .5 .2 .2 .2 0 0 0 .5 .25 1.5 -1 !m!\n"
           "#shape_box -1 0 0 0 1 1 1\n#shape_cone -1 0 0 0 1 2\n");
+    write("inc3.ray",
+          "#camera 0 0 0 0 0 0 0 0 0 0\n"
+          "#material 0 0 0 .1 .1 .1 .5 .5 .5 .2 .2 .2 10 0 0 0 1 0 !m!\n"
+          "#texture tex.ppm\n#vertex 0 0 0 0 0 1 0 0\n#vertex 1 0 0 0 0 1 1 0\n"
+          "#vertex 0 1 0 0 0 1 0 1\n#key_file anim.key\n"
+          "#shape_triangles 0 #shape_list_begin #shape_triangle 0 1 2 #shape_list_end\n"
+          "#dynamic_affine arm #shape_torus 0 0 0 0 0.25 1\n");
     write("loop.ray", "#ray_file loop.ray\n");
     write("tex.ppm", "P3 2 2 255\n255 0 0  0 255 0\n0 0 255  255 255 255\n");
     write("anim.key", "#DOFS 1 arm #DURATION 1 #FRAMES 1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
@@ -77,7 +85,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     try {
         rt::Diagnostics diag;
-        const rt::SceneDesc desc = rt::parse_scene_string(text, "fuzz.ray", diag, {}, g_dir);
+        rt::ParseOptions options;
+        options.missing_textures = rt::MissingTextures::Checker;
+        const rt::SceneDesc desc = rt::parse_scene_string(text, "fuzz.ray", diag, options, g_dir);
         const rt::RenderScene scene = rt::compile_scene(desc);
         (void)scene;
     } catch (const rt::SceneError&) {

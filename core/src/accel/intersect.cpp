@@ -4,6 +4,7 @@
 #include <array>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "render/variants.h"
 #include "rt/accel/triangle4.h"
@@ -67,6 +68,136 @@ ShapeHits prim_hits(const GeometrySet& set, const Primitive& p, const Ray& ray, 
         set, p, [&](const auto& shape) { return intersect(shape, *r, t); });
 }
 
+// CSG (spec §13.8). Inside flags of a point for a node: strictly inside, inside or on.
+constexpr uint8_t kStrict = 1, kOnOrIn = 2;
+
+uint8_t leaf_inside(const GeometrySet& set, const CsgLeaf& leaf, const Vec3& p_set) {
+    const Primitive& pr = leaf.prim;
+    const Vec3 q = pr.transform < 0
+                       ? p_set
+                       : set.transforms[static_cast<size_t>(pr.transform)].inv_point(p_set);
+    const double sgn = visit_shape(set, pr, [&](const auto& shape) { return csg_sign(shape, q); });
+    return static_cast<uint8_t>((sgn < -leaf.epsilon ? kStrict : 0) |
+                                (sgn <= leaf.epsilon ? kOnOrIn : 0));
+}
+
+// A node's flags from its children's (spec §13.8's table of composite shapes).
+uint8_t combine_inside(CsgNodeKind kind, const uint8_t* v, uint32_t count) {
+    uint8_t r = 0;
+    switch (kind) {
+        case CsgNodeKind::Union:
+        case CsgNodeKind::List:
+            for (uint32_t i = 0; i < count; ++i) r |= v[i];
+            return r;
+        case CsgNodeKind::Intersection:
+            r = count > 0 ? kStrict | kOnOrIn : 0;
+            for (uint32_t i = 0; i < count; ++i) r &= v[i];
+            return r;
+        case CsgNodeKind::Difference: {
+            const uint8_t a = v[0], b = count > 1 ? v[1] : 0;
+            return static_cast<uint8_t>(((a & kStrict) && !(b & kOnOrIn) ? kStrict : 0) |
+                                        ((a & kOnOrIn) && !(b & kStrict) ? kOnOrIn : 0));
+        }
+        case CsgNodeKind::Leaf:
+        case CsgNodeKind::Empty:
+            break;
+    }
+    return 0;
+}
+
+// The flags of node `node` at p: its subtree in post-order with a stack of flags (no recursion,
+// trees nest as deep as the file does).
+uint8_t node_inside(const GeometrySet& set, uint32_t node, const Vec3& p_set) {
+    const CsgArrays& c = set.csg;
+    const CsgNode& top = c.nodes[node];
+    if (top.kind == CsgNodeKind::Leaf) return leaf_inside(set, c.leaves[top.first], p_set);
+    const size_t n = node - top.subtree_first + 1;
+    uint8_t small[64] = {};
+    std::vector<uint8_t> big;
+    if (n > sizeof small) big.resize(n);
+    uint8_t* stack = n > sizeof small ? big.data() : small;
+    size_t sp = 0;
+    for (uint32_t i = top.subtree_first; i <= node; ++i) {
+        const CsgNode& nd = c.nodes[i];
+        if (nd.kind == CsgNodeKind::Leaf) {
+            stack[sp++] = leaf_inside(set, c.leaves[nd.first], p_set);
+            continue;
+        }
+        sp -= nd.count;
+        stack[sp] = combine_inside(nd.kind, stack + sp, nd.count);
+        ++sp;
+    }
+    return stack[0];
+}
+
+// Whether every CSG node from the leaf up to its root keeps the leaf's surface point p (spec
+// §13.8, valid surfaces); lists between do not filter.
+bool csg_accepts(const GeometrySet& set, const CsgLeaf& leaf, const Vec3& p_set) {
+    const CsgArrays& c = set.csg;
+    uint32_t node = leaf.node;
+    for (int up = c.nodes[node].parent; up >= 0;
+         node = static_cast<uint32_t>(up), up = c.nodes[static_cast<size_t>(up)].parent) {
+        const CsgNode& n = c.nodes[static_cast<size_t>(up)];
+        const uint32_t* kids = &c.children[n.first];
+        if (n.kind == CsgNodeKind::Union) {
+            for (uint32_t k = 0; k < n.count; ++k)
+                if (kids[k] != node && (node_inside(set, kids[k], p_set) & kStrict)) return false;
+        } else if (n.kind == CsgNodeKind::Intersection) {
+            for (uint32_t k = 0; k < n.count; ++k)
+                if (kids[k] != node && !(node_inside(set, kids[k], p_set) & kOnOrIn)) return false;
+        } else if (n.kind == CsgNodeKind::Difference) {
+            if (kids[0] == node) {
+                if (n.count > 1 && (node_inside(set, kids[1], p_set) & kStrict)) return false;
+            } else if (!(node_inside(set, kids[0], p_set) & kStrict)) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// Calls f(ShapeHits of one hit, on one leaf) for every valid hit of CSG primitive p in t, in no
+// order; f returns true to stop (and so does this).
+template <bool kXf, class F>
+bool csg_each(const GeometrySet& set, const Primitive& p, const Ray& r, const TriRay* tri,
+              Interval t, F&& f) {
+    const CsgRoot& root = set.csg.roots[static_cast<size_t>(p.csg)];
+    for (uint32_t l = root.first_leaf; l < root.first_leaf + root.leaf_count; ++l) {
+        const CsgLeaf& leaf = set.csg.leaves[l];
+        const ShapeHits h = prim_hits<SetLayout::Mixed, kXf>(set, leaf.prim, r, tri, t);
+        for (int k = 0; k < h.count; ++k) {
+            if (!csg_accepts(set, leaf, r.at(h.t[k]))) continue;
+            ShapeHits one;
+            one.add(h.t[k], h.part[k]);
+            one.leaf = static_cast<int>(l);
+            if (f(one)) return true;
+        }
+    }
+    return false;
+}
+
+// The nearest valid hit of CSG primitive p in t (none: count 0): each leaf is tested in what is
+// left of the interval.
+template <bool kXf>
+ShapeHits csg_nearest(const GeometrySet& set, const Primitive& p, const Ray& r, const TriRay* tri,
+                      Interval t) {
+    ShapeHits best;
+    const CsgRoot& root = set.csg.roots[static_cast<size_t>(p.csg)];
+    for (uint32_t l = root.first_leaf; l < root.first_leaf + root.leaf_count; ++l) {
+        const CsgLeaf& leaf = set.csg.leaves[l];
+        const ShapeHits h = prim_hits<SetLayout::Mixed, kXf>(set, leaf.prim, r, tri, t);
+        for (int k = 0; k < h.count; ++k) {
+            if (!csg_accepts(set, leaf, r.at(h.t[k]))) continue;
+            best = ShapeHits{};
+            best.add(h.t[k], h.part[k]);
+            best.leaf = static_cast<int>(l);
+            t.hi = h.t[k];
+            break;  // the leaf's hits are nearest first
+        }
+    }
+    return best;
+}
+
 template <bool kXf>
 Ray to_set(const Instance& inst, const Ray& ray) {
     if constexpr (kXf) return inst.identity ? ray : inst.world_from_set.inv_ray(ray);
@@ -76,7 +207,7 @@ Ray to_set(const Instance& inst, const Ray& ray) {
 // Calls hits(prim, ShapeHits, t_max) for the primitives of a set along a ray in its frame;
 // hits returns true to stop the walk. Triangle-only sets test each leaf's triangles four at a
 // time (packed in leaf order); the other layouts test one primitive at a time.
-template <bool kOrdered, SetLayout L, bool kXf, class F>
+template <bool kOrdered, SetLayout L, bool kXf, bool kCsg, class F>
 bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
     bool stopped = false;
     if constexpr (L == SetLayout::Triangles) {
@@ -107,8 +238,19 @@ bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min,
         TriRay tri;
         if constexpr (L == SetLayout::Mixed) tri = TriRay({r.o - set.tri_origin, r.d});
         traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {
-            return stopped = hits(pi, prim_hits<L, kXf>(set, set.prims[pi], r, &tri, {t_min, best}),
-                                  best);
+            const Primitive& p = set.prims[pi];
+            if constexpr (kCsg) {
+                if (p.csg >= 0) {
+                    if constexpr (kOrdered)
+                        return stopped =
+                                   hits(pi, csg_nearest<kXf>(set, p, r, &tri, {t_min, best}), best);
+                    else
+                        return stopped = csg_each<kXf>(
+                                   set, p, r, &tri, {t_min, best},
+                                   [&](const ShapeHits& h) { return hits(pi, h, best); });
+                }
+            }
+            return stopped = hits(pi, prim_hits<L, kXf>(set, p, r, &tri, {t_min, best}), best);
         });
     }
     return stopped;
@@ -119,25 +261,32 @@ bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min,
 template <uint32_t V, bool kOrdered, class F>
 bool walk(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
     constexpr bool kXf = (V & kGeomTransforms) != 0;
+    constexpr bool kCsg = (V & kGeomCsg) != 0;
     constexpr uint32_t kLayout = (V & kGeomPerSet) >> kGeomLayoutShift;
     if constexpr (kLayout < kSetLayouts) {
-        return walk_set<kOrdered, static_cast<SetLayout>(kLayout), kXf>(set, r, t_max, t_min, hits);
+        constexpr SetLayout kL = static_cast<SetLayout>(kLayout);
+        return walk_set < kOrdered, kL, kXf,
+               kCsg && kL == SetLayout::Mixed > (set, r, t_max, t_min, hits);
     } else {
         switch (set.layout) {
             case SetLayout::Mixed:
-                return walk_set<kOrdered, SetLayout::Mixed, kXf>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, SetLayout::Mixed, kXf, kCsg>(set, r, t_max, t_min, hits);
             case SetLayout::Analytic:
-                return walk_set<kOrdered, SetLayout::Analytic, kXf>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, SetLayout::Analytic, kXf, false>(set, r, t_max, t_min,
+                                                                           hits);
             case SetLayout::Spheres:
-                return walk_set<kOrdered, SetLayout::Spheres, kXf>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, SetLayout::Spheres, kXf, false>(set, r, t_max, t_min,
+                                                                          hits);
             case SetLayout::Boxes:
-                return walk_set<kOrdered, SetLayout::Boxes, kXf>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, SetLayout::Boxes, kXf, false>(set, r, t_max, t_min, hits);
             case SetLayout::Cylinders:
-                return walk_set<kOrdered, SetLayout::Cylinders, kXf>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, SetLayout::Cylinders, kXf, false>(set, r, t_max, t_min,
+                                                                            hits);
             case SetLayout::Cones:
-                return walk_set<kOrdered, SetLayout::Cones, kXf>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, SetLayout::Cones, kXf, false>(set, r, t_max, t_min, hits);
             case SetLayout::Triangles:
-                return walk_set<kOrdered, SetLayout::Triangles, kXf>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, SetLayout::Triangles, kXf, false>(set, r, t_max, t_min,
+                                                                            hits);
         }
         return false;
     }
@@ -166,7 +315,7 @@ bool closest_hit(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit)
         walk<V, true>(set, r, best, t.lo, [&](uint32_t pi, const ShapeHits& h, double& b) {
             if (h.count > 0) {
                 b = h.t[0];
-                *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0]};
+                *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0], h.leaf};
                 found = true;
             }
             return false;
@@ -198,8 +347,11 @@ Vec3 transmitted(const RenderScene& scene, const Ray& ray, double t_max) {
         const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
         double inner = t_max;
         return walk<V, false>(set, r, inner, 0.0, [&](uint32_t pi, const ShapeHits& h, double&) {
-            const Primitive& p = set.prims[pi];
-            const Vec3& tr = scene.materials[static_cast<size_t>(p.material)].transparent;
+            int material = set.prims[pi].material;
+            if constexpr ((V & kGeomCsg) != 0)
+                if (h.leaf >= 0)
+                    material = set.csg.leaves[static_cast<size_t>(h.leaf)].prim.material;
+            const Vec3& tr = scene.materials[static_cast<size_t>(material)].transparent;
             for (int k = 0; k < h.count; ++k) s *= tr;
             return h.count > 0 && s == Vec3(0.0);
         });
@@ -214,7 +366,15 @@ SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray,
     constexpr bool kXf = (V & kGeomTransforms) != 0;
     const Instance& inst = scene.instances[static_cast<size_t>(hit.instance)];
     const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
-    const Primitive& p = set.prims[hit.prim];
+    const Primitive* prim = &set.prims[hit.prim];
+    const CsgLeaf* leaf = nullptr;  // a CSG primitive's hit is on one of its leaves
+    if constexpr ((V & kGeomCsg) != 0) {
+        if (hit.leaf >= 0) {
+            leaf = &set.csg.leaves[static_cast<size_t>(hit.leaf)];
+            prim = &leaf->prim;
+        }
+    }
+    const Primitive& p = *prim;
     const Ray r_set = to_set<kXf>(inst, ray);
 
     SurfacePoint sp;
@@ -255,6 +415,12 @@ SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray,
         if (!inst.identity) apply(inst.world_from_set, sp);
     }
 
+    // B's surface faces out of A - B: negated once per difference with the leaf in B (§13.8).
+    if (leaf && leaf->flip) {
+        sp.n_geometric = -sp.n_geometric;
+        sp.n_shading = -sp.n_shading;
+    }
+
     SurfaceInteraction si;
     si.p = sp.p;
     si.p_error = sp.p_error;
@@ -265,11 +431,19 @@ SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray,
     return si;
 }
 
+// The CSG bit matters with the Mixed and per-set layouts only (the others hold no CSG).
+constexpr uint32_t canonical_variant(uint32_t v) {
+    const uint32_t layout = (v & kGeomPerSet) >> kGeomLayoutShift;
+    const bool mixed = layout == static_cast<uint32_t>(SetLayout::Mixed) || layout == kSetLayouts;
+    return mixed ? v : v & ~static_cast<uint32_t>(kGeomCsg);
+}
+
 template <uint32_t... V>
 constexpr std::array<GeometryQueries, sizeof...(V)> query_table(
     std::integer_sequence<uint32_t, V...>) {
-    return {
-        GeometryQueries{&closest_hit<V>, &any_hit<V>, &transmitted<V>, &surface_interaction<V>}...};
+    return {GeometryQueries{&closest_hit<canonical_variant(V)>, &any_hit<canonical_variant(V)>,
+                            &transmitted<canonical_variant(V)>,
+                            &surface_interaction<canonical_variant(V)>}...};
 }
 
 // Every geometry variant, indexed by its GeomFeature bits.
@@ -310,11 +484,13 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
         const Ray r = to_set<true>(inst, ray);
         const TriRay tri({r.o - set.tri_origin, r.d});
         for (uint32_t pi = 0; pi < set.prims.size(); ++pi) {
+            const Primitive& p = set.prims[pi];
             const ShapeHits h =
-                prim_hits<SetLayout::Mixed, true>(set, set.prims[pi], r, &tri, {t.lo, best});
+                p.csg >= 0 ? csg_nearest<true>(set, p, r, &tri, {t.lo, best})
+                           : prim_hits<SetLayout::Mixed, true>(set, p, r, &tri, {t.lo, best});
             if (h.count > 0) {
                 best = h.t[0];
-                *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0]};
+                *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0], h.leaf};
                 found = true;
             }
         }
@@ -325,7 +501,9 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
 ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
                               Interval t) {
     const TriRay tri({ray_set.o - set.tri_origin, ray_set.d});
-    return prim_hits<SetLayout::Mixed, true>(set, set.prims[prim], ray_set, &tri, t);
+    const Primitive& p = set.prims[prim];
+    if (p.csg >= 0) return csg_nearest<true>(set, p, ray_set, &tri, t);
+    return prim_hits<SetLayout::Mixed, true>(set, p, ray_set, &tri, t);
 }
 
 SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit, bool uv) {

@@ -27,12 +27,60 @@ bool within_limits(const Bounds3& b) {
     return true;
 }
 
-// Tight world bounds of one primitive of a set placed by world_from_set (for the default camera).
-Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
+// The box of a CSG node from its children's boxes (spec §13.8, informative): union for lists
+// and unions, intersection for intersections, A's box for a difference.
+Bounds3 combine_csg_bounds(CsgNodeKind kind, const Bounds3* child, uint32_t count) {
+    Bounds3 b;
+    if (kind == CsgNodeKind::Empty || count == 0) return b;
+    if (kind == CsgNodeKind::Difference) return child[0];
+    if (kind != CsgNodeKind::Intersection) {
+        for (uint32_t i = 0; i < count; ++i) b.extend(child[i]);
+        return b;
+    }
+    b = child[0];
+    for (uint32_t i = 1; i < count; ++i) {
+        b.lo = glm::max(b.lo, child[i].lo);
+        b.hi = glm::min(b.hi, child[i].hi);
+    }
+    if (b.empty()) return {};
+    // A point "on" another child is up to its tolerance (1e-9 of its size and distance from
+    // the origin) outside it, and outside its box: grown by more than that.
+    const Vec3 grow = 1e-7 * (glm::abs(b.lo) + glm::abs(b.hi));
+    return {b.lo - grow, b.hi + grow};
+}
+
+Bounds3 shape_world_bounds(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
     const Mat4 m = p.transform < 0
                        ? world_from_set
                        : world_from_set * set.transforms[static_cast<size_t>(p.transform)].m;
     return visit_shape(set, p, [&](const auto& shape) { return bounds(shape, m); });
+}
+
+// The world box of a CSG tree, from its leaves' tight world boxes (post-order: a node's children
+// are done before it).
+Bounds3 csg_world_bounds(const GeometrySet& set, const CsgRoot& root, const Mat4& world_from_set) {
+    const CsgArrays& c = set.csg;
+    const uint32_t first = c.nodes[root.node].subtree_first;
+    std::vector<Bounds3> b(root.node - first + 1);
+    std::vector<Bounds3> kids;
+    for (uint32_t i = first; i <= root.node; ++i) {
+        const CsgNode& n = c.nodes[i];
+        if (n.kind == CsgNodeKind::Leaf) {
+            b[i - first] = shape_world_bounds(set, c.leaves[n.first].prim, world_from_set);
+            continue;
+        }
+        kids.clear();
+        for (uint32_t k = 0; k < n.count; ++k) kids.push_back(b[c.children[n.first + k] - first]);
+        b[i - first] = combine_csg_bounds(n.kind, kids.data(), n.count);
+    }
+    return b.back();
+}
+
+// Tight world bounds of one primitive of a set placed by world_from_set (for the default camera).
+Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
+    if (p.csg >= 0)
+        return csg_world_bounds(set, set.csg.roots[static_cast<size_t>(p.csg)], world_from_set);
+    return shape_world_bounds(set, p, world_from_set);
 }
 
 class Compiler {
@@ -124,11 +172,13 @@ private:
         }
     }
 
-    // One shape waiting for its place in the set: its description and its group's transform.
+    // One shape waiting for its place in the set: its description and its group's transform,
+    // or a compiled CSG tree (shape null).
     struct Pending {
         const ShapeDesc* shape;
         int transform;  // index into the set's transforms, -1: identity
         bool mirror;    // the transform flips orientation
+        int csg = -1;   // index into the set's csg.roots
     };
 
     // Compiles file `fi` into a set in two passes: the shapes' bounds first, then the BVH over
@@ -140,7 +190,7 @@ private:
         set.name = m_desc.files[fi].path;
         std::vector<Pending> pending;
         pending.reserve(count_shapes(m_desc.files[fi].root));
-        collect(set, m_desc.files[fi].root, Mat4(1.0), pending);
+        collect(set, fi, Mat4(1.0), pending);
         if (pending.empty()) {
             m_set_of_file[fi] = -1;
             return -1;
@@ -148,6 +198,11 @@ private:
         std::vector<Bounds3> bounds;
         bounds.reserve(pending.size());
         for (const Pending& p : pending) {
+            if (p.csg >= 0) {  // its leaves were checked when it was compiled
+                bounds.push_back(
+                    set.csg.nodes[set.csg.roots[static_cast<size_t>(p.csg)].node].bounds);
+                continue;
+            }
             bounds.push_back(shape_bounds(set, fi, p));
             if (!within_limits(bounds.back()))
                 throw SceneError(p.shape->loc,
@@ -200,7 +255,10 @@ private:
     // The one kind a set holds gets a walk of its own; triangles-only sets get packed leaves.
     static SetLayout layout_of(const std::vector<Pending>& pending) {
         std::array<size_t, kShapeKinds> count{};  // geometry.index() is the kind (ShapeDesc)
-        for (const Pending& p : pending) ++count[p.shape->geometry.index()];
+        for (const Pending& p : pending) {
+            if (p.csg >= 0) return SetLayout::Mixed;  // CSG primitives: the Mixed walk only
+            ++count[p.shape->geometry.index()];
+        }
         for (size_t k = 0; k < count.size(); ++k)
             if (count[k] == pending.size()) return one_kind_layout(static_cast<ShapeKind>(k));
         return count[static_cast<size_t>(ShapeKind::Triangle)] == 0 ? SetLayout::Analytic
@@ -239,9 +297,8 @@ private:
     }
 
     // Flattens the group tree: one cached transform per group with shapes (none when identity).
-    void collect(GeometrySet& set, const GroupDesc& root, const Mat4& parent,
-                 std::vector<Pending>& pending) {
-        std::vector<GroupVisit> todo = {{&root, parent}};
+    void collect(GeometrySet& set, size_t fi, const Mat4& parent, std::vector<Pending>& pending) {
+        std::vector<GroupVisit> todo = {{&m_desc.files[fi].root, parent}};
         while (!todo.empty()) {
             const GroupVisit v = todo.back();
             todo.pop_back();
@@ -256,8 +313,149 @@ private:
                 const bool mirror = glm::determinant(Mat3(m)) < 0;
                 for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror});
             }
+            for (const CsgDesc& c : g.csgs) {
+                const int root = compile_csg(set, fi, c, m);
+                if (root >= 0) pending.push_back({nullptr, -1, false, root});
+            }
             push_children(todo, g, m);
         }
+    }
+
+    // One step of the post-order walk of a CSG description: a CSG node or a list (an operand,
+    // a group inside one, an instance's root list), with the frame of its parent and its file.
+    struct CsgVisit {
+        const CsgDesc* csg;  // or null: a list
+        const GroupDesc* group;
+        Mat4 parent;
+        size_t file;
+        bool flip;           // under the second operand of an odd number of differences
+        bool open = false;   // its children are being compiled
+        size_t results = 0;  // the size of the results stack when it was opened
+        uint32_t first = 0;  // the size of the nodes array when it was opened
+    };
+
+    // Appends node `kind` over the children ids in results[from..], popping them.
+    static uint32_t close_csg_node(CsgArrays& c, CsgNodeKind kind, std::vector<uint32_t>& results,
+                                   size_t from, uint32_t subtree_first) {
+        CsgNode n;
+        n.kind = kind;
+        n.first = static_cast<uint32_t>(c.children.size());
+        n.count = static_cast<uint32_t>(results.size() - from);
+        n.subtree_first = subtree_first;
+        const uint32_t id = static_cast<uint32_t>(c.nodes.size());
+        std::vector<Bounds3> kids;
+        for (size_t i = from; i < results.size(); ++i) {
+            c.children.push_back(results[i]);
+            c.nodes[results[i]].parent = static_cast<int>(id);
+            kids.push_back(c.nodes[results[i]].bounds);
+        }
+        n.bounds = combine_csg_bounds(kind, kids.data(), n.count);
+        if (n.count == 0) n.kind = CsgNodeKind::Empty;
+        c.nodes.push_back(n);
+        results.resize(from);
+        results.push_back(id);
+        return id;
+    }
+
+    // The leaves of the shapes of list g (in frame m of file fi), pushed as finished nodes.
+    void add_csg_leaves(GeometrySet& set, size_t fi, const GroupDesc& g, const Mat4& m, bool flip,
+                        std::vector<uint32_t>& results) {
+        if (g.shapes.empty()) return;
+        int xf = -1;
+        if (m != Mat4(1.0)) {
+            xf = static_cast<int>(set.transforms.size());
+            set.transforms.push_back(Transform::from_matrix(m));
+        }
+        const bool mirror = glm::determinant(Mat3(m)) < 0;
+        for (const ShapeDesc& s : g.shapes) {
+            const Pending pend{&s, xf, mirror};
+            CsgNode n;
+            n.kind = CsgNodeKind::Leaf;
+            n.bounds = shape_bounds(set, fi, pend);
+            if (!within_limits(n.bounds))
+                throw SceneError(s.loc,
+                                 "shape reaches beyond +-1e300 in its file's frame "
+                                 "(coordinates too large for the renderer)");
+            n.first = static_cast<uint32_t>(set.csg.leaves.size());
+            n.subtree_first = static_cast<uint32_t>(set.csg.nodes.size());
+            CsgLeaf leaf;
+            leaf.prim = make_primitive(set, fi, pend);
+            leaf.node = n.subtree_first;
+            leaf.root = static_cast<int>(set.csg.roots.size());
+            leaf.flip = flip;
+            leaf.epsilon =
+                visit_shape(set, leaf.prim, [](const auto& shape) { return csg_epsilon(shape); });
+            results.push_back(n.subtree_first);
+            set.csg.nodes.push_back(n);
+            set.csg.leaves.push_back(leaf);
+        }
+    }
+
+    // Opens a visit: its leaves now, its children pushed to be compiled before it closes.
+    void open_csg_visit(GeometrySet& set, CsgVisit v, std::vector<CsgVisit>& todo,
+                        std::vector<uint32_t>& results) {
+        v.open = true;
+        v.results = results.size();
+        v.first = static_cast<uint32_t>(set.csg.nodes.size());
+        todo.push_back(v);
+        if (v.csg) {
+            const CsgDesc& c = *v.csg;
+            if (c.op == CsgOp::Difference && c.operands.size() != 2)
+                throw SceneError(c.loc, "a CSG difference needs exactly two operands");
+            for (size_t i = c.operands.size(); i-- > 0;)
+                todo.push_back({nullptr, &c.operands[i], v.parent, v.file,
+                                v.flip != (c.op == CsgOp::Difference && i == 1)});
+            return;
+        }
+        const GroupDesc& g = *v.group;
+        const Mat4 m = v.parent * g.matrix;
+        const FileDesc& f = m_desc.files[v.file];
+        add_csg_leaves(set, v.file, g, m, v.flip, results);
+        // Pushed in reverse so that they close in the list's order: groups, instances, CSGs.
+        for (auto it = g.csgs.rbegin(); it != g.csgs.rend(); ++it)
+            todo.push_back({&*it, nullptr, m, v.file, v.flip});
+        for (auto it = g.instances.rbegin(); it != g.instances.rend(); ++it) {
+            const size_t fj = static_cast<size_t>(f.ray_files[static_cast<size_t>(it->ray_file)]);
+            todo.push_back({nullptr, &m_desc.files[fj].root, m, fj, v.flip});
+        }
+        for (auto it = g.groups.rbegin(); it != g.groups.rend(); ++it)
+            todo.push_back({nullptr, &*it, m, v.file, v.flip});
+    }
+
+    // Compiles CSG node `c` of file fi in frame m into set.csg (post-order, without recursion:
+    // CSG nodes nest as deep as groups). Returns its index in set.csg.roots, or -1 when it has
+    // no surface at all (no leaf, or an empty box), in which case nothing is kept.
+    int compile_csg(GeometrySet& set, size_t fi, const CsgDesc& c, const Mat4& m) {
+        CsgArrays& a = set.csg;
+        const size_t nodes0 = a.nodes.size(), children0 = a.children.size(),
+                     leaves0 = a.leaves.size();
+        std::vector<CsgVisit> todo = {{&c, nullptr, m, fi, false}};
+        std::vector<uint32_t> results;
+        while (!todo.empty()) {
+            const CsgVisit v = todo.back();
+            todo.pop_back();
+            if (!v.open) {
+                open_csg_visit(set, v, todo, results);
+                continue;
+            }
+            if (!v.csg && results.size() - v.results == 1) continue;  // a list of one: the child
+            CsgNodeKind kind = CsgNodeKind::List;
+            if (v.csg)
+                kind = v.csg->op == CsgOp::Union          ? CsgNodeKind::Union
+                       : v.csg->op == CsgOp::Intersection ? CsgNodeKind::Intersection
+                                                          : CsgNodeKind::Difference;
+            close_csg_node(a, kind, results, v.results, v.first);
+        }
+        CsgRoot root{static_cast<uint32_t>(a.nodes.size() - 1), static_cast<uint32_t>(leaves0),
+                     static_cast<uint32_t>(a.leaves.size() - leaves0)};
+        if (root.leaf_count == 0 || a.nodes[root.node].bounds.empty()) {
+            a.nodes.resize(nodes0);
+            a.children.resize(children0);
+            a.leaves.resize(leaves0);
+            return -1;
+        }
+        a.roots.push_back(root);
+        return static_cast<int>(a.roots.size() - 1);
     }
 
     // The triangle's vertices in the set's frame; a mirroring transform swaps the last two so
@@ -291,6 +489,23 @@ private:
     }
 
     void add_shape(GeometrySet& set, size_t fi, const Pending& pend) {
+        if (pend.csg >= 0) {
+            // A leaf's fields (see Primitive), an analytic one where there is one (a walk that
+            // forgets the test then does not take it for a triangle), and the tree.
+            const CsgRoot& root = set.csg.roots[static_cast<size_t>(pend.csg)];
+            uint32_t shown = root.first_leaf;
+            for (uint32_t l = root.first_leaf + root.leaf_count; l-- > root.first_leaf;)
+                if (set.csg.leaves[l].prim.kind != ShapeKind::Triangle) shown = l;
+            Primitive p = set.csg.leaves[shown].prim;
+            p.csg = pend.csg;
+            set.prims.push_back(p);
+            return;
+        }
+        set.prims.push_back(make_primitive(set, fi, pend));
+    }
+
+    // The primitive of a shape, its shape appended to the set's arrays.
+    Primitive make_primitive(GeometrySet& set, size_t fi, const Pending& pend) {
         const ShapeDesc& s = *pend.shape;
         Primitive p;
         p.material = s.material < 0 ? m_default_material : m_material_offset[fi] + s.material;
@@ -311,7 +526,7 @@ private:
                 }
             },
             s.geometry);
-        set.prims.push_back(p);
+        return p;
     }
 
     // Triangles are flattened into the set's frame: no per-primitive transform.
@@ -372,9 +587,18 @@ private:
         for (const GeometrySet& set : m_scene.sets) s.unique_prims += set.prims.size();
         std::vector<size_t> uses(m_scene.sets.size(), 0);
         for (const Instance& inst : m_scene.instances) ++uses[static_cast<size_t>(inst.set)];
-        for (size_t i = 0; i < m_scene.sets.size(); ++i)
-            for (const Primitive& p : m_scene.sets[i].prims)
-                s.prims_by_kind[static_cast<int>(p.kind)] += uses[i];
+        for (size_t i = 0; i < m_scene.sets.size(); ++i) {
+            const GeometrySet& set = m_scene.sets[i];
+            for (const Primitive& p : set.prims) {
+                if (p.csg < 0) {
+                    s.prims_by_kind[static_cast<int>(p.kind)] += uses[i];
+                    continue;
+                }
+                const CsgRoot& r = set.csg.roots[static_cast<size_t>(p.csg)];
+                for (uint32_t l = r.first_leaf; l < r.first_leaf + r.leaf_count; ++l)
+                    s.prims_by_kind[static_cast<int>(set.csg.leaves[l].prim.kind)] += uses[i];
+            }
+        }
         s.skipped_shapes = m_desc.skipped_shapes;
     }
 

@@ -407,6 +407,16 @@ private:
         c.half_height_angle_rad = real(f, d, 10);
         // Included files: syntax only, so the dummy all-zero cameras of sub-files pass (§3.1, §12).
         if (!f.top) return;
+        // The course's V3 sub-files without a V3 marker read as V1 (§10 step 4), and opened on
+        // their own they should render as V3 ones do (§13.3): the dummy camera (all ten numbers
+        // 0, never a valid camera) is the default camera with a warning in every dialect.
+        if (c.position == Vec3(0.0) && c.direction == Vec3(0.0) && c.up == Vec3(0.0) &&
+            c.half_height_angle_rad == 0.0 && !m_scene.camera) {
+            m_diag.warn(c.loc, "camera-zero",
+                        "all-zero #camera (a sub-file's dummy): using the default camera");
+            v3_all_zero_camera = true;
+            return;
+        }
         validate_camera(f, d, c);
         if (m_scene.camera) {
             m_diag.warn(

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <filesystem>
+#include <iterator>
 #include <variant>
 
 namespace rt {
@@ -13,37 +14,271 @@ public:
     Writer(const SceneDesc& desc, bool absolute) : m_desc(desc), m_absolute(absolute) {}
 
     std::string run() {
-        const FileDesc& top = m_desc.files[0];
         m_out += "// Written by rayview/raytrace (";
         m_out += dialect_name(m_desc.dialect);
         m_out += " dialect).\n";
-        if (m_desc.camera) {
-            const CameraDesc& c = *m_desc.camera;
-            directive("#camera");
-            vec(c.position), vec(c.direction), vec(c.up), num(c.half_height_angle_rad);
-            end();
+        if (m_desc.dialect == Dialect::V3) {
+            run_v3();
+        } else {
+            run_v1();
         }
-        directive("#background"), vec(m_desc.background), end();
-        directive("#ambient"), vec(m_desc.ambient), end();
-        for (const LightDesc& l : m_desc.lights) light(l);
-        for (const TextureDesc& t : top.textures) directive("#texture"), word(path(t.path)), end();
-        for (const MaterialDesc& m : top.materials) material(m);
-        for (const VertexDesc& v : top.vertices) {
-            directive("#vertex"), vec(v.position), vec(v.normal), num(v.uv.x), num(v.uv.y), end();
-        }
-        for (int f : top.ray_files)
-            directive("#ray_file"), word(path(m_desc.files[static_cast<size_t>(f)].path)), end();
-        group_body(top.root);
         return m_out;
     }
 
 private:
+    // ---- V0 and V1 (spec §3) ----
+
+    void run_v1() {
+        const FileDesc& top = m_desc.files[0];
+        if (!m_desc.shader_vertex.empty() || !m_desc.shader_fragment.empty())
+            throw SceneError({}, "a shader cannot be written in V0 or V1 (#shader is V3 only)");
+        camera();
+        directive("#background"), vec(m_desc.background), end();
+        directive("#ambient"), vec(m_desc.ambient), end();
+        for (const LightDesc& l : m_desc.lights) light_v1(l);
+        local_part(top, false);
+        group_body_v1(top.root);
+    }
+
+    void light_v1(const LightDesc& l) {
+        if (l.kind == LightKind::Sphere)
+            throw SceneError(l.loc,
+                             "a sphere light cannot be written in V0 or V1 "
+                             "(#light_sphere is V3 only)");
+        if (!l.one_colour())
+            throw SceneError(l.loc,
+                             "a light with an ambient colour or different diffuse and specular "
+                             "colours cannot be written in V0 or V1 (three-colour lights are V3 "
+                             "only)");
+        // The parser scales V0 drop-offs by 128 (spec §7.2): write them back unscaled.
+        const double dor =
+            m_desc.dialect == Dialect::V0 ? l.spot_exponent / kV0ExponentScale : l.spot_exponent;
+        switch (l.kind) {
+            case LightKind::Directional:
+                directive("#light_dir"), vec(l.diffuse), vec(l.direction);
+                break;
+            case LightKind::Point:
+                directive("#light_point"), vec(l.diffuse), vec(l.position), attenuation(l);
+                break;
+            case LightKind::Spot:
+                directive("#light_spot"), vec(l.diffuse), vec(l.position), vec(l.direction);
+                attenuation(l), num(l.cutoff_rad), num(dor);
+                break;
+            case LightKind::Sphere:
+                break;
+        }
+        end();
+    }
+
+    void group_body_v1(const GroupDesc& g) {
+        if (!g.csgs.empty())
+            throw SceneError(g.csgs[0].loc, std::string("a CSG ") + csg_op_name(g.csgs[0].op) +
+                                                " cannot be written in V0 or V1 (#shape_" +
+                                                csg_op_name(g.csgs[0].op) + " is V3 only)");
+        for (const ShapeDesc& s : g.shapes) {
+            if (std::holds_alternative<Torus>(s.geometry))
+                throw SceneError(s.loc,
+                                 "a torus cannot be written in V0 or V1 (#shape_torus is V3 only)");
+            shape(s);
+        }
+        for (const InstanceDesc& i : g.instances) instance(i);
+        for (const GroupDesc& child : g.groups) {
+            directive("#group_begin");
+            for (int r = 0; r < 4; ++r)
+                for (int c = 0; c < 4; ++c) num(child.matrix[c][r]);  // row-major in the file
+            end();
+            group_body_v1(child);
+            line("#group_end");
+        }
+    }
+
+    // ---- V3 (spec §13) ----
+
+    void run_v3() {
+        const FileDesc& top = m_desc.files[0];
+        if (m_desc.background != Vec3(0.0))
+            throw SceneError({}, "a background colour cannot be written in V3 (no #background)");
+        if (m_desc.ambient != Vec3(0.0))
+            throw SceneError({}, "a global ambient colour cannot be written in V3 (no #ambient)");
+        // The global part, the local part, the shapes (spec §13.1).
+        camera();
+        for (const LightDesc& l : m_desc.lights) light_v3(l);
+        if (!m_desc.shader_vertex.empty() || !m_desc.shader_fragment.empty()) {
+            if (m_desc.shader_vertex.empty() || m_desc.shader_fragment.empty())
+                throw SceneError({}, "#shader needs both a vertex and a fragment shader");
+            directive("#shader"), word(m_desc.shader_vertex), word(m_desc.shader_fragment), end();
+        }
+        local_part(top, true);
+        items(top.root);  // the root list (spec §13.1)
+    }
+
+    // A D S, then the kind's numbers (spec §13.3).
+    void light_v3(const LightDesc& l) {
+        static const char* const kDirective[] = {"#light_dir", "#light_point", "#light_spot",
+                                                 "#light_sphere"};
+        static_assert(std::size(kDirective) == kLightKinds);
+        directive(kDirective[static_cast<int>(l.kind)]);
+        vec(l.ambient), vec(l.diffuse), vec(l.specular);
+        switch (l.kind) {
+            case LightKind::Directional:
+                vec(l.direction);
+                break;
+            case LightKind::Point:
+                vec(l.position), attenuation(l);
+                break;
+            case LightKind::Spot:
+                vec(l.position), vec(l.direction), attenuation(l);
+                num(l.cutoff_rad), num(l.spot_exponent);
+                break;
+            case LightKind::Sphere:
+                vec(l.position), num(l.radius), attenuation(l);
+                break;
+        }
+        end();
+    }
+
+    // Every child of a list, one shape each (spec §13.5): the shapes (consecutive triangles of one
+    // material as one #shape_triangles), the lists and transforms, the instances, the CSG nodes.
+    void items(const GroupDesc& g) {
+        for (size_t i = 0; i < g.shapes.size();) {
+            if (!std::holds_alternative<TriangleDesc>(g.shapes[i].geometry)) {
+                shape(g.shapes[i++]);
+                continue;
+            }
+            const size_t n = triangle_run(g, i);
+            triangles(g, i, n);
+            i += n;
+        }
+        for (const GroupDesc& child : g.groups) group_v3(child);
+        for (const InstanceDesc& i : g.instances) instance(i);
+        for (const CsgDesc& c : g.csgs) csg(c);
+    }
+
+    // The number of consecutive triangles of one material from shapes[i].
+    static size_t triangle_run(const GroupDesc& g, size_t i) {
+        size_t n = 0;
+        while (i + n < g.shapes.size() &&
+               std::holds_alternative<TriangleDesc>(g.shapes[i + n].geometry) &&
+               g.shapes[i + n].material == g.shapes[i].material)
+            ++n;
+        return n;
+    }
+
+    // How many shapes items(g) writes.
+    static size_t item_count(const GroupDesc& g) {
+        size_t n = g.groups.size() + g.instances.size() + g.csgs.size();
+        for (size_t i = 0; i < g.shapes.size(); ++n)
+            i +=
+                std::holds_alternative<TriangleDesc>(g.shapes[i].geometry) ? triangle_run(g, i) : 1;
+        return n;
+    }
+
+    // The parser's #shape_triangles list: identity, only triangles, all of one material.
+    static bool is_triangle_list(const GroupDesc& g) {
+        return g.matrix == Mat4(1.0) && g.joint.empty() && !g.shapes.empty() && g.groups.empty() &&
+               g.instances.empty() && g.csgs.empty() &&
+               std::holds_alternative<TriangleDesc>(g.shapes[0].geometry) &&
+               triangle_run(g, 0) == g.shapes.size();
+    }
+
+    void triangles(const GroupDesc& g, size_t first, size_t n) {
+        directive("#shape_triangles"), integer(g.shapes[first].material), end();
+        open_list();
+        for (size_t i = first; i < first + n; ++i) {
+            directive("#shape_triangle");
+            params(std::get<TriangleDesc>(g.shapes[i].geometry));
+            end();
+        }
+        close_list();
+    }
+
+    // A child list: a joint, a transform, a #shape_triangles list or a plain list.
+    void group_v3(const GroupDesc& g) {
+        if (is_triangle_list(g)) {
+            triangles(g, 0, g.shapes.size());
+        } else if (!g.joint.empty()) {
+            directive("#dynamic_affine"), word(g.joint), end();
+            one_shape(g);
+        } else if (g.matrix != Mat4(1.0)) {
+            directive("#static_affine");
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 4; ++r) num(g.matrix[c][r]);  // column-major (spec §13.6)
+            end();
+            one_shape(g);
+        } else {
+            list(g);
+        }
+    }
+
+    void list(const GroupDesc& g) {
+        open_list();
+        items(g);
+        close_list();
+    }
+
+    // The contents of `g` as the one child shape of a transform or a CSG operand. The parser folds
+    // a #shape_list_begin child into its parent, so a list is written for several children or
+    // none, and around a single child that is itself a list (it would be folded otherwise).
+    void one_shape(const GroupDesc& g) {
+        const bool single_list =
+            g.groups.size() == 1 && g.groups[0].joint.empty() && g.groups[0].matrix == Mat4(1.0);
+        if (item_count(g) == 1 && !single_list) {
+            items(g);
+        } else {
+            list(g);
+        }
+    }
+
+    // A CSG node (spec §13.8): one shape per operand, in a list for union and intersection.
+    void csg(const CsgDesc& c) {
+        directive(c.op == CsgOp::Union          ? "#shape_union"
+                  : c.op == CsgOp::Intersection ? "#shape_intersection"
+                                                : "#shape_difference");
+        end();
+        if (c.op == CsgOp::Difference) {
+            if (c.operands.size() != 2)
+                throw SceneError(c.loc,
+                                 "a CSG difference needs exactly two operands to be "
+                                 "written, got " +
+                                     std::to_string(c.operands.size()));
+            operand(c.operands[0]), operand(c.operands[1]);
+            return;
+        }
+        open_list();
+        for (const GroupDesc& o : c.operands) operand(o);
+        close_list();
+    }
+
+    // An operand is one child wrapped in an identity list; any other matrix is kept as a transform.
+    void operand(const GroupDesc& o) {
+        if (o.joint.empty() && o.matrix == Mat4(1.0)) {
+            one_shape(o);
+        } else {
+            group_v3(o);
+        }
+    }
+
+    void open_list() {
+        line("#shape_list_begin");
+        m_indent += "  ";
+    }
+    void close_list() {
+        m_indent.resize(m_indent.size() - 2);
+        line("#shape_list_end");
+    }
+
+    // ---- shared ----
+
     // Appends piece by piece (GCC 12 warns falsely, -Wrestrict, on "literal" + std::string).
-    void line(const std::string& s) {
+    void line(const char* s) {
+        m_out += m_indent;
         m_out += s;
         m_out += '\n';
     }
-    void directive(const char* d) { m_out += d; }
+    void directive(const char* d) {
+        m_out += m_indent;
+        m_out += d;
+    }
     void end() { m_out += "\n"; }
     void word(const std::string& w) {
         m_out += ' ';
@@ -61,6 +296,9 @@ private:
         m_out.append(buf, r.ptr);
     }
     void vec(const Vec3& v) { num(v.x), num(v.y), num(v.z); }
+    void attenuation(const LightDesc& l) {
+        num(l.constant_atten), num(l.linear_atten), num(l.quadratic_atten);
+    }
 
     std::string path(const std::string& p) const {
         if (!m_absolute) return p;
@@ -69,29 +307,25 @@ private:
         return ec ? p : abs.lexically_normal().string();
     }
 
-    void light(const LightDesc& l) {
-        // The parser scales V0 drop-offs by 128 (spec §7.2): write them back unscaled.
-        const double dor =
-            m_desc.dialect == Dialect::V0 ? l.spot_exponent / kV0ExponentScale : l.spot_exponent;
-        switch (l.kind) {
-            case LightKind::Directional:
-                directive("#light_dir"), vec(l.diffuse), vec(l.direction);
-                break;
-            case LightKind::Point:
-                directive("#light_point"), vec(l.diffuse), vec(l.position);
-                num(l.constant_atten), num(l.linear_atten), num(l.quadratic_atten);
-                break;
-            case LightKind::Spot:
-                directive("#light_spot"), vec(l.diffuse), vec(l.position), vec(l.direction);
-                num(l.constant_atten), num(l.linear_atten), num(l.quadratic_atten);
-                num(l.cutoff_rad), num(dor);
-                break;
-            case LightKind::Sphere:
-                throw SceneError(l.loc,
-                                 "a sphere light cannot be written in V0 or V1 "
-                                 "(#light_sphere is V3 only)");
-        }
+    void camera() {
+        if (!m_desc.camera) return;
+        const CameraDesc& c = *m_desc.camera;
+        directive("#camera");
+        vec(c.position), vec(c.direction), vec(c.up), num(c.half_height_angle_rad);
         end();
+    }
+
+    // Textures, materials, vertices, included files (and V3's key files).
+    void local_part(const FileDesc& top, bool key_files) {
+        for (const TextureDesc& t : top.textures) directive("#texture"), word(path(t.path)), end();
+        for (const MaterialDesc& m : top.materials) material(m);
+        for (const VertexDesc& v : top.vertices) {
+            directive("#vertex"), vec(v.position), vec(v.normal), num(v.uv.x), num(v.uv.y), end();
+        }
+        for (int f : top.ray_files)
+            directive("#ray_file"), word(path(m_desc.files[static_cast<size_t>(f)].path)), end();
+        if (key_files)
+            for (const std::string& k : top.key_files) directive("#key_file"), word(path(k)), end();
     }
 
     void material(const MaterialDesc& m) {
@@ -110,20 +344,11 @@ private:
         m_out += "!\n";
     }
 
-    void group_body(const GroupDesc& g) {
-        for (const ShapeDesc& s : g.shapes) shape(s);
-        for (const InstanceDesc& i : g.instances)
-            directive("#ray_file_instance"), integer(i.ray_file), end();
-        for (const GroupDesc& child : g.groups) {
-            directive("#group_begin");
-            for (int r = 0; r < 4; ++r)
-                for (int c = 0; c < 4; ++c) num(child.matrix[c][r]);  // row-major in the file
-            end();
-            group_body(child);
-            line("#group_end");
-        }
+    void instance(const InstanceDesc& i) {
+        directive("#ray_file_instance"), integer(i.ray_file), end();
     }
 
+    // One shape directive with its material (V3 triangles: triangles()).
     void shape(const ShapeDesc& s) {
         std::visit(
             [&](const auto& geo) {
@@ -133,16 +358,13 @@ private:
         end();
     }
 
-    // One directive name and one parameter list per kind (spec §5), in the file's order.
+    // One directive name and one parameter list per kind (spec §5, §13.7), in the file's order.
     static const char* directive_of(const Sphere&) { return "#shape_sphere"; }
     static const char* directive_of(const BoxDesc&) { return "#shape_box"; }
     static const char* directive_of(const Cylinder&) { return "#shape_cylinder"; }
     static const char* directive_of(const Cone&) { return "#shape_cone"; }
+    static const char* directive_of(const Torus&) { return "#shape_torus"; }
     static const char* directive_of(const TriangleDesc&) { return "#shape_triangle"; }
-    // The torus is a V3 shape (spec §13.7): V0 and V1 have no directive for it.
-    [[noreturn]] static const char* directive_of(const Torus&) {
-        throw SceneError({}, "a torus cannot be written in V0 or V1 (#shape_torus is V3 only)");
-    }
     void params(const Sphere& g) { vec(g.centre), num(g.radius); }
     void params(const BoxDesc& g) { vec(g.centre), vec(g.size); }
     void params(const Cylinder& g) { vec(g.centre), num(g.radius), num(g.height); }
@@ -155,6 +377,7 @@ private:
     const SceneDesc& m_desc;
     bool m_absolute;
     std::string m_out;
+    std::string m_indent;  // V3 lists are indented
 };
 
 }  // namespace

@@ -45,6 +45,10 @@ void explain_geometry(const GeometryFeatures& g, std::vector<PlanReason>& out) {
          "one instance: rays walk its BVH directly");
     line((g.variant & kGeomTransforms) != 0, "transforms", "a group or instance transform",
          "no group or instance transform: rays are never transformed");
+    line((g.variant & kGeomCsg) != 0, "CSG test",
+         std::to_string(g.csg_nodes) +
+             " CSG node(s): a hit counts where every node above it keeps it (spec §13.8)",
+         "no CSG node: every hit counts, no inside tests");
     const size_t n_triangles = g.prims[static_cast<int>(ShapeKind::Triangle)];
     line(n_triangles > 0, "triangle tests", std::to_string(n_triangles) + " triangle(s)",
          "no triangles: no triangle set-up per ray");
@@ -81,6 +85,17 @@ void explain_geometry(const GeometryFeatures& g, std::vector<PlanReason>& out) {
     }
 }
 
+// One shape primitive (or CSG leaf) of a set: its kind, material and transform.
+void count_primitive(const GeometrySet& set, const Primitive& p, GeometryFeatures& g,
+                     std::array<size_t, kShapeKinds>& kinds) {
+    g.material_used[static_cast<size_t>(p.material)] = 1;
+    ++kinds[static_cast<size_t>(p.kind)];
+    if (p.transform >= 0) {
+        g.transforms = true;
+        g.nonuniform_scale |= scales_unevenly(set.transforms[static_cast<size_t>(p.transform)].m);
+    }
+}
+
 }  // namespace
 
 GeometryFeatures read_geometry(const RenderScene& scene) {
@@ -88,6 +103,7 @@ GeometryFeatures read_geometry(const RenderScene& scene) {
     std::vector<char> set_used(scene.sets.size(), 0);
     g.material_used.assign(scene.materials.size(), 0);
     std::vector<std::array<size_t, kShapeKinds>> set_prims(scene.sets.size());
+    std::vector<size_t> set_csg(scene.sets.size(), 0);
     for (const Instance& inst : scene.instances) {
         const size_t si = static_cast<size_t>(inst.set);
         const GeometrySet& set = scene.sets[si];
@@ -95,16 +111,18 @@ GeometryFeatures read_geometry(const RenderScene& scene) {
             set_used[si] = 1;
             set_prims[si] = {};
             for (const Primitive& p : set.prims) {
-                g.material_used[static_cast<size_t>(p.material)] = 1;
-                ++set_prims[si][static_cast<size_t>(p.kind)];
-                if (p.transform >= 0) {
-                    g.transforms = true;
-                    g.nonuniform_scale |=
-                        scales_unevenly(set.transforms[static_cast<size_t>(p.transform)].m);
+                if (p.csg < 0) {
+                    count_primitive(set, p, g, set_prims[si]);
+                    continue;
                 }
+                const CsgRoot& r = set.csg.roots[static_cast<size_t>(p.csg)];
+                for (uint32_t l = r.first_leaf; l < r.first_leaf + r.leaf_count; ++l)
+                    count_primitive(set, set.csg.leaves[l].prim, g, set_prims[si]);
             }
+            set_csg[si] = set.csg.operations();
         }
         for (size_t k = 0; k < kShapeKinds; ++k) g.prims[k] += set_prims[si][k];
+        g.csg_nodes += set_csg[si];
         if (!inst.identity) {
             g.transforms = true;
             g.nonuniform_scale |= scales_unevenly(inst.world_from_set.m);
@@ -123,8 +141,8 @@ GeometryFeatures read_geometry(const RenderScene& scene) {
     // One instance is walked directly, unless it has a transform: then the top-level box test
     // culls the rays that miss it before they are transformed.
     g.top_level = g.instancing || (scene.instances.size() == 1 && !scene.instances[0].identity);
-    g.variant =
-        (g.top_level ? kGeomInstancing : 0u) | (g.transforms ? kGeomTransforms : 0u) | layout;
+    g.variant = (g.top_level ? kGeomInstancing : 0u) | (g.transforms ? kGeomTransforms : 0u) |
+                (g.csg_nodes > 0 ? kGeomCsg : 0u) | layout;
     if (scene.instances.empty()) g.variant = kGeomEmpty;
     return g;
 }

@@ -31,16 +31,20 @@ enum ShadeFeature : uint32_t {
 
 /// The geometry variant's switches (one compiled walk per combination, intersect.cpp): bit 0 the
 /// top-level walk over instances, bit 1 shape and instance transforms, bits 2..4 the SetLayout
-/// every set shares, or kGeomPerSet when the sets differ (each set's walk is then picked per set).
+/// every set shares, or kGeomPerSet when the sets differ (each set's walk is then picked per set),
+/// bit 5 the CSG test.
 enum GeomFeature : uint32_t {
     kGeomInstancing = 1u << 0,
     kGeomTransforms = 1u << 1,
     kGeomLayoutShift = 2,
     kGeomPerSet = 7u << kGeomLayoutShift,
-    /// The generic walk: the top-level BVH, transforms, and every primitive dispatched on its
-    /// kind (Mixed), whatever the scene holds.
-    kGeomGeneric = kGeomInstancing | kGeomTransforms,
-    kGeomVariants = 32,
+    /// CSG primitives (spec §13.8): only Mixed-layout sets hold them, so the bit goes with the
+    /// Mixed and per-set layouts (geometry_queries drops it from the others).
+    kGeomCsg = 1u << 5,
+    /// The generic walk: the top-level BVH, transforms, CSG, and every primitive dispatched on
+    /// its kind (Mixed), whatever the scene holds.
+    kGeomGeneric = kGeomInstancing | kGeomTransforms | kGeomCsg,
+    kGeomVariants = 64,
     /// A scene without shapes: every query answers at once (no walk at all).
     kGeomEmpty = kGeomVariants,
 };
@@ -72,7 +76,9 @@ const ShadingVariant& shading_variant(uint32_t shade_variant);
 
 /// What the geometry holds and the walk that fits it.
 struct GeometryFeatures {
-    size_t prims[kShapeKinds] = {};   // by ShapeKind, after instancing
+    size_t prims[kShapeKinds] = {};   // by ShapeKind, after instancing (CSG leaves included)
+    size_t csg_nodes = 0;             // CSG operations (union, intersection, difference), after
+                                      // instancing
     bool instancing = false;          // more than one instance
     bool top_level = false;           // rays walk the top-level BVH (several instances or a
                                       // transformed one)

@@ -118,4 +118,14 @@ PreviewMesh tessellate(const Box& box, int /*detail*/) {
     return std::move(b.mesh);
 }
 
+double csg_sign(const Box& b, const Vec3& p_object) {
+    const Vec3 d = glm::abs(p_object - b.centre) - b.half;
+    return std::max(d.x, std::max(d.y, d.z));
+}
+
+double csg_epsilon(const Box& b) {
+    return kCsgTolerance *
+           (glm::length(b.centre) + 2.0 * std::max(b.half.x, std::max(b.half.y, b.half.z)));
+}
+
 }  // namespace rt

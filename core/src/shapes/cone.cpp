@@ -161,4 +161,14 @@ PreviewMesh tessellate(const Cone& c, int detail) {
     return std::move(b.mesh);
 }
 
+double csg_sign(const Cone& c, const Vec3& p_object) {
+    const Vec3 q = p_object - c.centre;
+    const double side = std::hypot(q.x, q.z) - c.radius * (0.5 * c.height - q.y) / c.height;
+    return std::max(side, std::abs(q.y) - 0.5 * c.height);
+}
+
+double csg_epsilon(const Cone& c) {
+    return kCsgTolerance * (glm::length(c.centre) + std::max(c.radius, c.height));
+}
+
 }  // namespace rt

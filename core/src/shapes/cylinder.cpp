@@ -119,4 +119,13 @@ PreviewMesh tessellate(const Cylinder& c, int detail) {
     return std::move(b.mesh);
 }
 
+double csg_sign(const Cylinder& c, const Vec3& p_object) {
+    const Vec3 q = p_object - c.centre;
+    return std::max(std::hypot(q.x, q.z) - c.radius, std::abs(q.y) - 0.5 * c.height);
+}
+
+double csg_epsilon(const Cylinder& c) {
+    return kCsgTolerance * (glm::length(c.centre) + std::max(c.radius, c.height));
+}
+
 }  // namespace rt

@@ -72,4 +72,10 @@ PreviewMesh tessellate(const Sphere& s, int detail) {
     return std::move(b.mesh);
 }
 
+double csg_sign(const Sphere& s, const Vec3& p_object) {
+    return glm::length(p_object - s.centre) - s.radius;
+}
+
+double csg_epsilon(const Sphere& s) { return kCsgTolerance * (glm::length(s.centre) + s.radius); }
+
 }  // namespace rt

@@ -21,23 +21,51 @@ void PreviewMesh::append(const PreviewMesh& other, const Transform* xf) {
         indices.push_back(base + other.indices[t + (mirror ? 1 : 2)]);
     }
     materials.insert(materials.end(), other.materials.begin(), other.materials.end());
+    // CSG tags: kept one per triangle once any triangle has one.
+    if (csg.empty() && other.csg.empty()) return;
+    csg.resize(triangle_count() - other.triangle_count(), -1);
+    if (other.csg.size() == other.triangle_count())
+        csg.insert(csg.end(), other.csg.begin(), other.csg.end());
+    else
+        csg.resize(triangle_count(), -1);
 }
+
+namespace {
+
+// Appends one shape primitive (or CSG leaf) of the set, tagged with CSG tree `csg` (-1: none).
+void append_primitive(const GeometrySet& set, const Primitive& p, int detail, int csg,
+                      PreviewMesh& out) {
+    const size_t before = out.triangle_count();
+    visit_shape(set, p, [&](const auto& shape) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, Triangle>) {
+            // In the set's frame already: appended as it is.
+            tessellate(shape, set.triangle_attribs[p.index], out);
+            out.materials.push_back(p.material);
+        } else {
+            PreviewMesh m = tessellate(shape, detail);
+            m.materials.assign(m.triangle_count(), p.material);
+            out.append(
+                m, p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)]);
+        }
+    });
+    if (csg < 0 && out.csg.empty()) return;
+    out.csg.resize(before, -1);
+    out.csg.resize(out.triangle_count(), csg);
+}
+
+}  // namespace
 
 PreviewMesh tessellate_set(const GeometrySet& set, int detail) {
     PreviewMesh out;
     for (const Primitive& p : set.prims) {
-        visit_shape(set, p, [&](const auto& shape) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, Triangle>) {
-                // In the set's frame already: appended as it is.
-                tessellate(shape, set.triangle_attribs[p.index], out);
-                out.materials.push_back(p.material);
-            } else {
-                PreviewMesh m = tessellate(shape, detail);
-                m.materials.assign(m.triangle_count(), p.material);
-                out.append(m, p.transform < 0 ? nullptr
-                                              : &set.transforms[static_cast<size_t>(p.transform)]);
-            }
-        });
+        if (p.csg < 0) {
+            append_primitive(set, p, detail, -1, out);
+            continue;
+        }
+        // For now the leaves whole, tagged with their tree (PreviewMesh::csg).
+        const CsgRoot& r = set.csg.roots[static_cast<size_t>(p.csg)];
+        for (uint32_t l = r.first_leaf; l < r.first_leaf + r.leaf_count; ++l)
+            append_primitive(set, set.csg.leaves[l].prim, detail, p.csg, out);
     }
     return out;
 }

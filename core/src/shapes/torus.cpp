@@ -36,34 +36,65 @@ double mul_add(double a, double b, double c) {
     return s + (pe + se);
 }
 
-// Newton's method kept inside the bracket [a, b] of a sign change of f (fa = f(a)), bisecting
-// when a step leaves it; f(x, &df) returns f and its derivative.
-// Stops after a Newton step below `tol` (its error is then of the order of the step squared)
-// or when the bracket is a few ulp wide. Starts from x0 when it lies inside the bracket, else
-// from the secant's root.
-template <class F>
-double bracketed_root(const F& f, double a, double b, double fa, double fb, double tol,
-                      double x0 = kNoSeed) {
-    double x = x0;
-    if (!(x > a && x < b)) x = fa != fb ? a + (b - a) * (fa / (fa - fb)) : 0.5 * (a + b);
-    if (!(x > a && x < b)) x = 0.5 * (a + b);
-    for (int i = 0; i < 80; ++i) {
-        double df = 0.0;
-        const double fx = f(x, &df);
-        if (fx == 0.0) return x;
-        ((fx < 0.0) == (fa < 0.0) ? a : b) = x;
-        const double xn = x - fx / df;
-        // Converged: a step below tol that stays in the closed bracket (x itself, now an end of
-        // the bracket, when the step rounds to nothing).
-        if (std::abs(xn - x) <= tol && xn >= a && xn <= b) return xn;
-        if (xn > a && xn < b) {
-            x = xn;
-        } else {
-            x = 0.5 * (a + b);
-            if (!(b - a > 4e-16 * (1.0 + std::abs(x)))) return x;
+// Brackets refined at once: at most 3 monotone pieces of the quartic, the convex or concave ones
+// split in two (f changes sign at most 4 times; more only by rounding, and then dropped).
+constexpr int kLanes = 6;
+
+// A bracket [a, b] of a sign change of a function g (ga = g(a), gb = g(b)) and the root's
+// estimate x (kNoSeed: none).
+struct Bracket {
+    double a, b, ga, gb, x;
+};
+
+// Newton's method (or a faster one) kept inside each bracket, bisecting when a step leaves it;
+// g(x, &step) returns g and the step to subtract from x (Newton's: g / g'). The brackets are
+// refined in lockstep: their iterations are independent, so the processor overlaps their square
+// roots and divisions. A bracket stops after a Newton step below `tol` (its error is then of the
+// order of the step squared) or when it is a few ulp wide. Starts from x when it lies inside the
+// bracket, else from the secant's root.
+template <class G>
+void bracketed_roots(const G& g, Bracket* br, int n, double tol) {
+    bool done[kLanes];
+    for (int i = 0; i < n; ++i) {
+        Bracket& k = br[i];
+        done[i] = false;
+        if (!(k.x > k.a && k.x < k.b))
+            k.x = k.ga != k.gb ? k.a + (k.b - k.a) * (k.ga / (k.ga - k.gb)) : 0.5 * (k.a + k.b);
+        if (!(k.x > k.a && k.x < k.b)) k.x = 0.5 * (k.a + k.b);
+    }
+    for (int it = 0, left = n; it < 80 && left > 0; ++it) {
+        for (int i = 0; i < n; ++i) {
+            if (done[i]) continue;
+            Bracket& k = br[i];
+            double step = 0.0;
+            const double gx = g(k.x, &step);
+            bool stop = gx == 0.0;
+            if (!stop) {
+                ((gx < 0.0) == (k.ga < 0.0) ? k.a : k.b) = k.x;
+                const double xn = k.x - step;
+                // Converged: a step below tol that stays in the closed bracket (x itself, now an
+                // end of the bracket, when the step rounds to nothing).
+                if (std::abs(xn - k.x) <= tol && xn >= k.a && xn <= k.b) {
+                    k.x = xn, stop = true;
+                } else if (xn > k.a && xn < k.b) {
+                    k.x = xn;
+                } else {
+                    k.x = 0.5 * (k.a + k.b);
+                    stop = !(k.b - k.a > 4e-16 * (1.0 + std::abs(k.x)));
+                }
+            }
+            if (stop) done[i] = true, --left;
         }
     }
-    return x;
+}
+
+// One bracket's root (x0: a seed, or kNoSeed).
+template <class G>
+double bracketed_root(const G& g, double a, double b, double ga, double gb, double tol,
+                      double x0 = kNoSeed) {
+    Bracket k{a, b, ga, gb, x0};
+    bracketed_roots(g, &k, 1, tol);
+    return k.x;
 }
 
 // The ray in the torus's frame, scaled by 1 / (R + r) and moved to its point nearest the centre:
@@ -80,13 +111,20 @@ struct TorusRay {
         const double dr = std::sqrt(q.x * q.x + q.z * q.z) - ring;
         return dr * dr + q.y * q.y - tube * tube;
     }
-    // f and df/dsigma.
-    double f(double s, double* df) const {
+    // f and Newton's step f / (df/dsigma) with one division (NaN on the axis, where f has no
+    // derivative: the caller then bisects).
+    double f(double s, double* step) const {
         const Vec3 q = p + s * e;
         const double rho = std::sqrt(q.x * q.x + q.z * q.z);
         const double dr = rho - ring;
-        *df = rho > 0.0 ? 2.0 * dr * (q.x * e.x + q.z * e.z) / rho + 2.0 * q.y * e.y : 0.0;
-        return dr * dr + q.y * q.y - tube * tube;
+        const double v = dr * dr + q.y * q.y - tube * tube;
+        *step = v * rho / (2.0 * dr * (q.x * e.x + q.z * e.z) + 2.0 * q.y * e.y * rho);
+        return v;
+    }
+    // rho^2 at sigma.
+    double rho2(double s) const {
+        const double x = p.x + s * e.x, z = p.z + s * e.z;
+        return x * x + z * z;
     }
 };
 
@@ -124,26 +162,148 @@ struct TorusQuartic {
     }
 };
 
-// The one crossing of f in the bracket [a, b] (fa = f(a), fb = f(b) of opposite signs) added to
-// h when it lies in t. Newton on Q, a polynomial (no square root), seeds Newton on f where R > r
-// (Q's sign is then that of f): f's Newton then only polishes, or where Q cancels corrects, it.
-void add_crossing(const TorusRay& r, const TorusQuartic& q, double a, double b, double fa,
-                  double fb, Interval t, ShapeHits& h) {
-    double x0 = kNoSeed;
+// The crossings of f in the brackets br[0, n) (ascending; f's signs at each one's ends opposite)
+// added to h when they lie in t. Newton on Q, a polynomial (no square root), seeds Newton on f
+// where R > r and Q's signs at the ends are f's: f's Newton then only polishes, or where Q
+// cancels corrects, it.
+void add_crossings(const TorusRay& r, const TorusQuartic& q, Bracket* br, int n, Interval t,
+                   ShapeHits& h) {
     if (r.ring > r.tube) {
-        double dqa = 0.0, dqb = 0.0, d2a = 0.0, d2b = 0.0;
-        const double qa = q.value(a, &dqa), qb = q.value(b, &dqb);
-        q.d1(a, &d2a), q.d1(b, &d2b);
-        // Start from a Newton step off the end where Q and Q'' agree in sign (Fourier's rule).
-        double xs = (qa < 0.0) == (d2a < 0.0) ? a - qa / dqa : b - qb / dqb;
-        auto quartic = [&](double s, double* dq) { return q.value(s, dq); };
-        if ((qa < 0.0) == (fa < 0.0) && (qb < 0.0) == (fb < 0.0) && qa != 0.0 && qb != 0.0)
-            x0 = bracketed_root(quartic, a, b, qa, qb, 1e-5, xs);
+        Bracket qb[kLanes];
+        int lane[kLanes], m = 0;
+        for (int i = 0; i < n; ++i) {
+            const Bracket& k = br[i];
+            double dqa = 0.0, dqb = 0.0, d2a = 0.0, d2b = 0.0;
+            const double qa = q.value(k.a, &dqa), qbv = q.value(k.b, &dqb);
+            q.d1(k.a, &d2a), q.d1(k.b, &d2b);
+            if ((qa < 0.0) != (k.ga < 0.0) || (qbv < 0.0) != (k.gb < 0.0) || qa == 0.0 ||
+                qbv == 0.0)
+                continue;
+            // Start from a Newton step off the end where Q and Q'' agree in sign (Fourier's rule).
+            const double xs = (qa < 0.0) == (d2a < 0.0) ? k.a - qa / dqa : k.b - qbv / dqb;
+            qb[m] = {k.a, k.b, qa, qbv, xs};
+            lane[m++] = i;
+        }
+        // Halley's steps 2 Q Q' / (2 Q'^2 - Q Q''), one division each: Q only seeds f's Newton.
+        auto halley = [&](double s, double* step) {
+            double dq = 0.0, d2 = 0.0;
+            const double v = q.value(s, &dq);
+            q.d1(s, &d2);
+            *step = 2.0 * v * dq / (2.0 * dq * dq - v * d2);
+            return v;
+        };
+        bracketed_roots(halley, qb, m, 1e-8);
+        for (int j = 0; j < m; ++j) br[lane[j]].x = qb[j].x;
     }
-    auto f = [&](double s, double* df) { return r.f(s, df); };
-    const double s = bracketed_root(f, a, b, fa, fb, 1e-10, x0);
-    const double th = r.t0 + s * r.scale;
-    if (t.contains(th) && (h.count == 0 || th > h.t[h.count - 1])) h.add(th, 0);
+    bracketed_roots([&](double s, double* step) { return r.f(s, step); }, br, n, 1e-10);
+    for (int i = 0; i < n; ++i) {
+        const double th = r.t0 + br[i].x * r.scale;
+        if (t.contains(th) && h.count < ShapeHits::kMax && (h.count == 0 || th > h.t[h.count - 1]))
+            h.add(th, 0);
+    }
+}
+
+// The line in the torus's frame (see TorusRay); false when it misses the bounding sphere.
+bool torus_ray(const Torus& tor, const Ray& ray, TorusRay& r, double& pp) {
+    const double dd = glm::dot(ray.d, ray.d), size = tor.ring + tor.tube;
+    if (!(dd > 0.0) || !(size > 0.0)) return false;
+    const double len = std::sqrt(dd), inv = 1.0 / size, inv_len = 1.0 / len;
+    r.ring = tor.ring * inv, r.tube = tor.tube * inv;
+    r.e = ray.d * inv_len;
+    r.scale = size * inv_len;
+    // q = o - c exactly as hi + lo, then p = q + t0 d with one rounding: p is accurate to its own
+    // size (at most R + r), not to the ray's distance.
+    Vec3 qh = ray.o - tor.centre, ql;
+    for (int i = 0; i < 3; ++i) {
+        const double bb = qh[i] - ray.o[i];
+        ql[i] = (ray.o[i] - (qh[i] - bb)) + (-tor.centre[i] - bb);
+    }
+    r.t0 = -glm::dot(qh, ray.d) / dd;
+    for (int i = 0; i < 3; ++i) r.p[i] = (mul_add(r.t0, ray.d[i], qh[i]) + ql[i]) * inv;
+    pp = glm::dot(r.p, r.p);
+    return pp < 1.0;
+}
+
+// The sigma range [lo, hi] to search: the bounding sphere's chord (pp = |p|^2), the interval t,
+// the slab |y| <= r and the outer cylinder rho <= R + r, each widened by rounding margins. False
+// when it is empty or lies in the hole's cylinder rho < R - r (rho^2 is convex in sigma).
+bool sigma_range(const TorusRay& r, double pp, Interval t, double& lo, double& hi) {
+    const double w = std::sqrt(1.0 - pp) + 1e-12;
+    lo = std::max(-w, (t.lo - r.t0) / r.scale), hi = std::min(w, (t.hi - r.t0) / r.scale);
+    const double slab = r.tube * (1.0 + 1e-12);
+    if (r.e.y != 0.0) {
+        const double inv = 1.0 / r.e.y, a = (-slab - r.p.y) * inv, b = (slab - r.p.y) * inv;
+        lo = std::max(lo, std::min(a, b)), hi = std::min(hi, std::max(a, b));
+    } else if (std::abs(r.p.y) > slab) {
+        return false;
+    }
+    if (!(lo < hi)) return false;
+    // The cylinder: exz s^2 + 2 bxz s + pxz <= 1 (a miss when its discriminant is negative, or
+    // for a vertical line outside it).
+    const Vec3& p = r.p;
+    const Vec3& e = r.e;
+    const double exz = e.x * e.x + e.z * e.z, bxz = p.x * e.x + p.z * e.z;
+    const double c = p.x * p.x + p.z * p.z - (1.0 + 1e-12);
+    if (bxz * bxz - exz * c < 0.0 || (exz == 0.0 && c > 0.0)) return false;
+    if (r.ring > r.tube) {
+        const double hole = (r.ring - r.tube) * (r.ring - r.tube) - 1e-12;
+        if (r.rho2(lo) < hole && r.rho2(hi) < hole) return false;
+    }
+    return true;
+}
+
+// The critical point of Q in [a, b], where Q is convex or concave (Q' = da, db at the ends):
+// first roughly, then exactly when f's sign there does not split the piece's crossings.
+double critical_point(const TorusQuartic& q, double a, double b, double da, double db) {
+    auto d1 = [&](double s, double* step) {
+        double d2 = 0.0;
+        const double v = q.d1(s, &d2);
+        *step = v / d2;
+        return v;
+    };
+    double d2a = 0.0, d2b = 0.0;
+    q.d1(a, &d2a), q.d1(b, &d2b);
+    const double d3a = 24.0 * q.c[4] * a + 6.0 * q.c[3];  // Fourier's rule, as for Q
+    const double xs = (da < 0.0) == (d3a < 0.0) ? a - da / d2a : b - db / d2b;
+    return bracketed_root(d1, a, b, da, db, 1e-9, xs);
+}
+
+// The brackets of f's crossings in [lo, hi], ascending. The quartic
+// (|P|^2 + R^2 - r^2)^2 - 4 R^2 (P_x^2 + P_z^2) in sigma: its critical points (roots of the cubic
+// Q', bracketed by the roots of Q'') split [lo, hi] into pieces where it is monotone, with at
+// most one root each. A piece holds a crossing of the torus when f, not the quartic, changes sign
+// over it: f is accurate where the quartic cancels (thin tori, grazing rays), and the lemon roots
+// of a spindle torus, where f keeps its sign, drop out.
+int torus_brackets(const TorusRay& r, const TorusQuartic& q, double lo, double hi, Bracket* br) {
+    const double exz = r.e.x * r.e.x + r.e.z * r.e.z;
+    const double s_axis = exz > 0.0 ? -(r.p.x * r.e.x + r.p.z * r.e.z) / exz : 0.5 * (lo + hi);
+    double bnd[4];
+    int nb = 0, n = 0;
+    bnd[nb++] = lo;
+    nb += quadratic_roots(12.0 * q.c[4], 6.0 * q.c[3], 2.0 * q.c[2], lo, hi, bnd + 1);
+    bnd[nb++] = hi;
+    double fv[4], dv[4], dummy = 0.0;
+    for (int i = 0; i < nb; ++i) fv[i] = r.f(bnd[i]), dv[i] = q.d1(bnd[i], &dummy);
+    for (int i = 1; i < nb && n + 2 <= kLanes; ++i) {
+        const double a = bnd[i - 1], bb = bnd[i], fa = fv[i - 1], fb = fv[i];
+        const double da = dv[i - 1], db = dv[i];
+        if ((fa < 0.0) != (fb < 0.0)) {
+            br[n++] = {a, bb, fa, fb, kNoSeed};
+        } else if ((da < 0.0) != (db < 0.0) && da != 0.0 && db != 0.0) {
+            // Q is convex or concave here (no inflection inside): 0 or 2 crossings, split by its
+            // critical point c. Any split point where f changes sign brackets both: the first try
+            // is the ray's point nearest the axis (in the hole when the ray passes through it
+            // between two chords); only when it fails is c found, as its sign then decides.
+            double c = s_axis > a && s_axis < bb ? s_axis : 0.5 * (a + bb);
+            double fc = r.f(c);
+            if ((fc < 0.0) == (fa < 0.0)) c = critical_point(q, a, bb, da, db), fc = r.f(c);
+            if ((fc < 0.0) != (fa < 0.0)) {
+                br[n++] = {a, c, fa, fc, kNoSeed};
+                br[n++] = {c, bb, fc, fb, kNoSeed};
+            }
+        }
+    }
+    return n;
 }
 
 }  // namespace
@@ -166,83 +326,21 @@ Bounds3 bounds(const Torus& t, const Mat4& m) {
 
 ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t) {
     ShapeHits h;
-    const double dd = glm::dot(ray.d, ray.d), size = tor.ring + tor.tube;
-    if (!(dd > 0.0) || !(size > 0.0)) return h;
     TorusRay r;
-    r.ring = tor.ring / size, r.tube = tor.tube / size;
-    const double len = std::sqrt(dd), inv = 1.0 / size;
-    r.e = ray.d / len;
-    r.scale = size / len;
-    // q = o - c exactly as hi + lo, then p = q + t0 d with one rounding: p is accurate to its own
-    // size (at most R + r), not to the ray's distance.
-    Vec3 qh = ray.o - tor.centre, ql;
-    for (int i = 0; i < 3; ++i) {
-        const double bb = qh[i] - ray.o[i];
-        ql[i] = (ray.o[i] - (qh[i] - bb)) + (-tor.centre[i] - bb);
-    }
-    r.t0 = -glm::dot(qh, ray.d) / dd;
-    for (int i = 0; i < 3; ++i) r.p[i] = (mul_add(r.t0, ray.d[i], qh[i]) + ql[i]) * inv;
-    const double pp = glm::dot(r.p, r.p);
-    if (!(pp < 1.0)) return h;  // the line misses the bounding sphere
-    // sigma range: the bounding sphere's chord, the slab |y| <= r and the interval.
-    const double w = std::sqrt(1.0 - pp) + 1e-12;
-    double lo = std::max(-w, (t.lo - r.t0) / r.scale), hi = std::min(w, (t.hi - r.t0) / r.scale);
-    const double slab = r.tube * (1.0 + 1e-12);
-    if (r.e.y != 0.0) {
-        double a = (-slab - r.p.y) / r.e.y, b = (slab - r.p.y) / r.e.y;
-        if (a > b) std::swap(a, b);
-        lo = std::max(lo, a), hi = std::min(hi, b);
-    } else if (std::abs(r.p.y) > slab) {
-        return h;
-    }
-    if (!(lo < hi)) return h;
-    // The quartic (|P|^2 + R^2 - r^2)^2 - 4 R^2 (P_x^2 + P_z^2) in sigma: its critical points
-    // (roots of the cubic Q', bracketed by the roots of Q'') split [lo, hi] into pieces where it
-    // is monotone, with at most one root each. A piece holds a crossing of the torus when f, not
-    // the quartic, changes sign over it: f is accurate where the quartic cancels (thin tori,
-    // grazing rays), and the lemon roots of a spindle torus, where f keeps its sign, drop out.
+    double pp = 0.0, lo = 0.0, hi = 0.0;
+    if (!torus_ray(tor, ray, r, pp) || !sigma_range(r, pp, t, lo, hi)) return h;
     const Vec3& p = r.p;
     const Vec3& e = r.e;
     const double R2 = r.ring * r.ring, ee = glm::dot(e, e), b = glm::dot(p, e);
     const double k = pp + R2 - r.tube * r.tube;
     const double exz = e.x * e.x + e.z * e.z, bxz = p.x * e.x + p.z * e.z;
     const double c4 = ee * ee, c3 = 4.0 * ee * b, c2 = 4.0 * b * b + 2.0 * ee * k - 4.0 * R2 * exz;
-    const double c1 = 4.0 * b * k - 8.0 * R2 * bxz;  // (c0, the value, seeds the roots)
+    const double c1 = 4.0 * b * k - 8.0 * R2 * bxz;
     const double c0 = k * k - 4.0 * R2 * (p.x * p.x + p.z * p.z);
     const TorusQuartic q{{c0, c1, c2, c3, c4}};
-    double bnd[4];
-    int nb = 0;
-    bnd[nb++] = lo;
-    nb += quadratic_roots(12.0 * c4, 6.0 * c3, 2.0 * c2, lo, hi, bnd + 1);
-    bnd[nb++] = hi;
-    double dummy = 0.0, fa = r.f(lo), da = q.d1(lo, &dummy);
-    for (int i = 1; i < nb; ++i) {
-        const double a = bnd[i - 1], bb = bnd[i];
-        const double fb = r.f(bb), db = q.d1(bb, &dummy);
-        if ((fa < 0.0) != (fb < 0.0)) {
-            add_crossing(r, q, a, bb, fa, fb, t, h);
-        } else if ((da < 0.0) != (db < 0.0) && da != 0.0 && db != 0.0) {
-            // Q is convex or concave here (no inflection inside): 0 or 2 crossings, split by its
-            // critical point c. Any split point where f changes sign brackets both; only when a
-            // rough c does not is c found exactly, as its sign then decides.
-            auto d1 = [&](double s, double* d2) { return q.d1(s, d2); };
-            double d2a = 0.0, d2b = 0.0;
-            q.d1(a, &d2a), q.d1(bb, &d2b);
-            const double d3a = 24.0 * q.c[4] * a + 6.0 * q.c[3];  // Fourier's rule, as for Q
-            const double xs = (da < 0.0) == (d3a < 0.0) ? a - da / d2a : bb - db / d2b;
-            double c = bracketed_root(d1, a, bb, da, db, 3e-2, xs);
-            double fc = r.f(c);
-            if ((fc < 0.0) == (fa < 0.0)) {
-                c = bracketed_root(d1, a, bb, da, db, 1e-9, c);
-                fc = r.f(c);
-            }
-            if ((fc < 0.0) != (fa < 0.0)) {
-                add_crossing(r, q, a, c, fa, fc, t, h);
-                add_crossing(r, q, c, bb, fc, fb, t, h);
-            }
-        }
-        fa = fb, da = db;
-    }
+    Bracket br[kLanes];
+    const int n = torus_brackets(r, q, lo, hi, br);
+    add_crossings(r, q, br, n, t, h);
     return h;
 }
 
@@ -303,6 +401,16 @@ PreviewMesh tessellate(const Torus& t, int detail) {
         });
     }
     return std::move(b.mesh);
+}
+
+// The CSG sign function and tolerance of spec §13.8 (kept apart from the intersection code).
+double csg_sign(const Torus& t, const Vec3& p_object) {
+    const Vec3 q = p_object - t.centre;
+    return std::hypot(std::hypot(q.x, q.z) - t.ring, q.y) - t.tube;
+}
+
+double csg_epsilon(const Torus& t) {
+    return kCsgTolerance * (glm::length(t.centre) + t.ring + t.tube);
 }
 
 }  // namespace rt

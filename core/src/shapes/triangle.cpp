@@ -105,4 +105,8 @@ void tessellate(const Triangle& t, const TriangleAttribs& a, PreviewMesh& out) {
     out.indices.insert(out.indices.end(), {first, first + 1, first + 2});
 }
 
+double csg_sign(const Triangle& /*t*/, const Vec3& /*p_object*/) { return kInf; }
+
+double csg_epsilon(const Triangle& /*t*/) { return 0.0; }
+
 }  // namespace rt

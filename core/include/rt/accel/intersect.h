@@ -11,7 +11,9 @@ struct Hit {
     double t = kInf;
     int instance = -1;
     uint32_t prim = 0;
-    int part = 0;
+    int part = 0;   // the shape's surface piece (ShapeHits::part)
+    int leaf = -1;  // a CSG primitive's hit: the leaf hit (GeometrySet::csg.leaves), whose
+                    // shape, part, material and transform interaction() uses
 };
 
 /// What shading needs at a hit, in world space.
@@ -36,12 +38,13 @@ bool intersect_brute_force(const RenderScene& scene, const Ray& ray, Interval t,
 bool occluded(const RenderScene& scene, const Ray& ray, double t_max);
 
 /// Every hit of one primitive of a set, for a ray in the set's frame (the benchmark uses it to
-/// give Embree the same analytic shapes).
+/// give Embree the same analytic shapes); a CSG primitive: its nearest valid hit.
 ShapeHits intersect_primitive(const GeometrySet& set, uint32_t prim, const Ray& ray_set,
                               Interval t);
 
 /// Product of the transparencies T of every surface crossing on (0, t_max); zero as soon as an
-/// opaque surface is met (spec §7.2). A closed transparent object counts twice.
+/// opaque surface is met (spec §7.2). A closed transparent object counts twice. A CSG node's
+/// crossings count where the node keeps the surface (spec §13.8), with the leaf's T.
 Vec3 transmittance(const RenderScene& scene, const Ray& ray, double t_max);
 
 SurfaceInteraction interaction(const RenderScene& scene, const Ray& ray, const Hit& hit,

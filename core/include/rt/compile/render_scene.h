@@ -42,11 +42,64 @@ struct Light {
 
 /// One primitive of a set: its kind, its index in the kind's array, its material and, for the
 /// analytic shapes, the transform from the shape's frame to the set's frame (-1: identity).
+///
+/// A CSG node (spec §13.8) is one primitive too: csg >= 0 is its index into the set's
+/// CsgArrays::roots, and its surfaces are those of its leaves that the node accepts. Never
+/// visit_shape() such a primitive: its kind, index, material and transform are those of one of
+/// its leaves, the first analytic one if any (so a walk that forgets the test still reads a real
+/// shape, not past an array), which is not what it is. Only Mixed-layout sets hold CSG
+/// primitives.
 struct Primitive {
     ShapeKind kind = ShapeKind::Sphere;
     uint32_t index = 0;
     int material = 0;
     int transform = -1;
+    int csg = -1;
+};
+
+/// The nodes of a compiled CSG tree. Transforms, lists and instances inside a CSG node are
+/// flattened: each leaf carries its set_from_leaf transform, and a list or an instance's root
+/// list becomes a List node (the union of surfaces that filters nothing).
+enum class CsgNodeKind : uint8_t { Leaf, Union, Intersection, Difference, List, Empty };
+
+struct CsgNode {
+    CsgNodeKind kind = CsgNodeKind::Empty;
+    uint32_t first = 0;  // Leaf: index into CsgArrays::leaves; else first of CsgArrays::children
+    uint32_t count = 0;  // children (a Difference has two: A then B)
+    int parent = -1;     // -1: the root of its tree
+    uint32_t subtree_first = 0;  // post-order: the node's subtree is nodes [subtree_first, self]
+    Bounds3 bounds;              // in the set's frame (spec §13.8's informative rule)
+};
+
+/// A shape under a CSG node: an ordinary primitive of the set's shape arrays (csg == -1) with
+/// its material and set_from_leaf transform, not in the set's BVH.
+struct CsgLeaf {
+    Primitive prim;
+    uint32_t node = 0;    // its Leaf node
+    int root = 0;         // index into CsgArrays::roots
+    bool flip = false;    // inside the second operand of an odd number of differences
+    double epsilon = 0.;  // the inside test's tolerance in the leaf's frame (spec §13.8)
+};
+
+struct CsgRoot {
+    uint32_t node = 0;  // the root node (last of its tree's nodes)
+    uint32_t first_leaf = 0, leaf_count = 0;
+};
+
+/// The CSG trees of a set: each tree's nodes in post-order (children before their parent).
+struct CsgArrays {
+    std::vector<CsgNode> nodes;
+    std::vector<uint32_t> children;
+    std::vector<CsgLeaf> leaves;
+    std::vector<CsgRoot> roots;
+    /// Operation nodes (union, intersection, difference), as the plan counts them.
+    size_t operations() const {
+        size_t n = 0;
+        for (const CsgNode& nd : nodes)
+            n += nd.kind == CsgNodeKind::Union || nd.kind == CsgNodeKind::Intersection ||
+                 nd.kind == CsgNodeKind::Difference;
+        return n;
+    }
 };
 
 /// How a set's leaves are walked (intersect.cpp): one shape kind tested without a dispatch, the
@@ -66,6 +119,7 @@ struct GeometrySet {
     std::vector<Transform> transforms;    // set_from_shape for analytic shapes under groups
     std::vector<Bounds3> prim_bounds;     // in the set's frame
     Bvh bvh;                              // primitives are stored in its leaf order
+    CsgArrays csg;                        // the trees of the CSG primitives (csg >= 0)
     SetLayout layout = SetLayout::Mixed;  // the kinds of prims; Triangles: prims[i] is triangles[i]
 };
 

@@ -10,9 +10,13 @@
 
 namespace rt {
 
-/// The top-level file of `desc` as .ray text. Paths of textures and included files are written
-/// as resolved (absolute when `absolute_paths`), so the text can be saved anywhere. Joints are
-/// written as groups with their frame-0 matrices.
+/// The top-level file of `desc` as .ray text in its dialect. Paths of textures and included files
+/// are written as resolved (absolute when `absolute_paths`), so the text can be saved anywhere.
+/// V0/V1: joints are written as groups with their frame-0 matrices; a V3-only feature (torus,
+/// CSG node, sphere light, a light with an ambient colour or diffuse != specular, #shader) is a
+/// SceneError naming it. V3 (spec §13): the global, local and shapes parts, key files and
+/// #dynamic_affine NAME for joints; every list the parser folds (scene_desc.h) is written so that
+/// it folds back the same way, an empty CSG operand as an empty #shape_list_begin/_end.
 std::string write_scene(const SceneDesc& desc, bool absolute_paths = true);
 
 }  // namespace rt

@@ -162,10 +162,11 @@ struct TriangleAttribs {
 
 /// The hits of a shape inside an interval, nearest first: up to two for the convex shapes, up
 /// to four for the torus. `part` tells which surface piece was hit (box face, cylinder side or
-/// cap, ...), for surface_at.
+/// cap, ...), for surface_at. The hits of a CSG primitive are on one of its leaves (`leaf`).
 struct ShapeHits {
     static constexpr int kMax = 4;
     int count = 0;
+    int leaf = -1;  // hits of a CSG primitive: the leaf (GeometrySet::csg.leaves) they are on
     double t[kMax] = {0.0, 0.0, 0.0, 0.0};
     int part[kMax] = {0, 0, 0, 0};
     void add(double tt, int p) {
@@ -236,6 +237,24 @@ bool inside(const Cone& c, const Vec3& p_object);
 bool inside(const Triangle& t, const Vec3& p_object);
 bool inside(const Torus& t, const Vec3& p_object);
 
+/// The CSG inside test (spec §13.8): the sign function s of the point in the shape's frame
+/// (negative inside, zero on the surface, positive outside; +inf for a triangle, which is never
+/// inside) and the tolerance epsilon = 1e-9 (|c| + size). Strictly inside: s < -epsilon;
+/// inside or on: s <= epsilon.
+double csg_sign(const Sphere& s, const Vec3& p_object);
+double csg_sign(const Box& b, const Vec3& p_object);
+double csg_sign(const Cylinder& c, const Vec3& p_object);
+double csg_sign(const Cone& c, const Vec3& p_object);
+double csg_sign(const Triangle& t, const Vec3& p_object);
+double csg_sign(const Torus& t, const Vec3& p_object);
+double csg_epsilon(const Sphere& s);
+double csg_epsilon(const Box& b);
+double csg_epsilon(const Cylinder& c);
+double csg_epsilon(const Cone& c);
+double csg_epsilon(const Triangle& t);
+double csg_epsilon(const Torus& t);
+inline constexpr double kCsgTolerance = 1e-9;
+
 /// A triangle mesh for the viewer's rasterized preview. Positions, outward normals and texture
 /// coordinates follow spec §5, so the preview and the trace agree; no GL here, the viewer
 /// uploads these arrays.
@@ -245,6 +264,10 @@ struct PreviewMesh {
     std::vector<Vec2> uvs;
     std::vector<uint32_t> indices;  // three per triangle
     std::vector<int> materials;     // one per triangle: index into RenderScene::materials
+    /// One per triangle, or empty when no triangle belongs to a CSG node: the CSG tree
+    /// (GeometrySet::csg.roots) whose leaf the triangle tessellates, -1 for none. The leaves
+    /// are tessellated whole; the CSG filtering is the viewer's.
+    std::vector<int> csg;
 
     size_t triangle_count() const { return indices.size() / 3; }
     /// Appends `other` with every vertex mapped by `xf` (points by M, normals by (A^-1)^T).
