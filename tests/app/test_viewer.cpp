@@ -3,6 +3,7 @@
 // described.
 #include <chrono>
 #include <thread>
+#include <variant>
 
 #include "rt/format/parser.h"
 #include "rt/util/file_io.h"
@@ -159,6 +160,38 @@ TEST(Viewer, MissingTexturesOpenWithCheckerStandIns) {
     ViewerState refused(path, false);
     EXPECT_FALSE(refused.loaded);
     EXPECT_EQ(refused.checker_offer, path);
+}
+
+// A V3 scene saves as V3 (the writer's syntax), with the viewer's three-colour and radius edits.
+TEST(Viewer, AV3SceneSavesAsV3WithItsEdits) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_v3.ray";
+    write_file_atomic(
+        path,
+        "#camera 0 2 6  0 -0.3 -1  0 1 0  0.5\n"
+        "#light_sphere 0.1 0.1 0.1  1 1 1  1 1 1  2 3 3  0.5  1 0 0\n"
+        "#material 0 0 0  0.5 0.5 0.5  0.6 0.5 0.4  0.3 0.3 0.3  20  0 0 0  1  -1 !!\n"
+        "#shape_torus 0  0 0 0  0.4 1.2\n");
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_EQ(v.loaded->desc.dialect, Dialect::V3);
+    LightDesc& l = v.edits.lights[0];
+    ASSERT_EQ(l.kind, LightKind::Sphere);
+    l.ambient = Vec3(0.2, 0.3, 0.4);
+    l.specular = Vec3(0, 1, 0);
+    l.radius = 0.8;
+    const std::string saved = ::testing::TempDir() + "rt_viewer_v3_saved.ray";
+    v.save_scene(saved);
+    Diagnostics diag;
+    const SceneDesc d = parse_scene_file(saved, diag);
+    EXPECT_EQ(d.dialect, Dialect::V3);
+    ASSERT_EQ(d.lights.size(), 1u);
+    EXPECT_EQ(d.lights[0].kind, LightKind::Sphere);
+    EXPECT_VEC_NEAR(d.lights[0].ambient, Vec3(0.2, 0.3, 0.4), 1e-12);
+    EXPECT_VEC_NEAR(d.lights[0].diffuse, Vec3(1.0), 1e-12);
+    EXPECT_VEC_NEAR(d.lights[0].specular, Vec3(0, 1, 0), 1e-12);
+    EXPECT_NEAR(d.lights[0].radius, 0.8, 1e-12);
+    ASSERT_EQ(d.files[0].root.shapes.size(), 1u);
+    EXPECT_TRUE(std::holds_alternative<Torus>(d.files[0].root.shapes[0].geometry));
 }
 
 }  // namespace
