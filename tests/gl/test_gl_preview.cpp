@@ -169,6 +169,55 @@ TEST(GlPreview, ToriAgreeWithTheTrace) {
     EXPECT_GE(c.colour_match, 0.85);
 }
 
+GroupDesc list_of(std::vector<Shape> shapes, int material = 0) {
+    GroupDesc g;
+    for (const Shape& s : shapes) {
+        g.shapes.push_back(shape(s));
+        g.shapes.back().material = material;
+    }
+    return g;
+}
+
+CsgDesc csg_node(CsgOp op, std::vector<GroupDesc> operands) {
+    CsgDesc c;
+    c.op = op;
+    c.operands = std::move(operands);
+    return c;
+}
+
+// CSG (spec §13.8) in the preview against the trace: the lens of _lens.ray (two spheres and a
+// cylinder intersected), a ring (a cylinder minus a thinner, taller one: B's inner wall shows),
+// a box minus a sphere (a spherical dent), a union of two boxes and a sphere under a transform.
+TEST(GlPreview, CsgAgreesWithTheTrace) {
+    SceneDesc desc = test::parse(std::string("#camera 0 3.2 5.5  0 -0.5 -1  0 1 0  0.5\n"
+                                             "#background 0.1 0.1 0.1\n#ambient .3 .3 .3\n"
+                                             "#light_point 1 1 1  3 4 5  1 0 0.01\n"
+                                             "#light_dir .4 .4 .4  -1 -1 -1\n") +
+                                 kMaterials);
+    desc.dialect = Dialect::V3;
+    GroupDesc& root = desc.files[0].root;
+    // Operands: one child each, a list of one shape.
+    auto one = [](const Shape& s, int m = 0) { return list_of({s}, m); };
+    root.csgs.push_back(csg_node(CsgOp::Intersection, {one(Sphere{Vec3(0, -0.95, 0), 1.5}),
+                                                       one(Sphere{Vec3(0, 0.95, 0), 1.5}),
+                                                       one(Cylinder{Vec3(0.0), 1.0, 2.0})}));
+    root.csgs.push_back(csg_node(CsgOp::Difference, {one(Cylinder{Vec3(0.0), 1.4, 0.3}, 1),
+                                                     one(Cylinder{Vec3(0.0), 1.1, 1.0}, 1)}));
+    root.csgs.push_back(csg_node(CsgOp::Difference, {one(Box{Vec3(-2.6, 0, 0), Vec3(0.6)}, 1),
+                                                     one(Sphere{Vec3(-2.6, 0.6, 0.6), 0.7})}));
+    GroupDesc moved = one(Sphere{Vec3(0.0), 0.6});
+    moved.matrix[3] = glm::dvec4(2.6, 0.4, 0, 1);
+    GroupDesc wrapped;
+    wrapped.groups.push_back(moved);
+    root.csgs.push_back(
+        csg_node(CsgOp::Union, {one(Box{Vec3(2.6, -0.3, 0), Vec3(0.5, 0.3, 0.7)}, 1), wrapped}));
+    const RenderScene scene = compile_scene(desc);
+    const Comparison c = compare(scene);
+    EXPECT_GE(c.iou, 0.98);
+    EXPECT_GE(c.colour_match, 0.85);
+    EXPECT_GT(c.covered, kW * kH / 10);  // the trace draws the CSG nodes
+}
+
 TEST(GlPreview, PublicAndOwnScenesAgreeWithTheTrace) {
     for (const char* name : {"shapes.ray", "groups.ray", "lights.ray", "textures.ray"}) {
         const std::string path = std::string(RT_SOURCE_DIR) + "/scenes/" + name;
