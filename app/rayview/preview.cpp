@@ -82,6 +82,8 @@ Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
                  "RT_SHADOWS", "RT_CSG"});
     m_line_program = make_program(shader_dir, "lines.vert", "lines.frag");
     m_shadow_program = make_program(shader_dir, "preview.vert", "shadow.frag");
+    m_shadow_csg_program =
+        make_program(shader_dir, "preview.vert", "shadow.frag", {"RT_CSG"}, "csg.frag");
     m_line_vao = GlVertexArray::make();
     m_line_vbo = GlBuffer::make();
 }
@@ -89,7 +91,9 @@ Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
 unsigned Preview::program_for(const std::vector<std::string>& defines) {
     const auto it = m_programs.find(defines);
     if (it != m_programs.end()) return it->second.id();
-    GlProgram program = make_program(m_shader_dir, "preview.vert", "preview.frag", defines);
+    const bool csg = std::find(defines.begin(), defines.end(), "RT_CSG") != defines.end();
+    GlProgram program =
+        make_program(m_shader_dir, "preview.vert", "preview.frag", defines, csg ? "csg.frag" : "");
     const unsigned id = program.id();
     m_programs.emplace(defines, std::move(program));
     return id;
@@ -284,13 +288,17 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
     glViewport(0, 0, kShadowResolution, kShadowResolution);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    glUseProgram(m_shadow_program.id());
+    const GlProgram& shadow_program = m_csg ? m_shadow_csg_program : m_shadow_program;
+    const unsigned sp = shadow_program.id();
+    glUseProgram(sp);
+    glUniform1i(loc(sp, "u_csg"), 2);
+    glVertexAttrib1f(3, -1.0f);  // the leaf of vertices of sets without CSG: none
     for (const ShadowView& v : views) {
         if (v.layer < 0) continue;
         const bool radial = v.kind != LightKind::Directional;
-        glUniform1i(loc(m_shadow_program.id(), "u_radial"), radial ? 1 : 0);
-        set_vec3(m_shadow_program.id(), "u_light_position", v.position);
-        glUniform1f(loc(m_shadow_program.id(), "u_far"), static_cast<float>(v.scale));
+        glUniform1i(loc(sp, "u_radial"), radial ? 1 : 0);
+        set_vec3(sp, "u_light_position", v.position);
+        glUniform1f(loc(sp, "u_far"), static_cast<float>(v.scale));
         for (int face = 0; face < (radial ? 6 : 1); ++face) {
             glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, m_shadow_tex.id(), 0,
                                       v.layer + face);
@@ -304,8 +312,7 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
                 c.up = kFaceUp[face];
                 c.tan_w = c.tan_h = 1.0;
                 const GlMatrices m = camera_matrices(c, w);
-                glUniformMatrix4fv(loc(m_shadow_program.id(), "u_clip_from_world"), 1, GL_FALSE,
-                                   m.clip_from_world);
+                glUniformMatrix4fv(loc(sp, "u_clip_from_world"), 1, GL_FALSE, m.clip_from_world);
             } else {
                 // Orthographic along the direction of travel over the scene's bounding sphere.
                 double m[4][4] = {};
@@ -315,9 +322,9 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
                     m[r][3] = -glm::dot(axes[r], v.centre) / v.scale;
                 }
                 m[3][3] = 1.0;
-                set_matrix(m_shadow_program.id(), "u_clip_from_world", m);
+                set_matrix(sp, "u_clip_from_world", m);
             }
-            draw_instances(scene, m_shadow_program.id(), true);
+            draw_instances(scene, sp, true);
         }
     }
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));  // draw buffers are
@@ -339,7 +346,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
         const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
         if (!buf.vao) continue;
         glBindVertexArray(buf.vao.id());
-        if (shading && buf.csg_texture) {
+        if (buf.csg_texture) {
             glActiveTexture(GL_TEXTURE2);
             glBindTexture(GL_TEXTURE_BUFFER, buf.csg_texture.id());
             glActiveTexture(GL_TEXTURE0);

@@ -85,7 +85,7 @@ private:
     std::map<std::vector<std::string>, GlProgram> m_programs;  // by defines
     std::vector<std::string> m_defines;
     size_t m_uploaded_floats = 0;
-    GlProgram m_shadow_program;
+    GlProgram m_shadow_program, m_shadow_csg_program;  // without and with RT_CSG
     GlFramebuffer m_shadow_fbo;
     GlTexture m_shadow_tex;
     int m_shadow_layers = 0;

@@ -375,6 +375,43 @@ TEST(GlPreview, GroupBoxesIncludeCsgNodes) {
     EXPECT_EQ(view::group_box_lines(desc, 8).size(), 6u * 24);
 }
 
+// Where shadows darken the preview (shadow maps) and the trace (shadow rays): the intersection
+// over union of the darkened pixels, the trace's count, and the defines the preview used.
+struct ShadowAgreement {
+    double iou = 0;
+    int in_trace = 0;
+    std::vector<std::string> defines;
+};
+
+ShadowAgreement shadow_agreement(const RenderScene& scene) {
+    Offscreen gl;
+    EXPECT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 96);
+    const Camera cam = make_camera(scene, kW, kH);
+    preview.draw(scene, plan_for(scene, false), cam, kW, kH);
+    glFinish();
+    const std::vector<unsigned char> lit = gl.rgba;
+    preview.draw(scene, plan_for(scene, true), cam, kW, kH);
+    glFinish();
+    ShadowAgreement out;
+    out.defines = preview.active_defines();
+    const Image on = test::render(scene, kW, kH, 1, 0.001, true);
+    const Image off = test::render(scene, kW, kH, 1, 0.001, false);
+    int both = 0, either = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const size_t i = (static_cast<size_t>(kH - 1 - y) * kW + x) * 4;
+            const bool preview_dark = lit[i] - gl.rgba[i] > 20;
+            const bool trace_dark = to_byte(off.at(x, y).x) - to_byte(on.at(x, y).x) > 20;
+            both += preview_dark && trace_dark;
+            either += preview_dark || trace_dark;
+            out.in_trace += trace_dark;
+        }
+    out.iou = either ? static_cast<double>(both) / either : 1.0;
+    return out;
+}
+
 // Shadows: the pixels that shadows darken in the preview (shadow maps) and in the trace (shadow
 // rays) agree, for each light kind, and the program is compiled for that kind only.
 TEST(GlPreview, ShadowsAgreeWithTheTrace) {
@@ -393,36 +430,28 @@ TEST(GlPreview, ShadowsAgreeWithTheTrace) {
     };
     for (const auto& c : cases) {
         const RenderScene scene = test::compile(c.light + geometry);
-        Offscreen gl;
-        ASSERT_NE(gl.ctx, nullptr);
-        view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
-        preview.load(scene, 96);
-        const Camera cam = make_camera(scene, kW, kH);
-        preview.draw(scene, plan_for(scene, false), cam, kW, kH);
-        glFinish();
-        const std::vector<unsigned char> lit = gl.rgba;
-        preview.draw(scene, plan_for(scene, true), cam, kW, kH);
-        glFinish();
-        const std::vector<std::string>& defines = preview.active_defines();
-        EXPECT_NE(std::find(defines.begin(), defines.end(), "RT_SHADOWS"), defines.end());
-        EXPECT_EQ(defines.front(), c.define) << "only the scene's light kind";
-        EXPECT_EQ(defines.size(), 2u);  // the light kind and shadows: no texture, no highlight
-        const Image on = test::render(scene, kW, kH, 1, 0.001, true);
-        const Image off = test::render(scene, kW, kH, 1, 0.001, false);
-        int both = 0, either = 0, in_trace = 0;
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
-                const size_t i = (static_cast<size_t>(kH - 1 - y) * kW + x) * 4;
-                const bool preview_dark = lit[i] - gl.rgba[i] > 20;
-                const bool trace_dark = to_byte(off.at(x, y).x) - to_byte(on.at(x, y).x) > 20;
-                both += preview_dark && trace_dark;
-                either += preview_dark || trace_dark;
-                in_trace += trace_dark;
-            }
-        EXPECT_GT(in_trace, kW * kH / 200) << c.light;  // the scene does cast shadows
+        const ShadowAgreement a = shadow_agreement(scene);
+        EXPECT_NE(std::find(a.defines.begin(), a.defines.end(), "RT_SHADOWS"), a.defines.end());
+        EXPECT_EQ(a.defines.front(), c.define) << "only the scene's light kind";
+        EXPECT_EQ(a.defines.size(), 2u);  // the light kind and shadows: no texture, no highlight
+        EXPECT_GT(a.in_trace, kW * kH / 200) << c.light;  // the scene does cast shadows
         // Shadow edges differ by a texel or so of the maps and by the tessellation.
-        EXPECT_GE(static_cast<double>(both) / either, 0.9) << c.light;
+        EXPECT_GE(a.iou, 0.9) << c.light;
     }
+}
+
+// A CSG node casts the shadow of its valid surfaces only: light passes through the hole that a
+// cylinder drills through a box.
+TEST(GlPreview, CsgShadowsAgreeWithTheTrace) {
+    const RenderScene scene = test::compile(
+        "#camera 0 4 9  0 -0.45 -1  0 1 0  0.5\n"
+        "#light_dir 0 0 0  1 1 1  0 0 0  -0.1 -1 -0.05\n"
+        "#material 0 0 0  .2 .2 .2  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !m!\n"
+        "#shape_box 0  0 -1 0  10 0.2 10\n"
+        "#shape_difference\n  #shape_box 0  0 1 0  2 2 2\n  #shape_cylinder 0  0 1 0  0.7 3\n");
+    const ShadowAgreement a = shadow_agreement(scene);
+    EXPECT_GT(a.in_trace, kW * kH / 200);
+    EXPECT_GE(a.iou, 0.9);
 }
 
 // The preview leaves out what the scene does not use: texture coordinates are uploaded only for
