@@ -139,6 +139,10 @@ std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int
                         stack.push_back({node.child[c], depth + 1});
                 }
             }
+            // The CSG nodes' own boxes (spec §13.8's informative bounds), in blue.
+            for (const CsgNode& n : scene.sets[static_cast<size_t>(inst.set)].csg.nodes)
+                if (n.kind != CsgNodeKind::Leaf && n.kind != CsgNodeKind::List && !n.bounds.empty())
+                    b.box(n.bounds.lo, n.bounds.hi, Vec3(0.3, 0.6, 1.0), xf);
         }
     }
     return std::move(b.out);

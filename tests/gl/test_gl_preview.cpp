@@ -373,6 +373,15 @@ TEST(GlPreview, GroupBoxesIncludeCsgNodes) {
     // its box B.
     EXPECT_EQ(view::group_box_lines(desc, 2).size(), 6u * 24);
     EXPECT_EQ(view::group_box_lines(desc, 8).size(), 6u * 24);
+    // The BVH overlay ends with the compiled nodes' boxes: the same two.
+    const auto bvh = view::overlay_lines(compile_scene(desc), false, 1);
+    ASSERT_GE(bvh.size(), 4u * 24);
+    const Bounds3 lens_node = line_bounds(bvh, bvh.size() - 48, 24);
+    const Bounds3 ring_node = line_bounds(bvh, bvh.size() - 24, 24);
+    EXPECT_VEC_NEAR(lens_node.lo, lens_box.lo, 1e-6);
+    EXPECT_VEC_NEAR(lens_node.hi, lens_box.hi, 1e-6);
+    EXPECT_VEC_NEAR(ring_node.lo, ring_box.lo, 1e-6);
+    EXPECT_VEC_NEAR(ring_node.hi, ring_box.hi, 1e-6);
 }
 
 // Where shadows darken the preview (shadow maps) and the trace (shadow rays): the intersection
