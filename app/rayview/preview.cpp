@@ -228,13 +228,15 @@ void Preview::load(const RenderScene& scene, int detail) {
     }
 }
 
-void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights) {
-    // Which lights get a map, and the view each is rendered with.
+std::vector<Preview::ShadowView> Preview::shadow_views(const RenderScene& scene,
+                                                       const std::vector<Light>& lights,
+                                                       int* layers_out) {
     std::vector<ShadowView> views;
     const Bounds3& w = scene.world_bounds;
     const Vec3 centre = w.empty() ? Vec3(0.0) : w.centre();
     const double half = w.empty() ? 1.0 : std::max(0.5 * glm::length(w.diagonal()), 1e-30) * 1.01;
-    int layers = 0;
+    int& layers = *layers_out;
+    layers = 0;
     for (size_t i = 0; i < lights.size() && i < 16; ++i) {
         const Light& l = lights[i];
         ShadowView v;
@@ -260,6 +262,14 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
         }
         views.push_back(v);
     }
+    return views;
+}
+
+void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights) {
+    // Which lights get a map, and the view each is rendered with.
+    int layers = 0;
+    const std::vector<ShadowView> views = shadow_views(scene, lights, &layers);
+    const Bounds3& w = scene.world_bounds;
     if (m_shadows_valid && views == m_shadow_views) return;
     m_shadow_views = views;
     m_shadows_valid = true;

@@ -78,6 +78,10 @@ private:
         bool operator==(const ShadowView&) const = default;
     };
     unsigned program_for(const std::vector<std::string>& defines);
+    /// Which lights get a shadow map (the first kMaxShadowLights that light), and the view each
+    /// is rendered with; `*layers`: the array layers they take.
+    static std::vector<ShadowView> shadow_views(const RenderScene& scene,
+                                                const std::vector<Light>& lights, int* layers);
     void render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights);
     void draw_instances(const RenderScene& scene, unsigned program, bool opaque_only) const;
 
