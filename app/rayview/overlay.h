@@ -19,8 +19,9 @@ struct LineVertex {
 Bounds3 view_bounds(const RenderScene& scene);
 
 /// Overlay geometry: a marker per light (a cross for point lights, a cone for spots, an arrow for
-/// directional ones) and, up to `bvh_depth` levels, the boxes of the instances and of their
-/// BVH nodes (the flattened groups' boxes) and of their CSG nodes, in world space.
+/// directional ones, a cross and three great circles at the radius for sphere lights) and, up to
+/// `bvh_depth` levels, the boxes of the instances and of their BVH nodes (the flattened groups'
+/// boxes) and of their CSG nodes, in world space.
 std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth);
 
 /// The boxes of the scene graph's groups (#group_begin blocks, V3 #static_affine and
