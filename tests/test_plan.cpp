@@ -350,5 +350,163 @@ TEST(Plan, SpecializedImagesEqualGenericImages) {
     }
 }
 
+// ---- V3 lights (spec §13.9), given to compiled V1 geometry as compile_scene gives a V3 file's.
+
+Light v3_light(LightKind kind, const Vec3& ambient, const Vec3& diffuse, const Vec3& specular,
+               const Vec3& position, double radius = 0.0) {
+    Light l;
+    l.kind = kind;
+    l.ambient = ambient;
+    l.diffuse = diffuse;
+    l.specular = specular;
+    l.position = position;
+    l.direction = glm::normalize(Vec3(-1, -2, -1));
+    l.radius = radius;
+    return l;
+}
+
+RenderScene with_lights(RenderScene scene, std::vector<Light> lights) {
+    scene.lights = std::move(lights);
+    scene.texture_all_terms = true;
+    scene.ambient = Vec3(0.0);
+    return scene;
+}
+
+TEST(Features, V3LightsSwitchTheirCodeOnlyWhenTheyAddSomething) {
+    const std::string no_ka = "#material 0 0 0  0 0 0  .7 .7 .7  0 0 0  1  0 0 0  1  -1 !d!\n";
+    const RenderScene plain = test::compile(no_ka + "#shape_sphere 0 0 0 0 1\n");
+    const RenderScene with_ka = test::compile(std::string(kDiffuse) + "#shape_sphere 0 0 0 0 1\n");
+    RenderSettings s;
+    // A V1 scene: none of it.
+    SceneFeatures f = features_of(std::string("#light_point 1 1 1  0 5 0  1 0 0\n") + kDiffuse +
+                                  "#shape_sphere 0 0 0 0 1\n");
+    EXPECT_EQ(f.shade_variant() & kShadeV3Lights, 0u);
+    auto lines = explain_lines(f);
+    EXPECT_TRUE(has_line(lines, "left out: sphere light sampling: no sphere light"));
+    EXPECT_TRUE(has_line(lines, "left out: light ambient terms: no light has an ambient colour"));
+    EXPECT_TRUE(has_line(lines,
+                         "left out: light specular colours: every light's specular colour is "
+                         "its diffuse colour"));
+    // A light's ambient colour that meets no ambient material colour adds nothing.
+    const Light ambient = v3_light(LightKind::Point, Vec3(0.2), Vec3(1), Vec3(1), Vec3(0, 5, 0));
+    f = scene_features(with_lights(plain, {ambient}), s);
+    EXPECT_EQ(f.shade_variant() & kShadeV3Lights, 0u);
+    EXPECT_TRUE(has_line(explain_lines(f),
+                         "left out: light ambient terms: no material with an ambient colour"));
+    f = scene_features(with_lights(with_ka, {ambient}), s);
+    EXPECT_NE(f.shade_variant() & kShadeV3Lights, 0u);
+    EXPECT_TRUE(
+        has_line(explain_lines(f), "kept: light ambient terms: 1 light(s) with an ambient colour"));
+    // A specular colour of its own.
+    f = scene_features(with_lights(plain, {v3_light(LightKind::Directional, Vec3(0.0), Vec3(1),
+                                                    Vec3(0.5), Vec3(0.0))}),
+                       s);
+    EXPECT_EQ(f.specular_colour_lights, 1);
+    EXPECT_NE(f.shade_variant() & kShadeV3Lights, 0u);
+    EXPECT_EQ(f.shade_variant() & kShadeAttenuation, 0u);
+    // A sphere light: attenuated, sampled while there are shadow rays.
+    const Light sphere = v3_light(LightKind::Sphere, Vec3(0.0), Vec3(1), Vec3(1), Vec3(0, 5, 0), 1);
+    f = scene_features(with_lights(plain, {sphere}), s);
+    EXPECT_EQ(f.lights[static_cast<int>(LightKind::Sphere)], 1);
+    EXPECT_NE(f.shade_variant() & kShadeV3Lights, 0u);
+    EXPECT_NE(f.shade_variant() & kShadeAttenuation, 0u);
+    lines = explain_lines(f);
+    EXPECT_TRUE(has_line(lines,
+                         "kept: sphere light sampling: 1 sphere light(s): shadow rays to 64 "
+                         "point(s) on each (--light-samples; progressive: one random point a "
+                         "sample)"));
+    EXPECT_TRUE(has_line(lines, "kept: light attenuation: 1 point, spot or sphere light(s)"));
+    s.shadows = false;
+    EXPECT_TRUE(has_line(explain_lines(scene_features(with_lights(plain, {sphere}), s)),
+                         "left out: sphere light sampling: no shadow rays"));
+}
+
+TEST(Plan, SphereLightsGetTheStrataCentresOfTheSinglePass) {
+    const RenderScene plain = test::compile(std::string(kDiffuse) + "#shape_sphere 0 0 0 0 1\n");
+    RenderSettings s;
+    s.light_samples = 5;  // m = 3: the first 5 of 9 strata, row-major
+    const Light sphere = v3_light(LightKind::Sphere, Vec3(0.0), Vec3(1), Vec3(1), Vec3(0, 5, 0), 1);
+    const RenderPlan plan = make_render_plan(with_lights(plain, {sphere}), s);
+    EXPECT_TRUE(plan.uses.light_kinds[static_cast<int>(LightKind::Sphere)]);
+    ASSERT_EQ(plan.sphere_points.size(), 5u);
+    EXPECT_EQ(plan.light_samples, 5);
+    auto w = [](double x1, double x2) {
+        const double z = 1 - 2 * x1, r = std::sqrt(1 - z * z);
+        return Vec3(r * std::cos(2 * kPi * x2), z, r * std::sin(2 * kPi * x2));
+    };
+    EXPECT_VEC_NEAR(plan.sphere_points[0], w(1.0 / 6, 1.0 / 6), 1e-15);
+    EXPECT_VEC_NEAR(plan.sphere_points[1], w(3.0 / 6, 1.0 / 6), 1e-15);
+    EXPECT_VEC_NEAR(plan.sphere_points[3], w(1.0 / 6, 3.0 / 6), 1e-15);
+    for (const Vec3& p : plan.sphere_points) EXPECT_NEAR(glm::length(p), 1.0, 1e-15);
+    // No sphere light (or one of radius 0): no points.
+    EXPECT_TRUE(make_render_plan(plain, s).sphere_points.empty());
+    Light point_like = sphere;
+    point_like.radius = 0;
+    EXPECT_TRUE(make_render_plan(with_lights(plain, {point_like}), s).sphere_points.empty());
+    // V3 lights keep textures, highlights and every light kind: one instance for all of them.
+    const uint32_t v = kShadeShadows | kShadeV3Lights;
+    EXPECT_EQ(shading_variant(v).trace,
+              shading_variant(v | kShadeTextures | kShadeHighlights | kShadeSpot).trace);
+}
+
+// V3 lights and the V3 texel rule on the feature scenes: the specialized and the generic renderer
+// give identical images, in a single pass, supersampled, progressive and with the stochastic
+// features.
+TEST(Plan, SpecializedImagesEqualGenericImagesWithV3Lights) {
+    const std::string text =
+        "#camera 0 2 7  0 -0.3 -1  0 1 0  0.5\n"
+        "#texture " +
+        std::string(RT_SOURCE_DIR) +
+        "/scenes/textures/checker.bmp\n"
+        "#material .05 0 0  .1 .1 .1  .7 .6 .5  0 0 0  1  0 0 0  1  -1 !a!\n"
+        "#material 0 0 0  .1 .1 .1  .5 .5 .5  .5 .5 .5  40  0 0 0  1  -1 !b!\n"
+        "#material 0 0 0  0 0 0  .1 .1 .1  .2 .2 .2  80  .8 .8 .8  1.4  -1 !c!\n"
+        "#material .1 .1 .1  .2 .2 .2  .8 .8 .8  .3 .3 .3  9  0 0 0  1  0 !t!\n"
+        "#shape_box 3  0 -1 0  8 0.2 8\n#shape_sphere 1  -1 0 0  0.8\n"
+        "#shape_cylinder 2  1 0 0  0.5 1\n#shape_cone 0  0 0 -1.5  0.5 1\n";
+    const RenderScene base = test::compile(text);
+    Light spot = v3_light(LightKind::Spot, Vec3(0.1), Vec3(1, .9, .8), Vec3(.3), Vec3(-2, 4, 2));
+    spot.direction = glm::normalize(Vec3(0.4, -1, -0.4));
+    spot.cutoff_rad = 0.6;
+    spot.spot_exponent = 3;
+    const struct {
+        const char* name;
+        std::vector<Light> lights;
+    } cases[] = {
+        {"sphere light", {v3_light(LightKind::Sphere, Vec3(0.0), Vec3(1), Vec3(1), {2, 4, 3}, 1)}},
+        {"ambient and specular colours",
+         {v3_light(LightKind::Point, Vec3(0.2), Vec3(1, .5, .2), Vec3(.2, .5, 1), {2, 4, 3}),
+          v3_light(LightKind::Directional, Vec3(0.1), Vec3(.5), Vec3(.5), {0, 0, 0})}},
+        {"every kind",
+         {v3_light(LightKind::Sphere, Vec3(0.1), Vec3(1), Vec3(.5), {2, 4, 3}, 0.5), spot,
+          v3_light(LightKind::Point, Vec3(0.0), Vec3(.5), Vec3(.5), {-2, 3, 3}),
+          v3_light(LightKind::Sphere, Vec3(0.0), Vec3(0.0), Vec3(0.0), {0, 3, 0}, 1)}},
+    };
+    for (const auto& c : cases) {
+        const RenderScene scene = with_lights(base, c.lights);
+        for (int mode = 0; mode < 5; ++mode) {
+            SCOPED_TRACE(std::string(c.name) + ", mode " + std::to_string(mode));
+            RenderSettings s;
+            s.width = 24;
+            s.height = 18;
+            s.threads = 2;
+            s.light_samples = 9;
+            s.shadows = mode != 1;
+            int spp = 1;
+            if (mode == 2) spp = 3;                                           // supersampled
+            if (mode == 3) spp = 2, s.centre_first_sample = false;            // progressive
+            if (mode == 4) spp = 2, s.light_radius = 0.3, s.roughness = 0.1;  // stochastic
+            RenderState a, b;
+            s.specialize = false;
+            test::render_samples(a, scene, s, spp);
+            s.specialize = true;
+            test::render_samples(b, scene, s, spp);
+            EXPECT_EQ(a.image().rgb, b.image().rgb);
+            const auto [lo, hi] = std::minmax_element(b.sum.begin(), b.sum.end());
+            EXPECT_LT(*lo, *hi);
+        }
+    }
+}
+
 }  // namespace
 }  // namespace rt

@@ -1,5 +1,5 @@
 // render_samples(): pixel centres at 1 spp, identical images for any thread count, stratified
-// supersampling, stop requests, plans of another size refused.
+// supersampling, stop requests, plans of another size refused, sphere lights' estimates.
 #include <chrono>
 #include <stdexcept>
 #include <thread>
@@ -153,6 +153,58 @@ TEST(Render, StoppedPassesAndSkippedPixelsLeaveTheSumsExactlyAsTheyWere) {
 }
 
 TEST(Render, ImageIsFinite) { EXPECT_EQ(count_non_finite(render_with(2, 4, 80, 60)), 0u); }
+
+// A floor in the penumbra of a V3 sphere light (centre (0, 10, 0), radius 2) past an opaque ball,
+// seen from above through a narrow view (each pixel nearly one point).
+RenderScene sphere_light_scene() {
+    RenderScene s = test::compile(
+        "#camera 1.2 4 0  0 -1 0  0 0 -1  0.05\n"
+        "#material 0 0 0  0 0 0  1 1 1  0 0 0  1  0 0 0  1  -1 !!\n"
+        "#vertex -100 0 -100 0 0 0 0 0\n#vertex -100 0 100 0 0 0 0 0\n"
+        "#vertex 100 0 100 0 0 0 0 0\n#vertex 100 0 -100 0 0 0 0 0\n"
+        "#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 3\n#shape_sphere 0  0 5 0  1\n");
+    Light l;
+    l.kind = LightKind::Sphere;
+    l.ambient = Vec3(0.0);
+    l.diffuse = Vec3(1.0);
+    l.specular = Vec3(0.5);
+    l.position = Vec3(0, 10, 0);
+    l.radius = 2.0;
+    s.lights = {l};
+    s.texture_all_terms = true;
+    return s;
+}
+
+TEST(Render, SphereLightsSinglePassIsDeterministicAndProgressiveConverges) {
+    const RenderScene scene = sphere_light_scene();
+    RenderSettings s;
+    s.width = s.height = 4;
+    s.light_samples = 4096;
+    s.threads = 1;
+    RenderState single;
+    test::render_samples(single, scene, s, 1);
+    s.threads = 3;
+    RenderState again;
+    test::render_samples(again, scene, s, 1);
+    EXPECT_EQ(single.sum, again.sum);  // the same points everywhere, whatever the threads
+    // Progressive passes: one random point per sample; the mean converges to the single pass.
+    s.light_samples = 64;
+    s.centre_first_sample = false;
+    RenderState progressive;
+    for (int pass = 0; pass < 8; ++pass) test::render_samples(progressive, scene, s, 64);
+    const Image ref = single.image(), mean = progressive.image();
+    double lo = 1, hi = 0;
+    for (size_t i = 0; i < ref.rgb.size(); ++i) {
+        const double n = progressive.samples[i / 3];
+        const double m = mean.rgb[i];
+        const double se = std::sqrt(std::max(0.0, progressive.sum_sq[i] / n - m * m) / n);
+        EXPECT_GT(se, 0.0) << i;  // random indeed
+        EXPECT_NEAR(m, ref.rgb[i], 5 * se + 0.005) << i;
+        lo = std::min(lo, ref.rgb[i]), hi = std::max(hi, ref.rgb[i]);
+    }
+    EXPECT_GT(lo, 0.05);  // the view is in the penumbra: not black and not fully lit
+    EXPECT_LT(hi, 0.8);
+}
 
 }  // namespace
 }  // namespace rt

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "rt/image/image.h"
@@ -16,6 +17,9 @@ constexpr const char* kDescription =
 constexpr const char* kFooter =
     "exit status: 0 success, 1 scene error (printed as file:line:col: error: ...) or an output\n"
     "that cannot be written, 2 usage error.";
+
+// Points per sphere light: the plan holds one direction per point.
+constexpr int kMaxLightSamples = 1 << 20;
 
 // CLI11 reads "-1" into an unsigned number as its two's complement; a seed must not wrap.
 const CLI::Validator kNoMinus(
@@ -40,6 +44,11 @@ void add_render_options(CLI::App& app, Options& o) {
     app.add_option("--spp", o.spp,
                    "samples per pixel; 1 = pixel centres, N > 1 = stratified jitter\n"
                    "(with a progressive feature on, every sample is jittered)")
+        ->type_name("N");
+    app.add_option("--light-samples", o.light_samples,
+                   "points per sphere light whose shadow rays give a point's shadow\n"
+                   "factor (1 spp: strata centres; N > 1 spp: jittered strata;\n"
+                   "progressive: one random point per sample)")
         ->type_name("N");
     app.add_option("--seed", o.seed, "random seed of the jitter and the progressive features")
         ->type_name("N")
@@ -158,6 +167,9 @@ void validate(const Options& o, bool spp_given) {
     if (o.max_depth < 1) throw UsageError("--depth must be at least 1");
     if (!(o.cutoff >= 0.0)) throw UsageError("--cutoff must not be negative");
     if (o.spp < 1) throw UsageError("--spp must be at least 1");
+    if (o.light_samples < 1 || o.light_samples > kMaxLightSamples)
+        throw UsageError("--light-samples must be between 1 and " +
+                         std::to_string(kMaxLightSamples));
     if (o.threads < 0 || o.threads > 256) throw UsageError("--threads must be between 0 and 256");
     const ProgressiveOptions& p = o.progressive;
     for (const auto& [name, v] : {std::pair<const char*, double>{"--light-radius", o.light_radius},

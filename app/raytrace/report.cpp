@@ -211,6 +211,19 @@ std::string progress_svg(const std::vector<ProgressRun>& runs, const std::string
     return s + svg_close(a);
 }
 
+std::string light_summary(const rt::SceneDesc& desc) {
+    static const char* const kNames[rt::kLightKinds] = {"directional", "point", "spot", "sphere"};
+    size_t count[rt::kLightKinds] = {};
+    for (const rt::LightDesc& l : desc.lights) ++count[static_cast<int>(l.kind)];
+    std::string kinds;
+    for (int k = 0; k < rt::kLightKinds; ++k) {
+        if (count[k] == 0) continue;
+        kinds +=
+            (kinds.empty() ? "" : ", ") + std::string(kNames[k]) + " " + std::to_string(count[k]);
+    }
+    return std::to_string(desc.lights.size()) + (kinds.empty() ? "" : " (" + kinds + ")");
+}
+
 void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
                          const rt::CompileReport& st) {
     std::printf("scene     %s (%s, %zu file%s)\n", opt.scene.c_str(),
@@ -228,12 +241,17 @@ void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
     std::printf("shapes    %s", kinds.empty() ? "none" : kinds.c_str());
     std::printf("  (after instancing; %zu unique; %zu degenerate skipped)\n", st.unique_prims,
                 st.skipped_shapes);
-    std::printf("triangles %zu, lights %zu, materials %zu, textures %zu, instances %zu\n",
-                st.prims_by_kind[static_cast<int>(rt::ShapeKind::Triangle)], st.lights,
-                st.materials, st.textures, st.instances);
-    std::printf("render    %dx%d, %d spp, depth %d, cutoff %g, shadows %s, %d threads\n", opt.width,
-                opt.height, opt.spp, opt.max_depth, opt.cutoff, opt.shadows ? "on" : "off",
-                rt::resolve_thread_count(opt.threads));
+    std::printf("triangles %zu, lights %s, materials %zu, textures %zu, instances %zu\n",
+                st.prims_by_kind[static_cast<int>(rt::ShapeKind::Triangle)],
+                light_summary(desc).c_str(), st.materials, st.textures, st.instances);
+    const bool spheres = std::any_of(desc.lights.begin(), desc.lights.end(),
+                                     [](const auto& l) { return l.kind == rt::LightKind::Sphere; });
+    const std::string light_samples =
+        spheres ? ", " + std::to_string(opt.light_samples) + " light samples" : "";
+    std::printf("render    %dx%d, %d spp, depth %d, cutoff %g, shadows %s, %d threads%s\n",
+                opt.width, opt.height, opt.spp, opt.max_depth, opt.cutoff,
+                opt.shadows ? "on" : "off", rt::resolve_thread_count(opt.threads),
+                light_samples.c_str());
     std::fflush(stdout);
 }
 

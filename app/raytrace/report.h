@@ -47,6 +47,10 @@ std::string progress_csv(const std::vector<ProgressRun>& runs);
 /// An SVG plot of error against time on log-log axes, with the fitted slope of each run.
 std::string progress_svg(const std::vector<ProgressRun>& runs, const std::string& title);
 
+/// The scene's lights: their count and, when there are any, the count of each kind
+/// ("3 (point 2, sphere 1)").
+std::string light_summary(const rt::SceneDesc& desc);
+
 /// The scene's summary (files, shapes by kind, lights, ...) and the render settings.
 void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
                          const rt::CompileReport& report);

@@ -21,6 +21,8 @@ TEST(Options, DefaultsAreTheLibrarysSettings) {
     EXPECT_EQ(o.shadows, s.shadows);
     EXPECT_EQ(o.specialize, s.specialize);
     EXPECT_EQ(o.spp, 1);
+    EXPECT_EQ(o.light_samples, s.light_samples);
+    EXPECT_EQ(o.light_samples, 64);
     EXPECT_FALSE(o.progressive.enabled);
     EXPECT_EQ(o.progressive.spp_limit, 0);
     EXPECT_EQ(o.progressive.reference_spp, 256);
@@ -35,7 +37,8 @@ TEST(Options, EveryOptionSetsItsField) {
                              "V0",        "--stats",     "--explain",    "--no-specialize",
                              "-q",        "-o",          "x.pfm",        "--light-radius",
                              "0.25",      "--aperture",  "0.125",        "--focus-distance",
-                             "3",         "--roughness", "0.5",          "s.ray"});
+                             "3",         "--roughness", "0.5",          "--light-samples",
+                             "9",         "s.ray"});
     EXPECT_EQ(o.scene, "s.ray");
     EXPECT_EQ(o.output, "x.pfm");
     EXPECT_EQ(o.width, 20);
@@ -53,6 +56,7 @@ TEST(Options, EveryOptionSetsItsField) {
     EXPECT_EQ(o.aperture, 0.125);
     EXPECT_EQ(o.focus_distance, 3);
     EXPECT_EQ(o.roughness, 0.5);
+    EXPECT_EQ(o.light_samples, 9);
     EXPECT_EQ(o.progressive.spp_limit, 0);  // not progressive
 }
 
@@ -91,6 +95,10 @@ TEST(Options, UsageErrorsThrow) {
         {"a.ray", "--depth", "0"},
         {"a.ray", "--cutoff", "-1"},
         {"a.ray", "--spp", "0"},
+        {"a.ray", "--light-samples", "0"},
+        {"a.ray", "--light-samples", "-4"},
+        {"a.ray", "--light-samples", "2.5"},
+        {"a.ray", "--light-samples", "2000000"},
         {"a.ray", "--threads", "257"},
         {"a.ray", "--seed", "-1"},
         {"a.ray", "--dialect", "v7"},
@@ -114,6 +122,13 @@ TEST(Options, UsageErrorsThrow) {
     } catch (const UsageError& e) {
         EXPECT_STREQ(e.what(), "--progressive needs --time S or --spp N");
     }
+    try {
+        parse({"a.ray", "--light-samples", "0"});
+        FAIL();
+    } catch (const UsageError& e) {
+        EXPECT_STREQ(e.what(), "--light-samples must be between 1 and 1048576");
+    }
+    EXPECT_EQ(parse({"a.ray", "--light-samples", "1"}).light_samples, 1);
 }
 
 TEST(Options, HelpListsEveryOptionWithItsDefault) {
@@ -126,6 +141,7 @@ TEST(Options, HelpListsEveryOptionWithItsDefault) {
                             "--depth N=5",
                             "--cutoff X=0.001",
                             "--spp N=1",
+                            "--light-samples N=64",
                             "--seed N=0",
                             "--threads N=0",
                             "--no-shadows",

@@ -21,6 +21,18 @@ rt::PassRecord pass(double seconds, double relmse, double estimate, bool referen
     return r;
 }
 
+TEST(Report, LightSummaryCountsEachKindSphereLightsToo) {
+    rt::SceneDesc desc;
+    EXPECT_EQ(light_summary(desc), "0");
+    for (const rt::LightKind k : {rt::LightKind::Sphere, rt::LightKind::Point,
+                                  rt::LightKind::Sphere, rt::LightKind::Directional}) {
+        rt::LightDesc l;
+        l.kind = k;
+        desc.lights.push_back(l);
+    }
+    EXPECT_EQ(light_summary(desc), "4 (directional 1, point 1, sphere 2)");
+}
+
 TEST(Report, LogLogSlope) {
     EXPECT_NEAR(loglog_slope({1, 10, 100}, {1, 0.1, 0.01}), -1.0, 1e-12);
     // Points with x or y <= 0 are left out; fewer than two points give 0.

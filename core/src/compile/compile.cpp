@@ -92,6 +92,7 @@ public:
         m_scene.background = m_desc.background;
         m_scene.ambient = m_desc.ambient;
         for (const LightDesc& l : m_desc.lights) m_scene.lights.push_back(compile_light(l));
+        m_scene.texture_all_terms = m_desc.dialect == Dialect::V3;  // spec §13.9
         compile_materials();
         m_set_of_file.assign(m_desc.files.size(), -2);  // -2: not compiled yet
         if (!m_desc.files.empty()) place(0, Mat4(1.0), SourceLoc{});

@@ -1,9 +1,12 @@
 // make_render_plan(): what the scene uses, the variant that leaves the rest out, and why.
 #include "rt/render/plan.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "rt/render/render.h"
+#include "rt/render/sampler.h"
 #include "variants.h"
 
 namespace rt {
@@ -150,13 +153,19 @@ GeometryFeatures read_geometry(const RenderScene& scene) {
 SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& settings) {
     SceneFeatures f;
     f.max_depth = settings.max_depth;
+    f.light_samples = settings.light_samples;
     for (const Light& l : scene.lights) {
-        if (lights_something(l))
-            ++f.lights[static_cast<int>(l.kind)];
-        else
+        if (!lights_something(l)) {
             ++f.dark_lights;
+            continue;
+        }
+        ++f.lights[static_cast<int>(l.kind)];
+        f.direct_lights += l.diffuse != Vec3(0.0) || l.specular != Vec3(0.0);
+        f.ambient_lights += l.ambient != Vec3(0.0);
+        f.specular_colour_lights += l.diffuse != l.specular;
     }
-    const bool lit = f.lights[0] + f.lights[1] + f.lights[2] > 0;
+    // Shadow rays and highlights serve the lights with a diffuse or specular colour.
+    const bool lit = f.direct_lights > 0;
     f.geometry = read_geometry(scene);
     const GeometryFeatures& g = f.geometry;
     auto material_used = [&](size_t i) { return g.material_used[i] != 0; };
@@ -179,6 +188,7 @@ SceneFeatures scene_features(const RenderScene& scene, const RenderSettings& set
     }
     for (char used : texture_used) f.unused_textures += !used;
     f.ambient = any_ambient && scene.ambient != Vec3(0.0);
+    f.light_ambient = any_ambient && f.ambient_lights > 0;
     // A camera ray has depth max_depth; children are traced while depth - 1 >= 1 (spec §8).
     f.reflection &= settings.max_depth > 1;
     f.refraction &= settings.max_depth > 1;
@@ -201,11 +211,51 @@ uint32_t SceneFeatures::shade_variant() const {
     if (textures) v |= kShadeTextures;
     if (highlights) v |= kShadeHighlights;
     if (lights[static_cast<int>(LightKind::Spot)] > 0) v |= kShadeSpot;
-    if (lights[static_cast<int>(LightKind::Point)] + lights[static_cast<int>(LightKind::Spot)] > 0)
+    if (lights[static_cast<int>(LightKind::Point)] + lights[static_cast<int>(LightKind::Spot)] +
+            lights[static_cast<int>(LightKind::Sphere)] >
+        0)
         v |= kShadeAttenuation;
     if (soft_shadows || glossy) v |= kShadeStochastic;
+    if (v3_lights()) v |= kShadeV3Lights;
     return v;
 }
+
+namespace {
+
+// The light side of the shading variant: the kinds, and the terms of V3 lights (spec §13.9).
+void explain_lights(const SceneFeatures& f, std::vector<PlanReason>& out) {
+    auto line = [&](bool used, const char* feature, const std::string& why_kept,
+                    const std::string& why_left) {
+        out.push_back({feature, used, used ? why_kept : why_left});
+    };
+    auto count = [&](LightKind k) { return f.lights[static_cast<int>(k)]; };
+    const int spot = count(LightKind::Spot), sphere = count(LightKind::Sphere);
+    const int attenuated = count(LightKind::Point) + spot + sphere;
+    if (f.dark_lights > 0)
+        out.push_back({std::to_string(f.dark_lights) + " light(s)", false,
+                       "colour zero or all attenuation coefficients zero"});
+    line(attenuated > 0, "light attenuation",
+         std::to_string(attenuated) +
+             (sphere > 0 ? " point, spot or sphere light(s)" : " point or spot light(s)"),
+         "no point, spot or sphere light");
+    line(spot > 0, "spot cut-off and drop-off", std::to_string(spot) + " spot light(s)",
+         "no spot light");
+    line(sphere > 0 && f.shadows, "sphere light sampling",
+         std::to_string(sphere) + " sphere light(s): shadow rays to " +
+             std::to_string(f.light_samples) +
+             " point(s) on each (--light-samples; progressive: one random point a sample)",
+         sphere > 0 ? "no shadow rays" : "no sphere light");
+    line(f.light_ambient, "light ambient terms",
+         std::to_string(f.ambient_lights) + " light(s) with an ambient colour",
+         f.ambient_lights > 0 ? "no material with an ambient colour"
+                              : "no light has an ambient colour");
+    line(f.specular_colour_lights > 0, "light specular colours",
+         std::to_string(f.specular_colour_lights) +
+             " light(s) whose specular colour is not their diffuse colour",
+         "every light's specular colour is its diffuse colour");
+}
+
+}  // namespace
 
 std::vector<PlanReason> explain_features(const SceneFeatures& f) {
     std::vector<PlanReason> out;
@@ -214,16 +264,9 @@ std::vector<PlanReason> explain_features(const SceneFeatures& f) {
         out.push_back({feature, used, used ? why_kept : why_left});
     };
     const GeometryFeatures& g = f.geometry;
-    const int lit = f.lights[0] + f.lights[1] + f.lights[2];
+    const int lit = f.direct_lights;
     const std::string n_lights = std::to_string(lit);
-    if (f.dark_lights > 0)
-        out.push_back({std::to_string(f.dark_lights) + " light(s)", false,
-                       "colour zero or all attenuation coefficients zero"});
-    line(f.lights[1] + f.lights[2] > 0, "light attenuation",
-         std::to_string(f.lights[1] + f.lights[2]) + " point or spot light(s)",
-         "no point or spot light");
-    line(f.lights[2] > 0, "spot cut-off and drop-off",
-         std::to_string(f.lights[2]) + " spot light(s)", "no spot light");
+    explain_lights(f, out);
     line(f.shadows, "shadow rays", n_lights + " light(s) that light something",
          lit == 0 ? "no light lights anything" : "shadows are switched off");
     line(f.transmissive_shadows, "transparent shadows", "a material lets light through",
@@ -268,6 +311,15 @@ RenderPlan make_render_plan(const RenderScene& scene, const RenderSettings& sett
     for (const Light& l : scene.lights)
         if (!skip_dark || lights_something(l)) plan.lights.push_back(l);
     for (const Light& l : plan.lights) plan.uses.light_kinds[static_cast<int>(l.kind)] = true;
+    // The single-pass estimate of sphere lights: the same points for every shading point.
+    plan.light_samples = std::max(1, settings.light_samples);
+    const auto sphere = [](const Light& l) { return l.kind == LightKind::Sphere && l.radius > 0; };
+    if (std::any_of(plan.lights.begin(), plan.lights.end(), sphere)) {
+        const int m =
+            static_cast<int>(std::ceil(std::sqrt(static_cast<double>(plan.light_samples))));
+        for (int k = 0; k < plan.light_samples; ++k)
+            plan.sphere_points.push_back(uniform_sphere(stratum_point(k, m, Vec2(0.5))));
+    }
     plan.uses.textures = f.textures;
     plan.uses.highlights = f.highlights;
     plan.uses.shadows = f.shadows;

@@ -123,6 +123,9 @@ PixelSums render_pixel(const Pass& pass, int x, int y, int n, uint32_t base, Ray
         Rng pixel_rng(settings.seed, pixel, uint64_t{1} << 40);
         shift = Vec2(pixel_rng.uniform(), pixel_rng.uniform());
     }
+    // Only a single pass's one centre sample is deterministic (spec §13.9); every other sample
+    // draws the random numbers of the features that take them, sphere lights among them.
+    const bool random = pass.stochastic || n > 1 || base > 0 || !settings.centre_first_sample;
     PixelSums sums;
     for (int s = 0; s < n; ++s) {
         // Every sample's random numbers come from (seed, pixel, index): any thread, same image.
@@ -131,7 +134,7 @@ PixelSums render_pixel(const Pass& pass, int x, int y, int n, uint32_t base, Ray
         const Ray ray = camera_ray(pass, x, y, sample, rng);
         ++rays.camera;
         const Vec3 c = trace_ray(pass.scene, pass.plan, settings, ray, settings.max_depth,
-                                 Vec3(1.0), rays, pass.stochastic ? &rng : nullptr);
+                                 Vec3(1.0), rays, random ? &rng : nullptr);
         sums.sum += c;
         sums.sum_sq += c * c;
     }

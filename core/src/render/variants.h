@@ -26,7 +26,9 @@ enum ShadeFeature : uint32_t {
     kShadeSpot = 1u << 6,                 // spot cut-off and drop-off
     kShadeAttenuation = 1u << 7,          // point or spot lights (distance and attenuation)
     kShadeStochastic = 1u << 8,           // soft shadows or glossy reflection (random samples)
-    kShadeAll = (1u << 9) - 1,
+    kShadeV3Lights = 1u << 9,  // V3 lights (spec §13.9): ambient per light, a specular colour of
+                               // their own, sphere lights (their shadow factor over the sphere)
+    kShadeAll = (1u << 10) - 1,
 };
 
 /// The geometry variant's switches (one compiled walk per combination, intersect.cpp): bit 0 the
@@ -93,9 +95,14 @@ struct GeometryFeatures {
 struct SceneFeatures {
     GeometryFeatures geometry;
     // Lights that can light something (colour not zero, some attenuation coefficient not zero),
-    // by kind: directional, point, spot (the LightKind order).
+    // by kind: directional, point, spot, sphere (the LightKind order).
     int lights[kLightKinds] = {};
     int dark_lights = 0;                // lights that light nothing, left out
+    int direct_lights = 0;              // of those, lights with a diffuse or specular colour
+    int ambient_lights = 0;             // V3: lights with an ambient colour
+    bool light_ambient = false;         // V3: a light's ambient colour meets a used K_A
+    int specular_colour_lights = 0;     // V3: lights whose specular colour is not their diffuse
+    int light_samples = 1;              // the settings' points per sphere light
     bool shadows = false;               // shadow rays: the setting on and a light that lights
     bool transmissive_shadows = false;  // a used material lets light through
     bool reflection = false;            // a used material reflects and the depth allows it
@@ -108,6 +115,12 @@ struct SceneFeatures {
     bool soft_shadows = false, depth_of_field = false, glossy = false;  // progressive features
     int max_depth = 1;
 
+    /// Whether the V3 light code runs (kShadeV3Lights): per-light ambient, separate specular
+    /// colours or sphere lights.
+    bool v3_lights() const {
+        return light_ambient || specular_colour_lights > 0 ||
+               lights[static_cast<int>(LightKind::Sphere)] > 0;
+    }
     /// The ShadeFeature bits of the variant that renders this scene.
     uint32_t shade_variant() const;
 };

@@ -44,7 +44,12 @@ struct RenderPlan {
     Camera camera;  // the scene's, or the default camera of spec §6.3 at the settings' size
     double focus_distance = 0.0;  // thin lens: the settings' or the distance to the scene's centre
     std::vector<Light> lights;    // the lights the shading iterates
-    bool specialized = false;     // false: the generic renderer (RenderSettings::specialize)
+    /// Sphere lights (spec §13.9): the unit directions w(xi_k) of the single-pass estimate, the
+    /// centres of the first light_samples strata (empty without a sphere light of radius > 0),
+    /// and that count, which supersampled renders jitter.
+    std::vector<Vec3> sphere_points;
+    int light_samples = 1;
+    bool specialized = false;  // false: the generic renderer (RenderSettings::specialize)
     /// What the scene uses, one reason per feature, however the plan was made.
     std::vector<PlanReason> reasons;
     PlanUses uses;

@@ -31,6 +31,11 @@ struct RenderSettings {
     double focus_distance = 0.0;  // distance of the plane in focus along the view direction;
                                   // 0: the distance to the scene's centre
     double roughness = 0.0;       // glossy reflection
+    /// Sphere lights (spec §13.9): the points on the sphere whose shadow rays give a shading
+    /// point's shadow factor in a single pass (N >= 1, the centres of the first N strata of a
+    /// ceil(sqrt(N))^2 grid) and, jittered, per sample of a supersampled render. Progressive
+    /// passes (centre_first_sample false) trace one random point per sample instead.
+    int light_samples = 64;
     /// True: spec §6.2's sampling (one sample at the pixel centre; N samples jittered in the first
     /// N strata of a ceil(sqrt(N))^2 grid). False (progressive rendering): the pixel's samples
     /// follow a randomly shifted R2 sequence indexed by its sample count, unbiased across passes.

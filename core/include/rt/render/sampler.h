@@ -3,6 +3,8 @@
 // features need.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "rt/util/math.h"
@@ -52,6 +54,21 @@ private:
     }
     uint64_t m_state;
 };
+
+/// The area-uniform map of [0,1)^2 onto the unit sphere of spec §13.9:
+/// w(xi) = (sqrt(1 - z^2) cos(2 pi xi2), z, sqrt(1 - z^2) sin(2 pi xi2)), z = 1 - 2 xi1.
+inline Vec3 uniform_sphere(const Vec2& xi) {
+    const double z = 1.0 - 2.0 * xi.x;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double phi = 2.0 * kPi * xi.y;
+    return {r * std::cos(phi), z, r * std::sin(phi)};
+}
+
+/// A point of stratum k of an m x m grid over [0,1)^2, strata row-major (k = row * m + column,
+/// the column along xi1), at `offset` within the stratum ((0.5, 0.5): its centre).
+inline Vec2 stratum_point(int k, int m, const Vec2& offset) {
+    return {(k % m + offset.x) / m, (k / m + offset.y) / m};
+}
 
 /// Two unit vectors completing n to an orthonormal frame.
 inline void orthonormal_basis(const Vec3& n, Vec3* a, Vec3* b) {
