@@ -605,6 +605,41 @@ TEST(GlPreview, ThreeColourLightsShadeAsTheSpecSays) {
                     Vec3(0.05 + 0.2 + 0.15 + 0.1, 0.2 + 0.1 + 0.1, 0.2 + 0.05 + 0.1), 2.5 / 255);
 }
 
+// V3 shading (spec §13.9) in the preview and the trace: three-colour lights of every kind, a
+// sphere light from its centre, the ambient term of every light; no shadows, local shading.
+TEST(GlPreview, V3LightsShadeLikeTheTrace) {
+    const Comparison c = compare(
+        test::compile("#camera 0 1 9  0 -0.1 -1  0 1 0  0.4\n"
+                      "#light_point .1 .05 0  1 .8 .6  .5 .5 1  3 4 5  1 0 0.01\n"
+                      "#light_dir .05 .05 .1  .3 .3 .4  .2 .2 .2  -1 -1 -1\n"
+                      "#light_spot .1 0 0  .8 .8 .8  1 1 1  -2 4 2  0.3 -1 -0.3  1 0 0  0.6 4\n"
+                      "#light_sphere .05 .1 .05  .5 .6 .5  .4 .4 .4  0 3 3  0.5  1 0 0.02\n"
+                      "#material 0 0 0  .1 .1 .1  .7 .3 .2  .4 .4 .4  30  0 0 0  1  -1 !a!\n"
+                      "#material .05 .05 .1  .1 .1 .1  .2 .5 .8  0 0 0  1  0 0 0  1  -1 !b!\n"
+                      "#shape_box 1  0 -1.5 -2  8 0.2 4\n"
+                      "#shape_sphere 0  -2 0 0  1\n"
+                      "#shape_torus 1  0.5 0 0  0.3 0.9\n"
+                      "#static_affine  0.7071 0 -0.7071 0  0 1 0 0  0.7071 0 0.7071 0  2.5 0 0 1\n"
+                      "  #shape_cylinder 0  0 0 0  0.6 1.5\n"));
+    EXPECT_GE(c.iou, 0.98);
+    EXPECT_GE(c.colour_match, 0.90);
+}
+
+// The repository's V3 scenes (three-colour lights, a torus, CSG, a sphere light's penumbra) cover
+// what the trace covers and, where no shadow is involved, shade like it.
+TEST(GlPreview, OwnV3ScenesAgreeWithTheTrace) {
+    for (const char* name : {"v3_lights.ray", "v3_torus.ray", "v3_csg.ray", "v3_penumbra.ray"}) {
+        Diagnostics diag;
+        const SceneDesc desc =
+            parse_scene_file(std::string(RT_SOURCE_DIR) + "/scenes/" + name, diag);
+        ASSERT_EQ(desc.dialect, Dialect::V3) << name;
+        const Comparison c = compare(compile_scene(desc));
+        EXPECT_GT(c.covered, kW * kH / 10) << name;
+        EXPECT_GE(c.iou, 0.98) << name;
+        EXPECT_GE(c.colour_match, 0.80) << name;
+    }
+}
+
 // Spec §13.10 (worked example 3, untextured) parsed from a V3 file. The example's colour at a
 // point of the plane y = 0 seen from the eye (the formula of §13.9 with its numbers).
 Vec3 worked_example_three(const Vec3& p, const Vec3& eye) {
