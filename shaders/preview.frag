@@ -1,15 +1,23 @@
 #version 330 core
-// The tracer's local shading (spec §7.1-7.3) without reflection or refraction:
-// emissive + ambient * texel * A + for each light with N.L > 0:
-//   S * I_l * (kd * texel * N.L + ks * (R_v.L)^e), the two-sided normal facing the eye.
-// Lights: point and spot attenuate by 1 / (ca + la d + qa d^2); spots cut off by angle and
-// fall off as cos^p (factor 1 when p = 0); a non-positive denominator gives no light.
+// The tracer's local shading (spec §7.1-7.3, §13.9) without reflection or refraction:
+//   C = t_E * K_E + t * K_A * A_global
+//     + sum over lights of  t * K_A * A_l * f_l                     (never shadowed, any N.L)
+//     + sum over lights with N.L > 0 of  S * f_l * (t * K_D * D_l * N.L + t_S * K_S * S'_l * spec)
+// with spec = (R_v.L)^e when R_v.L > 0, the two-sided normal facing the eye, t the texel and
+// t_E = t_S = t when the scene textures every term (V3, u_texture_all), else 1. A V0/V1 light has
+// A_l = 0 and D_l = S'_l (its one colour); a V3 scene has no global ambient (A_global = 0).
+// f_l: 1 for directional lights; point, spot and sphere lights (at the centre) attenuate by
+// 1 / (ca + la d + qa d^2); spots cut off by angle and fall off as cos^p (factor 1 when p = 0);
+// a non-positive denominator gives no light (the ambient included).
 // S is 1, or with shadows on the visibility looked up in the light's shadow map (opaque
-// occluders only; the trace also tints light through transparent ones).
+// occluders only; the trace also tints light through transparent ones, and averages a sphere
+// light's visibility over its sphere).
 //
 // The program is compiled for what a scene uses (Preview::program_for inserts the defines after
-// the #version line): RT_POINT, RT_SPOT, RT_DIRECTIONAL (light kinds present), RT_TEXTURES
-// (some material is textured), RT_SPECULAR (some material has a highlight), RT_SHADOWS.
+// the #version line): RT_POINT, RT_SPOT, RT_DIRECTIONAL (light kinds present; sphere lights
+// count as point lights), RT_TEXTURES (some material is textured), RT_SPECULAR (some material
+// has a highlight), RT_SHADOWS, RT_CSG (a set has CSG nodes: fragments of a leaf surface that
+// the spec §13.8 rules reject are discarded, so the depth test keeps the nearest valid one).
 const int kMaxLights = 16;
 
 in vec3 v_world;
@@ -25,12 +33,15 @@ uniform vec3 u_specular;
 uniform float u_exponent;
 #ifdef RT_TEXTURES
 uniform bool u_textured;
+uniform bool u_texture_all;
 uniform sampler2D u_texture;
 #endif
 
 uniform int u_light_count;
 uniform int u_light_kind[kMaxLights];  // 0 directional, 1 point, 2 spot
-uniform vec3 u_light_color[kMaxLights];
+uniform vec3 u_light_ambient[kMaxLights];   // A_l
+uniform vec3 u_light_diffuse[kMaxLights];   // D_l
+uniform vec3 u_light_specular[kMaxLights];  // S'_l
 uniform vec3 u_light_position[kMaxLights];
 uniform vec3 u_light_direction[kMaxLights];  // unit: travel (directional) or axis (spot)
 uniform vec3 u_light_atten[kMaxLights];      // ca, la, qa
@@ -84,6 +95,13 @@ float visibility(int i, vec3 p, vec3 n) {
 }
 #endif
 
+
+#ifdef RT_CSG
+flat in int v_leaf;  // the CSG leaf of the fragment, -1: none
+in vec3 v_set;
+bool csg_valid(int l, vec3 p);  // csg.frag
+#endif
+
 out vec4 frag_color;
 
 // Spec §7.3: bilinear with wrap; row 0 of the image is the top, v = 0 the bottom. The texture
@@ -94,18 +112,29 @@ vec3 texel(vec2 uv) { return u_textured ? texture(u_texture, vec2(uv.x, 1.0 - uv
 vec3 texel(vec2 uv) { return vec3(1.0); }
 #endif
 
+#ifdef RT_TEXTURES
+vec3 all_terms(vec3 t) { return u_texture_all ? t : vec3(1.0); }
+#else
+vec3 all_terms(vec3 t) { return vec3(1.0); }
+#endif
+
 void main() {
+#ifdef RT_CSG
+    if (v_leaf >= 0 && !csg_valid(v_leaf, v_set)) discard;
+#endif
     vec3 d = normalize(v_world - u_eye);
     vec3 n = normalize(v_normal);
     if (dot(d, n) > 0.0) n = -n;  // two-sided rule (spec §5)
     vec3 t = texel(v_uv);
-    vec3 c = u_emissive + u_ambient * t * u_ambient_light;
+    vec3 ka = u_ambient * t;
+    vec3 c = u_emissive * all_terms(t) + ka * u_ambient_light;
 #ifdef RT_SPECULAR
     vec3 r = d - 2.0 * dot(d, n) * n;
+    vec3 ks = u_specular * all_terms(t);
 #endif
     for (int i = 0; i < u_light_count; ++i) {
         vec3 l;
-        vec3 intensity = u_light_color[i];
+        float f = 1.0;
 #ifdef RT_DIRECTIONAL
         if (u_light_kind[i] == 0) {
             l = -u_light_direction[i];
@@ -119,32 +148,32 @@ void main() {
             l = delta / dist;
             float denom = u_light_atten[i].x + u_light_atten[i].y * dist + u_light_atten[i].z * dist * dist;
             if (denom <= 0.0) continue;
-            float factor = 1.0 / denom;
+            f = 1.0 / denom;
 #ifdef RT_SPOT
             if (u_light_kind[i] == 2) {
                 float cos_a = dot(u_light_direction[i], -l);
                 if (acos(clamp(cos_a, -1.0, 1.0)) > u_light_cutoff[i]) continue;
-                if (u_light_exponent[i] != 0.0) factor *= pow(max(0.0, cos_a), u_light_exponent[i]);
+                if (u_light_exponent[i] != 0.0) f *= pow(max(0.0, cos_a), u_light_exponent[i]);
             }
 #endif
-            intensity *= factor;
 #else
             continue;
 #endif
         }
+        c += ka * u_light_ambient[i] * f;  // spec §13.9: never shadowed, any N.L
         float ndl = dot(n, l);
         if (ndl <= 0.0) continue;
 #ifdef RT_SHADOWS
         float s = visibility(i, v_world, n);
         if (s <= 0.0) continue;
-        intensity *= s;
+        f *= s;
 #endif
 #ifdef RT_SPECULAR
-        float rdl = dot(r, l);
+        float rdl = min(dot(r, l), 1.0);
         float spec = rdl > 0.0 ? pow(rdl, u_exponent) : 0.0;
-        c += intensity * (u_diffuse * t * ndl + u_specular * spec);
+        c += f * (u_diffuse * t * u_light_diffuse[i] * ndl + ks * u_light_specular[i] * spec);
 #else
-        c += intensity * (u_diffuse * t * ndl);
+        c += f * (u_diffuse * t * u_light_diffuse[i] * ndl);
 #endif
     }
     frag_color = vec4(c, 1.0);

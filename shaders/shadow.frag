@@ -6,6 +6,14 @@ in vec3 v_world;
 uniform bool u_radial;
 uniform vec3 u_light_position;
 uniform float u_far;
+#ifdef RT_CSG
+flat in int v_leaf;  // as in preview.frag: CSG leaves cast shadows only where they are surfaces
+in vec3 v_set;
+bool csg_valid(int l, vec3 p);  // csg.frag
+#endif
 void main() {
+#ifdef RT_CSG
+    if (v_leaf >= 0 && !csg_valid(v_leaf, v_set)) discard;
+#endif
     gl_FragDepth = u_radial ? min(distance(v_world, u_light_position) / u_far, 1.0) : gl_FragCoord.z;
 }

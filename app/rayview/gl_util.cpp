@@ -80,12 +80,15 @@ GlShader compile_shader(unsigned kind, const std::string& path,
 }
 
 GlProgram make_program(const std::string& dir, const std::string& vert, const std::string& frag,
-                       const std::vector<std::string>& defines) {
+                       const std::vector<std::string>& defines, const std::string& library) {
     const GlShader vs = compile_shader(GL_VERTEX_SHADER, dir + "/" + vert, defines);
     const GlShader fs = compile_shader(GL_FRAGMENT_SHADER, dir + "/" + frag, defines);
+    GlShader lib;
+    if (!library.empty()) lib = compile_shader(GL_FRAGMENT_SHADER, dir + "/" + library, defines);
     GlProgram program = GlProgram::make();
     glAttachShader(program.id(), vs.id());
     glAttachShader(program.id(), fs.id());
+    if (lib) glAttachShader(program.id(), lib.id());
     glLinkProgram(program.id());
     GLint ok = 0;
     glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
@@ -97,6 +100,7 @@ GlProgram make_program(const std::string& dir, const std::string& vert, const st
         message += vert;
         message += ",";
         message += frag;
+        if (!library.empty()) message += "," + library;
         message += "}: link: ";
         message += log;
         throw std::runtime_error(message);

@@ -87,9 +87,11 @@ using GlProgram = GlName<GlProgramKind>;
 /// ("shaders/preview.frag: 0:12(5): error: ...").
 GlShader compile_shader(unsigned kind, const std::string& path,
                         const std::vector<std::string>& defines);
-/// Compiles and links dir/vert + dir/frag with `defines`; errors name the files.
+/// Compiles and links dir/vert + dir/frag (+ dir/library, a second fragment shader with functions
+/// `frag` declares, when not empty) with `defines`; errors name the files.
 GlProgram make_program(const std::string& dir, const std::string& vert, const std::string& frag,
-                       const std::vector<std::string>& defines = {});
+                       const std::vector<std::string>& defines = {},
+                       const std::string& library = "");
 
 /// Uniform setters by name on the program in use.
 int uniform(unsigned program, const std::string& name);

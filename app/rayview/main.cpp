@@ -102,13 +102,13 @@ int main(int argc, char** argv) {
     // Setup window
     glfwSetErrorCallback(glfw_error);
     GLFWwindow* window = open_window();
-    if (!window) return render_headless(opt.scene);
+    if (!window) return render_headless(opt.scene, opt.missing_textures);
     // Setup Dear ImGui context, style and platform/renderer back ends
     ImGuiIO& io = init_imgui(window);
 
     int exit_code = 0;
     {  // the viewer and its GL objects die before the context
-        ViewerState viewer(opt.scene, !opt.screenshot.empty());
+        ViewerState viewer(opt.scene, !opt.screenshot.empty(), opt.missing_textures);
         glfwSetWindowUserPointer(window, &viewer);
         glfwSetDropCallback(window, on_drop);
         const std::unique_ptr<Panes> panes = make_panes(RT_SOURCE_DIR "/shaders");

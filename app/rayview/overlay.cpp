@@ -19,8 +19,11 @@ Bounds3 view_bounds(const RenderScene& scene) {
     if (b.empty()) return b;
     const double size = glm::length(b.diagonal());
     const Vec3 centre = b.centre();
-    for (const Light& l : scene.lights)
+    for (const Light& l : scene.lights) {
         b.extend(l.kind == LightKind::Directional ? centre - 0.3 * size * l.direction : l.position);
+        if (l.kind == LightKind::Sphere)
+            b.extend(Bounds3{l.position - l.radius, l.position + l.radius});
+    }
     const Vec3 margin(0.2 * size);  // marker arms, spot cones (0.15 of the size), rounding
     return {b.lo - margin, b.hi + margin};
 }
@@ -38,6 +41,19 @@ struct LineBuilder {
         }
         out.push_back(va);
         out.push_back(vb);
+    }
+    // Three great circles (in the xy, yz and zx planes) of 32 segments each.
+    void wire_sphere(const Vec3& centre, double radius, const Vec3& c) {
+        for (int axis = 0; axis < 3; ++axis) {
+            Vec3 e1(0.0), e2(0.0);
+            e1[axis] = radius;
+            e2[(axis + 1) % 3] = radius;
+            for (int k = 0; k < 32; ++k) {
+                const double a0 = 2 * kPi * k / 32, a1 = 2 * kPi * (k + 1) / 32;
+                segment(centre + std::cos(a0) * e1 + std::sin(a0) * e2,
+                        centre + std::cos(a1) * e1 + std::sin(a1) * e2, c);
+            }
+        }
     }
     // The 12 edges of a box, its corners mapped by `xf` when given.
     void box(const Vec3& lo, const Vec3& hi, const Vec3& c, const Transform* xf) {
@@ -64,7 +80,7 @@ std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int
     const double size = w.empty() ? 1.0 : glm::length(w.diagonal());
     if (lights) {
         for (const Light& l : scene.lights) {
-            const Vec3 c = marker_colour(l.diffuse);
+            const Vec3 c = marker_colour(glm::max(l.diffuse, l.specular));
             const double s = 0.03 * size;
             if (l.kind == LightKind::Directional) {
                 // An arrow along the direction of travel, ending at the scene's centre.
@@ -82,6 +98,7 @@ std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int
                 d[axis] = s;
                 b.segment(l.position - d, l.position + d, c);
             }
+            if (l.kind == LightKind::Sphere && l.radius > 0) b.wire_sphere(l.position, l.radius, c);
             if (l.kind == LightKind::Spot) {
                 // The cut-off cone, 0.15 of the scene's size long.
                 Vec3 a1, a2;
@@ -122,6 +139,10 @@ std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int
                         stack.push_back({node.child[c], depth + 1});
                 }
             }
+            // The CSG nodes' own boxes (spec §13.8's informative bounds), in blue.
+            for (const CsgNode& n : scene.sets[static_cast<size_t>(inst.set)].csg.nodes)
+                if (n.kind != CsgNodeKind::Leaf && n.kind != CsgNodeKind::List && !n.bounds.empty())
+                    b.box(n.bounds.lo, n.bounds.hi, Vec3(0.3, 0.6, 1.0), xf);
         }
     }
     return std::move(b.out);
@@ -138,47 +159,94 @@ Bounds3 shape_bounds(const FileDesc& f, const GroupDesc& g, const Mat4& m) {
 
 }  // namespace
 
+namespace {
+
+// A CSG operand that only wraps one list (no shapes, matrix or other children of its own) adds
+// no box of its own: its list is the operand's box.
+bool wrapper(const GroupDesc& g) {
+    return g.shapes.empty() && g.instances.empty() && g.csgs.empty() && g.groups.size() == 1 &&
+           g.matrix == Mat4(1.0) && g.joint.empty();
+}
+
+// The bounds of a CSG node from its operands' (spec §13.8, informative): union: their union;
+// intersection: their intersection; difference: A's.
+void combine(CsgOp op, size_t operand, const Bounds3& child, Bounds3* node) {
+    if (op == CsgOp::Union || operand == 0) {
+        node->extend(child);
+    } else if (op == CsgOp::Intersection) {
+        node->lo = glm::max(node->lo, child.lo);
+        node->hi = glm::min(node->hi, child.hi);
+        if (node->empty()) *node = Bounds3{};
+    }
+}
+
+}  // namespace
+
 std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth) {
     if (depth <= 0 || desc.files.empty()) return {};
     // A walk with an explicit stack (groups nest 10^4 deep and includes 200 files deep), each
-    // group's bounds the union of its shapes' and its children's, a box drawn when it closes.
+    // group's bounds the union of its shapes' and its children's, a CSG node's those of its
+    // operands combined by its operation, a box drawn when it closes.
     struct Frame {
         int file;
-        const GroupDesc* group;
+        const GroupDesc* group;  // a list, transform or CSG operand; null for a CSG node
+        const CsgDesc* csg;      // the CSG node, when group is null
         Mat4 m;
         int level;
+        bool drawn;
         Bounds3 b;
-        size_t child = 0, instance = 0;
+        size_t child = 0, instance = 0, node = 0;
     };
     LineBuilder lines;
     size_t budget = 200000;  // group visits: a scene of millions of instances draws a sample
     std::vector<Frame> stack;
     auto push = [&](int file, const GroupDesc& g, const Mat4& parent, int level) {
         const Mat4 m = parent * g.matrix;
-        stack.push_back(
-            {file, &g, m, level, shape_bounds(desc.files[static_cast<size_t>(file)], g, m)});
+        const bool operand = !stack.empty() && stack.back().csg;
+        const bool drawn = !(operand && wrapper(g));
+        stack.push_back({file, &g, nullptr, m, drawn ? level : level - 1, drawn,
+                         shape_bounds(desc.files[static_cast<size_t>(file)], g, m)});
         --budget;
     };
     push(0, desc.files[0].root, Mat4(1.0), 0);
     while (!stack.empty()) {
         Frame& top = stack.back();
         const FileDesc& f = desc.files[static_cast<size_t>(top.file)];
-        if (budget > 0 && top.child < top.group->groups.size()) {
+        if (top.csg) {
+            if (budget > 0 && top.child < top.csg->operands.size()) {
+                const GroupDesc& operand = top.csg->operands[top.child++];
+                push(top.file, operand, top.m, top.level + 1);  // invalidates `top`
+                continue;
+            }
+        } else if (budget > 0 && top.child < top.group->groups.size()) {
             const GroupDesc& child = top.group->groups[top.child++];
             push(top.file, child, top.m, top.level + 1);  // invalidates `top`
+            continue;
         } else if (budget > 0 && top.instance < top.group->instances.size()) {
             const InstanceDesc& inst = top.group->instances[top.instance++];
             const int sub = f.ray_files[static_cast<size_t>(inst.ray_file)];
             push(sub, desc.files[static_cast<size_t>(sub)].root, top.m, top.level + 1);
-        } else {
-            const Frame done = top;
-            stack.pop_back();
-            if (done.level >= 1 && done.level <= depth && !done.b.empty())
-                lines.box(done.b.lo, done.b.hi,
-                          Vec3(1.0, 0.55, 0.2) / static_cast<double>(done.level) + Vec3(0.15),
-                          nullptr);
-            if (!stack.empty()) stack.back().b.extend(done.b);
+            continue;
+        } else if (budget > 0 && top.node < top.group->csgs.size()) {
+            const CsgDesc& node = top.group->csgs[top.node++];
+            const Frame next{top.file, nullptr, &node, top.m, top.level + 1, true, Bounds3{}};
+            stack.push_back(next);  // invalidates `top`
+            --budget;
+            continue;
         }
+        const Frame done = top;
+        stack.pop_back();
+        if (done.drawn && done.level >= 1 && done.level <= depth && !done.b.empty()) {
+            const Vec3 colour = done.csg ? Vec3(0.3, 0.6, 1.0) : Vec3(1.0, 0.55, 0.2);
+            lines.box(done.b.lo, done.b.hi, colour / static_cast<double>(done.level) + Vec3(0.15),
+                      nullptr);
+        }
+        if (stack.empty()) break;
+        Frame& parent = stack.back();
+        if (parent.csg)
+            combine(parent.csg->op, parent.child - 1, done.b, &parent.b);
+        else
+            parent.b.extend(done.b);
     }
     return std::move(lines.out);
 }

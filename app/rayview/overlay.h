@@ -19,13 +19,17 @@ struct LineVertex {
 Bounds3 view_bounds(const RenderScene& scene);
 
 /// Overlay geometry: a marker per light (a cross for point lights, a cone for spots, an arrow for
-/// directional ones) and, up to `bvh_depth` levels, the boxes of the instances and of their
-/// BVH nodes (the flattened groups' boxes), in world space.
+/// directional ones, a cross and three great circles at the radius for sphere lights) and, up to
+/// `bvh_depth` levels, the boxes of the instances and of their BVH nodes (the flattened groups'
+/// boxes) and of their CSG nodes, in world space.
 std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth);
 
-/// The boxes of the scene graph's groups (#group_begin blocks and included files, each instance
-/// of an include on its own), world-aligned, down to nesting level `depth` (1: the top-level
-/// groups), in colours that fade with depth. Not the BVH: the structure the file describes.
+/// The boxes of the scene graph's groups (#group_begin blocks, V3 #static_affine and
+/// #dynamic_affine transforms and lists, included files, each instance of an include on its own)
+/// and of its CSG nodes (blue; union: the union of the operands' boxes, intersection: their
+/// intersection, difference: A's, spec §13.8) and their operands, world-aligned, down to nesting
+/// level `depth` (1: the top-level groups), in colours that fade with depth. Not the BVH: the
+/// structure the file describes.
 std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth);
 
 }  // namespace rt::view

@@ -43,18 +43,38 @@ const char* kind_name(LightKind k) {
     return "sphere";
 }
 
-// One light's controls. Directions are shown and edited made unit, as the renderer uses them.
-bool light_editor(LightDesc& l, char* on) {
+// A colour picker over a Vec3 (HDR: light colours may exceed 1).
+bool colour(const char* label, Vec3* v) {
+    float c[3] = {static_cast<float>(v->x), static_cast<float>(v->y), static_cast<float>(v->z)};
+    if (!ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR))
+        return false;
+    *v = Vec3(c[0], c[1], c[2]);
+    return true;
+}
+
+// One light's controls: a V3 light's three colours (spec §13.3), a V0/V1 light's one colour
+// (its diffuse and specular), a sphere light's radius. Directions are shown and edited made
+// unit, as the renderer uses them.
+bool light_editor(LightDesc& l, char* on, bool three_colours) {
     bool edited = false;
     bool checked = *on != 0;
     if (ImGui::Checkbox(kind_name(l.kind), &checked)) {
         *on = checked ? 1 : 0;
         edited = true;
     }
-    float col[3] = {static_cast<float>(l.diffuse.x), static_cast<float>(l.diffuse.y),
-                    static_cast<float>(l.diffuse.z)};
-    if (ImGui::ColorEdit3("colour", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR))
-        l.set_colour(Vec3(col[0], col[1], col[2])), edited = true;
+    if (three_colours) {
+        edited |= colour("ambient", &l.ambient);
+        edited |= colour("diffuse", &l.diffuse);
+        edited |= colour("specular", &l.specular);
+    } else {
+        Vec3 c = l.diffuse;
+        if (colour("colour", &c)) l.set_colour(c), edited = true;
+    }
+    if (l.kind == LightKind::Sphere) {
+        float r = static_cast<float>(l.radius);
+        if (ImGui::DragFloat("radius", &r, 0.01f, 0.0f, 1e6f))
+            l.radius = std::max(0.0f, r), edited = true;
+    }
     if (l.kind != LightKind::Directional) {
         edited |= drag3("position", &l.position, 0.05f);
         float a[3] = {static_cast<float>(l.constant_atten), static_cast<float>(l.linear_atten),
@@ -62,7 +82,7 @@ bool light_editor(LightDesc& l, char* on) {
         if (ImGui::DragFloat3("attenuation", a, 0.005f, 0.0f, 100.0f))
             l.constant_atten = a[0], l.linear_atten = a[1], l.quadratic_atten = a[2], edited = true;
     }
-    if (l.kind != LightKind::Point) {
+    if (l.kind == LightKind::Directional || l.kind == LightKind::Spot) {
         const Vec3 unit = glm::normalize(l.direction);
         float d[3] = {static_cast<float>(unit.x), static_cast<float>(unit.y),
                       static_cast<float>(unit.z)};
@@ -137,7 +157,21 @@ bool file_panel(ViewerState& v, PanelState& ui) {
                 break;
             }
     }
-    if (!v.message.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", v.message.c_str());
+    if (!v.message.empty()) {  // wrapped: errors name files and their includes
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
+        ImGui::TextWrapped("%s", v.message.c_str());
+        ImGui::PopStyleColor();
+    }
+    if (!v.checker_offer.empty() && ImGui::Button("open with checker stand-ins"))
+        opened |= v.open_with_checker();
+    if (v.loaded) {
+        const std::string stand_ins = stand_in_text(v.loaded->desc);
+        if (!stand_ins.empty()) {
+            ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.8f, 0.3f, 1));
+            ImGui::TextWrapped("%s", stand_ins.c_str());
+            ImGui::PopStyleColor();
+        }
+    }
     return opened;
 }
 
@@ -186,9 +220,10 @@ bool lights_panel(ViewerState& v) {
     bool edited = false;
     ImGui::Separator();
     ImGui::Text("Lights");
+    const bool three_colours = v.loaded->desc.dialect == Dialect::V3;
     for (size_t i = 0; i < v.edits.lights.size(); ++i) {
         ImGui::PushID(static_cast<int>(i));
-        edited |= light_editor(v.edits.lights[i], &v.edits.light_on[i]);
+        edited |= light_editor(v.edits.lights[i], &v.edits.light_on[i], three_colours);
         if (ImGui::Button("remove")) {
             v.remove_light(i);
             edited = true;

@@ -26,11 +26,13 @@ struct PanelState {
 /// .ray files whose path starts with what is typed (the directory part lists its folder).
 std::vector<std::string> completions(const std::string& typed);
 
-/// The scene's path with completion, Open, Reload, the recent files and the last message.
+/// The scene's path with completion, Open, Reload, the recent files, the last message, the
+/// offer to open a file whose textures are missing with checker stand-ins, and which stand in.
 bool file_panel(ViewerState& v, PanelState& ui);
 /// Camera buttons, layout and overlays, and the renderer's settings.
 bool settings_panel(ViewerState& v, const PaneLayout& layout);
-/// Every light: on or off, colour, position, attenuation, direction, spot cone; add, remove.
+/// Every light: on or off, its colour (V0/V1) or three colours (V3: ambient, diffuse, specular),
+/// a sphere light's radius, position, attenuation, direction, spot cone; add, remove.
 bool lights_panel(ViewerState& v);
 /// The trace's progress, what the renderer left out, the error plot.
 void status_panel(const ViewerState& v, const std::vector<std::string>& preview_defines,

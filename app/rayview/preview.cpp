@@ -78,10 +78,12 @@ const Vec3 kFaceUp[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0},
 Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
     // Compiled at once with every feature on, so a broken shader file fails here; the other
     // combinations of defines compile on first use (the same source with less of it).
-    program_for(
-        {"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR", "RT_SHADOWS"});
+    program_for({"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR",
+                 "RT_SHADOWS", "RT_CSG"});
     m_line_program = make_program(shader_dir, "lines.vert", "lines.frag");
     m_shadow_program = make_program(shader_dir, "preview.vert", "shadow.frag");
+    m_shadow_csg_program =
+        make_program(shader_dir, "preview.vert", "shadow.frag", {"RT_CSG"}, "csg.frag");
     m_line_vao = GlVertexArray::make();
     m_line_vbo = GlBuffer::make();
 }
@@ -89,16 +91,95 @@ Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
 unsigned Preview::program_for(const std::vector<std::string>& defines) {
     const auto it = m_programs.find(defines);
     if (it != m_programs.end()) return it->second.id();
-    GlProgram program = make_program(m_shader_dir, "preview.vert", "preview.frag", defines);
+    const bool csg = std::find(defines.begin(), defines.end(), "RT_CSG") != defines.end();
+    GlProgram program =
+        make_program(m_shader_dir, "preview.vert", "preview.frag", defines, csg ? "csg.frag" : "");
     const unsigned id = program.id();
     m_programs.emplace(defines, std::move(program));
     return id;
+}
+
+Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
+                                        const CsgTexels& csg, size_t* floats) {
+    // Interleaved position, normal (uv) and (CSG leaf) as floats; triangles grouped by material.
+    const bool leaves = !csg.leaf_of_vertex.empty();
+    const int per_vertex = (textured ? 8 : 6) + (leaves ? 1 : 0);
+    std::vector<float> vertices;
+    vertices.reserve(mesh.positions.size() * static_cast<size_t>(per_vertex));
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(mesh.positions[i][k]));
+        for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(mesh.normals[i][k]));
+        if (textured)
+            for (int k = 0; k < 2; ++k) vertices.push_back(static_cast<float>(mesh.uvs[i][k]));
+        if (leaves) vertices.push_back(csg.leaf_of_vertex[i]);
+    }
+    *floats += vertices.size();
+    std::vector<size_t> order(mesh.triangle_count());
+    std::iota(order.begin(), order.end(), size_t{0});
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return mesh.materials[a] < mesh.materials[b]; });
+    std::vector<unsigned> indices;
+    SetBuffers buf;
+    for (size_t t : order) {
+        const int m = mesh.materials[t];
+        if (buf.ranges.empty() || buf.ranges.back().material != m)
+            buf.ranges.push_back({m, static_cast<unsigned>(indices.size()), 0});
+        for (int k = 0; k < 3; ++k) indices.push_back(mesh.indices[t * 3 + static_cast<size_t>(k)]);
+        buf.ranges.back().count += 3;
+    }
+    buf.vao = GlVertexArray::make();
+    glBindVertexArray(buf.vao.id());
+    buf.vbo = GlBuffer::make();
+    glBindBuffer(GL_ARRAY_BUFFER, buf.vbo.id());
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
+                 vertices.data(), GL_STATIC_DRAW);
+    buf.ebo = GlBuffer::make();
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf.ebo.id());
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(indices.size() * sizeof(unsigned)), indices.data(),
+                 GL_STATIC_DRAW);
+    const GLsizei stride = per_vertex * static_cast<GLsizei>(sizeof(float));
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<const void*>(3 * sizeof(float)));
+    if (textured) {
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
+                              reinterpret_cast<const void*>(6 * sizeof(float)));
+    } else {
+        glDisableVertexAttribArray(2);  // reads the constant (0, 0)
+    }
+    if (leaves) {
+        glEnableVertexAttribArray(3);
+        glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride,
+                              reinterpret_cast<const void*>((per_vertex - 1) * sizeof(float)));
+    } else {
+        glDisableVertexAttribArray(3);  // reads the constant draw() sets: -1, no leaf
+    }
+    glBindVertexArray(0);
+    if (leaves) {
+        buf.csg_buffer = GlBuffer::make();
+        glBindBuffer(GL_TEXTURE_BUFFER, buf.csg_buffer.id());
+        glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(csg.texels.size() * sizeof(float)),
+                     csg.texels.data(), GL_STATIC_DRAW);
+        buf.csg_texture = GlTexture::make();
+        glBindTexture(GL_TEXTURE_BUFFER, buf.csg_texture.id());
+        glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buf.csg_buffer.id());
+        glBindTexture(GL_TEXTURE_BUFFER, 0);
+        buf.csg_nodes = csg.nodes;
+        buf.csg_children = csg.children;
+        buf.csg_leaves = csg.leaves;
+    }
+    return buf;
 }
 
 void Preview::load(const RenderScene& scene, int detail) {
     m_sets.clear();
     m_textures.clear();
     m_shadows_valid = false;
+    m_csg = false;
     // What the scene uses decides what is uploaded: sets no instance places are not tessellated,
     // texture coordinates only for sets with a textured material, textures only when used.
     std::vector<char> placed(scene.sets.size(), 0), texture_used(scene.textures.size(), 0);
@@ -110,67 +191,22 @@ void Preview::load(const RenderScene& scene, int detail) {
             m_sets.emplace_back();
             continue;
         }
-        bool textured = false;
-        for (const Primitive& p : set.prims) {
-            const int t = scene.materials[static_cast<size_t>(p.material)].texture;
+        PreviewMesh mesh = tessellate_set(set, detail);
+        CsgTexels csg;
+        add_csg_leaves(set, detail, &mesh, &csg);
+        bool textured = false;  // the materials drawn, CSG leaves' included
+        std::vector<char> seen(scene.materials.size(), 0);
+        for (const int m : mesh.materials) {
+            if (seen[static_cast<size_t>(m)]) continue;
+            seen[static_cast<size_t>(m)] = 1;
+            const int t = scene.materials[static_cast<size_t>(m)].texture;
             if (t >= 0) {
                 textured = true;
                 texture_used[static_cast<size_t>(t)] = 1;
             }
         }
-        const PreviewMesh mesh = tessellate_set(set, detail);
-        // Interleaved position, normal (and uv) as floats; triangles grouped by material.
-        const int per_vertex = textured ? 8 : 6;
-        std::vector<float> vertices;
-        vertices.reserve(mesh.positions.size() * static_cast<size_t>(per_vertex));
-        for (size_t i = 0; i < mesh.positions.size(); ++i) {
-            for (int k = 0; k < 3; ++k)
-                vertices.push_back(static_cast<float>(mesh.positions[i][k]));
-            for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(mesh.normals[i][k]));
-            if (textured)
-                for (int k = 0; k < 2; ++k) vertices.push_back(static_cast<float>(mesh.uvs[i][k]));
-        }
-        m_uploaded_floats += vertices.size();
-        std::vector<size_t> order(mesh.triangle_count());
-        std::iota(order.begin(), order.end(), size_t{0});
-        std::stable_sort(order.begin(), order.end(),
-                         [&](size_t a, size_t b) { return mesh.materials[a] < mesh.materials[b]; });
-        std::vector<unsigned> indices;
-        SetBuffers buf;
-        for (size_t t : order) {
-            const int m = mesh.materials[t];
-            if (buf.ranges.empty() || buf.ranges.back().material != m)
-                buf.ranges.push_back({m, static_cast<unsigned>(indices.size()), 0});
-            for (int k = 0; k < 3; ++k)
-                indices.push_back(mesh.indices[t * 3 + static_cast<size_t>(k)]);
-            buf.ranges.back().count += 3;
-        }
-        buf.vao = GlVertexArray::make();
-        glBindVertexArray(buf.vao.id());
-        buf.vbo = GlBuffer::make();
-        glBindBuffer(GL_ARRAY_BUFFER, buf.vbo.id());
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
-                     vertices.data(), GL_STATIC_DRAW);
-        buf.ebo = GlBuffer::make();
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf.ebo.id());
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                     static_cast<GLsizeiptr>(indices.size() * sizeof(unsigned)), indices.data(),
-                     GL_STATIC_DRAW);
-        const GLsizei stride = per_vertex * static_cast<GLsizei>(sizeof(float));
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-        glEnableVertexAttribArray(1);
-        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
-                              reinterpret_cast<const void*>(3 * sizeof(float)));
-        if (textured) {
-            glEnableVertexAttribArray(2);
-            glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
-                                  reinterpret_cast<const void*>(6 * sizeof(float)));
-        } else {
-            glDisableVertexAttribArray(2);  // reads the constant (0, 0)
-        }
-        glBindVertexArray(0);
-        m_sets.push_back(std::move(buf));
+        m_csg |= !csg.leaf_of_vertex.empty();
+        m_sets.push_back(upload_set(mesh, textured, csg, &m_uploaded_floats));
     }
     // Textures: 8-bit RGB, row 0 first, bilinear with wrap and no mipmaps (spec §7.3).
     for (size_t ti = 0; ti < scene.textures.size(); ++ti) {
@@ -192,20 +228,22 @@ void Preview::load(const RenderScene& scene, int detail) {
     }
 }
 
-void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights) {
-    // Which lights get a map, and the view each is rendered with.
+std::vector<Preview::ShadowView> Preview::shadow_views(const RenderScene& scene,
+                                                       const std::vector<Light>& lights,
+                                                       int* layers_out) {
     std::vector<ShadowView> views;
     const Bounds3& w = scene.world_bounds;
     const Vec3 centre = w.empty() ? Vec3(0.0) : w.centre();
     const double half = w.empty() ? 1.0 : std::max(0.5 * glm::length(w.diagonal()), 1e-30) * 1.01;
-    int layers = 0;
+    int& layers = *layers_out;
+    layers = 0;
     for (size_t i = 0; i < lights.size() && i < 16; ++i) {
         const Light& l = lights[i];
         ShadowView v;
         v.kind = l.kind;
         v.position = l.position;
         v.direction = l.direction;
-        if (layers / 6 < kMaxShadowLights && l.diffuse != Vec3(0.0)) {
+        if (layers / 6 < kMaxShadowLights && (l.diffuse != Vec3(0.0) || l.specular != Vec3(0.0))) {
             v.layer = layers;
             layers += 6;
             if (l.kind == LightKind::Directional) {
@@ -224,6 +262,14 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
         }
         views.push_back(v);
     }
+    return views;
+}
+
+void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights) {
+    // Which lights get a map, and the view each is rendered with.
+    int layers = 0;
+    const std::vector<ShadowView> views = shadow_views(scene, lights, &layers);
+    const Bounds3& w = scene.world_bounds;
     if (m_shadows_valid && views == m_shadow_views) return;
     m_shadow_views = views;
     m_shadows_valid = true;
@@ -252,13 +298,17 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
     glViewport(0, 0, kShadowResolution, kShadowResolution);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    glUseProgram(m_shadow_program.id());
+    const GlProgram& shadow_program = m_csg ? m_shadow_csg_program : m_shadow_program;
+    const unsigned sp = shadow_program.id();
+    glUseProgram(sp);
+    glUniform1i(loc(sp, "u_csg"), 2);
+    glVertexAttrib1f(3, -1.0f);  // the leaf of vertices of sets without CSG: none
     for (const ShadowView& v : views) {
         if (v.layer < 0) continue;
         const bool radial = v.kind != LightKind::Directional;
-        glUniform1i(loc(m_shadow_program.id(), "u_radial"), radial ? 1 : 0);
-        set_vec3(m_shadow_program.id(), "u_light_position", v.position);
-        glUniform1f(loc(m_shadow_program.id(), "u_far"), static_cast<float>(v.scale));
+        glUniform1i(loc(sp, "u_radial"), radial ? 1 : 0);
+        set_vec3(sp, "u_light_position", v.position);
+        glUniform1f(loc(sp, "u_far"), static_cast<float>(v.scale));
         for (int face = 0; face < (radial ? 6 : 1); ++face) {
             glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, m_shadow_tex.id(), 0,
                                       v.layer + face);
@@ -272,8 +322,7 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
                 c.up = kFaceUp[face];
                 c.tan_w = c.tan_h = 1.0;
                 const GlMatrices m = camera_matrices(c, w);
-                glUniformMatrix4fv(loc(m_shadow_program.id(), "u_clip_from_world"), 1, GL_FALSE,
-                                   m.clip_from_world);
+                glUniformMatrix4fv(loc(sp, "u_clip_from_world"), 1, GL_FALSE, m.clip_from_world);
             } else {
                 // Orthographic along the direction of travel over the scene's bounding sphere.
                 double m[4][4] = {};
@@ -283,9 +332,9 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
                     m[r][3] = -glm::dot(axes[r], v.centre) / v.scale;
                 }
                 m[3][3] = 1.0;
-                set_matrix(m_shadow_program.id(), "u_clip_from_world", m);
+                set_matrix(sp, "u_clip_from_world", m);
             }
-            draw_instances(scene, m_shadow_program.id(), true);
+            draw_instances(scene, sp, true);
         }
     }
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));  // draw buffers are
@@ -307,6 +356,14 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
         const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
         if (!buf.vao) continue;
         glBindVertexArray(buf.vao.id());
+        if (buf.csg_texture) {
+            glActiveTexture(GL_TEXTURE2);
+            glBindTexture(GL_TEXTURE_BUFFER, buf.csg_texture.id());
+            glActiveTexture(GL_TEXTURE0);
+            glUniform1i(loc(program, "u_csg_nodes"), buf.csg_nodes);
+            glUniform1i(loc(program, "u_csg_children"), buf.csg_children);
+            glUniform1i(loc(program, "u_csg_leaves"), buf.csg_leaves);
+        }
         for (const Range& range : buf.ranges) {
             const Material& m = scene.materials[static_cast<size_t>(range.material)];
             if (opaque_only && m.transparent != Vec3(0.0)) continue;
@@ -337,13 +394,18 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     const bool shadows = uses.shadows && lights > 0;
     if (shadows) render_shadow_maps(scene, plan.lights);
     std::vector<std::string> defines;
-    if (uses.light_kinds[static_cast<int>(LightKind::Point)]) defines.push_back("RT_POINT");
+    // A sphere light shades as a point light at its centre (spec §13.9: L, f_l and the
+    // highlight use the centre; only the shadow factor is an area integral).
+    if (uses.light_kinds[static_cast<int>(LightKind::Point)] ||
+        uses.light_kinds[static_cast<int>(LightKind::Sphere)])
+        defines.push_back("RT_POINT");
     if (uses.light_kinds[static_cast<int>(LightKind::Spot)]) defines.push_back("RT_SPOT");
     if (uses.light_kinds[static_cast<int>(LightKind::Directional)])
         defines.push_back("RT_DIRECTIONAL");
     if (uses.textures) defines.push_back("RT_TEXTURES");
     if (uses.highlights) defines.push_back("RT_SPECULAR");
     if (shadows) defines.push_back("RT_SHADOWS");
+    if (m_csg) defines.push_back("RT_CSG");
     const GLuint program = program_for(defines);
     m_defines = defines;
 
@@ -361,8 +423,11 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     glUniform1i(loc(program, "u_light_count"), lights);
     for (int i = 0; i < lights; ++i) {
         const Light& l = plan.lights[static_cast<size_t>(i)];
-        glUniform1i(loc(program, indexed("u_light_kind", i)), static_cast<int>(l.kind));
-        set_vec3(program, indexed("u_light_color", i), l.diffuse);
+        const LightKind kind = l.kind == LightKind::Sphere ? LightKind::Point : l.kind;
+        glUniform1i(loc(program, indexed("u_light_kind", i)), static_cast<int>(kind));
+        set_vec3(program, indexed("u_light_ambient", i), l.ambient);
+        set_vec3(program, indexed("u_light_diffuse", i), l.diffuse);
+        set_vec3(program, indexed("u_light_specular", i), l.specular);
         set_vec3(program, indexed("u_light_position", i), l.position);
         set_vec3(program, indexed("u_light_direction", i), l.direction);
         set_vec3(program, indexed("u_light_atten", i),
@@ -380,6 +445,9 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
         }
     }
     glUniform1i(loc(program, "u_texture"), 0);
+    glUniform1i(loc(program, "u_texture_all"), scene.texture_all_terms ? 1 : 0);
+    glUniform1i(loc(program, "u_csg"), 2);
+    glVertexAttrib1f(3, -1.0f);  // the leaf of vertices of sets without CSG: none
     if (shadows) {
         glUniform1i(loc(program, "u_shadow_map"), 1);
         glUniform1f(loc(program, "u_shadow_res"), static_cast<float>(kShadowResolution));

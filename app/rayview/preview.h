@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "csg_preview.h"
 #include "gl_util.h"
 #include "overlay.h"
 #include "rt/compile/render_scene.h"
@@ -61,7 +62,12 @@ private:
         GlVertexArray vao;  // none for a set no instance places
         GlBuffer vbo, ebo;
         std::vector<Range> ranges;
+        GlBuffer csg_buffer;  // the CSG trees (csg_preview.h), none without CSG
+        GlTexture csg_texture;
+        int csg_nodes = 0, csg_children = 0, csg_leaves = 0;
     };
+    static SetBuffers upload_set(const PreviewMesh& mesh, bool textured, const CsgTexels& csg,
+                                 size_t* floats);
     // What a shadow map was rendered for, to know when to render it again.
     struct ShadowView {
         int layer = -1;  // first layer in the array, -1: none
@@ -72,6 +78,10 @@ private:
         bool operator==(const ShadowView&) const = default;
     };
     unsigned program_for(const std::vector<std::string>& defines);
+    /// Which lights get a shadow map (the first kMaxShadowLights that light), and the view each
+    /// is rendered with; `*layers`: the array layers they take.
+    static std::vector<ShadowView> shadow_views(const RenderScene& scene,
+                                                const std::vector<Light>& lights, int* layers);
     void render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights);
     void draw_instances(const RenderScene& scene, unsigned program, bool opaque_only) const;
 
@@ -79,7 +89,7 @@ private:
     std::map<std::vector<std::string>, GlProgram> m_programs;  // by defines
     std::vector<std::string> m_defines;
     size_t m_uploaded_floats = 0;
-    GlProgram m_shadow_program;
+    GlProgram m_shadow_program, m_shadow_csg_program;  // without and with RT_CSG
     GlFramebuffer m_shadow_fbo;
     GlTexture m_shadow_tex;
     int m_shadow_layers = 0;
@@ -89,6 +99,7 @@ private:
     GlVertexArray m_line_vao;
     GlBuffer m_line_vbo;
     std::vector<SetBuffers> m_sets;
+    bool m_csg = false;                 // a placed set has CSG nodes: programs with RT_CSG
     std::vector<GlTexture> m_textures;  // none for a texture no material drawn uses
 };
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -45,6 +46,13 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
     app.add_option("--script", script_path,
                    "replay input at given frames (commands: app/rayview/script.h)")
         ->type_name("FILE");
+    const std::map<std::string, MissingTextures> missing{{"error", MissingTextures::Error},
+                                                         {"checker", MissingTextures::Checker}};
+    app.add_option("--missing-textures", out->missing_textures,
+                   "a texture that cannot be opened: error (default) or checker (a stand-in, "
+                   "listed in the panel)")
+        ->type_name("error|checker")
+        ->transform(CLI::CheckedTransformer(missing, CLI::ignore_case).description(""));
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {
@@ -125,10 +133,11 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
         v.mark_edited();
     } else if (l.command == "open" && !l.args.empty()) {
         v.open(l.args[0], false);
-    } else if (l.command == "light" && l.args.size() >= 5) {
+    } else if (l.command == "light" && l.args.size() >= 3) {
         const size_t i = static_cast<size_t>(std::atoi(l.args[0].c_str()));
-        if (i < v.edits.lights.size()) v.edits.lights[i].set_colour(Vec3(arg(2), arg(3), arg(4)));
-        v.mark_edited();
+        if (i < v.edits.lights.size() &&
+            edit_light(l.args[1], arg(2), arg(3), arg(4), &v.edits.lights[i]))
+            v.mark_edited();
     } else if (l.command == "shadows" && !l.args.empty()) {
         s.render.shadows = l.args[0] == "on";
         v.mark_edited();

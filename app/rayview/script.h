@@ -3,7 +3,8 @@
 // frame statistics a --frames run prints at the end.
 //
 // A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn:
-// orbit DYAW DPITCH | open PATH | light I colour R G B | shadows on|off |
+// orbit DYAW DPITCH | open PATH | light I colour|ambient|diffuse|specular R G B |
+// light I radius R | shadows on|off |
 // boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | resolution SCALE | screenshot PATH.
 #pragma once
 
@@ -29,6 +30,7 @@ struct RunOptions {
     int frames = 0;  // > 0: run this many frames, save the window, exit
     std::string screenshot;
     std::vector<ScriptLine> script;
+    MissingTextures missing_textures = MissingTextures::Error;  // --missing-textures
 };
 
 /// Reads the command line into `out` (the scene defaults to `default_scene`). Returns -1 to run,

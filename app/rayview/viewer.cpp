@@ -34,12 +34,56 @@ void apply_edits(const SceneEdits& edits, int trace_w, int trace_h, RenderScene*
 
 }  // namespace
 
-std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error) {
+bool edit_light(const std::string& what, double a, double b, double c, LightDesc* l) {
+    const Vec3 rgb(a, b, c);
+    if (what == "colour") {
+        l->set_colour(rgb);
+    } else if (what == "ambient") {
+        l->ambient = rgb;
+    } else if (what == "diffuse") {
+        l->diffuse = rgb;
+    } else if (what == "specular") {
+        l->specular = rgb;
+    } else if (what == "radius" && l->kind == LightKind::Sphere) {
+        l->radius = std::max(0.0, a);
+    } else {
+        return false;
+    }
+    return true;
+}
+
+std::string stand_in_text(const SceneDesc& desc) {
+    if (desc.missing_textures.empty()) return "";
+    std::string text = "checker stand-ins for missing textures:";
+    for (const std::string& t : desc.missing_textures) text += "\n  " + t;
+    return text;
+}
+
+std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error,
+                                        MissingTextures missing, bool* textures_missing) {
+    if (textures_missing) *textures_missing = false;
     try {
         Diagnostics diag;
         auto s = std::make_unique<LoadedScene>();
         s->path = path;
-        s->desc = parse_scene_file(path, diag);
+        s->missing_textures = missing;
+        ParseOptions options;
+        options.missing_textures = missing;
+        try {
+            s->desc = parse_scene_file(path, diag, options);
+        } catch (const SceneError&) {
+            // Would checker stand-ins open it? Then the textures were all that failed.
+            if (missing == MissingTextures::Error && textures_missing) {
+                Diagnostics quiet;
+                options.missing_textures = MissingTextures::Checker;
+                try {
+                    *textures_missing =
+                        !parse_scene_file(path, quiet, options).missing_textures.empty();
+                } catch (const std::exception&) {
+                }
+            }
+            throw;
+        }
         s->scene = compile_scene(s->desc);
         if (s->desc.camera) {
             s->file_camera = *s->desc.camera;
@@ -57,9 +101,9 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
     }
 }
 
-int render_headless(const std::string& path) {
+int render_headless(const std::string& path, MissingTextures missing) {
     std::string error;
-    const auto s = load_scene(path, &error);
+    const auto s = load_scene(path, &error, missing);
     if (!s) {
         std::cerr << error << "\n";
         return 1;
@@ -78,11 +122,13 @@ int render_headless(const std::string& path) {
     return 0;
 }
 
-ViewerState::ViewerState(const std::string& path, bool print_left_out)
-    : m_print_left_out(print_left_out) {
+ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTextures missing)
+    : missing_textures(missing), m_print_left_out(print_left_out) {
     // The trace leaves one core to the interface thread, so frames stay smooth.
     settings.render.threads = std::max(1, resolve_thread_count(0) - 1);
-    loaded = load_scene(path, &message);
+    bool textures_missing = false;
+    loaded = load_scene(path, &message, missing, &textures_missing);
+    if (textures_missing) checker_offer = path;
     if (!loaded) return;  // keeps running with the message shown
     loaded->id = ++m_scenes_opened;
     recent.push_back(loaded->path);
@@ -101,8 +147,19 @@ void ViewerState::on_loaded() {
 }
 
 bool ViewerState::open(std::string file, bool keep_camera) {
+    return open_as(std::move(file), keep_camera, missing_textures);
+}
+
+bool ViewerState::open_with_checker() {
+    if (checker_offer.empty()) return false;
+    return open_as(checker_offer, false, MissingTextures::Checker);
+}
+
+bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures missing) {
     std::string err;
-    auto next = load_scene(file, &err);
+    bool textures_missing = false;
+    auto next = load_scene(file, &err, missing, &textures_missing);
+    checker_offer = textures_missing ? file : "";
     if (!next) {
         message = err;
         if (loaded) loaded->file_time = modified(loaded->path);  // do not retry every frame
@@ -131,7 +188,8 @@ void ViewerState::poll_files() {
     const auto now = Clock::now();
     if (loaded && now - m_last_check > std::chrono::milliseconds(500)) {
         m_last_check = now;
-        if (modified(loaded->path) != loaded->file_time) open(loaded->path, true);
+        if (modified(loaded->path) != loaded->file_time)
+            open_as(loaded->path, true, loaded->missing_textures);
     }
 }
 

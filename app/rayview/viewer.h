@@ -12,6 +12,7 @@
 
 #include "camera_controller.h"
 #include "rt/compile/render_scene.h"
+#include "rt/format/parser.h"
 #include "rt/image/image.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
@@ -28,6 +29,9 @@ struct LoadedScene {
     CameraDesc file_camera;                     // Home returns here
     std::filesystem::file_time_type file_time;  // the file's time when last read
     int id = 0;  // counts the scenes opened, so views of the scene know when it changed
+    /// How it was opened: with Checker, desc.missing_textures lists the stand-ins (a reload
+    /// opens it the same way).
+    MissingTextures missing_textures = MissingTextures::Error;
 };
 
 /// The user's edits, on the description side: the camera and every light, on or off.
@@ -48,19 +52,34 @@ struct ViewSettings {
     int layout = 0;                 // 0 both panes, 1 preview alone, 2 trace alone
 };
 
-/// Reads and compiles a scene; nullptr and `*error` on failure.
-std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error);
+/// A light edit (the script's `light` command) WHAT (colour: a V0/V1 light's one colour, which sets
+/// ambient 0 and diffuse = specular; ambient, diffuse, specular: one of a V3 light's colours;
+/// radius: a sphere light's, a >= 0) with arguments (a, b, c). False, and `*l` unchanged, for
+/// another WHAT.
+bool edit_light(const std::string& what, double a, double b, double c, LightDesc* l);
+
+/// The panel's note on the textures that stand in as checkers ("" when none).
+std::string stand_in_text(const SceneDesc& desc);
+
+/// Reads and compiles a scene; nullptr and `*error` on failure. With MissingTextures::Error a
+/// failed open is tried again with checker stand-ins: `*textures_missing` (when given) says
+/// whether that would open it (the failure was only textures that cannot be opened).
+std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error,
+                                        MissingTextures missing = MissingTextures::Error,
+                                        bool* textures_missing = nullptr);
 
 /// Without a display: the same renderer, headless (16 spp), to SCENE.png in the working
 /// directory. Returns the exit code.
-int render_headless(const std::string& path);
+int render_headless(const std::string& path, MissingTextures missing = MissingTextures::Error);
 
 struct ViewerState {
     using Clock = std::chrono::steady_clock;
 
     /// Opens `path`; on an error the message is kept in `message`. `print_left_out`: print the
     /// features the renderer leaves out at the first restart (for --frames runs).
-    ViewerState(const std::string& path, bool print_left_out);
+    /// `missing`: how every file opens (--missing-textures).
+    ViewerState(const std::string& path, bool print_left_out,
+                MissingTextures missing = MissingTextures::Error);
     ~ViewerState();
     ViewerState(const ViewerState&) = delete;
     ViewerState& operator=(const ViewerState&) = delete;
@@ -68,6 +87,8 @@ struct ViewerState {
     // ---- the scene file ----
     /// Opens a file; on an error the message is shown and the previous scene stays.
     bool open(std::string file, bool keep_camera);  // by value: callers pass loaded->path
+    /// Opens `checker_offer` with checker stand-ins for its missing textures.
+    bool open_with_checker();
     /// Opens the last file dropped onto the window, and reloads the open file (camera kept) when
     /// it changed on disk (its time is checked twice a second, not every frame).
     void poll_files();
@@ -97,8 +118,10 @@ struct ViewerState {
     std::unique_ptr<LoadedScene> loaded;  // null until a file opens
     SceneEdits edits;
     ViewSettings settings;
-    std::string message;               // the last error or "saved ..." shown in the panel
-    std::vector<std::string> recent;   // files opened, most recent first
+    std::string message;        // the last error or "saved ..." shown in the panel
+    std::string checker_offer;  // a file that failed to open for its textures only, else ""
+    MissingTextures missing_textures = MissingTextures::Error;  // how files open
+    std::vector<std::string> recent;                            // files opened, most recent first
     std::vector<std::string> dropped;  // files dropped onto the window, picked up by poll_files
 
     Tracer tracer;  // after `loaded`: stops before the scene it traces dies
@@ -109,6 +132,7 @@ struct ViewerState {
     std::vector<double> first_pass_samples;  // every first_pass_ms, for the --frames summary
 
 private:
+    bool open_as(std::string file, bool keep_camera, MissingTextures missing);
     void on_loaded();
     void restart();
 

@@ -34,6 +34,30 @@ done
 for i in 1 2 3 4; do
     check "edit before screenshot $i changes the window" bash -c "! cmp -s '$tmp/$((i - 1)).png' '$tmp/$i.png'"
 done
+# A V3 scene: a torus lit by a sphere light; its ambient colour and its radius edited.
+cat >"$tmp/v3.ray" <<'SCENE'
+#camera 0 2 6  0 -0.3 -1  0 1 0  0.5
+#light_sphere 0.1 0.1 0.1  1 1 1  1 1 1  2 3 3  0.5  1 0 0
+#material 0 0 0  0.5 0.5 0.5  0.6 0.5 0.4  0.3 0.3 0.3  20  0 0 0  1  -1 !!
+#shape_torus 0  0 0 0  0.4 1.2
+#shape_box 0  0 -1 0  6 0.2 6
+SCENE
+cat >"$tmp/v3.txt" <<SCRIPT
+15 screenshot $tmp/v0.png
+16 light 0 ambient 1 0 0
+30 screenshot $tmp/v1.png
+31 light 0 radius 1.5
+45 screenshot $tmp/v2.png
+SCRIPT
+xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --script "$tmp/v3.txt" "$tmp/v3.ray" >"$tmp/v3out.txt" 2>&1
+check "rayview exits 0 on a V3 scene" test $? -eq 0
+check "V3 light edits restart the trace" test "$(grep -c 'light: trace restarted' "$tmp/v3out.txt")" -eq 2
+check "the ambient edit changes the window" bash -c "! cmp -s '$tmp/v0.png' '$tmp/v1.png'"
+check "the radius edit changes the window" bash -c "! cmp -s '$tmp/v1.png' '$tmp/v2.png'"
+cat "$tmp/v3out.txt"
+"$rv" --missing-textures bogus "$src/scenes/lights.ray" >"$tmp/bad.txt" 2>&1
+check "--missing-textures takes error or checker only" test $? -eq 2
+check "--help lists --missing-textures" bash -c "'$rv' --help | grep -q -- '--missing-textures error|checker'"
 cat "$tmp/out.txt"
 echo "$passes passed, $fails failed"
 test "$fails" -eq 0

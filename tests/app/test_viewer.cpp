@@ -3,8 +3,10 @@
 // described.
 #include <chrono>
 #include <thread>
+#include <variant>
 
 #include "rt/format/parser.h"
+#include "rt/util/file_io.h"
 #include "test_util.h"
 #include "viewer.h"
 
@@ -81,6 +83,115 @@ TEST(Viewer, AFailedOpenKeepsTheSceneAndSaysWhy) {
     EXPECT_GT(v.loaded->id, id);
     EXPECT_TRUE(v.message.empty());
     EXPECT_EQ(v.recent.size(), 1u);  // the same file once
+}
+
+// The script's light command: one colour (V0/V1: ambient 0, diffuse = specular), each of a V3
+// light's three colours, a sphere light's radius; anything else leaves the light as it was.
+TEST(Viewer, ScriptEditsOneOrThreeLightColoursAndTheRadius) {
+    LightDesc l;
+    l.ambient = Vec3(0.1);
+    ASSERT_TRUE(edit_light("colour", 1, 2, 3, &l));
+    EXPECT_EQ(l.ambient, Vec3(0.0));
+    EXPECT_EQ(l.diffuse, Vec3(1, 2, 3));
+    EXPECT_EQ(l.specular, Vec3(1, 2, 3));
+    EXPECT_TRUE(l.one_colour());
+    ASSERT_TRUE(edit_light("ambient", 0.5, 0, 0, &l));
+    ASSERT_TRUE(edit_light("specular", 0, 0, 1, &l));
+    EXPECT_EQ(l.ambient, Vec3(0.5, 0, 0));
+    EXPECT_EQ(l.diffuse, Vec3(1, 2, 3));
+    EXPECT_EQ(l.specular, Vec3(0, 0, 1));
+    ASSERT_TRUE(edit_light("diffuse", 0, 1, 0, &l));
+    EXPECT_EQ(l.diffuse, Vec3(0, 1, 0));
+    const LightDesc before = l;
+    EXPECT_FALSE(edit_light("radius", 2, 0, 0, &l));  // a point light has none
+    EXPECT_FALSE(edit_light("shininess", 2, 0, 0, &l));
+    EXPECT_EQ(l.radius, before.radius);
+    EXPECT_EQ(l.diffuse, before.diffuse);
+    l.kind = LightKind::Sphere;
+    ASSERT_TRUE(edit_light("radius", 0.75, 0, 0, &l));
+    EXPECT_EQ(l.radius, 0.75);
+    ASSERT_TRUE(edit_light("radius", -1, 0, 0, &l));
+    EXPECT_EQ(l.radius, 0.0);
+}
+
+// Three-colour edits reach the traced scene through the restart path.
+TEST(Viewer, ThreeColourEditsReachTheTracedScene) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.set_trace_size(16, 12);
+    restart(v);
+    v.edits.lights[1].ambient = Vec3(0.2, 0.3, 0.4);
+    v.edits.lights[1].specular = Vec3(0, 1, 0);
+    v.mark_edited();
+    restart(v);
+    EXPECT_EQ(v.loaded->scene.lights[1].ambient, Vec3(0.2, 0.3, 0.4));
+    EXPECT_EQ(v.loaded->scene.lights[1].specular, Vec3(0, 1, 0));
+}
+
+// A scene whose texture cannot be opened: the error, then the offer to open it with a checker
+// standing in, and the panel's note on the stand-in; --missing-textures checker opens it at once.
+TEST(Viewer, MissingTexturesOpenWithCheckerStandIns) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_missing_texture.ray";
+    write_file_atomic(path,
+                      "#texture no_such_texture.png\n"
+                      "#material 0 0 0  .1 .1 .1  .8 .8 .8  0 0 0  1  0 0 0  1  0 !m!\n"
+                      "#light_dir 1 1 1  0 -1 0\n#shape_sphere 0 0 0 0 1\n");
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    EXPECT_TRUE(v.checker_offer.empty());
+    EXPECT_FALSE(v.open(path, false));
+    EXPECT_NE(v.message.find("no_such_texture.png"), std::string::npos) << v.message;
+    EXPECT_EQ(v.checker_offer, path);
+    EXPECT_EQ(v.loaded->path, kLights);  // the previous scene stays
+    EXPECT_EQ(stand_in_text(v.loaded->desc), "");
+    ASSERT_TRUE(v.open_with_checker()) << v.message;
+    EXPECT_EQ(v.loaded->path, path);
+    EXPECT_TRUE(v.checker_offer.empty());
+    EXPECT_EQ(v.loaded->missing_textures, MissingTextures::Checker);
+    ASSERT_EQ(v.loaded->desc.missing_textures, std::vector<std::string>{"no_such_texture.png"});
+    EXPECT_NE(stand_in_text(v.loaded->desc).find("no_such_texture.png"), std::string::npos);
+    // Another failure (not a texture) makes no offer.
+    EXPECT_FALSE(v.open(RT_SOURCE_DIR "/scenes/no_such_file.ray", false));
+    EXPECT_TRUE(v.checker_offer.empty());
+
+    ViewerState direct(path, false, MissingTextures::Checker);
+    ASSERT_TRUE(direct.loaded) << direct.message;
+    EXPECT_EQ(direct.loaded->desc.missing_textures.size(), 1u);
+    ViewerState refused(path, false);
+    EXPECT_FALSE(refused.loaded);
+    EXPECT_EQ(refused.checker_offer, path);
+}
+
+// A V3 scene saves as V3 (the writer's syntax), with the viewer's three-colour and radius edits.
+TEST(Viewer, AV3SceneSavesAsV3WithItsEdits) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_v3.ray";
+    write_file_atomic(
+        path,
+        "#camera 0 2 6  0 -0.3 -1  0 1 0  0.5\n"
+        "#light_sphere 0.1 0.1 0.1  1 1 1  1 1 1  2 3 3  0.5  1 0 0\n"
+        "#material 0 0 0  0.5 0.5 0.5  0.6 0.5 0.4  0.3 0.3 0.3  20  0 0 0  1  -1 !!\n"
+        "#shape_torus 0  0 0 0  0.4 1.2\n");
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_EQ(v.loaded->desc.dialect, Dialect::V3);
+    LightDesc& l = v.edits.lights[0];
+    ASSERT_EQ(l.kind, LightKind::Sphere);
+    l.ambient = Vec3(0.2, 0.3, 0.4);
+    l.specular = Vec3(0, 1, 0);
+    l.radius = 0.8;
+    const std::string saved = ::testing::TempDir() + "rt_viewer_v3_saved.ray";
+    v.save_scene(saved);
+    Diagnostics diag;
+    const SceneDesc d = parse_scene_file(saved, diag);
+    EXPECT_EQ(d.dialect, Dialect::V3);
+    ASSERT_EQ(d.lights.size(), 1u);
+    EXPECT_EQ(d.lights[0].kind, LightKind::Sphere);
+    EXPECT_VEC_NEAR(d.lights[0].ambient, Vec3(0.2, 0.3, 0.4), 1e-12);
+    EXPECT_VEC_NEAR(d.lights[0].diffuse, Vec3(1.0), 1e-12);
+    EXPECT_VEC_NEAR(d.lights[0].specular, Vec3(0, 1, 0), 1e-12);
+    EXPECT_NEAR(d.lights[0].radius, 0.8, 1e-12);
+    ASSERT_EQ(d.files[0].root.shapes.size(), 1u);
+    EXPECT_TRUE(std::holds_alternative<Torus>(d.files[0].root.shapes[0].geometry));
 }
 
 }  // namespace

@@ -7,8 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
+#include <type_traits>
+#include <variant>
 
 #include "preview.h"
 #include "test_util.h"
@@ -58,19 +62,22 @@ struct Offscreen {
 struct Comparison {
     double iou = 0;
     double colour_match = 0;  // share of commonly covered pixels within 3/255 per channel
+    int covered = 0;          // pixels the trace covers
 };
 
-Comparison compare(const std::string& text) {
+// `scene` in the preview and the trace. Coverage is told from a magenta background (a black
+// object on V3's black background would count as uncovered).
+Comparison compare(RenderScene scene) {
+    scene.background = Vec3(1, 0, 1);
     Offscreen gl;
     EXPECT_NE(gl.ctx, nullptr);
-    const RenderScene scene = test::compile(text);
     view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
     preview.load(scene, 96);
     const Camera cam = make_camera(scene, kW, kH);
     preview.draw(scene, plan_for(scene), cam, kW, kH);
     glFinish();
     const Image traced = test::render(scene, kW, kH, 1, 0.001, false);  // local shading only
-    int both = 0, either = 0, close = 0;
+    int both = 0, either = 0, close = 0, covered = 0;
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
             Hit h;
@@ -81,6 +88,7 @@ Comparison compare(const std::string& text) {
             const bool drawn = g != bg;
             both += hit && drawn;
             either += hit || drawn;
+            covered += hit;
             if (hit && drawn) {
                 Vec3 t;
                 for (int k = 0; k < 3; ++k) t[k] = to_byte(traced.at(x, y)[k]);
@@ -88,12 +96,35 @@ Comparison compare(const std::string& text) {
             }
         }
     return {either ? static_cast<double>(both) / either : 1.0,
-            both ? static_cast<double>(close) / both : 1.0};
+            both ? static_cast<double>(close) / both : 1.0, covered};
 }
+
+Comparison compare(const std::string& text) { return compare(test::compile(text)); }
 
 const char* kMaterials =
     "#material 0 0 0  .1 .1 .1  .7 .3 .2  .4 .4 .4  30  0 0 0  1  -1 !a!\n"
     "#material .05 .05 .1  .1 .1 .1  .2 .5 .8  0 0 0  1  0 0 0  1  -1 !b!\n";
+
+// A shape's description (a box's full sizes; triangles are not made here).
+ShapeDesc shape(const Shape& s) {
+    ShapeDesc d;
+    std::visit(
+        [&](const auto& v) {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, Box>)
+                d.geometry = BoxDesc{v.centre, 2.0 * v.half};
+            else if constexpr (!std::is_same_v<T, Triangle>)
+                d.geometry = v;
+        },
+        s);
+    return d;
+}
+
+GroupDesc operand(const Shape& s) {
+    GroupDesc g;
+    g.shapes.push_back(shape(s));
+    return g;
+}
 
 TEST(GlPreview, ShapesUnderTransformsAgreeWithTheTrace) {
     const Comparison c = compare(
@@ -113,6 +144,78 @@ TEST(GlPreview, ShapesUnderTransformsAgreeWithTheTrace) {
     EXPECT_GE(c.iou, 0.98);
     // Interpolated normals on the tessellation differ slightly from the exact ones.
     EXPECT_GE(c.colour_match, 0.90);
+}
+
+// Tori (spec §13.7; no file names one until the V3 parser: built as a description), plain,
+// thin, spindle (r > R) and under a rotating, shearing transform.
+TEST(GlPreview, ToriAgreeWithTheTrace) {
+    SceneDesc desc = test::parse(std::string("#camera 0 2 11  0 -0.2 -1  0 1 0  0.45\n"
+                                             "#background 0.1 0.1 0.1\n#ambient .3 .3 .3\n"
+                                             "#light_point 1 1 1  3 4 5  1 0 0.01\n"
+                                             "#light_dir .4 .4 .4  -1 -1 -1\n") +
+                                 kMaterials);
+    GroupDesc& root = desc.files[0].root;
+    root.shapes.push_back(shape(Torus{Vec3(-2.5, 1, 0), 0.5, 1.5}));
+    root.shapes.push_back(shape(Torus{Vec3(2.5, 1.5, 0), 0.08, 1.2}));
+    root.shapes.push_back(shape(Torus{Vec3(0, -2.2, 0), 1.0, 0.6}));
+    GroupDesc tilted;
+    tilted.matrix = Mat4(0.8, 0.3, 0, 0, -0.2, 0.9, 0.4, 0, 0, -0.4, 0.9, 0, 2.5, -1.5, 0, 1);
+    tilted.shapes.push_back(shape(Torus{Vec3(0.0), 0.35, 1.0}));
+    tilted.shapes.back().material = 1;
+    root.groups.push_back(tilted);
+    const Comparison c = compare(compile_scene(desc));
+    EXPECT_GT(c.covered, kW * kH / 20);  // the tori are there
+    EXPECT_GE(c.iou, 0.98);
+    EXPECT_GE(c.colour_match, 0.85);
+}
+
+GroupDesc list_of(std::vector<Shape> shapes, int material = 0) {
+    GroupDesc g;
+    for (const Shape& s : shapes) {
+        g.shapes.push_back(shape(s));
+        g.shapes.back().material = material;
+    }
+    return g;
+}
+
+CsgDesc csg_node(CsgOp op, std::vector<GroupDesc> operands) {
+    CsgDesc c;
+    c.op = op;
+    c.operands = std::move(operands);
+    return c;
+}
+
+// CSG (spec §13.8) in the preview against the trace: the lens of _lens.ray (two spheres and a
+// cylinder intersected), a ring (a cylinder minus a thinner, taller one: B's inner wall shows),
+// a box minus a sphere (a spherical dent), a union of two boxes and a sphere under a transform.
+TEST(GlPreview, CsgAgreesWithTheTrace) {
+    SceneDesc desc = test::parse(std::string("#camera 0 3.2 5.5  0 -0.5 -1  0 1 0  0.5\n"
+                                             "#background 0.1 0.1 0.1\n#ambient .3 .3 .3\n"
+                                             "#light_point 1 1 1  3 4 5  1 0 0.01\n"
+                                             "#light_dir .4 .4 .4  -1 -1 -1\n") +
+                                 kMaterials);
+    desc.dialect = Dialect::V3;
+    GroupDesc& root = desc.files[0].root;
+    // Operands: one child each, a list of one shape.
+    auto one = [](const Shape& s, int m = 0) { return list_of({s}, m); };
+    root.csgs.push_back(csg_node(CsgOp::Intersection, {one(Sphere{Vec3(0, -0.95, 0), 1.5}),
+                                                       one(Sphere{Vec3(0, 0.95, 0), 1.5}),
+                                                       one(Cylinder{Vec3(0.0), 1.0, 2.0})}));
+    root.csgs.push_back(csg_node(CsgOp::Difference, {one(Cylinder{Vec3(0.0), 1.4, 0.3}, 1),
+                                                     one(Cylinder{Vec3(0.0), 1.1, 1.0}, 1)}));
+    root.csgs.push_back(csg_node(CsgOp::Difference, {one(Box{Vec3(-2.6, 0, 0), Vec3(0.6)}, 1),
+                                                     one(Sphere{Vec3(-2.6, 0.6, 0.6), 0.7})}));
+    GroupDesc moved = one(Sphere{Vec3(0.0), 0.6});
+    moved.matrix[3] = glm::dvec4(2.6, 0.4, 0, 1);
+    GroupDesc wrapped;
+    wrapped.groups.push_back(moved);
+    root.csgs.push_back(
+        csg_node(CsgOp::Union, {one(Box{Vec3(2.6, -0.3, 0), Vec3(0.5, 0.3, 0.7)}, 1), wrapped}));
+    const RenderScene scene = compile_scene(desc);
+    const Comparison c = compare(scene);
+    EXPECT_GE(c.iou, 0.98);
+    EXPECT_GE(c.colour_match, 0.85);
+    EXPECT_GT(c.covered, kW * kH / 10);  // the trace draws the CSG nodes
 }
 
 TEST(GlPreview, PublicAndOwnScenesAgreeWithTheTrace) {
@@ -143,6 +246,24 @@ TEST(GlPreview, PublicAndOwnScenesAgreeWithTheTrace) {
     }
 }
 
+// Public V3 scenes (tori, three-colour lights, shape lists, transforms; textures they name but
+// do not ship stand in as checkers): the preview covers what the trace covers.
+TEST(GlPreview, PublicV3ScenesAgreeWithTheTrace) {
+    const std::string dir = "/work/shared/public-scenes/aarxa__RayForge-CPP-Ray-Tracing-Engine/";
+    if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " is not here";
+    for (const char* name : {"test.directional.torus.ray", "_torus.ray", "test.point.ray",
+                             "test.spot.ray", "test.directional.cone.ray"}) {
+        Diagnostics diag;
+        ParseOptions options;
+        options.missing_textures = MissingTextures::Checker;
+        const SceneDesc desc = parse_scene_file(dir + name, diag, options);
+        EXPECT_EQ(desc.dialect, Dialect::V3) << name;
+        const Comparison c = compare(compile_scene(desc));
+        EXPECT_GT(c.covered, kW * kH / 50) << name;
+        EXPECT_GE(c.iou, 0.98) << name;
+    }
+}
+
 TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     const RenderScene scene = test::compile(
         "#light_point 1 1 1  0 2 0  1 0 0\n#light_spot 1 0 0  0 3 0  0 -1 0  1 0 0  0.5 2\n"
@@ -154,6 +275,20 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     const auto lights = view::overlay_lines(scene, true, 0);
     EXPECT_GT(lights.size(), 12u);  // a cross, a cone and an arrow
     EXPECT_EQ(lights.size() % 2, 0u);
+    // A sphere light: its cross and three circles of 32 segments at its radius.
+    RenderScene with_sphere = scene;
+    Light sphere;
+    sphere.kind = LightKind::Sphere;
+    sphere.position = Vec3(1, 2, 3);
+    sphere.radius = 0.5;
+    with_sphere.lights = {sphere};
+    const auto marker = view::overlay_lines(with_sphere, true, 0);
+    ASSERT_EQ(marker.size(), 2u * (3 + 3 * 32));
+    for (size_t i = 6; i < marker.size(); ++i)
+        EXPECT_NEAR(
+            glm::length(Vec3(marker[i].position[0], marker[i].position[1], marker[i].position[2]) -
+                        sphere.position),
+            0.5, 1e-6);
     const auto boxes = view::overlay_lines(scene, false, 2);
     EXPECT_GE(boxes.size(), 2u * 12 * 2);  // the instance's box and its nodes' boxes
     // Drawn: the overlay changes pixels of the preview.
@@ -200,6 +335,92 @@ TEST(GlPreview, GroupBoxesFollowTheSceneGraph) {
     EXPECT_EQ(view::group_box_lines(desc, 8).size(), 48u);
 }
 
+// The bounds of `lines` (pairs of vertices) from vertex `first` on, `count` vertices.
+Bounds3 line_bounds(const std::vector<view::LineVertex>& lines, size_t first, size_t count) {
+    Bounds3 b;
+    for (size_t i = first; i < first + count && i < lines.size(); ++i)
+        b.extend(Vec3(lines[i].position[0], lines[i].position[1], lines[i].position[2]));
+    return b;
+}
+
+// CSG nodes get a box each (intersection: the operands' boxes intersected; difference: A's),
+// their operands one level deeper; an operand that only wraps a transform adds no level.
+TEST(GlPreview, GroupBoxesIncludeCsgNodes) {
+    SceneDesc desc;
+    desc.dialect = Dialect::V3;
+    desc.files.resize(1);
+    GroupDesc& root = desc.files[0].root;
+    CsgDesc lens;
+    lens.op = CsgOp::Intersection;
+    lens.operands = {operand(Sphere{Vec3(0.0), 1.0}), operand(Box{Vec3(1, 0, 0), Vec3(1.0)})};
+    CsgDesc ring;
+    ring.op = CsgOp::Difference;
+    GroupDesc moved;  // a #static_affine of a sphere, wrapped as the operand A
+    moved.matrix[3] = glm::dvec4(5, 0, 0, 1);
+    moved.shapes.push_back(shape(Sphere{Vec3(0.0), 1.0}));
+    GroupDesc a;
+    a.groups.push_back(moved);
+    ring.operands = {a, operand(Box{Vec3(5, 0, 0), Vec3(10.0)})};
+    root.csgs = {lens, ring};
+    const auto one = view::group_box_lines(desc, 1);
+    ASSERT_EQ(one.size(), 2u * 24);  // the two nodes
+    const Bounds3 lens_box = line_bounds(one, 0, 24), ring_box = line_bounds(one, 24, 24);
+    EXPECT_VEC_NEAR(lens_box.lo, Vec3(0, -1, -1), 1e-6);
+    EXPECT_VEC_NEAR(lens_box.hi, Vec3(1, 1, 1), 1e-6);
+    EXPECT_VEC_NEAR(ring_box.lo, Vec3(4, -1, -1), 1e-6);  // A's box, not B's
+    EXPECT_VEC_NEAR(ring_box.hi, Vec3(6, 1, 1), 1e-6);
+    // Level 2: the lens's two operands, the ring's moved sphere (its wrapper adds no box) and
+    // its box B.
+    EXPECT_EQ(view::group_box_lines(desc, 2).size(), 6u * 24);
+    EXPECT_EQ(view::group_box_lines(desc, 8).size(), 6u * 24);
+    // The BVH overlay ends with the compiled nodes' boxes: the same two.
+    const auto bvh = view::overlay_lines(compile_scene(desc), false, 1);
+    ASSERT_GE(bvh.size(), 4u * 24);
+    const Bounds3 lens_node = line_bounds(bvh, bvh.size() - 48, 24);
+    const Bounds3 ring_node = line_bounds(bvh, bvh.size() - 24, 24);
+    EXPECT_VEC_NEAR(lens_node.lo, lens_box.lo, 1e-6);
+    EXPECT_VEC_NEAR(lens_node.hi, lens_box.hi, 1e-6);
+    EXPECT_VEC_NEAR(ring_node.lo, ring_box.lo, 1e-6);
+    EXPECT_VEC_NEAR(ring_node.hi, ring_box.hi, 1e-6);
+}
+
+// Where shadows darken the preview (shadow maps) and the trace (shadow rays): the intersection
+// over union of the darkened pixels, the trace's count, and the defines the preview used.
+struct ShadowAgreement {
+    double iou = 0;
+    int in_trace = 0;
+    std::vector<std::string> defines;
+};
+
+ShadowAgreement shadow_agreement(const RenderScene& scene) {
+    Offscreen gl;
+    EXPECT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 96);
+    const Camera cam = make_camera(scene, kW, kH);
+    preview.draw(scene, plan_for(scene, false), cam, kW, kH);
+    glFinish();
+    const std::vector<unsigned char> lit = gl.rgba;
+    preview.draw(scene, plan_for(scene, true), cam, kW, kH);
+    glFinish();
+    ShadowAgreement out;
+    out.defines = preview.active_defines();
+    const Image on = test::render(scene, kW, kH, 1, 0.001, true);
+    const Image off = test::render(scene, kW, kH, 1, 0.001, false);
+    int both = 0, either = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const size_t i = (static_cast<size_t>(kH - 1 - y) * kW + x) * 4;
+            const bool preview_dark = lit[i] - gl.rgba[i] > 20;
+            const bool trace_dark = to_byte(off.at(x, y).x) - to_byte(on.at(x, y).x) > 20;
+            both += preview_dark && trace_dark;
+            either += preview_dark || trace_dark;
+            out.in_trace += trace_dark;
+        }
+    out.iou = either ? static_cast<double>(both) / either : 1.0;
+    return out;
+}
+
 // Shadows: the pixels that shadows darken in the preview (shadow maps) and in the trace (shadow
 // rays) agree, for each light kind, and the program is compiled for that kind only.
 TEST(GlPreview, ShadowsAgreeWithTheTrace) {
@@ -218,36 +439,28 @@ TEST(GlPreview, ShadowsAgreeWithTheTrace) {
     };
     for (const auto& c : cases) {
         const RenderScene scene = test::compile(c.light + geometry);
-        Offscreen gl;
-        ASSERT_NE(gl.ctx, nullptr);
-        view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
-        preview.load(scene, 96);
-        const Camera cam = make_camera(scene, kW, kH);
-        preview.draw(scene, plan_for(scene, false), cam, kW, kH);
-        glFinish();
-        const std::vector<unsigned char> lit = gl.rgba;
-        preview.draw(scene, plan_for(scene, true), cam, kW, kH);
-        glFinish();
-        const std::vector<std::string>& defines = preview.active_defines();
-        EXPECT_NE(std::find(defines.begin(), defines.end(), "RT_SHADOWS"), defines.end());
-        EXPECT_EQ(defines.front(), c.define) << "only the scene's light kind";
-        EXPECT_EQ(defines.size(), 2u);  // the light kind and shadows: no texture, no highlight
-        const Image on = test::render(scene, kW, kH, 1, 0.001, true);
-        const Image off = test::render(scene, kW, kH, 1, 0.001, false);
-        int both = 0, either = 0, in_trace = 0;
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
-                const size_t i = (static_cast<size_t>(kH - 1 - y) * kW + x) * 4;
-                const bool preview_dark = lit[i] - gl.rgba[i] > 20;
-                const bool trace_dark = to_byte(off.at(x, y).x) - to_byte(on.at(x, y).x) > 20;
-                both += preview_dark && trace_dark;
-                either += preview_dark || trace_dark;
-                in_trace += trace_dark;
-            }
-        EXPECT_GT(in_trace, kW * kH / 200) << c.light;  // the scene does cast shadows
+        const ShadowAgreement a = shadow_agreement(scene);
+        EXPECT_NE(std::find(a.defines.begin(), a.defines.end(), "RT_SHADOWS"), a.defines.end());
+        EXPECT_EQ(a.defines.front(), c.define) << "only the scene's light kind";
+        EXPECT_EQ(a.defines.size(), 2u);  // the light kind and shadows: no texture, no highlight
+        EXPECT_GT(a.in_trace, kW * kH / 200) << c.light;  // the scene does cast shadows
         // Shadow edges differ by a texel or so of the maps and by the tessellation.
-        EXPECT_GE(static_cast<double>(both) / either, 0.9) << c.light;
+        EXPECT_GE(a.iou, 0.9) << c.light;
     }
+}
+
+// A CSG node casts the shadow of its valid surfaces only: light passes through the hole that a
+// cylinder drills through a box.
+TEST(GlPreview, CsgShadowsAgreeWithTheTrace) {
+    const RenderScene scene = test::compile(
+        "#camera 0 4 9  0 -0.45 -1  0 1 0  0.5\n"
+        "#light_dir 0 0 0  1 1 1  0 0 0  -0.1 -1 -0.05\n"
+        "#material 0 0 0  .2 .2 .2  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !m!\n"
+        "#shape_box 0  0 -1 0  10 0.2 10\n"
+        "#shape_difference\n  #shape_box 0  0 1 0  2 2 2\n  #shape_cylinder 0  0 1 0  0.7 3\n");
+    const ShadowAgreement a = shadow_agreement(scene);
+    EXPECT_GT(a.in_trace, kW * kH / 200);
+    EXPECT_GE(a.iou, 0.9);
 }
 
 // The preview leaves out what the scene does not use: texture coordinates are uploaded only for
@@ -316,6 +529,174 @@ TEST(GlPreview, MatchesTheGoldenImage) {
         close += ok;
     }
     EXPECT_GE(close, kW * kH * 99 / 100);
+}
+
+// The preview of `scene` at kW x kH: the colour (0..1) at the centre pixel.
+Vec3 centre_colour(const RenderScene& scene) {
+    Offscreen gl;
+    EXPECT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 32);
+    preview.draw(scene, plan_for(scene), make_camera(scene, kW, kH), kW, kH);
+    glFinish();
+    return gl.at(kW / 2, kH / 2) / 255.0;
+}
+
+// A wall facing the camera at z = -0.95 (normal +z), seen along -z, no global ambient:
+// E = (.05 0 0), K_A = .2, K_D = (.3 .2 .1), K_S = .2 with e = 1.
+RenderScene wall() {
+    RenderScene s = test::compile(
+        "#camera 0 0 5  0 0 -1  0 1 0  0.3\n#background 0 0 0\n"
+        "#material .05 0 0  .2 .2 .2  .3 .2 .1  .2 .2 .2  1  0 0 0  1  -1 !w!\n"
+        "#shape_box 0 0 0 -1  10 10 0.1\n");
+    s.lights.clear();
+    return s;
+}
+
+Light light(LightKind kind, const Vec3& a, const Vec3& d, const Vec3& s) {
+    Light l;
+    l.kind = kind;
+    l.ambient = a;
+    l.diffuse = d;
+    l.specular = s;
+    return l;
+}
+
+// Spec §13.9: ambient, diffuse and specular colours per light; the ambient term is attenuated
+// and spot-limited but needs no N.L > 0; sphere lights shade from their centre.
+TEST(GlPreview, ThreeColourLightsShadeAsTheSpecSays) {
+    const Vec3 a(0.5), d(1, 0.5, 0.5), sp(0.5, 1, 0.5);
+    RenderScene s = wall();
+    // Head-on directional light: N.L = 1 and R_v.L = 1 at the centre (up to the half-pixel
+    // offset of the centre pixel's ray): E + K_A A + K_D D + K_S S'.
+    Light dir = light(LightKind::Directional, a, d, sp);
+    dir.direction = Vec3(0, 0, -1);
+    s.lights = {dir};
+    EXPECT_VEC_NEAR(centre_colour(s), Vec3(0.55, 0.4, 0.25), 2.5 / 255);
+    // A point light behind the wall (N.L < 0) with ca = 2: only its ambient, halved.
+    Light behind = light(LightKind::Point, a, d, sp);
+    behind.position = Vec3(0, 0, -3);
+    behind.constant_atten = 2;
+    s.lights = {behind};
+    EXPECT_VEC_NEAR(centre_colour(s), Vec3(0.05 + 0.05, 0.05, 0.05), 2.5 / 255);
+    // A spot whose cone misses the centre: no ambient either.
+    Light spot = light(LightKind::Spot, a, d, sp);
+    spot.position = Vec3(0, 0, 3);
+    spot.direction = Vec3(1, 0, 0);
+    spot.cutoff_rad = 0.3;
+    s.lights = {spot};
+    EXPECT_VEC_NEAR(centre_colour(s), Vec3(0.05, 0, 0), 2.5 / 255);
+    // A sphere light: a point light at its centre (ca = 1, la = 1 at distance 3.95: f = 1/4.95).
+    Light sphere = light(LightKind::Sphere, a, d, Vec3(0.0));
+    sphere.position = Vec3(0, 0, 3);
+    sphere.radius = 0.5;
+    sphere.linear_atten = 1;
+    s.lights = {sphere};
+    const double f = 1 / 4.95;
+    EXPECT_VEC_NEAR(centre_colour(s), Vec3(0.05, 0, 0) + f * Vec3(0.1 + 0.3, 0.1 + 0.1, 0.1 + 0.05),
+                    2.5 / 255);
+    // A V0/V1 light (one colour, no ambient) under the global ambient: K_A * ambient + K_D * c.
+    Light one = light(LightKind::Directional, Vec3(0.0), Vec3(0.0), Vec3(0.0));
+    one.diffuse = one.specular = Vec3(0.5);
+    one.direction = Vec3(0, 0, -1);
+    s.lights = {one};
+    s.ambient = Vec3(1.0);
+    EXPECT_VEC_NEAR(centre_colour(s),
+                    Vec3(0.05 + 0.2 + 0.15 + 0.1, 0.2 + 0.1 + 0.1, 0.2 + 0.05 + 0.1), 2.5 / 255);
+}
+
+// V3 shading (spec §13.9) in the preview and the trace: three-colour lights of every kind, a
+// sphere light from its centre, the ambient term of every light; no shadows, local shading.
+TEST(GlPreview, V3LightsShadeLikeTheTrace) {
+    const Comparison c = compare(
+        test::compile("#camera 0 1 9  0 -0.1 -1  0 1 0  0.4\n"
+                      "#light_point .1 .05 0  1 .8 .6  .5 .5 1  3 4 5  1 0 0.01\n"
+                      "#light_dir .05 .05 .1  .3 .3 .4  .2 .2 .2  -1 -1 -1\n"
+                      "#light_spot .1 0 0  .8 .8 .8  1 1 1  -2 4 2  0.3 -1 -0.3  1 0 0  0.6 4\n"
+                      "#light_sphere .05 .1 .05  .5 .6 .5  .4 .4 .4  0 3 3  0.5  1 0 0.02\n"
+                      "#material 0 0 0  .1 .1 .1  .7 .3 .2  .4 .4 .4  30  0 0 0  1  -1 !a!\n"
+                      "#material .05 .05 .1  .1 .1 .1  .2 .5 .8  0 0 0  1  0 0 0  1  -1 !b!\n"
+                      "#shape_box 1  0 -1.5 -2  8 0.2 4\n"
+                      "#shape_sphere 0  -2 0 0  1\n"
+                      "#shape_torus 1  0.5 0 0  0.3 0.9\n"
+                      "#static_affine  0.7071 0 -0.7071 0  0 1 0 0  0.7071 0 0.7071 0  2.5 0 0 1\n"
+                      "  #shape_cylinder 0  0 0 0  0.6 1.5\n"));
+    EXPECT_GE(c.iou, 0.98);
+    EXPECT_GE(c.colour_match, 0.90);
+}
+
+// The repository's V3 scenes (three-colour lights, a torus, CSG, a sphere light's penumbra) cover
+// what the trace covers and, where no shadow is involved, shade like it.
+TEST(GlPreview, OwnV3ScenesAgreeWithTheTrace) {
+    for (const char* name : {"v3_lights.ray", "v3_torus.ray", "v3_csg.ray", "v3_penumbra.ray"}) {
+        Diagnostics diag;
+        const SceneDesc desc =
+            parse_scene_file(std::string(RT_SOURCE_DIR) + "/scenes/" + name, diag);
+        ASSERT_EQ(desc.dialect, Dialect::V3) << name;
+        const Comparison c = compare(compile_scene(desc));
+        EXPECT_GT(c.covered, kW * kH / 10) << name;
+        EXPECT_GE(c.iou, 0.98) << name;
+        EXPECT_GE(c.colour_match, 0.80) << name;
+    }
+}
+
+// Spec §13.10 (worked example 3, untextured) parsed from a V3 file. The example's colour at a
+// point of the plane y = 0 seen from the eye (the formula of §13.9 with its numbers).
+Vec3 worked_example_three(const Vec3& p, const Vec3& eye) {
+    const Vec3 to_light = Vec3(5.0) - p, n(0, 1, 0);
+    const double dist = glm::length(to_light);
+    const Vec3 l = to_light / dist, d = glm::normalize(p - eye);
+    const double f = 1 / (0.01 + 0.02 * dist + 0.03 * dist * dist);
+    const double spec = std::pow(std::max(0.0, glm::dot(d - 2 * glm::dot(d, n) * n, l)), 100);
+    return Vec3(0.1) + Vec3(0.3 * 0.5) * f + Vec3(0.1, 0.1, 0.5) * Vec3(1, 0.5, 1) * l.y * f +
+           Vec3(0.2, 0.4, 0.6) * spec * f;
+}
+
+TEST(GlPreview, WorkedExampleThreeOfTheSpec) {
+    const Vec3 eye(0, 10, 10);
+    EXPECT_VEC_NEAR(worked_example_three(Vec3(3, 0, 6), eye) * 255.0, Vec3(92.35, 87.43, 196.67),
+                    0.01);
+    const RenderScene s = test::compile(
+        "#camera 0 10 10  3 -10 -4  0 1 0  0.3\n"
+        "#light_point 0.5 0.5 0.5  1 0.5 1  0.2 0.4 0.6  5 5 5  0.01 0.02 0.03\n"
+        "#material 0.1 0.1 0.1  0.3 0.3 0.3  0.1 0.1 0.5  1 1 1  100  0 0 0  1  -1 !!\n"
+        "#shape_box 0  0 -0.5 0  40 1 40\n");
+    // The centre pixel's ray meets the plane half a pixel from P = (3, 0, 6).
+    const Ray ray = make_camera(s, kW, kH).generate(kW / 2, kH / 2, 0.5, 0.5);
+    const Vec3 p = ray.o - ray.o.y / ray.d.y * ray.d;
+    EXPECT_LT(glm::length(p - Vec3(3, 0, 6)), 0.05);
+    EXPECT_VEC_NEAR(centre_colour(s) * 255.0, worked_example_three(p, eye) * 255.0, 1.5);
+}
+
+// Spec §13.9: with texture_all_terms (V3) the texel multiplies K_E too, else only K_A and K_D.
+TEST(GlPreview, TextureModulatesEveryTermInV3) {
+    RenderScene s = test::compile(
+        "#camera 0 0 5  0 0 -1  0 1 0  0.3\n#background 0 0 0\n#light_dir 0 0 0  0 0 -1\n"
+        "#texture " +
+        std::string(RT_SOURCE_DIR) +
+        "/scenes/textures/checker.bmp\n"
+        "#material .8 .8 .8  0 0 0  0 0 0  0 0 0  1  0 0 0  1  0 !w!\n"
+        "#shape_box 0 0 0 -1  10 10 0.1\n");
+    for (const bool all : {false, true}) {
+        s.texture_all_terms = all;
+        Offscreen gl;
+        ASSERT_NE(gl.ctx, nullptr);
+        view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+        preview.load(s, 8);
+        preview.draw(s, plan_for(s), make_camera(s, kW, kH), kW, kH);
+        glFinish();
+        int dark = 0, emissive = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                dark += gl.at(x, y).x < 0.5 * 0.8 * 255;
+                emissive += std::abs(gl.at(x, y).x - to_byte(0.8)) <= 1;
+            }
+        if (all) {
+            EXPECT_GT(dark, kW * kH / 10);
+        } else {
+            EXPECT_EQ(emissive, kW * kH);
+        }
+    }
 }
 
 TEST(GlPreview, ShaderErrorsNameTheFile) {

@@ -1,0 +1,125 @@
+#include "csg_preview.h"
+
+#include <cmath>
+#include <type_traits>
+
+namespace rt::view {
+
+namespace {
+
+// The shape's kind and parameters for csg_sign in preview.frag: (centre, a) and (b, c).
+struct LeafShape {
+    float kind = 4;  // triangle: never inside
+    Vec3 centre{0.0};
+    float a = 0, b = 0, c = 0;
+};
+
+LeafShape leaf_shape(const GeometrySet& set, const Primitive& p) {
+    LeafShape s;
+    visit_shape(set, p, [&](const auto& shape) {
+        using T = std::decay_t<decltype(shape)>;
+        s.kind = static_cast<float>(T::kKind);
+        if constexpr (std::is_same_v<T, Sphere>) {
+            s.centre = shape.centre, s.a = static_cast<float>(shape.radius);
+        } else if constexpr (std::is_same_v<T, Box>) {
+            s.centre = shape.centre;
+            s.a = static_cast<float>(shape.half.x), s.b = static_cast<float>(shape.half.y),
+            s.c = static_cast<float>(shape.half.z);
+        } else if constexpr (std::is_same_v<T, Cylinder> || std::is_same_v<T, Cone>) {
+            s.centre = shape.centre, s.a = static_cast<float>(shape.radius),
+            s.b = static_cast<float>(shape.height);
+        } else if constexpr (std::is_same_v<T, Torus>) {
+            s.centre = shape.centre, s.a = static_cast<float>(shape.tube),
+            s.b = static_cast<float>(shape.ring);
+        }
+    });
+    return s;
+}
+
+float node_kind(CsgNodeKind k) {
+    switch (k) {
+        case CsgNodeKind::Leaf:
+            return 0;
+        case CsgNodeKind::Union:
+            return 1;
+        case CsgNodeKind::Intersection:
+            return 2;
+        case CsgNodeKind::Difference:
+            return 3;
+        case CsgNodeKind::List:
+            return 4;
+        case CsgNodeKind::Empty:
+            break;
+    }
+    return 5;
+}
+
+}  // namespace
+
+// The trees in preview.frag's layout.
+static CsgTexels csg_texels(const GeometrySet& set) {
+    const CsgArrays& csg = set.csg;
+    CsgTexels out;
+    auto texel = [&](double x, double y, double z, double w) {
+        for (double v : {x, y, z, w}) out.texels.push_back(static_cast<float>(v));
+    };
+    out.nodes = 0;
+    for (const CsgNode& n : csg.nodes) {
+        texel(node_kind(n.kind), n.first, n.count, n.parent);
+        texel(n.subtree_first, 0, 0, 0);
+    }
+    out.children = static_cast<int>(out.texels.size() / 4);
+    for (uint32_t c : csg.children) texel(c, 0, 0, 0);
+    out.leaves = static_cast<int>(out.texels.size() / 4);
+    for (const CsgLeaf& l : csg.leaves) {
+        const LeafShape s = leaf_shape(set, l.prim);
+        // float positions: the tolerance grows from 1e-9 to 1e-5 of the leaf's scale (c + size)
+        texel(s.kind, 1e4 * l.epsilon, l.node, 0);
+        const Mat4 inv = l.prim.transform < 0
+                             ? Mat4(1.0)
+                             : set.transforms[static_cast<size_t>(l.prim.transform)].inv;
+        for (int r = 0; r < 3; ++r) texel(inv[0][r], inv[1][r], inv[2][r], inv[3][r]);
+        texel(s.centre.x, s.centre.y, s.centre.z, s.a);
+        texel(s.b, s.c, 0, 0);
+    }
+    return out;
+}
+
+void add_csg_leaves(const GeometrySet& set, int detail, PreviewMesh* mesh, CsgTexels* texels) {
+    if (set.csg.leaves.empty()) return;
+    // The CSG primitives' triangles (tagged with their tree) out; their vertices stay, unused.
+    if (mesh->csg.size() == mesh->triangle_count()) {
+        std::vector<uint32_t> indices;
+        std::vector<int> materials;
+        for (size_t t = 0; t < mesh->triangle_count(); ++t) {
+            if (mesh->csg[t] >= 0) continue;
+            for (int k = 0; k < 3; ++k)
+                indices.push_back(mesh->indices[3 * t + static_cast<size_t>(k)]);
+            materials.push_back(mesh->materials[t]);
+        }
+        mesh->indices = std::move(indices);
+        mesh->materials = std::move(materials);
+    }
+    mesh->csg.clear();
+    *texels = csg_texels(set);
+    texels->leaf_of_vertex.assign(mesh->positions.size(), -1.0f);
+    for (size_t i = 0; i < set.csg.leaves.size(); ++i) {
+        const Primitive& p = set.csg.leaves[i].prim;
+        visit_shape(set, p, [&](const auto& shape) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, Triangle>) {
+                tessellate(shape, set.triangle_attribs[p.index], *mesh);
+                mesh->materials.push_back(p.material);
+            } else {
+                PreviewMesh m = tessellate(shape, detail);
+                m.materials.assign(m.triangle_count(), p.material);
+                mesh->append(m, p.transform < 0
+                                    ? nullptr
+                                    : &set.transforms[static_cast<size_t>(p.transform)]);
+            }
+        });
+        mesh->csg.clear();
+        texels->leaf_of_vertex.resize(mesh->positions.size(), static_cast<float>(i));
+    }
+}
+
+}  // namespace rt::view
