@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <utility>
+#include <variant>
 
 #include "format/parser_impl.h"
 #include "rt/util/file_io.h"
@@ -30,20 +32,22 @@ namespace {
 
 // Directives that exist only in the V3 dialect (spec §10 step 1).
 bool is_v3_directive(std::string_view d) {
-    static constexpr std::array<std::string_view, 11> names = {"#static_affine",
-                                                               "#dynamic_affine",
-                                                               "#shape_list_begin",
-                                                               "#shape_list_end",
-                                                               "#shape_triangles",
-                                                               "#shape_torus",
-                                                               "#shape_union",
-                                                               "#shape_intersection",
-                                                               "#shape_difference",
-                                                               "#light_sphere",
-                                                               "#shader"};
+    static constexpr std::array<std::string_view, 10> names = {
+        "#static_affine",   "#dynamic_affine", "#shape_list_begin",   "#shape_list_end",
+        "#shape_triangles", "#shape_union",    "#shape_intersection", "#shape_difference",
+        "#light_sphere",    "#shader"};
     for (std::string_view n : names)
         if (n == d) return true;
-    return false;
+    // And #shape_<kind> for the shape kinds that exist in V3 only (the torus).
+    constexpr std::string_view prefix = "#shape_";
+    if (d.substr(0, prefix.size()) != prefix) return false;
+    const std::string_view kind = d.substr(prefix.size());
+    return [&]<size_t... I>(std::index_sequence<I...>) {
+        return ((kV3OnlyShape<std::variant_alternative_t<I, Shape>> &&
+                 kind == std::variant_alternative_t<I, Shape>::kName) ||
+                ...);
+    }
+    (std::make_index_sequence<kShapeKinds>{});
 }
 
 // V0/V1-only directives (spec §10 step 1), besides the #*_num counts.

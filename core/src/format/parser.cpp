@@ -832,6 +832,22 @@ private:
                 s.geometry = Cylinder{c, r, h};
             else
                 s.geometry = Cone{c, r, h};
+        } else if (n == "#shape_torus") {  // V3 only (the pre-scan refuses it elsewhere)
+            Torus g;                       // spec §13.7: m cx cy cz iRadius (tube) oRadius (ring)
+            g.centre = vec3(f, d, 6);
+            const Token tt = f.lex.peek();
+            g.tube = real(f, d, 6);
+            const Token rt = f.lex.peek();
+            g.ring = real(f, d, 6);
+            if (g.tube < 0) fail(f, tt, "negative torus radius " + fmt(g.tube));
+            if (g.ring < 0) fail(f, rt, "negative torus radius " + fmt(g.ring));
+            keep = g.tube > 0 && g.ring > 0;
+            kind = "torus with a zero radius";
+            if (g.tube > g.ring)
+                m_diag.warn(s.loc, "torus-spindle",
+                            "spindle torus (iRadius " + fmt(g.tube) + " > oRadius " + fmt(g.ring) +
+                                "): only its outer surface exists");
+            s.geometry = g;
         } else {
             TriangleDesc g;
             const int nv = static_cast<int>(f.desc.vertices.size());

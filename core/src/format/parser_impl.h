@@ -216,7 +216,6 @@ private:
     void v3_affine(FileState& f, const Token& d);
     void v3_dynamic(FileState& f, const Token& d);
     Mat4 v3_bind(FileState& f, const Token& nt, const std::string& name);
-    void v3_torus(FileState& f, const Token& d, ShapeDesc& s, bool& keep);
     void v3_triangle(FileState& f, const Token& d);
     void v3_instance(FileState& f, const Token& d);
     void v3_skip(ShapeDesc& s, const char* kind);

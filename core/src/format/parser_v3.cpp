@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
+#include <variant>
 
 #include "format/parser_impl.h"
 
@@ -17,11 +19,11 @@ constexpr std::array<std::string_view, 6> kGlobal = {"#camera",     "#light_dir"
                                                      "#light_spot", "#light_sphere", "#shader"};
 constexpr std::array<std::string_view, 5> kLocal = {"#texture", "#material", "#vertex", "#ray_file",
                                                     "#key_file"};
-constexpr std::array<std::string_view, 15> kShapes = {
-    "#shape_sphere",       "#shape_box",        "#shape_cylinder",   "#shape_cone",
-    "#shape_torus",        "#shape_triangles",  "#shape_triangle",   "#shape_list_begin",
-    "#shape_list_end",     "#static_affine",    "#dynamic_affine",   "#shape_union",
-    "#shape_intersection", "#shape_difference", "#ray_file_instance"};
+// The shapes part: these and #shape_<kind> of every analytic kind (is_analytic_shape).
+constexpr std::array<std::string_view, 10> kShapes = {
+    "#shape_triangles",  "#shape_triangle",   "#shape_list_begin", "#shape_list_end",
+    "#static_affine",    "#dynamic_affine",   "#shape_union",      "#shape_intersection",
+    "#shape_difference", "#ray_file_instance"};
 constexpr std::array<std::string_view, 6> kV01 = {"#group_begin", "#group_end",  "#joint_begin",
                                                   "#joint_end",   "#background", "#ambient"};
 
@@ -30,12 +32,26 @@ bool in(const std::array<std::string_view, N>& names, std::string_view n) {
     return std::find(names.begin(), names.end(), n) != names.end();
 }
 
+// #shape_<kind> of the analytic kinds (sphere, box, cylinder, cone, torus): the directives
+// primitive() reads.
+bool is_analytic_shape(std::string_view n) {
+    constexpr std::string_view prefix = "#shape_";
+    if (n.substr(0, prefix.size()) != prefix) return false;
+    const std::string_view kind = n.substr(prefix.size());
+    return [&]<size_t... I>(std::index_sequence<I...>) {
+        return ((!std::is_same_v<std::variant_alternative_t<I, Shape>, Triangle> &&
+                 kind == std::variant_alternative_t<I, Shape>::kName) ||
+                ...);
+    }
+    (std::make_index_sequence<kShapeKinds>{});
+}
+
 // The part of a V3 file a directive belongs to (spec §13.1): 0 global, 1 local, 2 shapes; -1
 // when it is not a V3 directive.
 int part_of(std::string_view n) {
     if (in(kGlobal, n)) return 0;
     if (in(kLocal, n)) return 1;
-    if (in(kShapes, n)) return 2;
+    if (in(kShapes, n) || is_analytic_shape(n)) return 2;
     return -1;
 }
 
@@ -278,11 +294,7 @@ void ParserV3::v3_shape(FileState& f, const Token& d) {
     node.loc = f.lex.loc(d);
     node.shape.loc = node.loc;
     node.shape.material = material_index(f, d);
-    bool keep = true;
-    if (n == "#shape_torus")
-        v3_torus(f, d, node.shape, keep);
-    else
-        keep = primitive(f, d, node.shape);
+    const bool keep = primitive(f, d, node.shape);
     node.kind = keep ? V3Node::Shape : V3Node::Empty;
     v3_deliver(f, std::move(node));
 }
@@ -442,25 +454,6 @@ Mat4 ParserV3::v3_bind(FileState& f, const Token& nt, const std::string& name) {
             f.lex.loc(nt), "joint-case",
             "joint " + quote(name) + " matches DOF " + quote(dof) + " only when case is ignored");
     return *value;
-}
-
-// Spec §13.7: m cx cy cz iRadius (tube) oRadius (ring).
-void ParserV3::v3_torus(FileState& f, const Token& d, ShapeDesc& s, bool& keep) {
-    Torus g;
-    g.centre = vec3(f, d, 6);
-    const Token tt = f.lex.peek();
-    g.tube = real(f, d, 6);
-    const Token rt = f.lex.peek();
-    g.ring = real(f, d, 6);
-    if (g.tube < 0) fail(f, tt, "negative torus radius " + fmt(g.tube));
-    if (g.ring < 0) fail(f, rt, "negative torus radius " + fmt(g.ring));
-    s.geometry = g;
-    keep = g.tube > 0 && g.ring > 0;
-    if (!keep) return v3_skip(s, "torus with a zero radius");
-    if (g.tube > g.ring)
-        m_diag.warn(s.loc, "torus-spindle",
-                    "spindle torus (iRadius " + fmt(g.tube) + " > oRadius " + fmt(g.ring) +
-                        "): only its outer surface exists");
 }
 
 // Spec §13.5: v1 v2 v3 of this file, with the list's material.

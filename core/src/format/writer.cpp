@@ -76,9 +76,15 @@ private:
                                                 " cannot be written in V0 or V1 (#shape_" +
                                                 csg_op_name(g.csgs[0].op) + " is V3 only)");
         for (const ShapeDesc& s : g.shapes) {
-            if (std::holds_alternative<Torus>(s.geometry))
-                throw SceneError(s.loc,
-                                 "a torus cannot be written in V0 or V1 (#shape_torus is V3 only)");
+            std::visit(
+                [&](const auto& geo) {
+                    using T = std::decay_t<decltype(geo)>;
+                    if constexpr (kV3OnlyShape<T>)
+                        throw SceneError(s.loc, std::string("a ") + T::kName +
+                                                    " cannot be written in V0 or V1 (" +
+                                                    directive_of(geo) + " is V3 only)");
+                },
+                s.geometry);
             shape(s);
         }
         for (const InstanceDesc& i : g.instances) instance(i);

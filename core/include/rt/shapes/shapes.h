@@ -66,6 +66,7 @@ struct Triangle {
 struct Torus {
     static constexpr ShapeKind kKind = ShapeKind::Torus;
     static constexpr const char* kName = "torus";
+    static constexpr bool kV3Only = true;  // #shape_torus exists in V3 only (spec §13.5)
     Vec3 centre{0.0};
     double tube = 0.25, ring = 1.0;  // r (iRadius, minor) and R (oRadius, major)
     bool operator==(const Torus&) const = default;
@@ -77,6 +78,13 @@ using Shape = std::variant<Sphere, Box, Cylinder, Cone, Triangle, Torus>;
 inline constexpr int kShapeKinds = static_cast<int>(std::variant_size_v<Shape>);
 template <ShapeKind K>
 using ShapeOf = std::variant_alternative_t<static_cast<size_t>(K), Shape>;
+
+/// Whether a kind exists only in the V3 dialect: its #shape_<kName> directive is then a V3 marker
+/// (spec §10) and V0/V1 cannot write it.
+template <class T>
+inline constexpr bool kV3OnlyShape = requires {
+    T::kV3Only;
+};
 
 constexpr uint32_t kind_bit(ShapeKind k) { return 1u << static_cast<uint32_t>(k); }
 /// Sets of kinds as bit masks, for dispatches that know which kinds can occur.
