@@ -393,7 +393,7 @@ bool fast_crossings(const TorusRay& r, const TorusQuartic& q, Interval t, ShapeH
         df[i] = drho;               // f' rho: its sign, and |f'| >= |f' rho| as rho <= 1
         x[i] = sv - step[i];
     }
-    // Sort the real roots (the others moved to +inf) with a network of 5 compare-exchanges.
+    // Sort the real roots (the others moved to +inf): the two sorted pairs merged.
     double sx[4], sd[4], ss[4];
     for (int i = 0; i < 4; ++i) {
         ok &= !real[i] || x[i] == x[i];  // no NaN root
@@ -405,7 +405,7 @@ bool fast_crossings(const TorusRay& r, const TorusQuartic& q, Interval t, ShapeH
         sx[i] = sw ? sx[j] : xi, sd[i] = sw ? sd[j] : di, ss[i] = sw ? ss[j] : si;
         sx[j] = sw ? xi : sx[j], sd[j] = sw ? di : sd[j], ss[j] = sw ? si : ss[j];
     };
-    cx(0, 1), cx(2, 3), cx(0, 2), cx(1, 3), cx(1, 2);
+    cx(0, 2), cx(1, 3), cx(1, 2);  // each quadratic's pair is in order (else a gap check fails)
     const double lo = (t.lo - r.t0) / r.scale, hi = (t.hi - r.t0) / r.scale;
     const double margin = 1e-7 * (1.0 + std::abs(lo));
     for (int i = 0; i < 4; ++i) {
