@@ -9,6 +9,9 @@
 //
 // The torus is a V3 shape (#shape_torus): until the V3 parser lands it is reachable from code and
 // tests only (the V0/V1 writer refuses it).
+#include <cstdint>
+#include <cstring>
+
 #include "common.h"
 
 namespace rt {
@@ -306,6 +309,124 @@ int torus_brackets(const TorusRay& r, const TorusQuartic& q, double lo, double h
     return n;
 }
 
+// cbrt(x) for x > 0 to a few ulp, without a library call: an exponent-third guess (3% off) and
+// two of Halley's steps (cubic convergence).
+double cube_root(double x) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &x, sizeof bits);
+    bits = bits / 3 + 0x2a9f7893782da1ceULL;
+    double w = 0.0;
+    std::memcpy(&w, &bits, sizeof w);
+    for (int i = 0; i < 2; ++i) {
+        const double w3 = w * w * w;
+        w *= (w3 + 2.0 * x) / (2.0 * w3 + x);
+    }
+    return w;
+}
+
+// The largest real root of z^3 + a z^2 + b z + c (the caller checks the factorisation it gives).
+// Both of Cardano's cases are computed and one is selected (no branch): with one real root his
+// formula, with three the trigonometric one, cos(acos(m) / 3) = y(sqrt((1 + m) / 2)) by a degree-5
+// polynomial (1.4e-6 off); then one of Halley's steps on the cubic.
+double largest_cubic_root(double a, double b, double c) {
+    const double a3 = a * (1.0 / 3.0);
+    const double p = b - a * a3, q = (2.0 * a3 * a3 - b) * a3 + c;  // x^3 + p x + q, z = x - a/3
+    const double h = 0.25 * q * q + p * p * p * (1.0 / 27.0);
+    // One real root: x = w - p / (3 w), w = cbrt(-q/2 - sign(q) sqrt(h)).
+    const double wq = 0.5 * std::abs(q) + std::sqrt(std::max(h, 0.0));
+    const double w = -std::copysign(cube_root(std::max(wq, 1e-300)), q);
+    const double x1 = w - p / (3.0 * w);
+    // Three: x = 2 m cos(acos(cs) / 3), m = sqrt(-p / 3).
+    const double m = std::sqrt(std::max(-p * (1.0 / 3.0), 1e-300));
+    const double cs = std::clamp(-0.5 * q / (m * m * m), -1.0, 1.0);
+    const double sg = std::sqrt(0.5 * (1.0 + cs));
+    const double y =
+        ((((0.004120803299140144 * sg - 0.01912182853543716) * sg + 0.04763450696127365) * sg -
+          0.10988445983996663) *
+             sg +
+         0.5772504050076003) *
+            sg +
+        0.5000013730081603;
+    const double x3 = 2.0 * m * y;
+    double z = (h > 0.0 ? x1 : x3) - a3;
+    const double g = ((z + a) * z + b) * z + c, dg = (3.0 * z + 2.0 * a) * z + b;
+    z -= 2.0 * g * dg / (2.0 * dg * dg - g * (6.0 * z + 2.0 * a));  // Halley's step
+    return z;
+}
+
+// The fast path for a well-conditioned ring torus (R > r): the quartic's real roots in closed
+// form (Descartes' factorisation into two quadratics, with the resolvent cubic's largest root),
+// each polished by two Newton steps on f, processed as four lanes without data-dependent
+// branches. Returns false, leaving h untouched, unless every root is certain: each quadratic's
+// discriminant clear of zero (no near-double root, no grazing ray), each root's last Newton step
+// tiny against its slope (simple roots, error of the order of the step squared), the roots apart
+// with f's slope alternating in sign, and none near an end of t. The caller then falls back to
+// the robust brackets.
+bool fast_crossings(const TorusRay& r, const TorusQuartic& q, Interval t, ShapeHits& h) {
+    const double inv4 = 1.0 / q.c[4];
+    const double a3 = q.c[3] * inv4, a2 = q.c[2] * inv4, a1 = q.c[1] * inv4, a0 = q.c[0] * inv4;
+    const double sh = 0.25 * a3;  // s = y - sh: y^4 + P y^2 + Q y + S
+    const double P = a2 - 6.0 * sh * sh, Q = a1 - 2.0 * sh * a2 + 8.0 * sh * sh * sh;
+    const double S = a0 - sh * a1 + sh * sh * a2 - 3.0 * sh * sh * sh * sh;
+    const double z = largest_cubic_root(2.0 * P, P * P - 4.0 * S, -Q * Q);
+    if (!(z > 1e-6)) return false;
+    // (y^2 + u y + v)(y^2 - u y + w), u^2 = z.
+    const double u = std::sqrt(z), qu = Q * u * (1.0 / z);  // square root and division at once
+    const double v = 0.5 * (P + z - qu), w = 0.5 * (P + z + qu);
+    const double d1 = z - 4.0 * v, d2 = z - 4.0 * w;
+    constexpr double kClear = 1e-8;  // discriminants closer to 0: a near-double root
+    // The factorisation is exact but for v w = S, off by the error of z: an exact one of a quartic
+    // within 1e-13 of Q (of order 1), far below what moves a discriminant by kClear.
+    bool ok = std::abs(d1) > kClear && std::abs(d2) > kClear &&
+              std::abs(v * w - S) <= 1e-13 * (1.0 + std::abs(S));
+    const double s1 = std::sqrt(std::max(d1, 0.0)), s2 = std::sqrt(std::max(d2, 0.0));
+    double x[4] = {0.5 * (-u - s1), 0.5 * (-u + s1), 0.5 * (u - s2), 0.5 * (u + s2)};
+    const bool real[4] = {d1 > 0.0, d1 > 0.0, d2 > 0.0, d2 > 0.0};
+    double df[4], step[4];
+    for (int i = 0; i < 4; ++i) {
+        const double sv = x[i] - sh;
+        const Vec3 pt = r.p + sv * r.e;
+        const double rho = std::sqrt(pt.x * pt.x + pt.z * pt.z), dr = rho - r.ring;
+        const double fv = dr * dr + pt.y * pt.y - r.tube * r.tube;
+        const double drho = 2.0 * (dr * (pt.x * r.e.x + pt.z * r.e.z) + pt.y * r.e.y * rho);
+        step[i] = fv * rho / drho;  // f / f', f' = drho / rho
+        df[i] = drho;               // f' rho: its sign, and |f'| >= |f' rho| as rho <= 1
+        x[i] = sv - step[i];
+    }
+    // Sort the real roots (the others moved to +inf): the two sorted pairs merged.
+    double sx[4], sd[4], ss[4];
+    for (int i = 0; i < 4; ++i) {
+        ok &= !real[i] || x[i] == x[i];  // no NaN root
+        sx[i] = real[i] ? x[i] : kInf, sd[i] = df[i], ss[i] = step[i];
+    }
+    auto cx = [&](int i, int j) {
+        const bool sw = sx[j] < sx[i];
+        const double xi = sx[i], di = sd[i], si = ss[i];
+        sx[i] = sw ? sx[j] : xi, sd[i] = sw ? sd[j] : di, ss[i] = sw ? ss[j] : si;
+        sx[j] = sw ? xi : sx[j], sd[j] = sw ? di : sd[j], ss[j] = sw ? si : ss[j];
+    };
+    cx(0, 2), cx(1, 3), cx(1, 2);  // each quadratic's pair is in order (else a gap check fails)
+    const double lo = (t.lo - r.t0) / r.scale, hi = (t.hi - r.t0) / r.scale;
+    const double margin = 1e-7 * (1.0 + std::abs(lo));
+    for (int i = 0; i < 4; ++i) {
+        const bool fin = sx[i] < kInf;
+        // Quadratic convergence: the error is below step^2 f'' / f', f'' of order 1 + R / rho.
+        ok &= !fin || (std::abs(ss[i]) <= 1e-7 && std::abs(sd[i]) >= 1e-3 * r.tube &&
+                       ss[i] * ss[i] <= 1e-14 * std::abs(sd[i]) && std::abs(sx[i] - lo) > margin &&
+                       !(std::abs(sx[i] - hi) <= margin));
+        if (i > 0) {
+            const bool pair = sx[i] < kInf;
+            ok &= !pair || (sx[i] - sx[i - 1] > 1e-6 && (sd[i] < 0.0) != (sd[i - 1] < 0.0));
+        }
+    }
+    if (!ok) return false;
+    for (int i = 0; i < 4; ++i) {
+        const double th = r.t0 + sx[i] * r.scale;
+        if (sx[i] < kInf && t.contains(th) && (h.count == 0 || th > h.t[h.count - 1])) h.add(th, 0);
+    }
+    return true;
+}
+
 }  // namespace
 
 Bounds3 bounds(const Torus& t) {
@@ -338,6 +459,7 @@ ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t) {
     const double c1 = 4.0 * b * k - 8.0 * R2 * bxz;
     const double c0 = k * k - 4.0 * R2 * (p.x * p.x + p.z * p.z);
     const TorusQuartic q{{c0, c1, c2, c3, c4}};
+    if (r.ring > r.tube && fast_crossings(r, q, t, h)) return h;
     Bracket br[kLanes];
     const int n = torus_brackets(r, q, lo, hi, br);
     add_crossings(r, q, br, n, t, h);
