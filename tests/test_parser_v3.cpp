@@ -565,6 +565,39 @@ TEST_F(ParserV3Files, IncludedFilesIgnoreTheirCameraLightsAndShader) {
     EXPECT_EQ(s.files[0].root.instances.size(), 1u);
 }
 
+// Spec §2: a diagnostic in an included file is followed by its include chain, warnings too, and
+// a mixed-dialect error reported in an included file.
+TEST_F(ParserV3Files, DiagnosticsInIncludedFilesNameTheirIncludes) {
+    write("sub/part.ray",
+          "#light_point 1 1 1 1 1 1 1 1 1 0 0 0 1 0 0\n" + kMat + "#shape_torus 0 0 0 0 0.25 1\n");
+    write("mid.ray", "#ray_file sub/part.ray\n#ray_file_instance 0\n");
+    const std::string top = write("top.ray",
+                                  "#camera 0 0 5 0 0 -1 0 1 0 0.5\n#ray_file mid.ray\n"
+                                  "#ray_file_instance 0\n");
+    Diagnostics diag;
+    load(top, &diag);
+    ASSERT_TRUE(diag.has("included-light"));
+    for (const Warning& w : diag.warnings()) {
+        if (w.kind != "included-light") continue;
+        EXPECT_NE(w.str().find("part.ray:1:1: warning: lights in included files are ignored\n"
+                               "  included from " +
+                               (dir / "mid.ray").string() +
+                               ":1:1\n"
+                               "  included from " +
+                               top + ":2:1"),
+                  std::string::npos)
+            << w.str();
+    }
+    write("v1.ray", "#group_begin 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n#group_end\n");
+    const std::string mixed = write("mixed.ray",
+                                    "#light_point 1 1 1 1 1 1 1 1 1 0 0 0 1 0 0\n"
+                                    "#ray_file v1.ray\n#ray_file_instance 0\n");
+    const std::string e = load_error(mixed);
+    EXPECT_NE(e.find("v1.ray:1:1: error: mixed dialects: V3 '#light_point' at "), std::string::npos)
+        << e;
+    EXPECT_NE(e.find("\n  included from " + mixed + ":2:1"), std::string::npos) << e;
+}
+
 TEST_F(ParserV3Files, PathsTryTheTopLevelDirectoryFirst) {
     // sub/mid.ray names tex.ppm and leaf.ray: found next to top.ray, not in sub/.
     const std::string ppm = "P3 1 1 255 10 20 30\n";

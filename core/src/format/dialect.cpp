@@ -87,6 +87,7 @@ struct ParserBase::Scan {
     std::vector<std::string> visited;
     std::vector<std::pair<std::string, SourceLoc>> found;  // #ray_file resolutions, in order
     SourceLoc v3_loc, v01_loc;                             // first marker of each kind
+    std::vector<SourceLoc> v3_chain, v01_chain;            // and the includes that led there
     std::string v3_what, v01_what;
     int v3_order = 0, v01_order = 0, order = 0;
 };
@@ -120,6 +121,7 @@ void ParserBase::prescan_marker(const SourceLoc& loc, std::string_view what, boo
     SourceLoc& first = v3 ? scan.v3_loc : scan.v01_loc;
     if (first.file) return;
     first = loc;
+    (v3 ? scan.v3_chain : scan.v01_chain).assign(m_include_locs.rbegin(), m_include_locs.rend());
     (v3 ? scan.v3_what : scan.v01_what) = std::string(what);
     (v3 ? scan.v3_order : scan.v01_order) = ++scan.order;
 }
@@ -260,12 +262,15 @@ void ParserBase::detect_dialect(const std::string& text, const std::string& name
         }
     }
     if (scan.v3_loc.file && scan.v01_loc.file) {
-        const SourceLoc& at = scan.v3_order > scan.v01_order ? scan.v3_loc : scan.v01_loc;
+        const bool v3_later = scan.v3_order > scan.v01_order;
         const bool v0 = scan.v01_what.find("16 numbers") != std::string::npos;
         std::string v01 = scan.v01_what.substr(0, scan.v01_what.find(" with "));
-        fail(at, "mixed dialects: V3 " + scan.v3_what.substr(0, scan.v3_what.find(" with ")) +
-                     " at " + scan.v3_loc.str() + ", " + (v0 ? "V0 " : "V1 ") + v01 + " at " +
-                     scan.v01_loc.str());
+        // Reported at the later marker, with the includes that led to it.
+        throw SceneError(
+            v3_later ? scan.v3_loc : scan.v01_loc,
+            "mixed dialects: V3 " + scan.v3_what.substr(0, scan.v3_what.find(" with ")) + " at " +
+                scan.v3_loc.str() + ", " + (v0 ? "V0 " : "V1 ") + v01 + " at " + scan.v01_loc.str(),
+            v3_later ? scan.v3_chain : scan.v01_chain);
     }
     if (scan.v3_loc.file)
         m_v3_marker =

@@ -227,9 +227,9 @@ std::optional<std::string> ParserBase::try_resolve(FileState& f, const Token& at
         if (!is_file(unique[i])) continue;
         const std::string found = unique[i].lexically_normal().string();
         if (v3 && i > 0)
-            m_diag.warn(f.lex.loc(at), "v3-path:" + path,
-                        quote(path) + " found as " + found + ", not in " + m_top_dir +
-                            " (V3 resolves paths against the top-level file's directory)");
+            warn(f.lex.loc(at), "v3-path:" + path,
+                 quote(path) + " found as " + found + ", not in " + m_top_dir +
+                     " (V3 resolves paths against the top-level file's directory)");
         return found;
     }
     if (tried) {
@@ -412,16 +412,15 @@ private:
         // 0, never a valid camera) is the default camera with a warning in every dialect.
         if (c.position == Vec3(0.0) && c.direction == Vec3(0.0) && c.up == Vec3(0.0) &&
             c.half_height_angle_rad == 0.0 && !m_scene.camera) {
-            m_diag.warn(c.loc, "camera-zero",
-                        "all-zero #camera (a sub-file's dummy): using the default camera");
+            warn(c.loc, "camera-zero",
+                 "all-zero #camera (a sub-file's dummy): using the default camera");
             v3_all_zero_camera = true;
             return;
         }
         validate_camera(f, d, c);
         if (m_scene.camera) {
-            m_diag.warn(
-                c.loc, "camera-repeat",
-                "second #camera ignored; the first one (" + m_scene.camera->loc.str() + ") wins");
+            warn(c.loc, "camera-repeat",
+                 "second #camera ignored; the first one (" + m_scene.camera->loc.str() + ") wins");
             return;
         }
         m_scene.camera = c;
@@ -437,8 +436,8 @@ private:
         const Vec3 c = colour(f, d, 3, bg ? "background colour" : "ambient colour");
         bool& seen = bg ? m_seen_background : m_seen_ambient;
         if (seen) {
-            m_diag.warn(f.lex.loc(d), std::string(d.text) + "-repeat",
-                        "repeated " + std::string(d.text) + " ignored; the first one wins");
+            warn(f.lex.loc(d), std::string(d.text) + "-repeat",
+                 "repeated " + std::string(d.text) + " ignored; the first one wins");
             return;
         }
         seen = true;
@@ -479,17 +478,17 @@ private:
                 fail(f, dor_tok, "negative spot drop-off " + fmt(l.spot_exponent));
             if (m_dialect == Dialect::V0) l.spot_exponent *= kV0ExponentScale;
             if (l.cutoff_rad > kPi / 2)
-                m_diag.warn(l.loc, "spot-cutoff",
-                            "spot cutoff " + fmt(l.cutoff_rad) +
-                                " rad is more than pi/2: the light never cuts off");
+                warn(l.loc, "spot-cutoff",
+                     "spot cutoff " + fmt(l.cutoff_rad) +
+                         " rad is more than pi/2: the light never cuts off");
         }
         if (l.kind != LightKind::Directional && l.constant_atten == 0.0 && l.linear_atten == 0.0 &&
             l.quadratic_atten == 0.0)
-            m_diag.warn(l.loc, "light-zero-atten",
-                        "attenuation coefficients are all zero: the light never contributes");
+            warn(l.loc, "light-zero-atten",
+                 "attenuation coefficients are all zero: the light never contributes");
         count_item(f, d, kLights);
         if (!f.top) {
-            m_diag.warn(l.loc, "included-light", "lights in included files are ignored");
+            warn(l.loc, "included-light", "lights in included files are ignored");
             return;
         }
         m_scene.lights.push_back(l);
@@ -524,8 +523,7 @@ private:
             const auto& missing = m_scene.missing_textures;
             if (std::find(missing.begin(), missing.end(), path) == missing.end()) {
                 m_scene.missing_textures.push_back(path);
-                m_diag.warn(f.lex.loc(pt), "missing-texture:" + path,
-                            problem + "; a checker stands in");
+                warn(f.lex.loc(pt), "missing-texture:" + path, problem + "; a checker stands in");
             }
         }
         t.image = std::move(image);
@@ -610,8 +608,8 @@ private:
         }
         m.refractive_index = v[static_cast<size_t>(ior_i)];
         if (m.refractive_index <= 0) {
-            m_diag.warn(f.lex.loc(tok[static_cast<size_t>(ior_i)]), "refind",
-                        "refractive index " + fmt(m.refractive_index) + " <= 0; 1 is used");
+            warn(f.lex.loc(tok[static_cast<size_t>(ior_i)]), "refind",
+                 "refractive index " + fmt(m.refractive_index) + " <= 0; 1 is used");
             m.refractive_index = 1.0;
         }
         const Token& tt = tok[static_cast<size_t>(tex_i)];
@@ -729,7 +727,7 @@ private:
         // Spec §4.4: frame 0 of the DOF of that name in the file's first key file.
         if (f.key_files.empty()) {
             if (!f.warned_joint_identity)
-                m_diag.warn(g.loc, "joint-no-key", "no #key_file: joints use the identity");
+                warn(g.loc, "joint-no-key", "no #key_file: joints use the identity");
             f.warned_joint_identity = true;
         } else {
             const KeyFile& key = f.key_files.front();
@@ -844,9 +842,9 @@ private:
             keep = g.tube > 0 && g.ring > 0;
             kind = "torus with a zero radius";
             if (g.tube > g.ring)
-                m_diag.warn(s.loc, "torus-spindle",
-                            "spindle torus (iRadius " + fmt(g.tube) + " > oRadius " + fmt(g.ring) +
-                                "): only its outer surface exists");
+                warn(s.loc, "torus-spindle",
+                     "spindle torus (iRadius " + fmt(g.tube) + " > oRadius " + fmt(g.ring) +
+                         "): only its outer surface exists");
             s.geometry = g;
         } else {
             TriangleDesc g;
@@ -864,7 +862,7 @@ private:
         }
         if (!keep) {
             ++m_scene.skipped_shapes;
-            m_diag.warn(s.loc, std::string("skip:") + kind, std::string(kind) + " skipped");
+            warn(s.loc, std::string("skip:") + kind, std::string(kind) + " skipped");
         }
         return keep;
     }
@@ -874,8 +872,8 @@ private:
         check_placements();
         m_scene.dialect = m_dialect;
         if (!m_scene.camera && !m_scene.files.empty() && !v3_all_zero_camera)
-            m_diag.warn({std::make_shared<const std::string>(m_scene.files[0].path), 0, 0},
-                        "no-camera", "no #camera: using the default camera");
+            warn({std::make_shared<const std::string>(m_scene.files[0].path), 0, 0}, "no-camera",
+                 "no #camera: using the default camera");
     }
 
     // Instancing multiplies: a file placed k times that instances another m times places it k*m

@@ -124,6 +124,11 @@ protected:
     [[noreturn]] void fail(const FileState& fs_, const Token& t, const std::string& message) const {
         fail(fs_.lex.loc(t), message);
     }
+    // Warnings carry the include chain too (spec §2).
+    void warn(const SourceLoc& loc, std::string kind, std::string message) const {
+        m_diag.warn(loc, std::move(kind), std::move(message),
+                    std::vector<SourceLoc>(m_include_locs.rbegin(), m_include_locs.rend()));
+    }
 
     // ---- token helpers (parser.cpp) ------------------------------------------------------
     SourceLoc arg_loc(FileState& f, const Token& dir, const Token& bad) const;

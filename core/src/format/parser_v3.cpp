@@ -151,13 +151,13 @@ void ParserV3::v3_camera(FileState& f, const Token& d) {
                       c.half_height_angle_rad == 0.0;
     if (!zero) validate_camera(f, d, c);
     if (m_camera_loc.file)
-        m_diag.warn(
+        warn(
             c.loc, "camera-repeat",
             "second #camera: the last one wins (the earlier one is at " + m_camera_loc.str() + ")");
     m_camera_loc = c.loc;
     if (zero) {
-        m_diag.warn(c.loc, "camera-zero",
-                    "all-zero #camera (a sub-file's dummy): using the default camera");
+        warn(c.loc, "camera-zero",
+             "all-zero #camera (a sub-file's dummy): using the default camera");
         v3_all_zero_camera = true;
         m_scene.camera.reset();
         return;
@@ -196,8 +196,7 @@ void ParserV3::v3_light(FileState& f, const Token& d) {
             l.radius = real(f, d, count);
             if (l.radius < 0) fail(f, rt, "negative sphere light radius " + fmt(l.radius));
             if (l.radius == 0) {
-                m_diag.warn(l.loc, "light-sphere-zero",
-                            "#light_sphere of radius 0 acts as a point light");
+                warn(l.loc, "light-sphere-zero", "#light_sphere of radius 0 acts as a point light");
                 l.kind = LightKind::Point;
             }
         }
@@ -205,8 +204,8 @@ void ParserV3::v3_light(FileState& f, const Token& d) {
         l.linear_atten = real(f, d, count);
         l.quadratic_atten = real(f, d, count);
         if (l.constant_atten == 0.0 && l.linear_atten == 0.0 && l.quadratic_atten == 0.0)
-            m_diag.warn(l.loc, "light-zero-atten",
-                        "attenuation coefficients are all zero: the light never contributes");
+            warn(l.loc, "light-zero-atten",
+                 "attenuation coefficients are all zero: the light never contributes");
     }
     if (l.kind == LightKind::Spot) {
         const Token cut_tok = f.lex.peek();
@@ -217,13 +216,13 @@ void ParserV3::v3_light(FileState& f, const Token& d) {
         if (l.cutoff_rad < 0) fail(f, cut_tok, "negative spot cutoff " + fmt(l.cutoff_rad));
         if (l.spot_exponent < 0) fail(f, dor_tok, "negative spot drop-off " + fmt(l.spot_exponent));
         if (l.cutoff_rad > kPi / 2)
-            m_diag.warn(l.loc, "spot-cutoff",
-                        "spot cutoff " + fmt(l.cutoff_rad) +
-                            " rad is more than pi/2: the light never cuts off");
+            warn(l.loc, "spot-cutoff",
+                 "spot cutoff " + fmt(l.cutoff_rad) +
+                     " rad is more than pi/2: the light never cuts off");
     }
     if (!f.top) {
         if (!f.warned_included_light)
-            m_diag.warn(l.loc, "included-light", "lights in included files are ignored");
+            warn(l.loc, "included-light", "lights in included files are ignored");
         f.warned_included_light = true;
         return;
     }
@@ -374,8 +373,7 @@ V3Node ParserV3::v3_finish(FileState& f, V3Frame& fr) {
         case V3Frame::CsgList:
         case V3Frame::Difference:
             if (fr.csg.operands.empty())
-                m_diag.warn(fr.loc, "csg-empty",
-                            fr.name + " with an empty list: the node is empty");
+                warn(fr.loc, "csg-empty", fr.name + " with an empty list: the node is empty");
             --f.v3_csg_depth;
             node.kind = V3Node::Csg;
             node.csg = std::move(fr.csg);
@@ -405,7 +403,7 @@ void ParserV3::v3_dynamic(FileState& f, const Token& d) {
     Mat4 m(1.0);
     if (f.key_files.empty()) {
         if (!f.warned_dynamic_identity)
-            m_diag.warn(loc, "joint-no-key", "no #key_file: #dynamic_affine uses the identity");
+            warn(loc, "joint-no-key", "no #key_file: #dynamic_affine uses the identity");
         f.warned_dynamic_identity = true;
     } else {
         m = v3_bind(f, nt, name);
@@ -430,9 +428,9 @@ Mat4 ParserV3::v3_bind(FileState& f, const Token& nt, const std::string& name) {
         if (!here) continue;
         const std::string found = similar.empty() ? name : similar.front();
         if (hit) {
-            m_diag.warn(f.lex.loc(nt), "dof-repeat",
-                        "DOF " + quote(found) + " is also in " + quote(k.named) +
-                            "; the first key file (" + quote(hit->named) + ") wins");
+            warn(f.lex.loc(nt), "dof-repeat",
+                 "DOF " + quote(found) + " is also in " + quote(k.named) +
+                     "; the first key file (" + quote(hit->named) + ") wins");
             continue;
         }
         if (similar.size() > 1) {
@@ -450,9 +448,8 @@ Mat4 ParserV3::v3_bind(FileState& f, const Token& nt, const std::string& name) {
         fail(f, nt, "no DOF " + quote(name) + " in key files " + names);
     }
     if (dof != name)
-        m_diag.warn(
-            f.lex.loc(nt), "joint-case",
-            "joint " + quote(name) + " matches DOF " + quote(dof) + " only when case is ignored");
+        warn(f.lex.loc(nt), "joint-case",
+             "joint " + quote(name) + " matches DOF " + quote(dof) + " only when case is ignored");
     return *value;
 }
 
@@ -491,7 +488,7 @@ void ParserV3::v3_instance(FileState& f, const Token& d) {
 
 void ParserV3::v3_skip(ShapeDesc& s, const char* kind) {
     ++m_scene.skipped_shapes;
-    m_diag.warn(s.loc, std::string("skip:") + kind, std::string(kind) + " skipped");
+    warn(s.loc, std::string("skip:") + kind, std::string(kind) + " skipped");
 }
 
 void ParserV3::v3_end_of_file(FileState& f, const SourceLoc& eof) {

@@ -29,10 +29,12 @@ SceneError::SceneError(SourceLoc loc, std::string message, std::vector<SourceLoc
 std::string Warning::str() const {
     std::string s = loc.str() + ": warning: " + message;
     if (count > 1) s += " (" + std::to_string(count) + " times in this file)";
+    for (const SourceLoc& inc : included_from) s += "\n  included from " + inc.str();
     return s;
 }
 
-void Diagnostics::warn(const SourceLoc& loc, std::string kind, std::string message) {
+void Diagnostics::warn(const SourceLoc& loc, std::string kind, std::string message,
+                       std::vector<SourceLoc> included_from) {
     for (Warning& w : m_warnings) {
         const bool same_file =
             (w.loc.file && loc.file) ? *w.loc.file == *loc.file : w.loc.file == loc.file;
@@ -41,7 +43,7 @@ void Diagnostics::warn(const SourceLoc& loc, std::string kind, std::string messa
             return;
         }
     }
-    m_warnings.push_back({loc, std::move(kind), std::move(message), 1});
+    m_warnings.push_back({loc, std::move(kind), std::move(message), 1, std::move(included_from)});
 }
 
 bool Diagnostics::has(const std::string& kind) const {

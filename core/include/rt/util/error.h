@@ -41,13 +41,17 @@ struct Warning {
     std::string kind;
     std::string message;
     int count = 1;
-    std::string str() const;  ///< "file:line:col: warning: message[ (N times)]"
+    std::vector<SourceLoc>
+        included_from;  ///< the #ray_file directives that led there, innermost first
+    /// "file:line:col: warning: message[ (N times)]", then one "  included from F:L:C" line each.
+    std::string str() const;
 };
 
 /// Collects warnings; repeated warnings of one kind in one file are merged with a count.
 class Diagnostics {
 public:
-    void warn(const SourceLoc& loc, std::string kind, std::string message);
+    void warn(const SourceLoc& loc, std::string kind, std::string message,
+              std::vector<SourceLoc> included_from = {});
     const std::vector<Warning>& warnings() const { return m_warnings; }
     bool has(const std::string& kind) const;
 
