@@ -454,6 +454,14 @@ TEST_F(ParserFiles, KeyFileGivesJointMatrices) {
     write("short.key", "#DOFS 1 a\n#DURATION 1\n#FRAMES 1\n1 0 0 0 0 1 0 0\n");
     EXPECT_NE(load_error(write("s.ray", "#key_file short.key\n")).find("key file needs 16 numbers"),
               std::string::npos);
+    // Spec §14.1: two DOFs of one name are an error; names differing only in case are not.
+    const std::string id = " 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1";
+    write("dup.key", "#DOFS 2 arm arm\n#DURATION 1\n#FRAMES 1\n" + id + id + "\n");
+    EXPECT_NE(load_error(write("d.ray", "#key_file dup.key\n"))
+                  .find("dup.key:1:13: error: duplicate DOF name 'arm'"),
+              std::string::npos);
+    write("case.key", "#DOFS 2 arm Arm\n#DURATION 1\n#FRAMES 1\n" + id + id + "\n");
+    EXPECT_EQ(load_error(write("c.ray", "#key_file case.key\n")), "");
 }
 
 TEST_F(ParserFiles, JointsWithoutKeyFileAreIdentityWithOneWarning) {

@@ -24,7 +24,12 @@ KeyFile ParserBase::parse_key_file(const std::string& text, const std::string& p
     if (n <= 0) fail(nloc, "DOF count must be positive, got " + std::to_string(n));
     std::vector<std::string> names, exact;
     for (int i = 0; i < n; ++i) {
+        const Token nt = k.lex.peek();
         exact.push_back(word(k, dofs, "a DOF name", true));
+        // Spec §14.1: names equal as strings are an error; differing only in case is allowed.
+        for (int j = 0; j < i; ++j)
+            if (exact[static_cast<size_t>(j)] == exact.back())
+                fail(k, nt, "duplicate DOF name " + quote(exact.back()));
         names.push_back(lower(exact.back()));
     }
     const Token dur = expect("#DURATION");
