@@ -65,6 +65,11 @@ TEST(Features, ReadFromValuesNotSyntax) {
                          "never transformed"));
     EXPECT_TRUE(
         has_line(lines, "left out: triangle tests: no triangles: no triangle set-up per ray"));
+    EXPECT_TRUE(has_line(lines, "left out: torus test: no torus: no quartic is solved"));
+    EXPECT_TRUE(
+        has_line(explain_lines(features_of(std::string("#light_dir 0 0 0  1 1 1  1 1 1  0 -1 0\n") +
+                                           kDiffuse + "#shape_torus 0 0 0 0 0.25 1\n")),
+                 "kept: torus test: 1 torus primitive(s): quartics solved (spec §13.7)"));
     EXPECT_TRUE(has_line(
         lines, "left out: shape dispatch: spheres only: leaves call the sphere test directly"));
     EXPECT_TRUE(has_line(explain_lines(features_of("#light_dir 1 1 1  0 -1 0\n")),

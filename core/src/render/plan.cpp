@@ -52,6 +52,10 @@ void explain_geometry(const GeometryFeatures& g, std::vector<PlanReason>& out) {
          std::to_string(g.csg_nodes) +
              " CSG node(s): a hit counts where every node above it keeps it (spec §13.8)",
          "no CSG node: every hit counts, no inside tests");
+    const size_t n_tori = g.prims[static_cast<int>(ShapeKind::Torus)];
+    line(n_tori > 0, "torus test",
+         std::to_string(n_tori) + " torus primitive(s): quartics solved (spec §13.7)",
+         "no torus: no quartic is solved");
     const size_t n_triangles = g.prims[static_cast<int>(ShapeKind::Triangle)];
     line(n_triangles > 0, "triangle tests", std::to_string(n_triangles) + " triangle(s)",
          "no triangles: no triangle set-up per ray");
