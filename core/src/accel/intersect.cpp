@@ -156,8 +156,9 @@ bool csg_accepts(const GeometrySet& set, const CsgLeaf& leaf, const Vec3& p_set)
     return true;
 }
 
-// Calls f(ShapeHits of one hit, on one leaf) for every valid hit of CSG primitive p in t, in no
-// order; f returns true to stop (and so does this).
+// Calls f(ShapeHits of one hit, on one leaf, t) for every valid hit of CSG primitive p in t, in
+// no order; f may shrink t.hi for the leaves still to test, and returns true to stop (and so
+// does this).
 template <bool kXf, class F>
 bool csg_each(const GeometrySet& set, const Primitive& p, const Ray& r, const TriRay* tri,
               Interval t, F&& f) {
@@ -165,36 +166,28 @@ bool csg_each(const GeometrySet& set, const Primitive& p, const Ray& r, const Tr
     for (uint32_t l = root.first_leaf; l < root.first_leaf + root.leaf_count; ++l) {
         const CsgLeaf& leaf = set.csg.leaves[l];
         const ShapeHits h = prim_hits<SetLayout::Mixed, kXf>(set, leaf.prim, r, tri, t);
-        for (int k = 0; k < h.count; ++k) {
+        for (int k = 0; k < h.count && h.t[k] < t.hi; ++k) {
             if (!csg_accepts(set, leaf, r.at(h.t[k]))) continue;
             ShapeHits one;
             one.add(h.t[k], h.part[k]);
             one.leaf = static_cast<int>(l);
-            if (f(one)) return true;
+            if (f(one, t)) return true;
         }
     }
     return false;
 }
 
 // The nearest valid hit of CSG primitive p in t (none: count 0): each leaf is tested in what is
-// left of the interval.
+// left of the interval, and its hits come nearest first.
 template <bool kXf>
 ShapeHits csg_nearest(const GeometrySet& set, const Primitive& p, const Ray& r, const TriRay* tri,
                       Interval t) {
     ShapeHits best;
-    const CsgRoot& root = set.csg.roots[static_cast<size_t>(p.csg)];
-    for (uint32_t l = root.first_leaf; l < root.first_leaf + root.leaf_count; ++l) {
-        const CsgLeaf& leaf = set.csg.leaves[l];
-        const ShapeHits h = prim_hits<SetLayout::Mixed, kXf>(set, leaf.prim, r, tri, t);
-        for (int k = 0; k < h.count; ++k) {
-            if (!csg_accepts(set, leaf, r.at(h.t[k]))) continue;
-            best = ShapeHits{};
-            best.add(h.t[k], h.part[k]);
-            best.leaf = static_cast<int>(l);
-            t.hi = h.t[k];
-            break;  // the leaf's hits are nearest first
-        }
-    }
+    csg_each<kXf>(set, p, r, tri, t, [&](const ShapeHits& one, Interval& left) {
+        best = one;
+        left.hi = one.t[0];
+        return false;
+    });
     return best;
 }
 
@@ -245,9 +238,10 @@ bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min,
                         return stopped =
                                    hits(pi, csg_nearest<kXf>(set, p, r, &tri, {t_min, best}), best);
                     else
-                        return stopped = csg_each<kXf>(
-                                   set, p, r, &tri, {t_min, best},
-                                   [&](const ShapeHits& h) { return hits(pi, h, best); });
+                        return stopped = csg_each<kXf>(set, p, r, &tri, {t_min, best},
+                                                       [&](const ShapeHits& h, Interval&) {
+                                                           return hits(pi, h, best);
+                                                       });
                 }
             }
             return stopped = hits(pi, prim_hits<L, kXf>(set, p, r, &tri, {t_min, best}), best);

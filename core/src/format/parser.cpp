@@ -258,6 +258,20 @@ void ParserBase::validate_camera(FileState& f, const Token& d, const CameraDesc&
                  " is outside (0, pi/2) radians");
 }
 
+// Three vertex indices of this file (spec §3.3; V3 §13.5), each checked against its vertices.
+TriangleDesc ParserBase::triangle_indices(FileState& f, const Token& d) {
+    TriangleDesc g;
+    const int nv = static_cast<int>(f.desc.vertices.size());
+    for (int i = 0; i < 3; ++i) {
+        SourceLoc loc;
+        g.v[i] = integer(f, d, "vertex index", &loc);
+        if (g.v[i] < 0 || g.v[i] >= nv)
+            fail(loc, "vertex index " + std::to_string(g.v[i]) + " out of range [0," +
+                          std::to_string(nv) + ")");
+    }
+    return g;
+}
+
 bool ParserBase::degenerate_triangle(const FileDesc& file, const TriangleDesc& t) {
     // Spec §3.3: a repeated index, or |e1 x e2| <= 1e-12 |e1| |e2|.
     if (t.v[0] == t.v[1] || t.v[1] == t.v[2] || t.v[0] == t.v[2]) return true;
@@ -847,15 +861,7 @@ private:
                          "): only its outer surface exists");
             s.geometry = g;
         } else {
-            TriangleDesc g;
-            const int nv = static_cast<int>(f.desc.vertices.size());
-            for (int i = 0; i < 3; ++i) {
-                SourceLoc loc;
-                g.v[i] = integer(f, d, "vertex index", &loc);
-                if (g.v[i] < 0 || g.v[i] >= nv)
-                    fail(loc, "vertex index " + std::to_string(g.v[i]) + " out of range [0," +
-                                  std::to_string(nv) + ")");
-            }
+            const TriangleDesc g = triangle_indices(f, d);
             keep = !degenerate_triangle(f.desc, g);
             kind = "degenerate triangle";
             s.geometry = g;

@@ -149,6 +149,7 @@ protected:
     std::optional<std::string> try_resolve(FileState& f, const Token& at, const std::string& path,
                                            std::string* tried);
     void validate_camera(FileState& f, const Token& d, const CameraDesc& c);
+    TriangleDesc triangle_indices(FileState& f, const Token& d);
     static bool degenerate_triangle(const FileDesc& file, const TriangleDesc& t);
     void check_matrix(const Mat4& m, const SourceLoc& loc, const std::string& what);
 

@@ -458,15 +458,7 @@ void ParserV3::v3_triangle(FileState& f, const Token& d) {
     ShapeDesc s;
     s.loc = f.lex.loc(d);
     s.material = f.v3.back().material;
-    TriangleDesc g;
-    const int nv = static_cast<int>(f.desc.vertices.size());
-    for (int i = 0; i < 3; ++i) {
-        SourceLoc loc;
-        g.v[i] = integer(f, d, "vertex index", &loc);
-        if (g.v[i] < 0 || g.v[i] >= nv)
-            fail(loc, "vertex index " + std::to_string(g.v[i]) + " out of range [0," +
-                          std::to_string(nv) + ")");
-    }
+    const TriangleDesc g = triangle_indices(f, d);
     s.geometry = g;
     if (degenerate_triangle(f.desc, g)) return v3_skip(s, "degenerate triangle");
     f.v3.back().group.shapes.push_back(std::move(s));
