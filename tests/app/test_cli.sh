@@ -141,5 +141,27 @@ printf '#ambient 0 1e400 0\n#vertex_num 1000000000000\n' >"$tmp/num.ray"
 check "huge number exits 1" test $? -eq 1
 check "huge number message" grep -q "num.ray:1:12: error: non-finite number '1e400'" "$tmp/num.txt"
 
+# Every public V3 file, opened on its own as a user would, with checker stand-ins for the
+# textures that were never published: exit 0 and an image (spec §13; tests/test_scenes.cpp checks
+# the pixels).
+pub="$src/../shared/public-scenes"
+if [ -d "$pub" ]; then
+    n=0
+    for f in "$pub"/henry-md__ray-tracer/*.ray "$pub"/aarxa__RayForge-CPP-Ray-Tracing-Engine/*.ray \
+        "$pub"/dcalvo__Graphics-2021/*.ray; do
+        "$rt" "$f" --missing-textures checker -q --width 32 --height 24 -o "$tmp/v3.ppm" \
+            >"$tmp/v3.txt" 2>&1
+        check "V3 $(basename "$f") exits 0" test $? -eq 0
+        check "V3 $(basename "$f") writes an image" test -s "$tmp/v3.ppm"
+        rm -f "$tmp/v3.ppm"
+        n=$((n + 1))
+    done
+    check "41 public V3 files" test "$n" -eq 41
+    "$rt" "$pub/dcalvo__Graphics-2021/scene.ray" -q -o "$tmp/chess.png" >"$tmp/chess.txt" 2>&1
+    check "missing texture exits 1" test $? -eq 1
+    check "missing texture names the places tried" grep -q "error: cannot open texture 'board.jpg' (tried " "$tmp/chess.txt"
+    check "missing texture: no output" test ! -e "$tmp/chess.png"
+fi
+
 echo "$passes passed, $fails failed (with the bad-input checks)"
 test "$fails" -eq 0
