@@ -17,6 +17,7 @@
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
 #include "rt/shapes/tessellate.h"
+#include "test_util.h"
 
 namespace rt {
 namespace {
@@ -102,14 +103,6 @@ Probe probe(const RenderScene& scene, const Vec3& o, const Vec3& d) {
     }
     return p;
 }
-
-#define EXPECT_VEC_NEAR(a, b, tol)     \
-    do {                               \
-        const Vec3 a_ = (a), b_ = (b); \
-        EXPECT_NEAR(a_.x, b_.x, tol);  \
-        EXPECT_NEAR(a_.y, b_.y, tol);  \
-        EXPECT_NEAR(a_.z, b_.z, tol);  \
-    } while (0)
 
 // ---------------------------------------------------------------------------------------------
 // Compiled structure.
@@ -412,6 +405,45 @@ TEST(Csg, EmptyOperands) {
         csg(CsgOp::Union, {empty}),
         csg(CsgOp::Intersection, {of(sphere(0, {0, 0, 0}, 1)), of(sphere(0, {9, 0, 0}, 1))})};
     EXPECT_TRUE(compile_scene(scene_of(none)).instances.empty());
+}
+
+// A tree dropped for having no surface takes its leaves' shapes back: here its triangle would
+// sit in front of the floor's in a triangles-only set, where prims[i] is triangles[i].
+TEST(Csg, ADroppedTreeLeavesNoShapesBehind) {
+    const std::string head =
+        "#camera 0 4 4  0 -1 -1  0 1 0  0.5\n#light_dir 0 0 0  1 1 1  1 1 1  0 -1 0\n"
+        "#material 0 0 0  0 0 0  0.8 0.8 0.8  0 0 0  1  0 0 0  1  -1 !!\n"
+        "#vertex -2 0 -2  0 0 0  0 0\n#vertex 2 0 -2  0 0 0  0 0\n"
+        "#vertex 2 0 2  0 0 0  0 0\n#vertex -2 0 2  0 0 0  0 0\n"
+        "#vertex 9 0 9  0 0 0  0 0\n#vertex 10 0 9  0 0 0  0 0\n#vertex 9 0 10  0 0 0  0 0\n";
+    const std::string floor =
+        "#shape_triangles 0 #shape_list_begin #shape_triangle 0 2 1 #shape_triangle 0 3 2 "
+        "#shape_list_end\n";
+    const std::string dropped =
+        "#shape_intersection #shape_list_begin\n"
+        "  #shape_triangles 0 #shape_list_begin #shape_triangle 4 5 6 #shape_list_end\n"
+        "  #shape_sphere 0 -20 0 0 1\n#shape_list_end\n";
+    const RenderScene with = test::compile(head + dropped + floor);
+    const RenderScene without = test::compile(head + floor);
+    ASSERT_EQ(with.sets.size(), 1u);
+    EXPECT_EQ(with.sets[0].triangles.size(), 2u);
+    EXPECT_EQ(with.sets[0].prims.size(), 2u);
+    EXPECT_EQ(test::render(with, 32, 24).rgb, test::render(without, 32, 24).rgb);
+}
+
+// Boxes 1e-10 apart: each one's face is "on" the other within the tolerance (spec §13.8), so the
+// intersection is that face, and its box, grown by more than the tolerance, does not cull it.
+TEST(Csg, AnIntersectionOfTouchingBoxesKeepsTheFace) {
+    const RenderScene s = test::compile(
+        "#material 0 0 0  0 0 0  0.8 0.8 0.8  0 0 0  1  0 0 0  1  -1 !!\n"
+        "#shape_intersection #shape_list_begin\n"
+        "  #shape_box 0  0 -0.5 0  1 1 1\n  #shape_box 0  0 0.5000000001 0  1 1 1\n"
+        "#shape_list_end\n");
+    ASSERT_EQ(s.instances.size(), 1u);
+    const Probe p = probe(s, {0.2, 5, 0.3}, {0, -1, 0});
+    ASSERT_TRUE(p.hit);
+    EXPECT_NEAR(p.t, 5.0, 1e-9);
+    EXPECT_FALSE(probe(s, {0.2, 5, 0.7}, {0, -1, 0}).hit);  // beside the boxes
 }
 
 TEST(Csg, TorusInACsgNode) {

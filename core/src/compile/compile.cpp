@@ -3,10 +3,12 @@
 // of (set, world transform), and the BVHs are built: one per set and one over the instances.
 #include "rt/compile/compile.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <tuple>
 #include <type_traits>
 #include <variant>
 #include <vector>
@@ -38,15 +40,20 @@ Bounds3 combine_csg_bounds(CsgNodeKind kind, const Bounds3* child, uint32_t coun
         return b;
     }
     b = child[0];
-    for (uint32_t i = 1; i < count; ++i) {
+    double size = 0.0;  // the largest child's largest side
+    for (uint32_t i = 0; i < count; ++i) {
+        if (child[i].empty()) return {};  // an empty child: nothing is inside every child
         b.lo = glm::max(b.lo, child[i].lo);
         b.hi = glm::min(b.hi, child[i].hi);
+        const Vec3 d = child[i].diagonal();
+        size = std::max({size, d.x, d.y, d.z});
     }
-    if (b.empty()) return {};
-    // A point "on" another child is up to its tolerance (1e-9 of its size and distance from
-    // the origin) outside it, and outside its box: grown by more than that.
-    const Vec3 grow = 1e-7 * (glm::abs(b.lo) + glm::abs(b.hi));
-    return {b.lo - grow, b.hi + grow};
+    // A point "on" another child is up to its tolerance (1e-9 of its size and of its distance
+    // from the origin) outside it, and outside its box: grown by more than that, also where the
+    // boxes only touch (two boxes sharing the face x = 0 meet in a box of width 0 at 0).
+    const Vec3 grow = 1e-7 * (glm::abs(b.lo) + glm::abs(b.hi) + Vec3(size));
+    const Bounds3 grown{b.lo - grow, b.hi + grow};
+    return grown.empty() ? Bounds3{} : grown;
 }
 
 Bounds3 shape_world_bounds(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
@@ -430,6 +437,12 @@ private:
         CsgArrays& a = set.csg;
         const size_t nodes0 = a.nodes.size(), children0 = a.children.size(),
                      leaves0 = a.leaves.size();
+        // The leaves' shapes go to the set's arrays as they are met; a dropped tree takes them
+        // back (a Triangles set relies on prims[i] being triangles[i]).
+        const size_t triangles0 = set.triangles.size(), attribs0 = set.triangle_attribs.size(),
+                     transforms0 = set.transforms.size();
+        std::array<size_t, kShapeKinds> kinds0{};
+        std::apply([&](const auto&... v) { kinds0 = {v.size()...}; }, set.shapes.arrays);
         std::vector<CsgVisit> todo = {{&c, nullptr, m, fi, false}};
         std::vector<uint32_t> results;
         while (!todo.empty()) {
@@ -453,6 +466,11 @@ private:
             a.nodes.resize(nodes0);
             a.children.resize(children0);
             a.leaves.resize(leaves0);
+            set.triangles.resize(triangles0);
+            set.triangle_attribs.resize(attribs0);
+            set.transforms.resize(transforms0);
+            size_t k = 0;
+            std::apply([&](auto&... v) { (v.resize(kinds0[k++]), ...); }, set.shapes.arrays);
             return -1;
         }
         a.roots.push_back(root);
