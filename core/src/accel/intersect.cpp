@@ -112,9 +112,11 @@ uint8_t node_inside(const GeometrySet& set, uint32_t node, const Vec3& p_set) {
     const CsgNode& top = c.nodes[node];
     if (top.kind == CsgNodeKind::Leaf) return leaf_inside(set, c.leaves[top.first], p_set);
     const size_t n = node - top.subtree_first + 1;
+    // Up to 64 nodes on the stack; larger trees reuse one buffer per thread (no allocation per
+    // hit once it has grown).
     uint8_t small[64] = {};
-    std::vector<uint8_t> big;
-    if (n > sizeof small) big.resize(n);
+    static thread_local std::vector<uint8_t> big;
+    if (n > sizeof small && big.size() < n) big.resize(n);
     uint8_t* stack = n > sizeof small ? big.data() : small;
     size_t sp = 0;
     for (uint32_t i = top.subtree_first; i <= node; ++i) {

@@ -389,7 +389,6 @@ private:
             CsgLeaf leaf;
             leaf.prim = make_primitive(set, fi, pend);
             leaf.node = n.subtree_first;
-            leaf.root = static_cast<int>(set.csg.roots.size());
             leaf.flip = flip;
             leaf.epsilon =
                 visit_shape(set, leaf.prim, [](const auto& shape) { return csg_epsilon(shape); });

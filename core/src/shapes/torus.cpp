@@ -7,8 +7,7 @@
 // sphere), v = atan2(q_y, rho - R) / 2pi in [0, 1): 0 on the outer equator, 1/4 on the top
 // circle, 1/2 on the inner equator, 3/4 on the bottom circle. Inside: f < 0.
 //
-// The torus is a V3 shape (#shape_torus): until the V3 parser lands it is reachable from code and
-// tests only (the V0/V1 writer refuses it).
+// The torus is a V3 shape (#shape_torus, spec §13.5); the V0/V1 writer refuses it.
 #include <cstdint>
 #include <cstring>
 

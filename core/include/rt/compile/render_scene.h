@@ -76,7 +76,6 @@ struct CsgNode {
 struct CsgLeaf {
     Primitive prim;
     uint32_t node = 0;    // its Leaf node
-    int root = 0;         // index into CsgArrays::roots
     bool flip = false;    // inside the second operand of an odd number of differences
     double epsilon = 0.;  // the inside test's tolerance in the leaf's frame (spec §13.8)
 };
