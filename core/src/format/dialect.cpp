@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <utility>
 #include <variant>
 
@@ -28,6 +29,29 @@ const char* dialect_name(Dialect d) {
 
 namespace parser_impl {
 
+std::optional<ShapeKind> shape_directive_kind(std::string_view d) {
+    constexpr std::string_view prefix = "#shape_";
+    if (d.substr(0, prefix.size()) != prefix) return std::nullopt;
+    const std::string_view name = d.substr(prefix.size());
+    std::optional<ShapeKind> kind;
+    [&]<size_t... I>(std::index_sequence<I...>) {
+        ((name == std::variant_alternative_t<I, Shape>::kName
+              ? void(kind = std::variant_alternative_t<I, Shape>::kKind)
+              : void()),
+         ...);
+    }
+    (std::make_index_sequence<kShapeKinds>{});
+    return kind;
+}
+
+bool is_v01_directive(std::string_view d) {
+    static constexpr std::array<std::string_view, 6> names = {
+        "#group_begin", "#group_end", "#joint_begin", "#joint_end", "#background", "#ambient"};
+    for (std::string_view n : names)
+        if (n == d) return true;
+    return d.size() > 4 && d.substr(d.size() - 4) == "_num";
+}
+
 namespace {
 
 // Directives that exist only in the V3 dialect (spec §10 step 1).
@@ -39,24 +63,9 @@ bool is_v3_directive(std::string_view d) {
     for (std::string_view n : names)
         if (n == d) return true;
     // And #shape_<kind> for the shape kinds that exist in V3 only (the torus).
-    constexpr std::string_view prefix = "#shape_";
-    if (d.substr(0, prefix.size()) != prefix) return false;
-    const std::string_view kind = d.substr(prefix.size());
-    return [&]<size_t... I>(std::index_sequence<I...>) {
-        return ((kV3OnlyShape<std::variant_alternative_t<I, Shape>> &&
-                 kind == std::variant_alternative_t<I, Shape>::kName) ||
-                ...);
-    }
-    (std::make_index_sequence<kShapeKinds>{});
-}
-
-// V0/V1-only directives (spec §10 step 1), besides the #*_num counts.
-bool is_v01_directive(std::string_view d) {
-    static constexpr std::array<std::string_view, 6> names = {
-        "#group_begin", "#group_end", "#joint_begin", "#joint_end", "#background", "#ambient"};
-    for (std::string_view n : names)
-        if (n == d) return true;
-    return d.size() > 4 && d.substr(d.size() - 4) == "_num";
+    const std::optional<ShapeKind> kind = shape_directive_kind(d);
+    return kind &&
+           visit_kind(*kind, [](auto tag) { return kV3OnlyShape<typename decltype(tag)::type>; });
 }
 
 // Consumes the words up to the next directive: how many, and whether all are reals / ints.

@@ -29,6 +29,10 @@ std::string describe(const Token& t);
 bool is_file(const std::filesystem::path& p);
 std::string canonical_path(const std::string& path);
 std::string lower(std::string_view s);
+/// The shape kind whose directive is #shape_<kName> (spec §3.3, §13.5), if any (dialect.cpp).
+std::optional<ShapeKind> shape_directive_kind(std::string_view directive);
+/// V0/V1-only directives (spec §10 step 1): groups, joints, #background, #ambient, #*_num.
+bool is_v01_directive(std::string_view directive);
 
 // Limits of this reader (docs/format.md, "our choices"): they keep the recursion of every
 // consumer of the group tree and the file tree shallow, and memory bounded by the input's size.

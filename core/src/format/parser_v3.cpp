@@ -24,8 +24,6 @@ constexpr std::array<std::string_view, 10> kShapes = {
     "#shape_triangles",  "#shape_triangle",   "#shape_list_begin", "#shape_list_end",
     "#static_affine",    "#dynamic_affine",   "#shape_union",      "#shape_intersection",
     "#shape_difference", "#ray_file_instance"};
-constexpr std::array<std::string_view, 6> kV01 = {"#group_begin", "#group_end",  "#joint_begin",
-                                                  "#joint_end",   "#background", "#ambient"};
 
 template <size_t N>
 bool in(const std::array<std::string_view, N>& names, std::string_view n) {
@@ -35,15 +33,8 @@ bool in(const std::array<std::string_view, N>& names, std::string_view n) {
 // #shape_<kind> of the analytic kinds (sphere, box, cylinder, cone, torus): the directives
 // primitive() reads.
 bool is_analytic_shape(std::string_view n) {
-    constexpr std::string_view prefix = "#shape_";
-    if (n.substr(0, prefix.size()) != prefix) return false;
-    const std::string_view kind = n.substr(prefix.size());
-    return [&]<size_t... I>(std::index_sequence<I...>) {
-        return ((!std::is_same_v<std::variant_alternative_t<I, Shape>, Triangle> &&
-                 kind == std::variant_alternative_t<I, Shape>::kName) ||
-                ...);
-    }
-    (std::make_index_sequence<kShapeKinds>{});
+    const std::optional<ShapeKind> kind = shape_directive_kind(n);
+    return kind && *kind != ShapeKind::Triangle;
 }
 
 // The part of a V3 file a directive belongs to (spec §13.1): 0 global, 1 local, 2 shapes; -1
@@ -104,7 +95,7 @@ void ParserV3::v3_directive(FileState& f, const Token& d) {
     const int part = part_of(n);
     if (part < 0) {
         // The pre-scan refuses other-dialect constructs first; kept as a safeguard.
-        if (in(kV01, n) || (n.size() > 4 && n.substr(n.size() - 4) == "_num"))
+        if (is_v01_directive(n))
             fail(f, d,
                  quote(n) + " is V0/V1 syntax; " +
                      (m_v3_marker.empty() ? "the tree was forced to V3 by --dialect v3"
