@@ -154,15 +154,8 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
         return prescan_marker(loc, q + " with " + std::to_string(n) + " numbers", n == v3, scan);
     }
     if (t.text == "#material") {
-        int n = 0;
-        bool numbers = true;
-        for (Token a = lex.peek(); a.kind == TokenKind::Word; a = lex.peek()) {
-            lex.next();
-            double v = 0;
-            bool nf = false;
-            numbers = numbers && parse_real(a.text, &v, &nf);
-            ++n;
-        }
+        bool numbers = true, integers = true;
+        const int n = count_words(lex, &numbers, &integers);
         // A bad token or a missing string is reported by the parse at its place.
         if (!numbers || (lex.peek().kind != TokenKind::String && (n == 16 || n == 18))) return;
         if (n != 16 && n != 18)
