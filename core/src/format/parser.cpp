@@ -247,6 +247,25 @@ std::string ParserBase::resolve(FileState& f, const Token& at, const std::string
     fail(f, at, "cannot open " + what + " " + quote(path) + " (tried " + tried + ")");
 }
 
+CameraDesc ParserBase::read_camera(FileState& f, const Token& d) {
+    CameraDesc c;
+    c.loc = f.lex.loc(d);
+    c.position = vec3(f, d, 10);
+    c.direction = vec3(f, d, 10);
+    c.up = vec3(f, d, 10);
+    c.half_height_angle_rad = real(f, d, 10);
+    return c;
+}
+
+bool ParserBase::dummy_camera(const CameraDesc& c) {
+    if (c.position != Vec3(0.0) || c.direction != Vec3(0.0) || c.up != Vec3(0.0) ||
+        c.half_height_angle_rad != 0.0)
+        return false;
+    warn(c.loc, "camera-zero", "all-zero #camera (a sub-file's dummy): using the default camera");
+    v3_all_zero_camera = true;
+    return true;
+}
+
 void ParserBase::validate_camera(FileState& f, const Token& d, const CameraDesc& c) {
     if (glm::length(c.direction) == 0.0) fail(f, d, "camera view direction is zero");
     if (glm::length(c.up) == 0.0) fail(f, d, "camera up vector is zero");
@@ -413,24 +432,13 @@ private:
     // ---- definitions ---------------------------------------------------------------------
     void camera(FileState& f, const Token& d) {
         definition(f, d);
-        CameraDesc c;
-        c.loc = f.lex.loc(d);
-        c.position = vec3(f, d, 10);
-        c.direction = vec3(f, d, 10);
-        c.up = vec3(f, d, 10);
-        c.half_height_angle_rad = real(f, d, 10);
+        const CameraDesc c = read_camera(f, d);
         // Included files: syntax only, so the dummy all-zero cameras of sub-files pass (§3.1, §12).
         if (!f.top) return;
         // The course's V3 sub-files without a V3 marker read as V1 (§10 step 4), and opened on
-        // their own they should render as V3 ones do (§13.3): the dummy camera (all ten numbers
-        // 0, never a valid camera) is the default camera with a warning in every dialect.
-        if (c.position == Vec3(0.0) && c.direction == Vec3(0.0) && c.up == Vec3(0.0) &&
-            c.half_height_angle_rad == 0.0 && !m_scene.camera) {
-            warn(c.loc, "camera-zero",
-                 "all-zero #camera (a sub-file's dummy): using the default camera");
-            v3_all_zero_camera = true;
-            return;
-        }
+        // their own they should render as V3 ones do (§13.3): the dummy camera (never a valid
+        // camera) is the default camera with a warning in every dialect.
+        if (!m_scene.camera && dummy_camera(c)) return;
         validate_camera(f, d, c);
         if (m_scene.camera) {
             warn(c.loc, "camera-repeat",

@@ -152,6 +152,10 @@ protected:
     /// resolve() without the error: nullopt, with the places tried in *tried.
     std::optional<std::string> try_resolve(FileState& f, const Token& at, const std::string& path,
                                            std::string* tried);
+    CameraDesc read_camera(FileState& f, const Token& d);  // the ten numbers of #camera
+    /// The course's dummy camera (all ten numbers 0, spec §13.3) in a top-level file: the default
+    /// camera with a warning. Returns whether c is that camera.
+    bool dummy_camera(const CameraDesc& c);
     void validate_camera(FileState& f, const Token& d, const CameraDesc& c);
     TriangleDesc triangle_indices(FileState& f, const Token& d);
     static bool degenerate_triangle(const FileDesc& file, const TriangleDesc& t);
@@ -166,6 +170,7 @@ protected:
     KeyFile parse_key_file(const std::string& text, const std::string& path);
 
     Diagnostics& m_diag;
+    bool v3_all_zero_camera = false;  // the top-level file's camera is the dummy (dummy_camera)
     ParseOptions m_options;
     std::vector<SourceLoc> m_include_locs;       // #ray_file directives, outermost first
     std::map<std::string, std::string> m_texts;  // included files read, not yet parsed
@@ -209,7 +214,6 @@ protected:
 
     void v3_directive(FileState& f, const Token& d);
     void v3_end_of_file(FileState& f, const SourceLoc& eof);
-    bool v3_all_zero_camera = false;
     SourceLoc m_camera_loc;  // the last top-level #camera
 
 private:

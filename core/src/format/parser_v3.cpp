@@ -131,28 +131,18 @@ void ParserV3::v3_order(FileState& f, const Token& d, int part) {
 // Spec §13.3: the last #camera wins; an all-zero one (the course's sub-file dummy) is the
 // default camera. Included files: any 10 reals, ignored.
 void ParserV3::v3_camera(FileState& f, const Token& d) {
-    CameraDesc c;
-    c.loc = f.lex.loc(d);
-    c.position = vec3(f, d, 10);
-    c.direction = vec3(f, d, 10);
-    c.up = vec3(f, d, 10);
-    c.half_height_angle_rad = real(f, d, 10);
+    const CameraDesc c = read_camera(f, d);
     if (!f.top) return;
-    const bool zero = c.position == Vec3(0.0) && c.direction == Vec3(0.0) && c.up == Vec3(0.0) &&
-                      c.half_height_angle_rad == 0.0;
-    if (!zero) validate_camera(f, d, c);
     if (m_camera_loc.file)
         warn(
             c.loc, "camera-repeat",
             "second #camera: the last one wins (the earlier one is at " + m_camera_loc.str() + ")");
     m_camera_loc = c.loc;
-    if (zero) {
-        warn(c.loc, "camera-zero",
-             "all-zero #camera (a sub-file's dummy): using the default camera");
-        v3_all_zero_camera = true;
+    if (dummy_camera(c)) {
         m_scene.camera.reset();
         return;
     }
+    validate_camera(f, d, c);
     m_scene.camera = c;
 }
 
