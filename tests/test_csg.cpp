@@ -624,11 +624,15 @@ TEST(Csg, PreviewMeshTessellatesTheLeavesTagged) {
     const RenderScene s = compile_scene(scene_of(root));
     const PreviewMesh m = tessellate_set(s.sets[0], 16);
     ASSERT_EQ(m.csg.size(), m.triangle_count());
-    size_t tagged[3] = {0, 0, 0};
-    for (int c : m.csg) ++tagged[c + 1];
-    EXPECT_GT(tagged[0], 0u);  // the plain sphere
-    EXPECT_GT(tagged[1], 0u);
-    EXPECT_GT(tagged[2], 0u);
+    const size_t leaves = s.sets[0].csg.leaves.size();
+    ASSERT_EQ(leaves, 5u);  // two spheres and a cylinder, two cylinders
+    std::vector<size_t> tagged(leaves + 1, 0);
+    for (int c : m.csg) {
+        ASSERT_GE(c, -1);
+        ASSERT_LT(c, static_cast<int>(leaves));
+        ++tagged[static_cast<size_t>(c + 1)];
+    }
+    for (size_t i = 0; i <= leaves; ++i) EXPECT_GT(tagged[i], 0u) << i;  // 0: the plain sphere
     ASSERT_EQ(m.materials.size(), m.triangle_count());
 }
 

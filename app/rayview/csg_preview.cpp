@@ -85,41 +85,17 @@ static CsgTexels csg_texels(const GeometrySet& set) {
     return out;
 }
 
-void add_csg_leaves(const GeometrySet& set, int detail, PreviewMesh* mesh, CsgTexels* texels) {
+void add_csg_leaves(const GeometrySet& set, PreviewMesh* mesh, CsgTexels* texels) {
     if (set.csg.leaves.empty()) return;
-    // The CSG primitives' triangles (tagged with their tree) out; their vertices stay, unused.
-    if (mesh->csg.size() == mesh->triangle_count()) {
-        std::vector<uint32_t> indices;
-        std::vector<int> materials;
-        for (size_t t = 0; t < mesh->triangle_count(); ++t) {
-            if (mesh->csg[t] >= 0) continue;
-            for (int k = 0; k < 3; ++k)
-                indices.push_back(mesh->indices[3 * t + static_cast<size_t>(k)]);
-            materials.push_back(mesh->materials[t]);
-        }
-        mesh->indices = std::move(indices);
-        mesh->materials = std::move(materials);
-    }
-    mesh->csg.clear();
     *texels = csg_texels(set);
+    // tessellate_set tags each leaf's triangles with the leaf; its vertices are its own.
     texels->leaf_of_vertex.assign(mesh->positions.size(), -1.0f);
-    for (size_t i = 0; i < set.csg.leaves.size(); ++i) {
-        const Primitive& p = set.csg.leaves[i].prim;
-        visit_shape(set, p, [&](const auto& shape) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, Triangle>) {
-                tessellate(shape, set.triangle_attribs[p.index], *mesh);
-                mesh->materials.push_back(p.material);
-            } else {
-                PreviewMesh m = tessellate(shape, detail);
-                m.materials.assign(m.triangle_count(), p.material);
-                mesh->append(m, p.transform < 0
-                                    ? nullptr
-                                    : &set.transforms[static_cast<size_t>(p.transform)]);
-            }
-        });
-        mesh->csg.clear();
-        texels->leaf_of_vertex.resize(mesh->positions.size(), static_cast<float>(i));
-    }
+    if (mesh->csg.size() == mesh->triangle_count())
+        for (size_t t = 0; t < mesh->triangle_count(); ++t)
+            for (int k = 0; k < 3; ++k)
+                texels->leaf_of_vertex[mesh->indices[3 * t + static_cast<size_t>(k)]] =
+                    static_cast<float>(mesh->csg[t]);
+    mesh->csg.clear();
 }
 
 }  // namespace rt::view

@@ -18,8 +18,8 @@ struct CsgTexels {
     std::vector<float> leaf_of_vertex;  // per vertex of the set's mesh: its leaf, -1 for none
 };
 
-/// The set's mesh with its CSG nodes' triangles replaced by every leaf tessellated whole, and
-/// `texels` filled (the trees and the leaf of each vertex). No CSG: `mesh` and `texels` stay.
-void add_csg_leaves(const GeometrySet& set, int detail, PreviewMesh* mesh, CsgTexels* texels);
+/// Fills `texels` for the set's mesh from tessellate_set() (the trees, and the leaf of each
+/// vertex from the mesh's per-triangle leaf tags, which it then drops). No CSG: both stay.
+void add_csg_leaves(const GeometrySet& set, PreviewMesh* mesh, CsgTexels* texels);
 
 }  // namespace rt::view

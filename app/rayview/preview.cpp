@@ -193,7 +193,7 @@ void Preview::load(const RenderScene& scene, int detail) {
         }
         PreviewMesh mesh = tessellate_set(set, detail);
         CsgTexels csg;
-        add_csg_leaves(set, detail, &mesh, &csg);
+        add_csg_leaves(set, &mesh, &csg);
         bool textured = false;  // the materials drawn, CSG leaves' included
         std::vector<char> seen(scene.materials.size(), 0);
         for (const int m : mesh.materials) {

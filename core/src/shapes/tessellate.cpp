@@ -32,7 +32,7 @@ void PreviewMesh::append(const PreviewMesh& other, const Transform* xf) {
 
 namespace {
 
-// Appends one shape primitive (or CSG leaf) of the set, tagged with CSG tree `csg` (-1: none).
+// Appends one shape primitive (or CSG leaf) of the set, tagged with CSG leaf `csg` (-1: none).
 void append_primitive(const GeometrySet& set, const Primitive& p, int detail, int csg,
                       PreviewMesh& out) {
     const size_t before = out.triangle_count();
@@ -62,10 +62,10 @@ PreviewMesh tessellate_set(const GeometrySet& set, int detail) {
             append_primitive(set, p, detail, -1, out);
             continue;
         }
-        // For now the leaves whole, tagged with their tree (PreviewMesh::csg).
+        // The leaves whole, each tagged with its index (PreviewMesh::csg).
         const CsgRoot& r = set.csg.roots[static_cast<size_t>(p.csg)];
         for (uint32_t l = r.first_leaf; l < r.first_leaf + r.leaf_count; ++l)
-            append_primitive(set, set.csg.leaves[l].prim, detail, p.csg, out);
+            append_primitive(set, set.csg.leaves[l].prim, detail, static_cast<int>(l), out);
     }
     return out;
 }

@@ -272,9 +272,9 @@ struct PreviewMesh {
     std::vector<Vec2> uvs;
     std::vector<uint32_t> indices;  // three per triangle
     std::vector<int> materials;     // one per triangle: index into RenderScene::materials
-    /// One per triangle, or empty when no triangle belongs to a CSG node: the CSG tree
-    /// (GeometrySet::csg.roots) whose leaf the triangle tessellates, -1 for none. The leaves
-    /// are tessellated whole; the CSG filtering is the viewer's.
+    /// One per triangle, or empty when no triangle belongs to a CSG node: the CSG leaf
+    /// (GeometrySet::csg.leaves) the triangle tessellates, -1 for none. The leaves are
+    /// tessellated whole; the CSG filtering is the viewer's.
     std::vector<int> csg;
 
     size_t triangle_count() const { return indices.size() / 3; }
