@@ -1,5 +1,6 @@
-// The viewer's camera controller: orbit about a target (yaw about +y from -z, pitch), pan,
-// dolly, fly and frame, turned into the tracer's CameraDesc. No GL, no input handling: the
+// The viewer's camera controller: orbit about a target (yaw about +y from -z, pitch, and a roll
+// about the view that orbiting keeps), pan, dolly, fly and frame, turned into the tracer's
+// CameraDesc. No GL, no input handling: the
 // viewer maps mouse and keys onto these calls, and the tests drive them directly.
 #pragma once
 
@@ -14,10 +15,11 @@ namespace rt::view {
 struct OrbitCamera {
     Vec3 target{0.0};
     double distance = 1, yaw = 0, pitch = 0;  // radians; yaw about +y, from -z
+    double roll = 0;  // radians: the up vector turned about the view, towards the right
     double half_height = kPi / 6;
 
-    /// Takes a file's camera: same eye, view direction and angle; the target lies along the
-    /// view at the distance of the scene's centre.
+    /// Takes a file's camera: same eye, view direction, up vector and angle (the framing
+    /// raytrace shows); the target lies along the view at the distance of the scene's centre.
     void set_from(const CameraDesc& c, const Bounds3& world) {
         const Vec3 d = glm::normalize(c.direction);
         const Vec3 centre = world.empty() ? c.position + d : world.centre();
@@ -26,25 +28,41 @@ struct OrbitCamera {
             distance = world.empty() ? 1.0 : std::max(1e-6, glm::length(world.diagonal()));
         target = c.position + distance * d;
         pitch = std::asin(std::clamp(d.y, -1.0, 1.0));
-        yaw = std::atan2(d.x, -d.z);
+        // The up vector as make_camera() makes it: orthogonal to the view.
+        const Vec3 up = glm::cross(glm::normalize(glm::cross(d, c.up)), d);
+        if (std::abs(d.y) > 1.0 - 1e-12)  // along the y axis: the yaw turns the up vector
+            yaw = d.y < 0 ? std::atan2(up.x, -up.z) : std::atan2(-up.x, up.z);
+        else
+            yaw = std::atan2(d.x, -d.z);
+        roll = 0;
+        const Vec3 u0 = up_vector(), r0 = glm::cross(forward(), u0);
+        roll = std::atan2(glm::dot(up, r0), glm::dot(up, u0));
         half_height = c.half_height_angle_rad;
     }
     Vec3 forward() const {
         return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), -std::cos(pitch) * std::cos(yaw)};
+    }
+    /// The up vector: the view's turn upwards in pitch (defined at the poles too), rolled.
+    Vec3 up_vector() const {
+        const Vec3 u0(-std::sin(pitch) * std::sin(yaw), std::cos(pitch),
+                      std::sin(pitch) * std::cos(yaw));
+        if (roll == 0) return u0;
+        return std::cos(roll) * u0 + std::sin(roll) * glm::cross(forward(), u0);
     }
     Vec3 eye() const { return target - distance * forward(); }
     CameraDesc desc() const {
         CameraDesc c;
         c.direction = forward();
         c.position = eye();
-        c.up = Vec3(0, 1, 0);
+        c.up = up_vector();
         c.half_height_angle_rad = half_height;
         return c;
     }
-    /// Orbit: turn about the target (radians).
+    /// Orbit: turn about the target (radians), about +y and then up or down as far as the poles;
+    /// the roll stays.
     void orbit(double d_yaw, double d_pitch) {
         yaw += d_yaw;
-        pitch = std::clamp(pitch + d_pitch, -1.55, 1.55);
+        pitch = std::clamp(pitch + d_pitch, -kPi / 2, kPi / 2);
     }
     /// Look around from the eye (fly): the eye stays, the target moves.
     void look(double d_yaw, double d_pitch) {

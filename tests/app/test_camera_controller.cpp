@@ -19,6 +19,42 @@ TEST(CameraController, FileCameraRoundTrip) {
     EXPECT_EQ(d.half_height_angle_rad, 0.4);
 }
 
+// The viewer shows raytrace's framing for any up vector: rolled, straight down, straight up
+// (issue 14: the file's up vector was dropped, so these showed upright or turned 180 degrees).
+TEST(CameraController, FileCameraKeepsItsUpVector) {
+    struct Case {
+        const char* name;
+        Vec3 direction, up;
+    };
+    const Case cases[] = {{"rolled 45 degrees", {0, -0.3, -1}, {1, 1, 0}},
+                          {"straight down", {0, -1, 0}, {0, 0, -1}},
+                          {"straight down, turned", {0, -2, 0}, {1, 0, 1}},
+                          {"straight up", {0, 1, 0}, {1, 0, 0}},
+                          {"upside down", {0.2, 0, -1}, {0, -1, 0}}};
+    for (const Case& k : cases) {
+        SCOPED_TRACE(k.name);
+        CameraDesc c;
+        c.position = Vec3(0, 3, 9);
+        c.direction = k.direction;
+        c.up = k.up;
+        c.half_height_angle_rad = 0.5;
+        OrbitCamera o;
+        o.set_from(c, Bounds3{{-1, -1, -1}, {1, 1, 1}});
+        const Camera file = make_camera(compile_camera(c), 64, 48);
+        const Camera view = make_camera(compile_camera(o.desc()), 64, 48);
+        EXPECT_VEC_NEAR(view.position, file.position, 1e-12);
+        EXPECT_VEC_NEAR(view.forward, file.forward, 1e-12);
+        EXPECT_VEC_NEAR(view.right, file.right, 1e-12);
+        EXPECT_VEC_NEAR(view.up, file.up, 1e-12);
+        // Orbiting from there turns about the target and keeps a proper frame.
+        o.orbit(0.3, -0.2);
+        const Camera turned = make_camera(compile_camera(o.desc()), 64, 48);
+        EXPECT_NEAR(glm::length(turned.position - o.target), o.distance, 1e-9);
+        EXPECT_NEAR(glm::dot(turned.up, turned.forward), 0.0, 1e-12);
+        EXPECT_NEAR(glm::length(turned.right), 1.0, 1e-12);
+    }
+}
+
 TEST(CameraController, OrbitKeepsTheTargetAndDistance) {
     OrbitCamera o;
     o.target = Vec3(1, 2, 3);
@@ -27,8 +63,10 @@ TEST(CameraController, OrbitKeepsTheTargetAndDistance) {
     o.orbit(0.7, 0.3);
     EXPECT_VEC_NEAR(o.target, t, 0);
     EXPECT_NEAR(glm::length(o.eye() - t), 5, 1e-12);
-    o.orbit(0, 10);  // pitch is clamped short of the pole
-    EXPECT_LT(o.pitch, kPi / 2);
+    o.orbit(0, 10);  // pitch stops at the pole, where the frame is still proper
+    EXPECT_EQ(o.pitch, kPi / 2);
+    const Camera top = make_camera(compile_camera(o.desc()), 4, 3);
+    EXPECT_NEAR(glm::length(top.right), 1.0, 1e-12);
 }
 
 TEST(CameraController, LookKeepsTheEyeAndPanMovesBoth) {
