@@ -17,14 +17,14 @@ bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const Pan
                  bool over_preview) {
     std::vector<LightDesc>& lights = v.edits.lights;
     const Camera view_cam = make_camera(compile_camera(v.edits.camera.desc()),
-                                        static_cast<int>(p.pane_w), static_cast<int>(p.pane_h));
+                                        static_cast<int>(p.image_w), static_cast<int>(p.image_h));
     auto to_pane = [&](const Vec3& pos, double* depth) {
         const Vec3 d = pos - view_cam.position;
         *depth = glm::dot(d, view_cam.forward);
         const double x = glm::dot(d, view_cam.right) / (*depth * view_cam.tan_w);
         const double y = glm::dot(d, view_cam.up) / (*depth * view_cam.tan_h);
-        return ImVec2(p.panel_w + static_cast<float>((x + 1) / 2) * p.pane_w,
-                      static_cast<float>((1 - y) / 2) * p.pane_h);
+        return ImVec2(p.image_x(0) + static_cast<float>((x + 1) / 2) * p.image_w,
+                      p.image_y() + static_cast<float>((1 - y) / 2) * p.image_h);
     };
     if (over_preview && v.settings.show_lights && ImGui::IsMouseClicked(ImGuiMouseButton_Left) &&
         !io.KeyShift) {
@@ -47,7 +47,7 @@ bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const Pan
     LightDesc& l = lights[static_cast<size_t>(input.dragged_light)];
     double depth = 0;
     to_pane(l.position, &depth);
-    const double per_pixel = 2 * depth * view_cam.tan_h / static_cast<double>(p.pane_h);
+    const double per_pixel = 2 * depth * view_cam.tan_h / static_cast<double>(p.image_h);
     l.position += per_pixel * (static_cast<double>(io.MouseDelta.x) * view_cam.right -
                                static_cast<double>(io.MouseDelta.y) * view_cam.up);
     return true;
@@ -60,7 +60,7 @@ bool mouse_camera(OrbitCamera& orbit, const ImGuiIO& io, const PaneLayout& p) {
                  dy = static_cast<double>(io.MouseDelta.y);
     const bool pan = ImGui::IsMouseDown(ImGuiMouseButton_Middle) ||
                      (io.KeyShift && ImGui::IsMouseDown(ImGuiMouseButton_Left));
-    const double h = static_cast<double>(p.pane_h);
+    const double h = static_cast<double>(p.image_h);
     if (pan && (dx != 0 || dy != 0)) {
         orbit.pan(-dx / h, dy / h);  // the scene follows the mouse
         edited = true;

@@ -32,7 +32,7 @@ void on_drop(GLFWwindow* window, int count, const char** paths) {
 
 // A 3.3 core context (#version 330 core) with vsync; nullptr (and glfwTerminate) without a
 // display or a window.
-GLFWwindow* open_window() {
+GLFWwindow* open_window(int width, int height) {
     if (!glfwInit()) {
         std::fprintf(stderr, "rayview: no display available; rendering headless instead\n");
         return nullptr;
@@ -40,7 +40,7 @@ GLFWwindow* open_window() {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-    GLFWwindow* window = glfwCreateWindow(1280, 720, "rayview", nullptr, nullptr);
+    GLFWwindow* window = glfwCreateWindow(width, height, "rayview", nullptr, nullptr);
     if (!window) {
         glfwTerminate();
         std::fprintf(stderr, "rayview: cannot open a window; rendering headless instead\n");
@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
 
     // Setup window
     glfwSetErrorCallback(glfw_error);
-    GLFWwindow* window = open_window();
+    GLFWwindow* window = open_window(opt.window_w, opt.window_h);
     if (!window) return render_headless(opt.scene, opt.missing_textures);
     // Setup Dear ImGui context, style and platform/renderer back ends
     ImGuiIO& io = init_imgui(window);
@@ -109,6 +109,8 @@ int main(int argc, char** argv) {
     int exit_code = 0;
     {  // the viewer and its GL objects die before the context
         ViewerState viewer(opt.scene, !opt.screenshot.empty(), opt.missing_textures);
+        viewer.settings.layout = opt.layout;
+        viewer.settings.show_panel = opt.panel;
         glfwSetWindowUserPointer(window, &viewer);
         glfwSetDropCallback(window, on_drop);
         const std::unique_ptr<Panes> panes = make_panes(RT_SOURCE_DIR "/shaders");
@@ -129,8 +131,10 @@ int main(int argc, char** argv) {
             ImGui::NewFrame();
             int fb_w = 0, fb_h = 0;
             glfwGetFramebufferSize(window, &fb_w, &fb_h);
-            const PaneLayout layout = pane_layout(viewer.settings.layout, fb_w, fb_h);
-            control_panel(viewer, ui, layout, panes->preview_defines(), frame_s);
+            const ViewSettings& vs = viewer.settings;
+            const PaneLayout layout =
+                pane_layout(vs.layout, fb_w, fb_h, vs.show_panel ? vs.panel_w : 0, vs.aspect());
+            if (vs.show_panel) control_panel(viewer, ui, layout, panes->preview_defines(), frame_s);
             if (viewer.loaded) {
                 const PaneHover hover = panes->show(viewer, layout, frame_s);
                 handle_input(viewer, input, io, layout, hover, frame_s);

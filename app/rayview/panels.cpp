@@ -183,8 +183,8 @@ bool settings_panel(ViewerState& v, const PaneLayout& layout) {
         "Camera: drag orbits, shift/middle drag pans, wheel dollies, "
         "right drag looks around, WASD/QE fly");
     if (ImGui::Button("Frame (F)") || (keys && ImGui::IsKeyPressed(GLFW_KEY_F))) {
-        v.edits.camera.frame(v.loaded->scene.world_bounds, static_cast<double>(layout.pane_w) /
-                                                               static_cast<double>(layout.pane_h));
+        v.edits.camera.frame(v.loaded->scene.world_bounds, static_cast<double>(layout.image_w) /
+                                                               static_cast<double>(layout.image_h));
         edited = true;
     }
     ImGui::SameLine();

@@ -6,6 +6,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace rt::view {
@@ -18,12 +19,16 @@ ImTextureID texture_id(unsigned id) {
 
 }  // namespace
 
-PaneLayout pane_layout(int layout, int fb_w, int fb_h) {
+PaneLayout pane_layout(int layout, int fb_w, int fb_h, float panel_w, double aspect) {
     PaneLayout p;
+    p.panel_w = panel_w;
     p.panes = layout == 0 ? 2 : 1;
     p.pane_w =
         std::max(64.0f, (static_cast<float>(fb_w) - p.panel_w) / static_cast<float>(p.panes));
     p.pane_h = std::max(64.0f, static_cast<float>(fb_h));
+    const float a = static_cast<float>(aspect > 0 ? aspect : 4.0 / 3.0);
+    p.image_w = std::min(p.pane_w, std::round(p.pane_h * a));
+    p.image_h = std::min(p.pane_h, std::round(p.pane_w / a));
     return p;
 }
 
@@ -31,12 +36,13 @@ Panes::Panes(const std::string& shader_dir) : m_preview(shader_dir) {}
 
 PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     const ViewSettings& s = v.settings;
-    v.set_trace_size(std::max(16, static_cast<int>(p.pane_w * s.resolution_scale)),
-                     std::max(16, static_cast<int>(p.pane_h * s.resolution_scale)));
+    v.set_trace_size(std::max(16, static_cast<int>(p.image_w * s.resolution_scale)),
+                     std::max(16, static_cast<int>(p.image_h * s.resolution_scale)));
 
     ImGui::SetNextWindowPos(ImVec2(p.panel_w, 0));
     ImGui::SetNextWindowSize(ImVec2(static_cast<float>(p.panes) * p.pane_w, p.pane_h));
     ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0);
     ImGui::Begin("panes", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                      ImGuiWindowFlags_NoBringToFrontOnFocus);
@@ -47,24 +53,26 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     if (moving && frame_s > 0.030) m_moving_div = std::min(4.0, m_moving_div * 1.25);
     if (moving && frame_s < 0.020) m_moving_div = std::max(2.0, m_moving_div / 1.1);
     const double div = moving ? m_moving_div : 1.0;
-    m_target.resize(static_cast<int>(static_cast<double>(p.pane_w) / div),
-                    static_cast<int>(static_cast<double>(p.pane_h) / div));
+    m_target.resize(static_cast<int>(static_cast<double>(p.image_w) / div),
+                    static_cast<int>(static_cast<double>(p.image_h) / div));
     PaneHover hover;
+    const ImVec2 size(p.image_w, p.image_h);
+    const ImVec2 origin = ImGui::GetWindowPos();
     if (s.layout != 2) {
-        ImGui::Image(texture_id(m_target.color.id()), ImVec2(p.pane_w, p.pane_h), ImVec2(0, 1),
-                     ImVec2(1, 0));
+        ImGui::SetCursorScreenPos(ImVec2(p.image_x(0), origin.y + p.image_y()));
+        ImGui::Image(texture_id(m_target.color.id()), size, ImVec2(0, 1), ImVec2(1, 0));
         hover.preview = ImGui::IsItemHovered();
-        ImGui::SameLine(0, 0);
     }
     if (s.layout != 1) {
+        ImGui::SetCursorScreenPos(ImVec2(p.image_x(p.panes - 1), origin.y + p.image_y()));
         if (m_trace.texture)
-            ImGui::Image(texture_id(m_trace.texture.id()), ImVec2(p.pane_w, p.pane_h));
+            ImGui::Image(texture_id(m_trace.texture.id()), size);
         else
-            ImGui::Dummy(ImVec2(p.pane_w, p.pane_h));
+            ImGui::Dummy(size);
         hover.trace = ImGui::IsItemHovered();
     }
     ImGui::End();
-    ImGui::PopStyleVar();
+    ImGui::PopStyleVar(2);
     return hover;
 }
 

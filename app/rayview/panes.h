@@ -14,14 +14,22 @@
 
 namespace rt::view {
 
-/// Where things go in the window (pixels): the control panel, then the panes.
+/// Where things go in the window (pixels): the control panel, then the panes. Each pane shows
+/// its image at the render's aspect ratio, letterboxed: what raytrace would write.
 struct PaneLayout {
     float panel_w = 330;
     int panes = 2;  // shown side by side
     float pane_w = 0, pane_h = 0;
+    float image_w = 0, image_h = 0;  // the image in each pane
+    /// The image's top left corner in pane `i` (0 the left one), in window pixels.
+    float image_x(int i) const {
+        return panel_w + static_cast<float>(i) * pane_w + 0.5f * (pane_w - image_w);
+    }
+    float image_y() const { return 0.5f * (pane_h - image_h); }
 };
-/// Both panes side by side, or one of them alone at full size (`layout`: ViewSettings::layout).
-PaneLayout pane_layout(int layout, int fb_w, int fb_h);
+/// Both panes side by side, or one of them alone at full size (`layout`: ViewSettings::layout),
+/// right of a panel `panel_w` wide, with images of aspect `aspect` (width / height).
+PaneLayout pane_layout(int layout, int fb_w, int fb_h, float panel_w, double aspect);
 
 /// Which pane the mouse is over (never true while it is over the control panel).
 struct PaneHover {

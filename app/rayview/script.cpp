@@ -29,6 +29,17 @@ std::vector<ScriptLine> read_script(const std::string& path) {
     return lines;
 }
 
+bool parse_size(const std::string& text, int* w, int* h) {
+    std::istringstream ss(text);
+    char x = 0;
+    int a = 0, b = 0;
+    if (!(ss >> a >> x >> b) || (x != 'x' && x != 'X') || !ss.eof()) return false;
+    if (a < 64 || b < 64 || a > 16384 || b > 16384) return false;
+    *w = a;
+    *h = b;
+    return true;
+}
+
 int parse_run_options(int argc, char** argv, const std::string& default_scene, RunOptions* out) {
     out->scene = default_scene;
     std::string script_path;
@@ -53,8 +64,21 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
                    "listed in the panel)")
         ->type_name("error|checker")
         ->transform(CLI::CheckedTransformer(missing, CLI::ignore_case).description(""));
+    const std::map<std::string, int> layouts{{"both", 0}, {"preview", 1}, {"trace", 2}};
+    app.add_option("--layout", out->layout, "the panes shown: both (default), preview or trace")
+        ->type_name("both|preview|trace")
+        ->transform(CLI::CheckedTransformer(layouts, CLI::ignore_case).description(""));
+    std::string size;
+    app.add_option("--size", size, "the window's size in pixels (default 1280x720)")
+        ->type_name("WxH");
+    const std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
+    app.add_option("--panel", out->panel, "the control panel: on (default) or off")
+        ->type_name("on|off")
+        ->transform(CLI::CheckedTransformer(on_off, CLI::ignore_case).description(""));
     try {
         app.parse(argc, argv);
+        if (!size.empty() && !parse_size(size, &out->window_w, &out->window_h))
+            throw CLI::ValidationError("--size", "'" + size + "' is not WxH (e.g. 1280x720)");
     } catch (const CLI::CallForHelp&) {
         std::printf("%s", app.help().c_str());
         return 0;

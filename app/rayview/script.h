@@ -1,5 +1,5 @@
 // Scripted runs of the viewer, for tests and measurements: the command line (--frames N,
-// --screenshot F, --script S), the script interpreter, saving the window as an image, and the
+// --screenshot F, --script S, --layout, --size WxH, --panel on|off), the script interpreter, saving the window as an image, and the
 // frame statistics a --frames run prints at the end.
 //
 // A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn:
@@ -31,7 +31,13 @@ struct RunOptions {
     std::string screenshot;
     std::vector<ScriptLine> script;
     MissingTextures missing_textures = MissingTextures::Error;  // --missing-textures
+    int layout = 0;                                             // --layout: ViewSettings::layout
+    int window_w = 1280, window_h = 720;                        // --size
+    bool panel = true;                                          // --panel on|off
 };
+
+/// "WxH" (each 64 to 16384) into *w and *h; false, and both unchanged, otherwise.
+bool parse_size(const std::string& text, int* w, int* h);
 
 /// Reads the command line into `out` (the scene defaults to `default_scene`). Returns -1 to run,
 /// else the exit code (0 after --help, 2 for a bad option or an unreadable script).

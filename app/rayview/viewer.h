@@ -50,6 +50,11 @@ struct ViewSettings {
     int box_depth = 0;              // BVH levels drawn over the preview, 0 = off
     int group_depth = 0;            // scene graph group levels drawn over it, 0 = off
     int layout = 0;                 // 0 both panes, 1 preview alone, 2 trace alone
+    bool show_panel = true;         // the control panel left of the panes
+    float panel_w = 330;            // its width in pixels
+    // The render's size, as raytrace's --width and --height: both panes keep its aspect.
+    int image_w = 640, image_h = 480;
+    double aspect() const { return static_cast<double>(image_w) / static_cast<double>(image_h); }
 };
 
 /// A light edit (the script's `light` command) WHAT (colour: a V0/V1 light's one colour, which sets

@@ -55,6 +55,34 @@ check "V3 light edits restart the trace" test "$(grep -c 'light: trace restarted
 check "the ambient edit changes the window" bash -c "! cmp -s '$tmp/v0.png' '$tmp/v1.png'"
 check "the radius edit changes the window" bash -c "! cmp -s '$tmp/v1.png' '$tmp/v2.png'"
 cat "$tmp/v3out.txt"
+# Both panes show raytrace's framing for any up vector (rolled, straight down, straight up):
+# each pane alone at the render's size against raytrace's image of the file.
+imgdiff="$(dirname "$rv")/imgdiff"
+scene() {
+    cat <<SCENE
+#camera $1
+#light_point 4 6 6  1 1 1  1 0 0
+#ambient 0.2 0.2 0.2
+#material 0 0 0  0.2 0.2 0.2  0.8 0.2 0.2  0 0 0  1  0 0 0  1  -1 !red!
+#material 0 0 0  0.2 0.2 0.2  0.2 0.8 0.2  0 0 0  1  0 0 0  1  -1 !green!
+#shape_box 0  0 0 0  6 0.2 0.5
+#shape_sphere 1  2.5 1 -1.5  0.8
+SCENE
+}
+scene "0 3 9  0 -0.3 -1  1 1 0  0.5" >"$tmp/rolled.ray"
+scene "0 8 0  0 -1 0  0 0 -1  0.5" >"$tmp/down.ray"
+scene "0 -8 0  0 1 0  1 0 0  0.5" >"$tmp/up.ray"
+echo "5 resolution 1" >"$tmp/full.txt"
+for cam in rolled down up; do
+    "$(dirname "$rv")/raytrace" -q "$tmp/$cam.ray" -o "$tmp/$cam-raytrace.png"
+    for pane in preview trace; do
+        xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --size 640x480 --panel off --layout $pane \
+            --frames 40 --script "$tmp/full.txt" --screenshot "$tmp/$cam-$pane.png" "$tmp/$cam.ray" \
+            >/dev/null 2>&1
+        check "the $pane pane frames the $cam camera as raytrace does" \
+            "$imgdiff" "$tmp/$cam-$pane.png" "$tmp/$cam-raytrace.png" --max-mad 2
+    done
+done
 "$rv" --missing-textures bogus "$src/scenes/lights.ray" >"$tmp/bad.txt" 2>&1
 check "--missing-textures takes error or checker only" test $? -eq 2
 check "--help lists --missing-textures" bash -c "'$rv' --help | grep -q -- '--missing-textures error|checker'"
