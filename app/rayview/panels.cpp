@@ -13,18 +13,26 @@ namespace rt::view {
 
 namespace {
 
-// A float slider over a double setting.
+constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;  // typed values too
+
+// A float slider over a double setting; typed values are clamped, non-finite ones refused.
 bool slider(const char* label, double* value, float lo, float hi, const char* format = "%.3f") {
     float f = static_cast<float>(*value);
-    if (!ImGui::SliderFloat(label, &f, lo, hi, format)) return false;
+    if (!ImGui::SliderFloat(label, &f, lo, hi, format, kClamp) || !std::isfinite(f)) return false;
     *value = f;
     return true;
 }
 
-// A three-float drag over a Vec3.
+// An int slider; typed values are clamped.
+bool slider(const char* label, int* value, int lo, int hi) {
+    return ImGui::SliderInt(label, value, lo, hi, "%d", kClamp);
+}
+
+// A three-float drag over a Vec3; non-finite values are refused.
 bool drag3(const char* label, Vec3* v, float speed) {
     float f[3] = {static_cast<float>(v->x), static_cast<float>(v->y), static_cast<float>(v->z)};
     if (!ImGui::DragFloat3(label, f, speed)) return false;
+    if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2])) return false;
     *v = Vec3(f[0], f[1], f[2]);
     return true;
 }
@@ -48,6 +56,7 @@ bool colour(const char* label, Vec3* v) {
     float c[3] = {static_cast<float>(v->x), static_cast<float>(v->y), static_cast<float>(v->z)};
     if (!ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR))
         return false;
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) return false;
     *v = Vec3(c[0], c[1], c[2]);
     return true;
 }
@@ -72,14 +81,15 @@ bool light_editor(LightDesc& l, char* on, bool three_colours) {
     }
     if (l.kind == LightKind::Sphere) {
         float r = static_cast<float>(l.radius);
-        if (ImGui::DragFloat("radius", &r, 0.01f, 0.0f, 1e6f))
+        if (ImGui::DragFloat("radius", &r, 0.01f, 0.0f, 1e6f, "%.3f", kClamp) && std::isfinite(r))
             l.radius = std::max(0.0f, r), edited = true;
     }
     if (l.kind != LightKind::Directional) {
         edited |= drag3("position", &l.position, 0.05f);
         float a[3] = {static_cast<float>(l.constant_atten), static_cast<float>(l.linear_atten),
                       static_cast<float>(l.quadratic_atten)};
-        if (ImGui::DragFloat3("attenuation", a, 0.005f, 0.0f, 100.0f))
+        if (ImGui::DragFloat3("attenuation", a, 0.005f, 0.0f, 100.0f, "%.3f", kClamp) &&
+            std::isfinite(a[0] + a[1] + a[2]))
             l.constant_atten = a[0], l.linear_atten = a[1], l.quadratic_atten = a[2], edited = true;
     }
     if (l.kind == LightKind::Directional || l.kind == LightKind::Spot) {
@@ -146,7 +156,7 @@ bool file_panel(ViewerState& v, PanelState& ui) {
         opened |= v.open(ui.path_buf, false);
     }
     ImGui::SameLine();
-    if (ImGui::Button("Reload") && v.loaded) opened |= v.open(v.loaded->path, true);
+    if (ImGui::Button("Reload") && v.loaded) opened |= v.reload();
     ImGui::SameLine();
     ImGui::TextDisabled("(or drop a .ray file)");
     if (v.recent.size() > 1 && ImGui::CollapsingHeader("recent files")) {
@@ -158,9 +168,17 @@ bool file_panel(ViewerState& v, PanelState& ui) {
             }
     }
     if (!v.message.empty()) {  // wrapped: errors name files and their includes
-        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
+        if (v.message_is_error) ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
         ImGui::TextWrapped("%s", v.message.c_str());
+        if (v.message_is_error) ImGui::PopStyleColor();
+    }
+    if (!v.reload_conflict.empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.8f, 0.3f, 1));
+        ImGui::TextWrapped("%s", v.reload_conflict.c_str());
         ImGui::PopStyleColor();
+        if (ImGui::Button("Use the file's")) v.use_file_edits();
+        ImGui::SameLine();
+        if (ImGui::Button("Keep mine")) v.reload_conflict.clear();
     }
     if (!v.checker_offer.empty() && ImGui::Button("open with checker stand-ins"))
         opened |= v.open_with_checker();
@@ -203,13 +221,16 @@ bool settings_panel(ViewerState& v, const PaneLayout& layout) {
     edited |= ImGui::Checkbox("shadows", &r.shadows);
     ImGui::SameLine();
     ImGui::Checkbox("light markers", &s.show_lights);
-    ImGui::SliderInt("group boxes (levels)", &s.group_depth, 0, 8);
-    ImGui::SliderInt("BVH boxes (levels)", &s.box_depth, 0, 8);
-    edited |= ImGui::SliderInt("depth", &r.max_depth, 1, 10);
+    slider("group boxes (levels)", &s.group_depth, 0, 8);
+    slider("BVH boxes (levels)", &s.box_depth, 0, 8);
+    edited |= slider("depth", &r.max_depth, 1, 10);
     edited |= slider("cutoff", &r.cutoff, 0.0f, 0.1f, "%.4f");
-    edited |= ImGui::SliderInt("target spp", &s.target_spp, 1, 4096);
-    edited |= ImGui::SliderFloat("resolution", &s.resolution_scale, 0.1f, 1.0f);
-    edited |= ImGui::SliderInt("threads (0 = all)", &r.threads, 0, 64);
+    edited |= slider("target spp", &s.target_spp, 1, 4096);
+    float scale = s.resolution_scale;
+    if (ImGui::SliderFloat("resolution", &scale, 0.1f, 1.0f, "%.3f", kClamp) &&
+        std::isfinite(scale))
+        s.resolution_scale = scale, edited = true;
+    edited |= slider("threads (0 = all)", &r.threads, 0, 64);
     edited |= slider("light radius", &r.light_radius, 0.0f, 2.0f);
     edited |= slider("aperture", &r.aperture, 0.0f, 0.5f);
     edited |= slider("roughness", &r.roughness, 0.0f, 1.0f);
@@ -278,17 +299,17 @@ void save_panel(ViewerState& v, PanelState& ui) {
     if (ImGui::Button("Save scene (camera and lights)")) {
         try {
             v.save_scene(ui.scene_buf);
-            v.message = std::string("saved ") + ui.scene_buf;
+            v.note(std::string("saved ") + ui.scene_buf);
         } catch (const std::exception& e) {
-            v.message = e.what();
+            v.fail(e.what());
         }
     }
     if (ImGui::Button("Save image (.png .pfm ...)")) {
         try {
             v.save_trace(ui.save_buf);
-            v.message = std::string("saved ") + ui.save_buf;
+            v.note(std::string("saved ") + ui.save_buf);
         } catch (const std::exception& e) {
-            v.message = e.what();
+            v.fail(e.what());
         }
     }
 }

@@ -20,6 +20,26 @@ std::filesystem::file_time_type modified(const std::string& path) {
     return std::filesystem::last_write_time(path, ec);
 }
 
+// Two lists of lights alike but for where they were read (a reload moves lines).
+bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+        const LightDesc &x = a[i], &y = b[i];
+        if (x.kind != y.kind || x.ambient != y.ambient || x.diffuse != y.diffuse ||
+            x.specular != y.specular || x.position != y.position || x.direction != y.direction ||
+            x.constant_atten != y.constant_atten || x.linear_atten != y.linear_atten ||
+            x.quadratic_atten != y.quadratic_atten || x.cutoff_rad != y.cutoff_rad ||
+            x.spot_exponent != y.spot_exponent || x.radius != y.radius)
+            return false;
+    }
+    return true;
+}
+
+bool same_camera(const CameraDesc& a, const CameraDesc& b) {
+    return a.position == b.position && a.direction == b.direction && a.up == b.up &&
+           a.half_height_angle_rad == b.half_height_angle_rad;
+}
+
 // The edits into the compiled scene, while no trace runs: the camera, the lights that are on
 // (compiled from their descriptions) and the trace's size.
 void apply_edits(const SceneEdits& edits, int trace_w, int trace_h, RenderScene* scene,
@@ -129,7 +149,12 @@ ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTe
     bool textures_missing = false;
     loaded = load_scene(path, &message, missing, &textures_missing);
     if (textures_missing) checker_offer = path;
-    if (!loaded) return;  // keeps running with the message shown
+    if (!loaded) {  // keeps running with the message shown, and watches the file
+        message_is_error = true;
+        m_watched = path;
+        m_watched_time = modified(path);
+        return;
+    }
     loaded->id = ++m_scenes_opened;
     recent.push_back(loaded->path);
     on_loaded();
@@ -161,7 +186,7 @@ bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures mi
     auto next = load_scene(file, &err, missing, &textures_missing);
     checker_offer = textures_missing ? file : "";
     if (!next) {
-        message = err;
+        fail(err);
         if (loaded) loaded->file_time = modified(loaded->path);  // do not retry every frame
         return false;
     }
@@ -170,6 +195,8 @@ bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures mi
     loaded = std::move(next);
     loaded->id = ++m_scenes_opened;
     message.clear();
+    message_is_error = false;
+    reload_conflict.clear();
     on_loaded();
     if (keep_camera) edits.camera = kept;
     std::vector<std::string> files{loaded->path};  // first, and not again below; 8 at most
@@ -179,6 +206,56 @@ bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures mi
     return true;
 }
 
+bool ViewerState::reload() {
+    if (!loaded) return false;
+    OrbitCamera file_view;
+    file_view.set_from(loaded->file_camera, loaded->scene.world_bounds);
+    const bool camera_edited = !same_camera(file_view.desc(), edits.camera.desc());
+    const bool lights_edited = !same_lights(edits.lights, loaded->desc.lights) ||
+                               std::count(edits.light_on.begin(), edits.light_on.end(), 0) > 0;
+    const SceneEdits mine = edits;
+    const std::vector<LightDesc> old_lights = loaded->desc.lights;
+    const CameraDesc old_camera = loaded->file_camera;
+    if (!open_as(loaded->path, false, loaded->missing_textures)) return false;
+    if (camera_edited) edits.camera = mine.camera;
+    if (lights_edited) {
+        edits.lights = mine.lights;
+        edits.light_on = mine.light_on;
+    }
+    std::string both;  // what the user edited and the file changed too
+    if (camera_edited && !same_camera(old_camera, loaded->file_camera)) both = "camera";
+    if (lights_edited && !same_lights(old_lights, loaded->desc.lights))
+        both += both.empty() ? "lights" : " and lights";
+    const std::string name = std::filesystem::path(loaded->path).filename().string();
+    reload_conflict.clear();
+    if (!both.empty())
+        reload_conflict = name + " changed its " + both +
+                          " on disk, which you had edited: " + "your edits are kept.";
+    else if (camera_edited || lights_edited)
+        note("reloaded " + name + "; your edits are kept");
+    return true;
+}
+
+void ViewerState::fail(std::string text) {
+    std::fprintf(stderr, "%s\n", text.c_str());
+    message = std::move(text);
+    message_is_error = true;
+}
+
+void ViewerState::note(std::string text) {
+    message = std::move(text);
+    message_is_error = false;
+}
+
+void ViewerState::use_file_edits() {
+    if (!loaded) return;
+    edits.camera.set_from(loaded->file_camera, loaded->scene.world_bounds);
+    edits.lights = loaded->desc.lights;
+    edits.light_on.assign(edits.lights.size(), 1);
+    reload_conflict.clear();
+    mark_edited();
+}
+
 void ViewerState::poll_files() {
     if (!dropped.empty()) {
         const std::string file = dropped.back();
@@ -186,10 +263,12 @@ void ViewerState::poll_files() {
         open(file, false);
     }
     const auto now = Clock::now();
-    if (loaded && now - m_last_check > std::chrono::milliseconds(500)) {
-        m_last_check = now;
-        if (modified(loaded->path) != loaded->file_time)
-            open_as(loaded->path, true, loaded->missing_textures);
+    if (now - m_last_check < std::chrono::milliseconds(500)) return;
+    m_last_check = now;
+    if (loaded && modified(loaded->path) != loaded->file_time) reload();
+    if (!loaded && !m_watched.empty() && modified(m_watched) != m_watched_time) {
+        m_watched_time = modified(m_watched);  // the file that failed at start-up, fixed?
+        open(m_watched, false);
     }
 }
 

@@ -94,8 +94,16 @@ struct ViewerState {
     bool open(std::string file, bool keep_camera);  // by value: callers pass loaded->path
     /// Opens `checker_offer` with checker stand-ins for its missing textures.
     bool open_with_checker();
-    /// Opens the last file dropped onto the window, and reloads the open file (camera kept) when
-    /// it changed on disk (its time is checked twice a second, not every frame).
+    /// Reads the open file again and keeps the user's edits: the camera and the lights as edited
+    /// stay, the file's new ones are taken where the user edited nothing. When the file changed
+    /// what the user had edited, the edits stay and `reload_conflict` says so, with the choice
+    /// use_file_edits(). False (and nothing changed) when the file no longer opens.
+    bool reload();
+    /// Drops the kept edits the last reload() reported in `reload_conflict`: the file's camera
+    /// and lights.
+    void use_file_edits();
+    /// Opens the last file dropped onto the window, and reloads the open file when it changed on
+    /// disk (its time is checked twice a second, not every frame).
     void poll_files();
     /// The description with the viewer's camera and lights, as a .ray file. Throws.
     void save_scene(const std::string& path) const;
@@ -123,8 +131,13 @@ struct ViewerState {
     std::unique_ptr<LoadedScene> loaded;  // null until a file opens
     SceneEdits edits;
     ViewSettings settings;
-    std::string message;        // the last error or "saved ..." shown in the panel
-    std::string checker_offer;  // a file that failed to open for its textures only, else ""
+    /// The panel's message line: an error (also printed to stderr) or a note ("saved ...").
+    void fail(std::string text);
+    void note(std::string text);
+    std::string message;  // the last error or note shown in the panel
+    bool message_is_error = false;
+    std::string checker_offer;    // a file that failed to open for its textures only, else ""
+    std::string reload_conflict;  // a reload kept edits of what the file changed too, else ""
     MissingTextures missing_textures = MissingTextures::Error;  // how files open
     std::vector<std::string> recent;                            // files opened, most recent first
     std::vector<std::string> dropped;  // files dropped onto the window, picked up by poll_files
@@ -151,6 +164,8 @@ private:
     Clock::time_point m_served_input_time = m_input_time;  // the edit the running trace answers
     Clock::time_point m_change_time{};                     // the last restart
     Clock::time_point m_last_check = Clock::now();         // the file's time was read
+    std::string m_watched;  // the file that failed to open at start-up, while none is open
+    std::filesystem::file_time_type m_watched_time;
 };
 
 }  // namespace rt::view

@@ -194,5 +194,92 @@ TEST(Viewer, AV3SceneSavesAsV3WithItsEdits) {
     EXPECT_TRUE(std::holds_alternative<Torus>(d.files[0].root.shapes[0].geometry));
 }
 
+// Reloading keeps the user's edits (issue 14: a plain touch discarded the panel's light and camera
+// edits). A file of one point light and a sphere, written to a temporary place.
+std::string small_scene(const std::string& name, const std::string& light_colour) {
+    const std::string path = ::testing::TempDir() + name;
+    write_file_atomic(path,
+                      "#camera 0 0 5  0 0 -1  0 1 0  0.5\n"
+                      "#light_point " +
+                          light_colour +
+                          "  0 3 3  1 0 0\n"
+                          "#material 0 0 0  0 0 0  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !!\n"
+                          "#shape_sphere 0  0 0 0  1\n");
+    return path;
+}
+
+TEST(Viewer, ReloadKeepsTheEditsOfAnUnchangedFile) {
+    const std::string path = small_scene("rt_viewer_touch.ray", "1 1 1");
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.edits.lights[0].set_colour(Vec3(0, 0, 3));
+    v.edits.camera.orbit(0.4, 0.2);
+    const CameraDesc edited = v.edits.camera.desc();
+    const int id = v.loaded->id;
+    ASSERT_TRUE(v.reload());
+    EXPECT_GT(v.loaded->id, id);
+    EXPECT_EQ(v.edits.lights[0].diffuse, Vec3(0, 0, 3));
+    EXPECT_EQ(v.edits.camera.desc().position, edited.position);
+    EXPECT_TRUE(v.reload_conflict.empty()) << v.reload_conflict;
+    EXPECT_NE(v.message.find("your edits are kept"), std::string::npos) << v.message;
+    EXPECT_FALSE(v.message_is_error);
+}
+
+TEST(Viewer, ReloadOfAChangedFileKeepsTheEditsAndOffersTheFile) {
+    const std::string path = small_scene("rt_viewer_changed.ray", "1 1 1");
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.edits.lights[0].set_colour(Vec3(0, 0, 3));
+    small_scene("rt_viewer_changed.ray", "0.5 0.5 0.5");  // the file's light changes too
+    ASSERT_TRUE(v.reload());
+    EXPECT_EQ(v.edits.lights[0].diffuse, Vec3(0, 0, 3));
+    EXPECT_NE(v.reload_conflict.find("lights"), std::string::npos) << v.reload_conflict;
+    EXPECT_EQ(v.reload_conflict.find("camera"), std::string::npos) << v.reload_conflict;
+    v.use_file_edits();  // the user's choice: the file's
+    EXPECT_EQ(v.edits.lights[0].diffuse, Vec3(0.5));
+    EXPECT_TRUE(v.reload_conflict.empty());
+}
+
+TEST(Viewer, ReloadWithoutEditsTakesTheFile) {
+    const std::string path = small_scene("rt_viewer_plain.ray", "1 1 1");
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    small_scene("rt_viewer_plain.ray", "0.25 0.5 1");
+    ASSERT_TRUE(v.reload());
+    EXPECT_EQ(v.edits.lights[0].diffuse, Vec3(0.25, 0.5, 1));
+    EXPECT_TRUE(v.reload_conflict.empty());
+    EXPECT_TRUE(v.message.empty()) << v.message;
+}
+
+TEST(Viewer, ATouchReloadsAndKeepsTheEdits) {
+    const std::string path = small_scene("rt_viewer_poll.ray", "1 1 1");
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.edits.light_on[0] = 0;
+    const int id = v.loaded->id;
+    std::filesystem::last_write_time(
+        path, std::filesystem::last_write_time(path) + std::chrono::seconds(2));
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));  // polled twice a second
+    v.poll_files();
+    EXPECT_GT(v.loaded->id, id);
+    EXPECT_EQ(v.edits.light_on[0], 0);
+}
+
+TEST(Viewer, AFileThatFailsAtStartUpIsWatched) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_broken.ray";
+    write_file_atomic(path, "#shape_sphere 0  0 0 0  1\n");  // material 0 does not exist
+    ViewerState v(path, false);
+    ASSERT_FALSE(v.loaded);
+    EXPECT_TRUE(v.message_is_error);
+    EXPECT_NE(v.message.find("rt_viewer_broken.ray:1:"), std::string::npos) << v.message;
+    small_scene("rt_viewer_broken.ray", "1 1 1");  // fixed in an editor
+    std::filesystem::last_write_time(
+        path, std::filesystem::last_write_time(path) + std::chrono::seconds(2));
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));
+    v.poll_files();
+    ASSERT_TRUE(v.loaded) << v.message;
+    EXPECT_EQ(v.loaded->desc.lights.size(), 1u);
+}
+
 }  // namespace
 }  // namespace rt::view
