@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -149,8 +150,31 @@ void ScriptRun::restarted() {
     m_causes.clear();
 }
 
+namespace {
+
+// Argument i of a script line as a number in [lo, hi]; throws naming the command otherwise (a
+// non-finite or out-of-range value never reaches a setting).
+double number(const ScriptLine& l, size_t i, double lo, double hi) {
+    const std::string text = i < l.args.size() ? l.args[i] : "";
+    char* end = nullptr;
+    const double x = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(x) || x < lo || x > hi) {
+        std::ostringstream msg;
+        msg << l.command << ": '" << text << "' is not a number from " << lo << " to " << hi;
+        throw std::runtime_error(msg.str());
+    }
+    return x;
+}
+
+int whole(const ScriptLine& l, size_t i, int lo, int hi) {
+    return static_cast<int>(number(l, i, lo, hi));
+}
+
+}  // namespace
+
 void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) const {
-    auto arg = [&](size_t i) { return i < l.args.size() ? std::atof(l.args[i].c_str()) : 0.0; };
+    constexpr double kBig = 1e6;
+    auto arg = [&](size_t i) { return number(l, i, -kBig, kBig); };
     ViewSettings& s = v.settings;
     if (l.command == "orbit") {
         v.edits.camera.orbit(arg(0), arg(1));
@@ -158,20 +182,21 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
     } else if (l.command == "open" && !l.args.empty()) {
         v.open(l.args[0], false);
     } else if (l.command == "light" && l.args.size() >= 3) {
-        const size_t i = static_cast<size_t>(std::atoi(l.args[0].c_str()));
-        if (i < v.edits.lights.size() &&
-            edit_light(l.args[1], arg(2), arg(3), arg(4), &v.edits.lights[i]))
+        const size_t i = static_cast<size_t>(whole(l, 0, 0, 1 << 20));
+        const size_t n = l.args[1] == "radius" ? 1 : 3;
+        const double a = arg(2), b = n > 1 ? arg(3) : 0, c = n > 1 ? arg(4) : 0;
+        if (i < v.edits.lights.size() && edit_light(l.args[1], a, b, c, &v.edits.lights[i]))
             v.mark_edited();
     } else if (l.command == "shadows" && !l.args.empty()) {
         s.render.shadows = l.args[0] == "on";
         v.mark_edited();
     } else if (l.command == "boxes" && l.args.size() >= 2) {
-        s.group_depth = std::atoi(l.args[0].c_str());
-        s.box_depth = std::atoi(l.args[1].c_str());
+        s.group_depth = whole(l, 0, 0, 8);
+        s.box_depth = whole(l, 1, 0, 8);
     } else if (l.command == "layout" && !l.args.empty()) {
         s.layout = l.args[0] == "preview" ? 1 : l.args[0] == "trace" ? 2 : 0;
-    } else if (l.command == "resolution" && !l.args.empty()) {
-        s.resolution_scale = static_cast<float>(arg(0));
+    } else if (l.command == "resolution") {
+        s.resolution_scale = static_cast<float>(number(l, 0, 0.1, 1));
     } else if (l.command == "screenshot" && !l.args.empty()) {
         save_window(fb_w, fb_h, l.args[0]);
         std::printf("rayview: frame %d: %s (trace at %d spp)\n", m_frame, l.args[0].c_str(),
@@ -181,18 +206,18 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
 
 bool ScriptRun::end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code) {
     for (const ScriptLine& l : m_lines) {
-        if (l.frame != m_frame || !v.loaded) continue;
+        if (l.frame != m_frame) continue;
         try {
             run(l, v, fb_w, fb_h);
-        } catch (const std::exception& e) {  // a screenshot that cannot be written
-            std::fprintf(stderr, "rayview: frame %d: %s\n", m_frame, e.what());
-            *exit_code = 1;
-            return true;
+        } catch (const std::exception& e) {  // a bad number, a screenshot that cannot be written
+            std::fprintf(stderr, "rayview: frame %d: error: %s\n", m_frame, e.what());
+            m_failed = true;  // reported, and the run goes on; it exits 1 at the end
         }
         if (v.edit_pending()) m_causes.push_back(l.command);  // reported at the restart
     }
     ++m_frame;
     if (m_frames_left <= 0 || --m_frames_left > 0) return false;
+    if (m_failed) *exit_code = 1;
     if (!m_screenshot.empty()) {
         try {
             save_window(fb_w, fb_h, m_screenshot);

@@ -1,6 +1,6 @@
 // Scripted runs of the viewer, for tests and measurements: the command line (--frames N,
-// --screenshot F, --script S, --layout, --size WxH, --panel on|off), the script interpreter, saving the window as an image, and the
-// frame statistics a --frames run prints at the end.
+// --screenshot F, --script S, --layout, --size WxH, --panel on|off), the script interpreter, saving
+// the window as an image, and the frame statistics a --frames run prints at the end.
 //
 // A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn:
 // orbit DYAW DPITCH | open PATH | light I colour|ambient|diffuse|specular R G B |
@@ -68,8 +68,9 @@ public:
     explicit ScriptRun(const RunOptions& options);
     /// The trace restarted this frame: reports the script commands whose edits it answers.
     void restarted();
-    /// After the frame is drawn: runs this frame's commands; at the last frame saves the
-    /// --screenshot (a failure sets `*exit_code` to 1). Returns true when the run is over.
+    /// After the frame is drawn: runs this frame's commands (one that fails is reported and the
+    /// run goes on); at the last frame saves the --screenshot and sets `*exit_code` to 1 when
+    /// anything failed. Returns true when the run is over.
     bool end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code);
     /// After the last frame: the frame statistics, for --screenshot runs.
     void print_summary(const FrameStats& stats, const ViewerState& v) const;
@@ -82,6 +83,7 @@ private:
     std::string m_screenshot;
     int m_frame = 0;
     std::vector<std::string> m_causes;  // commands whose edits await a restart
+    bool m_failed = false;              // a command failed (reported): the run exits 1
 };
 
 }  // namespace rt::view

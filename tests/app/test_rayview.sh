@@ -83,6 +83,22 @@ for cam in rolled down up; do
             "$imgdiff" "$tmp/$cam-$pane.png" "$tmp/$cam-raytrace.png" --max-mad 2
     done
 done
+# Bad script input is reported and the run goes on: a non-finite setting, a screenshot that
+# cannot be written; a scene that fails at start-up still takes the script's open.
+echo '#shape_sphere 0  0 0 0  1' >"$tmp/broken.ray"
+cat >"$tmp/bad.txt" <<SCRIPT
+3 resolution nan
+4 screenshot $tmp/no/such/dir/shot.png
+5 open $src/scenes/shapes.ray
+20 screenshot $tmp/after.png
+SCRIPT
+xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --script "$tmp/bad.txt" "$tmp/broken.ray" \
+    >"$tmp/badout.txt" 2>&1
+check "a run with failed commands exits 1, not a crash" test $? -eq 1
+check "the non-finite resolution is refused" grep -q "resolution: 'nan' is not a number" "$tmp/badout.txt"
+check "the unwritable screenshot is reported" grep -q "no/such/dir/shot.png" "$tmp/badout.txt"
+check "the broken file's error is printed" grep -q "broken.ray:1:" "$tmp/badout.txt"
+check "the script's open works with no scene open" test -s "$tmp/after.png"
 "$rv" --missing-textures bogus "$src/scenes/lights.ray" >"$tmp/bad.txt" 2>&1
 check "--missing-textures takes error or checker only" test $? -eq 2
 check "--help lists --missing-textures" bash -c "'$rv' --help | grep -q -- '--missing-textures error|checker'"
