@@ -195,6 +195,11 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
         s.box_depth = whole(l, 1, 0, 8);
     } else if (l.command == "layout" && !l.args.empty()) {
         s.layout = l.args[0] == "preview" ? 1 : l.args[0] == "trace" ? 2 : 0;
+    } else if (l.command == "depth") {
+        s.render.max_depth = whole(l, 0, 1, 64);
+        v.mark_edited();
+    } else if (l.command == "markers" && !l.args.empty()) {
+        s.show_lights = l.args[0] == "on";
     } else if (l.command == "resolution") {
         s.resolution_scale = static_cast<float>(number(l, 0, 0.1, 1));
     } else if (l.command == "screenshot" && !l.args.empty()) {

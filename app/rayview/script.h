@@ -5,7 +5,8 @@
 // A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn:
 // orbit DYAW DPITCH | open PATH | light I colour|ambient|diffuse|specular R G B |
 // light I radius R | shadows on|off |
-// boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | resolution SCALE | screenshot PATH.
+// boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | resolution SCALE | depth D |
+// markers on|off | screenshot PATH.
 #pragma once
 
 #include <chrono>
