@@ -17,7 +17,13 @@
 // the #version line): RT_POINT, RT_SPOT, RT_DIRECTIONAL (light kinds present; sphere lights
 // count as point lights), RT_TEXTURES (some material is textured), RT_SPECULAR (some material
 // has a highlight), RT_SHADOWS, RT_CSG (a set has CSG nodes: fragments of a leaf surface that
-// the spec §13.8 rules reject are discarded, so the depth test keeps the nearest valid one).
+// the spec §13.8 rules reject are discarded, so the depth test keeps the nearest valid one),
+// RT_REFLECTIONS (depth >= 2 and a material reflects or transmits: spec §7.4's
+//   + K_S * (reflected)  + T * (refracted)
+// with both looked up in an environment cube map rendered from the object's centre, one bounce
+// deep, whose alpha holds the distance of what each texel sees, so the lookup is corrected for
+// the parallax between the map's centre and the fragment), RT_ENV_PASS (that map's own pass:
+// alpha = distance from u_pass_centre).
 const int kMaxLights = 16;
 
 in vec3 v_world;
@@ -104,6 +110,33 @@ bool csg_valid(int l, vec3 p);  // csg.frag
 
 out vec4 frag_color;
 
+#ifdef RT_ENV_PASS
+uniform vec3 u_pass_centre;  // the centre of the map this pass renders
+#endif
+#ifdef RT_REFLECTIONS
+uniform vec3 u_env_centre;  // the centre of the map of this material's object
+uniform bool u_env_on;  // this material reflects or transmits, and has a map
+uniform samplerCube u_env;
+uniform vec3 u_transparent;  // T
+uniform float u_refind;
+
+// What a ray from p along unit dir sees, from the map: the distance stored along a direction
+// from the centre gives the point the ray meets (three fixed-point steps from "infinitely
+// far"), whose direction from the centre is then looked up.
+vec3 environment(vec3 p, vec3 dir) {
+    vec3 pc = p - u_env_centre;
+    vec3 q = dir;
+    for (int k = 0; k < 3; ++k) {
+        float dist = texture(u_env, q).a;  // |hit - centre| of what q sees
+        float b = dot(pc, dir);
+        float disc = b * b - dot(pc, pc) + dist * dist;
+        float t = disc > 0.0 ? -b + sqrt(disc) : 0.0;
+        q = pc + t * dir;
+    }
+    return texture(u_env, q).rgb;
+}
+#endif
+
 // Spec §7.3: bilinear with wrap; row 0 of the image is the top, v = 0 the bottom. The texture
 // is uploaded with row 0 first and sampled with GL_REPEAT and GL_LINEAR, so t = 1 - v.
 #ifdef RT_TEXTURES
@@ -176,5 +209,19 @@ void main() {
         c += f * (u_diffuse * t * u_light_diffuse[i] * ndl);
 #endif
     }
+#ifdef RT_REFLECTIONS
+    if (u_env_on) {  // spec §7.4: the reflection weight K_S is not textured
+        c += u_specular * environment(v_world, d - 2.0 * dot(d, n) * n);
+        if (u_transparent != vec3(0.0)) {
+            // The eye sees the side facing it: entering, eta = 1 / refind.
+            vec3 t_dir = refract(d, n, 1.0 / u_refind);
+            if (t_dir != vec3(0.0)) c += u_transparent * environment(v_world, normalize(t_dir));
+        }
+    }
+#endif
+#ifdef RT_ENV_PASS
+    frag_color = vec4(c, length(v_world - u_pass_centre));
+#else
     frag_color = vec4(c, 1.0);
+#endif
 }

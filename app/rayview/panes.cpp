@@ -32,7 +32,9 @@ PaneLayout pane_layout(int layout, int fb_w, int fb_h, float panel_w, double asp
     return p;
 }
 
-Panes::Panes(const std::string& shader_dir) : m_preview(shader_dir) {}
+Panes::Panes(const std::string& shader_dir) : m_preview(shader_dir) {
+    m_preview.env_budget_ms = 12;  // environment maps over several frames, which stay smooth
+}
 
 PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     const ViewSettings& s = v.settings;
@@ -91,7 +93,7 @@ void Panes::draw(ViewerState& v) {
     glBindFramebuffer(GL_FRAMEBUFFER, m_target.fbo.id());
     // The camera of the latest input, also while a restart waits.
     const Camera cam = make_camera(compile_camera(v.edits.camera.desc()), m_target.w, m_target.h);
-    m_preview.draw(loaded.scene, v.tracer.plan(), cam, m_target.w, m_target.h);
+    m_preview.draw(loaded.scene, v.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth);
     std::vector<LineVertex> lines = overlay_lines(loaded.scene, s.show_lights, s.box_depth);
     if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for) {
         // Walked again only when the scene or the level changes.
@@ -102,7 +104,7 @@ void Panes::draw(ViewerState& v) {
     lines.insert(lines.end(), m_group_lines.begin(), m_group_lines.end());
     m_preview.draw_lines(lines, loaded.scene, cam);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    v.preview_stale = false;
+    v.preview_stale = m_preview.environment_pending();  // drawn again until the maps are done
     m_drawn_lights = s.show_lights;
     m_drawn_depth = s.box_depth;
     m_drawn_group_depth = s.group_depth;

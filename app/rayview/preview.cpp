@@ -123,8 +123,12 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
     for (size_t t : order) {
         const int m = mesh.materials[t];
         if (buf.ranges.empty() || buf.ranges.back().material != m)
-            buf.ranges.push_back({m, static_cast<unsigned>(indices.size()), 0});
-        for (int k = 0; k < 3; ++k) indices.push_back(mesh.indices[t * 3 + static_cast<size_t>(k)]);
+            buf.ranges.push_back({m, static_cast<unsigned>(indices.size()), 0, Bounds3{}});
+        for (int k = 0; k < 3; ++k) {
+            const unsigned v = mesh.indices[t * 3 + static_cast<size_t>(k)];
+            indices.push_back(v);
+            buf.ranges.back().bounds.extend(mesh.positions[v]);
+        }
         buf.ranges.back().count += 3;
     }
     buf.vao = GlVertexArray::make();
@@ -180,6 +184,9 @@ void Preview::load(const RenderScene& scene, int detail) {
     m_textures.clear();
     m_shadows_valid = false;
     m_csg = false;
+    m_env_chosen = m_env_valid = m_env_ready = false;
+    m_env.clear();
+    m_env_next = 0;
     // What the scene uses decides what is uploaded: sets no instance places are not tessellated,
     // texture coordinates only for sets with a textured material, textures only when used.
     std::vector<char> placed(scene.sets.size(), 0), texture_used(scene.textures.size(), 0);
@@ -334,16 +341,21 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
                 m[3][3] = 1.0;
                 set_matrix(sp, "u_clip_from_world", m);
             }
-            draw_instances(scene, sp, true);
+            DrawPass pass;
+            pass.opaque_only = true;
+            draw_instances(scene, sp, pass);
         }
     }
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));  // draw buffers are
                                                                            // per framebuffer
 }
 
-void Preview::draw_instances(const RenderScene& scene, unsigned program, bool opaque_only) const {
-    const bool shading = !opaque_only;
-    for (const Instance& inst : scene.instances) {
+void Preview::draw_instances(const RenderScene& scene, unsigned program,
+                             const DrawPass& pass) const {
+    const bool shading = !pass.opaque_only, opaque_only = pass.opaque_only;
+    const bool reflections = shading && pass.reflections;
+    for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
+        const Instance& inst = scene.instances[ii];
         float world[16], normal[9];
         for (int c = 0; c < 4; ++c)
             for (int r = 0; r < 4; ++r)
@@ -364,9 +376,24 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
             glUniform1i(loc(program, "u_csg_children"), buf.csg_children);
             glUniform1i(loc(program, "u_csg_leaves"), buf.csg_leaves);
         }
-        for (const Range& range : buf.ranges) {
+        for (size_t ri = 0; ri < buf.ranges.size(); ++ri) {
+            const Range& range = buf.ranges[ri];
+            if (pass.skip_map >= 0 && m_env_of[ii][ri] == pass.skip_map) continue;
             const Material& m = scene.materials[static_cast<size_t>(range.material)];
             if (opaque_only && m.transparent != Vec3(0.0)) continue;
+            if (reflections) {
+                const int e = m_env_of[ii][ri];
+                glUniform1i(loc(program, "u_env_on"), e >= 0 ? 1 : 0);
+                if (e >= 0) {
+                    const EnvMap& map = m_env[static_cast<size_t>(e)];
+                    glActiveTexture(GL_TEXTURE3);
+                    glBindTexture(GL_TEXTURE_CUBE_MAP, map.cube.id());
+                    glActiveTexture(GL_TEXTURE0);
+                    set_vec3(program, "u_env_centre", map.centre);
+                    set_vec3(program, "u_transparent", m.transparent);
+                    glUniform1f(loc(program, "u_refind"), static_cast<float>(m.refractive_index));
+                }
+            }
             if (shading) {
                 set_vec3(program, "u_emissive", m.emissive);
                 set_vec3(program, "u_ambient", m.ambient);
@@ -385,14 +412,10 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program, bool op
     glBindVertexArray(0);
 }
 
-void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camera& camera,
-                   int width, int height) {
+std::vector<std::string> Preview::frame_defines(const RenderPlan& plan, bool shadows) const {
     // The program for what the plan says this scene uses: the light kinds that light, textures,
     // highlights, shadows (what a scene does not need is left out, as in the trace).
-    const int lights = std::min<int>(16, static_cast<int>(plan.lights.size()));
     const PlanUses& uses = plan.uses;
-    const bool shadows = uses.shadows && lights > 0;
-    if (shadows) render_shadow_maps(scene, plan.lights);
     std::vector<std::string> defines;
     // A sphere light shades as a point light at its centre (spec §13.9: L, f_l and the
     // highlight use the centre; only the shadow factor is an area integral).
@@ -406,16 +429,12 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     if (uses.highlights) defines.push_back("RT_SPECULAR");
     if (shadows) defines.push_back("RT_SHADOWS");
     if (m_csg) defines.push_back("RT_CSG");
-    const GLuint program = program_for(defines);
-    m_defines = defines;
+    return defines;
+}
 
-    glViewport(0, 0, width, height);
-    glClearColor(static_cast<float>(scene.background.x), static_cast<float>(scene.background.y),
-                 static_cast<float>(scene.background.z), 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);  // two-sided, as the tracer
-    glUseProgram(program);
+void Preview::set_frame_uniforms(unsigned program, const RenderScene& scene, const RenderPlan& plan,
+                                 const Camera& camera, bool shadows) const {
+    const int lights = std::min<int>(16, static_cast<int>(plan.lights.size()));
     const GlMatrices mats = camera_matrices(camera, view_bounds(scene));
     glUniformMatrix4fv(loc(program, "u_clip_from_world"), 1, GL_FALSE, mats.clip_from_world);
     set_vec3(program, "u_eye", camera.position);
@@ -447,6 +466,7 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     glUniform1i(loc(program, "u_texture"), 0);
     glUniform1i(loc(program, "u_texture_all"), scene.texture_all_terms ? 1 : 0);
     glUniform1i(loc(program, "u_csg"), 2);
+    glUniform1i(loc(program, "u_env"), 3);
     glVertexAttrib1f(3, -1.0f);  // the leaf of vertices of sets without CSG: none
     if (shadows) {
         glUniform1i(loc(program, "u_shadow_map"), 1);
@@ -455,7 +475,32 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
         glBindTexture(GL_TEXTURE_2D_ARRAY, m_shadow_tex.id());
     }
     glActiveTexture(GL_TEXTURE0);
-    draw_instances(scene, program, false);
+}
+
+void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camera& camera,
+                   int width, int height, int max_depth) {
+    const bool shadows = plan.uses.shadows && !plan.lights.empty();
+    if (shadows) render_shadow_maps(scene, plan.lights);
+    std::vector<std::string> defines = frame_defines(plan, shadows);
+    if (!m_env_chosen) choose_environment_maps(scene);
+    if (max_depth >= 2 && !m_env.empty()) update_environment_maps(scene, plan, shadows);
+    const bool reflections = max_depth >= 2 && m_env_ready;
+    if (reflections) defines.push_back("RT_REFLECTIONS");
+    m_env_drawn = reflections ? static_cast<int>(m_env.size()) : 0;
+    const GLuint program = program_for(defines);
+    m_defines = defines;
+
+    glViewport(0, 0, width, height);
+    glClearColor(static_cast<float>(scene.background.x), static_cast<float>(scene.background.y),
+                 static_cast<float>(scene.background.z), 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);  // two-sided, as the tracer
+    glUseProgram(program);
+    set_frame_uniforms(program, scene, plan, camera, shadows);
+    DrawPass pass;
+    pass.reflections = reflections;
+    draw_instances(scene, program, pass);
 }
 
 void Preview::draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,

@@ -37,15 +37,29 @@ public:
     /// Clears to the scene's background and draws every instance, lit by the plan's lights with
     /// a program compiled for what the plan says the scene uses. With the plan's shadows, the
     /// first kMaxShadowLights lights cast shadows from opaque materials through shadow maps,
-    /// rendered again only when the lights or the scene change.
+    /// rendered again only when the lights or the scene change. With `max_depth` >= 2 (the
+    /// trace's recursion depth), reflecting and transmitting materials add K_S times the
+    /// reflected and T times the refracted view from environment cube maps (one per object, up
+    /// to kMaxEnvMaps, the largest first; the rest share the nearest), rendered again only when
+    /// the lights, the shadows or the scene change; 1 draws local shading only.
     void draw(const RenderScene& scene, const RenderPlan& plan, const Camera& camera, int width,
-              int height);
+              int height, int max_depth = 1);
     /// Draws line segments (pairs of vertices) over what draw() left, depth-tested.
     void draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
                     const Camera& camera) const;
 
     static constexpr int kMaxShadowLights = 4;
     static constexpr int kShadowResolution = 1024;
+    static constexpr int kMaxEnvMaps = 8;
+    static constexpr int kEnvResolution = 128;
+
+    /// The environment maps the last draw used (0 without reflections).
+    int environment_maps() const { return m_env_drawn; }
+    /// Environment maps left to render again (after a change of the lights or the shadows): a
+    /// draw renders faces of maps for about `env_budget_ms` (at least one), and shows stale ones,
+    /// or none before every map has its first bounce, until then. Draw again while this is true.
+    bool environment_pending() const { return m_env_next < 12 * m_env.size(); }
+    double env_budget_ms = kInf;  // the viewer's frames: a few ms; the tests: all at once
 
     /// The defines the last draw compiled its program with (RT_POINT, RT_SHADOWS, ...): only
     /// the light kinds and features the scene has.
@@ -57,6 +71,7 @@ private:
     struct Range {
         int material;
         unsigned first, count;  // in indices
+        Bounds3 bounds;         // of its vertices, in the set's frame
     };
     struct SetBuffers {
         GlVertexArray vao;  // none for a set no instance places
@@ -83,7 +98,28 @@ private:
     static std::vector<ShadowView> shadow_views(const RenderScene& scene,
                                                 const std::vector<Light>& lights, int* layers);
     void render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights);
-    void draw_instances(const RenderScene& scene, unsigned program, bool opaque_only) const;
+    /// What draw_instances() draws: only opaque triangles, unshaded (shadow maps); with the
+    /// environment maps bound per object; all but the objects that share map `skip_map` (that
+    /// map's own pass).
+    struct DrawPass {
+        bool opaque_only = false, reflections = false;
+        int skip_map = -1;
+    };
+    void draw_instances(const RenderScene& scene, unsigned program, const DrawPass& pass) const;
+    /// The defines of the program for what the plan uses (preview.frag's header).
+    std::vector<std::string> frame_defines(const RenderPlan& plan, bool shadows) const;
+    /// The camera, the lights and the shadow maps into `program`'s uniforms.
+    void set_frame_uniforms(unsigned program, const RenderScene& scene, const RenderPlan& plan,
+                            const Camera& camera, bool shadows) const;
+    // Environment maps (environment.cpp): which objects reflect or transmit, and their maps.
+    struct EnvMap {
+        GlTexture cube;    // RGBA32F: colour, distance from centre
+        Vec3 centre{0.0};  // of the largest object that uses it
+    };
+    void choose_environment_maps(const RenderScene& scene);
+    void update_environment_maps(const RenderScene& scene, const RenderPlan& plan, bool shadows);
+    void render_environment_face(const RenderScene& scene, const RenderPlan& plan, bool shadows,
+                                 size_t map, int face, int bounce);
 
     std::string m_shader_dir;
     std::map<std::vector<std::string>, GlProgram> m_programs;  // by defines
@@ -101,6 +137,16 @@ private:
     std::vector<SetBuffers> m_sets;
     bool m_csg = false;                 // a placed set has CSG nodes: programs with RT_CSG
     std::vector<GlTexture> m_textures;  // none for a texture no material drawn uses
+    std::vector<EnvMap> m_env;
+    std::vector<std::vector<int>> m_env_of;  // [instance][range]: its map in m_env, -1: none
+                                             // (the objects of a map are left out of it)
+    GlFramebuffer m_env_fbo;
+    GlRenderbuffer m_env_depth;
+    bool m_env_chosen = false, m_env_valid = false, m_env_shadows = false;
+    bool m_env_ready = false;         // every map has had its first bounce since the scene loaded
+    size_t m_env_next = 0;            // the next (bounce * maps + map) to render
+    std::vector<Light> m_env_lights;  // what the maps were rendered with
+    int m_env_drawn = 0;
 };
 
 }  // namespace rt::view

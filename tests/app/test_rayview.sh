@@ -3,7 +3,7 @@
 # After each edit the trace restarts and the window's pixels change.
 # usage: test_rayview.sh RAYVIEW SOURCE_DIR
 set -u
-rv="$1"
+rv=$(realpath "$1")
 src="$2"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -83,6 +83,16 @@ for cam in rolled down up; do
             "$imgdiff" "$tmp/$cam-$pane.png" "$tmp/$cam-raytrace.png" --max-mad 2
     done
 done
+# The preview shows mirrors and glass as the trace does, approximately (materials.ray: mean
+# difference 26.5 of 255 with local shading only, 6.6 with the environment maps).
+"$(dirname "$rv")/raytrace" -q "$src/scenes/materials.ray" -o "$tmp/materials-raytrace.png"
+printf '2 markers off\n' >"$tmp/markers.txt"
+(cd "$src/scenes" && xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --size 640x480 --panel off \
+    --layout preview --frames 40 --script "$tmp/markers.txt" --screenshot "$tmp/materials.png" \
+    materials.ray >/dev/null 2>&1)
+check "the preview of materials.ray is near the trace" "$imgdiff" "$tmp/materials.png" \
+    "$tmp/materials-raytrace.png" --max-mad 12 --max-dark-share 0.01
+
 # Bad script input is reported and the run goes on: a non-finite setting, a screenshot that
 # cannot be written; a scene that fails at start-up still takes the script's open.
 echo '#shape_sphere 0  0 0 0  1' >"$tmp/broken.ray"

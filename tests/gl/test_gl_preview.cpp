@@ -710,5 +710,64 @@ TEST(GlPreview, ShaderErrorsNameTheFile) {
     }
 }
 
+// Reflections and refraction (issue 14: mirrors and glass were black): a mirror wall behind a
+// red ball and a clear glass ball in front of a green wall. With the trace's depth the preview
+// shows what the trace shows, approximately: it is not dark where the trace is lit, and its
+// mean difference is a fraction of local shading's.
+struct PreviewAgainstTrace {
+    double mean_abs = 0;    // per channel, 0-255, over the image
+    double dark_share = 0;  // trace luminance > 0.3, preview < 0.05
+};
+
+PreviewAgainstTrace preview_against_trace(const RenderScene& scene, int depth) {
+    Offscreen gl;
+    EXPECT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 96);
+    const Camera cam = make_camera(scene, kW, kH);
+    preview.draw(scene, plan_for(scene, true), cam, kW, kH, depth);
+    glFinish();
+    EXPECT_EQ(preview.environment_maps() > 0, depth >= 2);
+    const Image traced = test::render(scene, kW, kH, 5);
+    PreviewAgainstTrace out;
+    long dark = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const Vec3 g = gl.at(x, y) / 255.0;
+            Vec3 t;
+            for (int k = 0; k < 3; ++k) t[k] = to_byte(traced.at(x, y)[k]) / 255.0;
+            out.mean_abs += (std::abs(g.x - t.x) + std::abs(g.y - t.y) + std::abs(g.z - t.z)) / 3;
+            auto lum = [](const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; };
+            dark += lum(t) > 0.3 && lum(g) < 0.05;
+        }
+    out.mean_abs *= 255.0 / (kW * kH);
+    out.dark_share = static_cast<double>(dark) / (kW * kH);
+    return out;
+}
+
+TEST(GlPreview, MirrorsAndGlassShowWhatTheTraceShows) {
+    const RenderScene scene = test::compile(
+        "#camera 0 1 6  0 -0.1 -1  0 1 0  0.5\n"
+        "#ambient 0.2 0.2 0.2\n"
+        "#light_point 1 1 1  2 4 4  1 0 0\n"
+        "#material 0 0 0  0 0 0  0 0 0  0.9 0.9 0.9  50  0 0 0  1  -1 !mirror!\n"
+        "#material 0 0 0  0.2 0 0  0.9 0.1 0.1  0 0 0  1  0 0 0  1  -1 !red!\n"
+        "#material 0 0 0  0 0 0  0 0 0  0 0 0  1  0.9 0.9 0.9  1  -1 !glass!\n"
+        "#material 0 0 0  0 0.2 0  0.1 0.9 0.1  0 0 0  1  0 0 0  1  -1 !green!\n"
+        "#shape_box 0  -1.5 1 -2  2.5 3 0.1\n"
+        "#shape_sphere 1  -1.2 0.8 0  0.6\n"
+        "#shape_sphere 2  1.3 0.9 1  0.7\n"
+        "#shape_box 3  1.5 1 -2  2 3 0.1\n");
+    const PreviewAgainstTrace local = preview_against_trace(scene, 1);
+    const PreviewAgainstTrace reflected = preview_against_trace(scene, 5);
+    std::printf("local shading only: mean difference %.2f, dark where lit %.4f\n", local.mean_abs,
+                local.dark_share);
+    std::printf("with reflections:   mean difference %.2f, dark where lit %.4f\n",
+                reflected.mean_abs, reflected.dark_share);
+    EXPECT_GT(local.dark_share, 0.02);  // the scene tests something: glass and mirror dark
+    EXPECT_LT(reflected.dark_share, 0.01);
+    EXPECT_LT(reflected.mean_abs, 0.5 * local.mean_abs);
+}
+
 }  // namespace
 }  // namespace rt

@@ -38,6 +38,7 @@ struct Light {
     double cutoff_rad = kPi;
     double spot_exponent = 0.0;
     double radius = 0.0;  // sphere lights: the shadow factor is averaged over this sphere
+    bool operator==(const Light&) const = default;
 };
 
 /// One primitive of a set: its kind, its index in the kind's array, its material and, for the
