@@ -121,8 +121,14 @@ int main(int argc, char** argv) {
         ScriptRun script(opt);
         FrameStats stats;
         while (exit_code == 0 && !glfwWindowShouldClose(window)) {
-            // Poll events; dropped files open, the open file reloads when it changed on disk.
-            glfwPollEvents();
+            // Events; dropped files open, the open file reloads when it changed on disk. With
+            // nothing to redraw at once the loop waits for an event or 1/30 s (new trace
+            // images), so it leaves the cores to the trace.
+            const bool busy = viewer.edit_pending() || viewer.preview_stale;
+            if (busy)
+                glfwPollEvents();
+            else
+                glfwWaitEventsTimeout(1.0 / 30);
             const double frame_s = stats.tick();
             viewer.poll_files();
             // Start the Dear ImGui frame; the control panel, the panes, input, restart, draw.

@@ -139,6 +139,9 @@ void FrameStats::print(const ViewerState& v) const {
         "traced pass after a change: median %.0f ms, p95 %.0f ms (%zu changes)\n",
         quantile(m_ms, 0.5), quantile(m_ms, 0.95), quantile(v.first_pass_samples, 0.5),
         quantile(v.first_pass_samples, 0.95), v.first_pass_samples.size());
+    const Tracer::Status st = v.tracer.status();
+    std::printf("rayview: trace at %d spp, %.2f Mray/s on %d threads\n", st.spp,
+                st.rays_per_second / 1e6, resolve_thread_count(v.settings.render.threads));
 }
 
 ScriptRun::ScriptRun(const RunOptions& options)
@@ -197,6 +200,9 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
         s.layout = l.args[0] == "preview" ? 1 : l.args[0] == "trace" ? 2 : 0;
     } else if (l.command == "depth") {
         s.render.max_depth = whole(l, 0, 1, 64);
+        v.mark_edited();
+    } else if (l.command == "threads") {
+        s.render.threads = whole(l, 0, 0, 256);
         v.mark_edited();
     } else if (l.command == "markers" && !l.args.empty()) {
         s.show_lights = l.args[0] == "on";

@@ -1,5 +1,6 @@
 #include "tracer.h"
 
+#include <sched.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -29,10 +30,13 @@ void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, i
 void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_spp) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
-    // The tracer yields to the interface: a lower priority for this thread and the workers it
-    // starts (Linux keeps the nice value per thread and passes it on to new threads), so the
-    // interface thread and the GL driver's threads get the cores when they need them.
-    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
+    // The tracer yields to the interface: this thread and the workers it starts (Linux keeps
+    // the policy per thread and passes it on to new threads) run only when a core is idle
+    // (SCHED_IDLE), or else at the lowest nice value, so the interface thread and the GL
+    // driver's threads get the cores when they need them.
+    const sched_param idle{};
+    if (sched_setscheduler(0, SCHED_IDLE, &idle) != 0)
+        setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
     // A cheap first pass so a moving camera stays interactive.
     Image coarse = render_coarse(*scene, m_plan, settings, 8, &m_stop);
     if (m_stop) return;

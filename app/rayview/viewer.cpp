@@ -144,8 +144,9 @@ int render_headless(const std::string& path, MissingTextures missing) {
 
 ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTextures missing)
     : missing_textures(missing), m_print_left_out(print_left_out) {
-    // The trace leaves one core to the interface thread, so frames stay smooth.
-    settings.render.threads = std::max(1, resolve_thread_count(0) - 1);
+    // The trace takes every core, at a lower priority than the interface (Tracer::run), so
+    // frames stay smooth.
+    settings.render.threads = resolve_thread_count(0);
     bool textures_missing = false;
     loaded = load_scene(path, &message, missing, &textures_missing);
     if (textures_missing) checker_offer = path;
