@@ -101,7 +101,8 @@ void set_matrix(unsigned program, const char* name, const double m[4][4]);
 /// "name[i]", the uniform name of an array element.
 std::string indexed(const char* name, int i);
 
-/// An image shown as a texture: 8-bit RGB as raytrace writes it, nearest filtering.
+/// An image shown as a texture: 8-bit RGB as raytrace writes it, filtered (bilinear) when the
+/// pane magnifies it.
 struct ImageTexture {
     GlTexture texture;
     int w = 0, h = 0;

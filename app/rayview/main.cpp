@@ -8,6 +8,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -132,6 +133,10 @@ int main(int argc, char** argv) {
             const double frame_s = stats.tick();
             viewer.poll_files();
             // Start the Dear ImGui frame; the control panel, the panes, input, restart, draw.
+            // Fonts follow the monitor's content scale and the user's UI scale.
+            float scale_x = 1, scale_y = 1;
+            glfwGetWindowContentScale(window, &scale_x, &scale_y);
+            io.FontGlobalScale = viewer.settings.ui_scale * std::max(1.0f, scale_x);
             ImGui_ImplOpenGL3_NewFrame();
             ImGui_ImplGlfw_NewFrame();
             ImGui::NewFrame();
@@ -141,6 +146,7 @@ int main(int argc, char** argv) {
             const PaneLayout layout =
                 pane_layout(vs.layout, fb_w, fb_h, vs.show_panel ? vs.panel_w : 0, vs.aspect());
             if (vs.show_panel) control_panel(viewer, ui, layout, panes->preview_defines(), frame_s);
+            if (vs.show_panel && viewer.loaded) status_bar(viewer, layout);
             if (viewer.loaded) {
                 const PaneHover hover = panes->show(viewer, layout, frame_s);
                 handle_input(viewer, input, io, layout, hover, frame_s);

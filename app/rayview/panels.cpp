@@ -221,8 +221,8 @@ bool settings_panel(ViewerState& v, const PaneLayout& layout) {
     edited |= ImGui::Checkbox("shadows", &r.shadows);
     ImGui::SameLine();
     ImGui::Checkbox("light markers", &s.show_lights);
-    slider("group boxes (levels)", &s.group_depth, 0, 8);
-    slider("BVH boxes (levels)", &s.box_depth, 0, 8);
+    slider("group box levels", &s.group_depth, 0, 8);
+    slider("BVH box levels", &s.box_depth, 0, 8);
     edited |= slider("depth", &r.max_depth, 1, 10);
     edited |= slider("cutoff", &r.cutoff, 0.0f, 0.1f, "%.4f");
     edited |= slider("target spp", &s.target_spp, 1, 4096);
@@ -234,6 +234,10 @@ bool settings_panel(ViewerState& v, const PaneLayout& layout) {
     edited |= slider("light radius", &r.light_radius, 0.0f, 2.0f);
     edited |= slider("aperture", &r.aperture, 0.0f, 0.5f);
     edited |= slider("roughness", &r.roughness, 0.0f, 1.0f);
+    float ui_scale = s.ui_scale;
+    if (ImGui::SliderFloat("UI scale", &ui_scale, 0.75f, 2.5f, "%.2f", kClamp) &&
+        std::isfinite(ui_scale))
+        s.ui_scale = ui_scale;
     return edited;
 }
 
@@ -254,9 +258,25 @@ bool lights_panel(ViewerState& v) {
         ImGui::Separator();
         ImGui::PopID();
     }
-    if (ImGui::Button("add point light")) {
-        v.add_point_light();
-        edited = true;
+    // New lights at the eye, along the view; V3 scenes may have sphere lights too.
+    ImGui::TextUnformatted("add");
+    const LightKind kinds[] = {LightKind::Point, LightKind::Spot, LightKind::Directional,
+                               LightKind::Sphere};
+    const int count = three_colours ? 4 : 3;
+    for (int k = 0; k < count; ++k) {
+        ImGui::SameLine();
+        if (ImGui::Button(kind_name(kinds[k]))) {
+            v.add_light(kinds[k]);
+            edited = true;
+        }
+    }
+    if (v.edits.lights.empty()) {
+        if (ImGui::Checkbox("headlight (the scene has no lights)", &v.settings.headlight))
+            edited = true;
+        if (v.settings.headlight && ImGui::Button("keep the headlight as a light")) {
+            v.keep_headlight();
+            edited = true;
+        }
     }
     return edited;
 }
@@ -265,11 +285,7 @@ void status_panel(const ViewerState& v, const std::vector<std::string>& preview_
                   double frame_s) {
     ImGui::Separator();
     const Tracer::Status st = v.tracer.status();
-    ImGui::Text("%d spp, %.2f Mray/s, %.1f s since the last change", st.spp,
-                st.rays_per_second / 1e6, st.seconds);
-    ImGui::Text("estimated relMSE %.3g", st.estimate);
-    ImGui::Text("frame %.1f ms, first traced pass %.0f ms after the last change", 1000 * frame_s,
-                v.first_pass_ms);
+    ImGui::Text("%.1f s since the last change; frame %.1f ms", st.seconds, 1000 * frame_s);
     // What the renderer left out for this scene, recomputed on each restart: the lights and
     // settings change it.
     int left = 0;
@@ -314,12 +330,41 @@ void save_panel(ViewerState& v, PanelState& ui) {
     }
 }
 
+void status_bar(const ViewerState& v, const PaneLayout& layout) {
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    const float h = ImGui::GetFrameHeightWithSpacing();
+    ImGui::SetNextWindowPos(ImVec2(layout.panel_w, vp->Size.y - h));
+    ImGui::SetNextWindowSize(ImVec2(vp->Size.x - layout.panel_w, h));
+    ImGui::SetNextWindowBgAlpha(0.7f);
+    ImGui::Begin("status", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
+                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
+    const Tracer::Status st = v.tracer.status();
+    auto ms = [](double x) { return x < 0 ? std::string("...") : std::to_string(int(x)) + " ms"; };
+    ImGui::Text("%d spp | %.2f Mray/s | relMSE %.3g | first pass %s, full resolution %s%s", st.spp,
+                st.rays_per_second / 1e6, st.estimate, ms(v.first_pass_ms).c_str(),
+                ms(v.first_full_ms).c_str(),
+                v.headlight_on() ? " | headlight: the scene has no lights" : "");
+    ImGui::End();
+}
+
 void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
                    const std::vector<std::string>& preview_defines, double frame_s) {
+    // Resizable in width (the panes follow next frame) and collapsible.
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
     ImGui::SetNextWindowPos(ImVec2(0, 0));
-    ImGui::SetNextWindowSize(ImVec2(layout.panel_w, layout.pane_h));
-    ImGui::Begin("rayview", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
-    file_panel(v, ui);  // opening a file marks its own edit
+    ImGui::SetNextWindowSize(ImVec2(layout.panel_w > 0 ? layout.panel_w : 380, vp->Size.y),
+                             ImGuiCond_Once);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(220, vp->Size.y),
+                                        ImVec2(std::max(220.0f, 0.7f * vp->Size.x), vp->Size.y));
+    const bool open = ImGui::Begin("rayview", nullptr, ImGuiWindowFlags_NoMove);
+    v.settings.panel_w = ImGui::IsWindowCollapsed() ? 0 : ImGui::GetWindowWidth();
+    if (!open) {
+        ImGui::End();
+        return;
+    }
+    ImGui::PushItemWidth(-ImGui::GetFontSize() * 10);  // room for the labels
+    file_panel(v, ui);                                 // opening a file marks its own edit
     if (v.loaded) {
         bool edited = settings_panel(v, layout);
         edited |= lights_panel(v);
@@ -327,6 +372,7 @@ void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
         status_panel(v, preview_defines, frame_s);
         save_panel(v, ui);
     }
+    ImGui::PopItemWidth();
     ImGui::End();
 }
 

@@ -40,7 +40,10 @@ void status_panel(const ViewerState& v, const std::vector<std::string>& preview_
 /// Saving the scene (camera and lights) and the traced image.
 void save_panel(ViewerState& v, PanelState& ui);
 
-/// The whole panel as one ImGui window.
+/// The trace's progress along the bottom of the panes, always visible: samples per pixel, rays
+/// per second, the estimated error, the first (coarse) and first full-resolution pass times.
+void status_bar(const ViewerState& v, const PaneLayout& layout);
+/// The whole panel as one ImGui window, resizable and collapsible.
 void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
                    const std::vector<std::string>& preview_defines, double frame_s);
 

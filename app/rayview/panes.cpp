@@ -73,6 +73,19 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
             ImGui::Dummy(size);
         hover.trace = ImGui::IsItemHovered();
     }
+    // Say why a pane is blank: nothing to draw, or nothing that lights it.
+    const char* blank = nullptr;
+    if (v.loaded->scene.instances.empty() || v.loaded->scene.world_bounds.empty())
+        blank = "the scene is empty: it has no shapes";
+    else if (v.edits.lights.empty() && !v.settings.headlight)
+        blank = "the scene has no lights (turn the headlight on in the panel)";
+    if (blank)
+        for (int i = 0; i < p.panes; ++i) {
+            const ImVec2 text = ImGui::CalcTextSize(blank);
+            ImGui::SetCursorScreenPos(
+                ImVec2(p.image_x(i) + 0.5f * (p.image_w - text.x), origin.y + 0.5f * p.pane_h));
+            ImGui::TextUnformatted(blank);
+        }
     ImGui::End();
     ImGui::PopStyleVar(2);
     return hover;

@@ -139,6 +139,11 @@ void FrameStats::print(const ViewerState& v) const {
         "traced pass after a change: median %.0f ms, p95 %.0f ms (%zu changes)\n",
         quantile(m_ms, 0.5), quantile(m_ms, 0.95), quantile(v.first_pass_samples, 0.5),
         quantile(v.first_pass_samples, 0.95), v.first_pass_samples.size());
+    std::printf(
+        "rayview: first full-resolution pass after a change: median %.0f ms, p95 %.0f ms "
+        "(%zu changes)\n",
+        quantile(v.first_full_samples, 0.5), quantile(v.first_full_samples, 0.95),
+        v.first_full_samples.size());
     const Tracer::Status st = v.tracer.status();
     std::printf("rayview: trace at %d spp, %.2f Mray/s on %d threads\n", st.spp,
                 st.rays_per_second / 1e6, resolve_thread_count(v.settings.render.threads));

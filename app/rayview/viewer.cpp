@@ -41,18 +41,27 @@ bool same_camera(const CameraDesc& a, const CameraDesc& b) {
 }
 
 // The edits into the compiled scene, while no trace runs: the camera, the lights that are on
-// (compiled from their descriptions) and the trace's size.
-void apply_edits(const SceneEdits& edits, int trace_w, int trace_h, RenderScene* scene,
-                 RenderSettings* settings) {
+// (compiled from their descriptions) or the headlight, and the trace's size.
+void apply_edits(const SceneEdits& edits, bool headlight, int trace_w, int trace_h,
+                 RenderScene* scene, RenderSettings* settings) {
     scene->camera = compile_camera(edits.camera.desc());
     scene->lights.clear();
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) scene->lights.push_back(compile_light(edits.lights[i]));
+    if (headlight) scene->lights.push_back(compile_light(headlight_desc(edits.camera)));
     settings->width = trace_w;
     settings->height = trace_h;
 }
 
 }  // namespace
+
+LightDesc headlight_desc(const OrbitCamera& camera) {
+    LightDesc l;
+    l.kind = LightKind::Directional;
+    l.direction = camera.forward();
+    l.set_colour(Vec3(1.0));
+    return l;
+}
 
 bool edit_light(const std::string& what, double a, double b, double c, LightDesc* l) {
     const Vec3 rgb(a, b, c);
@@ -294,11 +303,21 @@ void ViewerState::set_trace_size(int w, int h) {
     mark_edited();
 }
 
-void ViewerState::add_point_light() {
+void ViewerState::add_light(LightKind kind) {
+    // At the eye, along the view: what the user looks at is lit.
     LightDesc l;
-    l.kind = LightKind::Point;
-    l.position = edits.camera.desc().position;
+    l.kind = kind;
+    l.position = edits.camera.eye();
+    l.direction = edits.camera.forward();
+    if (kind == LightKind::Spot) l.cutoff_rad = 0.5;
+    if (kind == LightKind::Sphere) l.radius = 0.05 * edits.camera.distance;
     edits.lights.push_back(l);
+    edits.light_on.push_back(1);
+    mark_edited();
+}
+
+void ViewerState::keep_headlight() {
+    edits.lights.push_back(headlight_desc(edits.camera));
     edits.light_on.push_back(1);
     mark_edited();
 }
@@ -327,7 +346,7 @@ bool ViewerState::restart_if_due() {
 // Stop, edit, restart: the compiled scene only changes while no trace runs.
 void ViewerState::restart() {
     tracer.stop();
-    apply_edits(edits, m_trace_w, m_trace_h, &loaded->scene, &settings.render);
+    apply_edits(edits, headlight_on(), m_trace_w, m_trace_h, &loaded->scene, &settings.render);
     tracer.restart(loaded->scene, settings.render, settings.target_spp);
     m_traced_id = loaded->id;
     explained.clear();
@@ -341,15 +360,21 @@ void ViewerState::restart() {
     m_served_input_time = m_input_time;
     m_change_time = Clock::now();
     first_pass_ms = -1;
+    first_full_ms = -1;
 }
 
 bool ViewerState::take_trace_image() {
     if (!tracer.take_image(&last_trace)) return false;
+    // From the edit, not the (possibly deferred) restart.
+    const double ms =
+        std::chrono::duration<double, std::milli>(Clock::now() - m_served_input_time).count();
     if (first_pass_ms < 0) {
-        // From the edit, not the (possibly deferred) restart.
-        first_pass_ms =
-            std::chrono::duration<double, std::milli>(Clock::now() - m_served_input_time).count();
+        first_pass_ms = ms;
         first_pass_samples.push_back(first_pass_ms);
+    }
+    if (first_full_ms < 0 && tracer.status().spp >= 1) {
+        first_full_ms = ms;
+        first_full_samples.push_back(first_full_ms);
     }
     return true;
 }

@@ -51,7 +51,9 @@ struct ViewSettings {
     int group_depth = 0;            // scene graph group levels drawn over it, 0 = off
     int layout = 0;                 // 0 both panes, 1 preview alone, 2 trace alone
     bool show_panel = true;         // the control panel left of the panes
-    float panel_w = 330;            // its width in pixels
+    float panel_w = 380;            // its width in pixels (the user resizes it; 0: collapsed)
+    float ui_scale = 1;             // fonts and panel, times the monitor's content scale
+    bool headlight = true;          // a scene without lights is lit along the view (never saved)
     // The render's size, as raytrace's --width and --height: both panes keep its aspect.
     int image_w = 640, image_h = 480;
     double aspect() const { return static_cast<double>(image_w) / static_cast<double>(image_h); }
@@ -62,6 +64,9 @@ struct ViewSettings {
 /// radius: a sphere light's, a >= 0) with arguments (a, b, c). False, and `*l` unchanged, for
 /// another WHAT.
 bool edit_light(const std::string& what, double a, double b, double c, LightDesc* l);
+
+/// The headlight: a white directional light along the view of `camera`.
+LightDesc headlight_desc(const OrbitCamera& camera);
 
 /// The panel's note on the textures that stand in as checkers ("" when none).
 std::string stand_in_text(const SceneDesc& desc);
@@ -116,7 +121,13 @@ struct ViewerState {
     bool edit_pending() const { return m_edited; }
     /// The trace's size in pixels (from the pane's size and the resolution scale).
     void set_trace_size(int w, int h);
-    void add_point_light();
+    /// A new light of `kind` at the eye, along the view (a spot's cone 0.5 rad).
+    void add_light(LightKind kind);
+    /// The scene has no lights and the headlight is on: the trace and the preview are lit by
+    /// headlight_desc() of the view.
+    bool headlight_on() const { return settings.headlight && edits.lights.empty(); }
+    /// Keeps the headlight as a light of the scene (saved with it).
+    void keep_headlight();
     void remove_light(size_t i);
     /// The restart policy: with an edit pending, restarts once the running trace's first pass is
     /// on screen or 100 ms after the last restart, not every frame (otherwise no traced image
@@ -144,10 +155,13 @@ struct ViewerState {
 
     Tracer tracer;  // after `loaded`: stops before the scene it traces dies
     Image last_trace;
-    std::vector<std::string> explained;      // the running trace's plan.reasons
-    bool preview_stale = true;               // an edit the preview has not drawn yet
-    double first_pass_ms = -1;               // edit -> first traced image on screen; -1: waiting
+    std::vector<std::string> explained;  // the running trace's plan.reasons
+    bool preview_stale = true;           // an edit the preview has not drawn yet
+    double first_pass_ms =
+        -1;  // edit -> first traced image (the coarse pass) on screen; -1: waiting
+    double first_full_ms = -1;  // edit -> first full-resolution pass on screen; -1: waiting
     std::vector<double> first_pass_samples;  // every first_pass_ms, for the --frames summary
+    std::vector<double> first_full_samples;  // every first_full_ms
 
 private:
     bool open_as(std::string file, bool keep_camera, MissingTextures missing);

@@ -53,8 +53,8 @@ TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {
     ViewerState v(kLights, false);
     ASSERT_TRUE(v.loaded) << v.message;
     v.edits.lights[1].position = Vec3(1, 2, 3);
-    v.edits.light_on[0] = 0;  // the spot off: not saved
-    v.add_point_light();      // at the eye
+    v.edits.light_on[0] = 0;        // the spot off: not saved
+    v.add_light(LightKind::Point);  // at the eye
     const Vec3 eye = v.edits.camera.desc().position;
     v.edits.camera.orbit(0.5, 0);
     const std::string path = ::testing::TempDir() + "rt_viewer_saved.ray";
@@ -279,6 +279,56 @@ TEST(Viewer, AFileThatFailsAtStartUpIsWatched) {
     v.poll_files();
     ASSERT_TRUE(v.loaded) << v.message;
     EXPECT_EQ(v.loaded->desc.lights.size(), 1u);
+}
+
+// A scene without lights is lit by a headlight along the view, which is never saved unless the
+// user keeps it (issue 14: such scenes showed black panes and no word why).
+TEST(Viewer, ASceneWithoutLightsGetsAHeadlightThatIsNotSaved) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_dark.ray";
+    write_file_atomic(path,
+                      "#camera 0 0 5  0 0 -1  0 1 0  0.5\n"
+                      "#material 0 0 0  0 0 0  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !!\n"
+                      "#shape_sphere 0  0 0 0  1\n");
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    EXPECT_TRUE(v.headlight_on());
+    v.set_trace_size(16, 12);
+    v.edits.camera.orbit(0.3, 0.2);
+    v.mark_edited();
+    restart(v);
+    ASSERT_EQ(v.loaded->scene.lights.size(), 1u);
+    EXPECT_EQ(v.loaded->scene.lights[0].kind, LightKind::Directional);
+    EXPECT_VEC_NEAR(v.loaded->scene.lights[0].direction, v.edits.camera.forward(), 1e-12);
+    const std::string saved = ::testing::TempDir() + "rt_viewer_dark_saved.ray";
+    v.save_scene(saved);
+    Diagnostics diag;
+    EXPECT_TRUE(parse_scene_file(saved, diag).lights.empty());
+    v.settings.headlight = false;  // off: dark, as the file says
+    v.mark_edited();
+    restart(v);
+    EXPECT_TRUE(v.loaded->scene.lights.empty());
+    v.settings.headlight = true;
+    v.keep_headlight();  // asked: now a light of the scene
+    EXPECT_FALSE(v.headlight_on());
+    v.save_scene(saved);
+    EXPECT_EQ(parse_scene_file(saved, diag).lights.size(), 1u);
+}
+
+TEST(Viewer, NewLightsOfEveryKindStartAtTheEyeAlongTheView) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    const size_t before = v.edits.lights.size();
+    for (LightKind k : {LightKind::Point, LightKind::Spot, LightKind::Directional}) v.add_light(k);
+    ASSERT_EQ(v.edits.lights.size(), before + 3);
+    for (size_t i = before; i < v.edits.lights.size(); ++i) {
+        EXPECT_VEC_NEAR(v.edits.lights[i].position, v.edits.camera.eye(), 1e-12);
+        EXPECT_VEC_NEAR(v.edits.lights[i].direction, v.edits.camera.forward(), 1e-12);
+    }
+    EXPECT_EQ(v.edits.lights[before + 1].kind, LightKind::Spot);
+    EXPECT_EQ(v.edits.lights[before + 2].kind, LightKind::Directional);
+    v.set_trace_size(16, 12);
+    restart(v);
+    EXPECT_EQ(v.loaded->scene.lights.size(), before + 3);
 }
 
 }  // namespace
