@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "rt/format/writer.h"
+#include "rt/util/file_io.h"
 #include "test_util.h"
 
 namespace rt {
@@ -113,6 +114,30 @@ TEST(Writer, OurScenesRoundTrip) {
         ++n;
     }
     EXPECT_GE(n, 7);
+}
+
+// Saved next to a file, paths are relative to its directory (issue 14: the viewer wrote
+// absolute paths), and the saved file reads back with the same textures and includes.
+TEST(Writer, PathsRelativeToTheSavedFile) {
+    const std::filesystem::path dir = std::filesystem::path(RT_SOURCE_DIR) / "scenes";
+    Diagnostics d1, d2;
+    const SceneDesc shapes = parse_scene_file((dir / "shapes.ray").string(), d1);
+    const std::string here = write_scene_for(shapes, (dir / "edited.ray").string());
+    EXPECT_NE(here.find("#texture textures/grid.png"), std::string::npos) << here;
+    const SceneDesc groups = parse_scene_file((dir / "groups.ray").string(), d1);
+    const std::string below = write_scene_for(groups, (dir / "parts" / "edited.ray").string());
+    EXPECT_NE(below.find("#ray_file floor.ray"), std::string::npos) << below;
+    EXPECT_NE(below.find("#ray_file pawn.ray"), std::string::npos) << below;
+    // Elsewhere: a relative path that still reaches the file.
+    const std::filesystem::path out = std::filesystem::path(::testing::TempDir()) / "rt_rel";
+    std::filesystem::create_directories(out);
+    const std::string saved = (out / "shapes_edited.ray").string();
+    write_file_atomic(saved, write_scene_for(shapes, saved));
+    std::string text;
+    ASSERT_TRUE(read_file(saved, &text));
+    EXPECT_EQ(text.find("#texture /"), std::string::npos) << text;
+    const SceneDesc back = parse_scene_file(saved, d2);
+    expect_same(shapes, back);
 }
 
 TEST(Writer, V0AndEditsRoundTrip) {

@@ -15,11 +15,14 @@ namespace {
 
 constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;  // typed values too
 
+double decimal(float f) { return float_as_decimal(f); }
+Vec3 decimal(const float f[3]) { return Vec3(decimal(f[0]), decimal(f[1]), decimal(f[2])); }
+
 // A float slider over a double setting; typed values are clamped, non-finite ones refused.
 bool slider(const char* label, double* value, float lo, float hi, const char* format = "%.3f") {
     float f = static_cast<float>(*value);
     if (!ImGui::SliderFloat(label, &f, lo, hi, format, kClamp) || !std::isfinite(f)) return false;
-    *value = f;
+    *value = decimal(f);
     return true;
 }
 
@@ -33,7 +36,7 @@ bool drag3(const char* label, Vec3* v, float speed) {
     float f[3] = {static_cast<float>(v->x), static_cast<float>(v->y), static_cast<float>(v->z)};
     if (!ImGui::DragFloat3(label, f, speed)) return false;
     if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2])) return false;
-    *v = Vec3(f[0], f[1], f[2]);
+    *v = decimal(f);
     return true;
 }
 
@@ -57,7 +60,7 @@ bool colour(const char* label, Vec3* v) {
     if (!ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR))
         return false;
     if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) return false;
-    *v = Vec3(c[0], c[1], c[2]);
+    *v = decimal(c);
     return true;
 }
 
@@ -82,7 +85,7 @@ bool light_editor(LightDesc& l, char* on, bool three_colours) {
     if (l.kind == LightKind::Sphere) {
         float r = static_cast<float>(l.radius);
         if (ImGui::DragFloat("radius", &r, 0.01f, 0.0f, 1e6f, "%.3f", kClamp) && std::isfinite(r))
-            l.radius = std::max(0.0f, r), edited = true;
+            l.radius = decimal(std::max(0.0f, r)), edited = true;
     }
     if (l.kind != LightKind::Directional) {
         edited |= drag3("position", &l.position, 0.05f);
@@ -90,7 +93,8 @@ bool light_editor(LightDesc& l, char* on, bool three_colours) {
                       static_cast<float>(l.quadratic_atten)};
         if (ImGui::DragFloat3("attenuation", a, 0.005f, 0.0f, 100.0f, "%.3f", kClamp) &&
             std::isfinite(a[0] + a[1] + a[2]))
-            l.constant_atten = a[0], l.linear_atten = a[1], l.quadratic_atten = a[2], edited = true;
+            l.constant_atten = decimal(a[0]), l.linear_atten = decimal(a[1]),
+            l.quadratic_atten = decimal(a[2]), edited = true;
     }
     if (l.kind == LightKind::Directional || l.kind == LightKind::Spot) {
         const Vec3 unit = glm::normalize(l.direction);

@@ -1,6 +1,7 @@
 #include "viewer.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <iostream>
 
@@ -54,6 +55,14 @@ void apply_edits(const SceneEdits& edits, bool headlight, int trace_w, int trace
 }
 
 }  // namespace
+
+double float_as_decimal(float f) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, f);
+    double d = f;
+    std::from_chars(buf, r.ptr, d);
+    return d;
+}
 
 LightDesc headlight_desc(const OrbitCamera& camera) {
     LightDesc l;
@@ -288,7 +297,7 @@ void ViewerState::save_scene(const std::string& path) const {
     desc.lights.clear();
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) desc.lights.push_back(edits.lights[i]);
-    write_file_atomic(path, write_scene(desc));  // a temporary name, then renamed
+    write_file_atomic(path, write_scene_for(desc, path));  // a temporary name, then renamed
 }
 
 void ViewerState::save_trace(const std::string& path) const {

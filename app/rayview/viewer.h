@@ -65,6 +65,10 @@ struct ViewSettings {
 /// another WHAT.
 bool edit_light(const std::string& what, double a, double b, double c, LightDesc* l);
 
+/// The double a float widget's value stands for: the shortest decimal that reads back as the
+/// float (0.3f gives 0.3, not 0.30000001192092896), so a saved scene holds the numbers shown.
+double float_as_decimal(float f);
+
 /// The headlight: a white directional light along the view of `camera`.
 LightDesc headlight_desc(const OrbitCamera& camera);
 

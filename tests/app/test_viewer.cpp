@@ -6,6 +6,7 @@
 #include <variant>
 
 #include "rt/format/parser.h"
+#include "rt/format/writer.h"
 #include "rt/util/file_io.h"
 #include "test_util.h"
 #include "viewer.h"
@@ -329,6 +330,21 @@ TEST(Viewer, NewLightsOfEveryKindStartAtTheEyeAlongTheView) {
     v.set_trace_size(16, 12);
     restart(v);
     EXPECT_EQ(v.loaded->scene.lights.size(), before + 3);
+}
+
+// Saved scenes hold the numbers the panel showed (issue 14: 0.30000001192092896).
+TEST(Viewer, FloatWidgetValuesAreTheirShortestDecimal) {
+    EXPECT_EQ(float_as_decimal(0.3f), 0.3);
+    EXPECT_EQ(float_as_decimal(1.15f), 1.15);
+    EXPECT_EQ(float_as_decimal(-2.5f), -2.5);
+    EXPECT_EQ(float_as_decimal(1e-7f), 1e-7);
+    EXPECT_EQ(static_cast<float>(float_as_decimal(0.1234567f)), 0.1234567f);
+    LightDesc l;
+    l.position = Vec3(float_as_decimal(0.3f), 0, 0);
+    SceneDesc d;
+    d.files.emplace_back();
+    d.lights.push_back(l);
+    EXPECT_NE(write_scene(d).find(" 0.3 0 0"), std::string::npos) << write_scene(d);
 }
 
 }  // namespace

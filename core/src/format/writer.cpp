@@ -11,7 +11,8 @@ namespace {
 
 class Writer {
 public:
-    Writer(const SceneDesc& desc, bool absolute) : m_desc(desc), m_absolute(absolute) {}
+    Writer(const SceneDesc& desc, bool absolute, std::string base = "")
+        : m_desc(desc), m_absolute(absolute), m_base(std::move(base)) {}
 
     std::string run() {
         m_out += "// Written by rayview/raytrace (";
@@ -309,8 +310,12 @@ private:
     std::string path(const std::string& p) const {
         if (!m_absolute) return p;
         std::error_code ec;
-        const auto abs = std::filesystem::absolute(p, ec);
-        return ec ? p : abs.lexically_normal().string();
+        const auto abs = std::filesystem::absolute(p, ec).lexically_normal();
+        if (ec) return p;
+        if (m_base.empty()) return abs.string();
+        // Relative to the saved file's directory, where the parser looks first (spec §13.2).
+        const auto rel = abs.lexically_relative(m_base);
+        return rel.empty() ? abs.string() : rel.string();
     }
 
     void camera() {
@@ -382,6 +387,7 @@ private:
 
     const SceneDesc& m_desc;
     bool m_absolute;
+    std::string m_base;  // the directory paths are written relative to, "" for absolute
     std::string m_out;
     std::string m_indent;  // V3 lists are indented
 };
@@ -391,6 +397,14 @@ private:
 std::string write_scene(const SceneDesc& desc, bool absolute_paths) {
     if (desc.files.empty()) return {};
     return Writer(desc, absolute_paths).run();
+}
+
+std::string write_scene_for(const SceneDesc& desc, const std::string& saved_path) {
+    if (desc.files.empty()) return {};
+    std::error_code ec;
+    auto dir = std::filesystem::absolute(saved_path, ec).lexically_normal().parent_path();
+    if (ec) return write_scene(desc);
+    return Writer(desc, true, dir.string()).run();
 }
 
 }  // namespace rt

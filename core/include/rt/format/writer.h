@@ -18,5 +18,8 @@ namespace rt {
 /// #dynamic_affine NAME for joints; every list the parser folds (scene_desc.h) is written so that
 /// it folds back the same way, an empty CSG operand as an empty #shape_list_begin/_end.
 std::string write_scene(const SceneDesc& desc, bool absolute_paths = true);
+/// The same text for saving at `saved_path`: texture and included file paths relative to its
+/// directory (where the parser looks first), so the saved scene and its files can move together.
+std::string write_scene_for(const SceneDesc& desc, const std::string& saved_path);
 
 }  // namespace rt
