@@ -17,6 +17,7 @@ struct OrbitCamera {
     double distance = 1, yaw = 0, pitch = 0;  // radians; yaw about +y, from -z
     double roll = 0;  // radians: the up vector turned about the view, towards the right
     double half_height = kPi / 6;
+    bool operator==(const OrbitCamera&) const = default;
 
     /// Takes a file's camera: same eye, view direction, up vector and angle (the framing
     /// raytrace shows); the target lies along the view at the distance of the scene's centre.

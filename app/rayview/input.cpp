@@ -107,6 +107,16 @@ bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const Pa
     if (!io.WantCaptureKeyboard)
         edited |= fly_camera(v.edits.camera, v.loaded->scene.world_bounds, frame_s);
     if (edited) v.mark_edited();
+    // Undo and redo (text fields keep their own): Ctrl+Z, Ctrl+Shift+Z or Ctrl+Y.
+    if (!io.WantTextInput && io.KeyCtrl) {
+        if (ImGui::IsKeyPressed(GLFW_KEY_Z, false)) {
+            if (io.KeyShift)
+                v.redo();
+            else
+                v.undo();
+        }
+        if (ImGui::IsKeyPressed(GLFW_KEY_Y, false)) v.redo();
+    }
     return edited;
 }
 

@@ -150,6 +150,8 @@ int main(int argc, char** argv) {
             if (viewer.loaded) {
                 const PaneHover hover = panes->show(viewer, layout, frame_s);
                 handle_input(viewer, input, io, layout, hover, frame_s);
+                // A drag or a widget in use is one undo step when it ends.
+                viewer.track_history(ImGui::IsAnyItemActive() || ImGui::IsAnyMouseDown());
                 if (viewer.restart_if_due()) script.restarted();
                 panes->draw(viewer);
             }

@@ -142,9 +142,13 @@ bool file_panel(ViewerState& v, PanelState& ui) {
         ui.path_for = v.loaded->id;
     }
     bool opened = false;
-    if (ImGui::InputText("scene", ui.path_buf, sizeof ui.path_buf)) ui.completing = true;
+    bool open_typed = false;  // Enter in the field, Open, or a file picked from the completions
+    if (ImGui::InputText("scene", ui.path_buf, sizeof ui.path_buf,
+                         ImGuiInputTextFlags_EnterReturnsTrue))
+        open_typed = true;
+    if (ImGui::IsItemEdited()) ui.completing = true;
     // Completion: the .ray files (and folders) that start with what is typed.
-    if (ui.completing) {
+    if (ui.completing && !open_typed) {
         if (ui.completed_for != ui.path_buf) {  // list the folder only when the text changes
             ui.completed_for = ui.path_buf;
             ui.completion_list = completions(ui.path_buf);
@@ -153,11 +157,16 @@ bool file_panel(ViewerState& v, PanelState& ui) {
             if (ImGui::Selectable(c.c_str())) {
                 std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", c.c_str());
                 ui.completing = c.back() == '/';  // a folder: keep completing inside it
+                open_typed = !ui.completing;      // a file: open it
+                break;
             }
     }
-    if (ImGui::Button("Open")) {
+    open_typed |= ImGui::Button("Open");
+    if (open_typed) {
         ui.completing = false;
         opened |= v.open(ui.path_buf, false);
+        if (!opened && v.loaded)  // the error is shown; the field shows the scene that is open
+            std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.loaded->path.c_str());
     }
     ImGui::SameLine();
     if (ImGui::Button("Reload") && v.loaded) opened |= v.reload();
@@ -209,6 +218,10 @@ bool settings_panel(ViewerState& v, const PaneLayout& layout) {
                                                                static_cast<double>(layout.image_h));
         edited = true;
     }
+    ImGui::SameLine();
+    if (ImGui::Button("Undo")) v.undo();
+    ImGui::SameLine();
+    if (ImGui::Button("Redo")) v.redo();
     ImGui::SameLine();
     if (ImGui::Button("Home") || (keys && ImGui::IsKeyPressed(GLFW_KEY_HOME))) {
         v.edits.camera.set_from(v.loaded->file_camera, v.loaded->scene.world_bounds);

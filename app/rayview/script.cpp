@@ -206,6 +206,10 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
     } else if (l.command == "depth") {
         s.render.max_depth = whole(l, 0, 1, 64);
         v.mark_edited();
+    } else if (l.command == "undo") {
+        if (!v.undo()) throw std::runtime_error("undo: nothing to undo");
+    } else if (l.command == "redo") {
+        if (!v.redo()) throw std::runtime_error("redo: nothing to redo");
     } else if (l.command == "threads") {
         s.render.threads = whole(l, 0, 0, 256);
         v.mark_edited();

@@ -6,7 +6,7 @@
 // orbit DYAW DPITCH | open PATH | light I colour|ambient|diffuse|specular R G B |
 // light I radius R | shadows on|off |
 // boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | resolution SCALE | depth D |
-// markers on|off | threads N | screenshot PATH.
+// markers on|off | threads N | undo | redo | screenshot PATH.
 #pragma once
 
 #include <chrono>

@@ -36,6 +36,20 @@ bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& 
     return true;
 }
 
+// Two undo states alike in what the user edits (not the trace's size, which follows the pane,
+// nor the panel's width and scale).
+bool same_state(const UndoState& a, const UndoState& b) {
+    ViewSettings x = a.settings, y = b.settings;
+    for (ViewSettings* s : {&x, &y}) {
+        s->render.width = s->render.height = 0;
+        s->panel_w = 0;
+        s->ui_scale = 1;
+        s->show_panel = true;
+    }
+    return x == y && a.edits.camera == b.edits.camera && a.edits.light_on == b.edits.light_on &&
+           same_lights(a.edits.lights, b.edits.lights);
+}
+
 bool same_camera(const CameraDesc& a, const CameraDesc& b) {
     return a.position == b.position && a.direction == b.direction && a.up == b.up &&
            a.half_height_angle_rad == b.half_height_angle_rad;
@@ -168,6 +182,7 @@ ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTe
     bool textures_missing = false;
     loaded = load_scene(path, &message, missing, &textures_missing);
     if (textures_missing) checker_offer = path;
+    reset_history();
     if (!loaded) {  // keeps running with the message shown, and watches the file
         message_is_error = true;
         m_watched = path;
@@ -188,6 +203,55 @@ void ViewerState::on_loaded() {
     edits.light_on.assign(edits.lights.size(), 1);
     loaded->file_time = modified(loaded->path);
     mark_edited();
+    reset_history();
+}
+
+void ViewerState::reset_history() {
+    m_undo.clear();
+    m_redo.clear();
+    m_committed = current_state();
+}
+
+void ViewerState::track_history(bool gesture) {
+    if (gesture || same_state(current_state(), m_committed)) return;
+    m_undo.push_back(std::move(m_committed));
+    if (m_undo.size() > 500) m_undo.erase(m_undo.begin());
+    m_redo.clear();
+    m_committed = current_state();
+}
+
+void ViewerState::restore(const UndoState& s) {
+    const ViewSettings keep = settings;  // what follows the window, not the user's edits
+    edits = s.edits;
+    settings = s.settings;
+    settings.render.width = keep.render.width;
+    settings.render.height = keep.render.height;
+    settings.panel_w = keep.panel_w;
+    settings.ui_scale = keep.ui_scale;
+    settings.show_panel = keep.show_panel;
+    m_committed = current_state();
+    preview_stale = true;
+    mark_edited();
+}
+
+bool ViewerState::undo() {
+    track_history(false);  // an edit not yet a step becomes one first
+    if (m_undo.empty()) return false;
+    m_redo.push_back(current_state());
+    const UndoState back = std::move(m_undo.back());
+    m_undo.pop_back();
+    restore(back);
+    return true;
+}
+
+bool ViewerState::redo() {
+    track_history(false);
+    if (m_redo.empty()) return false;
+    m_undo.push_back(current_state());
+    const UndoState forward = std::move(m_redo.back());
+    m_redo.pop_back();
+    restore(forward);
+    return true;
 }
 
 bool ViewerState::open(std::string file, bool keep_camera) {

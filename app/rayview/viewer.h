@@ -57,6 +57,13 @@ struct ViewSettings {
     // The render's size, as raytrace's --width and --height: both panes keep its aspect.
     int image_w = 640, image_h = 480;
     double aspect() const { return static_cast<double>(image_w) / static_cast<double>(image_h); }
+    bool operator==(const ViewSettings&) const = default;
+};
+
+/// What undo and redo restore: every edit of the camera, the lights and the settings.
+struct UndoState {
+    SceneEdits edits;
+    ViewSettings settings;
 };
 
 /// A light edit (the script's `light` command) WHAT (colour: a V0/V1 light's one colour, which sets
@@ -143,6 +150,17 @@ struct ViewerState {
     /// Less than a quarter second since the last restart: the view is moving.
     bool moving() const;
 
+    // ---- undo and redo ----
+    /// Once a frame: an edit made since the last step becomes an undo step once no gesture is
+    /// under way (`gesture`: a mouse button held or a widget active), so a drag is one step.
+    void track_history(bool gesture);
+    /// Back to the state before the last step (the current one goes to redo), or forward again.
+    /// False when there is nothing to undo or redo. Opening a file starts a new history.
+    bool undo();
+    bool redo();
+    size_t undo_steps() const { return m_undo.size(); }
+    size_t redo_steps() const { return m_redo.size(); }
+
     std::unique_ptr<LoadedScene> loaded;  // null until a file opens
     SceneEdits edits;
     ViewSettings settings;
@@ -171,6 +189,9 @@ private:
     bool open_as(std::string file, bool keep_camera, MissingTextures missing);
     void on_loaded();
     void restart();
+    UndoState current_state() const { return {edits, settings}; }
+    void restore(const UndoState& s);
+    void reset_history();
 
     bool m_edited = true;
     bool m_print_left_out = false;
@@ -182,6 +203,8 @@ private:
     Clock::time_point m_served_input_time = m_input_time;  // the edit the running trace answers
     Clock::time_point m_change_time{};                     // the last restart
     Clock::time_point m_last_check = Clock::now();         // the file's time was read
+    std::vector<UndoState> m_undo, m_redo;
+    UndoState m_committed;  // the state the last undo step ends in
     std::string m_watched;  // the file that failed to open at start-up, while none is open
     std::filesystem::file_time_type m_watched_time;
 };

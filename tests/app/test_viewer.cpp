@@ -347,5 +347,51 @@ TEST(Viewer, FloatWidgetValuesAreTheirShortestDecimal) {
     EXPECT_NE(write_scene(d).find(" 0.3 0 0"), std::string::npos) << write_scene(d);
 }
 
+// Undo and redo of the camera, a light and a setting; a gesture is one step; a new edit drops
+// the redo steps; opening a file starts a new history.
+TEST(Viewer, UndoAndRedoEveryEdit) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    const UndoState start{v.edits, v.settings};
+    EXPECT_FALSE(v.undo());
+    v.edits.camera.orbit(0.2, 0);  // a drag over three frames: one step
+    v.track_history(true);
+    v.edits.camera.orbit(0.2, 0);
+    v.track_history(true);
+    v.track_history(false);
+    const OrbitCamera turned = v.edits.camera;
+    v.edits.lights[0].set_colour(Vec3(0, 0, 3));
+    v.track_history(false);
+    v.settings.render.max_depth = 2;
+    v.settings.render.width = 99;  // the trace's size follows the pane: not an edit
+    v.track_history(false);
+    EXPECT_EQ(v.undo_steps(), 3u);
+
+    ASSERT_TRUE(v.undo());  // the depth
+    EXPECT_EQ(v.settings.render.max_depth, 5);
+    EXPECT_EQ(v.settings.render.width, 99);
+    EXPECT_TRUE(v.edit_pending());
+    ASSERT_TRUE(v.undo());  // the colour
+    EXPECT_EQ(v.edits.lights[0].diffuse, start.edits.lights[0].diffuse);
+    EXPECT_EQ(v.edits.camera, turned);
+    ASSERT_TRUE(v.undo());  // the whole drag
+    EXPECT_EQ(v.edits.camera, start.edits.camera);
+    EXPECT_FALSE(v.undo());
+
+    ASSERT_TRUE(v.redo());
+    EXPECT_EQ(v.edits.camera, turned);
+    ASSERT_TRUE(v.redo());
+    EXPECT_EQ(v.edits.lights[0].diffuse, Vec3(0, 0, 3));
+    v.edits.light_on[1] = 0;  // a new edit: the depth's redo is gone
+    v.track_history(false);
+    EXPECT_FALSE(v.redo());
+    ASSERT_TRUE(v.undo());
+    EXPECT_EQ(v.edits.light_on[1], 1);
+
+    ASSERT_TRUE(v.open(kLights, false));
+    EXPECT_EQ(v.undo_steps(), 0u);
+    EXPECT_FALSE(v.undo());
+}
+
 }  // namespace
 }  // namespace rt::view

@@ -45,6 +45,7 @@ struct RenderSettings {
     bool specialize = true;
 
     bool stochastic() const { return light_radius > 0 || aperture > 0 || roughness > 0; }
+    bool operator==(const RenderSettings&) const = default;
 };
 
 /// Accumulated samples. Sums are doubles so millions of samples stay exact enough; the sums of
