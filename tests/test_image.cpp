@@ -19,6 +19,25 @@ TEST(Image, ByteConversionRoundsAndClamps) {
     EXPECT_EQ(to_byte(std::nan("")), 0);
 }
 
+TEST(Image, DisplayTransformScalesAndTonemaps) {
+    Image im(2, 1);
+    im.set(0, 0, Vec3(0.25, 1.0, 3.0));
+    im.set(1, 0, Vec3(0.0, -1.0, 100.0));
+    const Image same = display_transform(im, 0, Tonemap::Clamp);
+    EXPECT_EQ(same.rgb, im.rgb);
+    const Image brighter = display_transform(im, 1, Tonemap::Clamp);
+    EXPECT_EQ(brighter.at(0, 0), Vec3(0.5, 2.0, 6.0));
+    const Image reinhard = display_transform(im, 0, Tonemap::Reinhard);
+    EXPECT_DOUBLE_EQ(reinhard.at(0, 0).y, 0.5);
+    EXPECT_DOUBLE_EQ(reinhard.at(0, 0).z, 0.75);
+    EXPECT_EQ(reinhard.at(1, 0).y, 0.0);
+    const Image aces = display_transform(im, 0, Tonemap::Aces);
+    EXPECT_EQ(aces.at(1, 0).x, 0.0);
+    EXPECT_GT(aces.at(1, 0).z, 0.99);  // highlights roll off below 1
+    EXPECT_LE(aces.at(1, 0).z, 1.0);
+    EXPECT_LT(aces.at(0, 0).x, aces.at(0, 0).y);  // monotonic
+}
+
 TEST(Image, PfmKeepsFloatsAndRowOrder) {
     Image img(3, 2);
     img.set(0, 0, Vec3(2.5, -1, 0.125));  // top-left, unclamped

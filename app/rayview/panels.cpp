@@ -206,27 +206,61 @@ bool file_panel(ViewerState& v, PanelState& ui) {
     return opened;
 }
 
-bool settings_panel(ViewerState& v, const PaneLayout& layout) {
+bool camera_panel(ViewerState& v, const PaneLayout& layout) {
     bool edited = false;
     const bool keys = !ImGui::GetIO().WantCaptureKeyboard;
+    OrbitCamera& cam = v.edits.camera;
     ImGui::Separator();
     ImGui::TextWrapped(
         "Camera: drag orbits, shift/middle drag pans, wheel dollies, "
-        "right drag looks around, WASD/QE fly");
+        "right drag looks around, WASD/QE fly (F1: every shortcut)");
     if (ImGui::Button("Frame (F)") || (keys && ImGui::IsKeyPressed(GLFW_KEY_F))) {
-        v.edits.camera.frame(v.loaded->scene.world_bounds, static_cast<double>(layout.image_w) /
-                                                               static_cast<double>(layout.image_h));
+        cam.frame(v.loaded->scene.world_bounds,
+                  static_cast<double>(layout.image_w) / static_cast<double>(layout.image_h));
+        edited = true;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Home") || (keys && ImGui::IsKeyPressed(GLFW_KEY_HOME))) {
+        cam.set_from(v.loaded->file_camera, v.loaded->scene.world_bounds);
         edited = true;
     }
     ImGui::SameLine();
     if (ImGui::Button("Undo")) v.undo();
     ImGui::SameLine();
     if (ImGui::Button("Redo")) v.redo();
+    // The field of view as the spec's half-height angle, shown in degrees.
+    float ha = static_cast<float>(cam.half_height * 180 / kPi);
+    if (ImGui::SliderFloat("half-height angle", &ha, 1.0f, 85.0f, "%.1f deg", kClamp) &&
+        std::isfinite(ha))
+        cam.half_height = decimal(ha) * kPi / 180, edited = true;
+    RenderSettings& r = v.settings.render;
+    edited |= slider("aperture", &r.aperture, 0.0f, 0.5f);
+    float focus = static_cast<float>(r.focus_distance);
+    if (ImGui::DragFloat("focus distance", &focus, 0.05f, 0.0f, 1e6f,
+                         focus > 0 ? "%.3f" : "scene centre", kClamp) &&
+        std::isfinite(focus))
+        r.focus_distance = decimal(focus), edited = true;
+    if (ImGui::Button("Set as the scene's camera")) v.set_file_camera();
     ImGui::SameLine();
-    if (ImGui::Button("Home") || (keys && ImGui::IsKeyPressed(GLFW_KEY_HOME))) {
-        v.edits.camera.set_from(v.loaded->file_camera, v.loaded->scene.world_bounds);
-        edited = true;
+    if (ImGui::Button("Bookmark")) v.bookmarks.push_back(cam);
+    for (size_t i = 0; i < v.bookmarks.size(); ++i) {
+        ImGui::PushID(static_cast<int>(i));
+        if (ImGui::Button(("view " + std::to_string(i + 1)).c_str()))
+            cam = v.bookmarks[i], edited = true;
+        ImGui::SameLine();
+        if (ImGui::SmallButton("x")) {
+            v.bookmarks.erase(v.bookmarks.begin() + static_cast<long>(i));
+            ImGui::PopID();
+            break;
+        }
+        if (i + 1 < v.bookmarks.size() && (i + 1) % 4 != 0) ImGui::SameLine();
+        ImGui::PopID();
     }
+    return edited;
+}
+
+bool settings_panel(ViewerState& v) {
+    bool edited = false;
     ViewSettings& s = v.settings;
     RenderSettings& r = s.render;
     ImGui::Separator();
@@ -249,8 +283,15 @@ bool settings_panel(ViewerState& v, const PaneLayout& layout) {
         s.resolution_scale = scale, edited = true;
     edited |= slider("threads (0 = all)", &r.threads, 0, 64);
     edited |= slider("light radius", &r.light_radius, 0.0f, 2.0f);
-    edited |= slider("aperture", &r.aperture, 0.0f, 0.5f);
     edited |= slider("roughness", &r.roughness, 0.0f, 1.0f);
+    // Display only: the trace is not rendered again.
+    float exposure = s.exposure;
+    if (ImGui::SliderFloat("exposure", &exposure, -8.0f, 8.0f, "%+.1f stops", kClamp) &&
+        std::isfinite(exposure))
+        s.exposure = static_cast<float>(decimal(exposure));
+    int tonemap = static_cast<int>(s.tonemap);
+    if (ImGui::Combo("tonemap", &tonemap, "clamp (as raytrace)\0Reinhard\0ACES filmic\0"))
+        s.tonemap = static_cast<Tonemap>(tonemap);
     float ui_scale = s.ui_scale;
     if (ImGui::SliderFloat("UI scale", &ui_scale, 0.75f, 2.5f, "%.2f", kClamp) &&
         std::isfinite(ui_scale))
@@ -383,7 +424,8 @@ void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 10);  // room for the labels
     file_panel(v, ui);                                 // opening a file marks its own edit
     if (v.loaded) {
-        bool edited = settings_panel(v, layout);
+        bool edited = camera_panel(v, layout);
+        edited |= settings_panel(v);
         edited |= lights_panel(v);
         if (edited) v.mark_edited();
         status_panel(v, preview_defines, frame_s);

@@ -29,8 +29,11 @@ std::vector<std::string> completions(const std::string& typed);
 /// The scene's path with completion, Open, Reload, the recent files, the last message, the
 /// offer to open a file whose textures are missing with checker stand-ins, and which stand in.
 bool file_panel(ViewerState& v, PanelState& ui);
-/// Camera buttons, layout and overlays, and the renderer's settings.
-bool settings_panel(ViewerState& v, const PaneLayout& layout);
+/// The camera: frame, home, undo, redo, the half-height angle, aperture and focus distance,
+/// setting the view as the scene's camera, bookmarks.
+bool camera_panel(ViewerState& v, const PaneLayout& layout);
+/// Layout and overlays, and the renderer's settings.
+bool settings_panel(ViewerState& v);
 /// Every light: on or off, its colour (V0/V1) or three colours (V3: ambient, diffuse, specular),
 /// a sphere light's radius, position, attenuation, direction, spot cone; add, remove.
 bool lights_panel(ViewerState& v);

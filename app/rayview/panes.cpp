@@ -92,7 +92,14 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
 }
 
 void Panes::draw(ViewerState& v) {
-    if (v.take_trace_image()) m_trace.upload(v.last_trace);
+    // A new trace, or another exposure or tonemap of the last one (display only).
+    const bool new_trace = v.take_trace_image();
+    if (new_trace || v.settings.exposure != m_shown_exposure ||
+        v.settings.tonemap != m_shown_tonemap) {
+        if (v.last_trace.width > 0) m_trace.upload(v.displayed_trace());
+        m_shown_exposure = v.settings.exposure;
+        m_shown_tonemap = v.settings.tonemap;
+    }
     const LoadedScene& loaded = *v.loaded;
     if (loaded.id != m_loaded_id) {
         m_preview.load(loaded.scene);

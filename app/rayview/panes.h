@@ -51,9 +51,11 @@ public:
 private:
     Preview m_preview;
     ImageTexture m_trace;
-    RenderTarget m_target;      // the preview is drawn here, shown as an image
-    double m_moving_div = 2.0;  // the preview's resolution divisor while the view moves
-    int m_loaded_id = 0;        // the scene m_preview holds (LoadedScene::id)
+    RenderTarget m_target;       // the preview is drawn here, shown as an image
+    double m_moving_div = 2.0;   // the preview's resolution divisor while the view moves
+    float m_shown_exposure = 0;  // what m_trace was uploaded with
+    Tonemap m_shown_tonemap = Tonemap::Clamp;
+    int m_loaded_id = 0;  // the scene m_preview holds (LoadedScene::id)
     // What m_target holds, so it is redrawn only when that changes.
     bool m_drawn_lights = true;
     int m_drawn_depth = -1, m_drawn_group_depth = -1, m_drawn_w = 0, m_drawn_h = 0;

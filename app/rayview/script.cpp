@@ -206,6 +206,16 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
     } else if (l.command == "depth") {
         s.render.max_depth = whole(l, 0, 1, 64);
         v.mark_edited();
+    } else if (l.command == "exposure") {
+        s.exposure = static_cast<float>(number(l, 0, -8, 8));
+    } else if (l.command == "tonemap" && !l.args.empty()) {
+        const std::map<std::string, Tonemap> names{
+            {"clamp", Tonemap::Clamp}, {"reinhard", Tonemap::Reinhard}, {"aces", Tonemap::Aces}};
+        const auto it = names.find(l.args[0]);
+        if (it == names.end()) throw std::runtime_error("tonemap: clamp, reinhard or aces");
+        s.tonemap = it->second;
+    } else if (l.command == "save-image" && !l.args.empty()) {
+        v.save_trace(l.args[0]);
     } else if (l.command == "undo") {
         if (!v.undo()) throw std::runtime_error("undo: nothing to undo");
     } else if (l.command == "redo") {

@@ -6,7 +6,8 @@
 // orbit DYAW DPITCH | open PATH | light I colour|ambient|diffuse|specular R G B |
 // light I radius R | shadows on|off |
 // boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | resolution SCALE | depth D |
-// markers on|off | threads N | undo | redo | screenshot PATH.
+// markers on|off | threads N | undo | redo | exposure STOPS | tonemap clamp|reinhard|aces |
+// save-image PATH | screenshot PATH.
 #pragma once
 
 #include <chrono>

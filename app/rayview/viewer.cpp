@@ -366,7 +366,12 @@ void ViewerState::save_scene(const std::string& path) const {
 
 void ViewerState::save_trace(const std::string& path) const {
     if (last_trace.width == 0) throw std::runtime_error("nothing traced yet");
-    save_image(last_trace, path);
+    save_image(image_format_from_path(path) == ImageFormat::Pfm ? last_trace : displayed_trace(),
+               path);
+}
+
+Image ViewerState::displayed_trace() const {
+    return display_transform(last_trace, settings.exposure, settings.tonemap);
 }
 
 void ViewerState::set_trace_size(int w, int h) {
@@ -387,6 +392,12 @@ void ViewerState::add_light(LightKind kind) {
     edits.lights.push_back(l);
     edits.light_on.push_back(1);
     mark_edited();
+}
+
+void ViewerState::set_file_camera() {
+    loaded->file_camera = edits.camera.desc();
+    loaded->desc.camera = loaded->file_camera;
+    note("the view is the scene's camera now (Save scene writes it)");
 }
 
 void ViewerState::keep_headlight() {

@@ -54,6 +54,9 @@ struct ViewSettings {
     float panel_w = 380;            // its width in pixels (the user resizes it; 0: collapsed)
     float ui_scale = 1;             // fonts and panel, times the monitor's content scale
     bool headlight = true;          // a scene without lights is lit along the view (never saved)
+    // How the trace is shown and saved to 8-bit files (display only: no re-render).
+    float exposure = 0;  // stops
+    Tonemap tonemap = Tonemap::Clamp;
     // The render's size, as raytrace's --width and --height: both panes keep its aspect.
     int image_w = 640, image_h = 480;
     double aspect() const { return static_cast<double>(image_w) / static_cast<double>(image_h); }
@@ -123,8 +126,11 @@ struct ViewerState {
     void poll_files();
     /// The description with the viewer's camera and lights, as a .ray file. Throws.
     void save_scene(const std::string& path) const;
-    /// The latest traced image. Throws.
+    /// The latest traced image: 8-bit formats with the exposure and tonemap shown, PFM linear.
+    /// Throws.
     void save_trace(const std::string& path) const;
+    /// The latest trace as shown: exposure and tonemap applied.
+    Image displayed_trace() const;
 
     // ---- edits and the one restart path ----
     /// Something the trace shows changed: restart_if_due() restarts the trace.
@@ -139,6 +145,8 @@ struct ViewerState {
     bool headlight_on() const { return settings.headlight && edits.lights.empty(); }
     /// Keeps the headlight as a light of the scene (saved with it).
     void keep_headlight();
+    /// The view becomes the scene's camera: Home returns to it and the scene saves with it.
+    void set_file_camera();
     void remove_light(size_t i);
     /// The restart policy: with an edit pending, restarts once the running trace's first pass is
     /// on screen or 100 ms after the last restart, not every frame (otherwise no traced image
@@ -173,6 +181,7 @@ struct ViewerState {
     std::string reload_conflict;  // a reload kept edits of what the file changed too, else ""
     MissingTextures missing_textures = MissingTextures::Error;  // how files open
     std::vector<std::string> recent;                            // files opened, most recent first
+    std::vector<OrbitCamera> bookmarks;                         // views the user kept
     std::vector<std::string> dropped;  // files dropped onto the window, picked up by poll_files
 
     Tracer tracer;  // after `loaded`: stops before the scene it traces dies

@@ -393,5 +393,32 @@ TEST(Viewer, UndoAndRedoEveryEdit) {
     EXPECT_FALSE(v.undo());
 }
 
+// Exposure and tonemap change what is shown and what 8-bit files hold, never the trace nor a
+// PFM (linear), and they are no edit for the trace.
+TEST(Viewer, ExposureAndTonemapAreForDisplayAndEightBitFiles) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.last_trace = Image(2, 1);
+    v.last_trace.set(0, 0, Vec3(0.25, 0.5, 1.0));
+    v.last_trace.set(1, 0, Vec3(2.0, 0.0, 0.1));
+    v.settings.exposure = 1;
+    v.settings.tonemap = Tonemap::Reinhard;
+    const std::string png = ::testing::TempDir() + "rt_viewer_exposed.png";
+    const std::string pfm = ::testing::TempDir() + "rt_viewer_exposed.pfm";
+    v.save_trace(png);
+    v.save_trace(pfm);
+    TextureImage shown;
+    std::string error;
+    ASSERT_TRUE(load_texture_image(png, &shown, &error)) << error;
+    EXPECT_EQ(shown.rgb[0], to_byte(0.5 / 1.5));  // 0.25 * 2, then x / (1 + x)
+    EXPECT_EQ(shown.rgb[3], to_byte(4.0 / 5.0));
+    const Image linear = load_pfm(pfm);
+    ASSERT_EQ(linear.rgb.size(), v.last_trace.rgb.size());
+    for (size_t i = 0; i < linear.rgb.size(); ++i)
+        EXPECT_FLOAT_EQ(static_cast<float>(linear.rgb[i]), static_cast<float>(v.last_trace.rgb[i]));
+    v.track_history(false);  // a display setting is an undo step, not a restart
+    EXPECT_EQ(v.undo_steps(), 1u);
+}
+
 }  // namespace
 }  // namespace rt::view

@@ -1,5 +1,6 @@
 #include "rt/image/image.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -209,6 +210,28 @@ Image load_pfm(const std::string& path) {
     }
     if (!f) throw std::runtime_error("'" + path + "' is truncated");
     return image;
+}
+
+Image display_transform(const Image& linear, double exposure_stops, Tonemap tonemap) {
+    const double scale = std::exp2(exposure_stops);
+    Image out = linear;
+    for (double& c : out.rgb) {
+        const double x = c * scale;
+        switch (tonemap) {
+            case Tonemap::Clamp:
+                c = x;  // to_byte() clamps
+                break;
+            case Tonemap::Reinhard:
+                c = x > 0 ? x / (1 + x) : 0.0;
+                break;
+            case Tonemap::Aces:  // Narkowicz's fit of the ACES filmic curve
+                c = x > 0 ? std::clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0,
+                                       1.0)
+                          : 0.0;
+                break;
+        }
+    }
+    return out;
 }
 
 size_t count_non_finite(const Image& image) {

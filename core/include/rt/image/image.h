@@ -64,6 +64,14 @@ void save_image(const Image& image, const std::string& path);
 /// Reads a PFM written by save_image (or any 3-channel PFM). Throws std::runtime_error.
 Image load_pfm(const std::string& path);
 
+/// How an image is shown and written to 8-bit files: Clamp is spec §9's (what raytrace writes),
+/// Reinhard c / (1 + c), Aces a filmic curve (Narkowicz's fit).
+enum class Tonemap { Clamp, Reinhard, Aces };
+
+/// The image scaled by 2^exposure_stops and tonemapped, for display and 8-bit output (float
+/// outputs stay linear). Clamp with 0 stops returns the image unchanged.
+Image display_transform(const Image& linear, double exposure_stops, Tonemap tonemap);
+
 /// Number of non-finite values in the image (spec §9: must not occur).
 size_t count_non_finite(const Image& image);
 
