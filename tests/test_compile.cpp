@@ -78,3 +78,36 @@ TEST(Compile, WorldBoundsCoverEveryInstance) {
 
 }  // namespace
 }  // namespace rt
+
+namespace rt {
+namespace {
+
+// The viewer points at the directive of a picked primitive.
+TEST(Compile, RecordsWhereEachPrimitiveWasRead) {
+    Diagnostics diag;
+    const SceneDesc d = parse_scene_string(
+        "#material 0 0 0  0 0 0  1 1 1  0 0 0  1  0 0 0  1  -1 !chalk!\n"
+        "#shape_sphere 0  0 0 0  1\n"
+        "\n"
+        "#shape_box 0  3 0 0  1 1 1\n",
+        "picked.ray", diag);
+    CompileReport report;
+    report.record_locations = true;
+    const RenderScene scene = compile_scene(d, &report);
+    ASSERT_EQ(report.prim_locs.size(), scene.sets.size());
+    const GeometrySet& set = scene.sets[0];
+    ASSERT_EQ(report.prim_locs[0].size(), set.prims.size());
+    for (size_t i = 0; i < set.prims.size(); ++i) {
+        const int line = set.prims[i].kind == ShapeKind::Sphere ? 2 : 4;
+        EXPECT_EQ(report.prim_locs[0][i].line, line);
+        EXPECT_EQ(report.prim_locs[0][i].str().substr(0, 12), "picked.ray:" + std::to_string(line));
+    }
+    ASSERT_EQ(report.material_names.size(), scene.materials.size());
+    EXPECT_EQ(report.material_names[0], "chalk");
+    CompileReport plain;
+    compile_scene(d, &plain);
+    EXPECT_TRUE(plain.prim_locs.empty());  // only when asked
+}
+
+}  // namespace
+}  // namespace rt

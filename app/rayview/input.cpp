@@ -98,8 +98,22 @@ bool fly_camera(OrbitCamera& orbit, const Bounds3& world, double frame_s) {
 
 }  // namespace
 
+// A click (released without dragging) in either pane picks what is under it.
+void click_to_pick(ViewerState& v, const ImGuiIO& io, const PaneLayout& p, const PaneHover& hover,
+                   const InputState& input) {
+    if (!(hover.preview || hover.trace) || input.dragged_light >= 0) return;
+    if (!ImGui::IsMouseReleased(ImGuiMouseButton_Left) || io.KeyShift) return;
+    const ImVec2 drag = ImGui::GetMouseDragDelta(ImGuiMouseButton_Left, 0.0f);
+    if (drag.x * drag.x + drag.y * drag.y > 9.0f) return;  // that was an orbit
+    const int pane = hover.preview ? 0 : p.panes - 1;
+    const double x = (io.MousePos.x - p.image_x(pane)) / p.image_w;
+    const double y = (io.MousePos.y - p.image_y()) / p.image_h;
+    if (x >= 0 && x < 1 && y >= 0 && y < 1) v.pick(x, y);
+}
+
 bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const PaneLayout& layout,
                   const PaneHover& hover, double frame_s) {
+    click_to_pick(v, io, layout, hover, input);
     bool edited = drag_lights(v, input, io, layout, hover.preview);
     // Camera input only over the panes (never what ImGui's controls want).
     if ((hover.preview || hover.trace) && input.dragged_light < 0)

@@ -147,6 +147,7 @@ int main(int argc, char** argv) {
                 pane_layout(vs.layout, fb_w, fb_h, vs.show_panel ? vs.panel_w : 0, vs.aspect());
             if (vs.show_panel) control_panel(viewer, ui, layout, panes->preview_defines(), frame_s);
             if (vs.show_panel && viewer.loaded) status_bar(viewer, layout);
+            help_overlay(&viewer.show_help);
             if (viewer.loaded) {
                 const PaneHover hover = panes->show(viewer, layout, frame_s);
                 handle_input(viewer, input, io, layout, hover, frame_s);

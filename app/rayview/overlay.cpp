@@ -74,6 +74,12 @@ Vec3 marker_colour(const Vec3& c) {
 
 }  // namespace
 
+std::vector<LineVertex> box_lines(const Bounds3& box, const Vec3& colour) {
+    LineBuilder b;
+    if (!box.empty()) b.box(box.lo, box.hi, colour, nullptr);
+    return std::move(b.out);
+}
+
 std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth) {
     LineBuilder b;
     const Bounds3& w = scene.world_bounds;
@@ -83,14 +89,20 @@ std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int
             const Vec3 c = marker_colour(glm::max(l.diffuse, l.specular));
             const double s = 0.03 * size;
             if (l.kind == LightKind::Directional) {
-                // An arrow along the direction of travel, ending at the scene's centre.
-                const Vec3 end = w.empty() ? Vec3(0.0) : w.centre();
-                const Vec3 start = end - 0.3 * size * l.direction;
-                b.segment(start, end, c);
+                // Parallel rays (unlike a spot's cone): three arrows along the direction of
+                // travel towards the scene's centre, side by side, with a bar across their tails.
+                const Vec3 centre = w.empty() ? Vec3(0.0) : w.centre();
                 Vec3 a1, a2;
                 orthonormal_basis(l.direction, &a1, &a2);
-                for (const Vec3& side : {a1, -a1, a2, -a2})
-                    b.segment(end, end - 2 * s * l.direction + s * side, c);
+                const double gap = 0.06 * size;
+                for (int k = -1; k <= 1; ++k) {
+                    const Vec3 end = centre + (k * gap) * a1;
+                    b.segment(end - 0.3 * size * l.direction, end, c);
+                    for (const Vec3& side : {a1, -a1})
+                        b.segment(end, end - 2 * s * l.direction + s * side, c);
+                }
+                const Vec3 tail = centre - 0.3 * size * l.direction;
+                b.segment(tail - gap * a1, tail + gap * a1, c);
                 continue;
             }
             for (int axis = 0; axis < 3; ++axis) {

@@ -24,6 +24,9 @@ Bounds3 view_bounds(const RenderScene& scene);
 /// boxes) and of their CSG nodes, in world space.
 std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth);
 
+/// The 12 edges of a world-space box (the selection's), in one colour.
+std::vector<LineVertex> box_lines(const Bounds3& box, const Vec3& colour);
+
 /// The boxes of the scene graph's groups (#group_begin blocks, V3 #static_affine and
 /// #dynamic_affine transforms and lists, included files, each instance of an include on its own)
 /// and of its CSG nodes (blue; union: the union of the operands' boxes, intersection: their

@@ -215,7 +215,8 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
         "Camera: drag orbits, shift/middle drag pans, wheel dollies, "
         "right drag looks around, WASD/QE fly (F1: every shortcut)");
     if (ImGui::Button("Frame (F)") || (keys && ImGui::IsKeyPressed(GLFW_KEY_F))) {
-        cam.frame(v.loaded->scene.world_bounds,
+        // The selection, or else the whole scene.
+        cam.frame(v.selection.instance >= 0 ? v.selection.bounds : v.loaded->scene.world_bounds,
                   static_cast<double>(layout.image_w) / static_cast<double>(layout.image_h));
         edited = true;
     }
@@ -225,6 +226,7 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
         edited = true;
     }
     ImGui::SameLine();
+    if (ImGui::Button("Help (F1)")) v.show_help = !v.show_help;
     if (ImGui::Button("Undo")) v.undo();
     ImGui::SameLine();
     if (ImGui::Button("Redo")) v.redo();
@@ -240,6 +242,15 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
                          focus > 0 ? "%.3f" : "scene centre", kClamp) &&
         std::isfinite(focus))
         r.focus_distance = decimal(focus), edited = true;
+    if (v.selection.instance >= 0) {  // what a click in a pane picked
+        const Selection& sel = v.selection;
+        ImGui::TextWrapped("selected: %s, %s\n%s\nat (%.3g, %.3g, %.3g)", sel.shape.c_str(),
+                           sel.material.c_str(), sel.where.c_str(), sel.point.x, sel.point.y,
+                           sel.point.z);
+        if (ImGui::SmallButton("clear selection")) v.selection = {}, v.preview_stale = true;
+    } else {
+        ImGui::TextDisabled("click a shape in a pane to select it");
+    }
     if (ImGui::Button("Set as the scene's camera")) v.set_file_camera();
     ImGui::SameLine();
     if (ImGui::Button("Bookmark")) v.bookmarks.push_back(cam);
@@ -307,6 +318,11 @@ bool lights_panel(ViewerState& v) {
     for (size_t i = 0; i < v.edits.lights.size(); ++i) {
         ImGui::PushID(static_cast<int>(i));
         edited |= light_editor(v.edits.lights[i], &v.edits.light_on[i], three_colours);
+        if (ImGui::Button("frame")) {  // find a light outside the view
+            v.frame_light(i);
+            edited = true;
+        }
+        ImGui::SameLine();
         if (ImGui::Button("remove")) {
             v.remove_light(i);
             edited = true;
@@ -386,6 +402,50 @@ void save_panel(ViewerState& v, PanelState& ui) {
             v.fail(e.what());
         }
     }
+}
+
+void help_overlay(bool* open) {
+    const ImGuiIO& io = ImGui::GetIO();
+    if (!io.WantTextInput && (ImGui::IsKeyPressed(GLFW_KEY_F1, false) ||
+                              (io.KeyShift && ImGui::IsKeyPressed(GLFW_KEY_SLASH, false))))
+        *open = !*open;
+    if (!*open) return;
+    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) *open = false;
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(vp->Size.x * 0.5f, vp->Size.y * 0.5f), ImGuiCond_Always,
+                            ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowBgAlpha(0.92f);
+    if (!ImGui::Begin("Shortcuts (F1 or ? to close)", open,
+                      ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse)) {
+        ImGui::End();
+        return;
+    }
+    static const char* const kRows[][2] = {
+        {"left drag", "orbit about the target"},
+        {"shift + left drag, middle drag", "pan"},
+        {"right drag", "look around (the eye stays)"},
+        {"wheel", "dolly towards the target"},
+        {"W A S D, Q E", "fly forward, left, back, right, down, up"},
+        {"F", "frame the scene"},
+        {"Home", "back to the scene's camera"},
+        {"click a light's marker, drag", "move the light (preview pane)"},
+        {"Ctrl+Z", "undo"},
+        {"Ctrl+Shift+Z, Ctrl+Y", "redo"},
+        {"F1, ?", "this help; Esc closes it"},
+        {"drop a .ray file", "open it"},
+    };
+    if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
+        for (const auto& row : kRows) {
+            ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(0);
+            ImGui::TextUnformatted(row[0]);
+            ImGui::TableSetColumnIndex(1);
+            ImGui::TextUnformatted(row[1]);
+        }
+        ImGui::EndTable();
+    }
+    ImGui::TextDisabled("Every flag: rayview --help. Scripted input: app/rayview/script.h.");
+    ImGui::End();
 }
 
 void status_bar(const ViewerState& v, const PaneLayout& layout) {

@@ -46,6 +46,8 @@ void save_panel(ViewerState& v, PanelState& ui);
 /// The trace's progress along the bottom of the panes, always visible: samples per pixel, rays
 /// per second, the estimated error, the first (coarse) and first full-resolution pass times.
 void status_bar(const ViewerState& v, const PaneLayout& layout);
+/// Every shortcut in a window over the panes, opened and closed with F1 or ? (Esc closes it).
+void help_overlay(bool* open);
 /// The whole panel as one ImGui window, resizable and collapsible.
 void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
                    const std::vector<std::string>& preview_defines, double frame_s);

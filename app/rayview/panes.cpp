@@ -122,6 +122,10 @@ void Panes::draw(ViewerState& v) {
         m_group_lines_for = loaded.id;
     }
     lines.insert(lines.end(), m_group_lines.begin(), m_group_lines.end());
+    if (v.selection.instance >= 0) {  // the picked primitive, highlighted
+        const std::vector<LineVertex> sel = box_lines(v.selection.bounds, Vec3(1.0, 0.6, 0.1));
+        lines.insert(lines.end(), sel.begin(), sel.end());
+    }
     m_preview.draw_lines(lines, loaded.scene, cam);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     v.preview_stale = m_preview.environment_pending();  // drawn again until the maps are done

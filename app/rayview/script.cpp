@@ -76,6 +76,23 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
     app.add_option("--panel", out->panel, "the control panel: on (default) or off")
         ->type_name("on|off")
         ->transform(CLI::CheckedTransformer(on_off, CLI::ignore_case).description(""));
+    app.set_help_flag("-h,--help", "this text");
+    app.get_formatter()->column_width(30);
+    app.footer(
+        "\nscript commands (--script FILE: one 'FRAME COMMAND ARGS...' a line, run after that "
+        "frame is drawn):\n"
+        "  camera:   orbit DYAW DPITCH | look DYAW DPITCH | pan RIGHT UP | dolly FACTOR |\n"
+        "            fly DX DY DZ | pick X Y (image fractions from the top left)\n"
+        "  lights:   light I colour|ambient|diffuse|specular R G B | light I radius R |\n"
+        "            light I position X Y Z | add-light point|spot|directional|sphere |\n"
+        "            frame-light I | headlight on|off\n"
+        "  settings: shadows on|off | depth D | threads N | resolution SCALE |\n"
+        "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
+        "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
+        "  history:  undo | redo\n"
+        "  files:    open PATH | reload | save-scene PATH | save-image PATH | screenshot PATH\n"
+        "A command that fails is reported and the run goes on; the run then exits 1.\n\n"
+        "exit status: 0 success, 1 a failed --frames run, 2 usage error.");
     try {
         app.parse(argc, argv);
         if (!size.empty() && !parse_size(size, &out->window_w, &out->window_h))
@@ -180,57 +197,119 @@ int whole(const ScriptLine& l, size_t i, int lo, int hi) {
 
 }  // namespace
 
-void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) const {
+namespace {
+
+bool on(const ScriptLine& l) {
+    if (l.args.empty() || (l.args[0] != "on" && l.args[0] != "off"))
+        throw std::runtime_error(l.command + ": on or off");
+    return l.args[0] == "on";
+}
+
+// The camera and the lights, as the mouse, the keys and the panel edit them. False for another
+// command.
+bool run_edit(const ScriptLine& l, ViewerState& v) {
     constexpr double kBig = 1e6;
     auto arg = [&](size_t i) { return number(l, i, -kBig, kBig); };
-    ViewSettings& s = v.settings;
-    if (l.command == "orbit") {
-        v.edits.camera.orbit(arg(0), arg(1));
-        v.mark_edited();
-    } else if (l.command == "open" && !l.args.empty()) {
-        v.open(l.args[0], false);
-    } else if (l.command == "light" && l.args.size() >= 3) {
+    OrbitCamera& cam = v.edits.camera;
+    const std::string& c = l.command;
+    if (c == "orbit") {
+        cam.orbit(arg(0), arg(1));
+    } else if (c == "look") {
+        cam.look(arg(0), arg(1));
+    } else if (c == "pan") {
+        cam.pan(arg(0), arg(1));
+    } else if (c == "dolly") {
+        cam.dolly(number(l, 0, 1e-6, 1e6));
+    } else if (c == "fly") {
+        cam.move(Vec3(arg(0), arg(1), arg(2)));
+    } else if (c == "light") {
         const size_t i = static_cast<size_t>(whole(l, 0, 0, 1 << 20));
-        const size_t n = l.args[1] == "radius" ? 1 : 3;
-        const double a = arg(2), b = n > 1 ? arg(3) : 0, c = n > 1 ? arg(4) : 0;
-        if (i < v.edits.lights.size() && edit_light(l.args[1], a, b, c, &v.edits.lights[i]))
-            v.mark_edited();
-    } else if (l.command == "shadows" && !l.args.empty()) {
-        s.render.shadows = l.args[0] == "on";
-        v.mark_edited();
-    } else if (l.command == "boxes" && l.args.size() >= 2) {
+        if (i >= v.edits.lights.size() || l.args.size() < 3)
+            throw std::runtime_error("light: no light " + l.args[0] + " or no values");
+        LightDesc& light = v.edits.lights[i];
+        const std::string& what = l.args[1];
+        if (what == "position") {
+            light.position = Vec3(arg(2), arg(3), arg(4));
+        } else {
+            const bool one = what == "radius";
+            if (!edit_light(what, arg(2), one ? 0 : arg(3), one ? 0 : arg(4), &light))
+                throw std::runtime_error("light: cannot set " + what + " of light " + l.args[0]);
+        }
+    } else if (c == "add-light" && !l.args.empty()) {
+        const std::map<std::string, LightKind> kinds{{"point", LightKind::Point},
+                                                     {"spot", LightKind::Spot},
+                                                     {"directional", LightKind::Directional},
+                                                     {"sphere", LightKind::Sphere}};
+        const auto it = kinds.find(l.args[0]);
+        if (it == kinds.end())
+            throw std::runtime_error("add-light: point, spot, directional or sphere");
+        v.add_light(it->second);
+    } else if (c == "frame-light") {
+        v.frame_light(static_cast<size_t>(whole(l, 0, 0, 1 << 20)));
+    } else if (c == "headlight") {
+        v.settings.headlight = on(l);
+    } else if (c == "shadows") {
+        v.settings.render.shadows = on(l);
+    } else if (c == "depth") {
+        v.settings.render.max_depth = whole(l, 0, 1, 64);
+    } else if (c == "threads") {
+        v.settings.render.threads = whole(l, 0, 0, 256);
+    } else {
+        return false;
+    }
+    v.mark_edited();
+    return true;
+}
+
+}  // namespace
+
+void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) const {
+    if (run_edit(l, v)) return;
+    ViewSettings& s = v.settings;
+    const std::string& c = l.command;
+    const std::string path = l.args.empty() ? "" : l.args[0];
+    if (c == "open" && !path.empty()) {
+        v.open(path, false);
+    } else if (c == "reload") {
+        v.reload();
+    } else if (c == "save-scene" && !path.empty()) {
+        v.save_scene(path);
+    } else if (c == "save-image" && !path.empty()) {
+        v.save_trace(path);
+    } else if (c == "pick") {
+        v.pick(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
+        std::printf("rayview: frame %d: picked %s %s %s\n", m_frame,
+                    v.selection.instance < 0 ? "nothing" : v.selection.shape.c_str(),
+                    v.selection.material.c_str(), v.selection.where.c_str());
+    } else if (c == "boxes") {
         s.group_depth = whole(l, 0, 0, 8);
         s.box_depth = whole(l, 1, 0, 8);
-    } else if (l.command == "layout" && !l.args.empty()) {
-        s.layout = l.args[0] == "preview" ? 1 : l.args[0] == "trace" ? 2 : 0;
-    } else if (l.command == "depth") {
-        s.render.max_depth = whole(l, 0, 1, 64);
-        v.mark_edited();
-    } else if (l.command == "exposure") {
+    } else if (c == "layout" && !path.empty()) {
+        s.layout = path == "preview" ? 1 : path == "trace" ? 2 : 0;
+    } else if (c == "exposure") {
         s.exposure = static_cast<float>(number(l, 0, -8, 8));
-    } else if (l.command == "tonemap" && !l.args.empty()) {
+    } else if (c == "tonemap" && !path.empty()) {
         const std::map<std::string, Tonemap> names{
             {"clamp", Tonemap::Clamp}, {"reinhard", Tonemap::Reinhard}, {"aces", Tonemap::Aces}};
-        const auto it = names.find(l.args[0]);
+        const auto it = names.find(path);
         if (it == names.end()) throw std::runtime_error("tonemap: clamp, reinhard or aces");
         s.tonemap = it->second;
-    } else if (l.command == "save-image" && !l.args.empty()) {
-        v.save_trace(l.args[0]);
-    } else if (l.command == "undo") {
+    } else if (c == "help") {
+        v.show_help = on(l);
+    } else if (c == "markers") {
+        s.show_lights = on(l);
+    } else if (c == "undo") {
         if (!v.undo()) throw std::runtime_error("undo: nothing to undo");
-    } else if (l.command == "redo") {
+    } else if (c == "redo") {
         if (!v.redo()) throw std::runtime_error("redo: nothing to redo");
-    } else if (l.command == "threads") {
-        s.render.threads = whole(l, 0, 0, 256);
-        v.mark_edited();
-    } else if (l.command == "markers" && !l.args.empty()) {
-        s.show_lights = l.args[0] == "on";
-    } else if (l.command == "resolution") {
+    } else if (c == "resolution") {
         s.resolution_scale = static_cast<float>(number(l, 0, 0.1, 1));
-    } else if (l.command == "screenshot" && !l.args.empty()) {
-        save_window(fb_w, fb_h, l.args[0]);
-        std::printf("rayview: frame %d: %s (trace at %d spp)\n", m_frame, l.args[0].c_str(),
+    } else if (c == "screenshot" && !path.empty()) {
+        save_window(fb_w, fb_h, path);
+        std::printf("rayview: frame %d: %s (trace at %d spp)\n", m_frame, path.c_str(),
                     v.tracer.status().spp);
+    } else {
+        throw std::runtime_error("unknown command or missing argument: '" + c + "'");
     }
 }
 

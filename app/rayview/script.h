@@ -2,12 +2,8 @@
 // --screenshot F, --script S, --layout, --size WxH, --panel on|off), the script interpreter, saving
 // the window as an image, and the frame statistics a --frames run prints at the end.
 //
-// A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn:
-// orbit DYAW DPITCH | open PATH | light I colour|ambient|diffuse|specular R G B |
-// light I radius R | shadows on|off |
-// boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | resolution SCALE | depth D |
-// markers on|off | threads N | undo | redo | exposure STOPS | tonemap clamp|reinhard|aces |
-// save-image PATH | screenshot PATH.
+// A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn
+// (the list: rayview --help). A command that fails is reported and the run goes on.
 #pragma once
 
 #include <chrono>

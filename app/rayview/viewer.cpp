@@ -9,6 +9,7 @@
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
 #include "rt/render/camera.h"
+#include "rt/shapes/shapes.h"
 #include "rt/util/file_io.h"
 #include "rt/util/stopwatch.h"
 
@@ -136,7 +137,11 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
             }
             throw;
         }
-        s->scene = compile_scene(s->desc);
+        CompileReport report;
+        report.record_locations = true;  // for picking
+        s->scene = compile_scene(s->desc, &report);
+        s->prim_locs = std::move(report.prim_locs);
+        s->material_names = std::move(report.material_names);
         if (s->desc.camera) {
             s->file_camera = *s->desc.camera;
         } else {  // spec §6.3's default camera, framed for 4:3
@@ -280,6 +285,7 @@ bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures mi
     message.clear();
     message_is_error = false;
     reload_conflict.clear();
+    selection = {};
     on_loaded();
     if (keep_camera) edits.camera = kept;
     std::vector<std::string> files{loaded->path};  // first, and not again below; 8 at most
@@ -398,6 +404,54 @@ void ViewerState::set_file_camera() {
     loaded->file_camera = edits.camera.desc();
     loaded->desc.camera = loaded->file_camera;
     note("the view is the scene's camera now (Save scene writes it)");
+}
+
+bool ViewerState::pick(double x, double y) {
+    selection = {};
+    preview_stale = true;  // the highlight changes
+    if (!loaded) return false;
+    const RenderScene& scene = loaded->scene;
+    const int w = std::max(1, m_trace_w), h = std::max(1, m_trace_h);
+    const Camera cam = make_camera(compile_camera(edits.camera.desc()), w, h);
+    const Ray ray = cam.generate(0, 0, x * w, y * h);
+    Hit hit;
+    if (!intersect(scene, ray, {0, kInf}, &hit)) return false;
+    const Instance& inst = scene.instances[static_cast<size_t>(hit.instance)];
+    const GeometrySet& set = scene.sets[static_cast<size_t>(inst.set)];
+    const Primitive& prim = set.prims[hit.prim];
+    Selection s;
+    s.instance = hit.instance;
+    s.prim = hit.prim;
+    s.point = ray.o + hit.t * ray.d;
+    const Bounds3& b = set.prim_bounds[hit.prim];
+    for (int i = 0; i < 8; ++i)
+        s.bounds.extend(inst.world_from_set.point(
+            Vec3{(i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z}));
+    s.shape = prim.csg >= 0 ? "CSG node" : shape_kind_name(prim.kind);
+    const size_t m = static_cast<size_t>(prim.material);
+    const std::string name = m < loaded->material_names.size() ? loaded->material_names[m] : "";
+    s.material = (name.empty() ? "" : "!" + name + "! ") + "(material " + std::to_string(m) + ")";
+    const auto& locs = loaded->prim_locs;
+    if (static_cast<size_t>(inst.set) < locs.size() && hit.prim < locs[inst.set].size())
+        s.where = locs[inst.set][hit.prim].str();
+    selection = std::move(s);
+    return true;
+}
+
+void ViewerState::frame_light(size_t i) {
+    if (i >= edits.lights.size()) return;
+    const LightDesc& l = edits.lights[i];
+    OrbitCamera& c = edits.camera;
+    if (l.kind == LightKind::Directional) {  // look the way its light travels
+        CameraDesc d = c.desc();
+        d.direction = l.direction;
+        if (glm::length(glm::cross(glm::normalize(d.direction), d.up)) < 1e-6)
+            d.up = Vec3(1, 0, 0);  // straight up or down
+        c.set_from(d, loaded ? loaded->scene.world_bounds : Bounds3{});
+    } else {
+        c.target = l.position;  // the light at the centre of the view
+    }
+    mark_edited();
 }
 
 void ViewerState::keep_headlight() {

@@ -32,6 +32,17 @@ struct LoadedScene {
     /// How it was opened: with Checker, desc.missing_textures lists the stand-ins (a reload
     /// opens it the same way).
     MissingTextures missing_textures = MissingTextures::Error;
+    std::vector<std::vector<SourceLoc>> prim_locs;  // CompileReport's, for picking
+    std::vector<std::string> material_names;
+};
+
+/// What a click picked: the primitive under the pixel and what the panel says about it.
+struct Selection {
+    int instance = -1;  // -1: nothing
+    uint32_t prim = 0;
+    Bounds3 bounds;                      // world bounds of the primitive (a CSG node's whole tree)
+    Vec3 point{0.0};                     // where the ray met it
+    std::string shape, material, where;  // "sphere"; "glass (material 3)"; "file:line:col"
 };
 
 /// The user's edits, on the description side: the camera and every light, on or off.
@@ -147,6 +158,14 @@ struct ViewerState {
     void keep_headlight();
     /// The view becomes the scene's camera: Home returns to it and the scene saves with it.
     void set_file_camera();
+    /// Picks what the view shows at (x, y) of the image, each in [0, 1) from the top left
+    /// corner; nothing (selection.instance -1) where the ray leaves the scene. Returns whether
+    /// something was picked.
+    bool pick(double x, double y);
+    /// Turns the view to light i: a point, spot or sphere light at the centre of the view, a
+    /// directional light's direction as the view direction.
+    void frame_light(size_t i);
+    Selection selection;
     void remove_light(size_t i);
     /// The restart policy: with an edit pending, restarts once the running trace's first pass is
     /// on screen or 100 ms after the last restart, not every frame (otherwise no traced image
@@ -182,6 +201,7 @@ struct ViewerState {
     MissingTextures missing_textures = MissingTextures::Error;  // how files open
     std::vector<std::string> recent;                            // files opened, most recent first
     std::vector<OrbitCamera> bookmarks;                         // views the user kept
+    bool show_help = false;                                     // the shortcuts overlay
     std::vector<std::string> dropped;  // files dropped onto the window, picked up by poll_files
 
     Tracer tracer;  // after `loaded`: stops before the scene it traces dies

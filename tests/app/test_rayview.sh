@@ -93,6 +93,42 @@ printf '2 markers off\n' >"$tmp/markers.txt"
 check "the preview of materials.ray is near the trace" "$imgdiff" "$tmp/materials.png" \
     "$tmp/materials-raytrace.png" --max-mad 12 --max-dark-share 0.01
 
+# Every kind of scripted input runs and is answered (the camera and lights restart the trace).
+cat >"$tmp/all.txt" <<SCRIPT
+5 pan 0.1 0
+6 dolly 0.8
+7 look 0.05 0
+8 fly 0 0.1 0
+9 light 0 position 1 5 2
+10 add-light directional
+11 add-light spot
+12 frame-light 1
+13 pick 0.5 0.6
+14 exposure 1
+15 tonemap aces
+16 depth 3
+17 help on
+18 undo
+19 redo
+20 save-scene $tmp/saved.ray
+21 save-image $tmp/saved.png
+22 reload
+30 screenshot $tmp/all.png
+SCRIPT
+(cd "$src/scenes" && xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --script "$tmp/all.txt" \
+    lights.ray >"$tmp/allout.txt" 2>&1)
+check "every scripted input runs" test $? -eq 0
+for cmd in pan dolly look fly light add-light frame-light depth; do
+    check "$cmd restarts the trace" grep -q "$cmd: trace restarted" "$tmp/allout.txt"
+done
+check "pick names the shape and its directive" grep -q "picked .* lights.ray:[0-9]" "$tmp/allout.txt"
+check "save-scene writes the edits" grep -q "#light_directional\|#light_dir" "$tmp/saved.ray"
+check "save-image writes the trace" test -s "$tmp/saved.png"
+echo "1 teleport 1 2" >"$tmp/unknown.txt"
+xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --frames 3 --script "$tmp/unknown.txt" \
+    "$src/scenes/lights.ray" >"$tmp/unknownout.txt" 2>&1
+check "an unknown command is an error" grep -q "unknown command .*teleport" "$tmp/unknownout.txt"
+
 # Bad script input is reported and the run goes on: a non-finite setting, a screenshot that
 # cannot be written; a scene that fails at start-up still takes the script's open.
 echo '#shape_sphere 0  0 0 0  1' >"$tmp/broken.ray"

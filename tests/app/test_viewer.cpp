@@ -420,5 +420,35 @@ TEST(Viewer, ExposureAndTonemapAreForDisplayAndEightBitFiles) {
     EXPECT_EQ(v.undo_steps(), 1u);
 }
 
+// A click picks the primitive under it: its shape, its material's name and the file:line of
+// its directive; nothing off the scene; frame_light turns the view to a light.
+TEST(Viewer, PickNamesTheShapeItsMaterialAndItsDirective) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_pick.ray";
+    write_file_atomic(path,
+                      "#camera 0 0 5  0 0 -1  0 1 0  0.5\n"
+                      "#light_point 1 1 1  0 3 3  1 0 0\n"
+                      "#material 0 0 0  0 0 0  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !chalk!\n"
+                      "#shape_sphere 0  -1 0 0  0.5\n"
+                      "#shape_box 0  1 0 0  1 1 1\n");
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.set_trace_size(64, 48);
+    // x = -1 at depth 5 with tan(0.5) * 4/3: image fraction 0.5 - 1 / (2 * 5 * 0.7284) = 0.363
+    ASSERT_TRUE(v.pick(0.363, 0.5));
+    EXPECT_EQ(v.selection.shape, "sphere");
+    EXPECT_EQ(v.selection.material, "!chalk! (material 0)");
+    EXPECT_NE(v.selection.where.find("rt_viewer_pick.ray:4:"), std::string::npos)
+        << v.selection.where;
+    EXPECT_NEAR(glm::length(v.selection.point - Vec3(-1, 0, 0)), 0.5, 1e-9);  // on it
+    EXPECT_NEAR(v.selection.bounds.centre().x, -1, 1e-9);
+    ASSERT_TRUE(v.pick(0.637, 0.5));
+    EXPECT_EQ(v.selection.shape, "box");
+    EXPECT_NE(v.selection.where.find("rt_viewer_pick.ray:5:"), std::string::npos);
+    EXPECT_FALSE(v.pick(0.5, 0.02));  // the background
+    EXPECT_EQ(v.selection.instance, -1);
+    v.frame_light(0);
+    EXPECT_VEC_NEAR(v.edits.camera.target, Vec3(0, 3, 3), 1e-12);
+}
+
 }  // namespace
 }  // namespace rt::view

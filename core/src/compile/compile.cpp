@@ -119,10 +119,12 @@ private:
                 Material m = to_material(md);
                 if (md.texture >= 0) m.texture = m_texture_offset.back() + md.texture;
                 m_scene.materials.push_back(m);
+                if (m_report.record_locations) m_report.material_names.push_back(md.name);
             }
         }
         m_default_material = static_cast<int>(m_scene.materials.size());
         m_scene.materials.push_back(to_material(v0_default_material()));
+        if (m_report.record_locations) m_report.material_names.emplace_back("(default)");
     }
 
     static Material to_material(const MaterialDesc& d) {
@@ -184,9 +186,10 @@ private:
     // or a compiled CSG tree (shape null).
     struct Pending {
         const ShapeDesc* shape;
-        int transform;  // index into the set's transforms, -1: identity
-        bool mirror;    // the transform flips orientation
-        int csg = -1;   // index into the set's csg.roots
+        int transform;                   // index into the set's transforms, -1: identity
+        bool mirror;                     // the transform flips orientation
+        int csg = -1;                    // index into the set's csg.roots
+        const SourceLoc* loc = nullptr;  // the directive (CompileReport::prim_locs)
     };
 
     // Compiles file `fi` into a set in two passes: the shapes' bounds first, then the BVH over
@@ -230,9 +233,16 @@ private:
 
         set.prims.reserve(pending.size());
         set.prim_bounds.reserve(pending.size());
+        std::vector<SourceLoc>* locs = nullptr;
+        if (m_report.record_locations) {
+            m_report.prim_locs.resize(m_scene.sets.size() + 1);
+            locs = &m_report.prim_locs.back();
+            locs->reserve(pending.size());
+        }
         for (uint32_t old : set.bvh.indices) {
             add_shape(set, fi, pending[old]);
             set.prim_bounds.push_back(bounds[old]);
+            if (locs) locs->push_back(pending[old].loc ? *pending[old].loc : SourceLoc{});
         }
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
         pack_triangles(set);
@@ -319,11 +329,11 @@ private:
                     set.transforms.push_back(Transform::from_matrix(m));
                 }
                 const bool mirror = glm::determinant(Mat3(m)) < 0;
-                for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror});
+                for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror, -1, &s.loc});
             }
             for (const CsgDesc& c : g.csgs) {
                 const int root = compile_csg(set, fi, c, m);
-                if (root >= 0) pending.push_back({nullptr, -1, false, root});
+                if (root >= 0) pending.push_back({nullptr, -1, false, root, &c.loc});
             }
             push_children(todo, g, m);
         }
@@ -655,7 +665,9 @@ CameraPose compile_camera(const CameraDesc& d) {
 RenderScene compile_scene(const SceneDesc& desc, CompileReport* report) {
     CompileReport local;
     CompileReport& r = report ? *report : local;
+    const bool locations = r.record_locations;
     r = {};
+    r.record_locations = locations;
     return Compiler(desc, r).run();
 }
 

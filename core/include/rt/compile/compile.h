@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
+#include <vector>
 
 #include "rt/compile/render_scene.h"
 #include "rt/scene/scene_desc.h"
@@ -19,9 +21,16 @@ struct CompileReport {
     size_t lights = 0, materials = 0, textures = 0;
     size_t skipped_shapes = 0;  // degenerate shapes the parser skipped
     double build_seconds = 0;   // BVH builds (included in compile_scene's time)
+    /// Asked for before compile_scene (kept by it): where each primitive was read, for tools
+    /// that point at a directive (the viewer's picking). prim_locs[set][prim] is the shape's
+    /// directive, a CSG node's #shape_union/_intersection/_difference.
+    bool record_locations = false;
+    std::vector<std::vector<SourceLoc>> prim_locs;
+    std::vector<std::string> material_names;  // [material]: its !name!, "" for none
 };
 
-/// SceneDesc -> RenderScene; `report`, when given, receives the counts and the BVH build time.
+/// SceneDesc -> RenderScene; `report`, when given, receives the counts and the BVH build time
+/// (and with record_locations the primitives' locations).
 RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr);
 
 /// A light and the camera of the description as the renderer uses them (directions made unit
