@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 
+#include "config.h"
 #include "input.h"
 #include "panels.h"
 #include "panes.h"
@@ -100,6 +101,11 @@ int main(int argc, char** argv) {
     const int rc = parse_run_options(argc, argv, RT_SOURCE_DIR "/scenes/showpiece.ray", &opt);
     if (rc >= 0) return rc;
 
+    // What the last run kept: the window's size, the UI scale, the recent files.
+    const std::string config_file = config_path();
+    UserConfig config = read_config(config_file);
+    if (opt.window_w == 0) opt.window_w = config.window_w, opt.window_h = config.window_h;
+
     // Setup window
     glfwSetErrorCallback(glfw_error);
     GLFWwindow* window = open_window(opt.window_w, opt.window_h);
@@ -112,6 +118,8 @@ int main(int argc, char** argv) {
         ViewerState viewer(opt.scene, !opt.screenshot.empty(), opt.missing_textures);
         viewer.settings.layout = opt.layout;
         viewer.settings.show_panel = opt.panel;
+        viewer.settings.ui_scale = config.ui_scale;
+        viewer.remember_recent(config.recent);
         glfwSetWindowUserPointer(window, &viewer);
         glfwSetDropCallback(window, on_drop);
         const std::unique_ptr<Panes> panes = make_panes(RT_SOURCE_DIR "/shaders");
@@ -164,6 +172,12 @@ int main(int argc, char** argv) {
             glfwSwapBuffers(window);
         }
         script.print_summary(stats, viewer);
+        glfwGetWindowSize(window, &config.window_w, &config.window_h);
+        config.ui_scale = viewer.settings.ui_scale;
+        config.recent = viewer.recent;
+        if (!write_config(config_file, config))
+            std::fprintf(stderr, "rayview: cannot write the settings to '%s'\n",
+                         config_file.c_str());
     }  // the trace stops with the viewer
     // Cleanup
     shutdown(window);

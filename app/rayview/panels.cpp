@@ -172,8 +172,9 @@ bool file_panel(ViewerState& v, PanelState& ui) {
     if (ImGui::Button("Reload") && v.loaded) opened |= v.reload();
     ImGui::SameLine();
     ImGui::TextDisabled("(or drop a .ray file)");
-    if (v.recent.size() > 1 && ImGui::CollapsingHeader("recent files")) {
-        for (size_t i = 1; i < v.recent.size(); ++i)
+    const size_t first = v.loaded ? 1 : 0;  // the open file is recent[0]
+    if (v.recent.size() > first && ImGui::CollapsingHeader("recent files")) {
+        for (size_t i = first; i < v.recent.size(); ++i)
             if (ImGui::Selectable(v.recent[i].c_str())) {
                 const std::string file = v.recent[i];
                 opened |= v.open(file, false);

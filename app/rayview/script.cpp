@@ -70,7 +70,8 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         ->type_name("both|preview|trace")
         ->transform(CLI::CheckedTransformer(layouts, CLI::ignore_case).description(""));
     std::string size;
-    app.add_option("--size", size, "the window's size in pixels (default 1280x720)")
+    app.add_option("--size", size,
+                   "the window's size in pixels (default: the last run's, 1280x720)")
         ->type_name("WxH");
     const std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
     app.add_option("--panel", out->panel, "the control panel: on (default) or off")

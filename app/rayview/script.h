@@ -30,7 +30,7 @@ struct RunOptions {
     std::vector<ScriptLine> script;
     MissingTextures missing_textures = MissingTextures::Error;  // --missing-textures
     int layout = 0;                                             // --layout: ViewSettings::layout
-    int window_w = 1280, window_h = 720;                        // --size
+    int window_w = 0, window_h = 0;                             // --size, 0: the last run's
     bool panel = true;                                          // --panel on|off
 };
 

@@ -17,6 +17,12 @@ namespace rt::view {
 
 namespace {
 
+std::string absolute_path(const std::string& path) {
+    std::error_code ec;
+    const auto abs = std::filesystem::absolute(path, ec);
+    return ec ? path : abs.lexically_normal().string();
+}
+
 std::filesystem::file_time_type modified(const std::string& path) {
     std::error_code ec;
     return std::filesystem::last_write_time(path, ec);
@@ -195,7 +201,7 @@ ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTe
         return;
     }
     loaded->id = ++m_scenes_opened;
-    recent.push_back(loaded->path);
+    recent.push_back(absolute_path(loaded->path));
     on_loaded();
 }
 
@@ -288,9 +294,10 @@ bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures mi
     selection = {};
     on_loaded();
     if (keep_camera) edits.camera = kept;
-    std::vector<std::string> files{loaded->path};  // first, and not again below; 8 at most
+    const std::string opened = absolute_path(loaded->path);
+    std::vector<std::string> files{opened};  // first, and not again below; 8 at most
     for (const std::string& f : recent)
-        if (f != loaded->path && files.size() < 8) files.push_back(f);
+        if (f != opened && files.size() < 8) files.push_back(f);
     recent = std::move(files);
     return true;
 }
@@ -343,6 +350,16 @@ void ViewerState::use_file_edits() {
     edits.light_on.assign(edits.lights.size(), 1);
     reload_conflict.clear();
     mark_edited();
+}
+
+void ViewerState::remember_recent(const std::vector<std::string>& files) {
+    for (const std::string& f : files) {
+        std::error_code ec;
+        if (recent.size() >= 8) break;
+        if (std::find(recent.begin(), recent.end(), f) == recent.end() &&
+            std::filesystem::exists(f, ec))
+            recent.push_back(f);
+    }
 }
 
 void ViewerState::poll_files() {

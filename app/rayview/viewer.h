@@ -199,10 +199,12 @@ struct ViewerState {
     std::string checker_offer;    // a file that failed to open for its textures only, else ""
     std::string reload_conflict;  // a reload kept edits of what the file changed too, else ""
     MissingTextures missing_textures = MissingTextures::Error;  // how files open
-    std::vector<std::string> recent;                            // files opened, most recent first
-    std::vector<OrbitCamera> bookmarks;                         // views the user kept
-    bool show_help = false;                                     // the shortcuts overlay
-    std::vector<std::string> dropped;  // files dropped onto the window, picked up by poll_files
+    std::vector<std::string> recent;  // files opened (absolute), most recent first, at most 8
+    /// Adds files opened in earlier runs after this run's (those that still exist).
+    void remember_recent(const std::vector<std::string>& files);
+    std::vector<OrbitCamera> bookmarks;  // views the user kept
+    bool show_help = false;              // the shortcuts overlay
+    std::vector<std::string> dropped;    // files dropped onto the window, picked up by poll_files
 
     Tracer tracer;  // after `loaded`: stops before the scene it traces dies
     Image last_trace;

@@ -7,6 +7,7 @@ rv=$(realpath "$1")
 src="$2"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+export XDG_CONFIG_HOME="$tmp/config"  # the runs' settings, not the user's
 cat >"$tmp/script.txt" <<SCRIPT
 15 screenshot $tmp/0.png
 16 orbit 0.4 0.1
@@ -145,6 +146,14 @@ check "the non-finite resolution is refused" grep -q "resolution: 'nan' is not a
 check "the unwritable screenshot is reported" grep -q "no/such/dir/shot.png" "$tmp/badout.txt"
 check "the broken file's error is printed" grep -q "broken.ray:1:" "$tmp/badout.txt"
 check "the script's open works with no scene open" test -s "$tmp/after.png"
+# Settings kept between runs: the window's size and the recent files.
+conf="$tmp/config/rayview/rayview.conf"
+check "the settings are written at exit" grep -q "^window = [0-9]*x[0-9]*$" "$conf"
+check "the recent files are kept" grep -q "^recent = .*scenes/lights.ray" "$conf"
+sed -i 's/^window = .*/window = 800x500/' "$conf"
+xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --frames 3 --screenshot "$tmp/sized.png" \
+    "$src/scenes/lights.ray" >/dev/null 2>&1
+check "the next run opens at the kept size" bash -c "file '$tmp/sized.png' | grep -q '800 x 500'"
 "$rv" --missing-textures bogus "$src/scenes/lights.ray" >"$tmp/bad.txt" 2>&1
 check "--missing-textures takes error or checker only" test $? -eq 2
 check "--help lists --missing-textures" bash -c "'$rv' --help | grep -q -- '--missing-textures error|checker'"
