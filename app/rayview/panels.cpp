@@ -395,7 +395,24 @@ void save_panel(ViewerState& v, PanelState& ui) {
             v.fail(e.what());
         }
     }
-    if (ImGui::Button("Save image (.png .pfm ...)")) {
+    // The image: rendered again at a size and sample count of the user's choice, in the
+    // background, or the pane's trace as it is.
+    ImGui::InputInt2("image size", ui.image_size);
+    ui.image_size[0] = std::clamp(ui.image_size[0], 1, 32768);
+    ui.image_size[1] = std::clamp(ui.image_size[1], 1, 32768);
+    ImGui::InputInt("samples per pixel", &ui.image_spp);
+    ui.image_spp = std::clamp(ui.image_spp, 1, 1 << 16);
+    if (v.image_job.running()) {
+        ImGui::ProgressBar(static_cast<float>(v.image_job.progress()), ImVec2(-80, 0));
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) {
+            v.image_job.cancel();
+            v.note("the image was cancelled; nothing written");
+        }
+    } else if (ImGui::Button("Render and save image (.png .pfm ...)")) {
+        v.render_image(ui.save_buf, ui.image_size[0], ui.image_size[1], ui.image_spp);
+    }
+    if (ImGui::Button("Save the pane's trace as it is")) {
         try {
             v.save_trace(ui.save_buf);
             v.note(std::string("saved ") + ui.save_buf);

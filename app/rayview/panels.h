@@ -17,6 +17,8 @@ struct PanelState {
     char path_buf[1024];
     char save_buf[1024] = "rayview.png";
     char scene_buf[1024] = "edited.ray";
+    int image_size[2] = {640, 480};  // "Render and save image": raytrace's default size
+    int image_spp = 16;
     int path_for = 0;                          // the scene (LoadedScene::id) path_buf shows
     bool completing = false;                   // the path field lists matching files
     std::string completed_for;                 // the typed path the list below belongs to

@@ -91,7 +91,8 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
         "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
         "  history:  undo | redo\n"
-        "  files:    open PATH | reload | save-scene PATH | save-image PATH | screenshot PATH\n"
+        "  files:    open PATH | reload | save-scene PATH | save-image PATH (the pane's trace) |\n"
+        "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
         "A command that fails is reported and the run goes on; the run then exits 1.\n\n"
         "exit status: 0 success, 1 a failed --frames run, 2 usage error.");
     try {
@@ -277,6 +278,8 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
         v.save_scene(path);
     } else if (c == "save-image" && !path.empty()) {
         v.save_trace(path);
+    } else if (c == "render-image" && l.args.size() >= 4) {
+        v.render_image(path, whole(l, 1, 1, 32768), whole(l, 2, 1, 32768), whole(l, 3, 1, 1 << 16));
     } else if (c == "pick") {
         v.pick(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
         std::printf("rayview: frame %d: picked %s %s %s\n", m_frame,

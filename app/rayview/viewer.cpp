@@ -363,6 +363,9 @@ void ViewerState::remember_recent(const std::vector<std::string>& files) {
 }
 
 void ViewerState::poll_files() {
+    std::string result;
+    bool ok = false;
+    if (image_job.take_result(&result, &ok)) ok ? note(result) : fail(result);
     if (!dropped.empty()) {
         const std::string file = dropped.back();
         dropped.clear();
@@ -391,6 +394,22 @@ void ViewerState::save_trace(const std::string& path) const {
     if (last_trace.width == 0) throw std::runtime_error("nothing traced yet");
     save_image(image_format_from_path(path) == ImageFormat::Pfm ? last_trace : displayed_trace(),
                path);
+}
+
+void ViewerState::render_image(const std::string& path, int width, int height, int spp) {
+    if (!loaded) return;
+    ImageJobSpec spec;
+    spec.path = path;
+    spec.width = width;
+    spec.height = height;
+    spec.spp = spp;
+    spec.settings = settings.render;
+    spec.exposure = settings.exposure;
+    spec.tonemap = settings.tonemap;
+    RenderScene scene = loaded->scene;  // the job's copy, with the latest edits
+    apply_edits(edits, headlight_on(), width, height, &scene, &spec.settings);
+    image_job.start(std::move(scene), spec);
+    note("rendering " + path + " ...");
 }
 
 Image ViewerState::displayed_trace() const {

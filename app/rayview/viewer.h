@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "camera_controller.h"
+#include "image_job.h"
 #include "rt/compile/render_scene.h"
 #include "rt/format/parser.h"
 #include "rt/image/image.h"
@@ -142,6 +143,11 @@ struct ViewerState {
     void save_trace(const std::string& path) const;
     /// The latest trace as shown: exposure and tonemap applied.
     Image displayed_trace() const;
+    /// Renders the scene as edited at `width` x `height` and `spp` in the background (image_job)
+    /// and writes it to `path` with the display's exposure and tonemap (PFM linear); the panel
+    /// says when it is done. The interactive trace goes on.
+    void render_image(const std::string& path, int width, int height, int spp);
+    ImageJob image_job;
 
     // ---- edits and the one restart path ----
     /// Something the trace shows changed: restart_if_due() restarts the trace.

@@ -2,6 +2,7 @@
 // restart path (stop, apply the edits, restart), and a saved scene holds the edited lights as
 // described.
 #include <chrono>
+#include <filesystem>
 #include <thread>
 #include <variant>
 
@@ -448,6 +449,38 @@ TEST(Viewer, PickNamesTheShapeItsMaterialAndItsDirective) {
     EXPECT_EQ(v.selection.instance, -1);
     v.frame_light(0);
     EXPECT_VEC_NEAR(v.edits.camera.target, Vec3(0, 3, 3), 1e-12);
+}
+
+// "Render and save image": the scene as edited at the chosen size and samples, in the
+// background, written when done; a cancelled job writes nothing.
+TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.edits.light_on[0] = v.edits.light_on[1] = v.edits.light_on[2] = 0;  // all dark
+    v.settings.headlight = false;
+    const std::string path = ::testing::TempDir() + "rt_viewer_job.png";
+    std::filesystem::remove(path);
+    v.render_image(path, 48, 36, 2);
+    for (int i = 0; i < 2000 && v.image_job.running(); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    v.poll_files();  // takes the result
+    EXPECT_NE(v.message.find("saved " + path + " (48x36, 2 spp"), std::string::npos) << v.message;
+    TextureImage im;
+    std::string error;
+    ASSERT_TRUE(load_texture_image(path, &im, &error)) << error;
+    EXPECT_EQ(im.width, 48);
+    EXPECT_EQ(im.height, 36);
+    // The edits reached it: no light is on, so only the ambient term lights it (dim).
+    int bright = 0;
+    for (uint8_t c : im.rgb) bright += c > 200;
+    EXPECT_EQ(bright, 0);
+
+    const std::string big = ::testing::TempDir() + "rt_viewer_cancelled.png";
+    std::filesystem::remove(big);
+    v.render_image(big, 4000, 3000, 64);
+    v.image_job.cancel();
+    EXPECT_FALSE(v.image_job.running());
+    EXPECT_FALSE(std::filesystem::exists(big));
 }
 
 }  // namespace
