@@ -162,11 +162,18 @@ bool file_panel(ViewerState& v, PanelState& ui) {
             }
     }
     open_typed |= ImGui::Button("Open");
-    if (open_typed) {
+    if (open_typed) {  // in the background: the open scene stays interactive
         ui.completing = false;
-        opened |= v.open(ui.path_buf, false);
-        if (!opened && v.loaded)  // the error is shown; the field shows the scene that is open
+        v.open_in_background(ui.path_buf);
+        if (v.loaded)  // until it opens (or fails, with the error shown) the open scene's path
             std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.loaded->path.c_str());
+    }
+    if (v.loader.busy()) {
+        const char spinner[] = "|/-\\";
+        ImGui::Text("%c loading %s (%.1f s)", spinner[static_cast<int>(v.loader.seconds() * 8) % 4],
+                    v.loader.path().c_str(), v.loader.seconds());
+        ImGui::SameLine();
+        if (ImGui::SmallButton("Cancel")) v.cancel_loading();
     }
     ImGui::SameLine();
     if (ImGui::Button("Reload") && v.loaded) opened |= v.reload();
@@ -176,8 +183,7 @@ bool file_panel(ViewerState& v, PanelState& ui) {
     if (v.recent.size() > first && ImGui::CollapsingHeader("recent files")) {
         for (size_t i = first; i < v.recent.size(); ++i)
             if (ImGui::Selectable(v.recent[i].c_str())) {
-                const std::string file = v.recent[i];
-                opened |= v.open(file, false);
+                v.open_in_background(v.recent[i]);
                 break;
             }
     }

@@ -91,7 +91,8 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
         "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
         "  history:  undo | redo\n"
-        "  files:    open PATH | reload | save-scene PATH | save-image PATH (the pane's trace) |\n"
+        "  files:    open PATH | open-background PATH | reload | save-scene PATH | save-image PATH "
+        "(the pane's trace) |\n"
         "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
         "A command that fails is reported and the run goes on; the run then exits 1.\n\n"
         "exit status: 0 success, 1 a failed --frames run, 2 usage error.");
@@ -272,6 +273,8 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
     const std::string path = l.args.empty() ? "" : l.args[0];
     if (c == "open" && !path.empty()) {
         v.open(path, false);
+    } else if (c == "open-background" && !path.empty()) {
+        v.open_in_background(path);
     } else if (c == "reload") {
         v.reload();
     } else if (c == "save-scene" && !path.empty()) {

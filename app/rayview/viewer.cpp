@@ -278,6 +278,25 @@ bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures mi
     std::string err;
     bool textures_missing = false;
     auto next = load_scene(file, &err, missing, &textures_missing);
+    return finish_open(std::move(next), file, err, textures_missing, keep_camera);
+}
+
+void ViewerState::open_in_background(std::string file) {
+    const MissingTextures missing = missing_textures;
+    loader.start(file, [file, missing](std::string* error, bool* textures_missing) {
+        return load_scene(file, error, missing, textures_missing);
+    });
+    note("loading " + file + " ...");
+}
+
+void ViewerState::cancel_loading() {
+    if (!loader.busy()) return;
+    note("cancelled loading " + loader.path() + "; the open scene stays");
+    loader.cancel();
+}
+
+bool ViewerState::finish_open(std::unique_ptr<LoadedScene> next, const std::string& file,
+                              const std::string& err, bool textures_missing, bool keep_camera) {
     checker_offer = textures_missing ? file : "";
     if (!next) {
         fail(err);
@@ -366,10 +385,14 @@ void ViewerState::poll_files() {
     std::string result;
     bool ok = false;
     if (image_job.take_result(&result, &ok)) ok ? note(result) : fail(result);
-    if (!dropped.empty()) {
-        const std::string file = dropped.back();
+    std::unique_ptr<LoadedScene> next;
+    std::string loaded_file;
+    bool textures_missing = false;
+    if (loader.take(&next, &result, &textures_missing, &loaded_file))
+        finish_open(std::move(next), loaded_file, result, textures_missing, false);
+    if (!dropped.empty()) {  // the window stays interactive while it loads
+        open_in_background(dropped.back());
         dropped.clear();
-        open(file, false);
     }
     const auto now = Clock::now();
     if (now - m_last_check < std::chrono::milliseconds(500)) return;

@@ -12,6 +12,7 @@
 
 #include "camera_controller.h"
 #include "image_job.h"
+#include "loader.h"
 #include "rt/compile/render_scene.h"
 #include "rt/format/parser.h"
 #include "rt/image/image.h"
@@ -123,6 +124,12 @@ struct ViewerState {
     // ---- the scene file ----
     /// Opens a file; on an error the message is shown and the previous scene stays.
     bool open(std::string file, bool keep_camera);  // by value: callers pass loaded->path
+    /// Opens a file on a background thread (the open scene stays interactive; poll_files()
+    /// takes the result); a load under way is cancelled first.
+    void open_in_background(std::string file);
+    /// Drops the load under way: the open scene stays.
+    void cancel_loading();
+    SceneLoader loader;
     /// Opens `checker_offer` with checker stand-ins for its missing textures.
     bool open_with_checker();
     /// Reads the open file again and keeps the user's edits: the camera and the lights as edited
@@ -224,6 +231,9 @@ struct ViewerState {
 
 private:
     bool open_as(std::string file, bool keep_camera, MissingTextures missing);
+    /// The second half of opening: a scene read (or the error) becomes the open one.
+    bool finish_open(std::unique_ptr<LoadedScene> next, const std::string& file,
+                     const std::string& err, bool textures_missing, bool keep_camera);
     void on_loaded();
     void restart();
     UndoState current_state() const { return {edits, settings}; }

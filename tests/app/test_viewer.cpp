@@ -483,5 +483,42 @@ TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {
     EXPECT_FALSE(std::filesystem::exists(big));
 }
 
+// Opening in the background: the open scene stays until the new one is read; a cancelled load
+// leaves it; a failed one says why and leaves it too.
+TEST(Viewer, FilesOpenInTheBackgroundAndCanBeCancelled) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    const int id = v.loaded->id;
+    auto wait = [&] {
+        for (int i = 0; i < 2000 && v.loader.busy(); ++i) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+            v.poll_files();
+        }
+    };
+    v.open_in_background(RT_SOURCE_DIR "/scenes/shapes.ray");
+    EXPECT_EQ(v.loaded->id, id);  // still the open scene, interactive
+    wait();
+    EXPECT_FALSE(v.loader.busy());
+    EXPECT_GT(v.loaded->id, id);
+    EXPECT_NE(v.loaded->path.find("shapes.ray"), std::string::npos);
+
+    const int shapes = v.loaded->id;
+    v.open_in_background(kLights);
+    v.cancel_loading();
+    EXPECT_FALSE(v.loader.busy());
+    for (int i = 0; i < 100; ++i) {  // the abandoned load's result never arrives
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        v.poll_files();
+    }
+    EXPECT_EQ(v.loaded->id, shapes);
+    EXPECT_NE(v.message.find("cancelled"), std::string::npos) << v.message;
+
+    v.open_in_background(RT_SOURCE_DIR "/scenes/no_such_file.ray");
+    wait();
+    EXPECT_EQ(v.loaded->id, shapes);
+    EXPECT_TRUE(v.message_is_error);
+    EXPECT_NE(v.message.find("no_such_file.ray"), std::string::npos) << v.message;
+}
+
 }  // namespace
 }  // namespace rt::view
