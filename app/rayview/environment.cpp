@@ -32,11 +32,7 @@ const Vec3 kEnvUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0
 bool reflects(const Material& m) { return m.specular != Vec3(0.0) || m.transparent != Vec3(0.0); }
 
 Bounds3 world_box(const Bounds3& b, const Instance& inst) {
-    Bounds3 w;
-    for (int i = 0; i < 8; ++i)
-        w.extend(inst.world_from_set.point(
-            Vec3{(i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z}));
-    return w;
+    return inst.identity ? b : inst.world_from_set.apply(b);
 }
 
 }  // namespace

@@ -227,8 +227,9 @@ bool run_edit(const ScriptLine& l, ViewerState& v) {
         cam.move(Vec3(arg(0), arg(1), arg(2)));
     } else if (c == "light") {
         const size_t i = static_cast<size_t>(whole(l, 0, 0, 1 << 20));
-        if (i >= v.edits.lights.size() || l.args.size() < 3)
-            throw std::runtime_error("light: no light " + l.args[0] + " or no values");
+        if (i >= v.edits.lights.size())
+            throw std::runtime_error("light: the scene has no light " + l.args[0]);
+        if (l.args.size() < 3) throw std::runtime_error("light: I WHAT VALUES...");
         LightDesc& light = v.edits.lights[i];
         const std::string& what = l.args[1];
         if (what == "position") {
@@ -330,6 +331,11 @@ bool ScriptRun::end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code) {
             m_failed = true;  // reported, and the run goes on; it exits 1 at the end
         }
         if (v.edit_pending()) m_causes.push_back(l.command);  // reported at the restart
+    }
+    // Scripted runs check GL once a frame: any error fails the run.
+    for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
+        std::fprintf(stderr, "rayview: frame %d: GL error 0x%x\n", m_frame, e);
+        m_failed = true;
     }
     ++m_frame;
     if (m_frames_left <= 0 || --m_frames_left > 0) return false;

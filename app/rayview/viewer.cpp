@@ -483,9 +483,7 @@ bool ViewerState::pick(double x, double y) {
     s.prim = hit.prim;
     s.point = ray.o + hit.t * ray.d;
     const Bounds3& b = set.prim_bounds[hit.prim];
-    for (int i = 0; i < 8; ++i)
-        s.bounds.extend(inst.world_from_set.point(
-            Vec3{(i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z}));
+    s.bounds = inst.identity ? b : inst.world_from_set.apply(b);
     s.shape = prim.csg >= 0 ? "CSG node" : shape_kind_name(prim.kind);
     const size_t m = static_cast<size_t>(prim.material);
     const std::string name = m < loaded->material_names.size() ? loaded->material_names[m] : "";

@@ -520,5 +520,28 @@ TEST(Viewer, FilesOpenInTheBackgroundAndCanBeCancelled) {
     EXPECT_NE(v.message.find("no_such_file.ray"), std::string::npos) << v.message;
 }
 
+// The one restart path under load: the trace restarted 1000 times with an edit each time while
+// it runs (the ThreadSanitizer run of scripts/test.sh checks this for races).
+TEST(Viewer, ATraceRestartedAThousandTimesWithEdits) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    v.set_trace_size(24, 18);
+    int restarts = 0;
+    for (int i = 0; i < 1000; ++i) {
+        v.edits.camera.orbit(0.01, 0.0);
+        v.edits.lights[0].position.x += 0.001;
+        v.settings.render.shadows = i % 3 != 0;
+        v.mark_edited();
+        for (int k = 0; k < 200 && !v.restart_if_due(); ++k) {
+            v.take_trace_image();  // what the interface thread does meanwhile
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+        }
+        restarts += !v.edit_pending();
+        if (i % 100 == 0) (void)v.tracer.status();
+    }
+    EXPECT_EQ(restarts, 1000);
+    EXPECT_EQ(v.loaded->scene.lights[0].position.x, v.edits.lights[0].position.x);
+}
+
 }  // namespace
 }  // namespace rt::view

@@ -27,7 +27,8 @@ fi
 
 # -O1 -g1: the tree is also the sanitizer tree of scripts/test.sh, built from scratch there.
 cmake -S . -B "$dir" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_FUZZ=ON -DRT_SANITIZE="address;undefined" \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_FUZZ=ON \
+    -DRT_SANITIZE="address;undefined;float-cast-overflow" \
     -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF >/dev/null
 # shellcheck disable=SC2086
 cmake --build "$dir" --target fuzz_scene ${RT_FUZZ_TARGETS:-} -j"$jobs"
