@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds everything (warnings as errors) and runs every test; then the
-# unit tests, the fuzz crasher corpus and the CLI test again under AddressSanitizer and
-# UndefinedBehaviorSanitizer (build-san/, any finding fails, no GL tests), then one minute of
-# fuzzing the parser and compiler in that same tree. With clang and libFuzzer the sanitizer tree
+# unit tests, the fuzz crasher corpus, the CLI test and the viewer's chaos test (500 random
+# scripted events) again under AddressSanitizer and UndefinedBehaviorSanitizer (build-san/, any
+# finding fails, no GL tests), then one minute of fuzzing the parser and compiler in that same
+# tree, then the viewer's tests (the trace restarted 1000 times with edits) under
+# ThreadSanitizer (build-tsan/). With clang and libFuzzer the sanitizer tree
 # is clang's (it also builds the fuzz target); without them it is GCC's and fuzzing is skipped
 # with a message. RT_QUICK=1 stops after the first part.
 set -euo pipefail
@@ -18,14 +20,15 @@ echo "test: ASan + UBSan (build-san/)" >&2
 export ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 if tests/fuzz/run.sh check 2>/dev/null; then
-    RT_FUZZ_BUILD=build-san RT_FUZZ_TARGETS="rt_tests rt_app_tests raytrace" RT_JOBS="$jobs" \
-        tests/fuzz/run.sh build
+    RT_FUZZ_BUILD=build-san RT_FUZZ_TARGETS="rt_tests rt_app_tests raytrace rayview" \
+        RT_JOBS="$jobs" tests/fuzz/run.sh build
     fuzz=1
 else
     cmake -S . -B build-san -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON \
-        -DRT_SANITIZE="address;undefined" -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF >/dev/null
-    cmake --build build-san -j"$jobs" --target rt_tests rt_app_tests raytrace fuzz_replay
+        -DRT_SANITIZE="address;undefined;float-cast-overflow" -DRT_BUILD_BENCH=OFF \
+        -DRT_GL_TESTS=OFF >/dev/null
+    cmake --build build-san -j"$jobs" --target rt_tests rt_app_tests raytrace rayview fuzz_replay
     fuzz=0
 fi
 ctest --test-dir build-san --output-on-failure -j"$jobs" -LE gl
@@ -37,3 +40,11 @@ if [ "$fuzz" = 1 ]; then
 else
     tests/fuzz/run.sh check || true  # prints why it is skipped
 fi
+
+# ThreadSanitizer: the viewer's state and its trace threads (no GL; Mesa is not loaded).
+echo "test: ThreadSanitizer (build-tsan/)" >&2
+cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
+    -DRT_WERROR=ON -DRT_SANITIZE=thread -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF >/dev/null
+cmake --build build-tsan -j"$jobs" --target rt_app_tests
+TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1" \
+    ctest --test-dir build-tsan --output-on-failure -j"$jobs" -R "^Viewer\."

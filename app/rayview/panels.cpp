@@ -187,10 +187,12 @@ bool file_panel(ViewerState& v, PanelState& ui) {
                 break;
             }
     }
-    if (!v.message.empty()) {  // wrapped: errors name files and their includes
-        if (v.message_is_error) ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
+    // Errors here, wrapped (they name files and their includes); notes go to the status bar,
+    // so "saved ..." never moves the panel's controls.
+    if (!v.message.empty() && v.message_is_error) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
         ImGui::TextWrapped("%s", v.message.c_str());
-        if (v.message_is_error) ImGui::PopStyleColor();
+        ImGui::PopStyleColor();
     }
     if (!v.reload_conflict.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.8f, 0.3f, 1));
@@ -251,9 +253,9 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
         r.focus_distance = decimal(focus), edited = true;
     if (v.selection.instance >= 0) {  // what a click in a pane picked
         const Selection& sel = v.selection;
-        ImGui::TextWrapped("selected: %s, %s\n%s\nat (%.3g, %.3g, %.3g)", sel.shape.c_str(),
-                           sel.material.c_str(), sel.where.c_str(), sel.point.x, sel.point.y,
-                           sel.point.z);
+        ImGui::TextWrapped("selected: %s, %s\n%s\nin %s\nat (%.3g, %.3g, %.3g)", sel.shape.c_str(),
+                           sel.material.c_str(), sel.where.c_str(), sel.groups.c_str(), sel.point.x,
+                           sel.point.y, sel.point.z);
         if (ImGui::SmallButton("clear selection")) v.selection = {}, v.preview_stale = true;
     } else {
         ImGui::TextDisabled("click a shape in a pane to select it");
@@ -487,6 +489,10 @@ void status_bar(const ViewerState& v, const PaneLayout& layout) {
                 st.rays_per_second / 1e6, st.estimate, ms(v.first_pass_ms).c_str(),
                 ms(v.first_full_ms).c_str(),
                 v.headlight_on() ? " | headlight: the scene has no lights" : "");
+    if (!v.message.empty() && !v.message_is_error) {  // the last note
+        ImGui::SameLine();
+        ImGui::TextDisabled("| %s", v.message.c_str());
+    }
     ImGui::End();
 }
 

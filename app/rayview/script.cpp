@@ -286,9 +286,10 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
         v.render_image(path, whole(l, 1, 1, 32768), whole(l, 2, 1, 32768), whole(l, 3, 1, 1 << 16));
     } else if (c == "pick") {
         v.pick(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
-        std::printf("rayview: frame %d: picked %s %s %s\n", m_frame,
+        std::printf("rayview: frame %d: picked %s %s %s in %s\n", m_frame,
                     v.selection.instance < 0 ? "nothing" : v.selection.shape.c_str(),
-                    v.selection.material.c_str(), v.selection.where.c_str());
+                    v.selection.material.c_str(), v.selection.where.c_str(),
+                    v.selection.groups.c_str());
     } else if (c == "boxes") {
         s.group_depth = whole(l, 0, 0, 8);
         s.box_depth = whole(l, 1, 0, 8);

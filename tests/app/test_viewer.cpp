@@ -430,7 +430,9 @@ TEST(Viewer, PickNamesTheShapeItsMaterialAndItsDirective) {
                       "#light_point 1 1 1  0 3 3  1 0 0\n"
                       "#material 0 0 0  0 0 0  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !chalk!\n"
                       "#shape_sphere 0  -1 0 0  0.5\n"
-                      "#shape_box 0  1 0 0  1 1 1\n");
+                      "#group_begin\n1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\n"
+                      "#shape_box 0  1 0 0  1 1 1\n"
+                      "#group_end\n");
     ViewerState v(path, false);
     ASSERT_TRUE(v.loaded) << v.message;
     v.set_trace_size(64, 48);
@@ -442,9 +444,11 @@ TEST(Viewer, PickNamesTheShapeItsMaterialAndItsDirective) {
         << v.selection.where;
     EXPECT_NEAR(glm::length(v.selection.point - Vec3(-1, 0, 0)), 0.5, 1e-9);  // on it
     EXPECT_NEAR(v.selection.bounds.centre().x, -1, 1e-9);
+    EXPECT_EQ(v.selection.groups, "rt_viewer_pick.ray");
     ASSERT_TRUE(v.pick(0.637, 0.5));
     EXPECT_EQ(v.selection.shape, "box");
-    EXPECT_NE(v.selection.where.find("rt_viewer_pick.ray:5:"), std::string::npos);
+    EXPECT_NE(v.selection.where.find("rt_viewer_pick.ray:7:"), std::string::npos);
+    EXPECT_EQ(v.selection.groups, "rt_viewer_pick.ray > group at line 5");
     EXPECT_FALSE(v.pick(0.5, 0.02));  // the background
     EXPECT_EQ(v.selection.instance, -1);
     v.frame_light(0);
@@ -532,7 +536,7 @@ TEST(Viewer, ATraceRestartedAThousandTimesWithEdits) {
         v.edits.lights[0].position.x += 0.001;
         v.settings.render.shadows = i % 3 != 0;
         v.mark_edited();
-        for (int k = 0; k < 200 && !v.restart_if_due(); ++k) {
+        for (int k = 0; k < 5000 && !v.restart_if_due(); ++k) {  // up to 1 s
             v.take_trace_image();  // what the interface thread does meanwhile
             std::this_thread::sleep_for(std::chrono::microseconds(200));
         }
