@@ -100,9 +100,10 @@ void Panes::draw(ViewerState& v) {
         m_shown_exposure = v.settings.exposure;
         m_shown_tonemap = v.settings.tonemap;
     }
-    const LoadedScene& loaded = *v.loaded;
-    if (loaded.id != m_loaded_id) {
-        m_preview.load(loaded.scene);
+    LoadedScene& loaded = *v.loaded;
+    if (loaded.id != m_loaded_id) {  // tessellated with the scene, off this thread
+        m_preview.load(loaded.scene, loaded.preview);
+        loaded.preview = {};
         m_loaded_id = loaded.id;
     }
     const ViewSettings& s = v.settings;

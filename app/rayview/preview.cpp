@@ -180,6 +180,10 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
 }
 
 void Preview::load(const RenderScene& scene, int detail) {
+    load(scene, prepare_preview(scene, detail));
+}
+
+void Preview::load(const RenderScene& scene, const PreviewGeometry& geometry) {
     m_sets.clear();
     m_textures.clear();
     m_shadows_valid = false;
@@ -187,20 +191,17 @@ void Preview::load(const RenderScene& scene, int detail) {
     m_env_chosen = m_env_valid = m_env_ready = false;
     m_env.clear();
     m_env_next = 0;
-    // What the scene uses decides what is uploaded: sets no instance places are not tessellated,
-    // texture coordinates only for sets with a textured material, textures only when used.
-    std::vector<char> placed(scene.sets.size(), 0), texture_used(scene.textures.size(), 0);
-    for (const Instance& inst : scene.instances) placed[static_cast<size_t>(inst.set)] = 1;
+    // What the scene uses decides what is uploaded: texture coordinates only for sets with a
+    // textured material, textures only when used.
+    std::vector<char> texture_used(scene.textures.size(), 0);
     m_uploaded_floats = 0;
     for (size_t si = 0; si < scene.sets.size(); ++si) {
-        const GeometrySet& set = scene.sets[si];
-        if (!placed[si]) {
+        if (si >= geometry.sets.size() || !geometry.sets[si].placed) {
             m_sets.emplace_back();
             continue;
         }
-        PreviewMesh mesh = tessellate_set(set, detail);
-        CsgTexels csg;
-        add_csg_leaves(set, &mesh, &csg);
+        const PreviewMesh& mesh = geometry.sets[si].mesh;
+        const CsgTexels& csg = geometry.sets[si].csg;
         bool textured = false;  // the materials drawn, CSG leaves' included
         std::vector<char> seen(scene.materials.size(), 0);
         for (const int m : mesh.materials) {

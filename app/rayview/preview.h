@@ -11,6 +11,7 @@
 #include "csg_preview.h"
 #include "gl_util.h"
 #include "overlay.h"
+#include "preview_geometry.h"
 #include "rt/compile/render_scene.h"
 #include "rt/render/camera.h"
 #include "rt/render/plan.h"
@@ -34,6 +35,8 @@ public:
 
     /// Uploads the scene's meshes (tessellated with `detail` segments) and textures.
     void load(const RenderScene& scene, int detail = 48);
+    /// The same from geometry prepared for this scene (prepare_preview()).
+    void load(const RenderScene& scene, const PreviewGeometry& geometry);
     /// Clears to the scene's background and draws every instance, lit by the plan's lights with
     /// a program compiled for what the plan says the scene uses. With the plan's shadows, the
     /// first kMaxShadowLights lights cast shadows from opaque materials through shadow maps,

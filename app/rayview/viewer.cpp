@@ -184,6 +184,7 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
         s->scene = compile_scene(s->desc, &report);
         s->prim_locs = std::move(report.prim_locs);
         s->material_names = std::move(report.material_names);
+        s->preview = prepare_preview(s->scene);
         if (s->desc.camera) {
             s->file_camera = *s->desc.camera;
         } else {  // spec §6.3's default camera, framed for 4:3

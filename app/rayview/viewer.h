@@ -13,6 +13,7 @@
 #include "camera_controller.h"
 #include "image_job.h"
 #include "loader.h"
+#include "preview_geometry.h"
 #include "rt/compile/render_scene.h"
 #include "rt/format/parser.h"
 #include "rt/image/image.h"
@@ -36,6 +37,9 @@ struct LoadedScene {
     MissingTextures missing_textures = MissingTextures::Error;
     std::vector<std::vector<SourceLoc>> prim_locs;  // CompileReport's, for picking
     std::vector<std::string> material_names;
+    /// The preview's tessellation, made with the scene (on the loader's thread) and freed once
+    /// the preview uploaded it.
+    PreviewGeometry preview;
 };
 
 /// What a click picked: the primitive under the pixel and what the panel says about it.
