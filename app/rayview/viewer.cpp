@@ -319,6 +319,7 @@ bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures mi
 }
 
 void ViewerState::open_in_background(std::string file) {
+    m_reloading = false;
     const MissingTextures missing = missing_textures;
     loader.start(file, [file, missing](std::string* error, bool* textures_missing) {
         return load_scene(file, error, missing, textures_missing);
@@ -360,6 +361,26 @@ bool ViewerState::finish_open(std::unique_ptr<LoadedScene> next, const std::stri
 
 bool ViewerState::reload() {
     if (!loaded) return false;
+    std::string err;
+    bool textures_missing = false;
+    auto next = load_scene(loaded->path, &err, loaded->missing_textures, &textures_missing);
+    return finish_reload(std::move(next), err, textures_missing);
+}
+
+void ViewerState::reload_in_background() {
+    if (!loaded) return;
+    const std::string file = loaded->path;
+    const MissingTextures missing = loaded->missing_textures;
+    loader.start(file, [file, missing](std::string* error, bool* textures_missing) {
+        return load_scene(file, error, missing, textures_missing);
+    });
+    m_reloading = true;
+}
+
+bool ViewerState::finish_reload(std::unique_ptr<LoadedScene> next, const std::string& err,
+                                bool textures_missing) {
+    // What the user edited, against the scene as it was read last (edits made while a
+    // background reload ran count too).
     OrbitCamera file_view;
     file_view.set_from(loaded->file_camera, loaded->scene.world_bounds);
     const bool camera_edited = !same_camera(file_view.desc(), edits.camera.desc());
@@ -368,7 +389,8 @@ bool ViewerState::reload() {
     const SceneEdits mine = edits;
     const std::vector<LightDesc> old_lights = loaded->desc.lights;
     const CameraDesc old_camera = loaded->file_camera;
-    if (!open_as(loaded->path, false, loaded->missing_textures)) return false;
+    const std::string file = loaded->path;  // finish_open replaces `loaded`
+    if (!finish_open(std::move(next), file, err, textures_missing, false)) return false;
     if (camera_edited) edits.camera = mine.camera;
     if (lights_edited) {
         edits.lights = mine.lights;
@@ -425,8 +447,13 @@ void ViewerState::poll_files() {
     std::unique_ptr<LoadedScene> next;
     std::string loaded_file;
     bool textures_missing = false;
-    if (loader.take(&next, &result, &textures_missing, &loaded_file))
-        finish_open(std::move(next), loaded_file, result, textures_missing, false);
+    if (loader.take(&next, &result, &textures_missing, &loaded_file)) {
+        if (m_reloading && loaded && loaded_file == loaded->path)
+            finish_reload(std::move(next), result, textures_missing);
+        else
+            finish_open(std::move(next), loaded_file, result, textures_missing, false);
+        m_reloading = false;
+    }
     if (!dropped.empty()) {  // the window stays interactive while it loads
         open_in_background(dropped.back());
         dropped.clear();
@@ -434,7 +461,10 @@ void ViewerState::poll_files() {
     const auto now = Clock::now();
     if (now - m_last_check < std::chrono::milliseconds(500)) return;
     m_last_check = now;
-    if (loaded && modified(loaded->path) != loaded->file_time) reload();
+    if (loaded && !loader.busy() && modified(loaded->path) != loaded->file_time) {
+        loaded->file_time = modified(loaded->path);  // once per change
+        reload_in_background();                      // the open scene stays interactive meanwhile
+    }
     if (!loaded && !m_watched.empty() && modified(m_watched) != m_watched_time) {
         m_watched_time = modified(m_watched);  // the file that failed at start-up, fixed?
         open(m_watched, false);

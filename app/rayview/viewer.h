@@ -145,7 +145,10 @@ struct ViewerState {
     /// Drops the kept edits the last reload() reported in `reload_conflict`: the file's camera
     /// and lights.
     void use_file_edits();
-    /// Opens the last file dropped onto the window, and reloads the open file when it changed on
+    /// reload() on the loader's thread: the open scene stays interactive; poll_files() merges.
+    void reload_in_background();
+    /// Takes finished background work (an image, a load or a reload), opens the last file
+    /// dropped onto the window, and reloads the open file in the background when it changed on
     /// disk (its time is checked twice a second, not every frame).
     void poll_files();
     /// The description with the viewer's camera and lights, as a .ray file. Throws.
@@ -239,6 +242,10 @@ private:
     /// The second half of opening: a scene read (or the error) becomes the open one.
     bool finish_open(std::unique_ptr<LoadedScene> next, const std::string& file,
                      const std::string& err, bool textures_missing, bool keep_camera);
+    /// A reload read: it becomes the open scene, the user's edits merged (see reload()).
+    bool finish_reload(std::unique_ptr<LoadedScene> next, const std::string& err,
+                       bool textures_missing);
+    bool m_reloading = false;  // the loader's job is a reload of the open file
     void on_loaded();
     void restart();
     UndoState current_state() const { return {edits, settings}; }

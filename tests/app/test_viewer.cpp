@@ -262,7 +262,12 @@ TEST(Viewer, ATouchReloadsAndKeepsTheEdits) {
     std::filesystem::last_write_time(
         path, std::filesystem::last_write_time(path) + std::chrono::seconds(2));
     std::this_thread::sleep_for(std::chrono::milliseconds(600));  // polled twice a second
-    v.poll_files();
+    v.poll_files();  // starts the reload in the background
+    EXPECT_EQ(v.loaded->id, id);
+    for (int i = 0; i < 2000 && v.loaded->id == id; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        v.poll_files();
+    }
     EXPECT_GT(v.loaded->id, id);
     EXPECT_EQ(v.edits.light_on[0], 0);
 }
