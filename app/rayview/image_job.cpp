@@ -1,5 +1,9 @@
 #include "image_job.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <cstdio>
 
 #include "rt/render/plan.h"
@@ -37,6 +41,10 @@ bool ImageJob::take_result(std::string* message, bool* ok) {
 }
 
 void ImageJob::run(ImageJobSpec spec) {
+    // Below the interface (nice 10, passed on to the render's worker threads) and above the
+    // interactive trace (SCHED_IDLE): the window stays smooth and the image the user asked for
+    // goes first.
+    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
     const Clock::time_point t0 = Clock::now();
     std::string message;
     bool ok = false;
