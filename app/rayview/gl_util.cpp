@@ -133,6 +133,14 @@ std::string indexed(const char* name, int i) {
     return k;
 }
 
+void set_sampling(unsigned target, int filter, int wrap) {
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S, wrap);
+    glTexParameteri(target, GL_TEXTURE_WRAP_T, wrap);
+    glTexParameteri(target, GL_TEXTURE_WRAP_R, wrap);
+}
+
 void ImageTexture::upload(const Image& img) {
     if (!texture) texture = GlTexture::make();
     const std::vector<uint8_t> bytes = to_bytes(img);  // as raytrace writes
@@ -140,8 +148,7 @@ void ImageTexture::upload(const Image& img) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, img.width, img.height, 0, GL_RGB, GL_UNSIGNED_BYTE,
                  bytes.data());
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    set_sampling(GL_TEXTURE_2D, GL_LINEAR, GL_CLAMP_TO_EDGE);
     w = img.width;
     h = img.height;
 }
@@ -156,8 +163,7 @@ void RenderTarget::resize(int width, int height) {
     color = GlTexture::make();
     glBindTexture(GL_TEXTURE_2D, color.id());
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    set_sampling(GL_TEXTURE_2D, GL_LINEAR, GL_CLAMP_TO_EDGE);
     depth = GlRenderbuffer::make();
     glBindRenderbuffer(GL_RENDERBUFFER, depth.id());
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);

@@ -98,6 +98,10 @@ int uniform(unsigned program, const std::string& name);
 void set_vec3(unsigned program, const std::string& name, const Vec3& v);
 /// A row-major 4x4 (m[row][col]) as GL's column-major matrix.
 void set_matrix(unsigned program, const char* name, const double m[4][4]);
+/// The bound texture of `target`'s filtering (min and mag: GL_LINEAR, ...) and wrapping on
+/// every axis (GL_REPEAT, GL_CLAMP_TO_EDGE, ...).
+void set_sampling(unsigned target, int filter, int wrap);
+
 /// "name[i]", the uniform name of an array element.
 std::string indexed(const char* name, int i);
 

@@ -318,12 +318,16 @@ bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures mi
     return finish_open(std::move(next), file, err, textures_missing, keep_camera);
 }
 
-void ViewerState::open_in_background(std::string file) {
-    m_reloading = false;
-    const MissingTextures missing = missing_textures;
+void ViewerState::load_in_background(const std::string& file, MissingTextures missing,
+                                     bool reload) {
     loader.start(file, [file, missing](std::string* error, bool* textures_missing) {
         return load_scene(file, error, missing, textures_missing);
     });
+    m_reloading = reload;
+}
+
+void ViewerState::open_in_background(std::string file) {
+    load_in_background(file, missing_textures, false);
     note("loading " + file + " ...");
 }
 
@@ -368,13 +372,7 @@ bool ViewerState::reload() {
 }
 
 void ViewerState::reload_in_background() {
-    if (!loaded) return;
-    const std::string file = loaded->path;
-    const MissingTextures missing = loaded->missing_textures;
-    loader.start(file, [file, missing](std::string* error, bool* textures_missing) {
-        return load_scene(file, error, missing, textures_missing);
-    });
-    m_reloading = true;
+    if (loaded) load_in_background(loaded->path, loaded->missing_textures, true);
 }
 
 bool ViewerState::finish_reload(std::unique_ptr<LoadedScene> next, const std::string& err,

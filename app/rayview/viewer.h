@@ -245,6 +245,8 @@ private:
     /// A reload read: it becomes the open scene, the user's edits merged (see reload()).
     bool finish_reload(std::unique_ptr<LoadedScene> next, const std::string& err,
                        bool textures_missing);
+    /// Starts `loader` on `file`; `reload`: its result is merged as a reload.
+    void load_in_background(const std::string& file, MissingTextures missing, bool reload);
     bool m_reloading = false;  // the loader's job is a reload of the open file
     void on_loaded();
     void restart();
