@@ -96,7 +96,11 @@ void Panes::draw(ViewerState& v) {
     const bool new_trace = v.take_trace_image();
     if (new_trace || v.settings.exposure != m_shown_exposure ||
         v.settings.tonemap != m_shown_tonemap) {
-        if (v.last_trace.width > 0) m_trace.upload(v.displayed_trace());
+        const bool as_is = v.settings.exposure == 0 && v.settings.tonemap == Tonemap::Clamp;
+        if (v.last_trace.width > 0 && as_is)
+            m_trace.upload(v.last_trace);  // no copy of every pass when nothing changes it
+        else if (v.last_trace.width > 0)
+            m_trace.upload(v.displayed_trace());
         m_shown_exposure = v.settings.exposure;
         m_shown_tonemap = v.settings.tonemap;
     }

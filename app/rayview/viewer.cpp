@@ -43,18 +43,22 @@ bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& 
     return true;
 }
 
-// Two undo states alike in what the user edits (not the trace's size, which follows the pane,
-// nor the panel's width and scale).
-bool same_state(const UndoState& a, const UndoState& b) {
-    ViewSettings x = a.settings, y = b.settings;
-    for (ViewSettings* s : {&x, &y}) {
-        s->render.width = s->render.height = 0;
-        s->panel_w = 0;
-        s->ui_scale = 1;
-        s->show_panel = true;
-    }
-    return x == y && a.edits.camera == b.edits.camera && a.edits.light_on == b.edits.light_on &&
-           same_lights(a.edits.lights, b.edits.lights);
+// The settings that follow the window, not the user's edits (undo keeps them as they are): the
+// trace's size, which follows the pane, and the panel's width, visibility and scale.
+void keep_window_settings(ViewSettings* s, const ViewSettings& window) {
+    s->render.width = window.render.width;
+    s->render.height = window.render.height;
+    s->panel_w = window.panel_w;
+    s->ui_scale = window.ui_scale;
+    s->show_panel = window.show_panel;
+}
+
+// The edits and settings alike in what the user edits.
+bool same_state(const SceneEdits& edits, const ViewSettings& settings, const UndoState& b) {
+    ViewSettings x = settings;
+    keep_window_settings(&x, b.settings);
+    return x == b.settings && edits.camera == b.edits.camera &&
+           edits.light_on == b.edits.light_on && same_lights(edits.lights, b.edits.lights);
 }
 
 bool same_loc(const SourceLoc& a, const SourceLoc& b) {
@@ -261,7 +265,7 @@ void ViewerState::reset_history() {
 }
 
 void ViewerState::track_history(bool gesture) {
-    if (gesture || same_state(current_state(), m_committed)) return;
+    if (gesture || same_state(edits, settings, m_committed)) return;  // no copy per frame
     m_undo.push_back(std::move(m_committed));
     if (m_undo.size() > 500) m_undo.erase(m_undo.begin());
     m_redo.clear();
@@ -269,14 +273,10 @@ void ViewerState::track_history(bool gesture) {
 }
 
 void ViewerState::restore(const UndoState& s) {
-    const ViewSettings keep = settings;  // what follows the window, not the user's edits
+    const ViewSettings window = settings;
     edits = s.edits;
     settings = s.settings;
-    settings.render.width = keep.render.width;
-    settings.render.height = keep.render.height;
-    settings.panel_w = keep.panel_w;
-    settings.ui_scale = keep.ui_scale;
-    settings.show_panel = keep.show_panel;
+    keep_window_settings(&settings, window);
     m_committed = current_state();
     preview_stale = true;
     mark_edited();
