@@ -11,6 +11,7 @@
 #include <link.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -49,6 +50,11 @@ void keep_gl_driver_loaded() {
         nullptr);
 #endif
 }
+
+// Ctrl+C or a kill from outside closes the window as its close button does: the trace stops
+// and the settings are kept (nothing is lost to a signal).
+volatile std::sig_atomic_t g_quit = 0;
+void on_signal(int) { g_quit = 1; }
 
 void glfw_error(int code, const char* message) {
     std::fprintf(stderr, "rayview: GLFW error %d: %s\n", code, message);
@@ -136,6 +142,8 @@ int main(int argc, char** argv) {
     if (opt.window_w == 0) opt.window_w = config.window_w, opt.window_h = config.window_h;
 
     // Setup window
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
     glfwSetErrorCallback(glfw_error);
     GLFWwindow* window = open_window(opt.window_w, opt.window_h);
     if (!window) return render_headless(opt.scene, opt.missing_textures);
@@ -196,7 +204,7 @@ int main(int argc, char** argv) {
             // Rendering
             render_frame(fb_w, fb_h);
             // Scripted input for this frame (after drawing, so screenshots show the frame).
-            if (script.end_frame(viewer, fb_w, fb_h, &exit_code))
+            if (script.end_frame(viewer, fb_w, fb_h, &exit_code) || g_quit)
                 glfwSetWindowShouldClose(window, 1);
             glfwSwapBuffers(window);
         }
