@@ -159,7 +159,8 @@ std::string stand_in_text(const SceneDesc& desc) {
 }
 
 std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error,
-                                        MissingTextures missing, bool* textures_missing) {
+                                        MissingTextures missing, bool* textures_missing,
+                                        bool for_preview) {
     if (textures_missing) *textures_missing = false;
     try {
         Diagnostics diag;
@@ -188,7 +189,7 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
         s->scene = compile_scene(s->desc, &report);
         s->prim_locs = std::move(report.prim_locs);
         s->material_names = std::move(report.material_names);
-        s->preview = prepare_preview(s->scene);
+        if (for_preview) s->preview = prepare_preview(s->scene);
         if (s->desc.camera) {
             s->file_camera = *s->desc.camera;
         } else {  // spec §6.3's default camera, framed for 4:3
@@ -207,7 +208,7 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
 
 int render_headless(const std::string& path, MissingTextures missing) {
     std::string error;
-    const auto s = load_scene(path, &error, missing);
+    const auto s = load_scene(path, &error, missing, nullptr, false);  // no preview to draw
     if (!s) {
         std::cerr << error << "\n";
         return 1;

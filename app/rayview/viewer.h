@@ -106,9 +106,11 @@ std::string stand_in_text(const SceneDesc& desc);
 /// Reads and compiles a scene; nullptr and `*error` on failure. With MissingTextures::Error a
 /// failed open is tried again with checker stand-ins: `*textures_missing` (when given) says
 /// whether that would open it (the failure was only textures that cannot be opened).
+/// `for_preview`: also tessellate it for the preview (LoadedScene::preview); a headless render
+/// does not.
 std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error,
                                         MissingTextures missing = MissingTextures::Error,
-                                        bool* textures_missing = nullptr);
+                                        bool* textures_missing = nullptr, bool for_preview = true);
 
 /// Without a display: the same renderer, headless (16 spp), to SCENE.png in the working
 /// directory. Returns the exit code.
