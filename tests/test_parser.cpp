@@ -448,11 +448,18 @@ TEST_F(ParserFiles, KeyFileGivesJointMatrices) {
     const GroupDesc& root = s.files[0].root.groups[0];
     EXPECT_EQ(Vec3(root.matrix[3]), Vec3(4, 5, 6));
     EXPECT_EQ(root.groups[0].matrix[0][0], 2.0);
+    // Spec §14.2: matched ignoring case, with a warning; every key is kept.
+    EXPECT_TRUE(diag.has("joint-case"));
+    ASSERT_EQ(s.tracks.size(), 2u);
+    EXPECT_EQ(s.tracks[0].name, "Root");
+    EXPECT_EQ(Vec3(s.tracks[0].keys[1][3]), Vec3(9, 9, 9));
     EXPECT_NE(load_error(write("nodof.ray", "#key_file k.key\n#joint_begin leg\n#joint_end\n"))
-                  .find("nodof.ray:2:14: error: no DOF named 'leg'"),
+                  .find("nodof.ray:2:14: error: no DOF 'leg' in key files k.key"),
               std::string::npos);
     write("short.key", "#DOFS 1 a\n#DURATION 1\n#FRAMES 1\n1 0 0 0 0 1 0 0\n");
-    EXPECT_NE(load_error(write("s.ray", "#key_file short.key\n")).find("key file needs 16 numbers"),
+    EXPECT_NE(load_error(write("s.ray", "#key_file short.key\n"))
+                  .find("short.key:5:1: error: key file has 8 numbers after #FRAMES, expected "
+                        "16\u00b71\u00b71 = 16"),
               std::string::npos);
     // Spec §14.1: two DOFs of one name are an error; names differing only in case are not.
     const std::string id = " 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1";

@@ -10,89 +10,24 @@
 #include <numeric>
 #include <tuple>
 #include <type_traits>
+#include <unordered_map>
 #include <variant>
 #include <vector>
+
+#include "compile/placement.h"
 
 namespace rt {
 
 namespace {
 
-// Geometry must stay within +-1e300 in every frame: beyond that, centroids, extents and areas
-// overflow in the BVH build and the traversal. A shape or instance past it is an error at its
-// directive (docs/format.md, "our choices").
-constexpr double kMaxCoordinate = 1e300;
-
-bool within_limits(const Bounds3& b) {
-    for (int a = 0; a < 3; ++a)
-        if (!(std::abs(b.lo[a]) <= kMaxCoordinate && std::abs(b.hi[a]) <= kMaxCoordinate))
-            return false;  // also NaN
-    return true;
-}
-
-// The box of a CSG node from its children's boxes (spec §13.8, informative): union for lists
-// and unions, intersection for intersections, A's box for a difference.
-Bounds3 combine_csg_bounds(CsgNodeKind kind, const Bounds3* child, uint32_t count) {
-    Bounds3 b;
-    if (kind == CsgNodeKind::Empty || count == 0) return b;
-    if (kind == CsgNodeKind::Difference) return child[0];
-    if (kind != CsgNodeKind::Intersection) {
-        for (uint32_t i = 0; i < count; ++i) b.extend(child[i]);
-        return b;
-    }
-    b = child[0];
-    double size = 0.0;  // the largest child's largest side
-    for (uint32_t i = 0; i < count; ++i) {
-        if (child[i].empty()) return {};  // an empty child: nothing is inside every child
-        b.lo = glm::max(b.lo, child[i].lo);
-        b.hi = glm::min(b.hi, child[i].hi);
-        const Vec3 d = child[i].diagonal();
-        size = std::max({size, d.x, d.y, d.z});
-    }
-    // A point "on" another child is up to its tolerance (1e-9 of its size and of its distance
-    // from the origin) outside it, and outside its box: grown by more than that, also where the
-    // boxes only touch (two boxes sharing the face x = 0 meet in a box of width 0 at 0).
-    const Vec3 grow = 1e-7 * (glm::abs(b.lo) + glm::abs(b.hi) + Vec3(size));
-    const Bounds3 grown{b.lo - grow, b.hi + grow};
-    return grown.empty() ? Bounds3{} : grown;
-}
-
-Bounds3 shape_world_bounds(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
-    const Mat4 m = p.transform < 0
-                       ? world_from_set
-                       : world_from_set * set.transforms[static_cast<size_t>(p.transform)].m;
-    return visit_shape(set, p, [&](const auto& shape) { return bounds(shape, m); });
-}
-
-// The world box of a CSG tree, from its leaves' tight world boxes (post-order: a node's children
-// are done before it).
-Bounds3 csg_world_bounds(const GeometrySet& set, const CsgRoot& root, const Mat4& world_from_set) {
-    const CsgArrays& c = set.csg;
-    const uint32_t first = c.nodes[root.node].subtree_first;
-    std::vector<Bounds3> b(root.node - first + 1);
-    std::vector<Bounds3> kids;
-    for (uint32_t i = first; i <= root.node; ++i) {
-        const CsgNode& n = c.nodes[i];
-        if (n.kind == CsgNodeKind::Leaf) {
-            b[i - first] = shape_world_bounds(set, c.leaves[n.first].prim, world_from_set);
-            continue;
-        }
-        kids.clear();
-        for (uint32_t k = 0; k < n.count; ++k) kids.push_back(b[c.children[n.first + k] - first]);
-        b[i - first] = combine_csg_bounds(n.kind, kids.data(), n.count);
-    }
-    return b.back();
-}
-
-// Tight world bounds of one primitive of a set placed by world_from_set (for the default camera).
-Bounds3 world_bounds_of(const GeometrySet& set, const Primitive& p, const Mat4& world_from_set) {
-    if (p.csg >= 0)
-        return csg_world_bounds(set, set.csg.roots[static_cast<size_t>(p.csg)], world_from_set);
-    return shape_world_bounds(set, p, world_from_set);
-}
+using compile_detail::combine_csg_bounds;
+using compile_detail::within_limits;
 
 class Compiler {
 public:
-    Compiler(const SceneDesc& desc, CompileReport& report) : m_desc(desc), m_report(report) {}
+    Compiler(const SceneDesc& desc, CompileReport& report, const std::optional<SceneTime>& time,
+             Diagnostics* diag)
+        : m_desc(desc), m_report(report), m_time(time), m_diag(diag) {}
 
     RenderScene run() {
         if (m_desc.camera) m_scene.camera = compile_camera(*m_desc.camera);
@@ -101,9 +36,11 @@ public:
         for (const LightDesc& l : m_desc.lights) m_scene.lights.push_back(compile_light(l));
         m_scene.texture_all_terms = m_desc.dialect == Dialect::V3;  // spec §13.9
         compile_materials();
-        m_set_of_file.assign(m_desc.files.size(), -2);  // -2: not compiled yet
-        if (!m_desc.files.empty()) place(0, Mat4(1.0), SourceLoc{});
-        build_acceleration();
+        m_values = joint_values(m_desc.tracks, m_time, m_diag);
+        m_scene.rig.tracks = m_desc.tracks;
+        m_scene.time = m_time;
+        if (!m_desc.files.empty()) place_all();
+        m_report.build_seconds += compile_detail::place_instances(m_scene, m_values);
         fill_report();
         return std::move(m_scene);
     }
@@ -139,24 +76,86 @@ private:
         return m;
     }
 
-    // Places file `fi` in the world: compiles its set once, adds an instance for its own
-    // shapes, and recurses into the files it instances.
-    // `at` is the #ray_file_instance that placed it (none for the top file).
-    void place(size_t fi, const Mat4& world_from_file, const SourceLoc& at) {
-        const int set = set_for(fi);
-        if (set >= 0) {
-            Instance inst;
-            inst.set = set;
-            inst.world_from_set = Transform::from_matrix(world_from_file);
-            inst.identity = inst.world_from_set.is_identity();
-            if (!inst.identity && !within_limits(inst.world_from_set.apply(
-                                      m_scene.sets[static_cast<size_t>(set)].bvh.root_bounds)))
-                throw SceneError(at,
+    // What is compiled into one set and placed: a file's root list, or a bound joint's subtree
+    // in the joint's own frame (its set is the joint's shapes without the joints inside it).
+    struct PlaceItem {
+        size_t file;
+        const GroupDesc* root;
+        bool joint_root;
+        int joint;   // the innermost joint node it lies under
+        Mat4 after;  // its frame in that joint's frame (or the world's)
+        SourceLoc at;
+    };
+
+    // Places the top file in the world: each root's set compiled once, one placement per
+    // reference, the files it instances and the joints it holds pushed as roots of their own.
+    // An explicit stack: joints nest as deep as groups.
+    void place_all() {
+        std::vector<PlaceItem> todo = {{0, &m_desc.files[0].root, false, -1, Mat4(1.0), {}}};
+        while (!todo.empty()) {
+            const PlaceItem item = todo.back();
+            todo.pop_back();
+            const int set = set_for(item);
+            if (set >= 0) add_placement(set, item);
+            push_roots(item, todo);
+        }
+    }
+
+    void add_placement(int set, const PlaceItem& item) {
+        Placement p;
+        p.set = set;
+        p.joint = item.joint;
+        p.after = item.after;
+        p.at = item.at;
+        const GeometrySet& gs = m_scene.sets[static_cast<size_t>(set)];
+        if (item.joint < 0) {
+            p.instance.set = set;
+            p.instance.world_from_set = Transform::from_matrix(item.after);
+            p.instance.identity = p.instance.world_from_set.is_identity();
+            p.instance.world_bounds = p.instance.identity
+                                          ? gs.bvh.root_bounds
+                                          : p.instance.world_from_set.apply(gs.bvh.root_bounds);
+            if (!within_limits(p.instance.world_bounds))
+                throw SceneError(item.at,
                                  "instance reaches beyond +-1e300 in the world (coordinates "
                                  "too large for the renderer)");
-            m_scene.instances.push_back(inst);
+            if (!m_scene.camera)
+                p.tight = compile_detail::tight_world_bounds(gs, p.instance.world_from_set.m);
         }
-        place_instances(m_desc.files[fi], m_desc.files[fi].root, world_from_file);
+        m_scene.rig.placements.push_back(std::move(p));
+    }
+
+    // The files instanced and the joints held by item's root, not inside its joints (those
+    // are roots of their own), in the order of a recursive pre-order walk.
+    void push_roots(const PlaceItem& item, std::vector<PlaceItem>& todo) {
+        const FileDesc& f = m_desc.files[item.file];
+        std::vector<GroupVisit> walk = {{item.root, Mat4(1.0)}};
+        std::vector<PlaceItem> found;
+        while (!walk.empty()) {
+            const GroupVisit v = walk.back();
+            walk.pop_back();
+            const GroupDesc& g = *v.group;
+            const bool is_root = &g == item.root;
+            if (g.track >= 0 && !is_root) {
+                JointNode node;
+                node.parent = item.joint;
+                node.before = item.after * v.parent;
+                node.track = g.track;
+                m_scene.rig.joints.push_back(node);
+                const int id = static_cast<int>(m_scene.rig.joints.size()) - 1;
+                found.push_back({item.file, &g, true, id, Mat4(1.0), g.loc});
+                continue;
+            }
+            const Mat4 m = is_root && item.joint_root ? v.parent : v.parent * g.matrix;
+            for (const InstanceDesc& in : g.instances) {
+                const size_t fj =
+                    static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]);
+                found.push_back(
+                    {fj, &m_desc.files[fj].root, false, item.joint, item.after * m, in.loc});
+            }
+            push_children(walk, g, m);
+        }
+        todo.insert(todo.end(), found.rbegin(), found.rend());
     }
 
     // A group and the matrix of its parent's frame: the walks of the group tree keep their own
@@ -169,17 +168,13 @@ private:
         for (auto it = g.groups.rbegin(); it != g.groups.rend(); ++it) todo.push_back({&*it, m});
     }
 
-    void place_instances(const FileDesc& f, const GroupDesc& root, const Mat4& world_from_root) {
-        std::vector<GroupVisit> todo = {{&root, world_from_root}};
-        while (!todo.empty()) {
-            const GroupVisit v = todo.back();
-            todo.pop_back();
-            const Mat4 m = v.parent * v.group->matrix;
-            for (const InstanceDesc& in : v.group->instances)
-                place(static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]), m,
-                      in.loc);
-            push_children(todo, *v.group, m);
-        }
+    // The matrix of group g inside a CSG node: a bound joint's value at the compiled time (the
+    // node's set then depends on the time: animate() compiles again); null where it is singular.
+    const Mat4* csg_group_matrix(const GroupDesc& g) {
+        if (g.track < 0) return &g.matrix;
+        m_scene.rig.recompile = true;
+        const size_t k = static_cast<size_t>(g.track);
+        return m_values.singular[k] ? nullptr : &m_values.matrix[k];
     }
 
     // One shape waiting for its place in the set: its description and its group's transform,
@@ -195,15 +190,16 @@ private:
     // Compiles file `fi` into a set in two passes: the shapes' bounds first, then the BVH over
     // them, then the primitives written straight in the BVH's leaf order, so a leaf reads its
     // primitives from consecutive memory and no array is copied twice.
-    int set_for(size_t fi) {
-        if (m_set_of_file[fi] != -2) return m_set_of_file[fi];
+    int set_for(const PlaceItem& item) {
+        const size_t fi = item.file;
+        if (auto it = m_set_of_root.find(item.root); it != m_set_of_root.end()) return it->second;
         GeometrySet set;
         set.name = m_desc.files[fi].path;
         std::vector<Pending> pending;
-        pending.reserve(count_shapes(m_desc.files[fi].root));
-        collect(set, fi, Mat4(1.0), pending);
+        pending.reserve(count_shapes(*item.root));
+        collect(set, item, pending);
         if (pending.empty()) {
-            m_set_of_file[fi] = -1;
+            m_set_of_root[item.root] = -1;
             return -1;
         }
         std::vector<Bounds3> bounds;
@@ -246,9 +242,10 @@ private:
         }
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
         pack_triangles(set);
-        m_set_of_file[fi] = static_cast<int>(m_scene.sets.size());
+        const int index = static_cast<int>(m_scene.sets.size());
+        m_set_of_root[item.root] = index;
         m_scene.sets.push_back(std::move(set));
-        return m_set_of_file[fi];
+        return index;
     }
 
     // The walk of a set that holds only shapes of kind k; a kind without a walk of its own
@@ -314,14 +311,18 @@ private:
         return n;
     }
 
-    // Flattens the group tree: one cached transform per group with shapes (none when identity).
-    void collect(GeometrySet& set, size_t fi, const Mat4& parent, std::vector<Pending>& pending) {
-        std::vector<GroupVisit> todo = {{&m_desc.files[fi].root, parent}};
+    // Flattens the group tree of item's root: one cached transform per group with shapes (none
+    // when identity). The joints inside it are sets of their own (push_roots).
+    void collect(GeometrySet& set, const PlaceItem& item, std::vector<Pending>& pending) {
+        const size_t fi = item.file;
+        std::vector<GroupVisit> todo = {{item.root, Mat4(1.0)}};
         while (!todo.empty()) {
             const GroupVisit v = todo.back();
             todo.pop_back();
             const GroupDesc& g = *v.group;
-            const Mat4 m = v.parent * g.matrix;
+            const bool is_root = &g == item.root;
+            if (g.track >= 0 && !is_root) continue;
+            const Mat4 m = is_root && item.joint_root ? v.parent : v.parent * g.matrix;
             if (!g.shapes.empty()) {
                 int xf = -1;
                 if (m != Mat4(1.0)) {
@@ -425,7 +426,9 @@ private:
             return;
         }
         const GroupDesc& g = *v.group;
-        const Mat4 m = v.parent * g.matrix;
+        const Mat4* gm = csg_group_matrix(g);
+        if (!gm) return;  // a joint singular at this time: an empty operand
+        const Mat4 m = v.parent * *gm;
         const FileDesc& f = m_desc.files[v.file];
         add_csg_leaves(set, v.file, g, m, v.flip, results);
         // Pushed in reverse so that they close in the list's order: groups, instances, CSGs.
@@ -578,33 +581,6 @@ private:
         set.triangle_attribs.push_back(attr);
     }
 
-    void build_acceleration() {
-        std::vector<Bounds3> inst_bounds;
-        for (Instance& inst : m_scene.instances) {
-            const Bounds3 b = m_scene.sets[static_cast<size_t>(inst.set)].bvh.root_bounds;
-            inst.world_bounds = inst.identity ? b : inst.world_from_set.apply(b);
-            inst_bounds.push_back(inst.world_bounds);
-            if (m_scene.camera) {
-                m_scene.world_bounds.extend(inst.world_bounds);
-                continue;
-            }
-            // No camera: the default camera needs the tight world bounding box (spec §6.3).
-            const GeometrySet& set = m_scene.sets[static_cast<size_t>(inst.set)];
-            for (const Primitive& p : set.prims)
-                m_scene.world_bounds.extend(world_bounds_of(set, p, inst.world_from_set.m));
-        }
-        const auto t0 = std::chrono::steady_clock::now();
-        m_scene.top = build_bvh(inst_bounds, {1, 16});
-        // Instances in the top BVH's leaf order, as for the sets' primitives.
-        std::vector<Instance> ordered;
-        ordered.reserve(m_scene.instances.size());
-        for (uint32_t i : m_scene.top.indices) ordered.push_back(m_scene.instances[i]);
-        m_scene.instances = std::move(ordered);
-        std::iota(m_scene.top.indices.begin(), m_scene.top.indices.end(), 0u);
-        m_report.build_seconds +=
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
-
     void fill_report() {
         CompileReport& s = m_report;
         s.files = m_desc.files.size();
@@ -633,7 +609,10 @@ private:
     const SceneDesc& m_desc;
     CompileReport& m_report;
     RenderScene m_scene;
-    std::vector<int> m_set_of_file;
+    const std::optional<SceneTime>& m_time;
+    Diagnostics* m_diag;
+    JointValues m_values;
+    std::unordered_map<const GroupDesc*, int> m_set_of_root;  // -1: the root has no shapes
     std::vector<int> m_texture_offset, m_material_offset;
     int m_default_material = 0;
 };
@@ -662,13 +641,14 @@ CameraPose compile_camera(const CameraDesc& d) {
     return {d.position, d.direction, d.up, d.half_height_angle_rad};
 }
 
-RenderScene compile_scene(const SceneDesc& desc, CompileReport* report) {
+RenderScene compile_scene(const SceneDesc& desc, CompileReport* report,
+                          const std::optional<SceneTime>& time, Diagnostics* diag) {
     CompileReport local;
     CompileReport& r = report ? *report : local;
     const bool locations = r.record_locations;
     r = {};
     r.record_locations = locations;
-    return Compiler(desc, r).run();
+    return Compiler(desc, r, time, diag).run();
 }
 
 }  // namespace rt

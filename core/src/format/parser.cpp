@@ -307,13 +307,11 @@ void ParserBase::check_matrix(const Mat4& m, const SourceLoc& loc, const std::st
         std::abs(m[3][3] - 1.0) > 1e-9)
         fail(loc, "projective " + what + ": the bottom row must be 0 0 0 1");
     const Mat3 a(m);
-    // hypot: a column of length 1e200 must not overflow in its squared length.
-    auto len = [](const Vec3& c) { return std::hypot(c.x, c.y, c.z); };
-    const double scale = len(a[0]) * len(a[1]) * len(a[2]);
-    const double det = glm::determinant(a);
-    if (!std::isfinite(scale) || !std::isfinite(det))
+    if (!std::isfinite(glm::determinant(a)) ||
+        !std::isfinite(std::hypot(a[0].x, a[0].y, a[0].z) * std::hypot(a[1].x, a[1].y, a[1].z) *
+                       std::hypot(a[2].x, a[2].y, a[2].z)))
         fail(loc, what + " too large: its determinant overflows");
-    if (std::abs(det) <= 1e-12 * scale || scale == 0.0) fail(loc, "singular " + what);
+    if (singular_3x3(a)) fail(loc, "singular " + what);
 }
 
 namespace {
@@ -746,17 +744,14 @@ private:
         g.loc = f.lex.loc(d);
         const Token nt = f.lex.peek();
         g.joint = word(f, d, "a joint name", true);
-        // Spec §4.4: frame 0 of the DOF of that name in the file's first key file.
+        // Spec §4.4, §14.2: the DOF of that name in the file's key files, key 0 as read.
         if (f.key_files.empty()) {
             if (!f.warned_joint_identity)
                 warn(g.loc, "joint-no-key", "no #key_file: joints use the identity");
             f.warned_joint_identity = true;
         } else {
-            const KeyFile& key = f.key_files.front();
-            auto it = key.frame0.find(lower(g.joint));
-            if (it == key.frame0.end())
-                fail(f, nt, "no DOF named " + quote(g.joint) + " in key file " + quote(key.path));
-            g.matrix = it->second;
+            g.track = bind_dof(f, nt, g.joint);
+            g.matrix = m_scene.tracks[static_cast<size_t>(g.track)].keys[0];
         }
         GroupDesc* parent = f.stack.back();
         parent->groups.push_back(std::move(g));

@@ -56,11 +56,15 @@ struct Count {
     int found = 0;
 };
 
+// A parsed .key file (spec §14.1): every key of every DOF, bottom rows set to (0, 0, 0, 1).
 struct KeyFile {
     std::string path;
-    std::string named;                         // the path as written in the .ray file
-    std::map<std::string, Mat4> frame0;        // lower-case DOF name -> matrix
-    std::map<std::string, Mat4> frame0_exact;  // DOF name as written -> matrix (V3 binding)
+    std::string named;  // the path as written in the .ray file
+    double duration = 1;
+    std::vector<std::string> names;            // the DOF names as written
+    std::vector<SourceLoc> name_locs;          // where each name is
+    std::vector<std::vector<Mat4>> keys;       // [dof][frame]
+    std::vector<int> track;                    // [dof]: index into SceneDesc::tracks, or -1
 };
 
 // One open construct of a V3 shapes part (spec §13.5). The parser keeps them on an explicit
@@ -168,6 +172,8 @@ protected:
 
     // ---- key files (key_file.cpp) --------------------------------------------------------
     KeyFile parse_key_file(const std::string& text, const std::string& path);
+    /// The track (index into m_scene.tracks) of DOF `name` of f's key files (spec §14.2).
+    int bind_dof(FileState& f, const Token& nt, const std::string& name);
 
     Diagnostics& m_diag;
     bool v3_all_zero_camera = false;  // the top-level file's camera is the dummy (dummy_camera)
@@ -229,7 +235,6 @@ private:
     V3Node v3_finish(FileState& f, V3Frame& fr);
     void v3_affine(FileState& f, const Token& d);
     void v3_dynamic(FileState& f, const Token& d);
-    Mat4 v3_bind(FileState& f, const Token& nt, const std::string& name);
     void v3_triangle(FileState& f, const Token& d);
     void v3_instance(FileState& f, const Token& d);
     void v3_skip(ShapeDesc& s, const char* kind);

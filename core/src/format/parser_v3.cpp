@@ -323,10 +323,12 @@ void ParserV3::v3_receive(FileState&, V3Frame& to, V3Node& node) {
         if (node.kind != V3Node::List) return add(to.group, node);
         const Mat4 m = to.group.matrix;
         std::string joint = std::move(to.group.joint);
+        const int track = to.group.track;
         const SourceLoc loc = to.group.loc;
         to.group = std::move(node.group);
         to.group.matrix = m;
         to.group.joint = std::move(joint);
+        to.group.track = track;
         to.group.loc = loc;
         return;
     }
@@ -376,62 +378,24 @@ void ParserV3::v3_affine(FileState& f, const Token& d) {
     f.v3.back().group.matrix = m;
 }
 
-// Spec §14.2: the DOF NAME of this file's key files, frame 0 (as V1's joints).
+// Spec §14.2: the DOF NAME of this file's key files; its matrix is key 0 as read (§14.7).
 void ParserV3::v3_dynamic(FileState& f, const Token& d) {
     const SourceLoc loc = f.lex.loc(d);
     const Token nt = f.lex.peek();
     const std::string name = word(f, d, "a DOF name", true);
-    Mat4 m(1.0);
+    int track = -1;
     if (f.key_files.empty()) {
         if (!f.warned_dynamic_identity)
             warn(loc, "joint-no-key", "no #key_file: #dynamic_affine uses the identity");
         f.warned_dynamic_identity = true;
     } else {
-        m = v3_bind(f, nt, name);
+        track = bind_dof(f, nt, name);
     }
     v3_push(f, d, V3Frame::Affine);
-    f.v3.back().group.matrix = m;
-    f.v3.back().group.joint = name;
-}
-
-Mat4 ParserV3::v3_bind(FileState& f, const Token& nt, const std::string& name) {
-    const KeyFile* hit = nullptr;
-    const Mat4* value = nullptr;
-    std::string dof;
-    const std::string key = lower(name);
-    for (const KeyFile& k : f.key_files) {
-        auto exact = k.frame0_exact.find(name);
-        std::vector<std::string> similar;
-        const Mat4* here = exact == k.frame0_exact.end() ? nullptr : &exact->second;
-        if (!here)
-            for (const auto& [dn, dm] : k.frame0_exact)
-                if (lower(dn) == key) similar.push_back(dn), here = &dm;
-        if (!here) continue;
-        const std::string found = similar.empty() ? name : similar.front();
-        if (hit) {
-            warn(f.lex.loc(nt), "dof-repeat",
-                 "DOF " + quote(found) + " is also in " + quote(k.named) +
-                     "; the first key file (" + quote(hit->named) + ") wins");
-            continue;
-        }
-        if (similar.size() > 1) {
-            std::string list;
-            for (const std::string& s : similar) list += (list.empty() ? "" : ", ") + quote(s);
-            fail(f, nt,
-                 "joint " + quote(name) + " matches several DOFs of " + quote(k.named) +
-                     " when case is ignored: " + list);
-        }
-        hit = &k, value = here, dof = found;
-    }
-    if (!hit) {
-        std::string names;
-        for (const KeyFile& k : f.key_files) names += (names.empty() ? "" : ", ") + k.named;
-        fail(f, nt, "no DOF " + quote(name) + " in key files " + names);
-    }
-    if (dof != name)
-        warn(f.lex.loc(nt), "joint-case",
-             "joint " + quote(name) + " matches DOF " + quote(dof) + " only when case is ignored");
-    return *value;
+    GroupDesc& g = f.v3.back().group;
+    g.joint = name;
+    g.track = track;
+    if (track >= 0) g.matrix = m_scene.tracks[static_cast<size_t>(track)].keys[0];
 }
 
 // Spec §13.5: v1 v2 v3 of this file, with the list's material.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,8 +31,19 @@ struct CompileReport {
 };
 
 /// SceneDesc -> RenderScene; `report`, when given, receives the counts and the BVH build time
-/// (and with record_locations the primitives' locations).
-RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr);
+/// (and with record_locations the primitives' locations). The joints hold their values at
+/// `time` (spec §14.7; none: key 0 as read); a joint singular there is left out with a warning
+/// into `diag`.
+RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr,
+                          const std::optional<SceneTime>& time = std::nullopt,
+                          Diagnostics* diag = nullptr);
+
+/// Moves the joints of `scene`, compiled from `desc`, to `time`: the instances under joints get
+/// their new transforms, the world bounds and the top-level BVH are made again, and nothing else
+/// is touched (unless a joint lies under a CSG node: then the scene is compiled again). The
+/// result renders exactly as compile_scene(desc, nullptr, time). Make a new render plan after.
+void animate(RenderScene& scene, const SceneDesc& desc, const std::optional<SceneTime>& time,
+             Diagnostics* diag = nullptr);
 
 /// A light and the camera of the description as the renderer uses them (directions made unit
 /// for lights).

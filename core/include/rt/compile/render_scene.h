@@ -12,6 +12,7 @@
 #include "rt/accel/bvh.h"
 #include "rt/accel/triangle4.h"
 #include "rt/image/image.h"
+#include "rt/scene/scene_time.h"
 #include "rt/shapes/shapes.h"
 #include "rt/util/error.h"
 #include "rt/util/light_kind.h"
@@ -139,6 +140,35 @@ struct CameraPose {
     double half_height_angle_rad = kPi / 6;
 };
 
+/// How the compile placed the sets (spec §14): a placement's world_from_set is the product of
+/// the joint matrices of its chain of joints with static matrices between them, so animate()
+/// (rt/compile/compile.h) moves joints by computing a few products and rebuilding only the
+/// top-level BVH; no set is compiled again. A scene without bound joints has no joint nodes.
+struct JointNode {
+    int parent = -1;   // the enclosing joint node, -1: the world
+    Mat4 before{1.0};  // world(node) = world(parent) * before * J(track)
+    int track = 0;     // index into SceneRig::tracks
+};
+
+struct Placement {
+    int set = 0;
+    int joint = -1;     // the innermost joint node it lies under, -1: none (a static instance)
+    Mat4 after{1.0};    // world_from_set = world(joint) * after
+    SourceLoc at;       // the #ray_file_instance or joint that placed it (messages)
+    Instance instance;  // a static placement's instance, ready (joint == -1)
+    Bounds3 tight;      // a static placement's tight world bounds (only for a scene without camera)
+};
+
+struct SceneRig {
+    std::vector<KeyTrack> tracks;
+    std::vector<JointNode> joints;  // parents before children
+    std::vector<Placement> placements;
+    /// A joint under a CSG node: its operand is flattened into the node's set at the compiled
+    /// time, so animate() compiles the scene again.
+    bool recompile = false;
+    bool animated() const { return !joints.empty() || recompile; }
+};
+
 struct RenderScene {
     std::optional<CameraPose> camera;  // absent: default camera (spec §6.3, at the render's size)
     Vec3 background{0.0};
@@ -152,6 +182,9 @@ struct RenderScene {
     std::vector<Instance> instances;
     Bvh top;               // over instances' world bounds
     Bounds3 world_bounds;  // tight when the scene has no camera (the default camera frames it)
+    SceneRig rig;          // what animate() needs to move the joints
+    /// The time the joints hold: none (key 0 as read) or the last animate()'s.
+    std::optional<SceneTime> time;
 };
 
 }  // namespace rt

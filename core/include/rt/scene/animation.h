@@ -23,9 +23,10 @@ const char* interpolation_name(Interpolation i);
 const char* rotation_name(Rotation r);
 
 /// One DOF of a key file: its keys (frame 0 first; the bottom row is ignored) over a loop of
-/// `duration` seconds (> 0). `loc` is where errors at a time point (a quaternion that
-/// normalizes to nothing) are reported.
+/// `duration` seconds (> 0). `loc` is where errors and warnings at a time point are reported
+/// (the first joint bound to it).
 struct KeyTrack {
+    std::string name;  // the DOF's name in its key file
     double duration = 1;
     std::vector<Mat4> keys;
     SourceLoc loc;

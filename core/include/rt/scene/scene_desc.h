@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rt/image/image.h"
+#include "rt/scene/animation.h"
 #include "rt/shapes/shapes.h"
 #include "rt/util/error.h"
 #include "rt/util/light_kind.h"
@@ -145,6 +146,9 @@ struct GroupDesc {
     SourceLoc loc;
     Mat4 matrix{1.0};
     std::string joint;  // non-empty for #joint_begin and #dynamic_affine (the DOF name)
+    /// A joint bound to a DOF: its index into SceneDesc::tracks (-1: a plain group, or a joint
+    /// without key files, which is the identity). `matrix` is then the track's key 0 as read.
+    int track = -1;
     std::vector<ShapeDesc> shapes;
     std::vector<GroupDesc> groups;
     std::vector<InstanceDesc> instances;
@@ -169,7 +173,7 @@ struct FileDesc {
     std::vector<MaterialDesc> materials;
     std::vector<VertexDesc> vertices;
     std::vector<int> ray_files;          // #ray_file index -> index into SceneDesc::files
-    std::vector<std::string> key_files;  // as resolved (their frame 0 is in the joints)
+    std::vector<std::string> key_files;  // as resolved (the DOFs joints use are SceneDesc::tracks)
     GroupDesc root;                      // implicit identity group (V3: the root list)
 };
 
@@ -184,7 +188,9 @@ struct SceneDesc {
     Vec3 ambient{0.0};
     std::vector<LightDesc> lights;  // top-level file only
     std::vector<FileDesc> files;    // files[0] is the top-level file
-    size_t skipped_shapes = 0;      // degenerate shapes skipped with a warning
+    /// The DOFs that joints are bound to (spec §14.2), each once however many joints share it.
+    std::vector<KeyTrack> tracks;
+    size_t skipped_shapes = 0;  // degenerate shapes skipped with a warning
     /// V3 #shader of the top-level file (the last one wins): recorded, never opened (spec §13.3).
     std::string shader_vertex, shader_fragment;
     /// Textures that could not be opened or decoded and stand in as a checker

@@ -94,6 +94,17 @@ struct Bounds3 {
     }
 };
 
+/// The singular test of spec §4.1: |det A| <= 1e-12 |a1| |a2| |a3| (a_i the columns), which
+/// also holds when a column is zero; a product that overflows counts as singular too.
+inline bool singular_3x3(const Mat3& a) {
+    // hypot: a column of length 1e200 must not overflow in its squared length.
+    auto len = [](const Vec3& c) { return std::hypot(c.x, c.y, c.z); };
+    const double scale = len(a[0]) * len(a[1]) * len(a[2]);
+    const double det = glm::determinant(a);
+    if (!std::isfinite(scale) || !std::isfinite(det)) return true;
+    return scale == 0.0 || std::abs(det) <= 1e-12 * scale;
+}
+
 /// An affine transform p_parent = M p_local with its cached inverse and normal matrix
 /// (spec §4.1: points by M, directions by A, normals by (A^-1)^T).
 struct Transform {
