@@ -6,6 +6,7 @@
 #include <optional>
 #include <utility>
 
+#include "frames.h"
 #include "options.h"
 #include "output.h"
 #include "reference_cache.h"
@@ -15,6 +16,7 @@
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
 #include "rt/util/stopwatch.h"
+#include "sequence.h"
 
 namespace {
 
@@ -38,7 +40,11 @@ std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* des
         t->parse_s = rt::seconds_since(t_parse);
         print_warnings();
         const auto t_compile = rt::Clock::now();
-        rt::RenderScene scene = rt::compile_scene(*desc, report);  // errors: file:line:col too
+        // Errors: file:line:col too. At --at's time, or frame 0's of --frames.
+        rt::Diagnostics compile_diag;
+        rt::RenderScene scene =
+            rt::compile_scene(*desc, report, opt.animation.time(0), &compile_diag);
+        for (const rt::Warning& w : compile_diag.warnings()) std::cerr << w.str() << "\n";
         t->compile_s = rt::seconds_since(t_compile);
         return scene;
     } catch (const rt::SceneError& e) {
@@ -101,14 +107,25 @@ int render_progressive(const Options& opt, const rt::SceneDesc& desc, const rt::
 }
 
 int run(const Options& opt) {
-    if (!probe_outputs({opt.output, opt.progressive.report, opt.progressive.plot})) return 1;
+    const bool sequence = opt.animation.frames > 0;
+    const std::string first = sequence ? rtapp::frame_path(opt.output, 0) : opt.output;
+    if (!probe_outputs({first, opt.progressive.report, opt.progressive.plot, opt.animation.video}))
+        return 1;
+    for (const std::string& w : opt.warnings) std::cerr << "raytrace: warning: " << w << "\n";
     rt::SceneDesc desc;
     rt::CompileReport report;
     Timings t;
-    const std::optional<rt::RenderScene> scene = load_scene(opt, &desc, &report, &t);
+    std::optional<rt::RenderScene> scene = load_scene(opt, &desc, &report, &t);
     if (!scene) return 1;
-    const rt::RenderPlan plan = rt::make_render_plan(*scene, opt);
     if (!opt.quiet) print_scene_summary(opt, desc, report);
+    if (desc.tracks.empty() && (opt.animation.at || sequence))
+        std::cerr << opt.scene << ": warning: the scene has no joints bound to key files; "
+                  << (sequence ? "every frame is the same" : "--at changes nothing") << "\n";
+    if (sequence) {
+        if (opt.explain) print_explain(rt::make_render_plan(*scene, opt));
+        return render_sequence(opt, desc, *scene, t);
+    }
+    const rt::RenderPlan plan = rt::make_render_plan(*scene, opt);
     if (opt.explain) print_explain(plan);  // also with --quiet: it was asked for
     return opt.progressive.enabled ? render_progressive(opt, desc, *scene, plan)
                                    : render_plain(opt, *scene, plan, report, t);

@@ -2,10 +2,13 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <utility>
 
+#include "frames.h"
 #include "rt/image/image.h"
 
 namespace raytrace {
@@ -145,6 +148,54 @@ void add_feature_options(CLI::App& app, Options& o) {
         ->group(group);
 }
 
+// A name of spec §14.7 into `out`, or a usage error listing the accepted ones.
+template <class T>
+std::function<void(const std::string&)> enum_option(const char* what, T* out,
+                                                    bool (*parse)(const std::string&, T*),
+                                                    const char* accepted) {
+    return [=](const std::string& name) {
+        if (!parse(name, out))
+            throw CLI::ValidationError(
+                std::string("--") + what,
+                "unknown " + std::string(what) + " '" + name + "' (accepted: " + accepted + ")");
+    };
+}
+
+void add_animation_options(CLI::App& app, Options& o) {
+    const std::string group = "animation (key-framed joints, spec §14)";
+    AnimationOptions& a = o.animation;
+    app.add_option("--at", a.at,
+                   "render the frame at T seconds (negative and large times wrap\n"
+                   "around each key file's loop); without it joints hold key 0")
+        ->type_name("T")
+        ->group(group);
+    app.add_option_function<std::string>(
+           "--interpolation",
+           enum_option("interpolation", &a.interpolation, rt::parse_interpolation,
+                       "nearest, linear, catmull-rom, bspline"),
+           "nearest, linear, catmull-rom (default) or bspline")
+        ->type_name("I")
+        ->group(group);
+    app.add_option_function<std::string>("--rotation",
+                                         enum_option("rotation", &a.rotation, rt::parse_rotation,
+                                                     "matrix, closest, euler, log, quaternion"),
+                                         "matrix, closest, euler, log or quaternion (default)")
+        ->type_name("R")
+        ->group(group);
+    app.add_option("--frames", a.frames,
+                   "render N frames, frame k at --start + k / --fps, into -o's\n"
+                   "pattern (frame_%04d.png)")
+        ->type_name("N")
+        ->group(group);
+    app.add_option("--fps", a.fps, "frames per second of --frames")->type_name("F")->group(group);
+    app.add_option("--start", a.start, "the time of frame 0 of --frames")
+        ->type_name("S")
+        ->group(group);
+    app.add_option("--video", a.video, "also encode the frames with ffmpeg (when it is installed)")
+        ->type_name("FILE.mp4")
+        ->group(group);
+}
+
 void make_app(CLI::App& app, Options& o) {
     app.description(kDescription);
     app.footer(kFooter);
@@ -157,7 +208,30 @@ void make_app(CLI::App& app, Options& o) {
     add_render_options(app, o);
     add_progressive_options(app, o);
     add_feature_options(app, o);
+    add_animation_options(app, o);
     app.add_flag("-q,--quiet", o.quiet, "print errors and warnings only");
+}
+
+void validate_animation(const Options& o) {
+    const AnimationOptions& a = o.animation;
+    if (a.at && !std::isfinite(*a.at)) throw UsageError("--at must be a finite number");
+    if (a.frames < 0) throw UsageError("--frames must be at least 1");
+    if (!(a.fps > 0) || !std::isfinite(a.fps))
+        throw UsageError("--fps must be a finite number > 0");
+    if (!std::isfinite(a.start)) throw UsageError("--start must be a finite number");
+    if (a.frames == 0 && (!a.video.empty())) throw UsageError("--video needs --frames N");
+    if (a.frames > 0) {
+        if (a.at) throw UsageError("--at renders one frame; a sequence starts at --start");
+        if (o.progressive.enabled)
+            throw UsageError("--progressive renders one image, not --frames");
+        try {
+            rtapp::frame_path(o.output, 0);  // -o must be a pattern
+        } catch (const std::invalid_argument& e) {
+            throw UsageError(std::string("-o: ") + e.what());
+        }
+        if (!a.video.empty() && a.video.find('.') == std::string::npos)
+            throw UsageError("--video needs a file name with an extension (out.mp4)");
+    }
 }
 
 // The checks across options and of ranges, after CLI11 has converted every value.
@@ -191,9 +265,16 @@ void validate(const Options& o, bool spp_given) {
         throw UsageError("--reference takes a .pfm file or 'auto'");
     if (rt::image_format_from_path(o.output) == rt::ImageFormat::Unknown)
         throw UsageError("unknown output format '" + o.output + "' (use .png, .bmp, .ppm or .pfm)");
+    validate_animation(o);
 }
 
 }  // namespace
+
+std::optional<rt::SceneTime> AnimationOptions::time(int k) const {
+    if (frames == 0 && !at) return std::nullopt;
+    const double t = frames > 0 ? start + k / fps : *at;
+    return rt::SceneTime{t, interpolation, rotation};
+}
 
 std::string usage_text() {
     Options o;
@@ -217,6 +298,12 @@ Options parse_options(const std::vector<std::string>& args) {
     }
     const bool spp_given = app.count("--spp") > 0;
     validate(o, spp_given);
+    // Spec §14.7: without a time they have no effect.
+    if ((app.count("--interpolation") > 0 || app.count("--rotation") > 0) && !o.animation.at &&
+        o.animation.frames == 0)
+        o.warnings.push_back(
+            "--interpolation and --rotation have no effect without --at or "
+            "--frames: the joints hold key 0");
     if (spp_given && o.progressive.enabled) o.progressive.spp_limit = o.spp;
     return o;
 }

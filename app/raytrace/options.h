@@ -12,6 +12,7 @@
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
+#include "rt/scene/scene_time.h"
 
 namespace raytrace {
 
@@ -30,6 +31,20 @@ struct ProgressiveOptions : rt::ProgressiveSettings {
     std::string plot;    // SVG
 };
 
+/// Animation (spec §14.7): one frame at --at, or --frames frames at --fps from --start.
+struct AnimationOptions {
+    std::optional<double> at;
+    rt::Interpolation interpolation = rt::Interpolation::CatmullRom;
+    rt::Rotation rotation = rt::Rotation::Quaternion;
+    int frames = 0;  // 0: one image
+    double fps = 24;
+    double start = 0;
+    std::string video;  // --video: the frames encoded by ffmpeg
+
+    /// The render time of frame k of the sequence, or of the one image (none without --at).
+    std::optional<rt::SceneTime> time(int k = 0) const;
+};
+
 struct Options : rt::RenderSettings {
     std::string scene;
     std::string output = "out.png";
@@ -40,6 +55,8 @@ struct Options : rt::RenderSettings {
     bool stats = false;
     bool explain = false;  // print what the specialized renderer left out, and why
     ProgressiveOptions progressive;
+    AnimationOptions animation;
+    std::vector<std::string> warnings;  // options that are accepted but have no effect
     bool help = false;
 };
 

@@ -252,6 +252,24 @@ void print_scene_summary(const Options& opt, const rt::SceneDesc& desc,
                 opt.width, opt.height, opt.spp, opt.max_depth, opt.cutoff,
                 opt.shadows ? "on" : "off", rt::resolve_thread_count(opt.threads),
                 light_samples.c_str());
+    if (!desc.tracks.empty()) {
+        const AnimationOptions& a = opt.animation;
+        double loop = 0;
+        for (const rt::KeyTrack& t : desc.tracks) loop = std::max(loop, t.duration);
+        const std::string how = std::string(rt::interpolation_name(a.interpolation)) + ", " +
+                                rt::rotation_name(a.rotation);
+        if (a.frames > 0)
+            std::printf("animation %zu DOF%s, %g s loop; %d frames at %g fps from t = %g (%s)\n",
+                        desc.tracks.size(), desc.tracks.size() == 1 ? "" : "s", loop, a.frames,
+                        a.fps, a.start, how.c_str());
+        else if (a.at)
+            std::printf("animation %zu DOF%s, %g s loop; the frame at t = %g (%s)\n",
+                        desc.tracks.size(), desc.tracks.size() == 1 ? "" : "s", loop, *a.at,
+                        how.c_str());
+        else
+            std::printf("animation %zu DOF%s, %g s loop; joints hold key 0 (see --at, --frames)\n",
+                        desc.tracks.size(), desc.tracks.size() == 1 ? "" : "s", loop);
+    }
     std::fflush(stdout);
 }
 

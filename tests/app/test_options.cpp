@@ -2,6 +2,7 @@
 // extended), the defaults are the library's, and usage errors throw UsageError.
 #include <gtest/gtest.h>
 
+#include "frames.h"
 #include "raytrace/options.h"
 
 namespace raytrace {
@@ -164,6 +165,45 @@ TEST(Options, HelpListsEveryOptionWithItsDefault) {
                             "-h,--help"})
         EXPECT_NE(help.find(opt), std::string::npos) << opt;
     EXPECT_NE(help.find("exit status: 0 success"), std::string::npos);
+}
+
+TEST(Options, AnimationTimesAndChoices) {
+    const Options none = parse({"a.ray"});
+    EXPECT_FALSE(none.animation.time());  // key 0 as read
+    const Options at =
+        parse({"a.ray", "--at", "-1.25", "--interpolation", "bspline", "--rotation", "log"});
+    ASSERT_TRUE(at.animation.time());
+    EXPECT_EQ(at.animation.time()->seconds, -1.25);
+    EXPECT_EQ(at.animation.time()->interpolation, rt::Interpolation::BSpline);
+    EXPECT_EQ(at.animation.time()->rotation, rt::Rotation::Log);
+    EXPECT_TRUE(at.warnings.empty());
+    const Options seq =
+        parse({"a.ray", "--frames", "10", "--fps", "4", "--start", "2", "-o", "f_%03d.png"});
+    EXPECT_EQ(seq.animation.time(0)->seconds, 2.0);
+    EXPECT_EQ(seq.animation.time(3)->seconds, 2.75);
+    EXPECT_EQ(seq.animation.time(3)->interpolation, rt::Interpolation::CatmullRom);  // defaults
+    EXPECT_EQ(seq.animation.time(3)->rotation, rt::Rotation::Quaternion);
+    EXPECT_EQ(parse({"a.ray", "--rotation", "euler"}).warnings.size(), 1u);
+    for (const std::vector<std::string>& bad :
+         {std::vector<std::string>{"a.ray", "--at", "inf"},
+          {"a.ray", "--interpolation", "Linear2"},
+          {"a.ray", "--frames", "2", "-o", "f.png"},
+          {"a.ray", "--frames", "2", "-o", "f_%s.png"},
+          {"a.ray", "--frames", "2", "-o", "f_%d_%d.png"},
+          {"a.ray", "--frames", "-1"},
+          {"a.ray", "--frames", "2", "--fps", "-3", "-o", "f%d.png"},
+          {"a.ray", "--frames", "2", "--progressive", "--spp", "4", "-o", "f%d.png"},
+          {"a.ray", "--video", "v.mp4"}})
+        EXPECT_THROW(parse(bad), UsageError) << bad[1];
+}
+
+TEST(Options, FramePatterns) {
+    EXPECT_EQ(rtapp::frame_path("frame_%04d.png", 7), "frame_0007.png");
+    EXPECT_EQ(rtapp::frame_path("f%d.png", 12345), "f12345.png");
+    EXPECT_EQ(rtapp::frame_path("100%%_%3d.ppm", 5), "100%_  5.ppm");
+    EXPECT_EQ(rtapp::frame_path("a%02d.png", 123), "a123.png");  // wider numbers are kept whole
+    EXPECT_THROW(rtapp::frame_path("a%x.png", 1), std::invalid_argument);
+    EXPECT_THROW(rtapp::frame_path("plain.png", 1), std::invalid_argument);
 }
 
 }  // namespace
