@@ -28,6 +28,7 @@ void expect_same_csg(const CsgDesc& a, const CsgDesc& b) {
 void expect_same_group(const GroupDesc& a, const GroupDesc& b) {
     EXPECT_EQ(a.matrix, b.matrix);
     EXPECT_EQ(a.joint, b.joint);
+    EXPECT_EQ(a.track, b.track);
     ASSERT_EQ(a.shapes.size(), b.shapes.size());
     for (size_t i = 0; i < a.shapes.size(); ++i) {
         EXPECT_EQ(a.shapes[i].material, b.shapes[i].material);
@@ -96,6 +97,12 @@ void expect_same(const SceneDesc& a, const SceneDesc& b) {
     ASSERT_EQ(fa.textures.size(), fb.textures.size());
     ASSERT_EQ(fa.ray_files.size(), fb.ray_files.size());
     ASSERT_EQ(fa.key_files.size(), fb.key_files.size());
+    // The joints stay joints, bound to the same keys (V1 and V3 alike).
+    ASSERT_EQ(a.tracks.size(), b.tracks.size());
+    for (size_t i = 0; i < a.tracks.size(); ++i) {
+        EXPECT_EQ(a.tracks[i].name, b.tracks[i].name);
+        EXPECT_EQ(a.tracks[i].keys, b.tracks[i].keys);
+    }
     ASSERT_EQ(a.files.size(), b.files.size());
     expect_same_group(fa.root, fb.root);
 }

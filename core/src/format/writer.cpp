@@ -37,7 +37,7 @@ private:
         directive("#background"), vec(m_desc.background), end();
         directive("#ambient"), vec(m_desc.ambient), end();
         for (const LightDesc& l : m_desc.lights) light_v1(l);
-        local_part(top, false);
+        local_part(top, true);
         group_body_v1(top.root);
     }
 
@@ -90,6 +90,12 @@ private:
         }
         for (const InstanceDesc& i : g.instances) instance(i);
         for (const GroupDesc& child : g.groups) {
+            if (!child.joint.empty()) {  // its matrix comes from the key files (spec §4.4)
+                directive("#joint_begin"), word(child.joint), end();
+                group_body_v1(child);
+                line("#joint_end");
+                continue;
+            }
             directive("#group_begin");
             for (int r = 0; r < 4; ++r)
                 for (int c = 0; c < 4; ++c) num(child.matrix[c][r]);  // row-major in the file
@@ -326,7 +332,7 @@ private:
         end();
     }
 
-    // Textures, materials, vertices, included files (and V3's key files).
+    // Textures, materials, vertices, included files and key files.
     void local_part(const FileDesc& top, bool key_files) {
         for (const TextureDesc& t : top.textures) directive("#texture"), word(path(t.path)), end();
         for (const MaterialDesc& m : top.materials) material(m);
