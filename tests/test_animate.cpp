@@ -235,9 +235,13 @@ TEST_F(Animate, AJointInsideACsgNodeIsCompiledAtEachTime) {
     // Key 0: the sphere bites the front of the box; the ray meets the bite's wall at z = -0.3.
     ASSERT_TRUE(intersect(scene, {{0, 0, 9}, {0, 0, -1}}, {0, kInf}, &h));
     EXPECT_NEAR(h.t, 9.3, 1e-9);
+    scene.lights.push_back(Light{});  // what the caller set stays, as without CSG
+    scene.camera->position = Vec3(0, 0, 7);
     animate(scene, desc, SceneTime{0.5, Interpolation::Nearest});  // key 1: moved away
     ASSERT_TRUE(intersect(scene, {{0, 0, 9}, {0, 0, -1}}, {0, kInf}, &h));
     EXPECT_NEAR(h.t, 8.0, 1e-9);
+    EXPECT_EQ(scene.lights.size(), 1u);
+    EXPECT_EQ(scene.camera->position, Vec3(0, 0, 7));
 }
 
 }  // namespace

@@ -38,6 +38,9 @@ Bounds3 world_box(const Bounds3& b, const Instance& inst) {
 }  // namespace
 
 void Preview::choose_environment_maps(const RenderScene& scene) {
+    // Chosen again when the joints move: the maps keep their cubes (the old views stand in,
+    // not black, until each face is rendered again).
+    std::vector<EnvMap> old = std::move(m_env);
     m_env.clear();
     m_env_of.assign(scene.instances.size(), {});
     m_env_chosen = true;
@@ -67,6 +70,7 @@ void Preview::choose_environment_maps(const RenderScene& scene) {
         if (m_env.size() < static_cast<size_t>(kMaxEnvMaps)) {
             EnvMap map;
             map.centre = o.box.centre();
+            if (m_env.size() < old.size()) map.cube = std::move(old[m_env.size()].cube);
             m_env.push_back(std::move(map));
             slot = static_cast<int>(m_env.size()) - 1;
         } else {

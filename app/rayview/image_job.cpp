@@ -6,6 +6,8 @@
 
 #include <cstdio>
 
+#include "frames.h"
+#include "rt/compile/compile.h"
 #include "rt/render/plan.h"
 #include "rt/util/stopwatch.h"
 
@@ -49,29 +51,9 @@ void ImageJob::run(ImageJobSpec spec) {
     std::string message;
     bool ok = false;
     try {
-        RenderSettings s = spec.settings;
-        s.width = spec.width;
-        s.height = spec.height;
-        const RenderPlan plan = make_render_plan(*m_scene, s);
-        RenderState state;
-        // Stratified samples in one call when the image needs no progressive feature, as
-        // raytrace --spp N renders; else passes of one sample, each a step of the progress bar.
-        const int steps = s.stochastic() ? spec.spp : 1;
-        const int per_step = spec.spp / steps;
-        bool finished = true;
-        for (int i = 0; i < steps && finished; ++i) {
-            finished = render_samples(
-                state, *m_scene, plan, s, per_step,
-                [&](int rows, int total) {
-                    m_progress = (i + static_cast<double>(rows) / std::max(1, total)) / steps;
-                },
-                &m_stop);
-        }
-        if (finished) {
-            const Image linear = state.image();
-            const bool pfm = image_format_from_path(spec.path) == ImageFormat::Pfm;
-            save_image(pfm ? linear : display_transform(linear, spec.exposure, spec.tonemap),
-                       spec.path);
+        if (spec.sequence.frames > 0) {
+            ok = render_sequence(spec, &message);
+        } else if (render_one(spec, spec.path, 0, 1)) {
             char buf[64];
             std::snprintf(buf, sizeof buf, " (%dx%d, %d spp, %.1f s)", spec.width, spec.height,
                           spec.spp, seconds_since(t0));
@@ -88,6 +70,62 @@ void ImageJob::run(ImageJobSpec spec) {
     }
     m_progress = 1;
     m_done = true;
+}
+
+bool ImageJob::render_one(const ImageJobSpec& spec, const std::string& path, double done,
+                          double share) {
+    RenderSettings s = spec.settings;
+    s.width = spec.width;
+    s.height = spec.height;
+    const RenderPlan plan = make_render_plan(*m_scene, s);
+    RenderState state;
+    // Stratified samples in one call when the image needs no progressive feature, as
+    // raytrace --spp N renders; else passes of one sample, each a step of the progress bar.
+    const int steps = s.stochastic() ? spec.spp : 1;
+    const int per_step = spec.spp / steps;
+    for (int i = 0; i < steps; ++i) {
+        const bool finished = render_samples(
+            state, *m_scene, plan, s, per_step,
+            [&](int rows, int total) {
+                m_progress =
+                    done + share * (i + static_cast<double>(rows) / std::max(1, total)) / steps;
+            },
+            &m_stop);
+        if (!finished) return false;
+    }
+    const Image linear = state.image();
+    const bool pfm = image_format_from_path(path) == ImageFormat::Pfm;
+    save_image(pfm ? linear : display_transform(linear, spec.exposure, spec.tonemap), path);
+    return true;
+}
+
+bool ImageJob::render_sequence(const ImageJobSpec& spec, std::string* message) {
+    const SequenceSpec& q = spec.sequence;
+    const Clock::time_point t0 = Clock::now();
+    int written = 0;
+    for (int k = 0; k < q.frames; ++k) {
+        if (q.desc)
+            animate(*m_scene, *q.desc, SceneTime{q.start + k / q.fps, q.interpolation, q.rotation});
+        if (!render_one(spec, rtapp::frame_path(spec.path, k), static_cast<double>(k) / q.frames,
+                        1.0 / q.frames)) {
+            *message = "render animation stopped: " + std::to_string(written) + " of " +
+                       std::to_string(q.frames) + " frames written";
+            return false;
+        }
+        ++written;
+    }
+    char buf[96];
+    std::snprintf(buf, sizeof buf, " (%d frames, %dx%d, %d spp, %.1f s)", q.frames, spec.width,
+                  spec.height, spec.spp, seconds_since(t0));
+    *message = "saved " + spec.path + buf;
+    if (q.video.empty()) return true;
+    std::string error;
+    if (!rtapp::encode_video(spec.path, q.frames, q.fps, q.video, &error)) {
+        *message += "; " + error;
+        return false;
+    }
+    *message += " and " + q.video;
+    return true;
 }
 
 }  // namespace rt::view

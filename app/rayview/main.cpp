@@ -170,7 +170,8 @@ int main(int argc, char** argv) {
             // Events; dropped files open, the open file reloads when it changed on disk. With
             // nothing to redraw at once the loop waits for an event or 1/30 s (new trace
             // images), so it leaves the cores to the trace.
-            const bool busy = viewer.edit_pending() || viewer.preview_stale;
+            const bool busy =
+                viewer.edit_pending() || viewer.preview_stale || viewer.timeline.playing;
             if (busy)
                 glfwPollEvents();
             else
@@ -192,10 +193,13 @@ int main(int argc, char** argv) {
                 pane_layout(vs.layout, fb_w, fb_h, vs.show_panel ? vs.panel_w : 0, vs.aspect());
             if (vs.show_panel) control_panel(viewer, ui, layout, panes->preview_defines(), frame_s);
             if (vs.show_panel && viewer.loaded) status_bar(viewer, layout);
+            if (vs.show_panel && viewer.loaded) timeline_bar(viewer, layout);
             help_overlay(&viewer.show_help);
             if (viewer.loaded) {
                 const PaneHover hover = panes->show(viewer, layout, frame_s);
                 handle_input(viewer, input, io, layout, hover, frame_s);
+                timeline_keys(viewer);
+                viewer.step_animation(frame_s);
                 // A drag or a widget in use is one undo step when it ends.
                 viewer.track_history(ImGui::IsAnyItemActive() || ImGui::IsAnyMouseDown());
                 if (viewer.restart_if_due()) script.restarted();

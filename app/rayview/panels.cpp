@@ -455,6 +455,8 @@ void help_overlay(bool* open) {
         {"F", "frame the scene"},
         {"Home", "back to the scene's camera"},
         {"click a light's marker, drag", "move the light (preview pane)"},
+        {"Space", "play or pause the animation"},
+        {"Left, Right", "previous, next frame of the animation"},
         {"Ctrl+Z", "undo"},
         {"Ctrl+Shift+Z, Ctrl+Y", "redo"},
         {"F1, ?", "this help; Esc closes it"},
@@ -519,6 +521,7 @@ void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
         edited |= lights_panel(v);
         if (edited) v.mark_edited();
         status_panel(v, preview_defines, frame_s);
+        animation_panel(v, ui);
         save_panel(v, ui);
     }
     ImGui::PopItemWidth();

@@ -19,6 +19,11 @@ struct PanelState {
     char scene_buf[1024] = "edited.ray";
     int image_size[2] = {640, 480};  // "Render and save image": raytrace's default size
     int image_spp = 16;
+    // "Render animation": the frame files' %d pattern, the frame count (0: the loop at the
+    // timeline's fps) and the video ("" : none).
+    char anim_pattern[1024] = "frame_%04d.png";
+    char anim_video[1024] = "";
+    int anim_frames = 0;
     int path_for = 0;                          // the scene (LoadedScene::id) path_buf shows
     bool completing = false;                   // the path field lists matching files
     std::string completed_for;                 // the typed path the list below belongs to
@@ -50,6 +55,14 @@ void save_panel(ViewerState& v, PanelState& ui);
 void status_bar(const ViewerState& v, const PaneLayout& layout);
 /// Every shortcut in a window over the panes, opened and closed with F1 or ? (Esc closes it).
 void help_overlay(bool* open);
+/// The timeline above the status bar (an animated scene only): play/pause, back to the start,
+/// scrub, the frame, loop, speed, the interpolation and rotation.
+void timeline_bar(ViewerState& v, const PaneLayout& layout);
+/// Space plays and pauses, Left and Right step a frame (an animated scene, keyboard not taken by
+/// a widget). Returns whether a key did something.
+bool timeline_keys(ViewerState& v);
+/// The animation's DOFs and loop, its fps, and "render animation" in the background.
+void animation_panel(ViewerState& v, PanelState& ui);
 /// The whole panel as one ImGui window, resizable and collapsible.
 void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
                    const std::vector<std::string>& preview_defines, double frame_s);

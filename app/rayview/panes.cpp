@@ -118,8 +118,10 @@ void Panes::draw(ViewerState& v) {
     glBindFramebuffer(GL_FRAMEBUFFER, m_target.fbo.id());
     // The camera of the latest input, also while a restart waits.
     const Camera cam = make_camera(compile_camera(v.edits.camera.desc()), m_target.w, m_target.h);
-    m_preview.draw(loaded.scene, v.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth);
-    std::vector<LineVertex> lines = overlay_lines(loaded.scene, s.show_lights, s.box_depth);
+    // The preview's copy of the scene: the joints at the timeline's time, every frame.
+    const RenderScene& shown = loaded.shown;
+    m_preview.draw(shown, v.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth);
+    std::vector<LineVertex> lines = overlay_lines(shown, s.show_lights, s.box_depth);
     if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for) {
         // Walked again only when the scene or the level changes.
         m_group_lines = group_box_lines(loaded.desc, s.group_depth);
@@ -131,7 +133,7 @@ void Panes::draw(ViewerState& v) {
         const std::vector<LineVertex> sel = box_lines(v.selection.bounds, Vec3(1.0, 0.6, 0.1));
         lines.insert(lines.end(), sel.begin(), sel.end());
     }
-    m_preview.draw_lines(lines, loaded.scene, cam);
+    m_preview.draw_lines(lines, shown, cam);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     v.preview_stale = m_preview.environment_pending();  // drawn again until the maps are done
     m_drawn_lights = s.show_lights;

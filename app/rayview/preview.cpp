@@ -477,7 +477,9 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     const bool shadows = plan.uses.shadows && !plan.lights.empty();
     if (shadows) render_shadow_maps(scene, plan.lights);
     std::vector<std::string> defines = frame_defines(plan, shadows);
-    if (!m_env_chosen) choose_environment_maps(scene);
+    // The joints moved (animate() rebuilds the instances): the maps are chosen again.
+    if (!m_env_chosen || scene.time != m_env_time) choose_environment_maps(scene);
+    m_env_time = scene.time;
     if (max_depth >= 2 && !m_env.empty()) update_environment_maps(scene, plan, shadows);
     const bool reflections = max_depth >= 2 && m_env_ready;
     if (reflections) defines.push_back("RT_REFLECTIONS");

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -146,6 +147,7 @@ private:
     GlFramebuffer m_env_fbo;
     GlRenderbuffer m_env_depth;
     bool m_env_chosen = false, m_env_valid = false, m_env_shadows = false;
+    std::optional<SceneTime> m_env_time;  // the scene's time when the maps were chosen
     bool m_env_ready = false;         // every map has had its first bounce since the scene loaded
     size_t m_env_next = 0;            // the next (bounce * maps + map) to render
     std::vector<Light> m_env_lights;  // what the maps were rendered with

@@ -91,6 +91,10 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
         "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
         "  history:  undo | redo\n"
+        "  animation: play | pause | time T | speed X | loop on|off | fps F |\n"
+        "            interpolation nearest|linear|catmull-rom|bspline |\n"
+        "            rotation matrix|closest|euler|log|quaternion |\n"
+        "            render-animation PATTERN FRAMES W H SPP [VIDEO] (in the background)\n"
         "  files:    open PATH | open-background PATH | reload | save-scene PATH | save-image PATH "
         "(the pane's trace) |\n"
         "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
@@ -265,10 +269,47 @@ bool run_edit(const ScriptLine& l, ViewerState& v) {
     return true;
 }
 
+// The timeline, as its bar and the space key drive it. False for another command.
+bool run_animation(const ScriptLine& l, ViewerState& v, int frame) {
+    Timeline& tl = v.timeline;
+    const std::string& c = l.command;
+    const std::string arg = l.args.empty() ? "" : l.args[0];
+    if (c == "play") {
+        tl.playing = true;
+    } else if (c == "pause") {
+        tl.playing = false;
+        std::printf("rayview: frame %d: paused at t = %.9g\n", frame, tl.time);
+    } else if (c == "time") {
+        tl.playing = false;
+        v.seek(number(l, 0, -1e9, 1e9));
+    } else if (c == "speed") {
+        tl.speed = number(l, 0, 0.05, 8);
+    } else if (c == "loop") {
+        tl.loop = on(l);
+    } else if (c == "fps") {
+        tl.fps = number(l, 0, 1, 240);
+    } else if (c == "interpolation") {
+        if (!parse_interpolation(arg, &tl.interpolation))
+            throw std::runtime_error("interpolation: nearest, linear, catmull-rom or bspline");
+        v.seek(tl.time);
+    } else if (c == "rotation") {
+        if (!parse_rotation(arg, &tl.rotation))
+            throw std::runtime_error("rotation: matrix, closest, euler, log or quaternion");
+        v.seek(tl.time);
+    } else if (c == "render-animation" && l.args.size() >= 5) {
+        v.render_animation(arg, whole(l, 1, 1, 100000), whole(l, 2, 1, 32768),
+                           whole(l, 3, 1, 32768), whole(l, 4, 1, 1 << 16),
+                           l.args.size() > 5 ? l.args[5] : "");
+    } else {
+        return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) const {
-    if (run_edit(l, v)) return;
+    if (run_edit(l, v) || run_animation(l, v, m_frame)) return;
     ViewSettings& s = v.settings;
     const std::string& c = l.command;
     const std::string path = l.args.empty() ? "" : l.args[0];

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "frames.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
@@ -190,6 +191,7 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
         s->prim_locs = std::move(report.prim_locs);
         s->material_names = std::move(report.material_names);
         if (for_preview) s->preview = prepare_preview(s->scene);
+        s->shown = s->scene;
         if (s->desc.camera) {
             s->file_camera = *s->desc.camera;
         } else {  // spec §6.3's default camera, framed for 4:3
@@ -354,6 +356,8 @@ bool ViewerState::finish_open(std::unique_ptr<LoadedScene> next, const std::stri
     message_is_error = false;
     reload_conflict.clear();
     selection = {};
+    timeline.time = 0;  // a new scene's animation starts at its beginning, paused
+    timeline.playing = false;
     on_loaded();
     if (keep_camera) edits.camera = kept;
     const std::string opened = absolute_path(loaded->path);
@@ -389,7 +393,10 @@ bool ViewerState::finish_reload(std::unique_ptr<LoadedScene> next, const std::st
     const std::vector<LightDesc> old_lights = loaded->desc.lights;
     const CameraDesc old_camera = loaded->file_camera;
     const std::string file = loaded->path;  // finish_open replaces `loaded`
+    const Timeline playback = timeline;     // a reload keeps the time and the playback
     if (!finish_open(std::move(next), file, err, textures_missing, false)) return false;
+    timeline = playback;
+    timeline.seek(timeline.time, animation_length());
     if (camera_edited) edits.camera = mine.camera;
     if (lights_edited) {
         edits.lights = mine.lights;
@@ -483,6 +490,36 @@ void ViewerState::save_trace(const std::string& path) const {
     if (last_trace.width == 0) throw std::runtime_error("nothing traced yet");
     save_image(image_format_from_path(path) == ImageFormat::Pfm ? last_trace : displayed_trace(),
                path);
+}
+
+void ViewerState::render_animation(const std::string& pattern, int frames, int width, int height,
+                                   int spp, const std::string& video) {
+    if (!loaded) return;
+    try {
+        rtapp::frame_path(pattern, 0);
+    } catch (const std::invalid_argument& e) {
+        fail(std::string("render animation: ") + e.what());
+        return;
+    }
+    ImageJobSpec spec;
+    spec.path = pattern;
+    spec.width = width;
+    spec.height = height;
+    spec.spp = spp;
+    spec.settings = settings.render;
+    spec.exposure = settings.exposure;
+    spec.tonemap = settings.tonemap;
+    SequenceSpec& q = spec.sequence;
+    q.desc = std::make_shared<const SceneDesc>(loaded->desc);
+    q.frames = frames;
+    q.fps = timeline.fps;
+    q.interpolation = timeline.interpolation;
+    q.rotation = timeline.rotation;
+    q.video = video;
+    RenderScene scene = loaded->scene;  // the job's copy, with the latest edits
+    apply_edits(edits, headlight_on(), width, height, &scene, &spec.settings);
+    image_job.start(std::move(scene), spec);
+    note("rendering " + std::to_string(frames) + " frames to " + pattern + " ...");
 }
 
 void ViewerState::render_image(const std::string& path, int width, int height, int spp) {
@@ -610,7 +647,10 @@ bool ViewerState::restart_if_due() {
 // Stop, edit, restart: the compiled scene only changes while no trace runs.
 void ViewerState::restart() {
     tracer.stop();
+    move_joints();
     apply_edits(edits, headlight_on(), m_trace_w, m_trace_h, &loaded->scene, &settings.render);
+    loaded->shown.camera = loaded->scene.camera;  // the preview's overlays show the same lights
+    loaded->shown.lights = loaded->scene.lights;
     tracer.restart(loaded->scene, settings.render, settings.target_spp);
     m_traced_id = loaded->id;
     explained.clear();
@@ -641,6 +681,49 @@ bool ViewerState::take_trace_image() {
         first_full_samples.push_back(first_full_ms);
     }
     return true;
+}
+
+double ViewerState::animation_length() const {
+    return loaded ? view::animation_length(loaded->desc) : 0.0;
+}
+
+void ViewerState::step_animation(double frame_s) {
+    if (!loaded) return;
+    if (timeline.advance(frame_s, animation_length())) mark_edited();
+    RenderScene& shown = loaded->shown;
+    const SceneTime t = timeline.scene_time();
+    if (!shown.rig.animated() || shown.time == t) return;
+    try {
+        animate(shown, loaded->desc, t);  // its warnings come with the trace's restart
+    } catch (const SceneError& e) {
+        timeline.playing = false;
+        fail(e.what());
+    }
+}
+
+void ViewerState::seek(double t) {
+    timeline.seek(t, animation_length());
+    mark_edited();
+}
+
+// The joints to the timeline's time (only while the trace is stopped).
+void ViewerState::move_joints() {
+    if (!loaded->scene.rig.animated()) return;
+    const SceneTime t = timeline.scene_time();
+    if (loaded->scene.time == t) return;
+    Diagnostics diag;
+    try {
+        animate(loaded->scene, loaded->desc, t, &diag);
+    } catch (const SceneError& e) {  // the scene stays at the time it held
+        timeline.playing = false;
+        fail(e.what());
+        return;
+    }
+    selection = {};  // its instance and box were those of the time before
+    // A joint singular at this time: said once until the time leaves it.
+    std::string warning = diag.warnings().empty() ? "" : diag.warnings()[0].message;
+    if (!warning.empty() && warning != m_joint_warning) note(warning);
+    m_joint_warning = warning;
 }
 
 bool ViewerState::moving() const { return seconds_since(m_change_time) < 0.25; }

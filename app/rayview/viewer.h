@@ -19,6 +19,7 @@
 #include "rt/image/image.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
+#include "timeline.h"
 #include "tracer.h"
 
 namespace rt::view {
@@ -27,8 +28,11 @@ namespace rt::view {
 /// the edits live in ViewerState::edits until then.
 struct LoadedScene {
     std::string path;
-    SceneDesc desc;  // as parsed
-    RenderScene scene;
+    SceneDesc desc;     // as parsed
+    RenderScene scene;  // what the trace renders (changed only while it is stopped)
+    /// The preview's copy (the same sets, shared): its joints follow the timeline every frame
+    /// while the trace restarts at its own pace; camera and lights as of the last restart.
+    RenderScene shown;
     CameraDesc file_camera;                     // Home returns here
     std::filesystem::file_time_type file_time;  // the file's time when last read
     int id = 0;  // counts the scenes opened, so views of the scene know when it changed
@@ -164,7 +168,24 @@ struct ViewerState {
     /// and writes it to `path` with the display's exposure and tonemap (PFM linear); the panel
     /// says when it is done. The interactive trace goes on.
     void render_image(const std::string& path, int width, int height, int spp);
+    /// The animation rendered as render_image() renders an image: `frames` frames from time 0
+    /// at the timeline's fps, interpolation and rotation, to `pattern` (a %d pattern, as
+    /// raytrace --frames), encoded to `video` too when it is not empty (needs ffmpeg).
+    void render_animation(const std::string& pattern, int frames, int width, int height, int spp,
+                          const std::string& video = "");
     ImageJob image_job;
+
+    // ---- animation ----
+    /// The joints' time, playback and choices; restart() moves the joints to its time.
+    Timeline timeline;
+    /// The open scene's animation length in seconds (0: not animated).
+    double animation_length() const;
+    /// Once a frame: playback advances the time by `frame_s` and the preview's copy of the
+    /// scene moves there (the trace restarts there by the restart policy, showing its coarse
+    /// pass while the animation plays).
+    void step_animation(double frame_s);
+    /// The timeline was scrubbed or a choice changed: the trace restarts at the time shown.
+    void seek(double t);
 
     // ---- edits and the one restart path ----
     /// Something the trace shows changed: restart_if_due() restarts the trace.
@@ -252,6 +273,8 @@ private:
     bool m_reloading = false;  // the loader's job is a reload of the open file
     void on_loaded();
     void restart();
+    void move_joints();
+    std::string m_joint_warning;  // the last singular-joint warning noted
     UndoState current_state() const { return {edits, settings}; }
     void restore(const UndoState& s);
     void reset_history();

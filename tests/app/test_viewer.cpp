@@ -6,6 +6,7 @@
 #include <thread>
 #include <variant>
 
+#include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
 #include "rt/util/file_io.h"
@@ -49,6 +50,54 @@ TEST(Viewer, EditsReachTheTracedSceneAtTheRestart) {
     ASSERT_TRUE(s.camera);
     EXPECT_EQ(s.camera->position, v.edits.camera.desc().position);
     EXPECT_EQ(s.camera->direction, v.edits.camera.desc().direction);
+}
+
+// Issue 15: the timeline loops or stops at the end; the preview's copy follows every frame,
+// the traced scene only at the restart; both then hold the instances of a compile at that time.
+TEST(Viewer, TheTimelineMovesThePreviewAtOnceAndTheTraceAtTheRestart) {
+    Timeline tl;
+    tl.playing = true;
+    EXPECT_TRUE(tl.advance(0.5, 4));
+    EXPECT_DOUBLE_EQ(tl.time, 0.5);
+    tl.speed = 2;
+    tl.advance(2, 4);  // 0.5 + 4 = 4.5: wraps to 0.5
+    EXPECT_DOUBLE_EQ(tl.time, 0.5);
+    tl.loop = false;
+    tl.advance(3, 4);  // stops at the end
+    EXPECT_DOUBLE_EQ(tl.time, 4);
+    EXPECT_FALSE(tl.playing);
+    tl.seek(-1, 4);
+    EXPECT_EQ(tl.time, 0);
+    tl.fps = 24;
+    tl.seek(1.0, 4);
+    EXPECT_EQ(tl.frame(), 24);
+
+    ViewerState v(RT_SOURCE_DIR "/scenes/robot_arm.ray", false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    EXPECT_DOUBLE_EQ(v.animation_length(), 4.0);
+    v.set_trace_size(32, 24);
+    restart(v);
+    v.timeline.playing = true;
+    v.step_animation(0.75);  // the preview's copy moves at once
+    const SceneTime at = v.timeline.scene_time();
+    EXPECT_DOUBLE_EQ(at.seconds, 0.75);
+    ASSERT_TRUE(v.loaded->shown.time);
+    EXPECT_EQ(*v.loaded->shown.time, at);
+    EXPECT_NE(v.loaded->scene.time, v.loaded->shown.time);  // the trace's, at the restart
+    EXPECT_TRUE(v.edit_pending());
+    v.timeline.playing = false;
+    restart(v);
+    ASSERT_TRUE(v.loaded->scene.time);
+    EXPECT_EQ(*v.loaded->scene.time, at);
+    const RenderScene fresh = compile_scene(v.loaded->desc, nullptr, at);
+    ASSERT_EQ(v.loaded->scene.instances.size(), fresh.instances.size());
+    for (size_t i = 0; i < fresh.instances.size(); ++i) {
+        EXPECT_EQ(v.loaded->scene.instances[i].world_from_set.m,
+                  fresh.instances[i].world_from_set.m);
+        EXPECT_EQ(v.loaded->shown.instances[i].world_from_set.m,
+                  fresh.instances[i].world_from_set.m);
+    }
+    EXPECT_EQ(&v.loaded->shown.sets[0], &v.loaded->scene.sets[0]);  // shared, not copied
 }
 
 TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {

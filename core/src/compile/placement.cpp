@@ -164,7 +164,13 @@ namespace rt {
 void animate(RenderScene& scene, const SceneDesc& desc, const std::optional<SceneTime>& time,
              Diagnostics* diag) {
     if (scene.rig.recompile) {
-        scene = compile_scene(desc, nullptr, time, diag);
+        // Compiled again at the new time; what the caller set (camera, lights) stays.
+        RenderScene next = compile_scene(desc, nullptr, time, diag);
+        next.camera = scene.camera;
+        next.lights = std::move(scene.lights);
+        next.background = scene.background;
+        next.ambient = scene.ambient;
+        scene = std::move(next);
         return;
     }
     const JointValues values = joint_values(scene.rig.tracks, time, diag);

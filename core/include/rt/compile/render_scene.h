@@ -124,6 +124,26 @@ struct GeometrySet {
     SetLayout layout = SetLayout::Mixed;  // the kinds of prims; Triangles: prims[i] is triangles[i]
 };
 
+/// The sets of a scene. They never change once compiled, so copies of a scene share them: a
+/// copy for another time (the viewer's preview while the trace runs) or another thread (a
+/// background render) costs its instances, not its geometry. push_back() (the compile) copies
+/// the list first when it is shared, so a scene never changes another's sets.
+class SetList {
+public:
+    size_t size() const { return m_sets->size(); }
+    bool empty() const { return m_sets->empty(); }
+    const GeometrySet& operator[](size_t i) const { return (*m_sets)[i]; }
+    std::vector<GeometrySet>::const_iterator begin() const { return m_sets->begin(); }
+    std::vector<GeometrySet>::const_iterator end() const { return m_sets->end(); }
+    void push_back(GeometrySet set) {
+        if (m_sets.use_count() > 1) m_sets = std::make_shared<std::vector<GeometrySet>>(*m_sets);
+        m_sets->push_back(std::move(set));
+    }
+
+private:
+    std::shared_ptr<std::vector<GeometrySet>> m_sets = std::make_shared<std::vector<GeometrySet>>();
+};
+
 /// A set placed in the world. Nested instancing is flattened into composed transforms.
 struct Instance {
     int set = 0;
@@ -178,7 +198,7 @@ struct RenderScene {
     std::vector<Light> lights;
     std::vector<Material> materials;
     std::vector<std::shared_ptr<const TextureImage>> textures;
-    std::vector<GeometrySet> sets;
+    SetList sets;
     std::vector<Instance> instances;
     Bvh top;               // over instances' world bounds
     Bounds3 world_bounds;  // tight when the scene has no camera (the default camera frames it)

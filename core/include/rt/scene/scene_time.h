@@ -18,6 +18,7 @@ struct SceneTime {
     double seconds = 0;
     Interpolation interpolation = Interpolation::CatmullRom;
     Rotation rotation = Rotation::Quaternion;
+    bool operator==(const SceneTime&) const = default;
 };
 
 /// J of each track at a time, and whether it is singular by the §4.1 test (spec §14.6: the

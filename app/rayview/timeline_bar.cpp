@@ -1,0 +1,129 @@
+// The timeline over the bottom of the panes (an animated scene only), as Blender's: play/pause
+// (space), back to the start, the time slider (scrub), the frame, loop, speed, and the
+// interpolation and rotation choices of spec §14.7. The panel's "animation" section renders the
+// sequence in the background.
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "panels.h"
+
+namespace rt::view {
+
+namespace {
+
+const char* const kInterpolations[] = {"nearest", "linear", "catmull-rom", "bspline"};
+const char* const kRotations[] = {"matrix", "closest", "euler", "log", "quaternion"};
+
+// A combo over an enum whose values are 0 .. n-1 in the order of `names`.
+template <class E, size_t N>
+bool enum_combo(const char* label, E* value, const char* const (&names)[N], float width) {
+    int i = static_cast<int>(*value);
+    ImGui::SetNextItemWidth(width);
+    if (!ImGui::Combo(label, &i, names, static_cast<int>(N))) return false;
+    *value = static_cast<E>(i);
+    return true;
+}
+
+}  // namespace
+
+bool timeline_keys(ViewerState& v) {
+    const ImGuiIO& io = ImGui::GetIO();
+    const double length = v.animation_length();
+    if (length <= 0 || io.WantCaptureKeyboard) return false;
+    Timeline& tl = v.timeline;
+    if (ImGui::IsKeyPressed(GLFW_KEY_SPACE, false)) {
+        if (!tl.playing && tl.time >= length && !tl.loop) tl.time = 0;  // played to the end
+        tl.playing = !tl.playing;
+        return true;
+    }
+    const int step = ImGui::IsKeyPressed(GLFW_KEY_RIGHT)  ? 1
+                     : ImGui::IsKeyPressed(GLFW_KEY_LEFT) ? -1
+                                                          : 0;
+    if (step == 0) return false;
+    tl.playing = false;
+    v.seek((tl.frame() + step) / tl.fps);
+    return true;
+}
+
+void timeline_bar(ViewerState& v, const PaneLayout& layout) {
+    const double length = v.animation_length();
+    if (length <= 0) return;
+    Timeline& tl = v.timeline;
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    const float h = ImGui::GetFrameHeightWithSpacing();
+    ImGui::SetNextWindowPos(ImVec2(layout.panel_w, vp->Size.y - 2 * h - 4));
+    ImGui::SetNextWindowSize(ImVec2(vp->Size.x - layout.panel_w, h + 4));
+    ImGui::SetNextWindowBgAlpha(0.75f);
+    ImGui::Begin("timeline", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
+                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
+    const float em = ImGui::GetFontSize();
+    if (ImGui::Button(tl.playing ? "Pause" : "Play", ImVec2(4 * em, 0))) {
+        if (!tl.playing && tl.time >= length && !tl.loop) tl.time = 0;
+        tl.playing = !tl.playing;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("|<")) {
+        tl.playing = false;
+        v.seek(0);
+    }
+    ImGui::SameLine();
+    const int frames = std::max(1, static_cast<int>(std::ceil(length * tl.fps - 1e-9)));
+    char label[64];
+    std::snprintf(label, sizeof label, "t = %.2f s  frame %d / %d", tl.time, tl.frame(), frames);
+    float t = static_cast<float>(tl.time);
+    const float right = 29 * em;  // loop, speed and the two choices
+    ImGui::SetNextItemWidth(std::max(6 * em, ImGui::GetContentRegionAvail().x - right));
+    if (ImGui::SliderFloat("##time", &t, 0.0f, static_cast<float>(length), label)) {
+        tl.playing = false;  // scrubbing pauses; the trace restarts at the time shown
+        v.seek(t);
+    }
+    ImGui::SameLine();
+    ImGui::Checkbox("loop", &tl.loop);
+    ImGui::SameLine();
+    float speed = static_cast<float>(tl.speed);
+    ImGui::SetNextItemWidth(4 * em);
+    if (ImGui::DragFloat("##speed", &speed, 0.01f, 0.05f, 8.0f, "%.2fx"))
+        tl.speed = std::clamp(static_cast<double>(speed), 0.05, 8.0);
+    ImGui::SameLine();
+    bool changed = enum_combo("##interpolation", &tl.interpolation, kInterpolations, 8.5f * em);
+    ImGui::SameLine();
+    changed |= enum_combo("##rotation", &tl.rotation, kRotations, 8.5f * em);
+    if (changed) v.seek(tl.time);  // the same time, other values: the trace restarts
+    ImGui::End();
+}
+
+void animation_panel(ViewerState& v, PanelState& ui) {
+    const double length = v.animation_length();
+    if (length <= 0 || !ImGui::CollapsingHeader("animation", ImGuiTreeNodeFlags_DefaultOpen))
+        return;
+    const Timeline& tl = v.timeline;
+    ImGui::Text("%zu DOFs, %.3g s loop; t = %.3f s (%s, %s)", v.loaded->desc.tracks.size(), length,
+                tl.time, interpolation_name(tl.interpolation), rotation_name(tl.rotation));
+    float fps = static_cast<float>(v.timeline.fps);
+    if (ImGui::InputFloat("frames per second", &fps, 1, 5, "%.3g"))
+        v.timeline.fps = std::clamp(static_cast<double>(fps), 1.0, 240.0);
+    if (ui.anim_frames <= 0) ui.anim_frames = static_cast<int>(std::ceil(length * v.timeline.fps));
+    ImGui::InputInt("frames", &ui.anim_frames);
+    ui.anim_frames = std::clamp(ui.anim_frames, 1, 100000);
+    ImGui::InputText("frame files", ui.anim_pattern, sizeof ui.anim_pattern);
+    ImGui::InputText("video (ffmpeg)", ui.anim_video, sizeof ui.anim_video);
+    if (v.image_job.running()) {
+        ImGui::ProgressBar(static_cast<float>(v.image_job.progress()), ImVec2(-80, 0));
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel##animation")) {
+            v.image_job.cancel();
+            v.note("render cancelled; the frames written so far stay");
+        }
+    } else if (ImGui::Button("Render animation")) {
+        v.render_animation(ui.anim_pattern, ui.anim_frames, ui.image_size[0], ui.image_size[1],
+                           ui.image_spp, ui.anim_video);
+    }
+    ImGui::TextDisabled("at the image size and samples of \"save\" below");
+}
+
+}  // namespace rt::view
