@@ -1,6 +1,8 @@
-// libFuzzer target: scene text -> parse_scene_string -> compile_scene. Any input must end in a
-// SceneError or a compiled scene: a crash, a sanitizer report, a hang or any other exception is
-// a bug. Built as `fuzz_scene` (clang, -fsanitize=fuzzer) and as `fuzz_replay` (any compiler,
+// libFuzzer target: scene text -> parse_scene_string -> compile_scene -> animate() at a few
+// times. Any input must end in a SceneError or a compiled scene: a crash, a sanitizer report, a
+// hang or any other exception is a bug. An input holding a line "#@key" is two files: the text
+// before it is the scene, the text after it the key file fuzz.key (which the scene may name), so
+// the key grammar and the joint values are fuzzed too. Built as `fuzz_scene` (clang, -fsanitize=fuzzer) and as `fuzz_replay` (any compiler,
 // replays files: the crasher regression corpus in tests/fuzz/crashers).
 //
 // Includes, textures and key files cannot escape: the harness works in a private temporary
@@ -19,6 +21,7 @@
 
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
+#include "rt/scene/scene_time.h"
 
 namespace {
 
@@ -83,13 +86,33 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const bool next = i + 1 < size && data[i + 1] == '/';
         if (text[i] == '/' && !prev && !next) text[i] = '_';
     }
+    const size_t split = text.find("#@key");
+    std::string key;
+    if (split != std::string::npos) {
+        key = text.substr(split + 5);
+        text.resize(split);
+    }
+    {
+        std::ofstream f(g_dir + "/fuzz.key", std::ios::binary | std::ios::trunc);
+        f << key;
+    }
     try {
         rt::Diagnostics diag;
         rt::ParseOptions options;
         options.missing_textures = rt::MissingTextures::Checker;
         const rt::SceneDesc desc = rt::parse_scene_string(text, "fuzz.ray", diag, options, g_dir);
-        const rt::RenderScene scene = rt::compile_scene(desc);
-        (void)scene;
+        rt::RenderScene scene = rt::compile_scene(desc);
+        // Every interpolation and rotation once, at times inside, before and far past the loop.
+        const double times[] = {0.37, -5.1, 1e7, 2.0};
+        for (int k = 0; k < 20 && !desc.tracks.empty(); ++k) {
+            const rt::SceneTime t{times[k % 4], static_cast<rt::Interpolation>(k % 4),
+                                  static_cast<rt::Rotation>(k % 5)};
+            try {
+                rt::animate(scene, desc, t, &diag);
+            } catch (const rt::SceneError&) {  // a quaternion that normalizes to nothing
+            }
+        }
+        if (!desc.tracks.empty()) (void)rt::compile_scene(rt::scene_at_time(desc, rt::SceneTime{}));
     } catch (const rt::SceneError&) {
         // The expected way for bad input to end.
     }
