@@ -501,29 +501,26 @@ void ViewerState::render_animation(const std::string& pattern, int frames, int w
         fail(std::string("render animation: ") + e.what());
         return;
     }
-    ImageJobSpec spec;
-    spec.path = pattern;
-    spec.width = width;
-    spec.height = height;
-    spec.spp = spp;
-    spec.settings = settings.render;
-    spec.exposure = settings.exposure;
-    spec.tonemap = settings.tonemap;
-    SequenceSpec& q = spec.sequence;
+    SequenceSpec q;
     q.desc = std::make_shared<const SceneDesc>(loaded->desc);
     q.frames = frames;
     q.fps = timeline.fps;
     q.interpolation = timeline.interpolation;
     q.rotation = timeline.rotation;
     q.video = video;
-    RenderScene scene = loaded->scene;  // the job's copy, with the latest edits
-    apply_edits(edits, headlight_on(), width, height, &scene, &spec.settings);
-    image_job.start(std::move(scene), spec);
+    start_render(pattern, width, height, spp, q);
     note("rendering " + std::to_string(frames) + " frames to " + pattern + " ...");
 }
 
 void ViewerState::render_image(const std::string& path, int width, int height, int spp) {
     if (!loaded) return;
+    start_render(path, width, height, spp, {});
+    note("rendering " + path + " ...");
+}
+
+// The background job on a copy of the scene with the latest edits, at the display's settings.
+void ViewerState::start_render(const std::string& path, int width, int height, int spp,
+                               const SequenceSpec& sequence) {
     ImageJobSpec spec;
     spec.path = path;
     spec.width = width;
@@ -532,10 +529,10 @@ void ViewerState::render_image(const std::string& path, int width, int height, i
     spec.settings = settings.render;
     spec.exposure = settings.exposure;
     spec.tonemap = settings.tonemap;
-    RenderScene scene = loaded->scene;  // the job's copy, with the latest edits
+    spec.sequence = sequence;
+    RenderScene scene = loaded->scene;  // shares its sets: the copy costs the instances
     apply_edits(edits, headlight_on(), width, height, &scene, &spec.settings);
     image_job.start(std::move(scene), spec);
-    note("rendering " + path + " ...");
 }
 
 Image ViewerState::displayed_trace() const {

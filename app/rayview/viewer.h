@@ -274,6 +274,8 @@ private:
     void on_loaded();
     void restart();
     void move_joints();
+    void start_render(const std::string& path, int width, int height, int spp,
+                      const SequenceSpec& sequence);
     std::string m_joint_warning;  // the last singular-joint warning noted
     UndoState current_state() const { return {edits, settings}; }
     void restore(const UndoState& s);

@@ -31,7 +31,7 @@ pick() {
 event() {
     num
     small
-    case $((RANDOM % 28)) in
+    case $((RANDOM % 34)) in
     0 | 1 | 2) echo "orbit $S -0.$((RANDOM % 100))" ;;
     3) echo "look $N $S" ;;
     4) echo "pan $S $N" ;;
@@ -56,6 +56,11 @@ event() {
     25) pick "${scenes[@]}" && echo "open-background $P" ;;
     26) pick reload "markers off" "markers on" "help on" "help off" "threads 1" && echo "$P" ;;
     27) pick ray png pfm && local ext=$P && pick save-scene save-image && echo "$P $tmp/out.$ext" ;;
+    28 | 29) pick play pause "loop on" "loop off" && echo "$P" ;;
+    30) pick time speed fps && echo "$P $N" ;;
+    31) pick nearest linear catmull-rom bspline cubic && echo "interpolation $P" ;;
+    32) pick matrix closest euler log quaternion spin && echo "rotation $P" ;;
+    33) pick "$tmp/anim_%d.png" "$tmp/anim.png" && echo "render-animation $P 2 16 12 1" ;;
     esac
 }
 for ((i = 0; i < events; ++i)); do
