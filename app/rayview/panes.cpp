@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "rt/scene/scene_time.h"
+
 namespace rt::view {
 
 namespace {
@@ -122,11 +124,17 @@ void Panes::draw(ViewerState& v) {
     const RenderScene& shown = loaded.shown;
     m_preview.draw(shown, v.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth);
     std::vector<LineVertex> lines = overlay_lines(shown, s.show_lights, s.box_depth);
-    if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for) {
-        // Walked again only when the scene or the level changes.
-        m_group_lines = group_box_lines(loaded.desc, s.group_depth);
+    if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for ||
+        (s.group_depth > 0 && shown.time != m_group_lines_time)) {
+        // Walked again only when the scene, the level or (with the boxes on) the joints' time
+        // changes: an animated scene's groups are those of its static scene at that time.
+        m_group_lines =
+            loaded.desc.tracks.empty() || s.group_depth == 0
+                ? group_box_lines(loaded.desc, s.group_depth)
+                : group_box_lines(scene_at_time(loaded.desc, shown.time), s.group_depth);
         m_group_lines_depth = s.group_depth;
         m_group_lines_for = loaded.id;
+        m_group_lines_time = shown.time;
     }
     lines.insert(lines.end(), m_group_lines.begin(), m_group_lines.end());
     if (v.selection.instance >= 0) {  // the picked primitive, highlighted

@@ -4,6 +4,7 @@
 // of a frame on it).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,7 @@ private:
     int m_drawn_depth = -1, m_drawn_group_depth = -1, m_drawn_w = 0, m_drawn_h = 0;
     std::vector<LineVertex> m_group_lines;  // group_box_lines() of that scene and depth
     int m_group_lines_depth = -1, m_group_lines_for = 0;
+    std::optional<SceneTime> m_group_lines_time;  // the joints' time the group boxes show
 };
 
 }  // namespace rt::view
