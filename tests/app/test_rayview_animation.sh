@@ -24,7 +24,7 @@ view() {  # view PANE SCRIPT OUT FRAMES: one pane alone at 640x480, the output i
 # A scrub to t = 1.3: both panes show raytrace --at 1.3.
 "$bin/raytrace" -q "$arm" --at 1.3 -o "$tmp/ref13.png"
 printf '2 resolution 1\n3 time 1.3\n' >"$tmp/scrub.txt"
-view trace "$tmp/scrub.txt" "$tmp/trace13" 70
+view trace "$tmp/scrub.txt" "$tmp/trace13" 100
 check "rayview exits 0" test $? -eq 0
 check "the trace at t = 1.3 is raytrace --at 1.3" "$bin/imgdiff" "$tmp/trace13.png" "$tmp/ref13.png" --max-mad 2
 view preview "$tmp/scrub.txt" "$tmp/preview13" 40
@@ -35,7 +35,7 @@ check "scrubbing changes the picture" bash -c "! cmp -s '$tmp/preview13.png' '$t
 
 # Play, then pause: the trace converges at the time the viewer paused at.
 printf '2 resolution 1\n5 play\n45 pause\n' >"$tmp/play.txt"
-view trace "$tmp/play.txt" "$tmp/played" 110
+view trace "$tmp/play.txt" "$tmp/played" 140
 paused=$(sed -n 's/.*paused at t = \([0-9.e+-]*\).*/\1/p' "$tmp/played.txt")
 check "pause reports the time" test -n "$paused"
 check "playing moved the time" awk -v t="${paused:-0}" 'BEGIN { exit !(t > 0.05) }'
