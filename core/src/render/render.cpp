@@ -1,6 +1,7 @@
 #include "rt/render/render.h"
 
 #include <algorithm>
+#include <array>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -109,15 +110,69 @@ Ray camera_ray(const Pass& pass, int x, int y, Vec2 sample, Rng& rng) {
     return ray;
 }
 
-// The sum and the sum of squares of n new samples of pixel (x, y), which has `base` already.
+// The sum and the sum of squares of a pixel's samples.
 struct PixelSums {
     Vec3 sum{0.0}, sum_sq{0.0};
 };
+PixelSums operator+(const PixelSums& a, const PixelSums& b) {
+    return {a.sum + b.sum, a.sum_sq + b.sum_sq};
+}
 
-PixelSums render_pixel(const Pass& pass, int x, int y, int n, uint32_t base, RayCounters& rays) {
+// A pixel's samples summed pairwise over the dyadic blocks of their indices: blocks
+// [m 2^k, (m + 1) 2^k) are added as left half + right half, and the maximal blocks left over are
+// folded from the right. The result depends only on which sample indices were summed, not on how
+// they were split into calls or processes: a render split by sample ranges (RenderPart) merges
+// into the very bits of the whole render.
+class DyadicSum {
+public:
+    struct Block {
+        uint32_t start = 0;
+        int level = 0;  // the block is [start, start + 2^level)
+        PixelSums v;
+    };
+    void clear() { m_n = 0; }
+    /// Appends the block at the end of the indices summed so far (start = their end).
+    void push(uint32_t start, int level, const PixelSums& v) {
+        Block b{start, level, v};
+        while (m_n > 0) {
+            const Block& left = m_stack[static_cast<size_t>(m_n - 1)];
+            const uint64_t size = uint64_t{1} << b.level;
+            if (left.level != b.level || left.start % (2 * size) != 0 ||
+                left.start + size != b.start)
+                break;
+            b = {left.start, b.level + 1, left.v + b.v};
+            --m_n;
+        }
+        m_stack[static_cast<size_t>(m_n++)] = b;
+    }
+    PixelSums total() const {
+        if (m_n == 0) return {};
+        PixelSums t = m_stack[static_cast<size_t>(m_n - 1)].v;
+        for (int i = m_n - 2; i >= 0; --i) t = m_stack[static_cast<size_t>(i)].v + t;
+        return t;
+    }
+    int size() const { return m_n; }
+    const Block& operator[](int i) const { return m_stack[static_cast<size_t>(i)]; }
+
+private:
+    std::array<Block, 66> m_stack;  // a range of 32-bit indices has at most 64 maximal blocks
+    int m_n = 0;
+};
+
+// Which samples of a pixel one call renders: rng indices index0 .. index0 + count - 1, placed as
+// strata strat_first .. of strat_n (spec §6.2; a render split by sample ranges places sample k of
+// N where the whole render places it).
+struct SampleSpan {
+    uint32_t index0 = 0;
+    int count = 0;
+    int strat_first = 0, strat_n = 1;
+};
+
+PixelSums render_pixel(const Pass& pass, int x, int y, const SampleSpan& span, DyadicSum& acc,
+                       RayCounters& rays) {
     const RenderSettings& settings = pass.settings;
     const size_t pixel = static_cast<size_t>(y) * settings.width + x;
-    const int stratum = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+    const int stratum = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(span.strat_n))));
     Vec2 shift(0.0);
     if (!settings.centre_first_sample) {
         Rng pixel_rng(settings.seed, pixel, uint64_t{1} << 40);
@@ -125,20 +180,23 @@ PixelSums render_pixel(const Pass& pass, int x, int y, int n, uint32_t base, Ray
     }
     // Only a single pass's one centre sample is deterministic (spec §13.9); every other sample
     // draws the random numbers of the features that take them, sphere lights among them.
-    const bool random = pass.stochastic || n > 1 || base > 0 || !settings.centre_first_sample;
-    PixelSums sums;
-    for (int s = 0; s < n; ++s) {
+    const bool random =
+        pass.stochastic || span.strat_n > 1 || span.index0 > 0 || !settings.centre_first_sample;
+    acc.clear();
+    for (int s = 0; s < span.count; ++s) {
         // Every sample's random numbers come from (seed, pixel, index): any thread, same image.
-        Rng rng(settings.seed, pixel, base + static_cast<uint32_t>(s));
-        const Vec2 sample = sample_position(pass, s, n, base, stratum, shift, rng);
+        const uint32_t index = span.index0 + static_cast<uint32_t>(s);
+        Rng rng(settings.seed, pixel, index);
+        const Vec2 sample = sample_position(pass, span.strat_first + s, span.strat_n,
+                                            span.index0 - static_cast<uint32_t>(span.strat_first),
+                                            stratum, shift, rng);
         const Ray ray = camera_ray(pass, x, y, sample, rng);
         ++rays.camera;
         const Vec3 c = trace_ray(pass.scene, pass.plan, settings, ray, settings.max_depth,
                                  Vec3(1.0), rays, random ? &rng : nullptr);
-        sums.sum += c;
-        sums.sum_sq += c * c;
+        acc.push(index, 0, {c, c * c});
     }
-    return sums;
+    return acc.total();
 }
 
 // Where one render_samples() call writes its sums: the state's own sums (the first pass of a
@@ -154,6 +212,7 @@ struct PassOutput {
 bool render_tile(const Pass& pass, const RenderState& state, const PixelRect& r, int spp,
                  const PassOutput& out, const std::atomic<bool>* stop, RayCounters& rays) {
     const bool all_active = state.active.size() != state.samples.size();
+    DyadicSum acc;
     for (int y = r.y0; y < r.y1; ++y) {
         if (stop && stop->load(std::memory_order_relaxed)) return false;
         for (int x = r.x0; x < r.x1; ++x) {
@@ -161,7 +220,7 @@ bool render_tile(const Pass& pass, const RenderState& state, const PixelRect& r,
             const int n = all_active ? spp : spp * state.active[pixel];
             PixelSums sums;  // zero: in place, the sums stay as they are
             if (n == 0 && out.direct) continue;
-            if (n > 0) sums = render_pixel(pass, x, y, n, state.samples[pixel], rays);
+            if (n > 0) sums = render_pixel(pass, x, y, {state.samples[pixel], n, 0, n}, acc, rays);
             for (size_t c = 0; c < 3; ++c) {
                 out.sum[pixel * 3 + c] = sums.sum[static_cast<int>(c)];
                 out.sum_sq[pixel * 3 + c] = sums.sum_sq[static_cast<int>(c)];
@@ -186,6 +245,156 @@ void commit_pass(RenderState& state, const PassOutput& out, int spp) {
 }
 
 }  // namespace
+
+std::vector<std::pair<uint32_t, int>> dyadic_blocks(uint32_t first, uint32_t count) {
+    std::vector<std::pair<uint32_t, int>> out;
+    DyadicSum d;
+    for (uint32_t i = 0; i < count; ++i) d.push(first + i, 0, {});
+    for (int i = 0; i < d.size(); ++i) out.emplace_back(d[i].start, d[i].level);
+    return out;
+}
+
+bool render_part(RenderPart& part, const RenderScene& scene, const RenderPlan& plan,
+                 const RenderSettings& settings, const ProgressFn& progress,
+                 const std::atomic<bool>* stop) {
+    check_plan_size(plan, settings);
+    if (part.x0 < 0 || part.y0 < 0 || part.x1 > settings.width || part.y1 > settings.height ||
+        part.x0 >= part.x1 || part.y0 >= part.y1)
+        throw std::invalid_argument("the part's pixels lie outside the image");
+    if (part.count == 0 || part.total == 0 || part.first >= part.total ||
+        part.count > part.total - part.first)
+        throw std::invalid_argument("the part's samples lie outside 0.." +
+                                    std::to_string(part.total));
+    const std::vector<std::pair<uint32_t, int>> shape = dyadic_blocks(part.first, part.count);
+    part.blocks.assign(shape.size(), {});
+    for (size_t b = 0; b < shape.size(); ++b) {
+        part.blocks[b].start = shape[b].first;
+        part.blocks[b].level = shape[b].second;
+        part.blocks[b].sum.assign(3 * part.pixels(), 0.0);
+        part.blocks[b].sum_sq.assign(3 * part.pixels(), 0.0);
+    }
+    const Pass pass{scene, plan, settings, settings.stochastic()};
+    const SampleSpan span{part.first, static_cast<int>(part.count), static_cast<int>(part.first),
+                          static_cast<int>(part.total)};
+    const int w = part.x1 - part.x0, h = part.y1 - part.y0;
+    const int tiles_x = (w + kTile - 1) / kTile, tiles = tiles_x * ((h + kTile - 1) / kTile);
+    std::atomic<int> done_tiles{0};
+    std::mutex progress_mutex;
+    RayCounters rays;
+    const bool done = parallel_tiles(
+        resolve_thread_count(settings.threads), tiles, stop, rays,
+        [&](int tile, RayCounters& counters) {
+            const int tx = part.x0 + (tile % tiles_x) * kTile,
+                      ty = part.y0 + (tile / tiles_x) * kTile;
+            DyadicSum acc;
+            for (int y = ty; y < std::min(ty + kTile, part.y1); ++y) {
+                if (stop && stop->load(std::memory_order_relaxed)) return false;
+                for (int x = tx; x < std::min(tx + kTile, part.x1); ++x) {
+                    render_pixel(pass, x, y, span, acc, counters);
+                    const size_t p = static_cast<size_t>(y - part.y0) * w + (x - part.x0);
+                    for (int b = 0; b < acc.size(); ++b)
+                        for (int c = 0; c < 3; ++c) {
+                            part.blocks[static_cast<size_t>(b)].sum[p * 3 + c] = acc[b].v.sum[c];
+                            part.blocks[static_cast<size_t>(b)].sum_sq[p * 3 + c] =
+                                acc[b].v.sum_sq[c];
+                        }
+                }
+            }
+            const int n = ++done_tiles;
+            if (progress) {
+                std::lock_guard lock(progress_mutex);
+                progress(n, tiles);
+            }
+            return true;
+        });
+    part.rays = rays;
+    return done;
+}
+
+namespace {
+
+// One part's block over one pixel, as merge_parts() gathers them.
+struct Piece {
+    uint32_t start;
+    int level;
+    uint32_t part, block;
+};
+
+std::string pieces_error(int x, int y, uint32_t expected, const Piece* p, bool overlap,
+                         uint32_t total) {
+    std::string s = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): ";
+    if (!p)
+        return s + "samples " + std::to_string(expected) + ".." + std::to_string(total - 1) +
+               " are in no part";
+    if (!overlap)
+        return s + "samples " + std::to_string(expected) + ".." + std::to_string(p->start - 1) +
+               " are in no part (part " + std::to_string(p->part) + " starts at sample " +
+               std::to_string(p->start) + ")";
+    return s + "sample " + std::to_string(p->start) + " is in two parts (part " +
+           std::to_string(p->part) + " and an earlier one)";
+}
+
+}  // namespace
+
+RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, int height,
+                        uint32_t total) {
+    // Every pixel's pieces, gathered by a counting sort (no vector per pixel).
+    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    std::vector<uint32_t> offset(pixels + 1, 0);
+    for (const RenderPart* p : parts) {
+        if (p->x0 < 0 || p->y0 < 0 || p->x1 > width || p->y1 > height || p->total != total)
+            throw std::invalid_argument(
+                "a part of another image: its pixels or sample count differ");
+        for (int y = p->y0; y < p->y1; ++y)
+            for (int x = p->x0; x < p->x1; ++x)
+                offset[static_cast<size_t>(y) * width + x + 1] +=
+                    static_cast<uint32_t>(p->blocks.size());
+    }
+    for (size_t i = 0; i < pixels; ++i) offset[i + 1] += offset[i];
+    std::vector<Piece> pieces(offset[pixels]);
+    std::vector<uint32_t> fill(offset.begin(), offset.end() - 1);
+    for (uint32_t pi = 0; pi < parts.size(); ++pi) {
+        const RenderPart& p = *parts[pi];
+        for (int y = p.y0; y < p.y1; ++y)
+            for (int x = p.x0; x < p.x1; ++x)
+                for (uint32_t b = 0; b < p.blocks.size(); ++b)
+                    pieces[fill[static_cast<size_t>(y) * width + x]++] = {p.blocks[b].start,
+                                                                          p.blocks[b].level, pi, b};
+    }
+    RenderState state;
+    state.reset(width, height);
+    DyadicSum acc;
+    for (size_t i = 0; i < pixels; ++i) {
+        Piece* first = pieces.data() + offset[i];
+        Piece* last = pieces.data() + offset[i + 1];
+        std::sort(first, last, [](const Piece& a, const Piece& b) { return a.start < b.start; });
+        const int x = static_cast<int>(i % static_cast<size_t>(width));
+        const int y = static_cast<int>(i / static_cast<size_t>(width));
+        acc.clear();
+        uint32_t next = 0;  // the first sample not yet covered
+        for (Piece* q = first; q != last; ++q) {
+            if (q->start != next)
+                throw std::invalid_argument(pieces_error(x, y, next, q, q->start < next, total));
+            const RenderPart& p = *parts[q->part];
+            const RenderPart::Block& blk = p.blocks[q->block];
+            const size_t k = static_cast<size_t>(y - p.y0) * (p.x1 - p.x0) + (x - p.x0);
+            PixelSums v;
+            for (int c = 0; c < 3; ++c)
+                v.sum[c] = blk.sum[k * 3 + c], v.sum_sq[c] = blk.sum_sq[k * 3 + c];
+            acc.push(q->start, q->level, v);
+            next = q->start + static_cast<uint32_t>(uint64_t{1} << q->level);
+        }
+        if (next != total)
+            throw std::invalid_argument(pieces_error(x, y, next, nullptr, false, total));
+        const PixelSums t = acc.total();
+        for (int c = 0; c < 3; ++c)
+            state.sum[i * 3 + c] = t.sum[c], state.sum_sq[i * 3 + c] = t.sum_sq[c];
+        state.samples[i] = total;
+    }
+    state.passes = 1;
+    for (const RenderPart* p : parts) state.rays += p->rays;
+    return state;
+}
 
 Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
                     const RenderSettings& settings, int block, const std::atomic<bool>* stop) {

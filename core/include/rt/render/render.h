@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "rt/compile/render_scene.h"
@@ -80,6 +81,43 @@ using ProgressFn = std::function<void(int rows_done, int rows_total)>;
 bool render_samples(RenderState& state, const RenderScene& scene, const RenderPlan& plan,
                     const RenderSettings& settings, int spp, const ProgressFn& progress = {},
                     const std::atomic<bool>* stop = nullptr);
+
+/// One process's share of a render split across processes or machines (raytrace --tile,
+/// --samples; the MPI mode's tiles): samples [first, first + count) of `total` per pixel of the
+/// rectangle [x0, x1) x [y0, y1), each placed where the whole render of `total` samples places it
+/// (spec §6.2's strata, the same random numbers). The sums are kept per maximal dyadic block of
+/// sample indices ([m 2^k, (m + 1) 2^k)): merge_parts() adds them in the order the whole render
+/// does, so any split merges into the very bits of render_samples(state, ..., total).
+struct RenderPart {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    uint32_t first = 0, count = 0, total = 0;
+    struct Block {
+        uint32_t start = 0;
+        int level = 0;               // samples [start, start + 2^level)
+        std::vector<double> sum;     // 3 per pixel of the rectangle, row-major
+        std::vector<double> sum_sq;  // 3 per pixel
+    };
+    std::vector<Block> blocks;  // in the order of their samples
+    RayCounters rays;
+
+    size_t pixels() const { return static_cast<size_t>(x1 - x0) * static_cast<size_t>(y1 - y0); }
+};
+
+/// The maximal dyadic blocks of samples [first, first + count): (start, level) pairs in order.
+std::vector<std::pair<uint32_t, int>> dyadic_blocks(uint32_t first, uint32_t count);
+
+/// Renders `part`'s rectangle and samples (its blocks are filled; the rectangle must lie in the
+/// image and the samples in [0, total)). Throws std::invalid_argument otherwise. Returns false
+/// when stopped.
+bool render_part(RenderPart& part, const RenderScene& scene, const RenderPlan& plan,
+                 const RenderSettings& settings, const ProgressFn& progress = {},
+                 const std::atomic<bool>* stop = nullptr);
+
+/// The parts of one width x height render of `total` samples per pixel, combined: every pixel
+/// must be covered by exactly samples [0, total), else std::invalid_argument names the first pixel
+/// and the samples missing or covered twice, and the parts involved by their index in `parts`.
+RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, int height,
+                        uint32_t total);
 
 /// A cheap preview for a moving camera: one centre sample per block x block pixels, copied over
 /// the block. It does not touch any RenderState; when stopped, the blocks not reached stay black.
