@@ -98,7 +98,7 @@ TEST(RenderSplit, MissingAndRepeatedSamplesAreRefused) {
     EXPECT_EQ(error({&parts[0], &parts[1]}),
               "pixel (20, 0): samples 3..3 are in no part");  // the second covers x < 20 only
     EXPECT_EQ(error({&parts[0], &parts[2]}),
-              "pixel (0, 0): sample 2 is in two parts (part 1 and an earlier one)");
+              "pixel (0, 0): sample 2 is in two parts (part 1 and another)");
     EXPECT_EQ(error({}), "pixel (0, 0): samples 0..3 are in no part");
     RenderPart outside = part(30, 0, 40, 29, 0, 4, 4);
     EXPECT_THROW(render_part(outside, scene, plan, s), std::invalid_argument);

@@ -17,6 +17,7 @@
 #include "rt/render/render.h"
 #include "rt/util/stopwatch.h"
 #include "sequence.h"
+#include "split.h"
 
 namespace {
 
@@ -125,6 +126,7 @@ int run(const Options& opt) {
         if (opt.explain) print_explain(rt::make_render_plan(*scene, opt));
         return render_sequence(opt, desc, *scene, t);
     }
+    if (opt.split.part) return render_part_output(opt, desc, *scene, t);
     const rt::RenderPlan plan = rt::make_render_plan(*scene, opt);
     if (opt.explain) print_explain(plan);  // also with --quiet: it was asked for
     return opt.progressive.enabled ? render_progressive(opt, desc, *scene, plan)

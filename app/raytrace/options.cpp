@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -194,6 +195,44 @@ void add_animation_options(CLI::App& app, Options& o) {
     app.add_option("--video", a.video, "also encode the frames with ffmpeg (when it is installed)")
         ->type_name("FILE.mp4")
         ->group(group);
+    app.add_option("--frame", a.frame, "render frame K of the sequence alone (--start + K / --fps)")
+        ->type_name("K")
+        ->group(group);
+}
+
+// "X0,Y0,X1,Y1" and "A:B" into the split options; CLI11 keeps the text, validate() the ranges.
+void add_split_options(CLI::App& app, Options& o) {
+    const std::string group = "split renders (merge the parts with raymerge; docs/cluster.md)";
+    SplitOptions& sp = o.split;
+    app.add_option_function<std::string>(
+           "--tile",
+           [&sp](const std::string& v) {
+               char c1 = 0, c2 = 0, c3 = 0;
+               std::istringstream in(v);
+               if (!(in >> sp.x0 >> c1 >> sp.y0 >> c2 >> sp.x1 >> c3 >> sp.y1) || c1 != ',' ||
+                   c2 != ',' || c3 != ',' || !in.eof())
+                   throw CLI::ValidationError("--tile", "'" + v + "' is not X0,Y0,X1,Y1");
+               sp.tile = true;
+           },
+           "render only pixels [X0, X1) x [Y0, Y1) into -o NAME.part")
+        ->type_name("X0,Y0,X1,Y1")
+        ->group(group);
+    app.add_option_function<std::string>(
+           "--samples",
+           [&sp](const std::string& v) {
+               long long a = 0, b = 0;
+               char colon = 0;
+               std::istringstream in(v);
+               if (!(in >> a >> colon >> b) || colon != ':' || !in.eof() || a < 0 || b <= a ||
+                   b > (1LL << 31))
+                   throw CLI::ValidationError("--samples",
+                                              "'" + v + "' is not A:B with 0 <= A < B");
+               sp.first = static_cast<uint32_t>(a);
+               sp.count = static_cast<uint32_t>(b - a);
+           },
+           "render only samples A..B-1 of --spp's of every pixel into -o NAME.part")
+        ->type_name("A:B")
+        ->group(group);
 }
 
 void make_app(CLI::App& app, Options& o) {
@@ -209,12 +248,35 @@ void make_app(CLI::App& app, Options& o) {
     add_progressive_options(app, o);
     add_feature_options(app, o);
     add_animation_options(app, o);
+    add_split_options(app, o);
     app.add_flag("-q,--quiet", o.quiet, "print errors and warnings only");
+}
+
+void validate_split(const Options& o) {
+    const SplitOptions& sp = o.split;
+    const bool tile = sp.tile, samples = sp.count > 0;
+    if ((tile || samples) && !sp.part)
+        throw UsageError("--tile and --samples write a partial result: -o must end in .part");
+    if (!sp.part) return;
+    if (o.progressive.enabled) throw UsageError("a .part output is not progressive: use --spp N");
+    if (o.animation.frames > 0) throw UsageError("a .part output is one frame: use --frame K");
+    if (tile && (sp.x0 < 0 || sp.y0 < 0 || sp.x0 >= sp.x1 || sp.y0 >= sp.y1 || sp.x1 > o.width ||
+                 sp.y1 > o.height))
+        throw UsageError("--tile " + std::to_string(sp.x0) + "," + std::to_string(sp.y0) + "," +
+                         std::to_string(sp.x1) + "," + std::to_string(sp.y1) +
+                         " is not inside the " + std::to_string(o.width) + "x" +
+                         std::to_string(o.height) + " image");
+    if (samples && sp.first + static_cast<uint64_t>(sp.count) > static_cast<uint64_t>(o.spp))
+        throw UsageError("--samples " + std::to_string(sp.first) + ":" +
+                         std::to_string(sp.first + sp.count) + " is not inside the --spp " +
+                         std::to_string(o.spp) + " samples");
 }
 
 void validate_animation(const Options& o) {
     const AnimationOptions& a = o.animation;
     if (a.at && !std::isfinite(*a.at)) throw UsageError("--at must be a finite number");
+    if (a.frame && (*a.frame < 0 || a.at || a.frames > 0))
+        throw UsageError("--frame K: K >= 0, without --at or --frames");
     if (a.frames < 0) throw UsageError("--frames must be at least 1");
     if (!(a.fps > 0) || !std::isfinite(a.fps))
         throw UsageError("--fps must be a finite number > 0");
@@ -263,16 +325,18 @@ void validate(const Options& o, bool spp_given) {
     if (!p.reference.empty() && p.reference != "auto" &&
         rt::image_format_from_path(p.reference) != rt::ImageFormat::Pfm)
         throw UsageError("--reference takes a .pfm file or 'auto'");
-    if (rt::image_format_from_path(o.output) == rt::ImageFormat::Unknown)
-        throw UsageError("unknown output format '" + o.output + "' (use .png, .bmp, .ppm or .pfm)");
+    validate_split(o);
+    if (!o.split.part && rt::image_format_from_path(o.output) == rt::ImageFormat::Unknown)
+        throw UsageError("unknown output format '" + o.output +
+                         "' (use .png, .bmp, .ppm, .pfm, or .part for a split render)");
     validate_animation(o);
 }
 
 }  // namespace
 
 std::optional<rt::SceneTime> AnimationOptions::time(int k) const {
-    if (frames == 0 && !at) return std::nullopt;
-    const double t = frames > 0 ? start + k / fps : *at;
+    if (frames == 0 && !at && !frame) return std::nullopt;
+    const double t = frames > 0 ? start + k / fps : frame ? start + *frame / fps : *at;
     return rt::SceneTime{t, interpolation, rotation};
 }
 
@@ -297,7 +361,12 @@ Options parse_options(const std::vector<std::string>& args) {
         throw UsageError(e.what());
     }
     const bool spp_given = app.count("--spp") > 0;
+    o.split.part = o.output.size() > 5 && o.output.compare(o.output.size() - 5, 5, ".part") == 0;
     validate(o, spp_given);
+    if (o.split.part) {  // the defaults: the whole image, every sample
+        if (!o.split.tile) o.split.x1 = o.width, o.split.y1 = o.height;
+        if (o.split.count == 0) o.split.count = static_cast<uint32_t>(o.spp);
+    }
     // Spec §14.7: without a time they have no effect.
     if ((app.count("--interpolation") > 0 || app.count("--rotation") > 0) && !o.animation.at &&
         o.animation.frames == 0)

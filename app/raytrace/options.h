@@ -39,10 +39,19 @@ struct AnimationOptions {
     int frames = 0;  // 0: one image
     double fps = 24;
     double start = 0;
-    std::string video;  // --video: the frames encoded by ffmpeg
+    std::string video;         // --video: the frames encoded by ffmpeg
+    std::optional<int> frame;  // --frame K: one frame of the sequence, at start + K / fps
 
     /// The render time of frame k of the sequence, or of the one image (none without --at).
     std::optional<rt::SceneTime> time(int k = 0) const;
+};
+
+/// A share of a split render (issue 16): -o NAME.part with --tile and --samples.
+struct SplitOptions {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // --tile; x1 = 0: the whole image
+    uint32_t first = 0, count = 0;       // --samples A:B as first = A, count = B - A; 0: all
+    bool tile = false;                   // --tile given
+    bool part = false;                   // -o ends in .part
 };
 
 struct Options : rt::RenderSettings {
@@ -56,6 +65,7 @@ struct Options : rt::RenderSettings {
     bool explain = false;  // print what the specialized renderer left out, and why
     ProgressiveOptions progressive;
     AnimationOptions animation;
+    SplitOptions split;
     std::vector<std::string> warnings;  // options that are accepted but have no effect
     bool help = false;
 };

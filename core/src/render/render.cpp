@@ -321,23 +321,26 @@ struct Piece {
 };
 
 std::string pieces_error(int x, int y, uint32_t expected, const Piece* p, bool overlap,
-                         uint32_t total) {
+                         uint32_t total, const std::vector<std::string>& names) {
+    auto name = [&](uint32_t k) {
+        return k < names.size() ? names[k] : "part " + std::to_string(k);
+    };
     std::string s = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): ";
     if (!p)
         return s + "samples " + std::to_string(expected) + ".." + std::to_string(total - 1) +
                " are in no part";
     if (!overlap)
         return s + "samples " + std::to_string(expected) + ".." + std::to_string(p->start - 1) +
-               " are in no part (part " + std::to_string(p->part) + " starts at sample " +
+               " are in no part (" + name(p->part) + " starts at sample " +
                std::to_string(p->start) + ")";
-    return s + "sample " + std::to_string(p->start) + " is in two parts (part " +
-           std::to_string(p->part) + " and an earlier one)";
+    return s + "sample " + std::to_string(p->start) + " is in two parts (" + name(p->part) +
+           " and another)";
 }
 
 }  // namespace
 
 RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, int height,
-                        uint32_t total) {
+                        uint32_t total, const std::vector<std::string>& names) {
     // Every pixel's pieces, gathered by a counting sort (no vector per pixel).
     const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<uint32_t> offset(pixels + 1, 0);
@@ -374,7 +377,8 @@ RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, 
         uint32_t next = 0;  // the first sample not yet covered
         for (Piece* q = first; q != last; ++q) {
             if (q->start != next)
-                throw std::invalid_argument(pieces_error(x, y, next, q, q->start < next, total));
+                throw std::invalid_argument(
+                    pieces_error(x, y, next, q, q->start < next, total, names));
             const RenderPart& p = *parts[q->part];
             const RenderPart::Block& blk = p.blocks[q->block];
             const size_t k = static_cast<size_t>(y - p.y0) * (p.x1 - p.x0) + (x - p.x0);
@@ -385,7 +389,7 @@ RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, 
             next = q->start + static_cast<uint32_t>(uint64_t{1} << q->level);
         }
         if (next != total)
-            throw std::invalid_argument(pieces_error(x, y, next, nullptr, false, total));
+            throw std::invalid_argument(pieces_error(x, y, next, nullptr, false, total, names));
         const PixelSums t = acc.total();
         for (int c = 0; c < 3; ++c)
             state.sum[i * 3 + c] = t.sum[c], state.sum_sq[i * 3 + c] = t.sum_sq[c];

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -115,9 +116,9 @@ bool render_part(RenderPart& part, const RenderScene& scene, const RenderPlan& p
 
 /// The parts of one width x height render of `total` samples per pixel, combined: every pixel
 /// must be covered by exactly samples [0, total), else std::invalid_argument names the first pixel
-/// and the samples missing or covered twice, and the parts involved by their index in `parts`.
+/// and the samples missing or covered twice, and the parts involved (by `names`, or "part K").
 RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, int height,
-                        uint32_t total);
+                        uint32_t total, const std::vector<std::string>& names = {});
 
 /// A cheap preview for a moving camera: one centre sample per block x block pixels, copied over
 /// the block. It does not touch any RenderState; when stopped, the blocks not reached stay black.

@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# Split renders end to end (issue 16): raytrace -o NAME.part with --tile and --samples, merged by
+# raymerge, equals the one-process render bit for bit (.pfm compared byte for byte) for several
+# split shapes, an instanced scene and an animation frame; every refused part (corrupt,
+# truncated, another scene, other settings, overlapping or missing coverage) gets its message
+# and no output file.
+# usage: test_split_merge.sh RAYTRACE RAYMERGE SOURCE_DIR
+set -u
+rt="$1"
+merge="$2"
+src="$3"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+passes=0
+check() {  # check NAME CONDITION...
+    local name="$1"
+    shift
+    if "$@"; then
+        passes=$((passes + 1))
+    else
+        echo "FAIL: $name"
+        fails=$((fails + 1))
+    fi
+}
+size=(--width 61 --height 45 --spp 6)
+
+# split NAME SCENE "ARGS|ARGS|..." [EXTRA...]: the parts, merged, against the whole render.
+split() {
+    local name="$1" scene="$2" shares="$3"
+    shift 3
+    "$rt" "$scene" "${size[@]}" "$@" -q -o "$tmp/$name-whole.pfm"
+    local parts=() i=0
+    IFS='|' read -ra list <<<"$shares"
+    for share in "${list[@]}"; do
+        # shellcheck disable=SC2086
+        "$rt" "$scene" "${size[@]}" "$@" $share --threads $((1 + i % 2)) -q -o "$tmp/$name-$i.part"
+        parts+=("$tmp/$name-$i.part")
+        i=$((i + 1))
+    done
+    "$merge" -q -o "$tmp/$name-merged.pfm" "${parts[@]}"
+    check "$name: merge exits 0" test $? -eq 0
+    check "$name: the merged image is the whole render's, bit for bit" \
+        cmp -s "$tmp/$name-whole.pfm" "$tmp/$name-merged.pfm"
+}
+show="$src/scenes/showpiece.ray"
+split one "$show" "--samples 0:6"
+split tiles "$show" "--tile 0,0,30,45|--tile 30,0,61,20|--tile 30,20,61,45"
+split samples "$show" "--samples 0:1|--samples 1:4|--samples 4:6"
+split both "$show" "--tile 0,0,61,13 --samples 0:3|--tile 0,0,61,13 --samples 3:6|--tile 0,13,17,45|--tile 17,13,61,45 --samples 0:5|--tile 17,13,61,45 --samples 5:6"
+split instanced "$src/scenes/groups.ray" "--tile 0,0,40,45 --samples 0:2|--tile 0,0,40,45 --samples 2:6|--tile 40,0,61,45"
+split soft "$src/scenes/v3_penumbra.ray" "--samples 0:3|--samples 3:6" --light-radius 0.2
+split frame "$src/scenes/robot_arm.ray" "--tile 0,0,61,30|--tile 0,30,61,45" --frame 7 --fps 4
+"$rt" "$src/scenes/robot_arm.ray" "${size[@]}" --at 1.75 -q -o "$tmp/at.pfm"
+check "--frame 7 --fps 4 is --at 1.75" cmp -s "$tmp/at.pfm" "$tmp/frame-whole.pfm"
+"$merge" -q -o "$tmp/tiles.png" "$tmp"/tiles-*.part
+check "merge writes any format" test -s "$tmp/tiles.png"
+
+# Refused: each with its message, and no output.
+refused() {  # refused NAME MESSAGE PART...
+    local name="$1" message="$2"
+    shift 2
+    "$merge" -o "$tmp/refused.pfm" "$@" >"$tmp/err.txt" 2>&1
+    check "$name: exit 1" test $? -eq 1
+    check "$name: message" grep -qF "$message" "$tmp/err.txt"
+    check "$name: no output" test ! -e "$tmp/refused.pfm"
+}
+cp "$tmp/tiles-1.part" "$tmp/truncated.part"
+truncate -s -100 "$tmp/truncated.part"
+refused "truncated part" "truncated.part: truncated: " "$tmp/tiles-0.part" "$tmp/truncated.part" "$tmp/tiles-2.part"
+cp "$tmp/tiles-1.part" "$tmp/corrupt.part"
+printf '\x7f' | dd of="$tmp/corrupt.part" bs=1 seek=2000 conv=notrunc 2>/dev/null
+refused "corrupt part" "corrupt.part: corrupt: its checksum does not match" "$tmp/tiles-0.part" "$tmp/corrupt.part" "$tmp/tiles-2.part"
+refused "not a part" "not a part file" "$tmp/tiles-0.part" "$tmp/tiles-whole.pfm"
+refused "another scene" "instanced-0.part is of another scene" "$tmp/tiles-0.part" "$tmp/instanced-0.part"
+"$rt" "$show" "${size[@]}" --tile 30,0,61,45 --depth 2 -q -o "$tmp/depth2.part"
+refused "other settings" "depth2.part was rendered with other settings" "$tmp/tiles-0.part" "$tmp/depth2.part"
+refused "overlapping parts" "is in two parts" "$tmp/tiles-0.part" "$tmp/tiles-1.part" "$tmp/tiles-2.part" "$tmp/tiles-1.part"
+refused "missing tile" "pixel (30, 20): samples 0..5 are in no part" "$tmp/tiles-0.part" "$tmp/tiles-1.part"
+refused "missing samples" "samples 4..5 are in no part" "$tmp/samples-0.part" "$tmp/samples-1.part"
+
+# raytrace's usage errors for splits.
+"$rt" "$show" --tile 0,0,10,10 -o "$tmp/x.png" >/dev/null 2>"$tmp/u.txt"
+check "--tile without .part exits 2" test $? -eq 2
+check "--tile without .part says so" grep -q "write a partial result: -o must end in .part" "$tmp/u.txt"
+"$rt" "$show" --tile 0,0,700,10 -o "$tmp/x.part" >/dev/null 2>"$tmp/u.txt"
+check "a tile outside the image exits 2" test $? -eq 2
+"$rt" "$show" --spp 4 --samples 2:5 -o "$tmp/x.part" >/dev/null 2>"$tmp/u.txt"
+check "samples beyond --spp exit 2" test $? -eq 2
+check "samples beyond --spp say so" grep -q "is not inside the --spp 4 samples" "$tmp/u.txt"
+"$rt" "$show" --tile 1,2,3 -o "$tmp/x.part" >/dev/null 2>&1
+check "a malformed tile exits 2" test $? -eq 2
+check "usage errors write no part" test ! -e "$tmp/x.part"
+
+echo "$passes passed, $fails failed (split and merge)"
+test "$fails" -eq 0
