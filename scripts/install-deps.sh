@@ -8,8 +8,10 @@ required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev li
 # Optional: Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa
 # and Xvfb are for the viewer and its headless GL tests.
 # clang and libFuzzer (libclang-rt-14-dev) build the fuzz target of scripts/test.sh, which skips
-# the fuzz run with a message when they are missing.
-optional=(libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang libclang-rt-14-dev)
+# the fuzz run with a message when they are missing. OpenMPI builds raytrace-mpi, the cluster
+# mode (its tests are skipped with a message without it).
+optional=(libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang libclang-rt-14-dev
+    libopenmpi-dev openmpi-bin)
 
 missing() {
     for p in "$@"; do

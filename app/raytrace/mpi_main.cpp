@@ -1,0 +1,304 @@
+// raytrace-mpi: raytrace across the ranks of an MPI job (`mpirun -n N raytrace-mpi SCENE
+// [raytrace's options]`). Every rank loads the scene; rank 0 hands out tiles of the image to the
+// workers as they ask (work pulling: uneven tiles and machines balance), gathers their sums, and
+// writes the image, which is the one-process render's bit for bit (the parts merge as raymerge
+// merges them). A worker that does not finish a tile in --tile-timeout seconds, or a job stopped
+// because a rank died, is an error naming the ranks and tiles under way; no image is written then.
+#include <mpi.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "options.h"
+#include "output.h"
+#include "report.h"
+#include "rt/compile/compile.h"
+#include "rt/format/parser.h"
+#include "rt/render/plan.h"
+#include "rt/render/render.h"
+#include "rt/util/stopwatch.h"
+
+namespace {
+
+using namespace raytrace;
+
+constexpr int kTagRequest = 1, kTagAssign = 2, kTagResult = 3;
+constexpr int kTileSize = 32;
+volatile std::sig_atomic_t g_stopped = 0;
+
+struct Job {
+    Options opt;
+    double tile_timeout_s = 600;
+    rt::SceneDesc desc;
+    std::optional<rt::RenderScene> scene;
+    rt::RenderPlan plan;
+    std::vector<rt::RenderPart> tiles;  // every tile, all samples
+};
+
+std::string tile_name(const Job& job, int t) {
+    const rt::RenderPart& p = job.tiles[static_cast<size_t>(t)];
+    return "tile " + std::to_string(t) + " (pixels " + std::to_string(p.x0) + "," +
+           std::to_string(p.y0) + ".." + std::to_string(p.x1 - 1) + "," + std::to_string(p.y1 - 1) +
+           ")";
+}
+
+void make_tiles(Job& job) {
+    const Options& o = job.opt;
+    for (int y = 0; y < o.height; y += kTileSize)
+        for (int x = 0; x < o.width; x += kTileSize) {
+            rt::RenderPart p;
+            p.x0 = x, p.y0 = y;
+            p.x1 = std::min(x + kTileSize, o.width), p.y1 = std::min(y + kTileSize, o.height);
+            p.first = 0, p.count = p.total = static_cast<uint32_t>(o.spp);
+            job.tiles.push_back(p);
+        }
+}
+
+// A finished tile as one message: its blocks' sums and sums of squares, then the ray counts.
+std::vector<double> pack(const rt::RenderPart& p) {
+    std::vector<double> out;
+    for (const rt::RenderPart::Block& b : p.blocks) {
+        out.insert(out.end(), b.sum.begin(), b.sum.end());
+        out.insert(out.end(), b.sum_sq.begin(), b.sum_sq.end());
+    }
+    for (uint64_t r : {p.rays.camera, p.rays.shadow, p.rays.reflected, p.rays.refracted})
+        out.push_back(static_cast<double>(r));
+    return out;
+}
+
+void unpack(const std::vector<double>& in, rt::RenderPart& p) {
+    size_t at = 0;
+    p.blocks.clear();
+    for (const auto& [start, level] : rt::dyadic_blocks(p.first, p.count)) {
+        rt::RenderPart::Block b;
+        b.start = start, b.level = level;
+        for (std::vector<double>* v : {&b.sum, &b.sum_sq}) {
+            v->assign(in.begin() + static_cast<long>(at),
+                      in.begin() + static_cast<long>(at + 3 * p.pixels()));
+            at += 3 * p.pixels();
+        }
+        p.blocks.push_back(std::move(b));
+    }
+    p.rays.camera = static_cast<uint64_t>(in[at]),
+    p.rays.shadow = static_cast<uint64_t>(in[at + 1]);
+    p.rays.reflected = static_cast<uint64_t>(in[at + 2]);
+    p.rays.refracted = static_cast<uint64_t>(in[at + 3]);
+}
+
+size_t packed_size(const rt::RenderPart& p) {
+    return 6 * p.pixels() * rt::dyadic_blocks(p.first, p.count).size() + 4;
+}
+
+// Tests inject faults: RT_MPI_FAULT=die:RANK:K or hang:RANK:K, at the rank's K-th tile (from 0).
+void maybe_fault(int rank, int nth) {
+    const char* f = std::getenv("RT_MPI_FAULT");
+    if (!f) return;
+    char kind[8] = {};
+    int r = -1, t = -1;
+    if (std::sscanf(f, "%7[a-z]:%d:%d", kind, &r, &t) != 3 || r != rank || t != nth) return;
+    if (std::string(kind) == "die") std::_Exit(3);
+    for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));  // hang
+}
+
+void worker(Job& job, int rank) {
+    const int ready = 1;
+    MPI_Send(&ready, 1, MPI_INT, 0, kTagRequest, MPI_COMM_WORLD);
+    for (int nth = 0;; ++nth) {
+        int t = -1;
+        MPI_Recv(&t, 1, MPI_INT, 0, kTagAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        if (t < 0) return;
+        maybe_fault(rank, nth);
+        rt::RenderPart& p = job.tiles[static_cast<size_t>(t)];
+        rt::render_part(p, *job.scene, job.plan, job.opt);
+        const std::vector<double> data = pack(p);
+        MPI_Send(data.data(), static_cast<int>(data.size()), MPI_DOUBLE, 0, kTagResult,
+                 MPI_COMM_WORLD);
+        p.blocks.clear();
+    }
+}
+
+struct Assignment {
+    int tile = -1;
+    rt::Clock::time_point since;
+};
+
+[[noreturn]] void abort_job(const std::string& why) {
+    std::cerr << "raytrace-mpi: error: " << why << "; no image written\n";
+    std::fflush(stderr);
+    MPI_Abort(MPI_COMM_WORLD, 1);
+    std::_Exit(1);
+}
+
+// The ranks and tiles under way, for the messages of a failed job.
+std::string under_way(const Job& job, const std::vector<Assignment>& work) {
+    std::string s;
+    for (size_t r = 1; r < work.size(); ++r)
+        if (work[r].tile >= 0)
+            s += (s.empty() ? "" : ", ") + std::string("rank ") + std::to_string(r) + " had " +
+                 tile_name(job, work[r].tile);
+    return s.empty() ? "no tile was under way" : s;
+}
+
+// Rank 0: hands out tiles to the ranks that ask, takes their results, watches the time.
+void master(Job& job, int ranks, double* bytes) {
+    // -2: the rank has not asked for a tile yet (it may not have loaded the scene).
+    std::vector<Assignment> work(static_cast<size_t>(ranks), Assignment{-2, rt::Clock::now()});
+    int next = 0, done = 0, finished_workers = 0;
+    const int total = static_cast<int>(job.tiles.size());
+    const rt::ProgressFn bar = terminal_progress_bar(job.opt.quiet);
+    auto assign = [&](int rank) {
+        int t = next < total ? next++ : -1;
+        MPI_Send(&t, 1, MPI_INT, rank, kTagAssign, MPI_COMM_WORLD);
+        work[static_cast<size_t>(rank)] = {t, rt::Clock::now()};
+        if (t < 0) ++finished_workers;
+    };
+    while (finished_workers < ranks - 1) {
+        if (g_stopped)
+            abort_job("the job was stopped (a rank died or was killed) while " +
+                      under_way(job, work));
+        int flag = 0;
+        MPI_Status st;
+        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+        if (!flag) {
+            for (int r = 1; r < ranks; ++r) {
+                const Assignment& a = work[static_cast<size_t>(r)];
+                if (a.tile == -2 && rt::seconds_since(a.since) > job.tile_timeout_s)
+                    abort_job("rank " + std::to_string(r) + " did not ask for a tile within " +
+                              std::to_string(static_cast<int>(job.tile_timeout_s)) +
+                              " s (--tile-timeout): it could not load the scene?");
+                if (a.tile >= 0 && rt::seconds_since(a.since) > job.tile_timeout_s)
+                    abort_job("rank " + std::to_string(r) + " did not finish " +
+                              tile_name(job, a.tile) + " within " +
+                              std::to_string(static_cast<int>(job.tile_timeout_s)) +
+                              " s (--tile-timeout)");
+            }
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+            continue;
+        }
+        if (st.MPI_TAG == kTagRequest) {
+            int ready = 0;
+            MPI_Recv(&ready, 1, MPI_INT, st.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE);
+        } else {
+            const int t = work[static_cast<size_t>(st.MPI_SOURCE)].tile;
+            rt::RenderPart& p = job.tiles[static_cast<size_t>(t)];
+            std::vector<double> data(packed_size(p));
+            int count = 0;
+            MPI_Get_count(&st, MPI_DOUBLE, &count);
+            if (t < 0 || static_cast<size_t>(count) != data.size())
+                abort_job("rank " + std::to_string(st.MPI_SOURCE) + " sent a result of " +
+                          std::to_string(count) + " numbers for " +
+                          (t < 0 ? std::string("no tile") : tile_name(job, t)));
+            MPI_Recv(data.data(), count, MPI_DOUBLE, st.MPI_SOURCE, kTagResult, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE);
+            unpack(data, p);
+            *bytes += static_cast<double>(data.size() * sizeof(double));
+            if (bar) bar(++done, total);
+        }
+        assign(st.MPI_SOURCE);
+    }
+}
+
+int run(Job& job, int rank, int ranks) {
+    const Options& opt = job.opt;
+    rt::Diagnostics diag;
+    try {
+        rt::ParseOptions po;
+        po.dialect = opt.dialect;
+        po.missing_textures = opt.missing_textures;
+        job.desc = rt::parse_scene_file(opt.scene, diag, po);
+        job.scene = rt::compile_scene(job.desc, nullptr, opt.animation.time(), &diag);
+    } catch (const rt::SceneError& e) {
+        if (rank == 0) std::cerr << e.what() << "\n";
+        return 1;
+    }
+    if (rank == 0)
+        for (const rt::Warning& w : diag.warnings()) std::cerr << w.str() << "\n";
+    job.plan = rt::make_render_plan(*job.scene, opt);
+    make_tiles(job);
+    if (rank != 0) {
+        worker(job, rank);
+        return 0;
+    }
+    const auto t0 = rt::Clock::now();
+    double bytes = 0;
+    if (ranks == 1) {  // no worker: rank 0 renders every tile itself
+        for (rt::RenderPart& p : job.tiles) rt::render_part(p, *job.scene, job.plan, opt);
+    } else {
+        master(job, ranks, &bytes);
+    }
+    std::vector<const rt::RenderPart*> parts;
+    rt::RayCounters rays;
+    for (const rt::RenderPart& p : job.tiles) parts.push_back(&p), rays += p.rays;
+    const rt::RenderState state =
+        rt::merge_parts(parts, opt.width, opt.height, static_cast<uint32_t>(opt.spp));
+    write_outputs(state.image(), opt.output, {}, opt.scene);
+    if (!opt.quiet) {
+        Timings t;
+        t.render_s = rt::seconds_since(t0);
+        print_render_summary(t, rays);
+        std::printf("mpi       %d ranks (%d rendering), %zu tiles of %dx%d, %.2f MB of results\n",
+                    ranks, std::max(1, ranks - 1), job.tiles.size(), kTileSize, kTileSize,
+                    bytes / 1e6);
+        std::printf("wrote     %s\n", opt.output.c_str());
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    MPI_Init(&argc, &argv);
+    int rank = 0, ranks = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    std::signal(SIGTERM, [](int) { g_stopped = 1; });
+    Job job;
+    std::vector<std::string> args;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--tile-timeout" && i + 1 < argc) {
+            job.tile_timeout_s = std::atof(argv[++i]);
+            continue;
+        }
+        args.push_back(a);
+    }
+    int code = 0;
+    try {
+        job.opt = parse_options(args);
+        if (job.opt.progressive.enabled || job.opt.animation.frames > 0 || job.opt.split.part)
+            throw UsageError(
+                "raytrace-mpi renders one image: not --progressive, --frames or .part");
+        if (!(job.tile_timeout_s > 0)) throw UsageError("--tile-timeout must be > 0 seconds");
+    } catch (const UsageError& e) {
+        if (rank == 0) std::cerr << "raytrace-mpi: " << e.what() << "\n(see raytrace --help)\n";
+        code = 2;
+    }
+    if (code == 0 && job.opt.help) {
+        if (rank == 0)
+            std::cout << "usage: mpirun -n N raytrace-mpi SCENE [raytrace's options] "
+                         "[--tile-timeout S]\n\n"
+                      << usage_text();
+    } else if (code == 0) {
+        if (rank == 0 && !probe_outputs({job.opt.output})) code = 1;
+        MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+        if (code == 0) {
+            try {
+                code = run(job, rank, ranks);
+            } catch (const std::exception& e) {
+                std::cerr << "raytrace-mpi: error: rank " << rank << ": " << e.what() << "\n";
+                MPI_Abort(MPI_COMM_WORLD, 1);
+            }
+        }
+    }
+    MPI_Finalize();
+    return code;
+}

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# raytrace-mpi on this machine (loopback): 3 ranks render the showpiece and an instanced scene
+# into raytrace's image bit for bit (.pfm byte for byte); a worker that hangs or dies stops the
+# job with a message naming the rank and the tile, and no image is written. Skipped with a
+# message when OpenMPI (mpirun, raytrace-mpi) is not installed.
+# usage: test_mpi.sh RAYTRACE RAYTRACE_MPI|"" SOURCE_DIR
+set -u
+rt="$1"
+mpi="$2"
+src="$3"
+if [ -z "$mpi" ] || [ ! -x "$mpi" ] || ! command -v mpirun >/dev/null; then
+    echo "mpi: SKIPPED: OpenMPI is not installed (scripts/install-deps.sh installs libopenmpi-dev openmpi-bin)"
+    exit 0
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+# OpenMPI refuses to run as root unless told; CI runs as root. Only for this test.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+run=(mpirun -n 3 --oversubscribe -x RT_MPI_FAULT)
+fails=0
+passes=0
+check() {  # check NAME CONDITION...
+    local name="$1"
+    shift
+    if "$@"; then
+        passes=$((passes + 1))
+    else
+        echo "FAIL: $name"
+        fails=$((fails + 1))
+    fi
+}
+size=(--width 100 --height 70 --spp 3)
+for scene in showpiece groups v3_penumbra; do
+    "$rt" "$src/scenes/$scene.ray" "${size[@]}" -q -o "$tmp/$scene-one.pfm"
+    RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/$scene.ray" "${size[@]}" -o "$tmp/$scene-mpi.pfm" \
+        >"$tmp/$scene.txt" 2>&1
+    check "$scene: mpirun exits 0" test $? -eq 0
+    check "$scene: 3 ranks give raytrace's image bit for bit" cmp -s "$tmp/$scene-one.pfm" "$tmp/$scene-mpi.pfm"
+done
+check "the summary counts the ranks and tiles" grep -q "mpi       3 ranks (2 rendering), 12 tiles of 32x32" "$tmp/showpiece.txt"
+
+# Faults: a worker that hangs (the tile timeout), a worker that dies.
+RT_MPI_FAULT=hang:2:1 "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" \
+    --tile-timeout 2 -o "$tmp/hang.pfm" >"$tmp/hang.txt" 2>&1
+check "a hanging worker fails the job" test $? -ne 0
+check "a hanging worker is named with its tile" grep -q "raytrace-mpi: error: rank 2 did not finish tile [0-9]* (pixels .*) within 2 s" "$tmp/hang.txt"
+check "a hanging worker: no image" test ! -e "$tmp/hang.pfm"
+RT_MPI_FAULT=die:1:0 "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" \
+    -o "$tmp/die.pfm" >"$tmp/die.txt" 2>&1
+check "a dying worker fails the job" test $? -ne 0
+check "a dying worker is named with its tile" grep -q "raytrace-mpi: error: the job was stopped (a rank died or was killed) while .*rank 1 had tile" "$tmp/die.txt"
+check "a dying worker: no image" test ! -e "$tmp/die.pfm"
+RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" --progressive --spp 4 -o "$tmp/p.pfm" >"$tmp/p.txt" 2>&1
+check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders one image" "$tmp/p.txt"
+
+echo "$passes passed, $fails failed (mpi)"
+test "$fails" -eq 0
