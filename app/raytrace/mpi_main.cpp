@@ -230,8 +230,12 @@ int run(Job& job, int rank, int ranks) {
     }
     const auto t0 = rt::Clock::now();
     double bytes = 0;
-    if (ranks == 1) {  // no worker: rank 0 renders every tile itself
-        for (rt::RenderPart& p : job.tiles) rt::render_part(p, *job.scene, job.plan, opt);
+    if (ranks == 1) {  // no worker: rank 0 renders the whole image as one part
+        job.tiles.assign(1, rt::RenderPart{});
+        rt::RenderPart& p = job.tiles[0];
+        p.x1 = opt.width, p.y1 = opt.height;
+        p.count = p.total = static_cast<uint32_t>(opt.spp);
+        rt::render_part(p, *job.scene, job.plan, opt, terminal_progress_bar(opt.quiet));
     } else {
         master(job, ranks, &bytes);
     }
