@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "frames.h"
 #include "options.h"
 #include "output.h"
 #include "report.h"
@@ -40,10 +41,13 @@ struct Job {
     rt::SceneDesc desc;
     std::optional<rt::RenderScene> scene;
     rt::RenderPlan plan;
-    std::vector<rt::RenderPart> tiles;  // every tile, all samples
+    std::vector<rt::RenderPart> tiles;  // the work items: tiles of the image, or whole frames
+    bool frames = false;                // --frames: item k is frame k
+    int frames_written = 0;
 };
 
 std::string tile_name(const Job& job, int t) {
+    if (job.frames) return "frame " + std::to_string(t);
     const rt::RenderPart& p = job.tiles[static_cast<size_t>(t)];
     return "tile " + std::to_string(t) + " (pixels " + std::to_string(p.x0) + "," +
            std::to_string(p.y0) + ".." + std::to_string(p.x1 - 1) + "," + std::to_string(p.y1 - 1) +
@@ -52,6 +56,16 @@ std::string tile_name(const Job& job, int t) {
 
 void make_tiles(Job& job) {
     const Options& o = job.opt;
+    auto whole = [&] {
+        rt::RenderPart p;
+        p.x1 = o.width, p.y1 = o.height;
+        p.count = p.total = static_cast<uint32_t>(o.spp);
+        return p;
+    };
+    if (job.frames) {  // a sequence: each frame is one item, rendered whole by one worker
+        job.tiles.assign(static_cast<size_t>(o.animation.frames), whole());
+        return;
+    }
     for (int y = 0; y < o.height; y += kTileSize)
         for (int x = 0; x < o.width; x += kTileSize) {
             rt::RenderPart p;
@@ -117,12 +131,25 @@ void worker(Job& job, int rank) {
         if (t < 0) return;
         maybe_fault(rank, nth);
         rt::RenderPart& p = job.tiles[static_cast<size_t>(t)];
+        if (job.frames) {  // the joints to frame t's time, and a plan for it
+            rt::animate(*job.scene, job.desc, job.opt.animation.time(t));
+            job.plan = rt::make_render_plan(*job.scene, job.opt);
+        }
         rt::render_part(p, *job.scene, job.plan, job.opt);
         const std::vector<double> data = pack(p);
         MPI_Send(data.data(), static_cast<int>(data.size()), MPI_DOUBLE, 0, kTagResult,
                  MPI_COMM_WORLD);
         p.blocks.clear();
     }
+}
+
+// A sequence's frame, written as soon as it arrives (atomically, as raytrace --frames does).
+void write_frame(Job& job, int k) {
+    rt::RenderPart& p = job.tiles[static_cast<size_t>(k)];
+    const rt::RenderState state = rt::merge_parts({&p}, job.opt.width, job.opt.height, p.total);
+    write_outputs(state.image(), rtapp::frame_path(job.opt.output, k), {}, job.opt.scene);
+    p.blocks.clear();
+    ++job.frames_written;
 }
 
 struct Assignment {
@@ -201,6 +228,7 @@ void master(Job& job, int ranks, double* bytes) {
                      MPI_STATUS_IGNORE);
             unpack(data, p);
             *bytes += static_cast<double>(data.size() * sizeof(double));
+            if (job.frames) write_frame(job, t);
             if (bar) bar(++done, total);
         }
         assign(st.MPI_SOURCE);
@@ -223,6 +251,7 @@ int run(Job& job, int rank, int ranks) {
     if (rank == 0)
         for (const rt::Warning& w : diag.warnings()) std::cerr << w.str() << "\n";
     job.plan = rt::make_render_plan(*job.scene, opt);
+    job.frames = opt.animation.frames > 0;
     make_tiles(job);
     if (rank != 0) {
         worker(job, rank);
@@ -230,29 +259,47 @@ int run(Job& job, int rank, int ranks) {
     }
     const auto t0 = rt::Clock::now();
     double bytes = 0;
-    if (ranks == 1) {  // no worker: rank 0 renders the whole image as one part
+    if (ranks > 1) {
+        master(job, ranks, &bytes);
+    } else if (job.frames) {  // no worker: rank 0 renders every frame itself
+        for (int k = 0; k < opt.animation.frames; ++k) {
+            if (k > 0) rt::animate(*job.scene, job.desc, opt.animation.time(k));
+            job.plan = rt::make_render_plan(*job.scene, opt);
+            rt::render_part(job.tiles[static_cast<size_t>(k)], *job.scene, job.plan, opt);
+            write_frame(job, k);
+        }
+    } else {  // no worker: rank 0 renders the whole image as one part
         job.tiles.assign(1, rt::RenderPart{});
         rt::RenderPart& p = job.tiles[0];
         p.x1 = opt.width, p.y1 = opt.height;
         p.count = p.total = static_cast<uint32_t>(opt.spp);
         rt::render_part(p, *job.scene, job.plan, opt, terminal_progress_bar(opt.quiet));
-    } else {
-        master(job, ranks, &bytes);
     }
-    std::vector<const rt::RenderPart*> parts;
     rt::RayCounters rays;
-    for (const rt::RenderPart& p : job.tiles) parts.push_back(&p), rays += p.rays;
-    const rt::RenderState state =
-        rt::merge_parts(parts, opt.width, opt.height, static_cast<uint32_t>(opt.spp));
-    write_outputs(state.image(), opt.output, {}, opt.scene);
+    for (const rt::RenderPart& p : job.tiles) rays += p.rays;
+    if (!job.frames) {
+        std::vector<const rt::RenderPart*> parts;
+        for (const rt::RenderPart& p : job.tiles) parts.push_back(&p);
+        const rt::RenderState state =
+            rt::merge_parts(parts, opt.width, opt.height, static_cast<uint32_t>(opt.spp));
+        write_outputs(state.image(), opt.output, {}, opt.scene);
+    }
     if (!opt.quiet) {
         Timings t;
         t.render_s = rt::seconds_since(t0);
         print_render_summary(t, rays);
-        std::printf("mpi       %d ranks (%d rendering), %zu tiles of %dx%d, %.2f MB of results\n",
-                    ranks, std::max(1, ranks - 1), job.tiles.size(), kTileSize, kTileSize,
-                    bytes / 1e6);
-        std::printf("wrote     %s\n", opt.output.c_str());
+        if (job.frames)
+            std::printf("mpi       %d ranks (%d rendering), %d frames, %.2f MB of results\n", ranks,
+                        std::max(1, ranks - 1), job.frames_written, bytes / 1e6);
+        else
+            std::printf(
+                "mpi       %d ranks (%d rendering), %zu tiles of %dx%d, %.2f MB of results\n",
+                ranks, std::max(1, ranks - 1), job.tiles.size(), kTileSize, kTileSize, bytes / 1e6);
+        std::printf("wrote     %s\n", job.frames
+                                          ? (std::to_string(job.frames_written) + " frames, " +
+                                             rtapp::frame_path(opt.output, 0) + " ..")
+                                                .c_str()
+                                          : opt.output.c_str());
     }
     return 0;
 }
@@ -278,9 +325,9 @@ int main(int argc, char** argv) {
     int code = 0;
     try {
         job.opt = parse_options(args);
-        if (job.opt.progressive.enabled || job.opt.animation.frames > 0 || job.opt.split.part)
+        if (job.opt.progressive.enabled || job.opt.split.part)
             throw UsageError(
-                "raytrace-mpi renders one image: not --progressive, --frames or .part");
+                "raytrace-mpi renders an image or --frames: not --progressive or .part");
         if (!(job.tile_timeout_s > 0)) throw UsageError("--tile-timeout must be > 0 seconds");
     } catch (const UsageError& e) {
         if (rank == 0) std::cerr << "raytrace-mpi: " << e.what() << "\n(see raytrace --help)\n";
@@ -292,7 +339,9 @@ int main(int argc, char** argv) {
                          "[--tile-timeout S]\n\n"
                       << usage_text();
     } else if (code == 0) {
-        if (rank == 0 && !probe_outputs({job.opt.output})) code = 1;
+        const std::string first =
+            job.opt.animation.frames > 0 ? rtapp::frame_path(job.opt.output, 0) : job.opt.output;
+        if (rank == 0 && !probe_outputs({first})) code = 1;
         MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
         if (code == 0) {
             try {

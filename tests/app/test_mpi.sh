@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # raytrace-mpi on this machine (loopback): 3 ranks render the showpiece and an instanced scene
-# into raytrace's image bit for bit (.pfm byte for byte); a worker that hangs or dies stops the
+# into raytrace's image bit for bit (.pfm byte for byte), and a sequence into raytrace --frames'
+# frames; a worker that hangs or dies stops the
 # job with a message naming the rank and the tile, and no image is written. Skipped with a
 # message when OpenMPI (mpirun, raytrace-mpi) is not installed.
 # usage: test_mpi.sh RAYTRACE RAYTRACE_MPI|"" SOURCE_DIR
@@ -39,6 +40,15 @@ for scene in showpiece groups v3_penumbra; do
 done
 check "the summary counts the ranks and tiles" grep -q "mpi       3 ranks (2 rendering), 12 tiles of 32x32" "$tmp/showpiece.txt"
 
+# A sequence: frames handed out whole, each written by rank 0, each raytrace --frames' frame.
+arm="$src/scenes/robot_arm.ray"
+"$rt" "$arm" --width 48 --height 36 --frames 4 --fps 3 -q -o "$tmp/rt_%d.pfm"
+RT_MPI_FAULT= "${run[@]}" "$mpi" "$arm" --width 48 --height 36 --frames 4 --fps 3 -q -o "$tmp/mpi_%d.pfm"
+check "a sequence: mpirun exits 0" test $? -eq 0
+for k in 0 1 2 3; do
+    check "frame $k is raytrace's" cmp -s "$tmp/rt_$k.pfm" "$tmp/mpi_$k.pfm"
+done
+
 # Faults: a worker that hangs (the tile timeout), a worker that dies.
 RT_MPI_FAULT=hang:2:1 "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" \
     --tile-timeout 2 -o "$tmp/hang.pfm" >"$tmp/hang.txt" 2>&1
@@ -51,7 +61,7 @@ check "a dying worker fails the job" test $? -ne 0
 check "a dying worker is named with its tile" grep -q "raytrace-mpi: error: the job was stopped (a rank died or was killed) while .*rank 1 had tile" "$tmp/die.txt"
 check "a dying worker: no image" test ! -e "$tmp/die.pfm"
 RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" --progressive --spp 4 -o "$tmp/p.pfm" >"$tmp/p.txt" 2>&1
-check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders one image" "$tmp/p.txt"
+check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders an image or --frames" "$tmp/p.txt"
 
 echo "$passes passed, $fails failed (mpi)"
 test "$fails" -eq 0
