@@ -80,6 +80,30 @@ TEST(RenderSplit, ProgressivePassesSumAsOneCall) {
     EXPECT_TRUE(same_bits(passes.sum, once.sum));
 }
 
+TEST(RenderSplit, ProgressivePassesOfTilesAddAsTheWholePasses) {
+    // The MPI mode's progressive run: each pass's tiles added to the state, ++passes.
+    const RenderScene scene = test::compile(kScene);
+    RenderSettings s = settings(true);
+    s.centre_first_sample = false;
+    const RenderPlan plan = make_render_plan(scene, s);
+    RenderState whole, tiled;
+    tiled.reset(s.width, s.height);
+    uint32_t done = 0;
+    for (uint32_t spp : {1u, 1u, 2u, 3u}) {  // the last pass is not a dyadic block
+        render_samples(whole, scene, plan, s, static_cast<int>(spp));
+        for (RenderPart p : {part(0, 0, 20, 29, done, spp, done + spp),
+                             part(20, 0, 37, 29, done, spp, done + spp)}) {
+            ASSERT_TRUE(render_part(p, scene, plan, s));
+            add_part_samples(tiled, p);
+        }
+        ++tiled.passes;
+        done += spp;
+    }
+    EXPECT_TRUE(same_bits(whole.sum, tiled.sum));
+    EXPECT_TRUE(same_bits(whole.sum_sq, tiled.sum_sq));
+    EXPECT_EQ(whole.samples, tiled.samples);
+}
+
 TEST(RenderSplit, MissingAndRepeatedSamplesAreRefused) {
     const RenderScene scene = test::compile(kScene);
     const RenderSettings s = settings(false);

@@ -11,6 +11,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -20,6 +21,7 @@
 #include "frames.h"
 #include "options.h"
 #include "output.h"
+#include "reference_cache.h"
 #include "report.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
@@ -43,6 +45,7 @@ struct Job {
     rt::RenderPlan plan;
     std::vector<rt::RenderPart> tiles;  // the work items: tiles of the image, or whole frames
     bool frames = false;                // --frames: item k is frame k
+    rt::RenderSettings settings;        // what the workers render with (progressive: jittered)
     int frames_written = 0;
 };
 
@@ -126,16 +129,19 @@ void worker(Job& job, int rank) {
     const int ready = 1;
     MPI_Send(&ready, 1, MPI_INT, 0, kTagRequest, MPI_COMM_WORLD);
     for (int nth = 0;; ++nth) {
-        int t = -1;
-        MPI_Recv(&t, 1, MPI_INT, 0, kTagAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        int msg[4] = {-1, 0, 0, 0};  // item, first sample, count, total
+        MPI_Recv(msg, 4, MPI_INT, 0, kTagAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        const int t = msg[0];
         if (t < 0) return;
         maybe_fault(rank, nth);
         rt::RenderPart& p = job.tiles[static_cast<size_t>(t)];
+        p.first = static_cast<uint32_t>(msg[1]), p.count = static_cast<uint32_t>(msg[2]);
+        p.total = static_cast<uint32_t>(msg[3]);
         if (job.frames) {  // the joints to frame t's time, and a plan for it
             rt::animate(*job.scene, job.desc, job.opt.animation.time(t));
             job.plan = rt::make_render_plan(*job.scene, job.opt);
         }
-        rt::render_part(p, *job.scene, job.plan, job.opt);
+        rt::render_part(p, *job.scene, job.plan, job.settings);
         const std::vector<double> data = pack(p);
         MPI_Send(data.data(), static_cast<int>(data.size()), MPI_DOUBLE, 0, kTagResult,
                  MPI_COMM_WORLD);
@@ -174,68 +180,123 @@ std::string under_way(const Job& job, const std::vector<Assignment>& work) {
     return s.empty() ? "no tile was under way" : s;
 }
 
-// Rank 0: hands out tiles to the ranks that ask, takes their results, watches the time.
-void master(Job& job, int ranks, double* bytes) {
-    // -2: the rank has not asked for a tile yet (it may not have loaded the scene).
-    std::vector<Assignment> work(static_cast<size_t>(ranks), Assignment{-2, rt::Clock::now()});
-    int next = 0, done = 0, finished_workers = 0;
-    const int total = static_cast<int>(job.tiles.size());
-    const rt::ProgressFn bar = terminal_progress_bar(job.opt.quiet);
-    auto assign = [&](int rank) {
-        int t = next < total ? next++ : -1;
-        MPI_Send(&t, 1, MPI_INT, rank, kTagAssign, MPI_COMM_WORLD);
-        work[static_cast<size_t>(rank)] = {t, rt::Clock::now()};
-        if (t < 0) ++finished_workers;
-    };
-    while (finished_workers < ranks - 1) {
+// Rank 0's side: hands out work items to the ranks that ask, takes their results, watches the
+// time. A rank asks once at the start and then with each result; between passes of a
+// progressive run it waits for the next pass.
+class Master {
+public:
+    Master(Job& job, int ranks, double* bytes)
+        : m_job(job),
+          m_ranks(ranks),
+          m_bytes(bytes),
+          m_work(static_cast<size_t>(ranks), Assignment{-2, rt::Clock::now()}) {}
+
+    // Every item of job.tiles (their samples as set there), returned once every result is in;
+    // on_result(t) after each.
+    void run_items(const std::function<void(int)>& on_result) {
+        const int total = static_cast<int>(m_job.tiles.size());
+        int next = 0, done = 0;
+        const rt::ProgressFn bar = m_job.opt.progressive.enabled
+                                       ? rt::ProgressFn{}
+                                       : terminal_progress_bar(m_job.opt.quiet);
+        auto give = [&](int rank) {
+            if (next >= total) return m_idle.push_back(rank);
+            const int t = next++;
+            const rt::RenderPart& p = m_job.tiles[static_cast<size_t>(t)];
+            const int msg[4] = {t, static_cast<int>(p.first), static_cast<int>(p.count),
+                                static_cast<int>(p.total)};
+            MPI_Send(msg, 4, MPI_INT, rank, kTagAssign, MPI_COMM_WORLD);
+            m_work[static_cast<size_t>(rank)] = {t, rt::Clock::now()};
+        };
+        std::vector<int> idle = std::move(m_idle);
+        m_idle.clear();
+        for (int r : idle) give(r);
+        while (done < total) {
+            const std::optional<MPI_Status> st = poll();
+            if (!st) continue;
+            if (st->MPI_TAG == kTagRequest) {
+                int ready = 0;
+                MPI_Recv(&ready, 1, MPI_INT, st->MPI_SOURCE, kTagRequest, MPI_COMM_WORLD,
+                         MPI_STATUS_IGNORE);
+            } else {
+                on_result(receive(*st));
+                if (bar)
+                    bar(++done, total);
+                else
+                    ++done;
+            }
+            m_work[static_cast<size_t>(st->MPI_SOURCE)].tile = -1;
+            give(st->MPI_SOURCE);
+        }
+    }
+
+    // Tells every worker to stop, once each has asked.
+    void finish() {
+        while (static_cast<int>(m_idle.size()) < m_ranks - 1) {
+            const std::optional<MPI_Status> st = poll();
+            if (!st) continue;
+            int ready = 0;
+            MPI_Recv(&ready, 1, MPI_INT, st->MPI_SOURCE, kTagRequest, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE);
+            m_work[static_cast<size_t>(st->MPI_SOURCE)].tile = -1;
+            m_idle.push_back(st->MPI_SOURCE);
+        }
+        const int msg[4] = {-1, 0, 0, 0};
+        for (int r : m_idle) MPI_Send(msg, 4, MPI_INT, r, kTagAssign, MPI_COMM_WORLD);
+        m_idle.clear();
+    }
+
+private:
+    // A message, or none after checking the time limits (and a short sleep).
+    std::optional<MPI_Status> poll() {
         if (g_stopped)
             abort_job("the job was stopped (a rank died or was killed) while " +
-                      under_way(job, work));
+                      under_way(m_job, m_work));
         int flag = 0;
         MPI_Status st;
         MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
-        if (!flag) {
-            for (int r = 1; r < ranks; ++r) {
-                const Assignment& a = work[static_cast<size_t>(r)];
-                if (a.tile == -2 && rt::seconds_since(a.since) > job.tile_timeout_s)
-                    abort_job("rank " + std::to_string(r) + " did not ask for a tile within " +
-                              std::to_string(static_cast<int>(job.tile_timeout_s)) +
-                              " s (--tile-timeout): it could not load the scene?");
-                if (a.tile >= 0 && rt::seconds_since(a.since) > job.tile_timeout_s)
-                    abort_job("rank " + std::to_string(r) + " did not finish " +
-                              tile_name(job, a.tile) + " within " +
-                              std::to_string(static_cast<int>(job.tile_timeout_s)) +
-                              " s (--tile-timeout)");
-            }
-            std::this_thread::sleep_for(std::chrono::microseconds(200));
-            continue;
+        if (flag) return st;
+        const double limit = m_job.tile_timeout_s;
+        const std::string secs = std::to_string(static_cast<int>(limit));
+        for (int r = 1; r < m_ranks; ++r) {
+            const Assignment& a = m_work[static_cast<size_t>(r)];
+            if (a.tile == -2 && rt::seconds_since(a.since) > limit)
+                abort_job("rank " + std::to_string(r) + " did not ask for a tile within " + secs +
+                          " s (--tile-timeout): it could not load the scene?");
+            if (a.tile >= 0 && rt::seconds_since(a.since) > limit)
+                abort_job("rank " + std::to_string(r) + " did not finish " +
+                          tile_name(m_job, a.tile) + " within " + secs + " s (--tile-timeout)");
         }
-        if (st.MPI_TAG == kTagRequest) {
-            int ready = 0;
-            MPI_Recv(&ready, 1, MPI_INT, st.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE);
-        } else {
-            const int t = work[static_cast<size_t>(st.MPI_SOURCE)].tile;
-            rt::RenderPart& p = job.tiles[static_cast<size_t>(t)];
-            std::vector<double> data(packed_size(p));
-            int count = 0;
-            MPI_Get_count(&st, MPI_DOUBLE, &count);
-            if (t < 0 || static_cast<size_t>(count) != data.size())
-                abort_job("rank " + std::to_string(st.MPI_SOURCE) + " sent a result of " +
-                          std::to_string(count) + " numbers for " +
-                          (t < 0 ? std::string("no tile") : tile_name(job, t)));
-            MPI_Recv(data.data(), count, MPI_DOUBLE, st.MPI_SOURCE, kTagResult, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE);
-            unpack(data, p);
-            *bytes += static_cast<double>(data.size() * sizeof(double));
-            if (job.frames) write_frame(job, t);
-            if (bar) bar(++done, total);
-        }
-        assign(st.MPI_SOURCE);
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+        return std::nullopt;
     }
-}
 
-int run(Job& job, int rank, int ranks) {
+    int receive(const MPI_Status& st) {
+        const int t = m_work[static_cast<size_t>(st.MPI_SOURCE)].tile;
+        int count = 0;
+        MPI_Get_count(&st, MPI_DOUBLE, &count);
+        const size_t want = t >= 0 ? packed_size(m_job.tiles[static_cast<size_t>(t)]) : 0;
+        if (t < 0 || static_cast<size_t>(count) != want)
+            abort_job("rank " + std::to_string(st.MPI_SOURCE) + " sent a result of " +
+                      std::to_string(count) + " numbers for " +
+                      (t < 0 ? std::string("no tile") : tile_name(m_job, t)));
+        std::vector<double> data(want);
+        MPI_Recv(data.data(), count, MPI_DOUBLE, st.MPI_SOURCE, kTagResult, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+        unpack(data, m_job.tiles[static_cast<size_t>(t)]);
+        *m_bytes += static_cast<double>(data.size() * sizeof(double));
+        return t;
+    }
+
+    Job& m_job;
+    int m_ranks;
+    double* m_bytes;
+    std::vector<Assignment> m_work;  // [rank]: -2 not asked yet, -1 idle, else its item
+    std::vector<int> m_idle;         // ranks waiting for an item
+};
+
+// Every rank loads the scene; rank 0 alone prints its warnings and errors.
+bool load(Job& job, int rank) {
     const Options& opt = job.opt;
     rt::Diagnostics diag;
     try {
@@ -246,21 +307,44 @@ int run(Job& job, int rank, int ranks) {
         job.scene = rt::compile_scene(job.desc, nullptr, opt.animation.time(), &diag);
     } catch (const rt::SceneError& e) {
         if (rank == 0) std::cerr << e.what() << "\n";
-        return 1;
+        return false;
     }
     if (rank == 0)
         for (const rt::Warning& w : diag.warnings()) std::cerr << w.str() << "\n";
-    job.plan = rt::make_render_plan(*job.scene, opt);
-    job.frames = opt.animation.frames > 0;
-    make_tiles(job);
-    if (rank != 0) {
-        worker(job, rank);
-        return 0;
-    }
+    return true;
+}
+
+void print_summary(const Job& job, int ranks, double seconds, double bytes) {
+    rt::RayCounters rays;
+    for (const rt::RenderPart& p : job.tiles) rays += p.rays;
+    Timings t;
+    t.render_s = seconds;
+    print_render_summary(t, rays);
+    const Options& opt = job.opt;
+    const int rendering = std::max(1, ranks - 1);
+    if (job.frames)
+        std::printf("mpi       %d ranks (%d rendering), %d frames, %.2f MB of results\n", ranks,
+                    rendering, job.frames_written, bytes / 1e6);
+    else
+        std::printf("mpi       %d ranks (%d rendering), %zu tiles of %dx%d, %.2f MB of results\n",
+                    ranks, rendering, job.tiles.size(), kTileSize, kTileSize, bytes / 1e6);
+    const std::string what = job.frames ? std::to_string(job.frames_written) + " frames, " +
+                                              rtapp::frame_path(opt.output, 0) + " .."
+                                        : opt.output;
+    std::printf("wrote     %s\n", what.c_str());
+}
+
+// One image or a sequence: every item once.
+int run_image(Job& job, int ranks) {
+    const Options& opt = job.opt;
     const auto t0 = rt::Clock::now();
     double bytes = 0;
     if (ranks > 1) {
-        master(job, ranks, &bytes);
+        Master m(job, ranks, &bytes);
+        m.run_items([&](int t) {
+            if (job.frames) write_frame(job, t);
+        });
+        m.finish();
     } else if (job.frames) {  // no worker: rank 0 renders every frame itself
         for (int k = 0; k < opt.animation.frames; ++k) {
             if (k > 0) rt::animate(*job.scene, job.desc, opt.animation.time(k));
@@ -275,8 +359,6 @@ int run(Job& job, int rank, int ranks) {
         p.count = p.total = static_cast<uint32_t>(opt.spp);
         rt::render_part(p, *job.scene, job.plan, opt, terminal_progress_bar(opt.quiet));
     }
-    rt::RayCounters rays;
-    for (const rt::RenderPart& p : job.tiles) rays += p.rays;
     if (!job.frames) {
         std::vector<const rt::RenderPart*> parts;
         for (const rt::RenderPart& p : job.tiles) parts.push_back(&p);
@@ -284,24 +366,68 @@ int run(Job& job, int rank, int ranks) {
             rt::merge_parts(parts, opt.width, opt.height, static_cast<uint32_t>(opt.spp));
         write_outputs(state.image(), opt.output, {}, opt.scene);
     }
-    if (!opt.quiet) {
-        Timings t;
-        t.render_s = rt::seconds_since(t0);
-        print_render_summary(t, rays);
-        if (job.frames)
-            std::printf("mpi       %d ranks (%d rendering), %d frames, %.2f MB of results\n", ranks,
-                        std::max(1, ranks - 1), job.frames_written, bytes / 1e6);
-        else
-            std::printf(
-                "mpi       %d ranks (%d rendering), %zu tiles of %dx%d, %.2f MB of results\n",
-                ranks, std::max(1, ranks - 1), job.tiles.size(), kTileSize, kTileSize, bytes / 1e6);
-        std::printf("wrote     %s\n", job.frames
-                                          ? (std::to_string(job.frames_written) + " frames, " +
-                                             rtapp::frame_path(opt.output, 0) + " ..")
-                                                .c_str()
-                                          : opt.output.c_str());
-    }
+    if (!opt.quiet) print_summary(job, ranks, rt::seconds_since(t0), bytes);
     return 0;
+}
+
+// --progressive: run_progressive() with each pass's tiles handed out to the workers, so the
+// error against time is reported as raytrace reports it (and with --spp N, the same image).
+int run_progressive_mpi(Job& job, int ranks) {
+    const Options& opt = job.opt;
+    const std::optional<rt::Image> reference = load_reference(opt, job.desc, *job.scene);
+    double bytes = 0;
+    Master m(job, ranks, &bytes);
+    rt::RenderState state;
+    auto pass = [&](rt::RenderState& s, const rt::RenderSettings& settings, int spp) {
+        if (ranks == 1) return rt::render_samples(s, *job.scene, job.plan, settings, spp);
+        const uint32_t first = s.samples.empty() ? 0 : s.samples[0];  // uniform passes
+        for (rt::RenderPart& p : job.tiles) {
+            p.first = first, p.count = static_cast<uint32_t>(spp);
+            p.total = first + static_cast<uint32_t>(spp);
+        }
+        m.run_items([&](int t) {
+            rt::add_part_samples(s, job.tiles[static_cast<size_t>(t)]);
+            job.tiles[static_cast<size_t>(t)].blocks.clear();
+        });
+        ++s.passes;
+        return true;
+    };
+    if (!opt.quiet) print_pass_header("uniform", reference.has_value());
+    std::vector<ProgressRun> runs = {
+        {"uniform",
+         rt::run_progressive(
+             state, *job.scene, job.plan, opt, opt.progressive, reference ? &*reference : nullptr,
+             [&](const rt::PassRecord& r) {
+                 if (!opt.quiet) print_pass(r);
+             },
+             nullptr, pass)}};
+    if (ranks > 1) m.finish();
+    if (!opt.quiet) print_progress_summary(runs);
+    std::vector<TextFile> texts;
+    if (!opt.progressive.report.empty())
+        texts.emplace_back(opt.progressive.report, progress_csv(runs));
+    if (!opt.progressive.plot.empty())
+        texts.emplace_back(opt.progressive.plot,
+                           progress_svg(runs, "Error against render time: " + opt.scene));
+    write_outputs(state.image(), opt.output, texts, opt.scene);
+    if (!opt.quiet)
+        std::printf("mpi       %d ranks, %.2f MB of results\nwrote     %s\n", ranks, bytes / 1e6,
+                    opt.output.c_str());
+    return 0;
+}
+
+int run(Job& job, int rank, int ranks) {
+    if (!load(job, rank)) return 1;
+    job.plan = rt::make_render_plan(*job.scene, job.opt);
+    job.settings = job.opt;
+    if (job.opt.progressive.enabled) job.settings.centre_first_sample = false;  // as its passes
+    job.frames = job.opt.animation.frames > 0;
+    make_tiles(job);
+    if (rank != 0) {
+        worker(job, rank);
+        return 0;
+    }
+    return job.opt.progressive.enabled ? run_progressive_mpi(job, ranks) : run_image(job, ranks);
 }
 
 }  // namespace
@@ -325,9 +451,11 @@ int main(int argc, char** argv) {
     int code = 0;
     try {
         job.opt = parse_options(args);
-        if (job.opt.progressive.enabled || job.opt.split.part)
+        if (job.opt.split.part || job.opt.progressive.adaptive ||
+            (job.opt.progressive.enabled && job.opt.animation.frames > 0))
             throw UsageError(
-                "raytrace-mpi renders an image or --frames: not --progressive or .part");
+                "raytrace-mpi renders an image (also --progressive) or --frames: not .part, "
+                "--adaptive or a progressive sequence");
         if (!(job.tile_timeout_s > 0)) throw UsageError("--tile-timeout must be > 0 seconds");
     } catch (const UsageError& e) {
         if (rank == 0) std::cerr << "raytrace-mpi: " << e.what() << "\n(see raytrace --help)\n";

@@ -49,6 +49,15 @@ for k in 0 1 2 3; do
     check "frame $k is raytrace's" cmp -s "$tmp/rt_$k.pfm" "$tmp/mpi_$k.pfm"
 done
 
+# Progressive: each pass's tiles handed out; the error report, and with --spp the same image.
+"$rt" "$src/scenes/showpiece.ray" "${size[@]}" --progressive -q -o "$tmp/prog-one.pfm"
+RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" --progressive \
+    --report "$tmp/prog.csv" -o "$tmp/prog-mpi.pfm" >"$tmp/prog.txt" 2>&1
+check "progressive: mpirun exits 0" test $? -eq 0
+check "progressive: the image is raytrace --progressive's" cmp -s "$tmp/prog-one.pfm" "$tmp/prog-mpi.pfm"
+check "progressive: the pass table" grep -q "relMSE falls as time" "$tmp/prog.txt"
+check "progressive: the report has a row a pass" test "$(grep -c '^uniform,' "$tmp/prog.csv")" -eq 3
+
 # Faults: a worker that hangs (the tile timeout), a worker that dies.
 RT_MPI_FAULT=hang:2:1 "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" \
     --tile-timeout 2 -o "$tmp/hang.pfm" >"$tmp/hang.txt" 2>&1
@@ -60,8 +69,8 @@ RT_MPI_FAULT=die:1:0 "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}"
 check "a dying worker fails the job" test $? -ne 0
 check "a dying worker is named with its tile" grep -q "raytrace-mpi: error: the job was stopped (a rank died or was killed) while .*rank 1 had tile" "$tmp/die.txt"
 check "a dying worker: no image" test ! -e "$tmp/die.pfm"
-RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" --progressive --spp 4 -o "$tmp/p.pfm" >"$tmp/p.txt" 2>&1
-check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders an image or --frames" "$tmp/p.txt"
+RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" --spp 4 -o "$tmp/p.part" >"$tmp/p.txt" 2>&1
+check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders an image (also --progressive) or --frames" "$tmp/p.txt"
 
 echo "$passes passed, $fails failed (mpi)"
 test "$fails" -eq 0

@@ -139,7 +139,8 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
                                         const ProgressiveSettings& progressive,
                                         const Image* reference,
                                         const std::function<void(const PassRecord&)>& on_pass,
-                                        const std::atomic<bool>* stop) {
+                                        const std::atomic<bool>* stop,
+                                        const PassRenderer& render_pass) {
     state.reset(settings.width, settings.height);
     RenderSettings pass_settings = settings;
     pass_settings.centre_first_sample = false;  // every sample jittered (the plan is the same)
@@ -170,7 +171,10 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
             spp = 1;
         }
         const auto t0 = Clock::now();
-        if (!render_samples(state, scene, plan, pass_settings, spp, {}, stop)) break;
+        const bool rendered =
+            render_pass ? render_pass(state, pass_settings, spp)
+                        : render_samples(state, scene, plan, pass_settings, spp, {}, stop);
+        if (!rendered) break;
         render_seconds += seconds_since(t0);
         samples_total += pass_samples;
 

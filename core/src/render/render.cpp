@@ -339,6 +339,31 @@ std::string pieces_error(int x, int y, uint32_t expected, const Piece* p, bool o
 
 }  // namespace
 
+void add_part_samples(RenderState& state, const RenderPart& part) {
+    if (part.x0 < 0 || part.y0 < 0 || part.x1 > state.width || part.y1 > state.height)
+        throw std::invalid_argument("the part's pixels lie outside the image");
+    DyadicSum acc;
+    for (int y = part.y0; y < part.y1; ++y)
+        for (int x = part.x0; x < part.x1; ++x) {
+            const size_t k = static_cast<size_t>(y - part.y0) * (part.x1 - part.x0) + (x - part.x0);
+            acc.clear();
+            for (const RenderPart::Block& b : part.blocks) {
+                PixelSums v;
+                for (int c = 0; c < 3; ++c)
+                    v.sum[c] = b.sum[k * 3 + c], v.sum_sq[c] = b.sum_sq[k * 3 + c];
+                acc.push(b.start, b.level, v);
+            }
+            const PixelSums t = acc.total();
+            const size_t i = static_cast<size_t>(y) * state.width + x;
+            for (int c = 0; c < 3; ++c) {
+                state.sum[i * 3 + c] += t.sum[c];
+                state.sum_sq[i * 3 + c] += t.sum_sq[c];
+            }
+            state.samples[i] += part.count;
+        }
+    state.rays += part.rays;
+}
+
 RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, int height,
                         uint32_t total, const std::vector<std::string>& names) {
     // Every pixel's pieces, gathered by a counting sort (no vector per pixel).

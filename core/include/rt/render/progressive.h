@@ -59,14 +59,22 @@ struct PassRecord {
     ErrorEstimate estimate;
 };
 
+/// What adds a pass's samples to the state: `spp` more samples per pixel with `settings` (the
+/// pass settings: every sample jittered), as render_samples(state, scene, plan, settings, spp)
+/// adds them; false when stopped. The MPI mode's rank 0 hands the pass out to its workers.
+using PassRenderer =
+    std::function<bool(RenderState& state, const RenderSettings& settings, int spp)>;
+
 /// Runs passes (1, 1, 2, 4, 8, ... samples per pixel, every sample jittered; adaptive: after the
 /// first four samples, the same number of samples per pass shared by choose_adaptive_pixels())
-/// until a limit, recording each pass.
+/// until a limit, recording each pass. `render_pass`, when given, renders the passes instead of
+/// render_samples() (it must honour state.active for adaptive runs).
 std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& scene,
                                         const RenderPlan& plan, const RenderSettings& settings,
                                         const ProgressiveSettings& progressive,
                                         const Image* reference,
                                         const std::function<void(const PassRecord&)>& on_pass = {},
-                                        const std::atomic<bool>* stop = nullptr);
+                                        const std::atomic<bool>* stop = nullptr,
+                                        const PassRenderer& render_pass = {});
 
 }  // namespace rt

@@ -114,6 +114,12 @@ bool render_part(RenderPart& part, const RenderScene& scene, const RenderPlan& p
                  const RenderSettings& settings, const ProgressFn& progress = {},
                  const std::atomic<bool>* stop = nullptr);
 
+/// Adds a part's samples to the pixels it covers, as a render_samples() call that rendered
+/// those samples would (its blocks folded as one call folds them); counts them in
+/// state.samples and its rays in state.rays. The state's size must be the image's. A pass of a
+/// progressive render split over processes: add every tile's part, then ++state.passes.
+void add_part_samples(RenderState& state, const RenderPart& part);
+
 /// The parts of one width x height render of `total` samples per pixel, combined: every pixel
 /// must be covered by exactly samples [0, total), else std::invalid_argument names the first pixel
 /// and the samples missing or covered twice, and the parts involved (by `names`, or "part K").
