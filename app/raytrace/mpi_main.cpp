@@ -104,7 +104,7 @@ void unpack(const std::vector<double>& in, rt::RenderPart& p) {
         }
         p.blocks.push_back(std::move(b));
     }
-    p.rays.camera = static_cast<uint64_t>(in[at]),
+    p.rays.camera = static_cast<uint64_t>(in[at]);
     p.rays.shadow = static_cast<uint64_t>(in[at + 1]);
     p.rays.reflected = static_cast<uint64_t>(in[at + 2]);
     p.rays.refracted = static_cast<uint64_t>(in[at + 3]);
@@ -135,7 +135,8 @@ void worker(Job& job, int rank) {
         if (t < 0) return;
         maybe_fault(rank, nth);
         rt::RenderPart& p = job.tiles[static_cast<size_t>(t)];
-        p.first = static_cast<uint32_t>(msg[1]), p.count = static_cast<uint32_t>(msg[2]);
+        p.first = static_cast<uint32_t>(msg[1]);
+        p.count = static_cast<uint32_t>(msg[2]);
         p.total = static_cast<uint32_t>(msg[3]);
         if (job.frames) {  // the joints to frame t's time, and a plan for it
             rt::animate(*job.scene, job.desc, job.opt.animation.time(t));
