@@ -9,19 +9,8 @@ rt="$1"
 src="$2"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-fails=0
-passes=0
+source "$(dirname "$0")/check.sh"
 differ() { ! cmp -s "$1" "$2"; }
-check() {  # check NAME CONDITION...
-    local name="$1"
-    shift
-    if "$@"; then
-        passes=$((passes + 1))
-    else
-        echo "FAIL: $name"
-        fails=$((fails + 1))
-    fi
-}
 arm="$src/scenes/robot_arm.ray"
 size=(--width 48 --height 36)
 
@@ -103,5 +92,4 @@ if command -v ffmpeg >/dev/null; then
     check "--video leaves no temporary" test ! -e "$tmp/arm.part.mp4"
 fi
 
-echo "$passes passed, $fails failed (animation)"
-test "$fails" -eq 0
+summary "animation"

@@ -18,18 +18,7 @@ trap 'rm -rf "$tmp"' EXIT
 # OpenMPI refuses to run as root unless told; CI runs as root. Only for this test.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 run=(mpirun -n 3 --oversubscribe -x RT_MPI_FAULT)
-fails=0
-passes=0
-check() {  # check NAME CONDITION...
-    local name="$1"
-    shift
-    if "$@"; then
-        passes=$((passes + 1))
-    else
-        echo "FAIL: $name"
-        fails=$((fails + 1))
-    fi
-}
+source "$(dirname "$0")/check.sh"
 size=(--width 100 --height 70 --spp 3)
 for scene in showpiece groups v3_penumbra; do
     "$rt" "$src/scenes/$scene.ray" "${size[@]}" -q -o "$tmp/$scene-one.pfm"
@@ -72,5 +61,4 @@ check "a dying worker: no image" test ! -e "$tmp/die.pfm"
 RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" --spp 4 -o "$tmp/p.part" >"$tmp/p.txt" 2>&1
 check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders an image (also --progressive) or --frames" "$tmp/p.txt"
 
-echo "$passes passed, $fails failed (mpi)"
-test "$fails" -eq 0
+summary "mpi"

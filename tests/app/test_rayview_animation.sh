@@ -10,11 +10,7 @@ bin=$(dirname "$rv")
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 export XDG_CONFIG_HOME="$tmp/config"
-fails=0
-passes=0
-check() {
-    if "${@:2}"; then passes=$((passes + 1)); else echo "FAIL: $1"; fails=$((fails + 1)); fi
-}
+source "$(dirname "$0")/check.sh"
 arm="$src/scenes/robot_arm.ray"
 view() {  # view PANE SCRIPT OUT FRAMES: one pane alone at 640x480, the output in OUT.txt
     xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --size 640x480 --panel off --layout "$1" \
@@ -54,5 +50,4 @@ for k in 00 01 02; do
     check "frame $k is raytrace's" "$bin/imgdiff" "$tmp/rv_$k.png" "$tmp/rt_$k.png" --max-mad 0.5
 done
 
-echo "$passes passed, $fails failed (rayview animation)"
-test "$fails" -eq 0
+summary "rayview animation"

@@ -11,18 +11,7 @@ merge="$2"
 src="$3"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-fails=0
-passes=0
-check() {  # check NAME CONDITION...
-    local name="$1"
-    shift
-    if "$@"; then
-        passes=$((passes + 1))
-    else
-        echo "FAIL: $name"
-        fails=$((fails + 1))
-    fi
-}
+source "$(dirname "$0")/check.sh"
 size=(--width 61 --height 45 --spp 6)
 
 # split NAME SCENE "ARGS|ARGS|..." [EXTRA...]: the parts, merged, against the whole render.
@@ -92,5 +81,4 @@ check "samples beyond --spp say so" grep -q "is not inside the --spp 4 samples" 
 check "a malformed tile exits 2" test $? -eq 2
 check "usage errors write no part" test ! -e "$tmp/x.part"
 
-echo "$passes passed, $fails failed (split and merge)"
-test "$fails" -eq 0
+summary "split and merge"
