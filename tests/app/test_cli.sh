@@ -7,18 +7,7 @@ rt="$1"
 src="$2"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-fails=0
-passes=0
-check() {  # check NAME CONDITION...
-    local name="$1"
-    shift
-    if "$@"; then
-        passes=$((passes + 1))
-    else
-        echo "FAIL: $name"
-        fails=$((fails + 1))
-    fi
-}
+source "$(dirname "$0")/check.sh"
 
 cat >"$tmp/ok.ray" <<'RAY'
 #camera 0 0 5  0 0 -1  0 1 0  0.5
@@ -163,5 +152,4 @@ if [ -d "$pub" ]; then
     check "missing texture: no output" test ! -e "$tmp/chess.png"
 fi
 
-echo "$passes passed, $fails failed (with the bad-input checks)"
-test "$fails" -eq 0
+summary "with the bad-input checks"
