@@ -125,10 +125,11 @@ PartFile read_part(const std::string& path) {
     if (blocks == 0 || blocks > 64)
         throw std::runtime_error(path + ": bad header: " + std::to_string(blocks) + " blocks");
     // Its blocks must be the dyadic blocks of its samples.
-    if (p.count == 0 || p.first >= p.total || p.count > p.total - p.first ||
-        rt::dyadic_blocks(p.first, p.count).size() != blocks)
+    if (p.count == 0 || p.first >= p.total || p.count > p.total - p.first)
         throw std::runtime_error(path + ": bad header: its samples do not match its blocks");
     const std::vector<std::pair<uint32_t, int>> expected = rt::dyadic_blocks(p.first, p.count);
+    if (expected.size() != blocks)
+        throw std::runtime_error(path + ": bad header: its samples do not match its blocks");
     p.blocks.resize(blocks);
     for (size_t b = 0; b < blocks; ++b) {
         values(line(in, "block", path), "block", path, p.blocks[b].start, p.blocks[b].level);

@@ -153,7 +153,7 @@ void add_feature_options(CLI::App& app, Options& o) {
 template <class T>
 std::function<void(const std::string&)> enum_option(const char* what, T* out,
                                                     bool (*parse)(const std::string&, T*),
-                                                    const char* accepted) {
+                                                    const std::string& accepted) {
     return [=](const std::string& name) {
         if (!parse(name, out))
             throw CLI::ValidationError(
@@ -173,14 +173,14 @@ void add_animation_options(CLI::App& app, Options& o) {
     app.add_option_function<std::string>(
            "--interpolation",
            enum_option("interpolation", &a.interpolation, rt::parse_interpolation,
-                       "nearest, linear, catmull-rom, bspline"),
+                       rt::interpolation_names()),
            "nearest, linear, catmull-rom (default) or bspline")
         ->type_name("I")
         ->group(group);
-    app.add_option_function<std::string>("--rotation",
-                                         enum_option("rotation", &a.rotation, rt::parse_rotation,
-                                                     "matrix, closest, euler, log, quaternion"),
-                                         "matrix, closest, euler, log or quaternion (default)")
+    app.add_option_function<std::string>(
+           "--rotation",
+           enum_option("rotation", &a.rotation, rt::parse_rotation, rt::rotation_names()),
+           "matrix, closest, euler, log or quaternion (default)")
         ->type_name("R")
         ->group(group);
     app.add_option("--frames", a.frames,

@@ -290,11 +290,11 @@ bool run_animation(const ScriptLine& l, ViewerState& v, int frame) {
         tl.fps = number(l, 0, 1, 240);
     } else if (c == "interpolation") {
         if (!parse_interpolation(arg, &tl.interpolation))
-            throw std::runtime_error("interpolation: nearest, linear, catmull-rom or bspline");
+            throw std::runtime_error("interpolation: " + interpolation_names(" | "));
         v.seek(tl.time);
     } else if (c == "rotation") {
         if (!parse_rotation(arg, &tl.rotation))
-            throw std::runtime_error("rotation: matrix, closest, euler, log or quaternion");
+            throw std::runtime_error("rotation: " + rotation_names(" | "));
         v.seek(tl.time);
     } else if (c == "render-animation" && l.args.size() >= 5) {
         v.render_animation(arg, whole(l, 1, 1, 100000), whole(l, 2, 1, 32768),

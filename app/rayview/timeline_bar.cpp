@@ -15,15 +15,19 @@ namespace rt::view {
 
 namespace {
 
-const char* const kInterpolations[] = {"nearest", "linear", "catmull-rom", "bspline"};
-const char* const kRotations[] = {"matrix", "closest", "euler", "log", "quaternion"};
-
-// A combo over an enum whose values are 0 .. n-1 in the order of `names`.
-template <class E, size_t N>
-bool enum_combo(const char* label, E* value, const char* const (&names)[N], float width) {
+// A combo over an enum of values 0 .. n - 1, each shown by its name(E).
+template <class E>
+bool enum_combo(const char* label, E* value, int n, const char* (*name)(E), float width) {
+    struct Names {
+        const char* (*name)(E);
+    } names{name};
     int i = static_cast<int>(*value);
     ImGui::SetNextItemWidth(width);
-    if (!ImGui::Combo(label, &i, names, static_cast<int>(N))) return false;
+    const auto item = [](void* data, int k, const char** text) {
+        *text = static_cast<Names*>(data)->name(static_cast<E>(k));
+        return true;
+    };
+    if (!ImGui::Combo(label, &i, item, &names, n)) return false;
     *value = static_cast<E>(i);
     return true;
 }
@@ -90,9 +94,10 @@ void timeline_bar(ViewerState& v, const PaneLayout& layout) {
     if (ImGui::DragFloat("##speed", &speed, 0.01f, 0.05f, 8.0f, "%.2fx"))
         tl.speed = std::clamp(static_cast<double>(speed), 0.05, 8.0);
     ImGui::SameLine();
-    bool changed = enum_combo("##interpolation", &tl.interpolation, kInterpolations, 8.5f * em);
+    bool changed = enum_combo("##interpolation", &tl.interpolation, kInterpolations,
+                              interpolation_name, 8.5f * em);
     ImGui::SameLine();
-    changed |= enum_combo("##rotation", &tl.rotation, kRotations, 8.5f * em);
+    changed |= enum_combo("##rotation", &tl.rotation, kRotations, rotation_name, 8.5f * em);
     if (changed) v.seek(tl.time);  // the same time, other values: the trace restarts
     ImGui::End();
 }

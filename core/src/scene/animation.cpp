@@ -233,17 +233,31 @@ void symmetric_eigen(Mat3 s, Mat3* v, Vec3* l) {
 }  // namespace
 
 bool parse_interpolation(const std::string& name, Interpolation* out) {
-    for (Interpolation i : {Interpolation::Nearest, Interpolation::Linear,
-                            Interpolation::CatmullRom, Interpolation::BSpline})
-        if (name == interpolation_name(i)) return *out = i, true;
+    for (int i = 0; i < kInterpolations; ++i)
+        if (name == interpolation_name(static_cast<Interpolation>(i)))
+            return *out = static_cast<Interpolation>(i), true;
     return false;
 }
 
 bool parse_rotation(const std::string& name, Rotation* out) {
-    for (Rotation r : {Rotation::Matrix, Rotation::Closest, Rotation::Euler, Rotation::Log,
-                       Rotation::Quaternion})
-        if (name == rotation_name(r)) return *out = r, true;
+    for (int r = 0; r < kRotations; ++r)
+        if (name == rotation_name(static_cast<Rotation>(r)))
+            return *out = static_cast<Rotation>(r), true;
     return false;
+}
+
+std::string interpolation_names(const std::string& separator) {
+    std::string s;
+    for (int i = 0; i < kInterpolations; ++i)
+        s += (i ? separator : "") + interpolation_name(static_cast<Interpolation>(i));
+    return s;
+}
+
+std::string rotation_names(const std::string& separator) {
+    std::string s;
+    for (int r = 0; r < kRotations; ++r)
+        s += (r ? separator : "") + rotation_name(static_cast<Rotation>(r));
+    return s;
 }
 
 const char* interpolation_name(Interpolation i) {

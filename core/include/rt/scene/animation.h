@@ -14,6 +14,7 @@ namespace rt {
 
 enum class Interpolation { Nearest, Linear, CatmullRom, BSpline };
 enum class Rotation { Matrix, Closest, Euler, Log, Quaternion };
+inline constexpr int kInterpolations = 4, kRotations = 5;  // the values 0 .. k - 1
 
 /// The command-line names of spec §14.7 ("nearest", "catmull-rom", ..., "quaternion"); false for
 /// another name. The defaults are CatmullRom and Quaternion.
@@ -21,6 +22,10 @@ bool parse_interpolation(const std::string& name, Interpolation* out);
 bool parse_rotation(const std::string& name, Rotation* out);
 const char* interpolation_name(Interpolation i);
 const char* rotation_name(Rotation r);
+/// Every name, in the enum's order, joined by `separator` ("nearest, linear, ..."): what a
+/// message lists as accepted.
+std::string interpolation_names(const std::string& separator = ", ");
+std::string rotation_names(const std::string& separator = ", ");
 
 /// One DOF of a key file: its keys (frame 0 first; the bottom row is ignored) over a loop of
 /// `duration` seconds (> 0). `loc` is where errors and warnings at a time point are reported
