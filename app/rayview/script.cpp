@@ -91,6 +91,10 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
         "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
         "  history:  undo | redo\n"
+        "  waiting:  wait-spp N [SECONDS] | wait-jobs [SECONDS] (hold the script, and --frames'\n"
+        "            count, until the trace has N samples per pixel, or the background loads and\n"
+        "            renders and the preview's reflection maps are done; fails after SECONDS,\n"
+        "            default 120)\n"
         "  animation: play | pause | time T | speed X | loop on|off | fps F |\n"
         "            interpolation nearest|linear|catmull-rom|bspline |\n"
         "            rotation matrix|closest|euler|log|quaternion |\n"
@@ -308,7 +312,7 @@ bool run_animation(const ScriptLine& l, ViewerState& v, int frame) {
 
 }  // namespace
 
-void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) const {
+void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
     if (run_edit(l, v) || run_animation(l, v, m_frame)) return;
     ViewSettings& s = v.settings;
     const std::string& c = l.command;
@@ -354,6 +358,13 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
         if (!v.redo()) throw std::runtime_error("redo: nothing to redo");
     } else if (c == "resolution") {
         s.resolution_scale = static_cast<float>(number(l, 0, 0.1, 1));
+    } else if (c == "wait-spp" || c == "wait-jobs") {
+        const bool spp = c == "wait-spp";
+        m_wait = spp ? Wait::Spp : Wait::Jobs;
+        m_wait_spp = spp ? whole(l, 0, 1, 1 << 20) : 0;
+        const size_t limit = spp ? 1 : 0;
+        m_wait_limit_s = l.args.size() > limit ? number(l, limit, 0.1, 3600) : 120;
+        m_wait_start = std::chrono::steady_clock::now();
     } else if (c == "screenshot" && !path.empty()) {
         save_window(fb_w, fb_h, path);
         std::printf("rayview: frame %d: %s (trace at %d spp)\n", m_frame, path.c_str(),
@@ -364,6 +375,22 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) con
 }
 
 bool ScriptRun::end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code) {
+    if (m_wait != Wait::None) {  // this frame again until what the script waits for is there
+        const double waited =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - m_wait_start).count();
+        const bool done = m_wait == Wait::Spp
+                              ? !v.edit_pending() && v.tracer.status().spp >= m_wait_spp
+                              : !v.loader.busy() && !v.image_job.running() && !v.preview_stale;
+        if (done) {
+            m_wait = Wait::None;  // shown from the next frame on, which runs the next commands
+        } else if (waited > m_wait_limit_s) {
+            std::fprintf(stderr, "rayview: frame %d: error: %s not done in %g s\n", m_frame,
+                         m_wait == Wait::Spp ? "wait-spp" : "wait-jobs", m_wait_limit_s);
+            m_failed = true;
+            m_wait = Wait::None;
+        }
+        return false;
+    }
     for (const ScriptLine& l : m_lines) {
         if (l.frame != m_frame) continue;
         try {

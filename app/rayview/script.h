@@ -3,7 +3,9 @@
 // the window as an image, and the frame statistics a --frames run prints at the end.
 //
 // A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn
-// (the list: rayview --help). A command that fails is reported and the run goes on.
+// (the list: rayview --help). A command that fails is reported and the run goes on. Frames count
+// the frames the script runs in: `wait-spp` holds the count until the trace has converged that
+// far, so a test waits for the trace, not for a number of frames that a loaded machine may need.
 #pragma once
 
 #include <chrono>
@@ -74,14 +76,19 @@ public:
     void print_summary(const FrameStats& stats, const ViewerState& v) const;
 
 private:
-    void run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) const;
+    void run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h);
 
     std::vector<ScriptLine> m_lines;
     int m_frames_left;
     std::string m_screenshot;
     int m_frame = 0;
-    std::vector<std::string> m_causes;  // commands whose edits await a restart
-    bool m_failed = false;              // a command failed (reported): the run exits 1
+    std::vector<std::string> m_causes;    // commands whose edits await a restart
+    bool m_failed = false;                // a command failed (reported): the run exits 1
+    enum class Wait { None, Spp, Jobs };  // what a wait-spp or wait-jobs holds the script for
+    Wait m_wait = Wait::None;
+    int m_wait_spp = 0;
+    double m_wait_limit_s = 0;
+    std::chrono::steady_clock::time_point m_wait_start;
 };
 
 }  // namespace rt::view

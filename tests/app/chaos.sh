@@ -70,10 +70,9 @@ done >"$tmp/chaos.txt"
 echo "$((events + 6)) render-image $tmp/final.png 32 24 2" >>"$tmp/chaos.txt"
 [ -n "${CHAOS_KEEP:-}" ] && cp "$tmp/chaos.txt" "$CHAOS_KEEP.script"
 
-# rayview's own exit status (xvfb-run's may be its own: it can fail to clean up its files).
-xvfb-run -a -s "-screen 0 1280x720x24" bash -c '"$0" "$@"; echo $? >"'"$tmp/rc"'"' "$rv" \
-    --size 960x540 --script "$tmp/chaos.txt" "$src/scenes/showpiece.ray" >"$tmp/out.txt" 2>&1
-rc=$(cat "$tmp/rc" 2>/dev/null || echo "none")
+"$(dirname "$0")/xrun.sh" "$rv" --size 960x540 --script "$tmp/chaos.txt" \
+    "$src/scenes/showpiece.ray" >"$tmp/out.txt" 2>&1
+rc=$?
 [ -n "${CHAOS_KEEP:-}" ] && cp "$tmp/out.txt" "$CHAOS_KEEP"
 refused=$(grep -c "error:" "$tmp/out.txt")
 echo "chaos: $events events (seed ${4:-14}), exit $rc, $refused commands refused with a message"

@@ -17,3 +17,7 @@ summary() {
     echo "$passes passed, $fails failed${1:+ ($1)}"
     test "$fails" -eq 0
 }
+# xrun CMD...: CMD under a virtual display, with CMD's own exit status (tests/app/xrun.sh).
+xrun() {
+    "$(dirname "${BASH_SOURCE[0]}")/xrun.sh" "$@"
+}

@@ -8,6 +8,7 @@ src="$2"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 export XDG_CONFIG_HOME="$tmp/config"  # the runs' settings, not the user's
+source "$(dirname "$0")/check.sh"
 cat >"$tmp/script.txt" <<SCRIPT
 15 screenshot $tmp/0.png
 16 orbit 0.4 0.1
@@ -19,14 +20,9 @@ cat >"$tmp/script.txt" <<SCRIPT
 61 open $src/scenes/shapes.ray
 75 screenshot $tmp/4.png
 SCRIPT
-xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --script "$tmp/script.txt" \
+xrun "$rv" --script "$tmp/script.txt" \
     "$src/scenes/lights.ray" >"$tmp/out.txt" 2>&1
 rc=$?
-fails=0
-passes=0
-check() {
-    if "${@:2}"; then passes=$((passes + 1)); else echo "FAIL: $1"; fails=$((fails + 1)); fi
-}
 check "rayview exits 0" test $rc -eq 0
 for i in 0 1 2 3 4; do check "screenshot $i" test -s "$tmp/$i.png"; done
 for cmd in orbit shadows light open; do
@@ -50,7 +46,7 @@ cat >"$tmp/v3.txt" <<SCRIPT
 31 light 0 radius 1.5
 45 screenshot $tmp/v2.png
 SCRIPT
-xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --script "$tmp/v3.txt" "$tmp/v3.ray" >"$tmp/v3out.txt" 2>&1
+xrun "$rv" --script "$tmp/v3.txt" "$tmp/v3.ray" >"$tmp/v3out.txt" 2>&1
 check "rayview exits 0 on a V3 scene" test $? -eq 0
 check "V3 light edits restart the trace" test "$(grep -c 'light: trace restarted' "$tmp/v3out.txt")" -eq 2
 check "the ambient edit changes the window" bash -c "! cmp -s '$tmp/v0.png' '$tmp/v1.png'"
@@ -73,13 +69,13 @@ SCENE
 scene "0 3 9  0 -0.3 -1  1 1 0  0.5" >"$tmp/rolled.ray"
 scene "0 8 0  0 -1 0  0 0 -1  0.5" >"$tmp/down.ray"
 scene "0 -8 0  0 1 0  1 0 0  0.5" >"$tmp/up.ray"
-echo "5 resolution 1" >"$tmp/full.txt"
+printf '5 resolution 1\n6 wait-spp 8\n' >"$tmp/full.txt"
 for cam in rolled down up; do
     "$(dirname "$rv")/raytrace" -q "$tmp/$cam.ray" -o "$tmp/$cam-raytrace.png"
     for pane in preview trace; do
-        # 90 frames: on a loaded machine the trace's first full pass can take a second.
-        xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --size 640x480 --panel off --layout $pane \
-            --frames 90 --script "$tmp/full.txt" --screenshot "$tmp/$cam-$pane.png" "$tmp/$cam.ray" \
+        # wait-spp: on a loaded machine the trace's first full pass can take seconds.
+        xrun "$rv" --size 640x480 --panel off --layout $pane \
+            --frames 12 --script "$tmp/full.txt" --screenshot "$tmp/$cam-$pane.png" "$tmp/$cam.ray" \
             >/dev/null 2>&1
         check "the $pane pane frames the $cam camera as raytrace does" \
             "$imgdiff" "$tmp/$cam-$pane.png" "$tmp/$cam-raytrace.png" --max-mad 2
@@ -88,9 +84,9 @@ done
 # The preview shows mirrors and glass as the trace does, approximately (materials.ray: mean
 # difference 26.5 of 255 with local shading only, 6.6 with the environment maps).
 "$(dirname "$rv")/raytrace" -q "$src/scenes/materials.ray" -o "$tmp/materials-raytrace.png"
-printf '2 markers off\n' >"$tmp/markers.txt"
-(cd "$src/scenes" && xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --size 640x480 --panel off \
-    --layout preview --frames 40 --script "$tmp/markers.txt" --screenshot "$tmp/materials.png" \
+printf '2 markers off\n3 wait-jobs\n' >"$tmp/markers.txt"
+(cd "$src/scenes" && xrun "$rv" --size 640x480 --panel off \
+    --layout preview --frames 8 --script "$tmp/markers.txt" --screenshot "$tmp/materials.png" \
     materials.ray >/dev/null 2>&1)
 check "the preview of materials.ray is near the trace" "$imgdiff" "$tmp/materials.png" \
     "$tmp/materials-raytrace.png" --max-mad 12 --max-dark-share 0.01
@@ -117,7 +113,7 @@ cat >"$tmp/all.txt" <<SCRIPT
 22 reload
 30 screenshot $tmp/all.png
 SCRIPT
-(cd "$src/scenes" && xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --script "$tmp/all.txt" \
+(cd "$src/scenes" && xrun "$rv" --script "$tmp/all.txt" \
     lights.ray >"$tmp/allout.txt" 2>&1)
 check "every scripted input runs" test $? -eq 0
 for cmd in pan dolly look fly light add-light frame-light depth; do
@@ -127,7 +123,7 @@ check "pick names the shape and its directive" grep -q "picked .* lights.ray:[0-
 check "save-scene writes the edits" grep -q "#light_directional\|#light_dir" "$tmp/saved.ray"
 check "save-image writes the trace" test -s "$tmp/saved.png"
 echo "1 teleport 1 2" >"$tmp/unknown.txt"
-xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --frames 3 --script "$tmp/unknown.txt" \
+xrun "$rv" --frames 3 --script "$tmp/unknown.txt" \
     "$src/scenes/lights.ray" >"$tmp/unknownout.txt" 2>&1
 check "an unknown command is an error" grep -q "unknown command .*teleport" "$tmp/unknownout.txt"
 
@@ -140,7 +136,7 @@ cat >"$tmp/bad.txt" <<SCRIPT
 5 open $src/scenes/shapes.ray
 20 screenshot $tmp/after.png
 SCRIPT
-xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --script "$tmp/bad.txt" "$tmp/broken.ray" \
+xrun "$rv" --script "$tmp/bad.txt" "$tmp/broken.ray" \
     >"$tmp/badout.txt" 2>&1
 check "a run with failed commands exits 1, not a crash" test $? -eq 1
 check "the non-finite resolution is refused" grep -q "resolution: 'nan' is not a number" "$tmp/badout.txt"
@@ -152,7 +148,7 @@ conf="$tmp/config/rayview/rayview.conf"
 check "the settings are written at exit" grep -q "^window = [0-9]*x[0-9]*$" "$conf"
 check "the recent files are kept" grep -q "^recent = .*scenes/lights.ray" "$conf"
 sed -i 's/^window = .*/window = 800x500/' "$conf"
-xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --frames 3 --screenshot "$tmp/sized.png" \
+xrun "$rv" --frames 3 --screenshot "$tmp/sized.png" \
     "$src/scenes/lights.ray" >/dev/null 2>&1
 check "the next run opens at the kept size" bash -c "file '$tmp/sized.png' | grep -q '800 x 500'"
 # A kill (SIGTERM; Ctrl+C's SIGINT the same) closes the viewer as its window's close button
@@ -167,5 +163,4 @@ check "SIGTERM keeps the settings" test -s "$conf"
 check "--missing-textures takes error or checker only" test $? -eq 2
 check "--help lists --missing-textures" bash -c "'$rv' --help | grep -q -- '--missing-textures error|checker'"
 cat "$tmp/out.txt"
-echo "$passes passed, $fails failed"
-test "$fails" -eq 0
+summary

@@ -13,14 +13,14 @@ export XDG_CONFIG_HOME="$tmp/config"
 source "$(dirname "$0")/check.sh"
 arm="$src/scenes/robot_arm.ray"
 view() {  # view PANE SCRIPT OUT FRAMES: one pane alone at 640x480, the output in OUT.txt
-    xvfb-run -a -s "-screen 0 1280x720x24" "$rv" --size 640x480 --panel off --layout "$1" \
+    xrun "$rv" --size 640x480 --panel off --layout "$1" \
         --frames "$4" --script "$2" --screenshot "$3.png" "$arm" >"$3.txt" 2>&1
 }
 
 # A scrub to t = 1.3: both panes show raytrace --at 1.3.
 "$bin/raytrace" -q "$arm" --at 1.3 -o "$tmp/ref13.png"
-printf '2 resolution 1\n3 time 1.3\n' >"$tmp/scrub.txt"
-view trace "$tmp/scrub.txt" "$tmp/trace13" 100
+printf '2 resolution 1\n3 time 1.3\n4 wait-spp 8\n' >"$tmp/scrub.txt"
+view trace "$tmp/scrub.txt" "$tmp/trace13" 10
 check "rayview exits 0" test $? -eq 0
 check "the trace at t = 1.3 is raytrace --at 1.3" "$bin/imgdiff" "$tmp/trace13.png" "$tmp/ref13.png" --max-mad 2
 view preview "$tmp/scrub.txt" "$tmp/preview13" 40
@@ -30,8 +30,8 @@ view preview "$tmp/scrub2.txt" "$tmp/preview31" 40
 check "scrubbing changes the picture" bash -c "! cmp -s '$tmp/preview13.png' '$tmp/preview31.png'"
 
 # Play, then pause: the trace converges at the time the viewer paused at.
-printf '2 resolution 1\n5 play\n45 pause\n' >"$tmp/play.txt"
-view trace "$tmp/play.txt" "$tmp/played" 140
+printf '2 resolution 1\n5 play\n45 pause\n46 wait-spp 8\n' >"$tmp/play.txt"
+view trace "$tmp/play.txt" "$tmp/played" 50
 paused=$(sed -n 's/.*paused at t = \([0-9.e+-]*\).*/\1/p' "$tmp/played.txt")
 check "pause reports the time" test -n "$paused"
 check "playing moved the time" awk -v t="${paused:-0}" 'BEGIN { exit !(t > 0.05) }'
@@ -42,8 +42,9 @@ check "the paused trace is raytrace --at the paused time" "$bin/imgdiff" "$tmp/p
 check "the paused picture is not key 0's" test $? -eq 1
 
 # Render animation: the frames raytrace --frames writes (fps 12, interpolation linear).
-printf '2 fps 12\n2 interpolation linear\n3 render-animation %s 3 64 48 1\n' "$tmp/rv_%02d.png" >"$tmp/render-script.txt"
-view trace "$tmp/render-script.txt" "$tmp/render" 60
+printf '2 fps 12\n2 interpolation linear\n3 render-animation %s 3 64 48 1\n4 wait-jobs\n' \
+    "$tmp/rv_%02d.png" >"$tmp/render-script.txt"
+view trace "$tmp/render-script.txt" "$tmp/render" 8
 "$bin/raytrace" -q "$arm" --frames 3 --fps 12 --interpolation linear --width 64 --height 48 -o "$tmp/rt_%02d.png"
 for k in 00 01 02; do
     check "render animation wrote frame $k" test -s "$tmp/rv_$k.png"
