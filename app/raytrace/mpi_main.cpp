@@ -2,15 +2,21 @@
 // [raytrace's options]`). Every rank loads the scene; rank 0 hands out tiles of the image to the
 // workers as they ask (work pulling: uneven tiles and machines balance), gathers their sums, and
 // writes the image, which is the one-process render's bit for bit (the parts merge as raymerge
-// merges them). A worker that does not finish a tile in --tile-timeout seconds, or a job stopped
-// because a rank died, is an error naming the ranks and tiles under way; no image is written then.
+// merges them). A worker that does not finish a tile in --tile-timeout seconds, a worker that
+// cannot load the scene, or a job stopped because a rank died, is an error naming the rank (a dead
+// one where its process can be looked for, on rank 0's host) and the tiles under way; no image is
+// written then, and a sequence's frames written so far are removed.
 #include <mpi.h>
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <optional>
@@ -33,9 +39,18 @@ namespace {
 
 using namespace raytrace;
 
-constexpr int kTagRequest = 1, kTagAssign = 2, kTagResult = 3;
+constexpr int kTagRequest = 1, kTagAssign = 2, kTagResult = 3, kTagLoadError = 4;
 constexpr int kTileSize = 32;
 volatile std::sig_atomic_t g_stopped = 0;
+
+// Rank 0's knowledge for the messages of a failed job: each rank's host and process id, and the
+// frames of a sequence written so far (removed when the job fails).
+struct RankInfo {
+    char host[MPI_MAX_PROCESSOR_NAME] = {};
+    int pid = 0;
+};
+std::vector<RankInfo> g_ranks;
+std::vector<std::string> g_written;
 
 struct Job {
     Options opt;
@@ -154,7 +169,9 @@ void worker(Job& job, int rank) {
 void write_frame(Job& job, int k) {
     rt::RenderPart& p = job.tiles[static_cast<size_t>(k)];
     const rt::RenderState state = rt::merge_parts({&p}, job.opt.width, job.opt.height, p.total);
-    write_outputs(state.image(), rtapp::frame_path(job.opt.output, k), {}, job.opt.scene);
+    const std::string path = rtapp::frame_path(job.opt.output, k);
+    write_outputs(state.image(), path, {}, job.opt.scene);
+    g_written.push_back(path);
     p.blocks.clear();
     ++job.frames_written;
 }
@@ -165,10 +182,28 @@ struct Assignment {
 };
 
 [[noreturn]] void abort_job(const std::string& why) {
-    std::cerr << "raytrace-mpi: error: " << why << "; no image written\n";
+    std::string outcome = "no image written";
+    if (!g_written.empty()) {  // a sequence: nothing of a failed job stays
+        for (const std::string& f : g_written) std::filesystem::remove(f);
+        outcome = "the " + std::to_string(g_written.size()) +
+                  " frames written so far were removed; no frame written";
+    }
+    std::cerr << "raytrace-mpi: error: " << why << "; " << outcome << "\n";
     std::fflush(stderr);
     MPI_Abort(MPI_COMM_WORLD, 1);
     std::_Exit(1);
+}
+
+// The workers whose process is gone, of those on rank 0's host (the others cannot be looked at
+// from here: mpirun's own message names them).
+std::string gone_ranks() {
+    std::string s;
+    for (size_t r = 1; r < g_ranks.size(); ++r)
+        if (std::strcmp(g_ranks[r].host, g_ranks[0].host) == 0 && g_ranks[r].pid > 0 &&
+            ::kill(g_ranks[r].pid, 0) != 0 && errno == ESRCH)
+            s += (s.empty() ? "" : ", ") + std::string("rank ") + std::to_string(r) + " (pid " +
+                 std::to_string(g_ranks[r].pid) + ")";
+    return s;
 }
 
 // The ranks and tiles under way, for the messages of a failed job.
@@ -250,12 +285,24 @@ public:
 private:
     // A message, or none after checking the time limits (and a short sleep).
     std::optional<MPI_Status> poll() {
-        if (g_stopped)
-            abort_job("the job was stopped (a rank died or was killed) while " +
-                      under_way(m_job, m_work));
+        if (g_stopped) {
+            const std::string gone = gone_ranks();
+            abort_job("the job was stopped: " +
+                      (gone.empty() ? std::string("a rank died or was killed") : gone + " died") +
+                      "; under way: " + under_way(m_job, m_work));
+        }
         int flag = 0;
         MPI_Status st;
         MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+        if (flag && st.MPI_TAG == kTagLoadError) {
+            int count = 0;
+            MPI_Get_count(&st, MPI_CHAR, &count);
+            std::string text(static_cast<size_t>(count), '\0');
+            MPI_Recv(text.data(), count, MPI_CHAR, st.MPI_SOURCE, kTagLoadError, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE);
+            abort_job("rank " + std::to_string(st.MPI_SOURCE) +
+                      " could not load the scene: " + text);
+        }
         if (flag) return st;
         const double limit = m_job.tile_timeout_s;
         const std::string secs = std::to_string(static_cast<int>(limit));
@@ -296,7 +343,9 @@ private:
     std::vector<int> m_idle;         // ranks waiting for an item
 };
 
-// Every rank loads the scene; rank 0 alone prints its warnings and errors.
+// Every rank loads the scene; rank 0 alone prints its warnings and errors. A worker that fails
+// where rank 0 did not (another file system, say) sends its error to rank 0, which stops the job
+// with it.
 bool load(Job& job, int rank) {
     const Options& opt = job.opt;
     rt::Diagnostics diag;
@@ -306,8 +355,14 @@ bool load(Job& job, int rank) {
         po.missing_textures = opt.missing_textures;
         job.desc = rt::parse_scene_file(opt.scene, diag, po);
         job.scene = rt::compile_scene(job.desc, nullptr, opt.animation.time(), &diag);
-    } catch (const rt::SceneError& e) {
-        if (rank == 0) std::cerr << e.what() << "\n";
+    } catch (const std::exception& e) {  // a SceneError, or out of memory
+        if (rank == 0) {
+            std::cerr << e.what() << "\n";
+        } else {
+            const std::string text = e.what();
+            MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, 0, kTagLoadError,
+                     MPI_COMM_WORLD);
+        }
         return false;
     }
     if (rank == 0)
@@ -418,6 +473,12 @@ int run_progressive_mpi(Job& job, int ranks) {
 }
 
 int run(Job& job, int rank, int ranks) {
+    RankInfo me;
+    int len = 0;
+    MPI_Get_processor_name(me.host, &len);
+    me.pid = static_cast<int>(::getpid());
+    g_ranks.resize(static_cast<size_t>(ranks));
+    MPI_Gather(&me, sizeof me, MPI_BYTE, g_ranks.data(), sizeof me, MPI_BYTE, 0, MPI_COMM_WORLD);
     if (!load(job, rank)) return 1;
     job.plan = rt::make_render_plan(*job.scene, job.opt);
     job.settings = job.opt;

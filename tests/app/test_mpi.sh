@@ -56,8 +56,22 @@ check "a hanging worker: no image" test ! -e "$tmp/hang.pfm"
 RT_MPI_FAULT=die:1:0 "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" \
     -o "$tmp/die.pfm" >"$tmp/die.txt" 2>&1
 check "a dying worker fails the job" test $? -ne 0
-check "a dying worker is named with its tile" grep -q "raytrace-mpi: error: the job was stopped (a rank died or was killed) while .*rank 1 had tile" "$tmp/die.txt"
+check "a dying worker is named with its tile" grep -q "raytrace-mpi: error: the job was stopped: rank 1 (pid [0-9]*) died; under way: .*rank 1 had tile" "$tmp/die.txt"
 check "a dying worker: no image" test ! -e "$tmp/die.pfm"
+# A sequence whose worker dies after frames were written: they are removed.
+RT_MPI_FAULT=die:1:1 "${run[@]}" "$mpi" "$arm" --width 48 --height 36 --frames 8 -q \
+    -o "$tmp/dief_%d.pfm" >"$tmp/dief.txt" 2>&1
+check "a sequence's dying worker fails the job" test $? -ne 0
+check "a sequence's dying worker is named with its frame" grep -q "rank 1 (pid [0-9]*) died; under way: .*rank 1 had frame [0-9]" "$tmp/dief.txt"
+check "a sequence's frames written before are removed" bash -c "! ls '$tmp'/dief_* 2>/dev/null && grep -q 'frames written so far were removed' '$tmp/dief.txt'"
+# A worker that cannot load the scene (here: another path; on a cluster, a file missing on its
+# node) stops the job with its own error.
+RT_MPI_FAULT= mpirun -n 1 --oversubscribe "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" \
+    -o "$tmp/load.pfm" : -n 2 "$mpi" "$tmp/not-on-this-node.ray" "${size[@]}" -o "$tmp/load.pfm" \
+    >"$tmp/load.txt" 2>&1
+check "a worker's load error fails the job" test $? -ne 0
+check "a worker's load error is printed with its rank" grep -q "raytrace-mpi: error: rank [12] could not load the scene: .*not-on-this-node.ray: error: cannot open" "$tmp/load.txt"
+check "a worker's load error: no image" test ! -e "$tmp/load.pfm"
 RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" --spp 4 -o "$tmp/p.part" >"$tmp/p.txt" 2>&1
 check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders an image (also --progressive) or --frames" "$tmp/p.txt"
 
