@@ -122,7 +122,7 @@ TEST(RenderSplit, MissingAndRepeatedSamplesAreRefused) {
     EXPECT_EQ(error({&parts[0], &parts[1]}),
               "pixel (20, 0): samples 3..3 are in no part");  // the second covers x < 20 only
     EXPECT_EQ(error({&parts[0], &parts[2]}),
-              "pixel (0, 0): sample 2 is in two parts (part 1 and another)");
+              "pixel (0, 0): sample 2 is in two parts (part 0 and part 1)");
     EXPECT_EQ(error({}), "pixel (0, 0): samples 0..3 are in no part");
     RenderPart outside = part(30, 0, 40, 29, 0, 4, 4);
     EXPECT_THROW(render_part(outside, scene, plan, s), std::invalid_argument);

@@ -64,7 +64,7 @@ refused "not a part" "not a part file" "$tmp/tiles-0.part" "$tmp/tiles-whole.pfm
 refused "another scene" "instanced-0.part is of another scene" "$tmp/tiles-0.part" "$tmp/instanced-0.part"
 "$rt" "$show" "${size[@]}" --tile 30,0,61,45 --depth 2 -q -o "$tmp/depth2.part"
 refused "other settings" "depth2.part was rendered with other settings" "$tmp/tiles-0.part" "$tmp/depth2.part"
-refused "overlapping parts" "is in two parts" "$tmp/tiles-0.part" "$tmp/tiles-1.part" "$tmp/tiles-2.part" "$tmp/tiles-1.part"
+refused "overlapping parts" "is in two parts ($tmp/tiles-1.part and $tmp/tiles-1.part)" "$tmp/tiles-0.part" "$tmp/tiles-1.part" "$tmp/tiles-2.part" "$tmp/tiles-1.part"
 refused "missing tile" "pixel (30, 20): samples 0..5 are in no part" "$tmp/tiles-0.part" "$tmp/tiles-1.part"
 refused "missing samples" "samples 4..5 are in no part" "$tmp/samples-0.part" "$tmp/samples-1.part"
 

@@ -320,7 +320,9 @@ struct Piece {
     uint32_t part, block;
 };
 
-std::string pieces_error(int x, int y, uint32_t expected, const Piece* p, bool overlap,
+// `p` is the piece that does not start where the samples before it end; `prev` the piece before
+// it, which covers sample p->start too when they overlap.
+std::string pieces_error(int x, int y, uint32_t expected, const Piece* p, const Piece* prev,
                          uint32_t total, const std::vector<std::string>& names) {
     auto name = [&](uint32_t k) {
         return k < names.size() ? names[k] : "part " + std::to_string(k);
@@ -329,12 +331,12 @@ std::string pieces_error(int x, int y, uint32_t expected, const Piece* p, bool o
     if (!p)
         return s + "samples " + std::to_string(expected) + ".." + std::to_string(total - 1) +
                " are in no part";
-    if (!overlap)
+    if (!prev || p->start >= expected)
         return s + "samples " + std::to_string(expected) + ".." + std::to_string(p->start - 1) +
                " are in no part (" + name(p->part) + " starts at sample " +
                std::to_string(p->start) + ")";
-    return s + "sample " + std::to_string(p->start) + " is in two parts (" + name(p->part) +
-           " and another)";
+    return s + "sample " + std::to_string(p->start) + " is in two parts (" + name(prev->part) +
+           " and " + name(p->part) + ")";
 }
 
 }  // namespace
@@ -395,7 +397,9 @@ RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, 
     for (size_t i = 0; i < pixels; ++i) {
         Piece* first = pieces.data() + offset[i];
         Piece* last = pieces.data() + offset[i + 1];
-        std::sort(first, last, [](const Piece& a, const Piece& b) { return a.start < b.start; });
+        std::sort(first, last, [](const Piece& a, const Piece& b) {
+            return a.start < b.start || (a.start == b.start && a.part < b.part);
+        });
         const int x = static_cast<int>(i % static_cast<size_t>(width));
         const int y = static_cast<int>(i / static_cast<size_t>(width));
         acc.clear();
@@ -403,7 +407,7 @@ RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, 
         for (Piece* q = first; q != last; ++q) {
             if (q->start != next)
                 throw std::invalid_argument(
-                    pieces_error(x, y, next, q, q->start < next, total, names));
+                    pieces_error(x, y, next, q, q == first ? nullptr : q - 1, total, names));
             const RenderPart& p = *parts[q->part];
             const RenderPart::Block& blk = p.blocks[q->block];
             const size_t k = static_cast<size_t>(y - p.y0) * (p.x1 - p.x0) + (x - p.x0);
@@ -414,7 +418,7 @@ RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, 
             next = q->start + static_cast<uint32_t>(uint64_t{1} << q->level);
         }
         if (next != total)
-            throw std::invalid_argument(pieces_error(x, y, next, nullptr, false, total, names));
+            throw std::invalid_argument(pieces_error(x, y, next, nullptr, nullptr, total, names));
         const PixelSums t = acc.total();
         for (int c = 0; c < 3; ++c)
             state.sum[i * 3 + c] = t.sum[c], state.sum_sq[i * 3 + c] = t.sum_sq[c];
