@@ -42,6 +42,14 @@ check "frame 3 is --at 0.75 alone" cmp -s "$tmp/alone.png" "$tmp/f_003.png"
 check "--start shifts the frames" cmp -s "$tmp/s_1.png" "$tmp/f_003.png"
 check "frames differ" differ "$tmp/f_000.png" "$tmp/f_001.png"
 
+# A V3 scene (#dynamic_affine): its frames move, and a sequence's frame is --at's.
+orrery="$src/scenes/v3_orrery.ray"
+"$rt" "$orrery" "${size[@]}" --frames 3 --fps 2 -o "$tmp/o_%d.png" >"$tmp/orrery.txt" 2>&1
+check "V3 --frames exits 0" test $? -eq 0
+check "V3 frames differ" differ "$tmp/o_0.png" "$tmp/o_1.png"
+"$rt" "$orrery" "${size[@]}" -q --at 1 -o "$tmp/o_at1.png"
+check "V3 frame 2 is --at 1 alone" cmp -s "$tmp/o_2.png" "$tmp/o_at1.png"
+
 # Usage errors: exit 2 and nothing written.
 "$rt" "$arm" --frames 3 -o "$tmp/nopattern.png" >/dev/null 2>"$tmp/u1.txt"
 check "--frames without a pattern exits 2" test $? -eq 2
