@@ -9,9 +9,10 @@ required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev li
 # and Xvfb are for the viewer and its headless GL tests.
 # clang and libFuzzer (libclang-rt-14-dev) build the fuzz target of scripts/test.sh, which skips
 # the fuzz run with a message when they are missing. OpenMPI builds raytrace-mpi, the cluster
-# mode (its tests are skipped with a message without it).
+# mode (its tests are skipped with a message without it). ffmpeg encodes --video (without it the
+# frames are written with a warning, and the test of the encoding is skipped).
 optional=(libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang libclang-rt-14-dev
-    libopenmpi-dev openmpi-bin)
+    libopenmpi-dev openmpi-bin ffmpeg)
 
 missing() {
     for p in "$@"; do
