@@ -29,6 +29,15 @@ printf '2 resolution 1\n3 time 3.1\n' >"$tmp/scrub2.txt"
 view preview "$tmp/scrub2.txt" "$tmp/preview31" 40
 check "scrubbing changes the picture" bash -c "! cmp -s '$tmp/preview13.png' '$tmp/preview31.png'"
 
+# The interpolation and rotation choices: the trace is raytrace's with the same choices.
+"$bin/raytrace" -q "$arm" --at 1.3 --interpolation nearest --rotation euler -o "$tmp/ref13le.png"
+printf '2 resolution 1\n3 time 1.3\n4 interpolation nearest\n5 rotation euler\n6 wait-spp 8\n' \
+    >"$tmp/choices.txt"
+view trace "$tmp/choices.txt" "$tmp/trace13le" 10
+check "nearest and euler: the trace is raytrace's" "$bin/imgdiff" "$tmp/trace13le.png" "$tmp/ref13le.png" --max-mad 1.5
+"$bin/imgdiff" "$tmp/trace13le.png" "$tmp/ref13.png" --max-mad 1.5 >/dev/null 2>&1
+check "nearest and euler change the picture" test $? -eq 1
+
 # Play, then pause: the trace converges at the time the viewer paused at.
 printf '2 resolution 1\n5 play\n45 pause\n46 wait-spp 8\n' >"$tmp/play.txt"
 view trace "$tmp/play.txt" "$tmp/played" 50
