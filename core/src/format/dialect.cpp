@@ -69,16 +69,42 @@ bool is_v3_directive(std::string_view d) {
 }
 
 // Consumes the words up to the next directive: how many, and whether all are reals / ints.
+// Whether `s` is a number and an integer, as parse_real and parse_int decide, without converting
+// the common forms: a sign, digits and at most one point (no exponent, under 300 characters) is a
+// finite real, and with no point and at most 9 digits an int. Other words take the parsers.
+void classify_number(std::string_view s, bool* real, bool* integer) {
+    const size_t first = !s.empty() && (s[0] == '+' || s[0] == '-') ? 1 : 0;
+    size_t digits = 0, points = 0;
+    bool plain = s.size() < 300;
+    for (size_t k = first; k < s.size() && plain; ++k) {
+        if (s[k] >= '0' && s[k] <= '9')
+            ++digits;
+        else if (s[k] == '.' && points == 0)
+            ++points;
+        else
+            plain = false;
+    }
+    if (plain && digits > 0 && (points > 0 || digits <= 9)) {
+        *real = true;
+        *integer = points == 0;
+        return;
+    }
+    double v = 0;
+    int k = 0;
+    bool flag = false;
+    *real = parse_real(s, &v, &flag);
+    *integer = parse_int(s, &k, &flag);
+}
+
 int count_words(Lexer& lex, bool* reals, bool* ints) {
     int n = 0;
     *reals = *ints = true;
     for (Token a = lex.peek(); a.kind == TokenKind::Word; a = lex.peek()) {
         lex.next();
-        double v = 0;
-        int k = 0;
-        bool flag = false;
-        *reals = *reals && parse_real(a.text, &v, &flag);
-        *ints = *ints && parse_int(a.text, &k, &flag);
+        bool real = false, integer = false;
+        classify_number(a.text, &real, &integer);
+        *reals = *reals && real;
+        *ints = *ints && integer;
         ++n;
     }
     return n;
@@ -93,6 +119,7 @@ const char* forced_name(Dialect d) {
 struct ParserBase::Scan {
     bool v3_paths = false;  // locate #ray_file paths by spec §13.2 rather than §4.2
     bool follow = true;     // follow #ray_file
+    bool includes = false;  // the scan met a #ray_file (followed or not)
     std::vector<std::string> visited;
     std::vector<std::pair<std::string, SourceLoc>> found;  // #ray_file resolutions, in order
     SourceLoc v3_loc, v01_loc;                             // first marker of each kind
@@ -112,6 +139,12 @@ std::optional<std::string> ParserBase::find_file(const std::string& dir, const s
     for (const fs::path& c : candidates)
         if (is_file(c)) return c.lexically_normal().string();
     return std::nullopt;
+}
+
+// Whether prescan_marker has anything to do with a marker of this kind: the first of its kind, or
+// any under --dialect (so the location and the text are made only then).
+bool ParserBase::wants_marker(bool v3, const Scan& scan) const {
+    return m_options.dialect || !(v3 ? scan.v3_loc : scan.v01_loc).file;
 }
 
 // Spec §10 step 1 and step 5: records the first marker of each kind, or refuses it under
@@ -135,13 +168,17 @@ void ParserBase::prescan_marker(const SourceLoc& loc, std::string_view what, boo
     (v3 ? scan.v3_order : scan.v01_order) = ++scan.order;
 }
 
+// Runs for every directive of the tree: its location and quoted name are made only where a
+// marker or an error needs them.
 void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string& dir, Scan& scan) {
-    const SourceLoc loc = lex.loc(t);
-    const std::string q = quote(t.text);
+    const auto loc = [&] { return lex.loc(t); };
+    const auto marker = [&](bool v3, const std::string& suffix = {}) {
+        if (wants_marker(v3, scan)) prescan_marker(loc(), quote(t.text) + suffix, v3, scan);
+    };
     if (t.text == "#version")
-        fail(loc, "'#version' belongs to the HMC CS155 ray format, not a Kazhdan .ray file");
-    if (is_v3_directive(t.text)) return prescan_marker(loc, q, true, scan);
-    if (is_v01_directive(t.text)) return prescan_marker(loc, q, false, scan);
+        fail(loc(), "'#version' belongs to the HMC CS155 ray format, not a Kazhdan .ray file");
+    if (is_v3_directive(t.text)) return marker(true);
+    if (is_v01_directive(t.text)) return marker(false);
     bool reals = false, ints = false;
     if (t.text == "#light_dir" || t.text == "#light_point" || t.text == "#light_spot") {
         const int v01 = t.text == "#light_dir" ? 6 : t.text == "#light_point" ? 9 : 14;
@@ -149,31 +186,32 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
         const int n = count_words(lex, &reals, &ints);
         if (!reals) return;  // the parse reports the bad token at its place
         if (n != v01 && n != v3)
-            fail(loc, std::string(t.text) + " needs " + std::to_string(v01) + " (V0/V1) or " +
-                          std::to_string(v3) + " (V3) numbers, got " + std::to_string(n));
-        return prescan_marker(loc, q + " with " + std::to_string(n) + " numbers", n == v3, scan);
+            fail(loc(), std::string(t.text) + " needs " + std::to_string(v01) + " (V0/V1) or " +
+                            std::to_string(v3) + " (V3) numbers, got " + std::to_string(n));
+        return marker(n == v3, " with " + std::to_string(n) + " numbers");
     }
     if (t.text == "#material") {
+        const SourceLoc mloc = loc();
         bool numbers = true, integers = true;
         const int n = count_words(lex, &numbers, &integers);
         // A bad token or a missing string is reported by the parse at its place.
         if (!numbers || (lex.peek().kind != TokenKind::String && (n == 16 || n == 18))) return;
         if (n != 16 && n != 18)
-            fail(loc,
+            fail(mloc,
                  "#material needs 16 (V0) or 18 (V1) numbers before its "
                  "!…! string, got " +
                      std::to_string(n));
         const Dialect d = n == 16 ? Dialect::V0 : Dialect::V1;
         if (m_options.dialect && *m_options.dialect != d &&
             !(*m_options.dialect == Dialect::V3 && d == Dialect::V1))
-            fail(loc, "#material has " + std::to_string(n) + " numbers, but --dialect " +
-                          (*m_options.dialect == Dialect::V0   ? "v0 needs 16"
-                           : *m_options.dialect == Dialect::V1 ? "v1 needs 18"
-                                                               : "v3 needs 18"));
-        if (d == Dialect::V0) prescan_marker(loc, "'#material' with 16 numbers", false, scan);
+            fail(mloc, "#material has " + std::to_string(n) + " numbers, but --dialect " +
+                           (*m_options.dialect == Dialect::V0   ? "v0 needs 16"
+                            : *m_options.dialect == Dialect::V1 ? "v1 needs 18"
+                                                                : "v3 needs 18"));
+        if (d == Dialect::V0) prescan_marker(mloc, "'#material' with 16 numbers", false, scan);
         SourceLoc& first = d == Dialect::V0 ? m_first_v0 : m_first_v1;
         if (!first.file) {
-            first = loc;
+            first = mloc;
             const SourceLoc& other = d == Dialect::V0 ? m_first_v1 : m_first_v0;
             if (other.file && !scan.v3_loc.file)
                 fail(first, "mixed dialects: V0 material at " + m_first_v0.str() +
@@ -181,9 +219,12 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
         }
     } else if (t.text.substr(0, 7) == "#shape_") {
         if (lex.peek().text == "-1") m_default_use = true;
-        if (t.text == "#shape_triangle" && count_words(lex, &reals, &ints) == 4 && ints)
-            prescan_marker(loc, "'#shape_triangle' with 4 integers", false, scan);
-    } else if (t.text == "#ray_file" && scan.follow) {
+        if (t.text == "#shape_triangle" && count_words(lex, &reals, &ints) == 4 && ints &&
+            wants_marker(false, scan))
+            prescan_marker(loc(), "'#shape_triangle' with 4 integers", false, scan);
+    } else if (t.text == "#ray_file") {
+        scan.includes = true;
+        if (!scan.follow) return;
         const Token pt = lex.next();
         if (pt.kind != TokenKind::Word) return;
         const auto resolved = find_file(dir, std::string(pt.text), scan.v3_paths);
@@ -197,7 +238,7 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
         const std::string* sub = cached_text(*resolved, canon);
         if (!sub) return;
         const std::string sub_dir = fs::path(*resolved).parent_path().string();
-        m_include_locs.push_back(loc);
+        m_include_locs.push_back(loc());
         prescan(*sub, *resolved, canon, sub_dir.empty() ? "." : sub_dir, scan);
         m_include_locs.pop_back();
     }
@@ -247,7 +288,13 @@ void ParserBase::detect_dialect(const std::string& text, const std::string& name
     top.follow = false;
     if (!forced_v3) run_prescan(text, name, canonical, dir, false, top);
     Scan scan;
-    run_prescan(text, name, canonical, dir, forced_v3 || top.v3_loc.file != nullptr, scan);
+    if (!forced_v3 && !top.includes) {  // a file alone: the scan that follows includes is the same
+        scan = std::move(top);
+        scan.follow = true;
+        scan.v3_paths = scan.v3_loc.file != nullptr;
+    } else {
+        run_prescan(text, name, canonical, dir, forced_v3 || top.v3_loc.file != nullptr, scan);
+    }
     if (scan.v3_loc.file && !scan.v3_paths) {
         // V3 only through an included file: locate the paths again by §13.2.
         Scan again;

@@ -194,6 +194,7 @@ private:
                  const std::string& dir, Scan& scan);
     void prescan_directive(Lexer& lex, const Token& t, const std::string& dir, Scan& scan);
     void prescan_marker(const SourceLoc& loc, std::string_view what, bool v3, Scan& scan);
+    bool wants_marker(bool v3, const Scan& scan) const;
     void run_prescan(const std::string& text, const std::string& name, const std::string& canonical,
                      const std::string& dir, bool v3, Scan& scan);
 
