@@ -229,6 +229,11 @@ private:
 
         set.prims.reserve(pending.size());
         set.prim_bounds.reserve(pending.size());
+        const auto triangles = std::count_if(pending.begin(), pending.end(), [](const Pending& p) {
+            return p.csg < 0 && std::holds_alternative<TriangleDesc>(p.shape->geometry);
+        });
+        set.triangles.reserve(static_cast<size_t>(triangles));  // no copy as they grow
+        set.triangle_attribs.reserve(static_cast<size_t>(triangles));
         std::vector<SourceLoc>* locs = nullptr;
         if (m_report.record_locations) {
             m_report.prim_locs.resize(m_scene.sets.size() + 1);
