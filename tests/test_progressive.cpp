@@ -67,7 +67,8 @@ TEST(Progressive, ErrorFallsAsOneOverSamplesAndTheEstimateTracksIt) {
         spp.push_back(total);
         mse.push_back(e.rmse * e.rmse);
         if (total >= 8) {
-            // The reference-free estimate lies within a factor of two of the true MSE.
+            // The reference-free estimate lies within a factor of two of the true MSE (and of a
+            // quarter at later passes: the next test).
             const ErrorEstimate est = estimate_error(state);
             EXPECT_GT(est.mse, 0.5 * e.rmse * e.rmse) << total << " spp";
             EXPECT_LT(est.mse, 2.0 * e.rmse * e.rmse) << total << " spp";
@@ -76,6 +77,56 @@ TEST(Progressive, ErrorFallsAsOneOverSamplesAndTheEstimateTracksIt) {
     // Error against samples on log-log axes: from the first to the last pass the MSE falls at
     // least as fast as spp^-0.8 (independent samples: spp^-1).
     EXPECT_LT(std::log(mse.back() / mse.front()) / std::log(spp.back() / spp.front()), -0.8);
+}
+
+// The reference-free estimate against the true error (relMSE) at every pass after the fourth
+// (16 and 32 spp), on scenes of scenes/ with the progressive features on: within 25% (issue 17;
+// bench/estimate_accuracy.sh measures every scene of scenes/ at a larger size). The truth is
+// measured against a 256-spp reference of another seed, whose own error adds spp / 256 of the
+// image's (independent samples; the low-discrepancy sequence makes it less), taken out. Measured at
+// 96x72, seeds 0-2: 0.88 to 1.15. The even and the odd samples are independent halves; with one
+// sequence for both (the estimate then falls back to the variance of the mean, s^2 / n) it is 1.3
+// to 3 times the true error.
+TEST(Progressive, TheEstimateIsWithinAQuarterOfTheTrueError) {
+    struct Case {
+        std::string scene;  // a file of scenes/
+        double light_radius, aperture, roughness;
+    };
+    const std::vector<Case> cases = {{"showpiece.ray", 0.3, 0.05, 0},
+                                     {"showpiece.ray", 0, 0, 0},
+                                     {"materials.ray", 0, 0, 0.2},
+                                     {"v3_penumbra.ray", 0, 0, 0}};
+    constexpr int kReferenceSpp = 256;
+    for (const Case& c : cases) {
+        Diagnostics diag;
+        const RenderScene scene = compile_scene(
+            parse_scene_file(std::string(RT_SOURCE_DIR) + "/scenes/" + c.scene, diag));
+        RenderSettings s = small();
+        s.width = 96;
+        s.height = 72;
+        s.light_radius = c.light_radius;
+        s.aperture = c.aperture;
+        s.roughness = c.roughness;
+        s.centre_first_sample = false;
+        RenderSettings ref_settings = s;
+        ref_settings.seed = 99;
+        const Image ref = render_spp(scene, ref_settings, kReferenceSpp);
+        const RenderPlan plan = make_render_plan(scene, s);
+        RenderState state;
+        int pass = 0, total = 0;
+        for (int n : {1, 1, 2, 4, 8, 16}) {
+            render_samples(state, scene, plan, s, n);
+            total += n;
+            if (++pass <= 4) continue;
+            const double truth = compare_images(state.image(), ref).relmse /
+                                 (1.0 + static_cast<double>(total) / kReferenceSpp);
+            const double est = estimate_error(state).relmse;
+            EXPECT_NEAR(est / truth, 1.0, 0.25)
+                << c.scene << ", radius " << c.light_radius << ", aperture " << c.aperture
+                << ", roughness " << c.roughness << ": " << total << " spp, estimate " << est
+                << ", true " << truth;
+        }
+    }
 }
 
 TEST(Progressive, ConvergesToTheDirectlySupersampledImageWithFeaturesOff) {

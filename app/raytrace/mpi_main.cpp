@@ -94,25 +94,28 @@ void make_tiles(Job& job) {
         }
 }
 
-// A finished tile as one message: its blocks' sums and sums of squares, then the ray counts.
-std::vector<double> pack(const rt::RenderPart& p) {
+// A finished tile as one message: its blocks' sums and sums of squares (and for --progressive
+// their sums of odd samples, for the error estimate), then the ray counts.
+std::vector<double> pack(const rt::RenderPart& p, bool odd) {
     std::vector<double> out;
     for (const rt::RenderPart::Block& b : p.blocks) {
         out.insert(out.end(), b.sum.begin(), b.sum.end());
         out.insert(out.end(), b.sum_sq.begin(), b.sum_sq.end());
+        if (odd) out.insert(out.end(), b.sum_odd.begin(), b.sum_odd.end());
     }
     for (uint64_t r : {p.rays.camera, p.rays.shadow, p.rays.reflected, p.rays.refracted})
         out.push_back(static_cast<double>(r));
     return out;
 }
 
-void unpack(const std::vector<double>& in, rt::RenderPart& p) {
+void unpack(const std::vector<double>& in, rt::RenderPart& p, bool odd) {
     size_t at = 0;
     p.blocks.clear();
     for (const auto& [start, level] : rt::dyadic_blocks(p.first, p.count)) {
         rt::RenderPart::Block b;
         b.start = start, b.level = level;
-        for (std::vector<double>* v : {&b.sum, &b.sum_sq}) {
+        for (std::vector<double>* v : {&b.sum, &b.sum_sq, &b.sum_odd}) {
+            if (v == &b.sum_odd && !odd) break;
             v->assign(in.begin() + static_cast<long>(at),
                       in.begin() + static_cast<long>(at + 3 * p.pixels()));
             at += 3 * p.pixels();
@@ -125,8 +128,8 @@ void unpack(const std::vector<double>& in, rt::RenderPart& p) {
     p.rays.refracted = static_cast<uint64_t>(in[at + 3]);
 }
 
-size_t packed_size(const rt::RenderPart& p) {
-    return 6 * p.pixels() * rt::dyadic_blocks(p.first, p.count).size() + 4;
+size_t packed_size(const rt::RenderPart& p, bool odd) {
+    return (odd ? 9 : 6) * p.pixels() * rt::dyadic_blocks(p.first, p.count).size() + 4;
 }
 
 // Tests inject faults: RT_MPI_FAULT=die:RANK:K or hang:RANK:K, at the rank's K-th tile (from 0).
@@ -158,7 +161,7 @@ void worker(Job& job, int rank) {
             job.plan = rt::make_render_plan(*job.scene, job.opt);
         }
         rt::render_part(p, *job.scene, job.plan, job.settings);
-        const std::vector<double> data = pack(p);
+        const std::vector<double> data = pack(p, job.opt.progressive.enabled);
         MPI_Send(data.data(), static_cast<int>(data.size()), MPI_DOUBLE, 0, kTagResult,
                  MPI_COMM_WORLD);
         p.blocks.clear();
@@ -323,7 +326,8 @@ private:
         const int t = m_work[static_cast<size_t>(st.MPI_SOURCE)].tile;
         int count = 0;
         MPI_Get_count(&st, MPI_DOUBLE, &count);
-        const size_t want = t >= 0 ? packed_size(m_job.tiles[static_cast<size_t>(t)]) : 0;
+        const bool odd = m_job.opt.progressive.enabled;
+        const size_t want = t >= 0 ? packed_size(m_job.tiles[static_cast<size_t>(t)], odd) : 0;
         if (t < 0 || static_cast<size_t>(count) != want)
             abort_job("rank " + std::to_string(st.MPI_SOURCE) + " sent a result of " +
                       std::to_string(count) + " numbers for " +
@@ -331,7 +335,7 @@ private:
         std::vector<double> data(want);
         MPI_Recv(data.data(), count, MPI_DOUBLE, st.MPI_SOURCE, kTagResult, MPI_COMM_WORLD,
                  MPI_STATUS_IGNORE);
-        unpack(data, m_job.tiles[static_cast<size_t>(t)]);
+        unpack(data, m_job.tiles[static_cast<size_t>(t)], odd);
         *m_bytes += static_cast<double>(data.size() * sizeof(double));
         return t;
     }

@@ -347,8 +347,8 @@ void print_pass(const rt::PassRecord& r) {
 
 void print_progress_summary(const std::vector<ProgressRun>& runs) {
     std::printf(
-        "\n%s\nestimate = the same from the samples alone (variance of each pixel's "
-        "mean)\n",
+        "\n%s\nestimate = the same from the samples alone (the difference of each pixel's "
+        "even and odd samples)\n",
         kRelMseFormula);
     for (const ProgressRun& run : runs) {
         std::vector<double> t, e;

@@ -67,9 +67,21 @@ ErrorEstimate estimate_error(const RenderState& state) {
     for (size_t p = 0; p < state.samples.size(); ++p) {
         const double n = state.samples[p];
         if (n < 2) continue;
+        // Two halves: the even samples (indices 0, 2, ...: ceil(n / 2) of them) and the odd.
+        const double n_odd = std::floor(n / 2), n_even = n - n_odd;
         for (size_t c = 0; c < 3; ++c) {
-            const double v = variance_of_mean(state.sum[p * 3 + c], state.sum_sq[p * 3 + c], n);
-            const double mean = state.sum[p * 3 + c] / n;
+            const double sum = state.sum[p * 3 + c], mean = sum / n;
+            double v = 0;
+            if (state.odd_sums) {
+                // The halves are independent estimates (each its own R2 shift, its own random
+                // numbers) with variances c / n_half: E[(m_even - m_odd)^2] = c n / (n_even n_odd)
+                // and the variance of the whole mean is c / n.
+                const double odd = state.sum_odd[p * 3 + c];
+                const double d = (sum - odd) / n_even - odd / n_odd;
+                v = d * d * n_even * n_odd / (n * n);
+            } else {
+                v = variance_of_mean(sum, state.sum_sq[p * 3 + c], n);
+            }
             mse += v;
             rel += v / (mean * mean + kRelMseEpsilon);
         }

@@ -17,6 +17,8 @@ void RenderState::reset(int w, int h) {
     height = h;
     sum.assign(static_cast<size_t>(w) * h * 3, 0.0);
     sum_sq.assign(static_cast<size_t>(w) * h * 3, 0.0);
+    sum_odd.assign(static_cast<size_t>(w) * h * 3, 0.0);
+    odd_sums = true;
     samples.assign(static_cast<size_t>(w) * h, 0);
     active.clear();
     passes = 0;
@@ -75,15 +77,20 @@ struct Pass {
 };
 
 // Where the s-th of a pixel's n samples of this call falls in the pixel, in [0,1)^2. The pixel
-// has `base` samples from earlier calls; `stratum` is ceil(sqrt(n)), `shift` the pixel's R2 shift.
-Vec2 sample_position(const Pass& pass, int s, int n, uint32_t base, int stratum, Vec2 shift,
-                     Rng& rng) {
+// has `base` samples from earlier calls; `stratum` is ceil(sqrt(n)), `shift` the pixel's R2
+// shifts (even samples, odd samples).
+Vec2 sample_position(const Pass& pass, int s, int n, uint32_t base, int stratum,
+                     const std::array<Vec2, 2>& shift, Rng& rng) {
     const uint32_t index = base + static_cast<uint32_t>(s);
     if (!pass.settings.centre_first_sample) {
-        // Progressive passes: the R2 sequence (Roberts 2018) under a random shift per pixel, so
-        // any run of sample indices, across passes too, is spread over the pixel without bias.
+        // Progressive passes: the even and the odd samples each follow the R2 sequence (Roberts
+        // 2018) under a random shift of their own per pixel, so any run of sample indices,
+        // across passes too, is spread over the pixel without bias, and the means of the even
+        // and the odd samples are independent estimates (their difference estimates the error).
         constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
-        return {std::fmod(shift.x + index * a1, 1.0), std::fmod(shift.y + index * a2, 1.0)};
+        const Vec2 sh = shift[index & 1];
+        const uint32_t k = index >> 1;
+        return {std::fmod(sh.x + k * a1, 1.0), std::fmod(sh.y + k * a2, 1.0)};
     }
     if (n > 1 || base > 0 || pass.stochastic) {
         // Spec §6.2: one uniform sample in each of the first n strata of a ceil(sqrt(n))^2
@@ -110,12 +117,12 @@ Ray camera_ray(const Pass& pass, int x, int y, Vec2 sample, Rng& rng) {
     return ray;
 }
 
-// The sum and the sum of squares of a pixel's samples.
+// The sum and the sum of squares of a pixel's samples, and the sum of its odd-indexed samples.
 struct PixelSums {
-    Vec3 sum{0.0}, sum_sq{0.0};
+    Vec3 sum{0.0}, sum_sq{0.0}, odd{0.0};
 };
 PixelSums operator+(const PixelSums& a, const PixelSums& b) {
-    return {a.sum + b.sum, a.sum_sq + b.sum_sq};
+    return {a.sum + b.sum, a.sum_sq + b.sum_sq, a.odd + b.odd};
 }
 
 // A pixel's samples summed pairwise over the dyadic blocks of their indices: blocks
@@ -173,10 +180,10 @@ PixelSums render_pixel(const Pass& pass, int x, int y, const SampleSpan& span, D
     const RenderSettings& settings = pass.settings;
     const size_t pixel = static_cast<size_t>(y) * settings.width + x;
     const int stratum = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(span.strat_n))));
-    Vec2 shift(0.0);
+    std::array<Vec2, 2> shift{Vec2(0.0), Vec2(0.0)};
     if (!settings.centre_first_sample) {
         Rng pixel_rng(settings.seed, pixel, uint64_t{1} << 40);
-        shift = Vec2(pixel_rng.uniform(), pixel_rng.uniform());
+        for (Vec2& sh : shift) sh = Vec2(pixel_rng.uniform(), pixel_rng.uniform());
     }
     // Only a single pass's one centre sample is deterministic (spec §13.9); every other sample
     // draws the random numbers of the features that take them, sphere lights among them.
@@ -194,7 +201,7 @@ PixelSums render_pixel(const Pass& pass, int x, int y, const SampleSpan& span, D
         ++rays.camera;
         const Vec3 c = trace_ray(pass.scene, pass.plan, settings, ray, settings.max_depth,
                                  Vec3(1.0), rays, random ? &rng : nullptr);
-        acc.push(index, 0, {c, c * c});
+        acc.push(index, 0, {c, c * c, (index & 1) ? c : Vec3(0.0)});
     }
     return acc.total();
 }
@@ -204,6 +211,7 @@ PixelSums render_pixel(const Pass& pass, int x, int y, const SampleSpan& span, D
 struct PassOutput {
     double* sum;
     double* sum_sq;
+    double* sum_odd;
     bool direct;
 };
 
@@ -224,6 +232,7 @@ bool render_tile(const Pass& pass, const RenderState& state, const PixelRect& r,
             for (size_t c = 0; c < 3; ++c) {
                 out.sum[pixel * 3 + c] = sums.sum[static_cast<int>(c)];
                 out.sum_sq[pixel * 3 + c] = sums.sum_sq[static_cast<int>(c)];
+                out.sum_odd[pixel * 3 + c] = sums.odd[static_cast<int>(c)];
             }
         }
     }
@@ -237,6 +246,7 @@ void commit_pass(RenderState& state, const PassOutput& out, int spp) {
         for (size_t i = 0; i < state.sum.size(); ++i) {
             state.sum[i] += out.sum[i];
             state.sum_sq[i] += out.sum_sq[i];
+            state.sum_odd[i] += out.sum_odd[i];
         }
     }
     for (size_t i = 0; i < state.samples.size(); ++i)
@@ -272,6 +282,7 @@ bool render_part(RenderPart& part, const RenderScene& scene, const RenderPlan& p
         part.blocks[b].level = shape[b].second;
         part.blocks[b].sum.assign(3 * part.pixels(), 0.0);
         part.blocks[b].sum_sq.assign(3 * part.pixels(), 0.0);
+        part.blocks[b].sum_odd.assign(3 * part.pixels(), 0.0);
     }
     const Pass pass{scene, plan, settings, settings.stochastic()};
     const SampleSpan span{part.first, static_cast<int>(part.count), static_cast<int>(part.first),
@@ -297,6 +308,8 @@ bool render_part(RenderPart& part, const RenderScene& scene, const RenderPlan& p
                             part.blocks[static_cast<size_t>(b)].sum[p * 3 + c] = acc[b].v.sum[c];
                             part.blocks[static_cast<size_t>(b)].sum_sq[p * 3 + c] =
                                 acc[b].v.sum_sq[c];
+                            part.blocks[static_cast<size_t>(b)].sum_odd[p * 3 + c] =
+                                acc[b].v.odd[c];
                         }
                 }
             }
@@ -339,6 +352,24 @@ std::string pieces_error(int x, int y, uint32_t expected, const Piece* p, const 
            " and " + name(p->part) + ")";
 }
 
+// Pixel k's sums in a part's block (its odd samples' sum zero when the block has none: a part
+// read from a file).
+PixelSums block_sums(const RenderPart::Block& b, size_t k) {
+    PixelSums v;
+    const bool odd = !b.sum_odd.empty();
+    for (int c = 0; c < 3; ++c) {
+        v.sum[c] = b.sum[k * 3 + c], v.sum_sq[c] = b.sum_sq[k * 3 + c];
+        v.odd[c] = odd ? b.sum_odd[k * 3 + c] : 0.0;
+    }
+    return v;
+}
+
+bool has_odd_sums(const RenderPart& part) {
+    for (const RenderPart::Block& b : part.blocks)
+        if (b.sum_odd.empty()) return false;
+    return true;
+}
+
 }  // namespace
 
 void add_part_samples(RenderState& state, const RenderPart& part) {
@@ -349,20 +380,18 @@ void add_part_samples(RenderState& state, const RenderPart& part) {
         for (int x = part.x0; x < part.x1; ++x) {
             const size_t k = static_cast<size_t>(y - part.y0) * (part.x1 - part.x0) + (x - part.x0);
             acc.clear();
-            for (const RenderPart::Block& b : part.blocks) {
-                PixelSums v;
-                for (int c = 0; c < 3; ++c)
-                    v.sum[c] = b.sum[k * 3 + c], v.sum_sq[c] = b.sum_sq[k * 3 + c];
-                acc.push(b.start, b.level, v);
-            }
+            for (const RenderPart::Block& b : part.blocks)
+                acc.push(b.start, b.level, block_sums(b, k));
             const PixelSums t = acc.total();
             const size_t i = static_cast<size_t>(y) * state.width + x;
             for (int c = 0; c < 3; ++c) {
                 state.sum[i * 3 + c] += t.sum[c];
                 state.sum_sq[i * 3 + c] += t.sum_sq[c];
+                state.sum_odd[i * 3 + c] += t.odd[c];
             }
             state.samples[i] += part.count;
         }
+    state.odd_sums = state.odd_sums && has_odd_sums(part);
     state.rays += part.rays;
 }
 
@@ -411,20 +440,20 @@ RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, 
             const RenderPart& p = *parts[q->part];
             const RenderPart::Block& blk = p.blocks[q->block];
             const size_t k = static_cast<size_t>(y - p.y0) * (p.x1 - p.x0) + (x - p.x0);
-            PixelSums v;
-            for (int c = 0; c < 3; ++c)
-                v.sum[c] = blk.sum[k * 3 + c], v.sum_sq[c] = blk.sum_sq[k * 3 + c];
-            acc.push(q->start, q->level, v);
+            acc.push(q->start, q->level, block_sums(blk, k));
             next = q->start + static_cast<uint32_t>(uint64_t{1} << q->level);
         }
         if (next != total)
             throw std::invalid_argument(pieces_error(x, y, next, nullptr, nullptr, total, names));
         const PixelSums t = acc.total();
-        for (int c = 0; c < 3; ++c)
+        for (int c = 0; c < 3; ++c) {
             state.sum[i * 3 + c] = t.sum[c], state.sum_sq[i * 3 + c] = t.sum_sq[c];
+            state.sum_odd[i * 3 + c] = t.odd[c];
+        }
         state.samples[i] = total;
     }
     state.passes = 1;
+    for (const RenderPart* p : parts) state.odd_sums = state.odd_sums && has_odd_sums(*p);
     for (const RenderPart* p : parts) state.rays += p->rays;
     return state;
 }
@@ -464,9 +493,10 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderPl
     // zeros back: no scratch to fill, commit or fault in.
     const bool direct = state.passes == 0;
     const size_t n = state.sum.size();
-    if (!direct) state.scratch.resize(2 * n);
+    if (!direct) state.scratch.resize(3 * n);
     const PassOutput out{direct ? state.sum.data() : state.scratch.data(),
-                         direct ? state.sum_sq.data() : state.scratch.data() + n, direct};
+                         direct ? state.sum_sq.data() : state.scratch.data() + n,
+                         direct ? state.sum_odd.data() : state.scratch.data() + 2 * n, direct};
 
     const int tiles_x = (settings.width + kTile - 1) / kTile;
     std::atomic<int> rows_done{0};
@@ -489,6 +519,7 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderPl
         if (direct) {
             std::fill(state.sum.begin(), state.sum.end(), 0.0);
             std::fill(state.sum_sq.begin(), state.sum_sq.end(), 0.0);
+            std::fill(state.sum_odd.begin(), state.sum_odd.end(), 0.0);
         }
         return false;
     }

@@ -26,10 +26,14 @@ struct ImageError {
 /// Error of `image` against `ref` (same size; throws std::invalid_argument otherwise).
 ImageError compare_images(const Image& image, const Image& ref);
 
-/// Error estimated from the samples alone: the variance of each pixel's mean, s^2 / n, averaged
-/// (MSE) and divided by (mean^2 + 0.01) (relMSE). Pixels with fewer than two samples count as
-/// unknown and are left out. Unbiased for independent samples; stratification makes the true
-/// error smaller, so it errs on the safe side.
+/// Error estimated from the samples alone, as two-buffer estimates do: each pixel's even and odd
+/// samples are independent estimates of it (their own R2 shifts and random numbers), so the
+/// square of their difference, times n_even n_odd / n^2, is an unbiased estimate of the squared
+/// error of the pixel's mean, under any sampling pattern of the halves (stratified, QMC).
+/// Averaged over pixels and channels (MSE), and divided by (mean^2 + 0.01) (relMSE). Pixels with
+/// fewer than two samples are left out. A state merged from part files, which keep no odd sums,
+/// falls back to the variance of the mean, s^2 / n, which the samples' stratification makes an
+/// overestimate.
 struct ErrorEstimate {
     double mse = 0;
     double relmse = 0;

@@ -50,20 +50,25 @@ struct RenderSettings {
     bool operator==(const RenderSettings&) const = default;
 };
 
-/// Accumulated samples. Sums are doubles so millions of samples stay exact enough; the sums of
-/// squares give each pixel's variance, hence the error estimate without a reference.
+/// Accumulated samples. Sums are doubles so millions of samples stay exact enough. The sums of
+/// squares give each pixel's variance (adaptive sampling's guide); the sums of the odd-indexed
+/// samples split each pixel's samples into two independent halves, whose difference estimates
+/// the image's error without a reference (estimate_error).
 struct RenderState {
     int width = 0, height = 0;
     std::vector<double> sum;        // 3 per pixel
     std::vector<double> sum_sq;     // 3 per pixel
+    std::vector<double> sum_odd;    // 3 per pixel: the samples of odd index
+    bool odd_sums = true;           // false after a merge of parts read from files (they have none)
     std::vector<uint32_t> samples;  // per pixel
     /// Adaptive sampling: how many times `spp` samples each pixel gets in the next
     /// render_samples() call (0: none). Empty: every pixel gets `spp`.
     std::vector<uint8_t> active;
     int passes = 0;  // 0: every sum is zero (reset() or a new state), so a pass may write in place
     RayCounters rays;
-    /// A pass's new sums, then its sums of squares (3 + 3 per pixel), committed when it completes;
-    /// kept between calls so later passes reuse it. The first pass of a fresh state needs none.
+    /// A pass's new sums, sums of squares and odd sums (3 + 3 + 3 per pixel), committed when it
+    /// completes; kept between calls so later passes reuse it. The first pass of a fresh state
+    /// needs none.
     std::vector<double> scratch;
 
     void reset(int w, int h);
@@ -94,9 +99,10 @@ struct RenderPart {
     uint32_t first = 0, count = 0, total = 0;
     struct Block {
         uint32_t start = 0;
-        int level = 0;               // samples [start, start + 2^level)
-        std::vector<double> sum;     // 3 per pixel of the rectangle, row-major
-        std::vector<double> sum_sq;  // 3 per pixel
+        int level = 0;                // samples [start, start + 2^level)
+        std::vector<double> sum;      // 3 per pixel of the rectangle, row-major
+        std::vector<double> sum_sq;   // 3 per pixel
+        std::vector<double> sum_odd;  // 3 per pixel, the odd samples; empty in part files
     };
     std::vector<Block> blocks;  // in the order of their samples
     RayCounters rays;
