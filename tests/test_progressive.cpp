@@ -129,6 +129,42 @@ TEST(Progressive, TheEstimateIsWithinAQuarterOfTheTrueError) {
     }
 }
 
+// A target error stops the passes at the first whose estimate reaches it (not before 8 spp); the
+// pass meant to reach it is sized from the last estimate, so it renders no more samples than
+// the doubling schedule would.
+TEST(Progressive, ATargetErrorStopsWhenTheEstimateReachesIt) {
+    const RenderScene scene = test::compile(kScene);
+    RenderSettings s = small();
+    s.light_radius = 0.6;
+    s.centre_first_sample = false;
+    const RenderPlan plan = make_render_plan(scene, s);
+    ProgressiveSettings p;
+    p.spp_limit = 64;
+    RenderState all;
+    const std::vector<PassRecord> runs = run_progressive(all, scene, plan, s, p, nullptr);
+    ASSERT_GE(runs.size(), 6u);
+    // A target between the estimates of two passes after 8 spp: the later one ends the run.
+    const size_t k = runs.size() - 2;
+    ASSERT_GE(runs[k - 1].spp, ProgressiveSettings::kTargetMinSpp);
+    p.spp_limit = 0;
+    p.target_relmse = 0.5 * (runs[k - 1].estimate.relmse + runs[k].estimate.relmse);
+    ASSERT_LT(runs[k].estimate.relmse, runs[k - 1].estimate.relmse);
+    RenderState state;
+    const std::vector<PassRecord> stopped = run_progressive(state, scene, plan, s, p, nullptr);
+    ASSERT_GE(stopped.size(), k + 1);
+    for (size_t i = 0; i + 1 < stopped.size(); ++i)
+        EXPECT_TRUE(stopped[i].spp < ProgressiveSettings::kTargetMinSpp ||
+                    stopped[i].estimate.relmse > p.target_relmse)
+            << "pass " << i << " reached the target and the run went on";
+    EXPECT_LE(stopped.back().estimate.relmse, p.target_relmse);
+    EXPECT_LE(stopped.back().spp, runs[k].spp);
+    // A target every pass meets still renders 8 spp first.
+    p.target_relmse = 1.0;
+    RenderState early;
+    EXPECT_EQ(run_progressive(early, scene, plan, s, p, nullptr).back().spp,
+              ProgressiveSettings::kTargetMinSpp);
+}
+
 TEST(Progressive, ConvergesToTheDirectlySupersampledImageWithFeaturesOff) {
     const RenderScene scene = test::compile(kScene);
     const RenderSettings s = small();

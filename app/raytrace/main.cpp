@@ -96,7 +96,7 @@ int render_progressive(const Options& opt, const rt::SceneDesc& desc, const rt::
     rt::RenderState state;
     const std::vector<ProgressRun> runs =
         run_passes(opt, scene, plan, reference ? &*reference : nullptr, state);
-    if (!opt.quiet) print_progress_summary(runs);
+    if (!opt.quiet) print_progress_summary(runs, opt.progressive.target_relmse);
     std::vector<TextFile> texts;
     const ProgressiveOptions& p = opt.progressive;
     if (!p.report.empty()) texts.emplace_back(p.report, progress_csv(runs));

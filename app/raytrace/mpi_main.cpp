@@ -462,7 +462,7 @@ int run_progressive_mpi(Job& job, int ranks) {
              },
              nullptr, pass)}};
     if (ranks > 1) m.finish();
-    if (!opt.quiet) print_progress_summary(runs);
+    if (!opt.quiet) print_progress_summary(runs, opt.progressive.target_relmse);
     std::vector<TextFile> texts;
     if (!opt.progressive.report.empty())
         texts.emplace_back(opt.progressive.report, progress_csv(runs));

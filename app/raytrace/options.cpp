@@ -102,10 +102,17 @@ void add_progressive_options(CLI::App& app, Options& o) {
     ProgressiveOptions& p = o.progressive;
     app.add_flag("--progressive", p.enabled,
                  "render in passes of 1, 1, 2, 4, 8, ... samples per pixel until\n"
-                 "--time or --spp is reached, and report the error of every pass")
+                 "--time, --spp or --target-error is reached, and report the error\n"
+                 "of every pass")
         ->group(group);
     app.add_option("--time", p.time_limit_s, "stop after S seconds of rendering")
         ->type_name("S")
+        ->group(group);
+    app.add_option("--target-error", p.target_relmse,
+                   "stop once the estimated relMSE (the 'estimate' column) is at most\n"
+                   "E, from 8 samples per pixel on (with --time or --spp: whichever\n"
+                   "comes first)")
+        ->type_name("E")
         ->group(group);
     app.add_option("--reference", p.reference,
                    "a .pfm image to measure the error against, or 'auto' (rendered\n"
@@ -312,16 +319,20 @@ void validate(const Options& o, bool spp_given) {
                                   {"--aperture", o.aperture},
                                   {"--focus-distance", o.focus_distance},
                                   {"--roughness", o.roughness},
-                                  {"--time", p.time_limit_s}})
+                                  {"--time", p.time_limit_s},
+                                  {"--target-error", p.target_relmse}})
         if (!(v >= 0.0) || !std::isfinite(v))
             throw UsageError(std::string(name) + " must be a finite number >= 0");
     if (p.reference_spp < 2) throw UsageError("--reference-spp must be at least 2");
-    const bool progressive_only = p.time_limit_s > 0 || !p.reference.empty() || !p.report.empty() ||
-                                  !p.plot.empty() || p.adaptive;
+    const bool progressive_only = p.time_limit_s > 0 || p.target_relmse > 0 ||
+                                  !p.reference.empty() || !p.report.empty() || !p.plot.empty() ||
+                                  p.adaptive;
     if (progressive_only && !p.enabled)
-        throw UsageError("--time, --reference, --report, --plot and --adaptive need --progressive");
-    if (p.enabled && p.time_limit_s <= 0 && !spp_given)
-        throw UsageError("--progressive needs --time S or --spp N");
+        throw UsageError(
+            "--time, --target-error, --reference, --report, --plot and --adaptive need "
+            "--progressive");
+    if (p.enabled && p.time_limit_s <= 0 && !spp_given && p.target_relmse <= 0)
+        throw UsageError("--progressive needs --time S, --spp N or --target-error E");
     if (!p.reference.empty() && p.reference != "auto" &&
         rt::image_format_from_path(p.reference) != rt::ImageFormat::Pfm)
         throw UsageError("--reference takes a .pfm file or 'auto'");

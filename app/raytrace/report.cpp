@@ -345,7 +345,7 @@ void print_pass(const rt::PassRecord& r) {
     std::fflush(stdout);
 }
 
-void print_progress_summary(const std::vector<ProgressRun>& runs) {
+void print_progress_summary(const std::vector<ProgressRun>& runs, double target) {
     std::printf(
         "\n%s\nestimate = the same from the samples alone (the difference of each pixel's "
         "even and odd samples)\n",
@@ -358,12 +358,22 @@ void print_progress_summary(const std::vector<ProgressRun>& runs) {
         }
         std::printf("%s: relMSE falls as time^%.2f (least squares on log-log axes)\n",
                     run.mode.c_str(), loglog_slope(t, e));
+        if (target > 0 && !run.passes.empty()) {
+            const rt::PassRecord& last = run.passes.back();
+            if (last.spp >= rt::ProgressiveSettings::kTargetMinSpp &&
+                last.estimate.relmse <= target)
+                std::printf("%s: reached the target error %.4g at %.4g spp after %.3f s\n",
+                            run.mode.c_str(), target, last.spp, last.seconds);
+            else
+                std::printf("%s: the target error %.4g was not reached (estimate %.4g)\n",
+                            run.mode.c_str(), target, last.estimate.relmse);
+        }
     }
     if (runs.size() == 2 && !runs[0].passes.empty()) {
-        const double target = pass_error(runs[0].passes.back());
-        const double tu = time_to_reach(runs[0].passes, target);
-        const double ta = time_to_reach(runs[1].passes, target);
-        std::printf("time to reach relMSE %.4g: uniform %.3f s, adaptive %s", target, tu,
+        const double goal = pass_error(runs[0].passes.back());
+        const double tu = time_to_reach(runs[0].passes, goal);
+        const double ta = time_to_reach(runs[1].passes, goal);
+        std::printf("time to reach relMSE %.4g: uniform %.3f s, adaptive %s", goal, tu,
                     ta > 0 ? "" : "never within the limit\n");
         if (ta > 0) std::printf("%.3f s (%.2fx)\n", ta, tu / ta);
     }

@@ -76,6 +76,6 @@ void print_pass(const rt::PassRecord& r);
 
 /// After the runs: the formula, each run's slope and, with two runs, the time each needs to
 /// reach the uniform run's final error.
-void print_progress_summary(const std::vector<ProgressRun>& runs);
+void print_progress_summary(const std::vector<ProgressRun>& runs, double target_relmse = 0);
 
 }  // namespace raytrace

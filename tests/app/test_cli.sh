@@ -90,6 +90,11 @@ check "formula printed" grep -q "relMSE = mean over pixels" "$tmp/prog.txt"
 check "report with reference has errors" bash -c "tail -1 '$tmp/r2.csv' | grep -qE '^uniform,[^,]+,[^,]+,[^,]+,[0-9]'"
 "$rt" "$tmp/ok.ray" --progressive --spp 4 --reference "$tmp/ref.pfm" -o "$tmp/p3.png" >/dev/null 2>&1
 check "reference of another size exits 1" test $? -eq 1
+"$rt" "$tmp/ok.ray" --progressive --target-error 1e-3 --light-radius 0.3 --report "$tmp/t.csv" \
+    -o "$tmp/target.png" --width 32 --height 24 >"$tmp/target.txt" 2>&1
+check "--target-error exits 0" test $? -eq 0
+check "--target-error says when it was reached" grep -q "uniform: reached the target error 0.001 at" "$tmp/target.txt"
+check "--target-error's last pass reaches it" awk -F, 'END { exit !($9 <= 1e-3 && $3 >= 8) }' "$tmp/t.csv"
 "$rt" "$tmp/ok.ray" --time 2 >/dev/null 2>&1
 check "--time without --progressive exits 2" test $? -eq 2
 "$rt" "$tmp/ok.ray" --progressive >/dev/null 2>&1

@@ -106,6 +106,9 @@ TEST(Options, UsageErrorsThrow) {
         {"a.ray", "--aperture", "-1"},
         {"a.ray", "--roughness", "inf"},
         {"a.ray", "--time", "2"},
+        {"a.ray", "--target-error", "1e-3"},
+        {"a.ray", "--progressive", "--target-error", "-1"},
+        {"a.ray", "--progressive", "--target-error", "nan"},
         {"a.ray", "--report", "r.csv"},
         {"a.ray", "--progressive"},
         {"a.ray", "--progressive", "--spp", "4", "--reference", "r.png"},
@@ -121,8 +124,10 @@ TEST(Options, UsageErrorsThrow) {
         parse({"a.ray", "--progressive"});
         FAIL();
     } catch (const UsageError& e) {
-        EXPECT_STREQ(e.what(), "--progressive needs --time S or --spp N");
+        EXPECT_STREQ(e.what(), "--progressive needs --time S, --spp N or --target-error E");
     }
+    EXPECT_EQ(parse({"a.ray", "--progressive", "--target-error", "2e-4"}).progressive.target_relmse,
+              2e-4);
     try {
         parse({"a.ray", "--light-samples", "0"});
         FAIL();

@@ -176,6 +176,16 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
             const double remaining = progressive.time_limit_s - render_seconds;
             spp = static_cast<int>(std::clamp(remaining / per_spp, 1.0, static_cast<double>(spp)));
         }
+        // ... or at the target error: relMSE falls about as 1 / spp, so the pass that should
+        // reach it is sized from the last estimate (a little over, to reach it in one pass).
+        if (progressive.target_relmse > 0 && !records.empty()) {
+            const double have = static_cast<double>(samples_total) / pixels;
+            const double est = records.back().estimate.relmse;
+            if (have >= ProgressiveSettings::kTargetMinSpp && est > progressive.target_relmse) {
+                const double need = 1.1 * have * est / progressive.target_relmse - have;
+                spp = static_cast<int>(std::clamp(std::ceil(need), 1.0, static_cast<double>(spp)));
+            }
+        }
         uint64_t pass_samples = static_cast<uint64_t>(pixels) * static_cast<uint64_t>(spp);
         if (progressive.adaptive && state.passes >= 3) {
             // The samples of the uniform pass, shared by estimated error.
@@ -203,7 +213,12 @@ std::vector<PassRecord> run_progressive(RenderState& state, const RenderScene& s
         if (on_pass) on_pass(r);
         if (progressive.time_limit_s > 0 && render_seconds >= progressive.time_limit_s) break;
         if (progressive.spp_limit > 0 && r.spp >= progressive.spp_limit) break;
-        if (progressive.time_limit_s <= 0 && progressive.spp_limit <= 0) break;
+        if (progressive.target_relmse > 0 && r.spp >= ProgressiveSettings::kTargetMinSpp &&
+            r.estimate.relmse <= progressive.target_relmse)
+            break;
+        if (progressive.time_limit_s <= 0 && progressive.spp_limit <= 0 &&
+            progressive.target_relmse <= 0)
+            break;
     }
     state.active.clear();
     return records;

@@ -51,6 +51,11 @@ uint64_t choose_adaptive_pixels(RenderState& state, double budget, int explore =
 struct ProgressiveSettings {
     double time_limit_s = 0;  // stop after this much render time (0: no limit)
     int spp_limit = 0;        // stop at this many samples per pixel on average (0: no limit)
+    /// Stop once the estimated relMSE (estimate_error) is at most this (0: no target), as
+    /// Cycles' noise threshold does; not before kTargetMinSpp samples per pixel, where the
+    /// estimate has settled.
+    double target_relmse = 0;
+    static constexpr int kTargetMinSpp = 8;
     bool adaptive = false;
 };
 
