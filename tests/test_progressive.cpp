@@ -165,6 +165,20 @@ TEST(Progressive, ATargetErrorStopsWhenTheEstimateReachesIt) {
               ProgressiveSettings::kTargetMinSpp);
 }
 
+TEST(Progressive, TheTimeToATargetErrorFollowsTheFittedSlope) {
+    // relMSE = 0.01 / t on the later points (the first ones, still settling, are left out).
+    std::vector<std::pair<double, double>> points = {{0.1, 1.0}, {0.2, 0.9}};
+    for (double t : {1.0, 2.0, 4.0, 8.0}) points.emplace_back(t, 0.01 / t);
+    EXPECT_NEAR(predict_time_to_error(points, 1e-4), 100.0, 1e-9);
+    EXPECT_EQ(predict_time_to_error(points, 0.01), 8.0);  // already reached: the last time
+    // slope -1/2: four times the time for half the error
+    points = {{1, 0.02}, {4, 0.01}};
+    EXPECT_NEAR(predict_time_to_error(points, 0.005), 16.0, 1e-9);
+    EXPECT_LT(predict_time_to_error({{1, 0.01}, {2, 0.01}}, 1e-3), 0);  // not falling
+    EXPECT_LT(predict_time_to_error({{1, 0.01}}, 1e-3), 0);             // one point
+    EXPECT_LT(predict_time_to_error({}, 1e-3), 0);
+}
+
 TEST(Progressive, ConvergesToTheDirectlySupersampledImageWithFeaturesOff) {
     const RenderScene scene = test::compile(kScene);
     const RenderSettings s = small();

@@ -147,7 +147,7 @@ std::string svg_series(const PlotArea& a, const ProgressRun& run, const char* co
 std::string svg_close(const PlotArea& a) {
     return format(
         "<text x=\"%.0f\" y=\"%.0f\" font-size=\"11\">%s; dashed: estimated from the "
-        "samples (variance of the mean)</text>\n</svg>\n",
+        "samples (each pixel's even against its odd samples)</text>\n</svg>\n",
         a.left, a.top - 10, kRelMseFormula);
 }
 

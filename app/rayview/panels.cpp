@@ -297,6 +297,12 @@ bool settings_panel(ViewerState& v) {
     edited |= slider("depth", &r.max_depth, 1, 10);
     edited |= slider("cutoff", &r.cutoff, 0.0f, 0.1f, "%.4f");
     edited |= slider("target spp", &s.target_spp, 1, 4096);
+    // The trace also stops at an estimated error (relMSE), as raytrace --target-error.
+    float target = s.target_error;
+    if (ImGui::SliderFloat("target error", &target, 0.0f, 0.01f, target > 0 ? "%.1e" : "off",
+                           kClamp | ImGuiSliderFlags_Logarithmic) &&
+        std::isfinite(target))
+        s.target_error = target, edited = true;
     float scale = s.resolution_scale;
     if (ImGui::SliderFloat("resolution", &scale, 0.1f, 1.0f, "%.3f", kClamp) &&
         std::isfinite(scale))
@@ -485,12 +491,7 @@ void status_bar(const ViewerState& v, const PaneLayout& layout) {
     ImGui::Begin("status", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-    const Tracer::Status st = v.tracer.status();
-    auto ms = [](double x) { return x < 0 ? std::string("...") : std::to_string(int(x)) + " ms"; };
-    ImGui::Text("%d spp | %.2f Mray/s | relMSE %.3g | first pass %s, full resolution %s%s", st.spp,
-                st.rays_per_second / 1e6, st.estimate, ms(v.first_pass_ms).c_str(),
-                ms(v.first_full_ms).c_str(),
-                v.headlight_on() ? " | headlight: the scene has no lights" : "");
+    ImGui::Text("%s", status_text(v).c_str());
     if (!v.message.empty() && !v.message_is_error) {  // the last note
         ImGui::SameLine();
         ImGui::TextDisabled("| %s", v.message.c_str());

@@ -50,8 +50,9 @@ void status_panel(const ViewerState& v, const std::vector<std::string>& preview_
 /// Saving the scene (camera and lights) and the traced image.
 void save_panel(ViewerState& v, PanelState& ui);
 
-/// The trace's progress along the bottom of the panes, always visible: samples per pixel, rays
-/// per second, the estimated error, the first (coarse) and first full-resolution pass times.
+/// The trace's progress along the bottom of the panes, always visible (status_text): samples per
+/// pixel, rays per second, the estimated error and the time to the target error, the first
+/// (coarse) and first full-resolution pass times.
 void status_bar(const ViewerState& v, const PaneLayout& layout);
 /// Every shortcut in a window over the panes, opened and closed with F1 or ? (Esc closes it).
 void help_overlay(bool* open);

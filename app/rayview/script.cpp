@@ -89,6 +89,7 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         "            frame-light I | headlight on|off\n"
         "  settings: shadows on|off | depth D | threads N | resolution SCALE |\n"
         "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
+        "            target-error E (0: none) | status (prints the status bar) |\n"
         "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
         "  history:  undo | redo\n"
         "  waiting:  wait-spp N [SECONDS] | wait-jobs [SECONDS] (hold the script, and --frames'\n"
@@ -358,6 +359,11 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         if (!v.redo()) throw std::runtime_error("redo: nothing to redo");
     } else if (c == "resolution") {
         s.resolution_scale = static_cast<float>(number(l, 0, 0.1, 1));
+    } else if (c == "target-error") {
+        v.settings.target_error = static_cast<float>(number(l, 0, 0, 1));
+        v.mark_edited();
+    } else if (c == "status") {
+        std::printf("rayview: frame %d: status: %s\n", m_frame, status_text(v).c_str());
     } else if (c == "wait-spp" || c == "wait-jobs") {
         const bool spp = c == "wait-spp";
         m_wait = spp ? Wait::Spp : Wait::Jobs;

@@ -15,19 +15,23 @@ void Tracer::stop() {
     m_updated = false;  // the stopped run's image is no longer news (the scene may change)
 }
 
-void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, int target_spp) {
+void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, int target_spp,
+                     double target_error) {
     stop();  // nothing to do when the caller stopped it (it must, before changing the scene)
     {
         std::lock_guard lock(m_mutex);
         m_status = {};
+        m_status.target_error = target_error;
         m_history.clear();
     }
     m_plan = make_render_plan(scene, settings);
-    m_thread =
-        std::thread([this, &scene, settings, target_spp] { run(&scene, settings, target_spp); });
+    m_thread = std::thread([this, &scene, settings, target_spp, target_error] {
+        run(&scene, settings, target_spp, target_error);
+    });
 }
 
-void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_spp) {
+void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_spp,
+                 double target_error) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     // The tracer yields to the interface: this thread and the workers it starts (Linux keeps
@@ -62,6 +66,18 @@ void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_s
         m_status.estimate = est.relmse;
         if (est.relmse > 0)
             m_history.emplace_back(static_cast<float>(seconds), static_cast<float>(est.relmse));
+        if (target_error > 0 && m_status.spp >= ProgressiveSettings::kTargetMinSpp) {
+            // The time to the target, from the passes since the estimate settled.
+            std::vector<std::pair<double, double>> points;
+            for (size_t i = ProgressiveSettings::kTargetMinSpp - 1; i < m_history.size(); ++i)
+                points.emplace_back(m_history[i].first, m_history[i].second);
+            m_status.target_seconds = predict_time_to_error(points, target_error);
+            if (est.relmse <= target_error) {
+                m_status.reached = true;
+                m_status.target_seconds = seconds;
+                return;
+            }
+        }
     }
 }
 

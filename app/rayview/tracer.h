@@ -22,9 +22,11 @@ public:
     /// Stops the trace and waits for it: afterwards the scene may be edited.
     void stop();
     /// Starts tracing `scene` (which must outlive the trace and stay unchanged until stop()):
-    /// a coarse pass first, then passes of one sample per pixel up to `target_spp`. The trace
-    /// must be stopped (the caller stops it before it edits the scene).
-    void restart(const RenderScene& scene, const RenderSettings& settings, int target_spp);
+    /// a coarse pass first, then passes of one sample per pixel up to `target_spp`, or until the
+    /// estimated relMSE reaches `target_error` (from 8 spp; 0: no target). The trace must be
+    /// stopped (the caller stops it before it edits the scene).
+    void restart(const RenderScene& scene, const RenderSettings& settings, int target_spp,
+                 double target_error = 0);
     /// The plan of the trace started last (made by restart(), once per restart).
     const RenderPlan& plan() const { return m_plan; }
 
@@ -32,7 +34,12 @@ public:
         int spp = 0;
         double seconds = 0;  // since the restart
         double rays_per_second = 0;
-        double estimate = 0;  // relMSE estimated from the samples
+        double estimate = 0;      // relMSE estimated from the samples
+        double target_error = 0;  // the restart's target (0: none)
+        bool reached = false;     // the estimate reached it: the trace stopped there
+        /// The seconds (since the restart) at which the estimate reaches the target, from the
+        /// slope of the history; negative while it cannot be told.
+        double target_seconds = -1;
     };
     /// The latest image if it changed since the last call (returns false otherwise).
     bool take_image(Image* out);
@@ -41,7 +48,8 @@ public:
     std::vector<std::pair<float, float>> history() const;
 
 private:
-    void run(const RenderScene* scene, RenderSettings settings, int target_spp);
+    void run(const RenderScene* scene, RenderSettings settings, int target_spp,
+             double target_error);
 
     RenderPlan m_plan;  // written by restart() only while no trace runs
     std::thread m_thread;

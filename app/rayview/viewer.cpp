@@ -648,7 +648,7 @@ void ViewerState::restart() {
     apply_edits(edits, headlight_on(), m_trace_w, m_trace_h, &loaded->scene, &settings.render);
     loaded->shown.camera = loaded->scene.camera;  // the preview's overlays show the same lights
     loaded->shown.lights = loaded->scene.lights;
-    tracer.restart(loaded->scene, settings.render, settings.target_spp);
+    tracer.restart(loaded->scene, settings.render, settings.target_spp, settings.target_error);
     m_traced_id = loaded->id;
     explained.clear();
     for (const PlanReason& r : tracer.plan().reasons) explained.push_back(reason_line(r));
@@ -724,5 +724,29 @@ void ViewerState::move_joints() {
 }
 
 bool ViewerState::moving() const { return seconds_since(m_change_time) < 0.25; }
+
+std::string status_text(const ViewerState& v) {
+    const Tracer::Status st = v.tracer.status();
+    auto ms = [](double x) { return x < 0 ? std::string("...") : std::to_string(int(x)) + " ms"; };
+    char head[160];
+    std::snprintf(head, sizeof head, "%d spp | %.2f Mray/s | relMSE %.3g", st.spp,
+                  st.rays_per_second / 1e6, st.estimate);
+    std::string s = head;
+    if (st.target_error > 0) {
+        char target[120];
+        if (st.reached)
+            std::snprintf(target, sizeof target, " | target %.3g reached at %.1f s",
+                          st.target_error, st.target_seconds);
+        else if (st.target_seconds >= 0)
+            std::snprintf(target, sizeof target, " | target %.3g in ~%.1f s", st.target_error,
+                          std::max(0.0, st.target_seconds - st.seconds));
+        else
+            std::snprintf(target, sizeof target, " | target %.3g", st.target_error);
+        s += target;
+    }
+    s += " | first pass " + ms(v.first_pass_ms) + ", full resolution " + ms(v.first_full_ms);
+    if (v.headlight_on()) s += " | headlight: the scene has no lights";
+    return s;
+}
 
 }  // namespace rt::view

@@ -67,6 +67,7 @@ struct SceneEdits {
 struct ViewSettings {
     RenderSettings render;
     int target_spp = 256;
+    float target_error = 1e-4f;     // the trace stops at this estimated relMSE too (0: never)
     float resolution_scale = 0.5f;  // trace pixels per pane pixel
     bool show_lights = true;        // light markers over the preview
     int box_depth = 0;              // BVH levels drawn over the preview, 0 = off
@@ -296,5 +297,10 @@ private:
     std::string m_watched;  // the file that failed to open at start-up, while none is open
     std::filesystem::file_time_type m_watched_time;
 };
+
+/// The status bar's text: samples per pixel, rays per second, the estimated error and the time
+/// to the target error (or when it was reached), the first (coarse) and first full-resolution
+/// pass times, the headlight.
+std::string status_text(const ViewerState& v);
 
 }  // namespace rt::view

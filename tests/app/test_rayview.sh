@@ -91,6 +91,22 @@ printf '2 markers off\n3 wait-jobs\n' >"$tmp/markers.txt"
 check "the preview of materials.ray is near the trace" "$imgdiff" "$tmp/materials.png" \
     "$tmp/materials-raytrace.png" --max-mad 12 --max-dark-share 0.01
 
+# The target error: the trace stops once its estimate reaches it, and the status bar says when;
+# before that, the time it will take (from the slope of the error against time).
+cat >"$tmp/target.txt" <<SCRIPT
+3 resolution 1
+4 target-error 0.05
+5 wait-spp 8
+8 status
+9 target-error 1e-7
+10 wait-spp 24
+12 status
+SCRIPT
+xrun "$rv" --size 640x480 --script "$tmp/target.txt" "$src/scenes/showpiece.ray" >"$tmp/targetout.txt" 2>&1
+check "target-error runs" test $? -eq 0
+check "a reached target is said with its time" grep -q "status: 8 spp | .* | target 0.05 reached at [0-9.]* s" "$tmp/targetout.txt"
+check "an unreached target says how long it will take" grep -q "status: .* | target 1e-07 in ~[0-9.]* s" "$tmp/targetout.txt"
+
 # Every kind of scripted input runs and is answered (the camera and lights restart the trace).
 cat >"$tmp/all.txt" <<SCRIPT
 5 pan 0.1 0

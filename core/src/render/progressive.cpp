@@ -94,6 +94,26 @@ ErrorEstimate estimate_error(const RenderState& state) {
     return e;
 }
 
+double predict_time_to_error(const std::vector<std::pair<double, double>>& points, double target) {
+    if (points.empty() || !(target > 0)) return -1;
+    const auto& [t_last, e_last] = points.back();
+    if (e_last > 0 && e_last <= target) return t_last;
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int n = 0;
+    for (size_t i = points.size() >= 4 ? points.size() / 2 : 0; i < points.size(); ++i) {
+        const auto& [t, e] = points[i];
+        if (!(t > 0) || !(e > 0)) continue;
+        const double lx = std::log(t), ly = std::log(e);
+        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+        ++n;
+    }
+    const double den = n * sxx - sx * sx;
+    if (n < 2 || !(den > 0) || !(t_last > 0) || !(e_last > 0)) return -1;
+    const double slope = (n * sxy - sx * sy) / den;
+    if (!(slope < -1e-3)) return -1;  // not falling
+    return t_last * std::pow(target / e_last, 1.0 / slope);
+}
+
 uint64_t choose_adaptive_pixels(RenderState& state, double budget, int explore) {
     const size_t n = state.samples.size();
     const int w = state.width, h = state.height;

@@ -40,6 +40,13 @@ struct ErrorEstimate {
 };
 ErrorEstimate estimate_error(const RenderState& state);
 
+/// When the error will reach `target`: the least-squares line through (seconds, relMSE) points
+/// on log-log axes (the later half of four or more, where the slope has settled), extrapolated from
+/// the last point. Returns the predicted seconds (the last point's when it is already reached), or
+/// a negative number when it cannot be told: fewer than two usable points, or an error that does
+/// not fall.
+double predict_time_to_error(const std::vector<std::pair<double, double>>& points, double target);
+
 /// Adaptive sampling: shares `budget` samples among the pixels so that each pixel's total
 /// moves toward a share proportional to its estimated relative standard deviation (the optimal
 /// allocation for independent samples), taken as the maximum over its 3x3 neighbourhood so
