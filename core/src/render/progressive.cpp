@@ -74,8 +74,8 @@ ErrorEstimate estimate_error(const RenderState& state) {
             double v = 0;
             if (state.odd_sums) {
                 // The halves are independent estimates (each its own R2 shift, its own random
-                // numbers) with variances c / n_half: E[(m_even - m_odd)^2] = c n / (n_even n_odd)
-                // and the variance of the whole mean is c / n.
+                // numbers) with variances s2 / n_half: E[(m_even - m_odd)^2] is
+                // s2 n / (n_even n_odd), and the variance of the whole mean is s2 / n.
                 const double odd = state.sum_odd[p * 3 + c];
                 const double d = (sum - odd) / n_even - odd / n_odd;
                 v = d * d * n_even * n_odd / (n * n);
