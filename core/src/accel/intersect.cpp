@@ -383,7 +383,7 @@ SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray,
         kLayout < kSetLayouts ? static_cast<SetLayout>(kLayout) : SetLayout::Mixed;
     sp = visit_shape<layout_kinds(kFixed)>(set, p, [&](const auto& shape) {
         if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, Triangle>)
-            return surface_at(shape, set.triangle_attribs[p.index], r, hit.t, uv, set.tri_origin);
+            return surface_at(shape, set.triangle_attribs(p.index), r, hit.t, uv, set.tri_origin);
         else
             return surface_at(shape, r, hit.t, hit.part, uv);
     });

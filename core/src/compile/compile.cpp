@@ -195,6 +195,7 @@ private:
         if (auto it = m_set_of_root.find(item.root); it != m_set_of_root.end()) return it->second;
         GeometrySet set;
         set.name = m_desc.files[fi].path;
+        m_vertex_of.assign(m_desc.files[fi].vertices.size(), ~0u);
         std::vector<Pending> pending;
         pending.reserve(count_shapes(*item.root));
         collect(set, item, pending);
@@ -233,7 +234,7 @@ private:
             return p.csg < 0 && std::holds_alternative<TriangleDesc>(p.shape->geometry);
         });
         set.triangles.reserve(static_cast<size_t>(triangles));  // no copy as they grow
-        set.triangle_attribs.reserve(static_cast<size_t>(triangles));
+        set.triangle_vertices.reserve(static_cast<size_t>(triangles));
         std::vector<SourceLoc>* locs = nullptr;
         if (m_report.record_locations) {
             m_report.prim_locs.resize(m_scene.sets.size() + 1);
@@ -247,6 +248,7 @@ private:
         }
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
         pack_triangles(set);
+        std::vector<uint32_t>().swap(m_vertex_of);
         const int index = static_cast<int>(m_scene.sets.size());
         m_set_of_root[item.root] = index;
         m_scene.sets.push_back(std::move(set));
@@ -456,8 +458,7 @@ private:
                      leaves0 = a.leaves.size();
         // The leaves' shapes go to the set's arrays as they are met; a dropped tree takes them
         // back (a Triangles set relies on prims[i] being triangles[i]).
-        const size_t triangles0 = set.triangles.size(), attribs0 = set.triangle_attribs.size(),
-                     transforms0 = set.transforms.size();
+        const size_t triangles0 = set.triangles.size(), transforms0 = set.transforms.size();
         std::array<size_t, kShapeKinds> kinds0{};
         std::apply([&](const auto&... v) { kinds0 = {v.size()...}; }, set.shapes.arrays);
         std::vector<CsgVisit> todo = {{&c, nullptr, m, fi, false}};
@@ -484,7 +485,7 @@ private:
             a.children.resize(children0);
             a.leaves.resize(leaves0);
             set.triangles.resize(triangles0);
-            set.triangle_attribs.resize(attribs0);
+            set.triangle_vertices.resize(triangles0);  // their vertices stay (no one uses them)
             set.transforms.resize(transforms0);
             size_t k = 0;
             std::apply([&](auto&... v) { (v.resize(kinds0[k++]), ...); }, set.shapes.arrays);
@@ -572,18 +573,29 @@ private:
         const auto v = triangle_vertices(m_desc.files[fi], td, pend.mirror);
         Triangle tri{v[0]->position, v[1]->position, v[2]->position};
         if (xf) tri = {xf->point(tri.p0), xf->point(tri.p1), xf->point(tri.p2)};
-        TriangleAttribs attr;
-        attr.has_normals = true;
+        std::array<uint32_t, 3> ids{};
         for (size_t i = 0; i < 3; ++i) {
-            attr.uv[i] = v[i]->uv;
-            const Vec3 n = v[i]->normal;
-            if (n == Vec3(0.0))
-                attr.has_normals = false;
-            else
-                attr.n[i] = xf ? glm::normalize(xf->normal_dir(n)) : n;
+            const size_t k = i == 0 || !pend.mirror ? i : 3 - i;  // as triangle_vertices orders
+            ids[i] = set_vertex(set, *v[i], static_cast<size_t>(td.v[k]), xf);
         }
         set.triangles.push_back(tri);
-        set.triangle_attribs.push_back(attr);
+        set.triangle_vertices.push_back(ids);
+    }
+
+    // The index of a triangle corner's normal and uv in the set's vertex arrays: a vertex of the
+    // file in the set's own frame once for all its triangles (m_vertex_of), a transformed one
+    // for each corner.
+    uint32_t set_vertex(GeometrySet& set, const VertexDesc& v, size_t file_vertex,
+                        const Transform* xf) {
+        constexpr uint32_t kNone = ~0u;
+        if (!xf && file_vertex < m_vertex_of.size() && m_vertex_of[file_vertex] != kNone)
+            return m_vertex_of[file_vertex];
+        const uint32_t id = static_cast<uint32_t>(set.vertex_normals.size());
+        const Vec3 n = v.normal;
+        set.vertex_normals.push_back(n == Vec3(0.0) || !xf ? n : glm::normalize(xf->normal_dir(n)));
+        set.vertex_uvs.push_back(v.uv);
+        if (!xf && file_vertex < m_vertex_of.size()) m_vertex_of[file_vertex] = id;
+        return id;
     }
 
     void fill_report() {
@@ -618,6 +630,7 @@ private:
     Diagnostics* m_diag;
     JointValues m_values;
     std::unordered_map<const GroupDesc*, int> m_set_of_root;  // -1: the root has no shapes
+    std::vector<uint32_t> m_vertex_of;  // the set being compiled: file vertex -> set vertex
     std::vector<int> m_texture_offset, m_material_offset;
     int m_default_material = 0;
 };

@@ -39,7 +39,7 @@ void append_primitive(const GeometrySet& set, const Primitive& p, int detail, in
     visit_shape(set, p, [&](const auto& shape) {
         if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, Triangle>) {
             // In the set's frame already: appended as it is.
-            tessellate(shape, set.triangle_attribs[p.index], out);
+            tessellate(shape, set.triangle_attribs(p.index), out);
             out.materials.push_back(p.material);
         } else {
             PreviewMesh m = tessellate(shape, detail);

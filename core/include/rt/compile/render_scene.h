@@ -116,7 +116,24 @@ struct GeometrySet {
     std::vector<Triangle> triangles;  // flattened into the set's frame
     std::vector<Tri4> tri4;           // the same in float, four per block: what rays test,
     Vec3 tri_origin{0.0};             // relative to this point of the set's frame
-    std::vector<TriangleAttribs> triangle_attribs;
+    /// Per triangle: its three vertices' normals and uvs, as indices into vertex_normals and
+    /// vertex_uvs. A vertex of a mesh in the set's own frame is kept once for all the triangles
+    /// that share it (transformed meshes keep one per triangle corner).
+    std::vector<std::array<uint32_t, 3>> triangle_vertices;
+    std::vector<Vec3> vertex_normals;  // in the set's frame: unit, or zero for none
+    std::vector<Vec2> vertex_uvs;
+    /// Triangle i's normals and uvs (has_normals: all three vertices have one).
+    TriangleAttribs triangle_attribs(size_t i) const {
+        TriangleAttribs a;
+        a.has_normals = true;
+        for (size_t k = 0; k < 3; ++k) {
+            const uint32_t v = triangle_vertices[i][k];
+            a.n[k] = vertex_normals[v];
+            a.uv[k] = vertex_uvs[v];
+            a.has_normals = a.has_normals && a.n[k] != Vec3(0.0);
+        }
+        return a;
+    }
     std::vector<Transform> transforms;    // set_from_shape for analytic shapes under groups
     std::vector<Bounds3> prim_bounds;     // in the set's frame
     Bvh bvh;                              // primitives are stored in its leaf order
