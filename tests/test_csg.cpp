@@ -120,7 +120,7 @@ TEST(Csg, CompilesToOnePrimitivePerNodeWithItsBounds) {
         const Primitive& p = set.prims[i];
         ASSERT_GE(p.csg, 0);
         const CsgRoot& r = set.csg.roots[static_cast<size_t>(p.csg)];
-        const Bounds3& b = set.prim_bounds[i];
+        const Bounds3 b = set.prim_bounds(i);
         if (r.leaf_count == 3) {  // the lens: the intersection of the boxes
             EXPECT_VEC_NEAR(b.lo, Vec3(-1, -0.55, -1), 1e-6);  // grown by the tolerance
             EXPECT_VEC_NEAR(b.hi, Vec3(1, 0.55, 1), 1e-6);

@@ -563,7 +563,7 @@ TEST(VisitShape, CallsWithThePrimitivesConcreteShape) {
         EXPECT_EQ(k, p.kind);
         // The shape handed over is the primitive's own: its bounds are the set's.
         const Bounds3 b = visit_shape(set, p, [](const auto& s) { return bounds(s); });
-        EXPECT_VEC_NEAR(b.lo, set.prim_bounds[&p - set.prims.data()].lo, 1e-9);
+        EXPECT_VEC_NEAR(b.lo, set.prim_bounds(static_cast<size_t>(&p - set.prims.data())).lo, 1e-9);
         if (p.kind == ShapeKind::Sphere) {
             // A dispatch narrowed to one kind calls without looking at the kind.
             const double r = visit_shape<kind_bit(ShapeKind::Sphere)>(

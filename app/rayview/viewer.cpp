@@ -582,7 +582,7 @@ bool ViewerState::pick(double x, double y) {
     s.instance = hit.instance;
     s.prim = hit.prim;
     s.point = ray.o + hit.t * ray.d;
-    const Bounds3& b = set.prim_bounds[hit.prim];
+    const Bounds3 b = set.prim_bounds(hit.prim);
     s.bounds = inst.identity ? b : inst.world_from_set.apply(b);
     s.shape = prim.csg >= 0 ? "CSG node" : shape_kind_name(prim.kind);
     const size_t m = static_cast<size_t>(prim.material);

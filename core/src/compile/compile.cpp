@@ -229,7 +229,6 @@ private:
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
         set.prims.reserve(pending.size());
-        set.prim_bounds.reserve(pending.size());
         const auto triangles = std::count_if(pending.begin(), pending.end(), [](const Pending& p) {
             return p.csg < 0 && std::holds_alternative<TriangleDesc>(p.shape->geometry);
         });
@@ -243,7 +242,6 @@ private:
         }
         for (uint32_t old : set.bvh.indices) {
             add_shape(set, fi, pending[old]);
-            set.prim_bounds.push_back(bounds[old]);
             if (locs) locs->push_back(pending[old].loc ? *pending[old].loc : SourceLoc{});
         }
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
@@ -636,6 +634,21 @@ private:
 };
 
 }  // namespace
+
+Bounds3 GeometrySet::prim_bounds(size_t i) const {
+    const Primitive& p = prims[i];
+    if (p.csg >= 0) return csg.nodes[csg.roots[static_cast<size_t>(p.csg)].node].bounds;
+    const Transform* xf = p.transform < 0 ? nullptr : &transforms[static_cast<size_t>(p.transform)];
+    return visit_shape(*this, p, [&](const auto& shape) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, Triangle>) {
+            Bounds3 b;  // in the set's frame already
+            for (const Vec3& v : {shape.p0, shape.p1, shape.p2}) b.extend(v);
+            return b;
+        } else {
+            return xf ? bounds(shape, xf->m).widened() : bounds(shape);
+        }
+    });
+}
 
 Light compile_light(const LightDesc& d) {
     Light l;

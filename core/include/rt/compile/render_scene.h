@@ -122,6 +122,9 @@ struct GeometrySet {
     std::vector<std::array<uint32_t, 3>> triangle_vertices;
     std::vector<Vec3> vertex_normals;  // in the set's frame: unit, or zero for none
     std::vector<Vec2> vertex_uvs;
+    /// Primitive i's bounds in the set's frame, as the compile gave them to the BVH build
+    /// (computed again: a set keeps no bounds per primitive).
+    Bounds3 prim_bounds(size_t i) const;
     /// Triangle i's normals and uvs (has_normals: all three vertices have one).
     TriangleAttribs triangle_attribs(size_t i) const {
         TriangleAttribs a;
@@ -135,7 +138,6 @@ struct GeometrySet {
         return a;
     }
     std::vector<Transform> transforms;    // set_from_shape for analytic shapes under groups
-    std::vector<Bounds3> prim_bounds;     // in the set's frame
     Bvh bvh;                              // primitives are stored in its leaf order
     CsgArrays csg;                        // the trees of the CSG primitives (csg >= 0)
     SetLayout layout = SetLayout::Mixed;  // the kinds of prims; Triangles: prims[i] is triangles[i]
