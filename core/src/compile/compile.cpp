@@ -227,6 +227,7 @@ private:
         set.bvh = build_bvh(bounds, analytic ? BvhBuildSettings{1, 16} : BvhBuildSettings{});
         m_report.build_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::vector<Bounds3>().swap(bounds);  // the build's alone: freed before the set grows
 
         set.prims.reserve(pending.size());
         const auto triangles = std::count_if(pending.begin(), pending.end(), [](const Pending& p) {
@@ -245,8 +246,9 @@ private:
             if (locs) locs->push_back(pending[old].loc ? *pending[old].loc : SourceLoc{});
         }
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
-        pack_triangles(set);
+        std::vector<Pending>().swap(pending);  // freed before the packed copy is made
         std::vector<uint32_t>().swap(m_vertex_of);
+        pack_triangles(set);
         const int index = static_cast<int>(m_scene.sets.size());
         m_set_of_root[item.root] = index;
         m_scene.sets.push_back(std::move(set));
