@@ -108,7 +108,7 @@ void row(const char* what, bool holds_mesh, bool camera) {
         plan_s.push_back(rt::seconds_since(t0));
     }
     size_t tris = 0;
-    for (const rt::GeometrySet& g : s.sets) tris += g.triangles.size();
+    for (const rt::GeometrySet& g : s.sets) tris += g.triangle_count();
     const double c = median(compile_s), u = median(update_s);
     char same[64];
     std::snprintf(same, sizeof same, "%s (%d of 20000 rays hit)", bad == 0 ? "same" : "DIFFERENT",

@@ -173,9 +173,10 @@ size_t ours_bytes(const RenderScene& scene) {
     for (const GeometrySet& s : scene.sets) {
         bytes += s.bvh.nodes.size() * sizeof(Bvh4Node) + s.bvh.indices.size() * 4;
         // What rays read: nodes, leaf order, primitives, the float triangles the kernel tests and
-        // the double ones surface_at() refines hits with (not the per-vertex shading data).
-        bytes += s.triangles.size() * sizeof(Triangle) + s.tri4.size() * sizeof(Tri4) +
-                 s.prims.size() * sizeof(Primitive);
+        // the double vertices (and their indices) surface_at() refines hits with (not the
+        // normals and uvs).
+        bytes += s.vertex_positions.size() * sizeof(Vec3) + s.triangle_count() * 12 +
+                 s.tri4.size() * sizeof(Tri4) + s.prims.size() * sizeof(Primitive);
     }
     return bytes;
 }
@@ -287,7 +288,7 @@ struct EmbreeScene {
                 auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
                     g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
                 for (size_t k = 0; k < n; ++k) {
-                    const Triangle& t = s.triangles[s.prims[map.tri_prims[k]].index];
+                    const Triangle t = s.triangle(s.prims[map.tri_prims[k]].index);
                     const Vec3 p[3] = {t.p0, t.p1, t.p2};
                     for (int c = 0; c < 3; ++c) {
                         for (int a = 0; a < 3; ++a)
@@ -683,7 +684,7 @@ int main(int argc, char** argv) {
             std::printf("\n%s: skipped: %s\n", name.c_str(), e.what());
             continue;
         }
-        for (const GeometrySet& s : w.scene.sets) w.triangles += s.triangles.size();
+        for (const GeometrySet& s : w.scene.sets) w.triangles += s.triangle_count();
         run_workload(w, repeats, threads, quick);
     }
     return 0;

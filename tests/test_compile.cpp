@@ -33,7 +33,7 @@ TEST(Compile, GroupsFlattenAndTrianglesMoveToTheSetFrame) {
         "#shape_triangle 0 0 1 2\n#shape_sphere 0 0 0 0 1\n#shape_box 0 0 0 0 1 1 1\n"
         "#group_end\n#group_end\n");
     const GeometrySet& set = s.sets[0];
-    EXPECT_EQ(set.triangles[0].p1, Vec3(12, 0, 0));
+    EXPECT_EQ(set.triangle(0).p1, Vec3(12, 0, 0));
     EXPECT_EQ(set.transforms.size(), 1u);  // one cached transform shared by the group's shapes
     EXPECT_EQ(set.transforms[0].inv[3][0], -5.0);
     EXPECT_EQ(s.instances.size(), 1u);

@@ -426,7 +426,7 @@ TEST(Csg, ADroppedTreeLeavesNoShapesBehind) {
     const RenderScene with = test::compile(head + dropped + floor);
     const RenderScene without = test::compile(head + floor);
     ASSERT_EQ(with.sets.size(), 1u);
-    EXPECT_EQ(with.sets[0].triangles.size(), 2u);
+    EXPECT_EQ(with.sets[0].triangle_count(), 2u);
     EXPECT_EQ(with.sets[0].prims.size(), 2u);
     EXPECT_EQ(test::render(with, 32, 24).rgb, test::render(without, 32, 24).rgb);
 }

@@ -233,8 +233,7 @@ private:
         const auto triangles = std::count_if(pending.begin(), pending.end(), [](const Pending& p) {
             return p.csg < 0 && std::holds_alternative<TriangleDesc>(p.shape->geometry);
         });
-        set.triangles.reserve(static_cast<size_t>(triangles));  // no copy as they grow
-        set.triangle_vertices.reserve(static_cast<size_t>(triangles));
+        set.triangle_vertices.reserve(static_cast<size_t>(triangles));  // no copy as they grow
         std::vector<SourceLoc>* locs = nullptr;
         if (m_report.record_locations) {
             m_report.prim_locs.resize(m_scene.sets.size() + 1);
@@ -292,12 +291,12 @@ private:
     // distance from the origin (a mesh at 1e4 would otherwise snap to a grid of 1e-3).
     static void pack_triangles(GeometrySet& set) {
         Bounds3 b;
-        for (const Triangle& t : set.triangles)
-            for (const Vec3& v : {t.p0, t.p1, t.p2}) b.extend(v);
+        for (const std::array<uint32_t, 3>& t : set.triangle_vertices)  // not a dropped tree's
+            for (const uint32_t v : t) b.extend(set.vertex_positions[v]);
         set.tri_origin = b.empty() ? Vec3(0.0) : b.centre();
-        set.tri4.assign((set.triangles.size() + 3) / 4, Tri4{});
-        for (size_t i = 0; i < set.triangles.size(); ++i) {
-            const Triangle& t = set.triangles[i];
+        set.tri4.assign((set.triangle_count() + 3) / 4, Tri4{});
+        for (size_t i = 0; i < set.triangle_count(); ++i) {
+            const Triangle t = set.triangle(i);
             const Vec3* v[3] = {&t.p0, &t.p1, &t.p2};
             for (int k = 0; k < 3; ++k)
                 for (int a = 0; a < 3; ++a)
@@ -457,8 +456,8 @@ private:
         const size_t nodes0 = a.nodes.size(), children0 = a.children.size(),
                      leaves0 = a.leaves.size();
         // The leaves' shapes go to the set's arrays as they are met; a dropped tree takes them
-        // back (a Triangles set relies on prims[i] being triangles[i]).
-        const size_t triangles0 = set.triangles.size(), transforms0 = set.transforms.size();
+        // back (a Triangles set relies on prims[i] being triangle i).
+        const size_t triangles0 = set.triangle_count(), transforms0 = set.transforms.size();
         std::array<size_t, kShapeKinds> kinds0{};
         std::apply([&](const auto&... v) { kinds0 = {v.size()...}; }, set.shapes.arrays);
         std::vector<CsgVisit> todo = {{&c, nullptr, m, fi, false}};
@@ -484,7 +483,6 @@ private:
             a.nodes.resize(nodes0);
             a.children.resize(children0);
             a.leaves.resize(leaves0);
-            set.triangles.resize(triangles0);
             set.triangle_vertices.resize(triangles0);  // their vertices stay (no one uses them)
             set.transforms.resize(transforms0);
             size_t k = 0;
@@ -551,7 +549,7 @@ private:
             [&](const auto& geo) {
                 if constexpr (std::is_same_v<std::decay_t<decltype(geo)>, TriangleDesc>) {
                     p.kind = ShapeKind::Triangle;
-                    p.index = static_cast<uint32_t>(set.triangles.size());
+                    p.index = static_cast<uint32_t>(set.triangle_count());
                     p.transform = -1;  // flattened into the set's frame
                     add_triangle(set, fi, geo, pend);
                 } else {
@@ -571,26 +569,24 @@ private:
         const Transform* xf =
             pend.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(pend.transform)];
         const auto v = triangle_vertices(m_desc.files[fi], td, pend.mirror);
-        Triangle tri{v[0]->position, v[1]->position, v[2]->position};
-        if (xf) tri = {xf->point(tri.p0), xf->point(tri.p1), xf->point(tri.p2)};
         std::array<uint32_t, 3> ids{};
         for (size_t i = 0; i < 3; ++i) {
             const size_t k = i == 0 || !pend.mirror ? i : 3 - i;  // as triangle_vertices orders
             ids[i] = set_vertex(set, *v[i], static_cast<size_t>(td.v[k]), xf);
         }
-        set.triangles.push_back(tri);
         set.triangle_vertices.push_back(ids);
     }
 
-    // The index of a triangle corner's normal and uv in the set's vertex arrays: a vertex of the
-    // file in the set's own frame once for all its triangles (m_vertex_of), a transformed one
-    // for each corner.
+    // The index of a triangle corner in the set's vertex arrays (its position and normal in the
+    // set's frame, its uv): a vertex of the file in the set's own frame once for all its
+    // triangles (m_vertex_of), a transformed one for each corner.
     uint32_t set_vertex(GeometrySet& set, const VertexDesc& v, size_t file_vertex,
                         const Transform* xf) {
         constexpr uint32_t kNone = ~0u;
         if (!xf && file_vertex < m_vertex_of.size() && m_vertex_of[file_vertex] != kNone)
             return m_vertex_of[file_vertex];
-        const uint32_t id = static_cast<uint32_t>(set.vertex_normals.size());
+        const uint32_t id = static_cast<uint32_t>(set.vertex_positions.size());
+        set.vertex_positions.push_back(xf ? xf->point(v.position) : v.position);
         const Vec3 n = v.normal;
         set.vertex_normals.push_back(n == Vec3(0.0) || !xf ? n : glm::normalize(xf->normal_dir(n)));
         set.vertex_uvs.push_back(v.uv);

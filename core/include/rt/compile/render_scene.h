@@ -112,16 +112,22 @@ inline constexpr int kSetLayouts = 7;
 struct GeometrySet {
     std::string name;  // the file it came from
     std::vector<Primitive> prims;
-    ShapeArrays shapes;               // the analytic shapes, one array per kind (shapes.h)
-    std::vector<Triangle> triangles;  // flattened into the set's frame
-    std::vector<Tri4> tri4;           // the same in float, four per block: what rays test,
-    Vec3 tri_origin{0.0};             // relative to this point of the set's frame
-    /// Per triangle: its three vertices' normals and uvs, as indices into vertex_normals and
-    /// vertex_uvs. A vertex of a mesh in the set's own frame is kept once for all the triangles
-    /// that share it (transformed meshes keep one per triangle corner).
+    ShapeArrays shapes;      // the analytic shapes, one array per kind (shapes.h)
+    std::vector<Tri4> tri4;  // the same in float, four per block: what rays test,
+    Vec3 tri_origin{0.0};    // relative to this point of the set's frame
+    /// Per triangle: its three vertices, as indices into the vertex arrays (flattened into the
+    /// set's frame). A vertex of a mesh in the set's own frame is kept once for all the
+    /// triangles that share it (transformed meshes keep one per triangle corner).
     std::vector<std::array<uint32_t, 3>> triangle_vertices;
-    std::vector<Vec3> vertex_normals;  // in the set's frame: unit, or zero for none
+    std::vector<Vec3> vertex_positions;
+    std::vector<Vec3> vertex_normals;  // unit, or zero for none
     std::vector<Vec2> vertex_uvs;
+    size_t triangle_count() const { return triangle_vertices.size(); }
+    /// Triangle i's corners (in double; tri4 holds them in float for the walk).
+    Triangle triangle(size_t i) const {
+        const std::array<uint32_t, 3>& v = triangle_vertices[i];
+        return {vertex_positions[v[0]], vertex_positions[v[1]], vertex_positions[v[2]]};
+    }
     /// Primitive i's bounds in the set's frame, as the compile gave them to the BVH build
     /// (computed again: a set keeps no bounds per primitive).
     Bounds3 prim_bounds(size_t i) const;
@@ -140,7 +146,7 @@ struct GeometrySet {
     std::vector<Transform> transforms;    // set_from_shape for analytic shapes under groups
     Bvh bvh;                              // primitives are stored in its leaf order
     CsgArrays csg;                        // the trees of the CSG primitives (csg >= 0)
-    SetLayout layout = SetLayout::Mixed;  // the kinds of prims; Triangles: prims[i] is triangles[i]
+    SetLayout layout = SetLayout::Mixed;  // the kinds of prims; Triangles: prims[i] is triangle i
 };
 
 /// The sets of a scene. They never change once compiled, so copies of a scene share them: a

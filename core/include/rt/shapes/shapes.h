@@ -141,11 +141,12 @@ decltype(auto) visit_kind(ShapeKind k, F&& f) {
     }
 }
 
-/// The shape of type T that primitive p of `set` is (p.kind must be T's kind).
+/// The shape of type T that primitive p of `set` is (p.kind must be T's kind): a reference into
+/// the set's arrays, or for a triangle a value made from its vertices.
 template <class T, class Set, class Prim>
-const T& shape_of(const Set& set, const Prim& p) {
+decltype(auto) shape_of(const Set& set, const Prim& p) {
     if constexpr (std::is_same_v<T, Triangle>)
-        return set.triangles[p.index];
+        return set.triangle(p.index);
     else
         return set.shapes.template of<T>()[p.index];
 }
