@@ -46,6 +46,14 @@ check "progressive: mpirun exits 0" test $? -eq 0
 check "progressive: the image is raytrace --progressive's" cmp -s "$tmp/prog-one.pfm" "$tmp/prog-mpi.pfm"
 check "progressive: the pass table" grep -q "relMSE falls as time" "$tmp/prog.txt"
 check "progressive: the report has a row a pass" test "$(grep -c '^uniform,' "$tmp/prog.csv")" -eq 3
+# The estimate (each pixel's even against its odd samples) from the workers' odd sums: the same
+# numbers as one process's.
+"$rt" "$src/scenes/showpiece.ray" "${size[@]}" --progressive --light-radius 0.3 \
+    --report "$tmp/est-one.csv" -q -o "$tmp/est-one.pfm"
+RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" --progressive \
+    --light-radius 0.3 --report "$tmp/est-mpi.csv" -q -o "$tmp/est-mpi.pfm"
+check "progressive: the estimates are one process's" \
+    cmp -s <(cut -d, -f3,8,9 "$tmp/est-one.csv") <(cut -d, -f3,8,9 "$tmp/est-mpi.csv")
 
 # Faults: a worker that hangs (the tile timeout), a worker that dies.
 RT_MPI_FAULT=hang:2:1 "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" \
