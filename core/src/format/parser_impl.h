@@ -61,10 +61,10 @@ struct KeyFile {
     std::string path;
     std::string named;  // the path as written in the .ray file
     double duration = 1;
-    std::vector<std::string> names;            // the DOF names as written
-    std::vector<SourceLoc> name_locs;          // where each name is
-    std::vector<std::vector<Mat4>> keys;       // [dof][frame]
-    std::vector<int> track;                    // [dof]: index into SceneDesc::tracks, or -1
+    std::vector<std::string> names;       // the DOF names as written
+    std::vector<SourceLoc> name_locs;     // where each name is
+    std::vector<std::vector<Mat4>> keys;  // [dof][frame]
+    std::vector<int> track;               // [dof]: index into SceneDesc::tracks, or -1
 };
 
 // One open construct of a V3 shapes part (spec §13.5). The parser keeps them on an explicit
