@@ -2,8 +2,9 @@
 // times. Any input must end in a SceneError or a compiled scene: a crash, a sanitizer report, a
 // hang or any other exception is a bug. An input holding a line "#@key" is two files: the text
 // before it is the scene, the text after it the key file fuzz.key (which the scene may name), so
-// the key grammar and the joint values are fuzzed too. Built as `fuzz_scene` (clang, -fsanitize=fuzzer) and as `fuzz_replay` (any compiler,
-// replays files: the crasher regression corpus in tests/fuzz/crashers).
+// the key grammar and the joint values are fuzzed too. Built as `fuzz_scene` (clang,
+// -fsanitize=fuzzer) and as `fuzz_replay` (any compiler, replays files: the crasher regression
+// corpus in tests/fuzz/crashers).
 //
 // Includes, textures and key files cannot escape: the harness works in a private temporary
 // directory holding a few fixture files (inc.ray, inc0.ray, the V3 inc3.ray, loop.ray, tex.ppm,
