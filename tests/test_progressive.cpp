@@ -165,6 +165,13 @@ TEST(Progressive, ATargetErrorStopsWhenTheEstimateReachesIt) {
               ProgressiveSettings::kTargetMinSpp);
 }
 
+TEST(Progressive, LogLogSlope) {
+    EXPECT_NEAR(loglog_slope({1, 10, 100}, {1, 0.1, 0.01}), -1.0, 1e-12);
+    // Points with x or y <= 0 are left out; fewer than two points give 0.
+    EXPECT_NEAR(loglog_slope({0, 1, 10, 100}, {5, 1, 0.01, -1}), -2.0, 1e-12);
+    EXPECT_EQ(loglog_slope({1}, {1}), 0.0);
+}
+
 TEST(Progressive, TheTimeToATargetErrorFollowsTheFittedSlope) {
     // relMSE = 0.01 / t on the later points (the first ones, still settling, are left out).
     std::vector<std::pair<double, double>> points = {{0.1, 1.0}, {0.2, 0.9}};

@@ -114,8 +114,9 @@ void unpack(const std::vector<double>& in, rt::RenderPart& p, bool odd) {
     for (const auto& [start, level] : rt::dyadic_blocks(p.first, p.count)) {
         rt::RenderPart::Block b;
         b.start = start, b.level = level;
-        for (std::vector<double>* v : {&b.sum, &b.sum_sq, &b.sum_odd}) {
-            if (v == &b.sum_odd && !odd) break;
+        std::vector<std::vector<double>*> fields = {&b.sum, &b.sum_sq};
+        if (odd) fields.push_back(&b.sum_odd);
+        for (std::vector<double>* v : fields) {
             v->assign(in.begin() + static_cast<long>(at),
                       in.begin() + static_cast<long>(at + 3 * p.pixels()));
             at += 3 * p.pixels();

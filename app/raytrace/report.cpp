@@ -139,7 +139,7 @@ std::string svg_series(const PlotArea& a, const ProgressRun& run, const char* co
                     "/>\n";
     s += format("<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">%s %s: slope %.2f</text>\n",
                 a.W - a.right + 10, *legend_y, colour, escape_xml(run.mode).c_str(),
-                estimated ? "estimate" : "relMSE", loglog_slope(xs, ys));
+                estimated ? "estimate" : "relMSE", rt::loglog_slope(xs, ys));
     *legend_y += 18;
     return s;
 }
@@ -152,20 +152,6 @@ std::string svg_close(const PlotArea& a) {
 }
 
 }  // namespace
-
-double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int n = 0;
-    for (size_t i = 0; i < x.size() && i < y.size(); ++i) {
-        if (!(x[i] > 0) || !(y[i] > 0)) continue;
-        const double lx = std::log(x[i]), ly = std::log(y[i]);
-        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-        ++n;
-    }
-    if (n < 2) return 0;
-    const double den = n * sxx - sx * sx;
-    return den != 0 ? (n * sxy - sx * sy) / den : 0;
-}
 
 double pass_error(const rt::PassRecord& r) {
     return r.has_reference ? r.error.relmse : r.estimate.relmse;
@@ -357,7 +343,7 @@ void print_progress_summary(const std::vector<ProgressRun>& runs, double target)
             e.push_back(pass_error(r));
         }
         std::printf("%s: relMSE falls as time^%.2f (least squares on log-log axes)\n",
-                    run.mode.c_str(), loglog_slope(t, e));
+                    run.mode.c_str(), rt::loglog_slope(t, e));
         if (target > 0 && !run.passes.empty()) {
             const rt::PassRecord& last = run.passes.back();
             if (last.spp >= rt::ProgressiveSettings::kTargetMinSpp &&

@@ -31,9 +31,6 @@ struct Timings {
     double render_s = 0;
 };
 
-/// Least-squares slope of log(y) against log(x) over the points with x, y > 0.
-double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
-
 /// A pass's error: relMSE against the reference when there is one, else the estimate.
 double pass_error(const rt::PassRecord& r);
 

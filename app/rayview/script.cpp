@@ -267,6 +267,8 @@ bool run_edit(const ScriptLine& l, ViewerState& v) {
         v.settings.render.max_depth = whole(l, 0, 1, 64);
     } else if (c == "threads") {
         v.settings.render.threads = whole(l, 0, 0, 256);
+    } else if (c == "target-error") {
+        v.settings.target_error = static_cast<float>(number(l, 0, 0, 1));
     } else {
         return false;
     }
@@ -359,9 +361,6 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         if (!v.redo()) throw std::runtime_error("redo: nothing to redo");
     } else if (c == "resolution") {
         s.resolution_scale = static_cast<float>(number(l, 0, 0.1, 1));
-    } else if (c == "target-error") {
-        v.settings.target_error = static_cast<float>(number(l, 0, 0, 1));
-        v.mark_edited();
     } else if (c == "status") {
         std::printf("rayview: frame %d: status: %s\n", m_frame, status_text(v).c_str());
     } else if (c == "wait-spp" || c == "wait-jobs") {

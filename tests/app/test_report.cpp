@@ -33,13 +33,6 @@ TEST(Report, LightSummaryCountsEachKindSphereLightsToo) {
     EXPECT_EQ(light_summary(desc), "4 (directional 1, point 1, sphere 2)");
 }
 
-TEST(Report, LogLogSlope) {
-    EXPECT_NEAR(loglog_slope({1, 10, 100}, {1, 0.1, 0.01}), -1.0, 1e-12);
-    // Points with x or y <= 0 are left out; fewer than two points give 0.
-    EXPECT_NEAR(loglog_slope({0, 1, 10, 100}, {5, 1, 0.01, -1}), -2.0, 1e-12);
-    EXPECT_EQ(loglog_slope({1}, {1}), 0.0);
-}
-
 TEST(Report, TimeToReachInterpolatesOnLogLogAxes) {
     const std::vector<rt::PassRecord> run = {pass(1, 1, 9), pass(10, 0.01, 9)};
     EXPECT_NEAR(time_to_reach(run, 0.1), std::sqrt(10.0), 1e-12);

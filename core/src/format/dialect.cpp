@@ -68,7 +68,6 @@ bool is_v3_directive(std::string_view d) {
            visit_kind(*kind, [](auto tag) { return kV3OnlyShape<typename decltype(tag)::type>; });
 }
 
-// Consumes the words up to the next directive: how many, and whether all are reals / ints.
 // Whether `s` is a number and an integer, as parse_real and parse_int decide, without converting
 // the common forms: a sign, digits and at most one point (no exponent, under 300 characters) is a
 // finite real, and with no point and at most 9 digits an int. Other words take the parsers.
@@ -96,6 +95,7 @@ void classify_number(std::string_view s, bool* real, bool* integer) {
     *integer = parse_int(s, &k, &flag);
 }
 
+// Consumes the words up to the next directive: how many, and whether all are reals / ints.
 int count_words(Lexer& lex, bool* reals, bool* ints) {
     int n = 0;
     *reals = *ints = true;

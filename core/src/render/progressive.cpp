@@ -94,23 +94,30 @@ ErrorEstimate estimate_error(const RenderState& state) {
     return e;
 }
 
-double predict_time_to_error(const std::vector<std::pair<double, double>>& points, double target) {
-    if (points.empty() || !(target > 0)) return -1;
-    const auto& [t_last, e_last] = points.back();
-    if (e_last > 0 && e_last <= target) return t_last;
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     int n = 0;
-    for (size_t i = points.size() >= 4 ? points.size() / 2 : 0; i < points.size(); ++i) {
-        const auto& [t, e] = points[i];
-        if (!(t > 0) || !(e > 0)) continue;
-        const double lx = std::log(t), ly = std::log(e);
+    for (size_t i = 0; i < x.size() && i < y.size(); ++i) {
+        if (!(x[i] > 0) || !(y[i] > 0)) continue;
+        const double lx = std::log(x[i]), ly = std::log(y[i]);
         sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
         ++n;
     }
+    if (n < 2) return 0;
     const double den = n * sxx - sx * sx;
-    if (n < 2 || !(den > 0) || !(t_last > 0) || !(e_last > 0)) return -1;
-    const double slope = (n * sxy - sx * sy) / den;
-    if (!(slope < -1e-3)) return -1;  // not falling
+    return den != 0 ? (n * sxy - sx * sy) / den : 0;
+}
+
+double predict_time_to_error(const std::vector<std::pair<double, double>>& points, double target) {
+    if (points.empty() || !(target > 0)) return -1;
+    const auto& [t_last, e_last] = points.back();
+    if (!(t_last > 0) || !(e_last > 0)) return -1;
+    if (e_last <= target) return t_last;
+    std::vector<double> t, e;  // the later half of four or more
+    for (size_t i = points.size() >= 4 ? points.size() / 2 : 0; i < points.size(); ++i)
+        t.push_back(points[i].first), e.push_back(points[i].second);
+    const double slope = loglog_slope(t, e);
+    if (!(slope < -1e-3)) return -1;  // not falling (or fewer than two points)
     return t_last * std::pow(target / e_last, 1.0 / slope);
 }
 

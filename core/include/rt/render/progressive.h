@@ -40,6 +40,10 @@ struct ErrorEstimate {
 };
 ErrorEstimate estimate_error(const RenderState& state);
 
+/// Least-squares slope of log(y) against log(x) over the points with x, y > 0 (0 for fewer than
+/// two): how fast the error falls against time or samples.
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
+
 /// When the error will reach `target`: the least-squares line through (seconds, relMSE) points
 /// on log-log axes (the later half of four or more, where the slope has settled), extrapolated from
 /// the last point. Returns the predicted seconds (the last point's when it is already reached), or
