@@ -60,6 +60,57 @@ double plane_distance_double(const Tri4& tri, int l, const TriRay& ray) {
     return std::abs(t) > err_t ? t : std::nan("");
 }
 
+// The watertight fallback: the edge functions of the lanes in `lanes` (those with an edge
+// function of exactly zero) recomputed in double and rounded back.
+void edges_in_double(const __m128 x[3], const __m128 y[3], int lanes, __m128* e0, __m128* e1,
+                     __m128* e2) {
+    alignas(16) float fx[3][4], fy[3][4], f0[4], f1[4], f2[4];
+    for (int v = 0; v < 3; ++v) {
+        _mm_store_ps(fx[v], x[v]);
+        _mm_store_ps(fy[v], y[v]);
+    }
+    _mm_store_ps(f0, *e0);
+    _mm_store_ps(f1, *e1);
+    _mm_store_ps(f2, *e2);
+    for (int l = 0; l < 4; ++l) {
+        if (!(lanes >> l & 1)) continue;
+        auto dp = [&](int a, int b) {
+            return static_cast<float>(
+                static_cast<double>(fx[a][l]) * static_cast<double>(fy[b][l]) -
+                static_cast<double>(fy[a][l]) * static_cast<double>(fx[b][l]));
+        };
+        f0[l] = dp(1, 2);
+        f1[l] = dp(2, 0);
+        f2[l] = dp(0, 1);
+    }
+    *e0 = _mm_load_ps(f0);
+    *e1 = _mm_load_ps(f1);
+    *e2 = _mm_load_ps(f2);
+}
+
+// pbrt-v4's bound on the error of the distance, times |det| (delta_t * |det|), from the sheared
+// vertices (z already scaled by sz) and the edge functions.
+__m128 distance_error_scaled(const __m128 x[3], const __m128 y[3], const __m128 z[3], __m128 e0,
+                             __m128 e1, __m128 e2) {
+    const __m128 max_z = _mm_max_ps(_mm_max_ps(abs_ps(z[0]), abs_ps(z[1])), abs_ps(z[2]));
+    const __m128 max_x = _mm_max_ps(_mm_max_ps(abs_ps(x[0]), abs_ps(x[1])), abs_ps(x[2]));
+    const __m128 max_y = _mm_max_ps(_mm_max_ps(abs_ps(y[0]), abs_ps(y[1])), abs_ps(y[2]));
+    const __m128 g2 = _mm_set1_ps(gamma_f(2)), g3 = _mm_set1_ps(gamma_f(3)),
+                 g5 = _mm_set1_ps(gamma_f(5));
+    const __m128 delta_z = _mm_mul_ps(g3, max_z);
+    const __m128 delta_x = _mm_mul_ps(g5, _mm_add_ps(max_x, max_z));
+    const __m128 delta_y = _mm_mul_ps(g5, _mm_add_ps(max_y, max_z));
+    const __m128 delta_e = _mm_mul_ps(
+        _mm_set1_ps(2.0f),
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(g2, _mm_mul_ps(max_x, max_y)), _mm_mul_ps(delta_y, max_x)),
+                   _mm_mul_ps(delta_x, max_y)));
+    const __m128 max_e = _mm_max_ps(_mm_max_ps(abs_ps(e0), abs_ps(e1)), abs_ps(e2));
+    return _mm_mul_ps(
+        _mm_set1_ps(3.0f),
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(g3, _mm_mul_ps(max_e, max_z)), _mm_mul_ps(delta_e, max_z)),
+                   _mm_mul_ps(delta_z, max_e)));
+}
+
 }  // namespace
 
 int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_lo, float t_hi,
@@ -88,30 +139,7 @@ int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_l
     // An edge function of exactly zero is recomputed in double (the watertight fallback).
     const int zero_mask = _mm_movemask_ps(_mm_or_ps(
         _mm_or_ps(_mm_cmpeq_ps(e0, zero), _mm_cmpeq_ps(e1, zero)), _mm_cmpeq_ps(e2, zero)));
-    if (zero_mask & lanes_mask) {
-        alignas(16) float fx[3][4], fy[3][4], f0[4], f1[4], f2[4];
-        for (int v = 0; v < 3; ++v) {
-            _mm_store_ps(fx[v], x[v]);
-            _mm_store_ps(fy[v], y[v]);
-        }
-        _mm_store_ps(f0, e0);
-        _mm_store_ps(f1, e1);
-        _mm_store_ps(f2, e2);
-        for (int l = 0; l < 4; ++l) {
-            if (!((zero_mask & lanes_mask) >> l & 1)) continue;
-            auto dp = [&](int a, int b) {
-                return static_cast<float>(
-                    static_cast<double>(fx[a][l]) * static_cast<double>(fy[b][l]) -
-                    static_cast<double>(fy[a][l]) * static_cast<double>(fx[b][l]));
-            };
-            f0[l] = dp(1, 2);
-            f1[l] = dp(2, 0);
-            f2[l] = dp(0, 1);
-        }
-        e0 = _mm_load_ps(f0);
-        e1 = _mm_load_ps(f1);
-        e2 = _mm_load_ps(f2);
-    }
+    if (zero_mask & lanes_mask) edges_in_double(x, y, zero_mask & lanes_mask, &e0, &e1, &e2);
 
     // Inside when all edge functions share a sign (zero counts for both).
     const __m128 any_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(e0, zero), _mm_cmplt_ps(e1, zero)),
@@ -131,24 +159,7 @@ int intersect_tri4(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_l
     // pbrt-v4's conservative bound on t's error: a hit closer than it may be the surface the
     // ray starts on, seen through rounding, and is rejected. Everything is compared scaled by
     // |det| (t = t_scaled / det), so only the hits pay for a division.
-    const __m128 max_z = _mm_max_ps(_mm_max_ps(abs_ps(z[0]), abs_ps(z[1])), abs_ps(z[2]));
-    const __m128 max_x = _mm_max_ps(_mm_max_ps(abs_ps(x[0]), abs_ps(x[1])), abs_ps(x[2]));
-    const __m128 max_y = _mm_max_ps(_mm_max_ps(abs_ps(y[0]), abs_ps(y[1])), abs_ps(y[2]));
-    const __m128 g2 = _mm_set1_ps(gamma_f(2)), g3 = _mm_set1_ps(gamma_f(3)),
-                 g5 = _mm_set1_ps(gamma_f(5));
-    const __m128 delta_z = _mm_mul_ps(g3, max_z);
-    const __m128 delta_x = _mm_mul_ps(g5, _mm_add_ps(max_x, max_z));
-    const __m128 delta_y = _mm_mul_ps(g5, _mm_add_ps(max_y, max_z));
-    const __m128 delta_e = _mm_mul_ps(
-        _mm_set1_ps(2.0f),
-        _mm_add_ps(_mm_add_ps(_mm_mul_ps(g2, _mm_mul_ps(max_x, max_y)), _mm_mul_ps(delta_y, max_x)),
-                   _mm_mul_ps(delta_x, max_y)));
-    const __m128 max_e = _mm_max_ps(_mm_max_ps(abs_ps(e0), abs_ps(e1)), abs_ps(e2));
-    // delta_t * |det|
-    const __m128 delta_t_scaled = _mm_mul_ps(
-        _mm_set1_ps(3.0f),
-        _mm_add_ps(_mm_add_ps(_mm_mul_ps(g3, _mm_mul_ps(max_e, max_z)), _mm_mul_ps(delta_e, max_z)),
-                   _mm_mul_ps(delta_z, max_e)));
+    const __m128 delta_t_scaled = distance_error_scaled(x, y, z, e0, e1, e2);
     // t * |det|, positive when t is.
     const __m128 sign = _mm_and_ps(det, _mm_set1_ps(-0.0f));
     const __m128 ts = _mm_xor_ps(t_scaled, sign);
