@@ -176,7 +176,8 @@ size_t ours_bytes(const RenderScene& scene) {
         // the double vertices (and their indices) surface_at() refines hits with (not the
         // normals and uvs).
         bytes += s.vertex_positions.size() * sizeof(Vec3) + s.triangle_count() * 12 +
-                 s.tri4.size() * sizeof(Tri4) + s.prims.size() * sizeof(Primitive);
+                 s.tri4.size() * sizeof(Tri4) + s.tri4_prim.size() * 16 +
+                 s.prims.size() * sizeof(Primitive);
     }
     return bytes;
 }

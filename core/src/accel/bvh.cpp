@@ -118,13 +118,18 @@ struct Builder {
             bin_cbox[b].extend(centroid(prim));
             ++bin_count[b];
         }
+        // A leaf of n primitives costs ceil(n / leaf_block) tests.
+        const uint32_t block = static_cast<uint32_t>(std::max(settings.leaf_block, 1));
+        auto blocks = [&](uint32_t count) {
+            return static_cast<double>((count + block - 1) / block);
+        };
         std::array<double, kMaxBins> right_cost{};
         Bounds3 acc;
         uint32_t cnt = 0;
         for (int b = nb - 1; b > 0; --b) {
             acc.extend(bin_box[static_cast<size_t>(b)]);
             cnt += bin_count[static_cast<size_t>(b)];
-            right_cost[static_cast<size_t>(b)] = acc.surface_area() * cnt;
+            right_cost[static_cast<size_t>(b)] = acc.surface_area() * blocks(cnt);
         }
         double best_cost = kInf;
         int best = -1;
@@ -134,11 +139,12 @@ struct Builder {
             acc.extend(bin_box[static_cast<size_t>(b - 1)]);
             cnt += bin_count[static_cast<size_t>(b - 1)];
             if (cnt == 0 || cnt == n) continue;
-            const double cost = acc.surface_area() * cnt + right_cost[static_cast<size_t>(b)];
+            const double cost =
+                acc.surface_area() * blocks(cnt) + right_cost[static_cast<size_t>(b)];
             if (cost < best_cost) best_cost = cost, best = b;
         }
-        // Leaf cost n * area against traversal (~1 intersection) plus the children.
-        const double leaf_cost = box.surface_area() * n;
+        // Leaf cost (its tests) * area against traversal (~1 test) plus the children.
+        const double leaf_cost = box.surface_area() * blocks(n);
         if (best < 0) return median(box, begin, end, axis, depth);
         if (best_cost + box.surface_area() >= leaf_cost && n <= Bvh4Node::kMaxLeafCount)
             return leaf(box, begin, n, depth);
@@ -255,6 +261,7 @@ Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& sett
 }
 
 BoxRay::BoxRay(const Ray& r) {
+    float slack_hi = 0.0f;
     for (int a = 0; a < 3; ++a) {
         const float of = static_cast<float>(r.o[a]);
         o[a] = _mm_set1_ps(of);
@@ -275,7 +282,11 @@ BoxRay::BoxRay(const Ray& r) {
         const double slack_d = (rounding + 1e-30) * std::abs(inv_d) * 2.0;
         inv[a] = _mm_set1_ps(inv_f);
         slack[a] = _mm_set1_ps(static_cast<float>(slack_d));
+        slack_hi = std::max(slack_hi, static_cast<float>(slack_d));
+        if (inv_f < 0.0f) near_off[a] = 12 + 4 * a, far_off[a] = 4 * a;
     }
+    any_parallel = parallel[0] || parallel[1] || parallel[2];
+    slack_max = _mm_set1_ps(slack_hi);
 }
 
 }  // namespace rt

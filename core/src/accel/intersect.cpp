@@ -13,13 +13,25 @@ namespace rt {
 
 namespace {
 
-// The one triangle test: lane `index % 4` of block `index / 4` (spec §5; see triangle4.h).
+// The one triangle test (spec §5; see triangle4.h): lane `index % 4` of block `index / 4` in a
+// Mixed set. A Triangles set packs by leaf, and the brute-force path packs the triangle alone
+// into lane 0, with the same float vertices (lanes do not interact: the same answer).
 ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tri, Interval t) {
     ShapeHits h;
     float tt[4];
-    const int lane = static_cast<int>(index & 3u);
-    if (intersect_tri4(set.tri4[index >> 2], tri, 1 << lane, float_lower(t.lo), float_upper(t.hi),
-                       tt)) {
+    int lane = static_cast<int>(index & 3u);
+    const Tri4* block = &set.tri4[index >> 2];
+    Tri4 alone{};
+    if (set.layout == SetLayout::Triangles) {
+        const Triangle tr = set.triangle(index);
+        const Vec3* v[3] = {&tr.p0, &tr.p1, &tr.p2};
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a)
+                alone.p[k][a][0] = static_cast<float>((*v[k])[a] - set.tri_origin[a]);
+        block = &alone;
+        lane = 0;
+    }
+    if (intersect_tri4(*block, tri, 1 << lane, float_lower(t.lo), float_upper(t.hi), tt)) {
         const double th = static_cast<double>(tt[lane]);
         if (t.contains(th)) h.add(th, 0);
     }
@@ -209,11 +221,10 @@ bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min,
         const TriRay tri({r.o - set.tri_origin, r.d});
         traverse_leaves<kOrdered>(
             set.bvh, r, t_max, [&](uint32_t first, uint32_t count, double& best) {
-                const uint32_t end = first + count;
-                for (uint32_t b = first >> 2; b <= (end - 1) >> 2; ++b) {
-                    // The lanes of block b that belong to this leaf.
-                    const uint32_t lo = std::max(first, b * 4), hi = std::min(end, b * 4 + 4);
-                    const int lanes = ((1 << (hi - lo)) - 1) << (lo - b * 4);
+                // The leaf's blocks: `first` and on, full but for the last.
+                for (uint32_t k = 0; k < count; k += 4) {
+                    const uint32_t b = first + k / 4;
+                    const int lanes = count - k >= 4 ? 15 : (1 << (count - k)) - 1;
                     float tt[4];
                     int m = intersect_tri4(set.tri4[b], tri, lanes, float_lower(t_min),
                                            float_upper(best), tt);
@@ -223,13 +234,19 @@ bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min,
                         ShapeHits h;
                         const double th = static_cast<double>(tt[l]);
                         if (th > t_min && th < best) h.add(th, 0);
-                        if (h.count && hits(b * 4 + static_cast<uint32_t>(l), h, best))
+                        if (h.count && hits(set.tri4_prim[b][static_cast<size_t>(l)], h, best))
                             return stopped = true;
                     }
                 }
                 return false;
             });
     } else {
+        // A triangles-only set's leaves name packed blocks, not primitive ranges: the generic
+        // walk takes the packed one there too.
+        if constexpr (L == SetLayout::Mixed)
+            if (set.layout == SetLayout::Triangles)
+                return walk_set<kOrdered, SetLayout::Triangles, false, false>(set, r, t_max, t_min,
+                                                                              hits);
         TriRay tri;
         if constexpr (L == SetLayout::Mixed) tri = TriRay({r.o - set.tri_origin, r.d});
         traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {

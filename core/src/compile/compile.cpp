@@ -224,7 +224,10 @@ private:
         set.layout = layout_of(pending);
         const bool analytic = set.layout != SetLayout::Triangles && set.layout != SetLayout::Mixed;
         const auto t0 = std::chrono::steady_clock::now();
-        set.bvh = build_bvh(bounds, analytic ? BvhBuildSettings{1, 16} : BvhBuildSettings{});
+        set.bvh =
+            build_bvh(bounds, analytic                             ? BvhBuildSettings{1, 16, 1}
+                              : set.layout == SetLayout::Triangles ? BvhBuildSettings{4, 16, 4}
+                                                                   : BvhBuildSettings{});
         m_report.build_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::vector<Bounds3>().swap(bounds);  // the build's alone: freed before the set grows
@@ -294,15 +297,44 @@ private:
         for (const std::array<uint32_t, 3>& t : set.triangle_vertices)  // not a dropped tree's
             for (const uint32_t v : t) b.extend(set.vertex_positions[v]);
         set.tri_origin = b.empty() ? Vec3(0.0) : b.centre();
-        set.tri4.assign((set.triangle_count() + 3) / 4, Tri4{});
-        for (size_t i = 0; i < set.triangle_count(); ++i) {
+        auto put = [&](size_t i, Tri4& block, int lane) {
             const Triangle t = set.triangle(i);
             const Vec3* v[3] = {&t.p0, &t.p1, &t.p2};
             for (int k = 0; k < 3; ++k)
                 for (int a = 0; a < 3; ++a)
-                    set.tri4[i / 4].p[k][a][i % 4] =
-                        static_cast<float>((*v[k])[a] - set.tri_origin[a]);
+                    block.p[k][a][lane] = static_cast<float>((*v[k])[a] - set.tri_origin[a]);
+        };
+        if (set.layout != SetLayout::Triangles) {
+            set.tri4.assign((set.triangle_count() + 3) / 4, Tri4{});
+            for (size_t i = 0; i < set.triangle_count(); ++i)
+                put(i, set.tri4[i / 4], static_cast<int>(i % 4));
+            return;
         }
+        // Each leaf in blocks of its own, in node order; the leaf then names its first block.
+        size_t blocks = 0;
+        for (const Bvh4Node& node : set.bvh.nodes)
+            for (uint32_t c = 0; c < node.num_children; ++c)
+                if (node.child[c] & Bvh4Node::kLeaf)
+                    blocks += ((node.child[c] & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift) / 4 +
+                              (((node.child[c] >> Bvh4Node::kCountShift) & 3u) != 0);
+        set.tri4.assign(blocks, Tri4{});
+        set.tri4_prim.assign(blocks, {~0u, ~0u, ~0u, ~0u});
+        uint32_t next = 0;
+        for (Bvh4Node& node : set.bvh.nodes) {
+            for (uint32_t c = 0; c < node.num_children; ++c) {
+                uint32_t& child = node.child[c];
+                if (!(child & Bvh4Node::kLeaf)) continue;
+                const uint32_t first = child & Bvh4Node::kFirstMask;
+                const uint32_t count = (child & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
+                for (uint32_t k = 0; k < count; ++k) {
+                    put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
+                    set.tri4_prim[next + k / 4][k % 4] = first + k;
+                }
+                child = Bvh4Node::kLeaf | count << Bvh4Node::kCountShift | next;
+                next += (count + 3) / 4;
+            }
+        }
+        std::vector<uint32_t>().swap(set.bvh.indices);  // the leaves name blocks now
     }
 
     static size_t count_shapes(const GroupDesc& root) {

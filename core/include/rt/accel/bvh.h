@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "rt/util/math.h"
@@ -32,16 +33,21 @@ struct alignas(64) Bvh4Node {
 };
 
 struct Bvh {
-    std::vector<Bvh4Node> nodes;    // nodes[0] is the root (when there is any primitive)
-    std::vector<uint32_t> indices;  // leaves cover ranges of this primitive order
+    std::vector<Bvh4Node> nodes;  // nodes[0] is the root (when there is any primitive)
+    /// Leaves cover ranges of this primitive order. A user may renumber the leaves' ranges
+    /// afterwards (the triangle sets point them at their packed blocks) and drop it.
+    std::vector<uint32_t> indices;
     Bounds3 root_bounds;
 
-    bool empty() const { return indices.empty(); }
+    bool empty() const { return nodes.empty(); }
 };
 
 struct BvhBuildSettings {
     int max_leaf_size = 4;
     int bins = 16;
+    /// The surface area heuristic counts a leaf's primitives in blocks of this many (a leaf of
+    /// 1 to 4 triangles costs one 4-wide test), so it favours full blocks.
+    int leaf_block = 1;
 };
 
 /// Binned surface-area-heuristic build (Wald 2007) of a binary tree over the given primitive
@@ -57,13 +63,18 @@ struct BoxRay {
     // [lo, hi] (closed), widened by o's rounding and by |d| t_max, how far the ray drifts
     // along the axis before t_max; not a distance from a reciprocal.
     bool parallel[3] = {false, false, false};
+    bool any_parallel = false;
     float drift[3] = {0.0f, 0.0f, 0.0f};  // |d| on parallel axes
+    // The fast test (no parallel axis): the float offsets in a node of each axis's near and far
+    // planes (lo or hi by the direction's sign), and the largest slack of the three axes.
+    int near_off[3] = {0, 4, 8}, far_off[3] = {12, 16, 20};
+    __m128 slack_max;
     explicit BoxRay(const Ray& r);
 };
 
 /// Tests the ray against the four child boxes of a node; returns a 4-bit hit mask and the entry
 /// distances. The far distance is widened by 2*gamma(3) in float (Ize 2013) plus the origin
-/// slack; the near one is lowered by the slack.
+/// slack; the near one is lowered by the slack. Serves any ray, parallel axes included.
 inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, float t_entry[4]) {
     constexpr float kWiden = static_cast<float>(1.0 + 2.0 * gamma_float(3));
     const __m128 widen = _mm_set1_ps(kWiden);
@@ -91,59 +102,140 @@ inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, 
            ((1 << node.num_children) - 1);
 }
 
+/// The same test for a ray with no parallel axis, in fewer operations: the near and far planes
+/// are picked by the direction's signs (no min/max per axis), and the widening and the slack of
+/// the far distance are applied once over all axes, with the largest slack (a looser bound,
+/// never a tighter one). Empty slots (lo = +inf, hi = -inf) miss without a mask.
+inline int intersect_node_fast(const Bvh4Node& node, const BoxRay& ray, __m128 t_max,
+                               __m128* t_entry) {
+    constexpr float kWiden = static_cast<float>(1.0 + 2.0 * gamma_float(3));
+    const float* base = &node.lo[0][0];
+    const __m128 n0 =
+        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.near_off[0]), ray.o[0]), ray.inv[0]);
+    const __m128 n1 =
+        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.near_off[1]), ray.o[1]), ray.inv[1]);
+    const __m128 n2 =
+        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.near_off[2]), ray.o[2]), ray.inv[2]);
+    const __m128 f0 =
+        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.far_off[0]), ray.o[0]), ray.inv[0]);
+    const __m128 f1 =
+        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.far_off[1]), ray.o[1]), ray.inv[1]);
+    const __m128 f2 =
+        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.far_off[2]), ray.o[2]), ray.inv[2]);
+    // The entry distances are intersect_node()'s to the bit: the order children are visited
+    // in, and so which of two hits at the same distance is kept, does not change.
+    const __m128 t0 =
+        _mm_max_ps(_mm_max_ps(_mm_sub_ps(n0, ray.slack[0]), _mm_sub_ps(n1, ray.slack[1])),
+                   _mm_max_ps(_mm_sub_ps(n2, ray.slack[2]), _mm_setzero_ps()));
+    const __m128 t1 =
+        _mm_min_ps(_mm_add_ps(_mm_mul_ps(_mm_min_ps(_mm_min_ps(f0, f1), f2), _mm_set1_ps(kWiden)),
+                              ray.slack_max),
+                   t_max);
+    *t_entry = t0;
+    return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
+}
+
 /// Traversal: `visit_leaf(first, count, t_max)` tests the leaf's primitives (positions
 /// first .. first + count - 1 of `indices`) and may shrink t_max (closest hit); it returns true
 /// to stop the whole walk (any hit). With kOrdered, children are visited
 /// nearest entry first and a subtree whose box starts beyond t_max is skipped (closest-hit
-/// queries); any-hit queries skip the sorting.
-template <bool kOrdered = true, class VisitLeaf>
-void traverse_leaves(const Bvh& bvh, const Ray& ray, double& t_max, VisitLeaf&& visit_leaf) {
-    if (bvh.empty()) return;
-    const BoxRay box_ray(ray);
+/// queries); any-hit queries skip the sorting. The walk keeps the node it descends into in a
+/// register and pushes only the other children hit.
+template <bool kOrdered, bool kFast, class VisitLeaf>
+void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
+                          VisitLeaf&& visit_leaf) {
     struct Entry {
         uint32_t child;
         float t;
     };
-    // Each level pushes at most 3 entries more than it pops; the build keeps the binary depth
-    // below 40 + log2(n) (bvh.cpp), so 512 entries hold any tree of up to 2^32 primitives.
+    // Each level pushes at most 3 entries; the build keeps the binary depth below
+    // 40 + log2(n) (bvh.cpp), so 512 entries hold any tree of up to 2^32 primitives.
     Entry stack[512];
     int sp = 0;
-    stack[sp++] = {0, 0.0f};
-    // Box tests in float compare against t_max rounded up.
+    // Box tests in float compare against t_max rounded up; updated when a leaf shrinks it.
     auto t_max_f = [&] { return static_cast<float>(t_max) * (1.0f + 1e-6f) + 1e-30f; };
-    while (sp > 0) {
-        const Entry e = stack[--sp];
-        if (kOrdered && e.t > t_max_f()) continue;  // farther than the best hit so far
-        if (e.child & Bvh4Node::kLeaf) {
-            const uint32_t first = e.child & Bvh4Node::kFirstMask;
-            const uint32_t count = (e.child & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
-            if (visit_leaf(first, count, t_max)) return;
-            continue;
-        }
-        const Bvh4Node& node = bvh.nodes[e.child];
-        float t[4];
-        int mask = intersect_node(node, box_ray, t_max_f(), t);
-        if (!kOrdered) {
-            while (mask) {
-                const int i = __builtin_ctz(static_cast<unsigned>(mask));
-                mask &= mask - 1;
-                stack[sp++] = {node.child[i], t[i]};
+    float tmax = t_max_f();
+    const Bvh4Node* nodes = bvh.nodes.data();
+    uint32_t cur = 0;
+    for (;;) {
+        if (!(cur & Bvh4Node::kLeaf)) {
+            const Bvh4Node& node = nodes[cur];
+            alignas(16) float t[4];
+            int mask;
+            if constexpr (kFast) {
+                __m128 te;
+                mask = intersect_node_fast(node, box_ray, _mm_set1_ps(tmax), &te);
+                _mm_store_ps(t, te);
+            } else {
+                mask = intersect_node(node, box_ray, tmax, t);
             }
-            continue;
+            if (mask) {
+                const int i0 = __builtin_ctz(static_cast<unsigned>(mask));
+                mask &= mask - 1;
+                if (!mask) {  // one child hit: descend without the stack
+                    cur = node.child[i0];
+                    continue;
+                }
+                if constexpr (!kOrdered) {
+                    while (mask) {
+                        const int i = __builtin_ctz(static_cast<unsigned>(mask));
+                        mask &= mask - 1;
+                        stack[sp++] = {node.child[i], 0.0f};
+                    }
+                    cur = node.child[i0];
+                    continue;
+                } else {
+                    const int i1 = __builtin_ctz(static_cast<unsigned>(mask));
+                    mask &= mask - 1;
+                    Entry a{node.child[i0], t[i0]}, b{node.child[i1], t[i1]};
+                    if (a.t >= b.t) std::swap(a, b);  // a tie: the later slot first, as below
+                    if (!mask) {                      // two: the far one waits
+                        stack[sp++] = b;
+                        cur = a.child;
+                        continue;
+                    }
+                    // Three or four: pushed farthest first, the nearest taken at once.
+                    Entry hits[4] = {b, a};
+                    int n = 2;
+                    while (mask) {
+                        const int i = __builtin_ctz(static_cast<unsigned>(mask));
+                        mask &= mask - 1;
+                        Entry h{node.child[i], t[i]};
+                        int k = n++;
+                        while (k > 0 && hits[k - 1].t < h.t) hits[k] = hits[k - 1], --k;
+                        hits[k] = h;
+                    }
+                    for (int k = 0; k < n - 1; ++k) stack[sp++] = hits[k];
+                    cur = hits[n - 1].child;
+                    continue;
+                }
+            }
+        } else {
+            const uint32_t first = cur & Bvh4Node::kFirstMask;
+            const uint32_t count = (cur & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
+            if (visit_leaf(first, count, t_max)) return;
+            if constexpr (kOrdered) tmax = t_max_f();
         }
-        // Push hit children farthest first so the nearest is popped next.
-        Entry hits[4];
-        int n = 0;
-        while (mask) {
-            const int i = __builtin_ctz(static_cast<unsigned>(mask));
-            mask &= mask - 1;
-            Entry h{node.child[i], t[i]};
-            int k = n++;
-            while (k > 0 && hits[k - 1].t < h.t) hits[k] = hits[k - 1], --k;
-            hits[k] = h;
+        // Pop the next subtree; with kOrdered, those that start beyond the best hit are gone.
+        for (;;) {
+            if (sp == 0) return;
+            const Entry e = stack[--sp];
+            if (!kOrdered || e.t <= tmax) {
+                cur = e.child;
+                break;
+            }
         }
-        for (int k = 0; k < n; ++k) stack[sp++] = hits[k];
     }
+}
+
+template <bool kOrdered = true, class VisitLeaf>
+void traverse_leaves(const Bvh& bvh, const Ray& ray, double& t_max, VisitLeaf&& visit_leaf) {
+    if (bvh.empty()) return;
+    const BoxRay box_ray(ray);
+    if (box_ray.any_parallel)
+        traverse_leaves_impl<kOrdered, false>(bvh, box_ray, t_max, visit_leaf);
+    else
+        traverse_leaves_impl<kOrdered, true>(bvh, box_ray, t_max, visit_leaf);
 }
 
 /// The same walk with one call per primitive: `visit(prim_index, t_max)`.

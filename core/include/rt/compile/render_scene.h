@@ -112,9 +112,14 @@ inline constexpr int kSetLayouts = 7;
 struct GeometrySet {
     std::string name;  // the file it came from
     std::vector<Primitive> prims;
-    ShapeArrays shapes;      // the analytic shapes, one array per kind (shapes.h)
-    std::vector<Tri4> tri4;  // the same in float, four per block: what rays test,
-    Vec3 tri_origin{0.0};    // relative to this point of the set's frame
+    ShapeArrays shapes;  // the analytic shapes, one array per kind (shapes.h)
+    /// The triangles in float, four per block: what rays test, relative to tri_origin. Mixed
+    /// sets pack triangle i in lane i % 4 of block i / 4. Triangles sets pack each BVH leaf in
+    /// blocks of its own (its leaves name their first block) and tri4_prim names each lane's
+    /// triangle: a leaf of up to four triangles is one test.
+    std::vector<Tri4> tri4;
+    std::vector<std::array<uint32_t, 4>> tri4_prim;  // Triangles sets only
+    Vec3 tri_origin{0.0};                            // of the set's frame
     /// Per triangle: its three vertices, as indices into the vertex arrays (flattened into the
     /// set's frame). A vertex of a mesh in the set's own frame is kept once for all the
     /// triangles that share it (transformed meshes keep one per triangle corner).
