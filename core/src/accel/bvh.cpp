@@ -174,7 +174,7 @@ struct Builder {
 // largest interior children until it has four.
 struct Collapser {
     const std::vector<Node2>& in;
-    std::vector<Bvh4Node>& out;
+    HugePageVector<Bvh4Node>& out;
 
     uint32_t encode(uint32_t n2) {
         const Node2& n = in[n2];

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "rt/util/huge_pages.h"
 #include "rt/util/math.h"
 
 namespace rt {
@@ -33,7 +34,7 @@ struct alignas(64) Bvh4Node {
 };
 
 struct Bvh {
-    std::vector<Bvh4Node> nodes;  // nodes[0] is the root (when there is any primitive)
+    HugePageVector<Bvh4Node> nodes;  // nodes[0] is the root (when there is any primitive)
     /// Leaves cover ranges of this primitive order. A user may renumber the leaves' ranges
     /// afterwards (the triangle sets point them at their packed blocks) and drop it.
     std::vector<uint32_t> indices;
@@ -156,6 +157,13 @@ void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
     auto t_max_f = [&] { return static_cast<float>(t_max) * (1.0f + 1e-6f) + 1e-30f; };
     float tmax = t_max_f();
     const Bvh4Node* nodes = bvh.nodes.data();
+    // A child pushed for later is fetched meanwhile (both of its cache lines).
+    auto prefetch = [&](uint32_t child) {
+        if (child & Bvh4Node::kLeaf) return;
+        const char* p = reinterpret_cast<const char*>(nodes + child);
+        _mm_prefetch(p, _MM_HINT_T0);
+        _mm_prefetch(p + 64, _MM_HINT_T0);
+    };
     uint32_t cur = 0;
     for (;;) {
         if (!(cur & Bvh4Node::kLeaf)) {
@@ -181,6 +189,7 @@ void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
                         const int i = __builtin_ctz(static_cast<unsigned>(mask));
                         mask &= mask - 1;
                         stack[sp++] = {node.child[i], 0.0f};
+                        prefetch(node.child[i]);
                     }
                     cur = node.child[i0];
                     continue;
@@ -191,6 +200,7 @@ void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
                     if (a.t >= b.t) std::swap(a, b);  // a tie: the later slot first, as below
                     if (!mask) {                      // two: the far one waits
                         stack[sp++] = b;
+                        prefetch(b.child);
                         cur = a.child;
                         continue;
                     }
@@ -206,6 +216,7 @@ void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
                         hits[k] = h;
                     }
                     for (int k = 0; k < n - 1; ++k) stack[sp++] = hits[k];
+                    prefetch(hits[n - 2].child);
                     cur = hits[n - 1].child;
                     continue;
                 }

@@ -117,7 +117,7 @@ struct GeometrySet {
     /// sets pack triangle i in lane i % 4 of block i / 4. Triangles sets pack each BVH leaf in
     /// blocks of its own (its leaves name their first block) and tri4_prim names each lane's
     /// triangle: a leaf of up to four triangles is one test.
-    std::vector<Tri4> tri4;
+    HugePageVector<Tri4> tri4;
     std::vector<std::array<uint32_t, 4>> tri4_prim;  // Triangles sets only
     Vec3 tri_origin{0.0};                            // of the set's frame
     /// Per triangle: its three vertices, as indices into the vertex arrays (flattened into the
