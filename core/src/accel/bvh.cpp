@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <thread>
 
@@ -12,9 +13,51 @@ namespace rt {
 
 namespace {
 
+// A box in float with SSE: lo in v[0] (lanes x, y, z), hi in v[1]; what the builder keeps per
+// node and per bin.
+struct Box4 {
+    __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY);
+    void extend(__m128 l, __m128 h) {
+        lo = _mm_min_ps(lo, l);
+        hi = _mm_max_ps(hi, h);
+    }
+    void extend(const Box4& b) { extend(b.lo, b.hi); }
+    float area() const {
+        alignas(16) float d[4];
+        _mm_store_ps(d, _mm_max_ps(_mm_sub_ps(hi, lo), _mm_setzero_ps()));
+        return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+    }
+    float lo_at(int a) const {
+        alignas(16) float v[4];
+        _mm_store_ps(v, lo);
+        return v[a];
+    }
+    float hi_at(int a) const {
+        alignas(16) float v[4];
+        _mm_store_ps(v, hi);
+        return v[a];
+    }
+    int largest_axis() const {
+        const float dx = hi_at(0) - lo_at(0), dy = hi_at(1) - lo_at(1), dz = hi_at(2) - lo_at(2);
+        return dx >= dy && dx >= dz ? 0 : dy >= dz ? 1 : 2;
+    }
+};
+
+inline __m128 ref_lo(const PrimRef& r) { return _mm_load_ps(r.lo); }
+inline __m128 ref_hi(const PrimRef& r) { return _mm_load_ps(r.hi); }
+// The centroid, from the bounds clamped to the finite floats: a box beyond float range (the
+// compile allows shapes out to 1e300) has infinite bounds, and -inf + inf would be NaN.
+inline __m128 ref_centre(const PrimRef& r) {
+    const __m128 big = _mm_set1_ps(std::numeric_limits<float>::max()), half = _mm_set1_ps(0.5f);
+    auto clamp = [&](__m128 v) {
+        return _mm_min_ps(_mm_max_ps(v, _mm_sub_ps(_mm_setzero_ps(), big)), big);
+    };
+    return _mm_add_ps(_mm_mul_ps(clamp(ref_lo(r)), half), _mm_mul_ps(clamp(ref_hi(r)), half));
+}
+
 // The binary tree the SAH builder makes; collapsed into Bvh4Node afterwards.
 struct Node2 {
-    Bounds3 bounds;
+    Box4 bounds;
     uint32_t left = 0, right = 0;   // interior: children
     uint32_t first = 0, count = 0;  // leaf: count > 0
 };
@@ -22,51 +65,54 @@ struct Node2 {
 constexpr int kMaxBins = 32;
 constexpr int kSahDepth = 40;
 
+// Binned SAH over a contiguous array of primitive references that the splits partition in
+// place (each pass reads memory in order: no index indirection).
 struct Builder {
-    std::span<const Bounds3> prims;
-    const std::vector<Vec3>* centroids = nullptr;
-    std::vector<uint32_t>* order = nullptr;
+    PrimRef* refs = nullptr;
     std::vector<Node2> nodes;
     BvhBuildSettings settings;
     int spawn_depth = 0;  // subtrees above this depth are built on their own thread
 
-    const Vec3& centroid(uint32_t prim) const { return (*centroids)[prim]; }
-
-    // Bounds and centroid bounds of order[begin, end).
-    void measure(uint32_t begin, uint32_t end, Bounds3* box, Bounds3* cbox) const {
+    // Bounds and centroid bounds of refs[begin, end).
+    void measure(uint32_t begin, uint32_t end, Box4* box, Box4* cbox) const {
         for (uint32_t i = begin; i < end; ++i) {
-            box->extend(prims[(*order)[i]]);
-            cbox->extend(centroid((*order)[i]));
+            box->extend(ref_lo(refs[i]), ref_hi(refs[i]));
+            const __m128 c = ref_centre(refs[i]);
+            cbox->extend(c, c);
         }
     }
 
-    uint32_t leaf(const Bounds3& box, uint32_t begin, uint32_t n, int depth) {
+    uint32_t leaf(const Box4& box, uint32_t begin, uint32_t n, int depth) {
         // Leaves hold at most kMaxLeafCount primitives; larger sets (coincident centroids) are
         // halved in their current order.
         if (n > Bvh4Node::kMaxLeafCount) return split(box, begin, begin + n / 2, begin + n, depth);
-        nodes.push_back({box, 0, 0, begin, n});
+        Node2 node;
+        node.bounds = box;
+        node.first = begin;
+        node.count = n;
+        nodes.push_back(node);
         return static_cast<uint32_t>(nodes.size() - 1);
     }
 
     // Splits at mid, measuring both halves.
-    uint32_t split(const Bounds3& box, uint32_t begin, uint32_t mid, uint32_t end, int depth) {
-        Bounds3 lb, lc, rb, rc;
+    uint32_t split(const Box4& box, uint32_t begin, uint32_t mid, uint32_t end, int depth) {
+        Box4 lb, lc, rb, rc;
         measure(begin, mid, &lb, &lc);
         measure(mid, end, &rb, &rc);
         return split(box, begin, mid, end, depth, lb, lc, rb, rc);
     }
 
-    uint32_t split(const Bounds3& box, uint32_t begin, uint32_t mid, uint32_t end, int depth,
-                   const Bounds3& lb, const Bounds3& lc, const Bounds3& rb, const Bounds3& rc) {
+    uint32_t split(const Box4& box, uint32_t begin, uint32_t mid, uint32_t end, int depth,
+                   const Box4& lb, const Box4& lc, const Box4& rb, const Box4& rc) {
         const uint32_t index = static_cast<uint32_t>(nodes.size());
-        nodes.push_back({box, 0, 0, 0, 0});
+        Node2 inner;
+        inner.bounds = box;
+        nodes.push_back(inner);
         uint32_t l = 0, r = 0;
         if (depth < spawn_depth && end - begin > 50000) {
             // The left subtree on another thread, into its own node array, merged afterwards.
             Builder sub;
-            sub.prims = prims;
-            sub.centroids = centroids;
-            sub.order = order;
+            sub.refs = refs;
             sub.settings = settings;
             sub.spawn_depth = spawn_depth;
             std::thread t([&] { sub.build(begin, mid, depth + 1, lb, lc); });
@@ -86,12 +132,12 @@ struct Builder {
         return index;
     }
 
-    uint32_t build(uint32_t begin, uint32_t end, int depth, const Bounds3& box,
-                   const Bounds3& cbox) {
+    uint32_t build(uint32_t begin, uint32_t end, int depth, const Box4& box, const Box4& cbox) {
         const uint32_t n = end - begin;
         const int axis = cbox.largest_axis();
-        const double extent = cbox.hi[axis] - cbox.lo[axis];
-        if (n <= static_cast<uint32_t>(settings.max_leaf_size) || !(extent > 0.0))
+        const float c_lo = cbox.lo_at(axis);
+        const float extent = cbox.hi_at(axis) - c_lo;
+        if (n <= static_cast<uint32_t>(settings.max_leaf_size) || !(extent > 0.0f))
             return leaf(box, begin, n, depth);
         // Deep in the tree (SAH can peel one primitive at a time off wildly spread sizes), only
         // median splits: each halves the set, so the depth stays below kSahDepth + log2(n) and
@@ -101,58 +147,59 @@ struct Builder {
         // Binned SAH along the largest centroid axis; each bin keeps its primitives' bounds and
         // centroid bounds, so the children's boxes come from the bins, not another pass.
         const int nb = std::clamp(settings.bins, 2, kMaxBins);
-        std::array<Bounds3, kMaxBins> bin_box{}, bin_cbox{};
+        std::array<Box4, kMaxBins> bin_box{}, bin_cbox{};
         std::array<uint32_t, kMaxBins> bin_count{};
-        const double scale = nb / extent;
+        const float scale = static_cast<float>(nb) / extent;
         // A spread so small (subnormal) that the bin scale overflows: binning cannot separate
         // the centroids, and (c - lo) * inf would be NaN cast to int. Median split instead.
         if (!std::isfinite(scale)) return median(box, begin, end, axis, depth);
-        auto bin_of = [&](uint32_t prim) {
-            const int b = static_cast<int>((centroid(prim)[axis] - cbox.lo[axis]) * scale);
+        auto bin_of = [&](const PrimRef& r) {
+            alignas(16) float c[4];
+            _mm_store_ps(c, ref_centre(r));
+            const int b = static_cast<int>((c[axis] - c_lo) * scale);
             return std::clamp(b, 0, nb - 1);
         };
         for (uint32_t i = begin; i < end; ++i) {
-            const uint32_t prim = (*order)[i];
-            const size_t b = static_cast<size_t>(bin_of(prim));
-            bin_box[b].extend(prims[prim]);
-            bin_cbox[b].extend(centroid(prim));
+            const size_t b = static_cast<size_t>(bin_of(refs[i]));
+            bin_box[b].extend(ref_lo(refs[i]), ref_hi(refs[i]));
+            const __m128 c = ref_centre(refs[i]);
+            bin_cbox[b].extend(c, c);
             ++bin_count[b];
         }
         // A leaf of n primitives costs ceil(n / leaf_block) tests.
         const uint32_t block = static_cast<uint32_t>(std::max(settings.leaf_block, 1));
         auto blocks = [&](uint32_t count) {
-            return static_cast<double>((count + block - 1) / block);
+            return static_cast<float>((count + block - 1) / block);
         };
-        std::array<double, kMaxBins> right_cost{};
-        Bounds3 acc;
+        std::array<float, kMaxBins> right_cost{};
+        Box4 acc;
         uint32_t cnt = 0;
         for (int b = nb - 1; b > 0; --b) {
             acc.extend(bin_box[static_cast<size_t>(b)]);
             cnt += bin_count[static_cast<size_t>(b)];
-            right_cost[static_cast<size_t>(b)] = acc.surface_area() * blocks(cnt);
+            right_cost[static_cast<size_t>(b)] = acc.area() * blocks(cnt);
         }
-        double best_cost = kInf;
+        float best_cost = INFINITY;
         int best = -1;
-        acc = Bounds3{};
+        acc = Box4{};
         cnt = 0;
         for (int b = 1; b < nb; ++b) {
             acc.extend(bin_box[static_cast<size_t>(b - 1)]);
             cnt += bin_count[static_cast<size_t>(b - 1)];
             if (cnt == 0 || cnt == n) continue;
-            const double cost =
-                acc.surface_area() * blocks(cnt) + right_cost[static_cast<size_t>(b)];
+            const float cost = acc.area() * blocks(cnt) + right_cost[static_cast<size_t>(b)];
             if (cost < best_cost) best_cost = cost, best = b;
         }
         // Leaf cost (its tests) * area against traversal (~1 test) plus the children.
-        const double leaf_cost = box.surface_area() * blocks(n);
+        const float leaf_cost = box.area() * blocks(n);
         if (best < 0) return median(box, begin, end, axis, depth);
-        if (best_cost + box.surface_area() >= leaf_cost && n <= Bvh4Node::kMaxLeafCount)
+        if (best_cost + box.area() >= leaf_cost && n <= Bvh4Node::kMaxLeafCount)
             return leaf(box, begin, n, depth);
-        const uint32_t mid =
-            static_cast<uint32_t>(std::partition(order->begin() + begin, order->begin() + end,
-                                                 [&](uint32_t p) { return bin_of(p) < best; }) -
-                                  order->begin());
-        Bounds3 lb, lc, rb, rc;
+        const uint32_t mid = static_cast<uint32_t>(
+            std::partition(refs + begin, refs + end,
+                           [&](const PrimRef& r) { return bin_of(r) < best; }) -
+            refs);
+        Box4 lb, lc, rb, rc;
         for (int b = 0; b < nb; ++b) {
             const size_t i = static_cast<size_t>(b);
             (b < best ? lb : rb).extend(bin_box[i]);
@@ -161,11 +208,15 @@ struct Builder {
         return split(box, begin, mid, end, depth, lb, lc, rb, rc);
     }
 
-    uint32_t median(const Bounds3& box, uint32_t begin, uint32_t end, int axis, int depth) {
+    uint32_t median(const Box4& box, uint32_t begin, uint32_t end, int axis, int depth) {
         const uint32_t mid = begin + (end - begin) / 2;
-        std::nth_element(
-            order->begin() + begin, order->begin() + mid, order->begin() + end,
-            [&](uint32_t a, uint32_t b) { return centroid(a)[axis] < centroid(b)[axis]; });
+        std::nth_element(refs + begin, refs + mid, refs + end,
+                         [&](const PrimRef& a, const PrimRef& b) {
+                             alignas(16) float ca[4], cb[4];
+                             _mm_store_ps(ca, ref_centre(a));
+                             _mm_store_ps(cb, ref_centre(b));
+                             return ca[axis] < cb[axis];
+                         });
         return split(box, begin, mid, end, depth);
     }
 };
@@ -196,11 +247,10 @@ struct Collapser {
             while (k < 4) {
                 // Open the interior child with the largest surface area.
                 int best = -1;
-                double area = -1;
+                float area = -1;
                 for (int i = 0; i < k; ++i) {
                     const Node2& c = in[kids[static_cast<size_t>(i)]];
-                    if (c.count == 0 && c.bounds.surface_area() > area)
-                        area = c.bounds.surface_area(), best = i;
+                    if (c.count == 0 && c.bounds.area() > area) area = c.bounds.area(), best = i;
                 }
                 if (best < 0) break;
                 const Node2& c = in[kids[static_cast<size_t>(best)]];
@@ -219,8 +269,8 @@ struct Collapser {
         for (int i = 0; i < k; ++i) {
             const Node2& c = in[kids[static_cast<size_t>(i)]];
             for (int a = 0; a < 3; ++a) {
-                node.lo[a][i] = float_lower(c.bounds.lo[a]);
-                node.hi[a][i] = float_upper(c.bounds.hi[a]);
+                node.lo[a][i] = c.bounds.lo_at(a);  // already rounded outward (PrimRef)
+                node.hi[a][i] = c.bounds.hi_at(a);
             }
         }
         node.num_children = static_cast<uint32_t>(k);
@@ -232,31 +282,49 @@ struct Collapser {
 
 }  // namespace
 
+PrimRef make_prim_ref(const Bounds3& b, uint32_t id) {
+    PrimRef r;
+    for (int a = 0; a < 3; ++a) {
+        r.lo[a] = float_lower(b.lo[a]);
+        r.hi[a] = float_upper(b.hi[a]);
+    }
+    r.id = id;
+    return r;
+}
+
 Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& settings) {
+    std::vector<PrimRef> refs;
+    refs.reserve(prim_bounds.size());
+    Bounds3 exact;
+    for (size_t i = 0; i < prim_bounds.size(); ++i) {
+        refs.push_back(make_prim_ref(prim_bounds[i], static_cast<uint32_t>(i)));
+        exact.extend(prim_bounds[i]);
+    }
+    return build_bvh(std::move(refs), exact, settings);
+}
+
+Bvh build_bvh(std::vector<PrimRef> refs, const Bounds3& exact_bounds,
+              const BvhBuildSettings& settings) {
     Bvh bvh;
-    if (prim_bounds.empty()) return bvh;
-    std::vector<Vec3> centroids;
-    centroids.reserve(prim_bounds.size());
-    for (const Bounds3& pb : prim_bounds) centroids.push_back(pb.centre());
-    std::vector<uint32_t> order(prim_bounds.size());
-    std::iota(order.begin(), order.end(), 0u);
+    if (refs.empty()) return bvh;
     Builder b;
-    b.prims = prim_bounds;
-    b.centroids = &centroids;
-    b.order = &order;
+    b.refs = refs.data();
     b.settings = settings;
     // Subtrees near the root go to other threads: log2 of the cores, at most 3 levels.
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
     b.spawn_depth = cores >= 8 ? 3 : cores >= 4 ? 2 : cores >= 2 ? 1 : 0;
-    b.nodes.reserve(prim_bounds.size() / 2 + 1);
-    Bounds3 box, cbox;
-    b.measure(0, static_cast<uint32_t>(prim_bounds.size()), &box, &cbox);
-    const uint32_t root = b.build(0, static_cast<uint32_t>(prim_bounds.size()), 0, box, cbox);
-    bvh.root_bounds = b.nodes[root].bounds;
+    b.nodes.reserve(refs.size() / 2 + 1);
+    Box4 box, cbox;
+    const uint32_t n = static_cast<uint32_t>(refs.size());
+    b.measure(0, n, &box, &cbox);
+    const uint32_t root = b.build(0, n, 0, box, cbox);
+    bvh.root_bounds = exact_bounds;
     bvh.nodes.reserve(b.nodes.size() / 2 + 1);
     Collapser c{b.nodes, bvh.nodes};
     c.emit(root);
-    bvh.indices = std::move(order);
+    bvh.indices.resize(n);
+    for (uint32_t i = 0; i < n; ++i) bvh.indices[i] = refs[i].id;
+    std::vector<PrimRef>().swap(refs);
     return bvh;
 }
 

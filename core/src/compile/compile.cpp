@@ -203,19 +203,22 @@ private:
             m_set_of_root[item.root] = -1;
             return -1;
         }
-        std::vector<Bounds3> bounds;
-        bounds.reserve(pending.size());
+        // The build's input: each primitive's bounds in float (32 bytes), and their union.
+        std::vector<PrimRef> refs;
+        refs.reserve(pending.size());
+        Bounds3 set_bounds;
         for (const Pending& p : pending) {
-            if (p.csg >= 0) {  // its leaves were checked when it was compiled
-                bounds.push_back(
-                    set.csg.nodes[set.csg.roots[static_cast<size_t>(p.csg)].node].bounds);
-                continue;
-            }
-            bounds.push_back(shape_bounds(set, fi, p));
-            if (!within_limits(bounds.back()))
+            const uint32_t id = static_cast<uint32_t>(refs.size());
+            const Bounds3 b =
+                p.csg >= 0  // its leaves were checked when it was compiled
+                    ? set.csg.nodes[set.csg.roots[static_cast<size_t>(p.csg)].node].bounds
+                    : shape_bounds(set, fi, p);
+            if (p.csg < 0 && !within_limits(b))
                 throw SceneError(p.shape->loc,
                                  "shape reaches beyond +-1e300 in its file's frame "
                                  "(coordinates too large for the renderer)");
+            refs.push_back(make_prim_ref(b, id));
+            set_bounds.extend(b);
         }
 
         // Analytic shapes cost several box tests each (a cone's robust test is ~200
@@ -224,13 +227,13 @@ private:
         set.layout = layout_of(pending);
         const bool analytic = set.layout != SetLayout::Triangles && set.layout != SetLayout::Mixed;
         const auto t0 = std::chrono::steady_clock::now();
-        set.bvh =
-            build_bvh(bounds, analytic                             ? BvhBuildSettings{1, 16, 1}
-                              : set.layout == SetLayout::Triangles ? BvhBuildSettings{4, 16, 4}
-                                                                   : BvhBuildSettings{});
+        // The references move into the build, which frees them before the set grows.
+        set.bvh = build_bvh(std::move(refs), set_bounds,
+                            analytic                             ? BvhBuildSettings{1, 16, 1}
+                            : set.layout == SetLayout::Triangles ? BvhBuildSettings{4, 16, 4}
+                                                                 : BvhBuildSettings{});
         m_report.build_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::vector<Bounds3>().swap(bounds);  // the build's alone: freed before the set grows
 
         set.prims.reserve(pending.size());
         const auto triangles = std::count_if(pending.begin(), pending.end(), [](const Pending& p) {

@@ -51,9 +51,23 @@ struct BvhBuildSettings {
     int leaf_block = 1;
 };
 
+/// What the builder sorts: a primitive's bounds rounded outward to float, and its index (32
+/// bytes, so the splits move the records themselves and read memory in order).
+struct alignas(16) PrimRef {
+    float lo[3];
+    uint32_t id;
+    float hi[3];
+    uint32_t pad = 0;
+};
+PrimRef make_prim_ref(const Bounds3& b, uint32_t id);
+
 /// Binned surface-area-heuristic build (Wald 2007) of a binary tree over the given primitive
 /// bounds, collapsed into a 4-wide tree.
 Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& settings = {});
+/// The same from references made by make_prim_ref (ids 0 .. n - 1, any order); exact_bounds,
+/// the union of the primitives' bounds in double, becomes root_bounds.
+Bvh build_bvh(std::vector<PrimRef> refs, const Bounds3& exact_bounds,
+              const BvhBuildSettings& settings = {});
 
 /// A ray prepared for float box tests (Ize 2013, "Robust BVH Ray Traversal"): the origin and
 /// reciprocal direction rounded to float and broadcast to SSE registers, with a per-axis slack
