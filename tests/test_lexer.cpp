@@ -12,7 +12,7 @@ namespace {
 std::vector<Token> tokens(const char* source) {
     static std::vector<std::unique_ptr<std::string>> keep;
     keep.push_back(std::make_unique<std::string>(source));
-    Lexer lex(*keep.back(), std::make_shared<const std::string>("t.ray"));
+    Lexer lex(*keep.back(), intern_file_name("t.ray"));
     std::vector<Token> out;
     for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next()) out.push_back(t);
     return out;

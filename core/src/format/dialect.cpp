@@ -248,7 +248,7 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
 void ParserBase::prescan(const std::string& text, const std::string& name,
                          const std::string& canonical, const std::string& dir, Scan& scan) {
     scan.visited.push_back(canonical);
-    auto file = std::make_shared<const std::string>(name);
+    const std::string* file = intern_file_name(name);
     // Spec §10 step 0: other formats named .ray.
     const std::string_view body =
         std::string_view(text).substr(text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0);

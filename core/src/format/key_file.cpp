@@ -25,7 +25,7 @@ bool affine_bottom_row(const Mat4& m) {
 
 // Spec §14.1: #DOFS n names #DURATION s #FRAMES f, then f*n column-major 4x4 blocks, frame-major.
 KeyFile ParserBase::parse_key_file(const std::string& text, const std::string& path) {
-    FileState k(text, std::make_shared<const std::string>(path));
+    FileState k(text, intern_file_name(path));
     KeyFile key;
     key.path = path;
     auto expect = [&](std::string_view name) {

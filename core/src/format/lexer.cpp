@@ -12,8 +12,7 @@ static bool is_space(char c) {
 }
 static bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
-Lexer::Lexer(std::string_view text, std::shared_ptr<const std::string> file)
-    : m_text(text), m_file(std::move(file)) {
+Lexer::Lexer(std::string_view text, const std::string* file) : m_text(text), m_file(file) {
     // A leading UTF-8 byte order mark is skipped (spec §2).
     if (m_text.substr(0, 3) == "\xEF\xBB\xBF") m_pos = 3;
 }

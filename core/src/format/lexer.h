@@ -21,7 +21,7 @@ struct Token {
 class Lexer {
 public:
     /// `text` must outlive the lexer. `file` names the source in locations.
-    Lexer(std::string_view text, std::shared_ptr<const std::string> file);
+    Lexer(std::string_view text, const std::string* file);
 
     /// The next token; throws SceneError for an unterminated !...! string.
     Token next();
@@ -29,7 +29,7 @@ public:
     Token peek();
 
     SourceLoc loc(const Token& t) const { return {m_file, t.line, t.col}; }
-    const std::shared_ptr<const std::string>& file() const { return m_file; }
+    const std::string* file() const { return m_file; }
     /// Bytes not yet scanned (for bounding reservations by what the text can still hold).
     size_t remaining() const { return m_text.size() - m_pos; }
 
@@ -38,7 +38,7 @@ private:
     Token scan();
 
     std::string_view m_text;
-    std::shared_ptr<const std::string> m_file;
+    const std::string* m_file = nullptr;
     size_t m_pos = 0;
     int m_line = 1;
     int m_col = 1;

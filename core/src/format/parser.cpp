@@ -332,7 +332,7 @@ public:
     SceneDesc run_file(const std::string& path) {
         std::string text;
         if (!read_file(path, &text)) {
-            SourceLoc loc{std::make_shared<const std::string>(path), 0, 0};
+            SourceLoc loc{intern_file_name(path), 0, 0};
             throw SceneError(loc, "cannot open scene file '" + path + "'");
         }
         const std::string dir = fs::path(path).parent_path().string();
@@ -343,7 +343,7 @@ private:
     // ---- the file loop -------------------------------------------------------------------
     void parse_file(const std::string& text, const std::string& name, const std::string& canonical,
                     const std::string& dir, int index) {
-        auto file_name = std::make_shared<const std::string>(name);
+        const std::string* file_name = intern_file_name(name);
         m_open.push_back({canonical, name});
 
         FileState f(text, file_name);
@@ -881,7 +881,7 @@ private:
         check_placements();
         m_scene.dialect = m_dialect;
         if (!m_scene.camera && !m_scene.files.empty() && !v3_all_zero_camera)
-            warn({std::make_shared<const std::string>(m_scene.files[0].path), 0, 0}, "no-camera",
+            warn({intern_file_name(m_scene.files[0].path), 0, 0}, "no-camera",
                  "no #camera: using the default camera");
     }
 

@@ -116,8 +116,7 @@ struct FileState {
     int v3_csg_depth = 0;
     bool warned_included_light = false, warned_dynamic_identity = false;
 
-    FileState(std::string_view text, std::shared_ptr<const std::string> name)
-        : lex(text, std::move(name)) {}
+    FileState(std::string_view text, const std::string* name) : lex(text, name) {}
 };
 
 class ParserBase {

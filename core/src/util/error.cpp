@@ -1,6 +1,18 @@
 #include "rt/util/error.h"
 
+#include <mutex>
+#include <unordered_set>
+
 namespace rt {
+
+const std::string* intern_file_name(std::string_view name) {
+    // Never freed: the names are few (the files a program opened), and locations that outlive
+    // their scene (an error kept by the viewer) stay valid.
+    static std::mutex mutex;
+    static std::unordered_set<std::string>* names = new std::unordered_set<std::string>;
+    const std::lock_guard<std::mutex> lock(mutex);
+    return &*names->emplace(name).first;
+}
 
 std::string SourceLoc::str() const {
     std::string s = file ? *file : std::string("<input>");
