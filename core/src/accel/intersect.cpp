@@ -13,25 +13,33 @@ namespace rt {
 
 namespace {
 
+// Triangle `index` of a Triangles set (packed by leaf) in lane 0 of a block of its own, with the
+// same float vertices (lanes do not interact: the same answer): for the brute-force path and the
+// benchmark's per-primitive test.
+[[gnu::noinline]] int leaf_packed_triangle(const GeometrySet& set, uint32_t index,
+                                           const TriRay& tri, Interval t, float tt[4]) {
+    Tri4 alone{};
+    const Triangle tr = set.triangle(index);
+    const Vec3* v[3] = {&tr.p0, &tr.p1, &tr.p2};
+    for (int k = 0; k < 3; ++k)
+        for (int a = 0; a < 3; ++a)
+            alone.p[k][a][0] = static_cast<float>((*v[k])[a] - set.tri_origin[a]);
+    return intersect_tri4(alone, tri, 1, float_lower(t.lo), float_upper(t.hi), tt) ? 0 : -1;
+}
+
 // The one triangle test (spec §5; see triangle4.h): lane `index % 4` of block `index / 4` in a
-// Mixed set. A Triangles set packs by leaf, and the brute-force path packs the triangle alone
-// into lane 0, with the same float vertices (lanes do not interact: the same answer).
+// Mixed set.
 ShapeHits triangle_hits(const GeometrySet& set, uint32_t index, const TriRay& tri, Interval t) {
     ShapeHits h;
     float tt[4];
     int lane = static_cast<int>(index & 3u);
-    const Tri4* block = &set.tri4[index >> 2];
-    Tri4 alone{};
     if (set.layout == SetLayout::Triangles) {
-        const Triangle tr = set.triangle(index);
-        const Vec3* v[3] = {&tr.p0, &tr.p1, &tr.p2};
-        for (int k = 0; k < 3; ++k)
-            for (int a = 0; a < 3; ++a)
-                alone.p[k][a][0] = static_cast<float>((*v[k])[a] - set.tri_origin[a]);
-        block = &alone;
-        lane = 0;
+        lane = leaf_packed_triangle(set, index, tri, t, tt);
+    } else if (!intersect_tri4(set.tri4[index >> 2], tri, 1 << lane, float_lower(t.lo),
+                               float_upper(t.hi), tt)) {
+        lane = -1;
     }
-    if (intersect_tri4(*block, tri, 1 << lane, float_lower(t.lo), float_upper(t.hi), tt)) {
+    if (lane >= 0) {
         const double th = static_cast<double>(tt[lane]);
         if (t.contains(th)) h.add(th, 0);
     }
