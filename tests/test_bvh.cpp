@@ -372,5 +372,34 @@ TEST(Bvh, BoundsBeyondFloatRangeStillBuild) {
     expect_same_hits(scene, rng, 300);
 }
 
+// A direction component beyond 1e38 has a float reciprocal of zero, and an empty slot of a node
+// (lo = +inf, hi = -inf) then gives inf * 0 = NaN distances: the walk must still skip the slot
+// (it once treated it as a leaf of 15 primitives far out of range).
+TEST(Bvh, HugeDirectionComponentsNeverEnterEmptySlots) {
+    const std::string material = "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n";
+    std::string spheres = material, triangles;
+    for (int i = 0; i < 5; ++i) {
+        spheres += "#shape_sphere 0 " + std::to_string(3 * i) + " 0 0 1\n";
+        const std::string x = std::to_string(3 * i), x1 = std::to_string(3 * i + 1);
+        triangles += "#vertex " + x + " 0 -3 0 0 0 0 0\n#vertex " + x1 + " 0 -3 0 0 0 0 0\n" +
+                     "#vertex " + x + " 1 -3 0 0 0 0 0\n";
+    }
+    triangles += material;
+    for (int i = 0; i < 5; ++i)
+        triangles += "#shape_triangle 0 " + std::to_string(3 * i) + " " +
+                     std::to_string(3 * i + 1) + " " + std::to_string(3 * i + 2) + "\n";
+    for (const std::string& text : {spheres, triangles}) {
+        const RenderScene scene = test::compile(text);
+        for (const Vec3 d :
+             {Vec3(1e300, 0.5, -1), Vec3(-1e300, 1e300, 1e-3), Vec3(1e39, -1e300, 1e300)}) {
+            Hit a;
+            if (intersect(scene, {{-20, 0, 0}, d}, {0, kInf}, &a)) {
+                EXPECT_LT(a.prim, 5u);
+            }
+            occluded(scene, {{-20, 0, 0}, d}, kInf);
+        }
+    }
+}
+
 }  // namespace
 }  // namespace rt

@@ -120,7 +120,7 @@ inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, 
 /// The same test for a ray with no parallel axis, in fewer operations: the near and far planes
 /// are picked by the direction's signs (no min/max per axis), and the widening and the slack of
 /// the far distance are applied once over all axes, with the largest slack (a looser bound,
-/// never a tighter one). Empty slots (lo = +inf, hi = -inf) miss without a mask.
+/// never a tighter one).
 inline int intersect_node_fast(const Bvh4Node& node, const BoxRay& ray, __m128 t_max,
                                __m128* t_entry) {
     constexpr float kWiden = static_cast<float>(1.0 + 2.0 * gamma_float(3));
@@ -147,7 +147,9 @@ inline int intersect_node_fast(const Bvh4Node& node, const BoxRay& ray, __m128 t
                               ray.slack_max),
                    t_max);
     *t_entry = t0;
-    return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
+    // Empty slots (lo = +inf, hi = -inf) miss on their own unless a reciprocal underflowed to
+    // zero (|d| > 1e38), where inf * 0 is NaN: the mask of filled slots decides.
+    return _mm_movemask_ps(_mm_cmple_ps(t0, t1)) & ((1 << node.num_children) - 1);
 }
 
 /// Traversal: `visit_leaf(first, count, t_max)` tests the leaf's primitives (positions
