@@ -314,6 +314,17 @@ TEST(Bvh, GeometricChainOfSizesKeepsTheTreeShallow) {
     }
 }
 
+// Calls f(node, slot, first, count) for every leaf of a tree.
+template <class F>
+void for_each_leaf(const Bvh& bvh, F&& f) {
+    for (const Bvh4Node& n : bvh.nodes)
+        for (uint32_t c = 0; c < n.num_children; ++c) {
+            if (!(n.child[c] & Bvh4Node::kLeaf)) continue;
+            f(n, c, n.child[c] & Bvh4Node::kFirstMask,
+              (n.child[c] & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift);
+        }
+}
+
 TEST(Bvh, BuildCoversEveryPrimitiveOnce) {
     std::vector<Bounds3> boxes;
     std::mt19937 rng(5);
@@ -325,22 +336,18 @@ TEST(Bvh, BuildCoversEveryPrimitiveOnce) {
     const Bvh bvh = build_bvh(boxes);
     std::vector<int> seen(boxes.size(), 0);
     // Every leaf range appears once, and each float box contains its primitives' double boxes.
-    for (const Bvh4Node& n : bvh.nodes)
-        for (uint32_t c = 0; c < n.num_children; ++c) {
-            if (!(n.child[c] & Bvh4Node::kLeaf)) continue;
-            const uint32_t first = n.child[c] & Bvh4Node::kFirstMask;
-            const uint32_t count = (n.child[c] & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
-            EXPECT_GE(count, 1u);
-            EXPECT_LE(count, Bvh4Node::kMaxLeafCount);
-            for (uint32_t i = first; i < first + count; ++i) {
-                const Bounds3& b = boxes[bvh.indices[i]];
-                ++seen[bvh.indices[i]];
-                for (int a = 0; a < 3; ++a) {
-                    EXPECT_LE(static_cast<double>(n.lo[a][c]), b.lo[a]);
-                    EXPECT_GE(static_cast<double>(n.hi[a][c]), b.hi[a]);
-                }
+    for_each_leaf(bvh, [&](const Bvh4Node& n, uint32_t c, uint32_t first, uint32_t count) {
+        EXPECT_GE(count, 1u);
+        EXPECT_LE(count, Bvh4Node::kMaxLeafCount);
+        for (uint32_t i = first; i < first + count; ++i) {
+            const Bounds3& b = boxes[bvh.indices[i]];
+            ++seen[bvh.indices[i]];
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_LE(static_cast<double>(n.lo[a][c]), b.lo[a]);
+                EXPECT_GE(static_cast<double>(n.hi[a][c]), b.hi[a]);
             }
         }
+    });
     for (int s : seen) EXPECT_EQ(s, 1);
 }
 
@@ -354,14 +361,10 @@ TEST(Bvh, BoundsBeyondFloatRangeStillBuild) {
     boxes.push_back({Vec3(1e39, 0, 0), Vec3(1e300, 1, 1)});
     const Bvh bvh = build_bvh(boxes);
     std::vector<int> seen(boxes.size(), 0);
-    for (const Bvh4Node& n : bvh.nodes)
-        for (uint32_t c = 0; c < n.num_children; ++c) {
-            if (!(n.child[c] & Bvh4Node::kLeaf)) continue;
-            const uint32_t first = n.child[c] & Bvh4Node::kFirstMask;
-            const uint32_t count = (n.child[c] & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
-            EXPECT_LE(count, 4u);  // SAH splits (NaN centroids fell back to halving, up to 15)
-            for (uint32_t i = first; i < first + count; ++i) ++seen[bvh.indices[i]];
-        }
+    for_each_leaf(bvh, [&](const Bvh4Node&, uint32_t, uint32_t first, uint32_t count) {
+        EXPECT_LE(count, 4u);  // SAH splits (NaN centroids fell back to halving, up to 15)
+        for (uint32_t i = first; i < first + count; ++i) ++seen[bvh.indices[i]];
+    });
     for (int s : seen) EXPECT_EQ(s, 1);
 
     std::string text = "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n";

@@ -125,18 +125,14 @@ inline int intersect_node_fast(const Bvh4Node& node, const BoxRay& ray, __m128 t
                                __m128* t_entry) {
     constexpr float kWiden = static_cast<float>(1.0 + 2.0 * gamma_float(3));
     const float* base = &node.lo[0][0];
-    const __m128 n0 =
-        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.near_off[0]), ray.o[0]), ray.inv[0]);
-    const __m128 n1 =
-        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.near_off[1]), ray.o[1]), ray.inv[1]);
-    const __m128 n2 =
-        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.near_off[2]), ray.o[2]), ray.inv[2]);
-    const __m128 f0 =
-        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.far_off[0]), ray.o[0]), ray.inv[0]);
-    const __m128 f1 =
-        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.far_off[1]), ray.o[1]), ray.inv[1]);
-    const __m128 f2 =
-        _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + ray.far_off[2]), ray.o[2]), ray.inv[2]);
+    // Distance to the plane at float offset `off` of the node, along axis a.
+    auto plane = [&](int off, int a) {
+        return _mm_mul_ps(_mm_sub_ps(_mm_load_ps(base + off), ray.o[a]), ray.inv[a]);
+    };
+    const __m128 n0 = plane(ray.near_off[0], 0), n1 = plane(ray.near_off[1], 1),
+                 n2 = plane(ray.near_off[2], 2);
+    const __m128 f0 = plane(ray.far_off[0], 0), f1 = plane(ray.far_off[1], 1),
+                 f2 = plane(ray.far_off[2], 2);
     // The entry distances are intersect_node()'s to the bit: the order children are visited
     // in, and so which of two hits at the same distance is kept, does not change.
     const __m128 t0 =
