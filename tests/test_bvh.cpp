@@ -320,8 +320,7 @@ void for_each_leaf(const Bvh& bvh, F&& f) {
     for (const Bvh4Node& n : bvh.nodes)
         for (uint32_t c = 0; c < n.num_children; ++c) {
             if (!(n.child[c] & Bvh4Node::kLeaf)) continue;
-            f(n, c, n.child[c] & Bvh4Node::kFirstMask,
-              (n.child[c] & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift);
+            f(n, c, Bvh4Node::leaf_first(n.child[c]), Bvh4Node::leaf_count(n.child[c]));
         }
 }
 

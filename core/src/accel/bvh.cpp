@@ -229,7 +229,7 @@ struct Collapser {
 
     uint32_t encode(uint32_t n2) {
         const Node2& n = in[n2];
-        if (n.count > 0) return Bvh4Node::kLeaf | (n.count << Bvh4Node::kCountShift) | n.first;
+        if (n.count > 0) return Bvh4Node::leaf(n.first, n.count);
         return emit(n2);
     }
 

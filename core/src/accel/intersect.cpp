@@ -20,10 +20,7 @@ namespace {
                                            const TriRay& tri, Interval t, float tt[4]) {
     Tri4 alone{};
     const Triangle tr = set.triangle(index);
-    const Vec3* v[3] = {&tr.p0, &tr.p1, &tr.p2};
-    for (int k = 0; k < 3; ++k)
-        for (int a = 0; a < 3; ++a)
-            alone.p[k][a][0] = static_cast<float>((*v[k])[a] - set.tri_origin[a]);
+    put_triangle(alone, 0, tr.p0, tr.p1, tr.p2, set.tri_origin);
     return intersect_tri4(alone, tri, 1, float_lower(t.lo), float_upper(t.hi), tt) ? 0 : -1;
 }
 

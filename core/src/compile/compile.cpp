@@ -302,10 +302,7 @@ private:
         set.tri_origin = b.empty() ? Vec3(0.0) : b.centre();
         auto put = [&](size_t i, Tri4& block, int lane) {
             const Triangle t = set.triangle(i);
-            const Vec3* v[3] = {&t.p0, &t.p1, &t.p2};
-            for (int k = 0; k < 3; ++k)
-                for (int a = 0; a < 3; ++a)
-                    block.p[k][a][lane] = static_cast<float>((*v[k])[a] - set.tri_origin[a]);
+            put_triangle(block, lane, t.p0, t.p1, t.p2, set.tri_origin);
         };
         if (set.layout != SetLayout::Triangles) {
             set.tri4.assign((set.triangle_count() + 3) / 4, Tri4{});
@@ -318,8 +315,7 @@ private:
         for (const Bvh4Node& node : set.bvh.nodes)
             for (uint32_t c = 0; c < node.num_children; ++c)
                 if (node.child[c] & Bvh4Node::kLeaf)
-                    blocks += ((node.child[c] & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift) / 4 +
-                              (((node.child[c] >> Bvh4Node::kCountShift) & 3u) != 0);
+                    blocks += (Bvh4Node::leaf_count(node.child[c]) + 3) / 4;
         set.tri4.assign(blocks, Tri4{});
         set.tri4_prim.assign(blocks, {~0u, ~0u, ~0u, ~0u});
         uint32_t next = 0;
@@ -327,13 +323,13 @@ private:
             for (uint32_t c = 0; c < node.num_children; ++c) {
                 uint32_t& child = node.child[c];
                 if (!(child & Bvh4Node::kLeaf)) continue;
-                const uint32_t first = child & Bvh4Node::kFirstMask;
-                const uint32_t count = (child & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
+                const uint32_t first = Bvh4Node::leaf_first(child);
+                const uint32_t count = Bvh4Node::leaf_count(child);
                 for (uint32_t k = 0; k < count; ++k) {
                     put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
                     set.tri4_prim[next + k / 4][k % 4] = first + k;
                 }
-                child = Bvh4Node::kLeaf | count << Bvh4Node::kCountShift | next;
+                child = Bvh4Node::leaf(next, count);
                 next += (count + 3) / 4;
             }
         }

@@ -42,9 +42,7 @@ ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
     // Lane 0 of a block: the arithmetic every triangle of a scene goes through (a set's float
     // copies are relative to GeometrySet::tri_origin; here the origin is 0).
     Tri4 block{};
-    const Vec3* v[3] = {&tri.p0, &tri.p1, &tri.p2};
-    for (int k = 0; k < 3; ++k)
-        for (int a = 0; a < 3; ++a) block.p[k][a][0] = static_cast<float>((*v[k])[a]);
+    put_triangle(block, 0, tri.p0, tri.p1, tri.p2, Vec3(0.0));
     ShapeHits h;
     float tt[4];
     if (intersect_tri4(block, TriRay(ray), 1, float_lower(t.lo), float_upper(t.hi), tt) &&

@@ -31,6 +31,13 @@ struct alignas(64) Bvh4Node {
     static constexpr uint32_t kMaxLeafCount = 15;
     static constexpr uint32_t kFirstMask = (1u << kCountShift) - 1;
     static constexpr uint32_t kEmpty = 0xFFFFFFFFu;
+
+    /// A leaf child's code, and its parts back.
+    static constexpr uint32_t leaf(uint32_t first, uint32_t count) {
+        return kLeaf | count << kCountShift | first;
+    }
+    static constexpr uint32_t leaf_first(uint32_t child) { return child & kFirstMask; }
+    static constexpr uint32_t leaf_count(uint32_t child) { return (child & ~kLeaf) >> kCountShift; }
 };
 
 struct Bvh {
@@ -234,9 +241,7 @@ void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
                 }
             }
         } else {
-            const uint32_t first = cur & Bvh4Node::kFirstMask;
-            const uint32_t count = (cur & ~Bvh4Node::kLeaf) >> Bvh4Node::kCountShift;
-            if (visit_leaf(first, count, t_max)) return;
+            if (visit_leaf(Bvh4Node::leaf_first(cur), Bvh4Node::leaf_count(cur), t_max)) return;
             if constexpr (kOrdered) tmax = t_max_f();
         }
         // Pop the next subtree; with kOrdered, those that start beyond the best hit are gone.

@@ -18,6 +18,16 @@ struct alignas(16) Tri4 {
     float p[3][3][4];
 };
 
+/// Writes the triangle (p0, p1, p2), relative to `origin` and rounded to float, into lane `lane`
+/// of a block: the one float copy of a triangle that rays test.
+inline void put_triangle(Tri4& block, int lane, const Vec3& p0, const Vec3& p1, const Vec3& p2,
+                         const Vec3& origin) {
+    const Vec3* v[3] = {&p0, &p1, &p2};
+    for (int k = 0; k < 3; ++k)
+        for (int a = 0; a < 3; ++a)
+            block.p[k][a][lane] = static_cast<float>((*v[k])[a] - origin[a]);
+}
+
 /// Per-ray constants of the watertight test: the axis permutation that makes z the dominant
 /// direction and the shear that maps the ray onto +z.
 struct TriRay {
