@@ -7,6 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "rt/image/exr.h"
 #include "rt/util/file_io.h"
 
 #define STB_IMAGE_IMPLEMENTATION
@@ -125,6 +126,7 @@ ImageFormat image_format_from_path(const std::string& path) {
     if (ext == ".bmp") return ImageFormat::Bmp;
     if (ext == ".ppm") return ImageFormat::Ppm;
     if (ext == ".pfm") return ImageFormat::Pfm;
+    if (ext == ".exr") return ImageFormat::Exr;
     return ImageFormat::Unknown;
 }
 
@@ -181,7 +183,8 @@ void save_image(const Image& image, const std::string& path) {
     const ImageFormat format = image_format_from_path(path);
     if (format == ImageFormat::Unknown)
         throw std::runtime_error("unknown image format for '" + path +
-                                 "' (use .png, .bmp, .ppm or .pfm)");
+                                 "' (use .png, .bmp, .ppm, .pfm or .exr)");
+    if (format == ImageFormat::Exr) return save_exr(image, {}, false, path);
     // A temporary file renamed at the end: a failed run leaves no partial output file.
     write_file_atomic(path, format == ImageFormat::Pfm   ? encode_pfm(image)
                             : format == ImageFormat::Ppm ? encode_ppm(image)
@@ -209,6 +212,19 @@ Image load_pfm(const std::string& path) {
             image.rgb[static_cast<size_t>(y) * row_floats + i] = static_cast<double>(row[i]);
     }
     if (!f) throw std::runtime_error("'" + path + "' is truncated");
+    return image;
+}
+
+Image load_image(const std::string& path) {
+    const ImageFormat format = image_format_from_path(path);
+    if (format == ImageFormat::Pfm) return load_pfm(path);
+    if (format == ImageFormat::Exr) return load_exr(path).rgb();
+    TextureImage t;
+    std::string error;
+    if (!load_texture_image(path, &t, &error))
+        throw std::runtime_error("cannot read '" + path + "': " + error);
+    Image image(t.width, t.height);
+    for (size_t i = 0; i < t.rgb.size(); ++i) image.rgb[i] = t.rgb[i] / 255.0;
     return image;
 }
 

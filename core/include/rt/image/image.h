@@ -1,5 +1,6 @@
 // Images: linear float RGB in memory, 8-bit texture images, and reading/writing PNG, BMP, PPM,
-// JPEG (read) and PFM (float). Row 0 is the top row everywhere (spec §9).
+// JPEG (read), PFM (float) and OpenEXR (half or float; with extra channels: rt/image/exr.h).
+// Row 0 is the top row everywhere (spec §9).
 #pragma once
 
 #include <cstdint>
@@ -53,16 +54,21 @@ bool load_texture_image(const std::string& path, TextureImage* out, std::string*
 TextureImage checker_texture();
 
 /// Image file kinds chosen by extension.
-enum class ImageFormat { Png, Bmp, Ppm, Pfm, Unknown };
+enum class ImageFormat { Png, Bmp, Ppm, Pfm, Exr, Unknown };
 ImageFormat image_format_from_path(const std::string& path);
 
 /// Writes the image; throws std::runtime_error on failure. Non-finite values are written as 0
 /// (spec §9; count_non_finite() tells the caller how many there were). Writes to a temporary file
-/// in the same directory and renames it, so a failed write never leaves a partial file.
+/// in the same directory and renames it, so a failed write never leaves a partial file. PFM and
+/// EXR keep linear, unclamped values (EXR: half RGB; save_exr() writes float and more channels).
 void save_image(const Image& image, const std::string& path);
 
 /// Reads a PFM written by save_image (or any 3-channel PFM). Throws std::runtime_error.
 Image load_pfm(const std::string& path);
+
+/// Reads any image as linear RGB: PFM and EXR (its R, G, B channels) as stored, the 8-bit
+/// formats of load_texture_image() as byte / 255. Throws std::runtime_error.
+Image load_image(const std::string& path);
 
 /// How an image is shown and written to 8-bit files: Clamp is spec §9's (what raytrace writes),
 /// Reinhard c / (1 + c), Aces a filmic curve (Narkowicz's fit).
