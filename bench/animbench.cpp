@@ -4,11 +4,13 @@
 // itself, with and without a camera (no camera: the default camera needs the tight bounds of
 // every moved primitive), the compile time, the update time, their ratio, and whether the
 // updated scene gives the same hits as a compile at that time. Asserts nothing.
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <random>
 #include <vector>
 
+#include "cli.h"
 #include "rt/accel/intersect.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
@@ -119,7 +121,16 @@ void row(const char* what, bool holds_mesh, bool camera) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+    CLI::App app{
+        "Times a frame update (animate) against a full compile, one joint over a\n"
+        "100k-triangle mesh and the animated scenes of scenes/ (a table)."};
+    rtapp::setup_cli(app, "animbench");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return rtapp::cli_exit(app, e);
+    }
     std::printf("frame update (animate) against a full compile, median times\n\n");
     std::printf("| %-32s | %7s | %-6s | %10s | %9s | %8s | %7s | %s |\n", "scene", "tris", "camera",
                 "compile ms", "update ms", "ratio", "plan ms", "hits vs a compile at t");

@@ -5,10 +5,12 @@
 // other jobs then slows both tests alike instead of adding its pre-emptions to one.
 #include <time.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <random>
 #include <vector>
 
+#include "cli.h"
 #include "rt/shapes/shapes.h"
 
 namespace {
@@ -38,7 +40,14 @@ double ns_per_test(const S& shape, const std::vector<rt::Ray>& rays, int repeats
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+    CLI::App app{"Times the torus test against a sphere test on the same rays (a table)."};
+    rtapp::setup_cli(app, "torusbench");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return rtapp::cli_exit(app, e);
+    }
     const rt::Torus torus{{0.2, -0.1, 0.3}, 0.25, 1.0};
     const rt::Sphere sphere{torus.centre, torus.ring + torus.tube};
     std::mt19937 rng(1);

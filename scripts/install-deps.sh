@@ -3,16 +3,19 @@
 # installs what is missing. Needs root (or sudo) the first time on a new machine.
 set -euo pipefail
 
-# Required to build the core, the CLIs and the tests (CLI11 parses raytrace's options).
-required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev libcli11-dev)
+# Required to build the core, the CLIs and the tests (CLI11 parses the programs' options, OpenEXR
+# writes .exr images, help2man writes the man pages from --help).
+required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev libcli11-dev
+    libopenexr-dev help2man)
 # Optional: Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa
 # and Xvfb are for the viewer and its headless GL tests.
 # clang and libFuzzer (libclang-rt-14-dev) build the fuzz target of scripts/test.sh, which skips
 # the fuzz run with a message when they are missing. OpenMPI builds raytrace-mpi, the cluster
 # mode (its tests are skipped with a message without it). ffmpeg encodes --video (without it the
-# frames are written with a warning, and the test of the encoding is skipped).
+# frames are written with a warning, and the test of the encoding is skipped). desktop-file-utils
+# and shared-mime-info check the desktop entry and the MIME type of the package (tests/install).
 optional=(libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang libclang-rt-14-dev
-    libopenmpi-dev openmpi-bin ffmpeg)
+    libopenmpi-dev openmpi-bin ffmpeg desktop-file-utils shared-mime-info)
 
 missing() {
     for p in "$@"; do

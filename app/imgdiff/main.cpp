@@ -2,17 +2,28 @@
 // preview-against-trace measurements. Prints the mean absolute difference per channel (0-255)
 // and the share of pixels where the second image is bright (luminance > 0.3) and the first one
 // nearly black (< 0.05): "the preview shows black where the trace is lit" when called as
-// imgdiff PREVIEW TRACE. Exits 1 when a limit given is exceeded, 2 on a usage or read error.
+// imgdiff PREVIEW TRACE, and the largest difference of one value (linear, 1 = white). Reads the
+// 8-bit formats, PFM and EXR (rt::load_image). Exits 1 when a limit given is exceeded, 2 on a
+// usage or read error.
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 
 #include "rt/image/image.h"
+#include "cli.h"
 
 namespace {
 
-double luminance(const rt::TextureImage& im, size_t i) {
-    return (0.2126 * im.rgb[i] + 0.7152 * im.rgb[i + 1] + 0.0722 * im.rgb[i + 2]) / 255.0;
+double luminance(const rt::Image& im, size_t i) {
+    return 0.2126 * im.rgb[i] + 0.7152 * im.rgb[i + 1] + 0.0722 * im.rgb[i + 2];
+}
+
+bool eight_bit(const std::string& path) {
+    const rt::ImageFormat f = rt::image_format_from_path(path);
+    return f != rt::ImageFormat::Pfm && f != rt::ImageFormat::Exr;
 }
 
 struct Region {
@@ -23,31 +34,42 @@ struct Region {
 
 int main(int argc, char** argv) {
     std::string a_path, b_path;
-    double max_mad = -1, max_dark = -1;
+    double max_mad = -1, max_dark = -1, max_abs = -1;
     std::vector<int> crop;
     CLI::App app{
         "Compares two images of the same size: mean absolute difference per channel "
         "(0-255) and the share of pixels dark in A (luminance < 0.05) where B is lit "
-        "(> 0.3).",
-        "imgdiff"};
+        "(> 0.3)."};
+    rtapp::setup_cli(app, "imgdiff");
     app.add_option("a", a_path, "the first image (e.g. the preview)")->required();
     app.add_option("b", b_path, "the second image (e.g. the trace)")->required();
     app.add_option("--max-mad", max_mad, "exit 1 when a channel's mean difference exceeds X")
         ->type_name("X");
     app.add_option("--max-dark-share", max_dark, "exit 1 when the dark-where-lit share exceeds S")
         ->type_name("S");
+    app.add_option("--max-abs", max_abs,
+                   "exit 1 when a value differs by more than X (linear, 1 = white; 0: the "
+                   "same values)")
+        ->type_name("X");
     app.add_option("--crop", crop, "compare only this rectangle of both images")
         ->type_name("X Y W H")
         ->expected(4);
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return rtapp::cli_exit(app, e);
+    }
 
-    rt::TextureImage a, b;
-    std::string error;
-    if (!rt::load_texture_image(a_path, &a, &error) ||
-        !rt::load_texture_image(b_path, &b, &error)) {
-        std::fprintf(stderr, "imgdiff: error: %s\n", error.c_str());
+    rt::Image a, b;
+    try {
+        a = rt::load_image(a_path);
+        b = rt::load_image(b_path);
+    } catch (const std::runtime_error& e) {
+        std::fprintf(stderr, "imgdiff: error: %s\n", e.what());
         return 2;
     }
+    // Two 8-bit files differ by whole steps of 1/255: counted exactly.
+    const bool bytes = eight_bit(a_path) && eight_bit(b_path);
     if (a.width != b.width || a.height != b.height) {
         std::fprintf(stderr, "imgdiff: error: %s is %dx%d but %s is %dx%d\n", a_path.c_str(),
                      a.width, a.height, b_path.c_str(), b.width, b.height);
@@ -60,12 +82,16 @@ int main(int argc, char** argv) {
                      a.height);
         return 2;
     }
-    double sum[3] = {0, 0, 0};
+    double sum[3] = {0, 0, 0}, largest = 0;
     long dark = 0;
     for (int y = r.y; y < r.y + r.h; ++y)
         for (int x = r.x; x < r.x + r.w; ++x) {
             const size_t i = (static_cast<size_t>(y) * a.width + x) * 3;
-            for (int k = 0; k < 3; ++k) sum[k] += std::abs(int(a.rgb[i + k]) - int(b.rgb[i + k]));
+            for (size_t k = 0; k < 3; ++k) {
+                const double d = std::abs(a.rgb[i + k] - b.rgb[i + k]);
+                sum[k] += bytes ? std::round(255 * d) : 255 * d;
+                largest = std::max(largest, d);
+            }
             dark += luminance(b, i) > 0.3 && luminance(a, i) < 0.05;
         }
     const double n = static_cast<double>(r.w) * r.h;
@@ -73,7 +99,8 @@ int main(int argc, char** argv) {
     const double share = static_cast<double>(dark) / n;
     std::printf("mean abs diff %.2f %.2f %.2f; dark where lit %.4f (%ld of %.0f pixels)\n", mad[0],
                 mad[1], mad[2], share, dark, n);
-    bool over = max_dark >= 0 && share > max_dark;
+    std::printf("max abs diff %.6g\n", largest);
+    bool over = (max_dark >= 0 && share > max_dark) || (max_abs >= 0 && largest > max_abs);
     for (double m : mad) over |= max_mad >= 0 && m > max_mad;
     return over ? 1 : 0;
 }

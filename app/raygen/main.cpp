@@ -1,42 +1,29 @@
 // raygen: writes a large .ray scene, a closed bumpy mesh of about N triangles, so users can try
 // the renderer on a million triangles:  raygen --triangles 1000000 -o big.ray
-#include <charconv>
+#include <CLI/CLI.hpp>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <string>
 
+#include "cli.h"
 #include "rt/scene/mesh_gen.h"
 #include "rt/util/file_io.h"
 
 int main(int argc, char** argv) {
     size_t n = 100000;
     std::string out;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if ((a == "--triangles" || a == "-n") && i + 1 < argc) {
-            const std::string v = argv[++i];
-            const auto r = std::from_chars(v.data(), v.data() + v.size(), n);
-            if (r.ec != std::errc() || r.ptr != v.data() + v.size() || n < 8 || n > 100000000) {
-                std::cerr << "raygen: --triangles needs a count between 8 and 1e8, got '" << v
-                          << "'\n";
-                return 2;
-            }
-        } else if ((a == "-o" || a == "--output") && i + 1 < argc) {
-            out = argv[++i];
-        } else if (a == "-h" || a == "--help") {
-            std::cout
-                << "usage: raygen --triangles N -o OUT.ray   (-n N is short for --triangles N)\n"
-                   "Writes a V1 scene with a closed, bumpy mesh of about N triangles.\n";
-            return 0;
-        } else {
-            std::cerr << "raygen: unknown argument '" << a << "' (see raygen --help)\n";
-            return 2;
-        }
-    }
-    if (out.empty()) {
-        std::cerr << "raygen: no output file (-o OUT.ray)\n";
-        return 2;
+    CLI::App app{"Writes a V1 scene with a closed, bumpy mesh of about N triangles."};
+    rtapp::setup_cli(app, "raygen");
+    app.option_defaults()->always_capture_default();
+    app.add_option("-n,--triangles", n, "about this many triangles")
+        ->type_name("N")
+        ->check(CLI::Range(size_t{8}, size_t{100000000}));
+    app.add_option("-o,--output", out, "the .ray file to write")->type_name("OUT.ray")->required();
+    app.footer("exit status: 0 success, 1 the file cannot be written, 2 usage error.");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return rtapp::cli_exit(app, e);
     }
     const rt::TriangleMesh mesh = rt::make_blob_mesh(n);
     const std::string text = rt::ray_text_for_mesh(mesh);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli.h"
 #include "part_file.h"
 #include "raytrace/output.h"
 #include "rt/render/render.h"
@@ -68,8 +69,8 @@ int merge(const std::string& out, const std::vector<std::string>& paths, bool qu
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"Merges the parts of a split render (raytrace -o NAME.part) into its image.",
-                 "raymerge"};
+    CLI::App app{"Merges the parts of a split render (raytrace -o NAME.part) into its image."};
+    rtapp::setup_cli(app, "raymerge");
     std::string out;
     std::vector<std::string> parts;
     bool quiet = false;
@@ -83,8 +84,7 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : 2;
+        return rtapp::cli_exit(app, e);
     }
     if (rt::image_format_from_path(out) == rt::ImageFormat::Unknown) {
         std::cerr << "raymerge: unknown output format '" << out

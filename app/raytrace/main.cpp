@@ -18,6 +18,7 @@
 #include "rt/util/stopwatch.h"
 #include "sequence.h"
 #include "split.h"
+#include "version.h"
 
 namespace {
 
@@ -55,15 +56,25 @@ std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* des
     }
 }
 
+// The AOVs written and the time of their pass (rt/render/aov.h), when some were asked for.
+void print_aovs(const Options& opt, double seconds) {
+    if (opt.exr.aovs.any())
+        std::printf("aovs      %s (%.3f s)\n", rt::aov_list(opt.exr.aovs).c_str(), seconds);
+}
+
 int render_plain(const Options& opt, const rt::RenderScene& scene, const rt::RenderPlan& plan,
                  const rt::CompileReport& report, Timings t) {
     const auto t_render = rt::Clock::now();
     rt::RenderState state;
     rt::render_samples(state, scene, plan, opt, opt.spp, terminal_progress_bar(opt.quiet));
     t.render_s = rt::seconds_since(t_render);
-    write_outputs(state.image(), opt.output, {}, opt.scene);
+    const auto t_aovs = rt::Clock::now();
+    const ExrOutput exr = exr_output(opt, state, scene, plan);
+    const double aovs_s = rt::seconds_since(t_aovs);
+    write_outputs(state.image(), opt.output, {}, opt.scene, exr);
     if (!opt.quiet) {
         print_render_summary(t, state.rays);
+        print_aovs(opt, aovs_s);
         std::printf("wrote     %s\n", opt.output.c_str());
     }
     if (opt.stats) print_stats(t, report.build_seconds, state.rays);
@@ -102,8 +113,14 @@ int render_progressive(const Options& opt, const rt::SceneDesc& desc, const rt::
     if (!p.report.empty()) texts.emplace_back(p.report, progress_csv(runs));
     if (!p.plot.empty())
         texts.emplace_back(p.plot, progress_svg(runs, "Error against render time: " + opt.scene));
-    write_outputs(state.image(), opt.output, texts, opt.scene);
-    if (!opt.quiet) std::printf("wrote     %s\n", opt.output.c_str());
+    const auto t_aovs = rt::Clock::now();
+    const ExrOutput exr = exr_output(opt, state, scene, plan);  // the last run's samples
+    const double aovs_s = rt::seconds_since(t_aovs);
+    write_outputs(state.image(), opt.output, texts, opt.scene, exr);
+    if (!opt.quiet) {
+        print_aovs(opt, aovs_s);
+        std::printf("wrote     %s\n", opt.output.c_str());
+    }
     return 0;
 }
 
@@ -145,6 +162,10 @@ int main(int argc, char** argv) {
     }
     if (opt.help) {
         std::cout << usage_text();
+        return 0;
+    }
+    if (opt.version) {
+        std::cout << rtapp::version_text("raytrace") << "\n";
         return 0;
     }
     try {

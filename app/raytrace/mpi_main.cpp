@@ -34,6 +34,7 @@
 #include "rt/render/plan.h"
 #include "rt/render/render.h"
 #include "rt/util/stopwatch.h"
+#include "version.h"
 
 namespace {
 
@@ -528,7 +529,9 @@ int main(int argc, char** argv) {
         if (rank == 0) std::cerr << "raytrace-mpi: " << e.what() << "\n(see raytrace --help)\n";
         code = 2;
     }
-    if (code == 0 && job.opt.help) {
+    if (code == 0 && job.opt.version) {
+        if (rank == 0) std::cout << rtapp::version_text("raytrace-mpi") << "\n";
+    } else if (code == 0 && job.opt.help) {
         if (rank == 0)
             std::cout << "usage: mpirun -n N raytrace-mpi SCENE [raytrace's options] "
                          "[--tile-timeout S]\n\n"

@@ -11,6 +11,7 @@
 
 #include "frames.h"
 #include "rt/image/image.h"
+#include "cli.h"
 
 namespace raytrace {
 
@@ -22,79 +23,24 @@ constexpr const char* kFooter =
     "exit status: 0 success, 1 scene error (printed as file:line:col: error: ...) or an output\n"
     "that cannot be written, 2 usage error.";
 
-// Points per sphere light: the plan holds one direction per point.
-constexpr int kMaxLightSamples = 1 << 20;
-
-// CLI11 reads "-1" into an unsigned number as its two's complement; a seed must not wrap.
-const CLI::Validator kNoMinus(
-    [](const std::string& value) {
-        return value.find('-') == std::string::npos ? std::string() : "must not be negative";
-    },
-    "");
-
 // CLI11 parses every option straight into its field of `o`; the help shows each field's
 // default as it is when the options are added (the defaults of Options and RenderSettings).
 void add_render_options(CLI::App& app, Options& o) {
     app.add_option("scene", o.scene, "the .ray file")->type_name("SCENE.ray")->required();
     app.add_option("-o,--output", o.output,
-                   "output image; format by extension: .png .bmp .ppm (8-bit) or\n"
-                   ".pfm (float, unclamped)")
+                   "output image; format by extension: .png .bmp .ppm (8-bit), .pfm\n"
+                   "(float, unclamped) or .exr (OpenEXR: half or float, unclamped)")
         ->type_name("FILE");
-    app.add_option("--width", o.width, "image width in pixels")->type_name("N");
-    app.add_option("--height", o.height, "image height in pixels")->type_name("N");
-    app.add_option("--depth", o.max_depth, "recursion depth of camera rays (>= 1)")->type_name("N");
-    app.add_option("--cutoff", o.cutoff, "skip child rays whose path weight is below X")
-        ->type_name("X");
-    app.add_option("--spp", o.spp,
-                   "samples per pixel; 1 = pixel centres, N > 1 = stratified jitter\n"
-                   "(with a progressive feature on, every sample is jittered)")
-        ->type_name("N");
-    app.add_option("--light-samples", o.light_samples,
-                   "points per sphere light whose shadow rays give a point's shadow\n"
-                   "factor (1 spp: strata centres; N > 1 spp: jittered strata;\n"
-                   "progressive: one random point per sample)")
-        ->type_name("N");
-    app.add_option("--seed", o.seed, "random seed of the jitter and the progressive features")
-        ->type_name("N")
-        ->check(kNoMinus);
-    app.add_option("--threads", o.threads,
-                   "worker threads, up to 256; 0 = all cores (the image is the same\n"
-                   "for any count)")
-        ->type_name("N");
-    app.add_flag_callback(
-        "--no-shadows", [&o] { o.shadows = false; }, "no shadow rays (lights always visible)");
-    app.add_option_function<std::string>(
-           "--dialect",
-           [&o](const std::string& d) {
-               o.dialect = d == "v0"   ? rt::Dialect::V0
-                           : d == "v1" ? rt::Dialect::V1
-                                       : rt::Dialect::V3;
-           },
-           "v0, v1 or v3: override the dialect detected from the file tree")
-        ->type_name("D")
-        ->transform(CLI::IsMember({"v0", "v1", "v3"}, CLI::ignore_case));
-    app.add_option_function<std::string>(
-           "--missing-textures",
-           [&o](const std::string& m) {
-               o.missing_textures =
-                   m == "checker" ? rt::MissingTextures::Checker : rt::MissingTextures::Error;
-           },
-           "error or checker: a texture that cannot be opened or decoded is an\n"
-           "error, or a magenta/grey checker with a warning")
-        ->type_name("M")
-        ->transform(CLI::IsMember({"error", "checker"}, CLI::ignore_case));
+    rtapp::add_render_options(app, o,
+                              "samples per pixel; 1 = pixel centres, N > 1 = stratified jitter\n"
+                              "(with a progressive feature on, every sample is jittered)");
+    rtapp::add_scene_options(app, o, true);
     app.add_flag("--stats", o.stats,
                  "print time per phase (parse, compile, BVH build, render) and rays\n"
                  "per second by kind");
     app.add_flag("--explain", o.explain,
                  "print what the renderer left out for this scene and why, one line\n"
                  "each (\"left out: <feature>: <reason>\"), and what it kept");
-    app.add_flag_callback(
-        "--no-specialize", [&o] { o.specialize = false; },
-        "render with the generic renderer (every feature tested per ray,\n"
-        "every ray walks the top-level BVH and dispatches on each shape's\n"
-        "kind) instead of the one specialized to the scene; the image is\n"
-        "the same");
 }
 
 void add_progressive_options(CLI::App& app, Options& o) {
@@ -135,24 +81,6 @@ void add_progressive_options(CLI::App& app, Options& o) {
                  "also run adaptive sampling (samples go to the pixels with the\n"
                  "largest estimated error) and compare the time each needs to reach\n"
                  "one error")
-        ->group(group);
-}
-
-void add_feature_options(CLI::App& app, Options& o) {
-    const std::string group = "progressive features (off by default; see docs/format.md)";
-    app.add_option("--light-radius", o.light_radius,
-                   "point and spot lights become spheres of radius R (soft shadows)")
-        ->type_name("R")
-        ->group(group);
-    app.add_option("--aperture", o.aperture, "lens radius A (depth of field)")
-        ->type_name("A")
-        ->group(group);
-    app.add_option("--focus-distance", o.focus_distance,
-                   "distance in focus along the view direction (0: the scene centre)")
-        ->type_name("F")
-        ->group(group);
-    app.add_option("--roughness", o.roughness, "glossy reflection: mirror directions spread by X")
-        ->type_name("X")
         ->group(group);
 }
 
@@ -207,6 +135,41 @@ void add_animation_options(CLI::App& app, Options& o) {
         ->group(group);
 }
 
+// OpenEXR output: the precision and the AOV channels (rt/render/aov.h); validate() checks that
+// -o is an .exr file.
+void add_output_options(CLI::App& app, Options& o) {
+    const std::string group = "OpenEXR output (-o FILE.exr; linear, unclamped)";
+    ExrOptions& e = o.exr;
+    app.add_flag("--exr-float", e.full_float, "32-bit float channels instead of half")
+        ->group(group);
+    app.add_option_function<std::string>(
+           "--aov",
+           [&e](const std::string& list) {
+               e.aovs = {};
+               std::string name;
+               std::istringstream in(list);
+               bool any = false;
+               while (std::getline(in, name, ',')) {
+                   if (!rt::add_aov(name, &e.aovs))
+                       throw CLI::ValidationError("--aov", "unknown AOV '" + name +
+                                                               "' (accepted: " + rt::aov_names() +
+                                                               ", comma-separated)");
+                   any = true;
+               }
+               if (!any || list.back() == ',')
+                   throw CLI::ValidationError(
+                       "--aov",
+                       "'" + list + "' is not a comma-separated list of " + rt::aov_names());
+           },
+           "extra channels, comma-separated: albedo (Albedo.RGB: the first\n"
+           "hit's diffuse colour), normal (Ns.XYZ: its shading normal, world\n"
+           "space), depth (depth.Z: its distance from the camera, +inf for no\n"
+           "hit), samples (Samples.N), variance (Variance.RGB: the samples'\n"
+           "variance); means over each pixel's samples (depth: those that hit)")
+        ->type_name("LIST")
+        ->group(group);
+}
+
 // "X0,Y0,X1,Y1" and "A:B" into the split options; CLI11 keeps the text, validate() the ranges.
 void add_split_options(CLI::App& app, Options& o) {
     const std::string group = "split renders (merge the parts with raymerge; docs/cluster.md)";
@@ -248,12 +211,12 @@ void make_app(CLI::App& app, Options& o) {
     app.get_formatter()->column_width(28);
     // A repeated option takes its last value, as before CLI11 (scripts/run.sh passes -o and
     // forwards the user's own arguments after it).
-    app.option_defaults()->always_capture_default()->multi_option_policy(
-        CLI::MultiOptionPolicy::TakeLast);
-    app.set_help_flag("-h,--help", "this text");
+    rtapp::setup_cli(app, "raytrace");
+    app.option_defaults()->always_capture_default();
     add_render_options(app, o);
+    add_output_options(app, o);
     add_progressive_options(app, o);
-    add_feature_options(app, o);
+    rtapp::add_feature_options(app, o);
     add_animation_options(app, o);
     add_split_options(app, o);
     app.add_flag("-q,--quiet", o.quiet, "print errors and warnings only");
@@ -305,21 +268,9 @@ void validate_animation(const Options& o) {
 
 // The checks across options and of ranges, after CLI11 has converted every value.
 void validate(const Options& o, bool spp_given) {
-    if (o.width < 1 || o.height < 1 || o.width > 32768 || o.height > 32768)
-        throw UsageError("--width and --height must be between 1 and 32768");
-    if (o.max_depth < 1) throw UsageError("--depth must be at least 1");
-    if (!(o.cutoff >= 0.0)) throw UsageError("--cutoff must not be negative");
-    if (o.spp < 1) throw UsageError("--spp must be at least 1");
-    if (o.light_samples < 1 || o.light_samples > kMaxLightSamples)
-        throw UsageError("--light-samples must be between 1 and " +
-                         std::to_string(kMaxLightSamples));
-    if (o.threads < 0 || o.threads > 256) throw UsageError("--threads must be between 0 and 256");
+    rtapp::validate_render_options(o);
     const ProgressiveOptions& p = o.progressive;
-    for (const auto& [name, v] : {std::pair<const char*, double>{"--light-radius", o.light_radius},
-                                  {"--aperture", o.aperture},
-                                  {"--focus-distance", o.focus_distance},
-                                  {"--roughness", o.roughness},
-                                  {"--time", p.time_limit_s},
+    for (const auto& [name, v] : {std::pair<const char*, double>{"--time", p.time_limit_s},
                                   {"--target-error", p.target_relmse}})
         if (!(v >= 0.0) || !std::isfinite(v))
             throw UsageError(std::string(name) + " must be a finite number >= 0");
@@ -339,7 +290,11 @@ void validate(const Options& o, bool spp_given) {
     validate_split(o);
     if (!o.split.part && rt::image_format_from_path(o.output) == rt::ImageFormat::Unknown)
         throw UsageError("unknown output format '" + o.output +
-                         "' (use .png, .bmp, .ppm, .pfm, or .part for a split render)");
+                         "' (use .png, .bmp, .ppm, .pfm, .exr, or .part for a split render)");
+    if ((o.exr.aovs.any() || o.exr.full_float) &&
+        rt::image_format_from_path(o.output) != rt::ImageFormat::Exr)
+        throw UsageError("--aov and --exr-float need an OpenEXR output (-o FILE.exr), not '" +
+                         o.output + "'");
     validate_animation(o);
 }
 
@@ -367,6 +322,9 @@ Options parse_options(const std::vector<std::string>& args) {
         app.parse(reversed);
     } catch (const CLI::CallForHelp&) {
         o.help = true;
+        return o;
+    } catch (const CLI::CallForVersion&) {
+        o.version = true;
         return o;
     } catch (const CLI::ParseError& e) {
         throw UsageError(e.what());

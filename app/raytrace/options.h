@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "render_options.h"
 #include "rt/format/parser.h"
+#include "rt/render/aov.h"
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
@@ -16,9 +18,7 @@
 
 namespace raytrace {
 
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+using UsageError = rtapp::UsageError;
 
 /// --progressive and its error report. The pass limits are the library's: time_limit_s is
 /// --time, spp_limit is --spp when given; `adaptive` (--adaptive) adds an adaptive run after the
@@ -54,20 +54,27 @@ struct SplitOptions {
     bool part = false;                   // -o ends in .part
 };
 
-struct Options : rt::RenderSettings {
+/// OpenEXR output (-o FILE.exr): 32-bit float channels and the AOV channels (rt/render/aov.h).
+struct ExrOptions {
+    bool full_float = false;  // --exr-float; else half
+    rt::AovSet aovs;          // --aov
+};
+
+/// The render options rayview takes too (rtapp::RenderOptions: the renderer's settings, --spp,
+/// --dialect, --missing-textures), and raytrace's own.
+struct Options : rtapp::RenderOptions {
     std::string scene;
     std::string output = "out.png";
-    int spp = 1;
-    std::optional<rt::Dialect> dialect;  // overrides the dialect detected from the file tree
-    rt::MissingTextures missing_textures = rt::MissingTextures::Error;  // --missing-textures
     bool quiet = false;
     bool stats = false;
     bool explain = false;  // print what the specialized renderer left out, and why
     ProgressiveOptions progressive;
     AnimationOptions animation;
     SplitOptions split;
+    ExrOptions exr;
     std::vector<std::string> warnings;  // options that are accepted but have no effect
     bool help = false;
+    bool version = false;  // --version
 };
 
 /// Parses argv (without argv[0]). Throws UsageError.

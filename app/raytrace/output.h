@@ -7,7 +7,10 @@
 #include <utility>
 #include <vector>
 
+#include "options.h"
+#include "rt/image/exr.h"
 #include "rt/image/image.h"
+#include "rt/render/render.h"
 
 namespace raytrace {
 
@@ -19,10 +22,23 @@ bool probe_outputs(const std::vector<std::string>& paths);
 /// A text file to write beside the image: its path and its contents.
 using TextFile = std::pair<std::string, std::string>;
 
+/// What an EXR image holds beside the RGB (the other formats ignore it).
+struct ExrOutput {
+    bool full_float = false;               // 32-bit float channels, else half
+    std::vector<rt::ExrChannel> channels;  // the AOVs
+};
+
+/// The EXR output of a finished render of `opt` (its samples in `state`): --exr-float and the
+/// --aov channels, the first-hit AOVs traced now along the render's camera rays (rt/render/aov.h;
+/// with --progressive, the passes' sample sequence).
+ExrOutput exr_output(const Options& opt, const rt::RenderState& state, const rt::RenderScene& scene,
+                     const rt::RenderPlan& plan);
+
 /// Writes the texts to path.part, the image (atomically), then renames the texts; on failure
 /// removes every temporary file and throws std::runtime_error. Non-finite pixels are written as
-/// 0 (spec §9) with a warning naming `scene`.
+/// 0 (spec §9) with a warning naming `scene`. An .exr image takes `exr`'s precision and channels.
 void write_outputs(const rt::Image& image, const std::string& image_path,
-                   const std::vector<TextFile>& texts, const std::string& scene);
+                   const std::vector<TextFile>& texts, const std::string& scene,
+                   const ExrOutput& exr = {});
 
 }  // namespace raytrace

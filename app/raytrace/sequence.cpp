@@ -52,7 +52,7 @@ int render_sequence(const Options& opt, const rt::SceneDesc& desc, rt::RenderSce
         rt::RenderState state;
         rt::render_samples(state, scene, plan, opt, opt.spp, frame_progress(bar, k, a.frames));
         rays += state.rays;
-        write_outputs(state.image(), path, {}, opt.scene);
+        write_outputs(state.image(), path, {}, opt.scene, exr_output(opt, state, scene, plan));
     }
     t.render_s = rt::seconds_since(t_render);
     if (!opt.quiet) {

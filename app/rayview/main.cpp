@@ -13,10 +13,12 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
 #include "config.h"
+#include "data_dir.h"
 #include "input.h"
 #include "panels.h"
 #include "panes.h"
@@ -119,6 +121,12 @@ void render_frame(int fb_w, int fb_h) {
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
 
+// "showpiece.ray - rayview", or "rayview" with no scene open.
+std::string window_title(const rt::view::ViewerState& viewer) {
+    if (!viewer.loaded) return "rayview";
+    return std::filesystem::path(viewer.loaded->path).filename().string() + " - rayview";
+}
+
 // In reverse order of initialisation.
 void shutdown(GLFWwindow* window) {
     ImGui_ImplOpenGL3_Shutdown();
@@ -132,9 +140,22 @@ void shutdown(GLFWwindow* window) {
 
 int main(int argc, char** argv) {
     using namespace rt::view;
+    // The shaders and the sample scenes: beside the executable (installed or in the build tree).
+    std::string data_dir, data_error;
+    try {
+        data_dir = rtapp::find_data_dir("shaders/preview.vert").string();
+    } catch (const std::exception& e) {
+        data_error = e.what();
+    }
     RunOptions opt;
-    const int rc = parse_run_options(argc, argv, RT_SOURCE_DIR "/scenes/showpiece.ray", &opt);
+    const int rc = parse_run_options(
+        argc, argv, data_dir.empty() ? "" : data_dir + "/scenes/showpiece.ray", &opt);
     if (rc >= 0) return rc;
+    if (opt.scene.empty()) {  // no scene named, and no default one
+        std::fprintf(stderr, "rayview: no scene given, and the default one is missing: %s\n",
+                     data_error.c_str());
+        return 1;
+    }
 
     // What the last run kept: the window's size, the UI scale, the recent files.
     const std::string config_file = config_path();
@@ -146,27 +167,45 @@ int main(int argc, char** argv) {
     std::signal(SIGTERM, on_signal);
     glfwSetErrorCallback(glfw_error);
     GLFWwindow* window = open_window(opt.window_w, opt.window_h);
-    if (!window) return render_headless(opt.scene, opt.missing_textures);
+    if (!window) {  // raytrace's settings, 16 samples per pixel unless --spp says
+        const rt::RenderSettings& settings = opt.render;
+        return render_headless(opt.scene, opt.render.missing_textures, settings,
+                               opt.spp_given ? opt.render.spp : 16, opt.render.dialect);
+    }
+    if (data_dir.empty()) {
+        std::fprintf(stderr, "rayview: %s\n", data_error.c_str());
+        glfwDestroyWindow(window);
+        glfwTerminate();
+        return 1;
+    }
     // Setup Dear ImGui context, style and platform/renderer back ends
     ImGuiIO& io = init_imgui(window);
 
     int exit_code = 0;
     {  // the viewer and its GL objects die before the context
-        ViewerState viewer(opt.scene, !opt.screenshot.empty(), opt.missing_textures);
-        viewer.settings.layout = opt.layout;
-        viewer.settings.show_panel = opt.panel;
-        viewer.settings.ui_scale = config.ui_scale;
+        ViewerState viewer(opt.scene, !opt.screenshot.empty(), opt.render.missing_textures,
+                           opt.render.dialect);
+        ViewSettings initial = viewer.settings;
+        apply_run_options(opt, &initial);
+        initial.layout = opt.layout;
+        initial.show_panel = opt.panel;
+        initial.ui_scale = config.ui_scale;
+        viewer.start_with(initial);
         viewer.remember_recent(config.recent);
         glfwSetWindowUserPointer(window, &viewer);
         glfwSetDropCallback(window, on_drop);
-        const std::unique_ptr<Panes> panes = make_panes(RT_SOURCE_DIR "/shaders");
+        const std::unique_ptr<Panes> panes = make_panes(data_dir + "/shaders");
         if (!panes) exit_code = 1;
         if (panes && !viewer.loaded) std::fprintf(stderr, "%s\n", viewer.message.c_str());
         PanelState ui(opt.scene);
         InputState input;
         ScriptRun script(opt);
         FrameStats stats;
+        std::string title;
         while (exit_code == 0 && !glfwWindowShouldClose(window)) {
+            // The title names the open scene, as a desktop program's does.
+            if (const std::string t = window_title(viewer); t != title)
+                glfwSetWindowTitle(window, (title = t).c_str());
             // Events; dropped files open, the open file reloads when it changed on disk. With
             // nothing to redraw at once the loop waits for an event or 1/30 s (new trace
             // images), so it leaves the cores to the trace.

@@ -1,5 +1,5 @@
-// Scripted runs of the viewer, for tests and measurements: the command line (--frames N,
-// --screenshot F, --script S, --layout, --size WxH, --panel on|off), the script interpreter, saving
+// Scripted runs of the viewer, for tests and measurements (the command line that starts them:
+// run_options.h): the script interpreter, saving
 // the window as an image, and the frame statistics a --frames run prints at the end.
 //
 // A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn
@@ -12,36 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "run_options.h"
 #include "viewer.h"
 
 namespace rt::view {
-
-struct ScriptLine {
-    int frame = 0;
-    std::string command;
-    std::vector<std::string> args;
-};
-
-/// Reads a script; throws std::runtime_error when the file cannot be opened.
-std::vector<ScriptLine> read_script(const std::string& path);
-
-struct RunOptions {
-    std::string scene;
-    int frames = 0;  // > 0: run this many frames, save the window, exit
-    std::string screenshot;
-    std::vector<ScriptLine> script;
-    MissingTextures missing_textures = MissingTextures::Error;  // --missing-textures
-    int layout = 0;                                             // --layout: ViewSettings::layout
-    int window_w = 0, window_h = 0;                             // --size, 0: the last run's
-    bool panel = true;                                          // --panel on|off
-};
-
-/// "WxH" (each 64 to 16384) into *w and *h; false, and both unchanged, otherwise.
-bool parse_size(const std::string& text, int* w, int* h);
-
-/// Reads the command line into `out` (the scene defaults to `default_scene`). Returns -1 to run,
-/// else the exit code (0 after --help, 2 for a bad option or an unreadable script).
-int parse_run_options(int argc, char** argv, const std::string& default_scene, RunOptions* out);
 
 /// The whole window as drawn (the current framebuffer), rows flipped to top-first. Throws.
 void save_window(int width, int height, const std::string& path);

@@ -161,7 +161,7 @@ std::string stand_in_text(const SceneDesc& desc) {
 
 std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error,
                                         MissingTextures missing, bool* textures_missing,
-                                        bool for_preview) {
+                                        bool for_preview, std::optional<Dialect> dialect) {
     if (textures_missing) *textures_missing = false;
     try {
         Diagnostics diag;
@@ -170,6 +170,7 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
         s->missing_textures = missing;
         ParseOptions options;
         options.missing_textures = missing;
+        options.dialect = dialect;
         try {
             s->desc = parse_scene_file(path, diag, options);
         } catch (const SceneError&) {
@@ -208,34 +209,36 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
     }
 }
 
-int render_headless(const std::string& path, MissingTextures missing) {
+int render_headless(const std::string& path, MissingTextures missing,
+                    const RenderSettings& settings, int spp, std::optional<Dialect> dialect) {
     std::string error;
-    const auto s = load_scene(path, &error, missing, nullptr, false);  // no preview to draw
+    const auto s = load_scene(path, &error, missing, nullptr, false, dialect);  // no preview
     if (!s) {
         std::cerr << error << "\n";
         return 1;
     }
     const std::string out = std::filesystem::path(path).stem().string() + ".png";
-    RenderSettings settings;
     RenderState state;
-    render_samples(state, s->scene, make_render_plan(s->scene, settings), settings, 16);
+    render_samples(state, s->scene, make_render_plan(s->scene, settings), settings, spp);
     try {
         save_image(state.image(), out);
     } catch (const std::exception& e) {
         std::cerr << "rayview: error: " << e.what() << "\n";
         return 1;
     }
-    std::printf("rayview: rendered %s headless (16 spp) to %s\n", path.c_str(), out.c_str());
+    std::printf("rayview: rendered %s headless (%dx%d, %d spp) to %s\n", path.c_str(),
+                settings.width, settings.height, spp, out.c_str());
     return 0;
 }
 
-ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTextures missing)
-    : missing_textures(missing), m_print_left_out(print_left_out) {
+ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTextures missing,
+                         std::optional<Dialect> file_dialect)
+    : missing_textures(missing), dialect(file_dialect), m_print_left_out(print_left_out) {
     // The trace takes every core, at a lower priority than the interface (Tracer::run), so
     // frames stay smooth.
     settings.render.threads = resolve_thread_count(0);
     bool textures_missing = false;
-    loaded = load_scene(path, &message, missing, &textures_missing);
+    loaded = load_scene(path, &message, missing, &textures_missing, true, dialect);
     if (textures_missing) checker_offer = path;
     reset_history();
     if (!loaded) {  // keeps running with the message shown, and watches the file
@@ -253,11 +256,18 @@ ViewerState::~ViewerState() { tracer.stop(); }
 
 void ViewerState::on_loaded() {
     tracer.stop();
+    std::printf("rayview: opened %s\n", loaded->path.c_str());
     edits.camera.set_from(loaded->file_camera, loaded->scene.world_bounds);
     edits.lights = loaded->desc.lights;
     edits.light_on.assign(edits.lights.size(), 1);
     loaded->file_time = modified(loaded->path);
     mark_edited();
+    reset_history();
+}
+
+void ViewerState::start_with(const ViewSettings& initial) {
+    settings = initial;
+    if (loaded) mark_edited();
     reset_history();
 }
 
@@ -317,14 +327,14 @@ bool ViewerState::open_with_checker() {
 bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures missing) {
     std::string err;
     bool textures_missing = false;
-    auto next = load_scene(file, &err, missing, &textures_missing);
+    auto next = load_scene(file, &err, missing, &textures_missing, true, dialect);
     return finish_open(std::move(next), file, err, textures_missing, keep_camera);
 }
 
 void ViewerState::load_in_background(const std::string& file, MissingTextures missing,
                                      bool reload) {
-    loader.start(file, [file, missing](std::string* error, bool* textures_missing) {
-        return load_scene(file, error, missing, textures_missing);
+    loader.start(file, [file, missing, d = dialect](std::string* error, bool* textures_missing) {
+        return load_scene(file, error, missing, textures_missing, true, d);
     });
     m_reloading = reload;
 }
@@ -372,7 +382,8 @@ bool ViewerState::reload() {
     if (!loaded) return false;
     std::string err;
     bool textures_missing = false;
-    auto next = load_scene(loaded->path, &err, loaded->missing_textures, &textures_missing);
+    auto next =
+        load_scene(loaded->path, &err, loaded->missing_textures, &textures_missing, true, dialect);
     return finish_reload(std::move(next), err, textures_missing);
 }
 

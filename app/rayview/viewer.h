@@ -112,14 +112,17 @@ std::string stand_in_text(const SceneDesc& desc);
 /// failed open is tried again with checker stand-ins: `*textures_missing` (when given) says
 /// whether that would open it (the failure was only textures that cannot be opened).
 /// `for_preview`: also tessellate it for the preview (LoadedScene::preview); a headless render
-/// does not.
+/// does not. `dialect` overrides the one detected from the file tree (--dialect).
 std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error,
                                         MissingTextures missing = MissingTextures::Error,
-                                        bool* textures_missing = nullptr, bool for_preview = true);
+                                        bool* textures_missing = nullptr, bool for_preview = true,
+                                        std::optional<Dialect> dialect = std::nullopt);
 
-/// Without a display: the same renderer, headless (16 spp), to SCENE.png in the working
-/// directory. Returns the exit code.
-int render_headless(const std::string& path, MissingTextures missing = MissingTextures::Error);
+/// Without a display: the same renderer, headless (`spp` samples per pixel, `settings`' size),
+/// to SCENE.png in the working directory. Returns the exit code.
+int render_headless(const std::string& path, MissingTextures missing = MissingTextures::Error,
+                    const RenderSettings& settings = {}, int spp = 16,
+                    std::optional<Dialect> dialect = std::nullopt);
 
 struct ViewerState {
     using Clock = std::chrono::steady_clock;
@@ -128,7 +131,8 @@ struct ViewerState {
     /// features the renderer leaves out at the first restart (for --frames runs).
     /// `missing`: how every file opens (--missing-textures).
     ViewerState(const std::string& path, bool print_left_out,
-                MissingTextures missing = MissingTextures::Error);
+                MissingTextures missing = MissingTextures::Error,
+                std::optional<Dialect> file_dialect = std::nullopt);
     ~ViewerState();
     ViewerState(const ViewerState&) = delete;
     ViewerState& operator=(const ViewerState&) = delete;
@@ -226,6 +230,8 @@ struct ViewerState {
     /// Once a frame: an edit made since the last step becomes an undo step once no gesture is
     /// under way (`gesture`: a mouse button held or a widget active), so a drag is one step.
     void track_history(bool gesture);
+    /// The settings the viewer starts with (the command line's): not an undo step.
+    void start_with(const ViewSettings& initial);
     /// Back to the state before the last step (the current one goes to redo), or forward again.
     /// False when there is nothing to undo or redo. Opening a file starts a new history.
     bool undo();
@@ -244,6 +250,7 @@ struct ViewerState {
     std::string checker_offer;    // a file that failed to open for its textures only, else ""
     std::string reload_conflict;  // a reload kept edits of what the file changed too, else ""
     MissingTextures missing_textures = MissingTextures::Error;  // how files open
+    std::optional<Dialect> dialect;  // --dialect: every file opens in it (else detected)
     std::vector<std::string> recent;  // files opened (absolute), most recent first, at most 8
     /// Adds files opened in earlier runs after this run's (those that still exist).
     void remember_recent(const std::vector<std::string>& files);

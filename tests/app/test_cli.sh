@@ -68,6 +68,39 @@ for ext in png bmp ppm pfm; do
 done
 check "pfm header" bash -c "head -c 2 '$tmp/f.pfm' | grep -q PF"
 
+# OpenEXR: float RGB equal to the PFM's (read back by imgdiff through OpenEXR), half RGB within
+# half's rounding, the AOV channels named in the header (stored uncompressed; the values are
+# checked by rt_tests' Aov tests), also in progressive mode and sequences; usage errors exit 2.
+imgdiff="$(dirname "$rt")/imgdiff"
+check "imgdiff is built beside raytrace" test -x "$imgdiff"
+"$rt" "$tmp/ok.ray" -q -o "$tmp/e.pfm" --width 32 --height 24 --spp 2
+"$rt" "$tmp/ok.ray" -q -o "$tmp/e.exr" --width 32 --height 24 --spp 2 --exr-float \
+    --aov albedo,normal,depth,samples,variance
+check "exr with every aov exits 0" test $? -eq 0
+check "float exr RGB is the pfm's" "$imgdiff" "$tmp/e.pfm" "$tmp/e.exr" --max-abs 0
+for ch in R G B Albedo.R Albedo.G Albedo.B Ns.X Ns.Y Ns.Z depth.Z Samples.N Variance.R \
+    Variance.G Variance.B; do
+    check "exr has channel $ch" grep -qaF "$ch" "$tmp/e.exr"
+done
+check "no aov channel in a plain exr" bash -c "'$rt' '$tmp/ok.ray' -q -o '$tmp/h.exr' --width 32 --height 24 --spp 2 && ! grep -qaF Albedo '$tmp/h.exr'"
+check "half exr RGB is the pfm's within half's rounding" "$imgdiff" "$tmp/e.pfm" "$tmp/h.exr" --max-abs 0.002
+check "half exr RGB is rounded" bash -c "! '$imgdiff' '$tmp/e.pfm' '$tmp/h.exr' --max-abs 0 >/dev/null"
+"$rt" "$tmp/ok.ray" -q --progressive --spp 4 -o "$tmp/pe.exr" --width 32 --height 24 --aov samples,depth
+check "progressive exr with aovs" grep -qaF Samples.N "$tmp/pe.exr"
+"$rt" "$tmp/ok.ray" -q --frames 2 -o "$tmp/fe_%d.exr" --width 16 --height 12 --aov normal 2>/dev/null
+check "every frame of a sequence has the aovs" bash -c "grep -qaF Ns.X '$tmp/fe_0.exr' && grep -qaF Ns.X '$tmp/fe_1.exr'"
+"$rt" "$tmp/ok.ray" -o "$tmp/a.png" --aov depth >/dev/null 2>"$tmp/aov.txt"
+check "--aov without .exr exits 2" test $? -eq 2
+check "--aov without .exr message" grep -q "need an OpenEXR output (-o FILE.exr)" "$tmp/aov.txt"
+check "--aov without .exr writes nothing" test ! -e "$tmp/a.png"
+"$rt" "$tmp/ok.ray" -o "$tmp/b.exr" --aov depth,shadow >/dev/null 2>"$tmp/aov2.txt"
+check "unknown aov exits 2" test $? -eq 2
+check "unknown aov names the accepted ones" grep -q "unknown AOV 'shadow' (accepted: albedo, normal, depth, samples, variance" "$tmp/aov2.txt"
+"$rt" "$tmp/ok.ray" -o "$tmp/c.part" --aov depth >/dev/null 2>&1
+check "--aov with a .part exits 2" test $? -eq 2
+"$rt" "$tmp/ok.ray" -o "$tmp/nodir/x.exr" --aov depth >/dev/null 2>&1
+check "exr in a missing directory exits 1" test $? -eq 1
+
 "$rt" "$tmp/ok.ray" -q -o "$tmp/t1.ppm" --threads 1 --spp 4 --width 50 --height 40
 "$rt" "$tmp/ok.ray" -q -o "$tmp/t3.ppm" --threads 3 --spp 4 --width 50 --height 40
 check "same image for any thread count" cmp -s "$tmp/t1.ppm" "$tmp/t3.ppm"

@@ -4,6 +4,9 @@
 
 #include "frames.h"
 #include "raytrace/options.h"
+#include "raytrace/output.h"
+#include "rt/compile/compile.h"
+#include "rt/format/parser.h"
 
 namespace raytrace {
 namespace {
@@ -200,6 +203,100 @@ TEST(Options, AnimationTimesAndChoices) {
           {"a.ray", "--frames", "2", "--progressive", "--spp", "4", "-o", "f%d.png"},
           {"a.ray", "--video", "v.mp4"}})
         EXPECT_THROW(parse(bad), UsageError) << bad[1];
+}
+
+TEST(Options, ExrPrecisionAndAovs) {
+    const Options plain = parse({"a.ray", "-o", "x.exr"});
+    EXPECT_FALSE(plain.exr.full_float);
+    EXPECT_FALSE(plain.exr.aovs.any());
+    const Options o = parse({"a.ray", "-o", "x.EXR", "--exr-float", "--aov", "depth,albedo"});
+    EXPECT_TRUE(o.exr.full_float);
+    EXPECT_TRUE(o.exr.aovs.albedo && o.exr.aovs.depth);
+    EXPECT_FALSE(o.exr.aovs.normal || o.exr.aovs.samples || o.exr.aovs.variance);
+    const Options all =
+        parse({"a.ray", "-o", "x.exr", "--aov", "albedo,normal,depth,samples,variance"});
+    EXPECT_TRUE(all.exr.aovs.albedo && all.exr.aovs.normal && all.exr.aovs.depth &&
+                all.exr.aovs.samples && all.exr.aovs.variance);
+    EXPECT_EQ(parse({"a.ray", "-o", "x.exr", "--aov", "normal", "--aov", "samples"}).exr.aovs,
+              (rt::AovSet{false, false, false, true, false}));  // the last one, as for any option
+    // Sequences and progressive renders write them too.
+    EXPECT_TRUE(
+        parse({"a.ray", "--frames", "3", "-o", "f_%02d.exr", "--aov", "depth"}).exr.aovs.depth);
+    EXPECT_TRUE(parse({"a.ray", "--progressive", "--spp", "8", "-o", "p.exr", "--aov", "variance"})
+                    .exr.aovs.variance);
+    for (const std::vector<std::string>& bad :
+         {std::vector<std::string>{"a.ray", "--aov", "depth"},  // out.png
+          {"a.ray", "--exr-float"},
+          {"a.ray", "-o", "x.pfm", "--aov", "albedo"},
+          {"a.ray", "-o", "x.part", "--aov", "albedo"},  // a part holds sums, no AOVs
+          {"a.ray", "-o", "x.exr", "--aov", "albedo,shadow"},
+          {"a.ray", "-o", "x.exr", "--aov", "Albedo"},
+          {"a.ray", "-o", "x.exr", "--aov", ""},
+          {"a.ray", "-o", "x.exr", "--aov", "albedo,"},
+          {"a.ray", "-o", "x.exr", "--aov", ",albedo"},
+          {"a.ray", "-o", "x.exr", "--aov", "albedo,,depth"},
+          {"a.ray", "-o", "x.exr", "--aov"}})
+        EXPECT_THROW(parse(bad), UsageError) << bad.back();
+    try {
+        parse({"a.ray", "-o", "x.exr", "--aov", "albedo,shadow"});
+        FAIL();
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("unknown AOV 'shadow' (accepted: albedo, normal, "
+                                             "depth, samples, variance"),
+                  std::string::npos)
+            << e.what();
+    }
+    try {
+        parse({"a.ray", "-o", "x.png", "--aov", "albedo"});
+        FAIL();
+    } catch (const UsageError& e) {
+        EXPECT_STREQ(e.what(),
+                     "--aov and --exr-float need an OpenEXR output (-o FILE.exr), not 'x.png'");
+    }
+    const std::string help = usage_text();
+    for (const char* opt : {"--exr-float", "--aov LIST", ".exr (OpenEXR"})
+        EXPECT_NE(help.find(opt), std::string::npos) << opt;
+}
+
+// What raytrace writes for --aov: the first-hit pass traces the render's own camera rays, also
+// those of --progressive's passes. Lit by ambient light alone (K_A = K_D, ambient 1, black
+// background), every sample's colour is its first hit's albedo, so the image is the albedo AOV
+// exactly when both place the samples alike (the spheres' edges show where they differ).
+TEST(Options, TheAovsTraceTheRendersCameraRays) {
+    rt::Diagnostics diag;
+    const rt::RenderScene scene = rt::compile_scene(rt::parse_scene_string(
+        "#camera 0 0 5  0 0 -1  0 1 0  0.5\n#background 0 0 0\n#ambient 1 1 1\n"
+        "#material 0 0 0  .8 .3 .4  .8 .3 .4  0 0 0  1  0 0 0  1  -1 !!\n"
+        "#shape_sphere 0  0 0 0  1\n#shape_sphere 0  1.2 0.8 -1  0.4\n",
+        "aov.ray", diag));
+    for (const char* mode : {"--spp", "--progressive"}) {
+        std::vector<std::string> args = {"a.ray",  "--width", "24", "--height", "18",
+                                         "--seed", "3",       "-o", "a.exr",    "--aov",
+                                         "albedo", "--spp",   "5"};
+        if (std::string(mode) == "--progressive") args.push_back(mode);
+        const Options o = parse(args);
+        const rt::RenderPlan plan = rt::make_render_plan(scene, o);
+        rt::RenderState state;
+        if (o.progressive.enabled)
+            rt::run_progressive(state, scene, plan, o, o.progressive, nullptr);
+        else
+            rt::render_samples(state, scene, plan, o, o.spp);
+        EXPECT_EQ(state.samples[0], 5u) << mode;
+        const ExrOutput exr = exr_output(o, state, scene, plan);
+        ASSERT_EQ(exr.channels.size(), 3u);
+        EXPECT_EQ(exr.channels[1].name, "Albedo.G");
+        const rt::Image img = state.image();
+        double max_diff = 0;
+        int edges = 0;  // pixels the spheres partly cover
+        for (size_t p = 0; p < state.samples.size(); ++p)
+            for (size_t c = 0; c < 3; ++c) {
+                max_diff =
+                    std::max(max_diff, std::abs(exr.channels[c].values[p] - img.rgb[p * 3 + c]));
+                edges += c == 1 && img.rgb[p * 3 + c] > 0.01 && img.rgb[p * 3 + c] < 0.29;
+            }
+        EXPECT_LT(max_diff, 1e-12) << mode;
+        EXPECT_GT(edges, 10) << mode;
+    }
 }
 
 TEST(Options, FramePatterns) {

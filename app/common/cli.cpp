@@ -1,0 +1,35 @@
+#include "cli.h"
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "version.h"
+
+namespace rtapp {
+
+void setup_cli(CLI::App& app, const std::string& program) {
+    app.name(program);
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    app.set_help_flag("-h,--help", "this text");
+    app.set_version_flag("--version", version_text(program),
+                         "the version and the git commit it was built from");
+    app.set_config("--config", "", "read options from a TOML or INI file (key = value)")
+        ->type_name("FILE");
+    app.allow_config_extras(CLI::config_extras_mode::error);
+}
+
+int cli_exit(const CLI::App& app, const CLI::ParseError& e) {
+    if (dynamic_cast<const CLI::CallForHelp*>(&e)) {
+        std::printf("%s", app.help().c_str());
+        return 0;
+    }
+    if (dynamic_cast<const CLI::CallForVersion*>(&e)) {
+        std::printf("%s\n", e.what());
+        return 0;
+    }
+    std::fprintf(stderr, "%s: %s (see %s --help)\n", app.get_name().c_str(), e.what(),
+                 app.get_name().c_str());
+    return 2;
+}
+
+}  // namespace rtapp

@@ -1,0 +1,23 @@
+// What every program's command line has in common (CLI11): -h,--help; --version; --config FILE
+// (TOML or INI, keys the long option names, unknown keys an error); a repeated option takes its
+// last value (scripts pass defaults first and forward the user's arguments after them); and the
+// exit status of a usage error, 2.
+#pragma once
+
+#include <string>
+
+namespace CLI {
+class App;
+class ParseError;
+}  // namespace CLI
+
+namespace rtapp {
+
+/// Sets up `app` for `program` as above. Call before adding the program's options.
+void setup_cli(CLI::App& app, const std::string& program);
+
+/// After app.parse() threw: prints the help or version (stdout, exit 0) or the error and a hint
+/// to --help (stderr, exit 2). Returns the exit status.
+int cli_exit(const CLI::App& app, const CLI::ParseError& e);
+
+}  // namespace rtapp

@@ -1,0 +1,173 @@
+#include "run_options.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "cli.h"
+#include "data_dir.h"
+#include "version.h"
+
+namespace rt::view {
+
+std::vector<ScriptLine> read_script(const std::string& path) {
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error("cannot open script '" + path + "'");
+    std::vector<ScriptLine> lines;
+    std::string line;
+    while (std::getline(f, line)) {
+        std::istringstream ss(line);
+        ScriptLine l;
+        if (!(ss >> l.frame >> l.command)) continue;
+        for (std::string a; ss >> a;) l.args.push_back(a);
+        lines.push_back(l);
+    }
+    return lines;
+}
+
+bool parse_size(const std::string& text, int* w, int* h) {
+    std::istringstream ss(text);
+    char x = 0;
+    int a = 0, b = 0;
+    if (!(ss >> a >> x >> b) || (x != 'x' && x != 'X') || !ss.eof()) return false;
+    if (a < 64 || b < 64 || a > 16384 || b > 16384) return false;
+    *w = a;
+    *h = b;
+    return true;
+}
+
+int parse_run_options(int argc, char** argv, const std::string& default_scene, RunOptions* out) {
+    out->scene = default_scene;
+    std::string script_path;
+    CLI::App app{
+        "Opens a .ray scene in a window: the OpenGL preview beside its progressive ray trace."};
+    rtapp::setup_cli(app, "rayview");
+    app.add_option("scene", out->scene, "the .ray file (default: the showpiece)")
+        ->type_name("SCENE.ray");
+    app.add_option("--frames", out->frames, "run N frames, save the window (--screenshot), exit")
+        ->type_name("N")
+        ->check(CLI::Range(1, 100000000));
+    app.add_option("--screenshot", out->screenshot, "where --frames saves the whole window")
+        ->type_name("OUT.png");
+    app.add_option("--script", script_path,
+                   "replay input at given frames (commands: app/rayview/script.h)")
+        ->type_name("FILE");
+    const std::map<std::string, int> layouts{{"both", 0}, {"preview", 1}, {"trace", 2}};
+    app.add_option("--layout", out->layout, "the panes shown: both (default), preview or trace")
+        ->type_name("both|preview|trace")
+        ->transform(CLI::CheckedTransformer(layouts, CLI::ignore_case).description(""));
+    std::string size;
+    app.add_option("--size", size,
+                   "the window's size in pixels (default: the last run's, 1280x720)")
+        ->type_name("WxH");
+    const std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
+    app.add_option("--panel", out->panel, "the control panel: on (default) or off")
+        ->type_name("on|off")
+        ->transform(CLI::CheckedTransformer(on_off, CLI::ignore_case).description(""));
+    app.get_formatter()->column_width(30);
+    // raytrace's render flags, as the initial settings (the panel edits them afterwards).
+    const std::string render_group = "render settings (raytrace's flags: the initial settings)";
+    // The render options show their defaults (the viewer's own options say theirs in words).
+    app.option_defaults()->always_capture_default();
+    rtapp::add_render_options(app, out->render,
+                              "the trace stops at N samples per pixel (the panel's target spp)",
+                              render_group);
+    app.add_option("--target-error", out->target_error,
+                   "the trace also stops once the estimated relMSE is at most E (0: never)")
+        ->type_name("E")
+        ->group(render_group);
+    rtapp::add_scene_options(app, out->render, true, render_group);
+    rtapp::add_feature_options(app, out->render);
+    app.footer(
+        "\nscript commands (--script FILE: one 'FRAME COMMAND ARGS...' a line, run after that "
+        "frame is drawn):\n"
+        "  camera:   orbit DYAW DPITCH | look DYAW DPITCH | pan RIGHT UP | dolly FACTOR |\n"
+        "            fly DX DY DZ | pick X Y (image fractions from the top left)\n"
+        "  lights:   light I colour|ambient|diffuse|specular R G B | light I radius R |\n"
+        "            light I position X Y Z | add-light point|spot|directional|sphere |\n"
+        "            frame-light I | headlight on|off\n"
+        "  settings: shadows on|off | depth D | threads N | resolution SCALE |\n"
+        "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
+        "            target-error E (0: none) | status (prints the status bar) |\n"
+        "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
+        "  history:  undo | redo\n"
+        "  waiting:  wait-spp N [SECONDS] | wait-jobs [SECONDS] (hold the script, and --frames'\n"
+        "            count, until the trace has N samples per pixel, or the background loads and\n"
+        "            renders and the preview's reflection maps are done; fails after SECONDS,\n"
+        "            default 120)\n"
+        "  animation: play | pause | time T | speed X | loop on|off | fps F |\n"
+        "            interpolation nearest|linear|catmull-rom|bspline |\n"
+        "            rotation matrix|closest|euler|log|quaternion |\n"
+        "            render-animation PATTERN FRAMES W H SPP [VIDEO] (in the background)\n"
+        "  files:    open PATH | open-background PATH | reload | save-scene PATH | save-image PATH "
+        "(the pane's trace) |\n"
+        "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
+        "A command that fails is reported and the run goes on; the run then exits 1.\n\n"
+        "exit status: 0 success, 1 a failed --frames run, 2 usage error.");
+    try {
+        app.parse(argc, argv);
+        if (!size.empty() && !parse_size(size, &out->window_w, &out->window_h))
+            throw CLI::ValidationError("--size", "'" + size + "' is not WxH (e.g. 1280x720)");
+        rtapp::validate_render_options(out->render);
+        if (!(out->target_error >= 0) || !std::isfinite(out->target_error))
+            throw rtapp::UsageError("--target-error must be a finite number >= 0");
+        out->spp_given = app.count("--spp") > 0;
+    } catch (const CLI::CallForHelp&) {
+        std::printf("%s", app.help().c_str());
+        return 0;
+    } catch (const CLI::CallForVersion&) {
+        // The version, and where this copy finds its shaders and scenes.
+        std::printf("%s\n", rtapp::version_text("rayview").c_str());
+        try {
+            std::printf("data: %s\n", rtapp::find_data_dir("shaders/preview.vert").c_str());
+        } catch (const std::exception& e) {
+            std::printf("data: %s\n", e.what());
+        }
+        return 0;
+    } catch (const std::exception& e) {  // CLI::ParseError, rtapp::UsageError
+        std::fprintf(stderr, "rayview: %s (see rayview --help)\n", e.what());
+        return 2;
+    }
+    if (!out->screenshot.empty() && out->frames == 0) out->frames = 60;
+    if (!script_path.empty()) {
+        try {
+            out->script = read_script(script_path);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "rayview: %s\n", e.what());
+            return 2;
+        }
+        for (const ScriptLine& l : out->script) out->frames = std::max(out->frames, l.frame + 2);
+    }
+    return -1;
+}
+
+rtapp::RenderOptions default_render_options() {
+    rtapp::RenderOptions o;
+    o.spp = ViewSettings().target_spp;
+    return o;
+}
+
+void apply_run_options(const RunOptions& options, ViewSettings* settings) {
+    const rtapp::RenderOptions& r = options.render;
+    RenderSettings& s = settings->render;
+    // Every render setting of the command line but those the viewer sets itself: the trace's
+    // size (the pane's) and how its samples fall (progressive).
+    const int trace_w = s.width, trace_h = s.height;
+    const bool centre_first = s.centre_first_sample;
+    s = r;
+    s.width = trace_w;
+    s.height = trace_h;
+    s.centre_first_sample = centre_first;
+    s.threads = resolve_thread_count(r.threads);
+    settings->target_spp = r.spp;
+    settings->target_error = options.target_error;
+    settings->image_w = r.width;
+    settings->image_h = r.height;
+}
+
+}  // namespace rt::view
