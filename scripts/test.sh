@@ -33,7 +33,7 @@ else
 fi
 # The estimate's statistics test renders 256-spp references of four scenes: 9 s here, 160 s
 # under the sanitizers, for code the other progressive tests run too.
-ctest --test-dir build-san --output-on-failure -j"$jobs" -LE gl \
+ctest --test-dir build-san --output-on-failure -j"$jobs" -LE "gl|install" \
     -E "^Progressive.TheEstimateIsWithinAQuarterOfTheTrueError$"
 
 # Fuzzing: one minute from the seed corpus (crashes fail the run).
