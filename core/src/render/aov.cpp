@@ -7,6 +7,7 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "camera_sample.h"
 #include "parallel.h"
 #include "rt/accel/intersect.h"
 #include "rt/render/sampler.h"
@@ -25,10 +26,9 @@ bool* member(AovSet* set, size_t k) {
 
 constexpr int kTile = 16;
 
-// Where sample `index` of a pixel with `n` samples falls in the pixel and the camera ray through
-// it: the same numbers as render_pixel(), sample_position() and camera_ray() in render.cpp, in
-// the same order from the same Rng (a change there must be made here too;
-// tests/test_aov.cpp checks that both see the same rays).
+// The camera ray of sample `index` of a pixel with `n` samples, as render_samples() traced it
+// (camera_sample.h: the same positions from the same random numbers): one call of n samples
+// with centre_first_sample, the progressive sequence without.
 struct PixelSampler {
     const RenderPlan& plan;
     const RenderSettings& settings;
@@ -37,34 +37,11 @@ struct PixelSampler {
     Ray ray(int x, int y, uint32_t index, uint32_t n) const {
         const size_t pixel = static_cast<size_t>(y) * settings.width + x;
         Rng rng(settings.seed, pixel, index);
-        Vec2 sample(0.5, 0.5);  // one sample: the pixel centre
-        if (!settings.centre_first_sample) {
-            // The progressive sequence: R2 under the pixel's shifts, one for the even and one for
-            // the odd samples.
-            std::array<Vec2, 2> shift{Vec2(0.0), Vec2(0.0)};
-            Rng pixel_rng(settings.seed, pixel, uint64_t{1} << 40);
-            for (Vec2& sh : shift) sh = Vec2(pixel_rng.uniform(), pixel_rng.uniform());
-            constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
-            const Vec2 sh = shift[index & 1];
-            const uint32_t k = index >> 1;
-            sample = {std::fmod(sh.x + k * a1, 1.0), std::fmod(sh.y + k * a2, 1.0)};
-        } else if (n > 1 || stochastic) {
-            // Spec §6.2: stratum `index` of a ceil(sqrt(n))^2 grid, jittered.
-            const int stratum = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
-            const int s = static_cast<int>(index);
-            const double sx = (s % stratum + rng.uniform()) / stratum;
-            const double sy = (s / stratum + rng.uniform()) / stratum;
-            sample = {sx, sy};
-        }
-        const Camera& camera = plan.camera;
-        Ray r = camera.generate(x, y, sample.x, sample.y);
-        if (settings.aperture > 0) {
-            const Vec3 focused = r.o + r.d * (plan.focus_distance / glm::dot(r.d, camera.forward));
-            const Vec2 lens = settings.aperture * rng.disc();
-            r.o += lens.x * camera.right + lens.y * camera.up;
-            r.d = glm::normalize(focused - r.o);
-        }
-        return r;
+        const int stratum = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+        const Vec2 sample =
+            sample_position(settings, stochastic, static_cast<int>(index), static_cast<int>(n), 0,
+                            stratum, progressive_shifts(settings, pixel), rng);
+        return camera_ray(plan, settings, x, y, sample, rng);
     }
 };
 

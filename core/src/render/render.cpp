@@ -7,6 +7,7 @@
 #include <string>
 #include <thread>
 
+#include "camera_sample.h"
 #include "parallel.h"
 #include "rt/render/sampler.h"
 
@@ -76,47 +77,6 @@ struct Pass {
     bool stochastic;
 };
 
-// Where the s-th of a pixel's n samples of this call falls in the pixel, in [0,1)^2. The pixel
-// has `base` samples from earlier calls; `stratum` is ceil(sqrt(n)), `shift` the pixel's R2
-// shifts (even samples, odd samples).
-Vec2 sample_position(const Pass& pass, int s, int n, uint32_t base, int stratum,
-                     const std::array<Vec2, 2>& shift, Rng& rng) {
-    const uint32_t index = base + static_cast<uint32_t>(s);
-    if (!pass.settings.centre_first_sample) {
-        // Progressive passes: the even and the odd samples each follow the R2 sequence (Roberts
-        // 2018) under a random shift of their own per pixel, so any run of sample indices,
-        // across passes too, is spread over the pixel without bias, and the means of the even
-        // and the odd samples are independent estimates (their difference estimates the error).
-        constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
-        const Vec2 sh = shift[index & 1];
-        const uint32_t k = index >> 1;
-        return {std::fmod(sh.x + k * a1, 1.0), std::fmod(sh.y + k * a2, 1.0)};
-    }
-    if (n > 1 || base > 0 || pass.stochastic) {
-        // Spec §6.2: one uniform sample in each of the first n strata of a ceil(sqrt(n))^2
-        // grid, row-major.
-        const double sx = (s % stratum + rng.uniform()) / stratum;
-        const double sy = (s / stratum + rng.uniform()) / stratum;
-        return {sx, sy};
-    }
-    return {0.5, 0.5};  // one sample: the pixel centre
-}
-
-// The camera ray through pixel (x, y) at `sample`; with an aperture, from a point of the lens.
-Ray camera_ray(const Pass& pass, int x, int y, Vec2 sample, Rng& rng) {
-    const Camera& camera = pass.plan.camera;
-    Ray ray = camera.generate(x, y, sample.x, sample.y);
-    if (pass.settings.aperture > 0) {
-        // Thin lens: from a point of the aperture toward the focused point.
-        const Vec3 focused =
-            ray.o + ray.d * (pass.plan.focus_distance / glm::dot(ray.d, camera.forward));
-        const Vec2 lens = pass.settings.aperture * rng.disc();
-        ray.o += lens.x * camera.right + lens.y * camera.up;
-        ray.d = glm::normalize(focused - ray.o);
-    }
-    return ray;
-}
-
 // The sum and the sum of squares of a pixel's samples, and the sum of its odd-indexed samples.
 struct PixelSums {
     Vec3 sum{0.0}, sum_sq{0.0}, odd{0.0};
@@ -180,11 +140,7 @@ PixelSums render_pixel(const Pass& pass, int x, int y, const SampleSpan& span, D
     const RenderSettings& settings = pass.settings;
     const size_t pixel = static_cast<size_t>(y) * settings.width + x;
     const int stratum = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(span.strat_n))));
-    std::array<Vec2, 2> shift{Vec2(0.0), Vec2(0.0)};
-    if (!settings.centre_first_sample) {
-        Rng pixel_rng(settings.seed, pixel, uint64_t{1} << 40);
-        for (Vec2& sh : shift) sh = Vec2(pixel_rng.uniform(), pixel_rng.uniform());
-    }
+    const std::array<Vec2, 2> shift = progressive_shifts(settings, pixel);
     // Only a single pass's one centre sample is deterministic (spec §13.9); every other sample
     // draws the random numbers of the features that take them, sphere lights among them.
     const bool random =
@@ -194,10 +150,10 @@ PixelSums render_pixel(const Pass& pass, int x, int y, const SampleSpan& span, D
         // Every sample's random numbers come from (seed, pixel, index): any thread, same image.
         const uint32_t index = span.index0 + static_cast<uint32_t>(s);
         Rng rng(settings.seed, pixel, index);
-        const Vec2 sample = sample_position(pass, span.strat_first + s, span.strat_n,
-                                            span.index0 - static_cast<uint32_t>(span.strat_first),
-                                            stratum, shift, rng);
-        const Ray ray = camera_ray(pass, x, y, sample, rng);
+        const Vec2 sample = sample_position(
+            settings, pass.stochastic, span.strat_first + s, span.strat_n,
+            span.index0 - static_cast<uint32_t>(span.strat_first), stratum, shift, rng);
+        const Ray ray = camera_ray(pass.plan, settings, x, y, sample, rng);
         ++rays.camera;
         const Vec3 c = trace_ray(pass.scene, pass.plan, settings, ray, settings.max_depth,
                                  Vec3(1.0), rays, random ? &rng : nullptr);
