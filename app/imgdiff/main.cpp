@@ -22,8 +22,7 @@ double luminance(const rt::Image& im, size_t i) {
 }
 
 bool eight_bit(const std::string& path) {
-    const rt::ImageFormat f = rt::image_format_from_path(path);
-    return f != rt::ImageFormat::Pfm && f != rt::ImageFormat::Exr;
+    return !rt::holds_linear(rt::image_format_from_path(path));
 }
 
 struct Region {

@@ -175,7 +175,7 @@ void write_frame(Job& job, int k) {
     rt::RenderPart& p = job.tiles[static_cast<size_t>(k)];
     const rt::RenderState state = rt::merge_parts({&p}, job.opt.width, job.opt.height, p.total);
     const std::string path = rtapp::frame_path(job.opt.output, k);
-    write_outputs(state.image(), path, {}, job.opt.scene);
+    write_outputs(state.image(), path, {}, job.opt.scene, ExrOutput{job.opt.exr.full_float, {}});
     g_written.push_back(path);
     p.blocks.clear();
     ++job.frames_written;
@@ -426,7 +426,8 @@ int run_image(Job& job, int ranks) {
         for (const rt::RenderPart& p : job.tiles) parts.push_back(&p);
         const rt::RenderState state =
             rt::merge_parts(parts, opt.width, opt.height, static_cast<uint32_t>(opt.spp));
-        write_outputs(state.image(), opt.output, {}, opt.scene);
+        write_outputs(state.image(), opt.output, {}, opt.scene,
+                      exr_output(opt, state, *job.scene, job.plan));
     }
     if (!opt.quiet) print_summary(job, ranks, rt::seconds_since(t0), bytes);
     return 0;
@@ -471,7 +472,8 @@ int run_progressive_mpi(Job& job, int ranks) {
     if (!opt.progressive.plot.empty())
         texts.emplace_back(opt.progressive.plot,
                            progress_svg(runs, "Error against render time: " + opt.scene));
-    write_outputs(state.image(), opt.output, texts, opt.scene);
+    write_outputs(state.image(), opt.output, texts, opt.scene,
+                  exr_output(opt, state, *job.scene, job.plan));
     if (!opt.quiet)
         std::printf("mpi       %d ranks, %.2f MB of results\nwrote     %s\n", ranks, bytes / 1e6,
                     opt.output.c_str());
@@ -525,6 +527,9 @@ int main(int argc, char** argv) {
                 "raytrace-mpi renders an image (also --progressive) or --frames: not .part, "
                 "--adaptive or a progressive sequence");
         if (!(job.tile_timeout_s > 0)) throw UsageError("--tile-timeout must be > 0 seconds");
+        // A frame arrives from its worker without the scene at its time on rank 0.
+        if (job.opt.exr.aovs.any() && job.opt.animation.frames > 0)
+            throw UsageError("raytrace-mpi --frames writes no AOVs: use raytrace --frames --aov");
     } catch (const UsageError& e) {
         if (rank == 0) std::cerr << "raytrace-mpi: " << e.what() << "\n(see raytrace --help)\n";
         code = 2;

@@ -94,8 +94,9 @@ bool ImageJob::render_one(const ImageJobSpec& spec, const std::string& path, dou
         if (!finished) return false;
     }
     const Image linear = state.image();
-    const bool pfm = image_format_from_path(path) == ImageFormat::Pfm;
-    save_image(pfm ? linear : display_transform(linear, spec.exposure, spec.tonemap), path);
+    const bool linear_file = holds_linear(image_format_from_path(path));  // PFM, EXR
+    save_image(linear_file ? linear : display_transform(linear, spec.exposure, spec.tonemap),
+               path);
     return true;
 }
 

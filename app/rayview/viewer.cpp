@@ -499,8 +499,7 @@ void ViewerState::save_scene(const std::string& path) const {
 
 void ViewerState::save_trace(const std::string& path) const {
     if (last_trace.width == 0) throw std::runtime_error("nothing traced yet");
-    save_image(image_format_from_path(path) == ImageFormat::Pfm ? last_trace : displayed_trace(),
-               path);
+    save_image(holds_linear(image_format_from_path(path)) ? last_trace : displayed_trace(), path);
 }
 
 void ViewerState::render_animation(const std::string& pattern, int frames, int width, int height,

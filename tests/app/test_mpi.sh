@@ -29,6 +29,22 @@ for scene in showpiece groups v3_penumbra; do
 done
 check "the summary counts the ranks and tiles" grep -q "mpi       3 ranks (2 rendering), 12 tiles of 32x32" "$tmp/showpiece.txt"
 
+# OpenEXR with AOVs: rank 0 traces the first hits of the merged render: raytrace's file.
+aovs=(--exr-float --aov albedo,normal,depth,samples,variance)
+"$rt" "$src/scenes/showpiece.ray" "${size[@]}" "${aovs[@]}" -q -o "$tmp/aov-one.exr"
+RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" "${aovs[@]}" -q \
+    -o "$tmp/aov-mpi.exr"
+check "exr with aovs: mpirun exits 0" test $? -eq 0
+check "exr with aovs: raytrace's file byte for byte" cmp -s "$tmp/aov-one.exr" "$tmp/aov-mpi.exr"
+"$rt" "$src/scenes/showpiece.ray" "${size[@]}" --progressive --aov depth -q -o "$tmp/paov-one.exr"
+RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" --progressive \
+    --aov depth -q -o "$tmp/paov-mpi.exr"
+check "progressive exr with aovs: raytrace's file" cmp -s "$tmp/paov-one.exr" "$tmp/paov-mpi.exr"
+RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/robot_arm.ray" --frames 2 --aov depth \
+    -o "$tmp/faov_%d.exr" >/dev/null 2>"$tmp/faov.txt"
+check "--frames with --aov: a usage error (2)" test $? -eq 2
+check "which says so" grep -q "raytrace-mpi --frames writes no AOVs" "$tmp/faov.txt"
+
 # A sequence: frames handed out whole, each written by rank 0, each raytrace --frames' frame.
 arm="$src/scenes/robot_arm.ray"
 "$rt" "$arm" --width 48 --height 36 --frames 4 --fps 3 -q -o "$tmp/rt_%d.pfm"

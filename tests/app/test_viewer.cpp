@@ -449,7 +449,7 @@ TEST(Viewer, UndoAndRedoEveryEdit) {
 }
 
 // Exposure and tonemap change what is shown and what 8-bit files hold, never the trace nor a
-// PFM (linear), and they are no edit for the trace.
+// PFM or EXR (linear), and they are no edit for the trace.
 TEST(Viewer, ExposureAndTonemapAreForDisplayAndEightBitFiles) {
     ViewerState v(kLights, false);
     ASSERT_TRUE(v.loaded) << v.message;
@@ -467,10 +467,16 @@ TEST(Viewer, ExposureAndTonemapAreForDisplayAndEightBitFiles) {
     ASSERT_TRUE(load_texture_image(png, &shown, &error)) << error;
     EXPECT_EQ(shown.rgb[0], to_byte(0.5 / 1.5));  // 0.25 * 2, then x / (1 + x)
     EXPECT_EQ(shown.rgb[3], to_byte(4.0 / 5.0));
-    const Image linear = load_pfm(pfm);
+    const std::string exr = ::testing::TempDir() + "rt_viewer_exposed.exr";
+    v.save_trace(exr);
+    const Image linear = load_pfm(pfm), half = load_image(exr);
     ASSERT_EQ(linear.rgb.size(), v.last_trace.rgb.size());
-    for (size_t i = 0; i < linear.rgb.size(); ++i)
+    ASSERT_EQ(half.rgb.size(), v.last_trace.rgb.size());
+    for (size_t i = 0; i < linear.rgb.size(); ++i) {
         EXPECT_FLOAT_EQ(static_cast<float>(linear.rgb[i]), static_cast<float>(v.last_trace.rgb[i]));
+        // Half keeps 11 significant bits; the tonemapped value would be far off (0.1 -> 0.17).
+        EXPECT_NEAR(half.rgb[i], v.last_trace.rgb[i], std::abs(v.last_trace.rgb[i]) * 0x1p-10);
+    }
     v.track_history(false);  // a display setting is an undo step, not a restart
     EXPECT_EQ(v.undo_steps(), 1u);
 }

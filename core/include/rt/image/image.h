@@ -56,6 +56,9 @@ TextureImage checker_texture();
 /// Image file kinds chosen by extension.
 enum class ImageFormat { Png, Bmp, Ppm, Pfm, Exr, Unknown };
 ImageFormat image_format_from_path(const std::string& path);
+/// PFM and EXR files hold linear, unclamped values (what the render computed); the others 8-bit
+/// values after display_transform() (spec §9's clamp by default).
+inline bool holds_linear(ImageFormat f) { return f == ImageFormat::Pfm || f == ImageFormat::Exr; }
 
 /// Writes the image; throws std::runtime_error on failure. Non-finite values are written as 0
 /// (spec §9; count_non_finite() tells the caller how many there were). Writes to a temporary file
