@@ -12,8 +12,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "rt/image/image.h"
 #include "cli.h"
+#include "rt/image/image.h"
 
 namespace {
 

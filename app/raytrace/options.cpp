@@ -9,9 +9,9 @@
 #include <string>
 #include <utility>
 
+#include "cli.h"
 #include "frames.h"
 #include "rt/image/image.h"
-#include "cli.h"
 
 namespace raytrace {
 

@@ -95,8 +95,7 @@ bool ImageJob::render_one(const ImageJobSpec& spec, const std::string& path, dou
     }
     const Image linear = state.image();
     const bool linear_file = holds_linear(image_format_from_path(path));  // PFM, EXR
-    save_image(linear_file ? linear : display_transform(linear, spec.exposure, spec.tonemap),
-               path);
+    save_image(linear_file ? linear : display_transform(linear, spec.exposure, spec.tonemap), path);
     return true;
 }
 

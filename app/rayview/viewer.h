@@ -250,7 +250,7 @@ struct ViewerState {
     std::string checker_offer;    // a file that failed to open for its textures only, else ""
     std::string reload_conflict;  // a reload kept edits of what the file changed too, else ""
     MissingTextures missing_textures = MissingTextures::Error;  // how files open
-    std::optional<Dialect> dialect;  // --dialect: every file opens in it (else detected)
+    std::optional<Dialect> dialect;   // --dialect: every file opens in it (else detected)
     std::vector<std::string> recent;  // files opened (absolute), most recent first, at most 8
     /// Adds files opened in earlier runs after this run's (those that still exist).
     void remember_recent(const std::vector<std::string>& files);

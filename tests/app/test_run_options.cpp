@@ -20,11 +20,39 @@ int parse(std::vector<std::string> args, RunOptions* out) {
 
 TEST(RunOptions, RenderFlagsBecomeTheInitialSettings) {
     RunOptions opt;
-    ASSERT_EQ(parse({"scene.ray", "--width", "400", "--height", "100", "--spp", "8", "--depth",
-                     "3", "--cutoff", "0.01", "--threads", "1", "--seed", "7", "--no-shadows",
-                     "--light-radius", "0.2", "--aperture", "0.05", "--focus-distance", "4",
-                     "--roughness", "0.3", "--light-samples", "16", "--target-error", "0.002",
-                     "--no-specialize", "--missing-textures", "checker", "--dialect", "v0"},
+    ASSERT_EQ(parse({"scene.ray",
+                     "--width",
+                     "400",
+                     "--height",
+                     "100",
+                     "--spp",
+                     "8",
+                     "--depth",
+                     "3",
+                     "--cutoff",
+                     "0.01",
+                     "--threads",
+                     "1",
+                     "--seed",
+                     "7",
+                     "--no-shadows",
+                     "--light-radius",
+                     "0.2",
+                     "--aperture",
+                     "0.05",
+                     "--focus-distance",
+                     "4",
+                     "--roughness",
+                     "0.3",
+                     "--light-samples",
+                     "16",
+                     "--target-error",
+                     "0.002",
+                     "--no-specialize",
+                     "--missing-textures",
+                     "checker",
+                     "--dialect",
+                     "v0"},
                     &opt),
               -1);
     EXPECT_EQ(opt.scene, "scene.ray");
@@ -73,11 +101,18 @@ TEST(RunOptions, WithoutFlagsTheViewersDefaults) {
 }
 
 TEST(RunOptions, BadValuesAreUsageErrors) {
-    for (const std::vector<std::string>& bad :
-         {std::vector<std::string>{"--width", "0"}, {"--spp", "0"}, {"--depth", "0"},
-          {"--threads", "300"}, {"--light-radius", "-1"}, {"--target-error", "nan"},
-          {"--seed", "-1"}, {"--width", "wide"}, {"--dialect", "v2"}, {"--no-such-flag"},
-          {"--missing-textures", "maybe"}, {"--size", "10x10"}}) {
+    for (const std::vector<std::string>& bad : {std::vector<std::string>{"--width", "0"},
+                                                {"--spp", "0"},
+                                                {"--depth", "0"},
+                                                {"--threads", "300"},
+                                                {"--light-radius", "-1"},
+                                                {"--target-error", "nan"},
+                                                {"--seed", "-1"},
+                                                {"--width", "wide"},
+                                                {"--dialect", "v2"},
+                                                {"--no-such-flag"},
+                                                {"--missing-textures", "maybe"},
+                                                {"--size", "10x10"}}) {
         RunOptions opt;
         EXPECT_EQ(parse(bad, &opt), 2) << bad[0];
     }
