@@ -176,6 +176,6 @@ check "SIGTERM closes the viewer cleanly" test $? -eq 0
 check "SIGTERM keeps the settings" test -s "$conf"
 "$rv" --missing-textures bogus "$src/scenes/lights.ray" >"$tmp/bad.txt" 2>&1
 check "--missing-textures takes error or checker only" test $? -eq 2
-check "--help lists --missing-textures" bash -c "'$rv' --help | grep -q -- '--missing-textures error|checker'"
+check "--help lists --missing-textures, as raytrace's" bash -c "'$rv' --help | grep -q -- '--missing-textures M:{error,checker}'"
 cat "$tmp/out.txt"
 summary
