@@ -20,7 +20,7 @@ echo "test: ASan + UBSan (build-san/)" >&2
 export ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 if tests/fuzz/run.sh check 2>/dev/null; then
-    RT_FUZZ_BUILD=build-san RT_FUZZ_TARGETS="rt_tests rt_app_tests raytrace raymerge rayview" \
+    RT_FUZZ_BUILD=build-san RT_FUZZ_TARGETS="rt_tests rt_app_tests raytrace raymerge imgdiff rayview" \
         RT_JOBS="$jobs" tests/fuzz/run.sh build
     fuzz=1
 else
@@ -28,7 +28,7 @@ else
         -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON \
         -DRT_SANITIZE="address;undefined;float-cast-overflow" -DRT_BUILD_BENCH=OFF \
         -DRT_GL_TESTS=OFF >/dev/null
-    cmake --build build-san -j"$jobs" --target rt_tests rt_app_tests raytrace raymerge rayview fuzz_replay
+    cmake --build build-san -j"$jobs" --target rt_tests rt_app_tests raytrace raymerge imgdiff rayview fuzz_replay
     fuzz=0
 fi
 # The estimate's statistics test renders 256-spp references of four scenes: 9 s here, 160 s
