@@ -121,6 +121,17 @@ void render_frame(int fb_w, int fb_h) {
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
 
+// The shaders and the sample scenes, beside the executable (installed or in the build tree);
+// "" and *error when they are not there.
+std::string find_data(std::string* error) {
+    try {
+        return rtapp::find_data_dir("shaders/preview.vert").string();
+    } catch (const std::exception& e) {
+        *error = e.what();
+        return "";
+    }
+}
+
 // "showpiece.ray - rayview", or "rayview" with no scene open.
 std::string window_title(const rt::view::ViewerState& viewer) {
     if (!viewer.loaded) return "rayview";
@@ -140,13 +151,8 @@ void shutdown(GLFWwindow* window) {
 
 int main(int argc, char** argv) {
     using namespace rt::view;
-    // The shaders and the sample scenes: beside the executable (installed or in the build tree).
-    std::string data_dir, data_error;
-    try {
-        data_dir = rtapp::find_data_dir("shaders/preview.vert").string();
-    } catch (const std::exception& e) {
-        data_error = e.what();
-    }
+    std::string data_error;
+    const std::string data_dir = find_data(&data_error);
     RunOptions opt;
     const int rc = parse_run_options(
         argc, argv, data_dir.empty() ? "" : data_dir + "/scenes/showpiece.ray", &opt);
@@ -187,8 +193,6 @@ int main(int argc, char** argv) {
                            opt.render.dialect);
         ViewSettings initial = viewer.settings;
         apply_run_options(opt, &initial);
-        initial.layout = opt.layout;
-        initial.show_panel = opt.panel;
         initial.ui_scale = config.ui_scale;
         viewer.start_with(initial);
         viewer.remember_recent(config.recent);

@@ -15,6 +15,38 @@
 
 namespace rt::view {
 
+namespace {
+
+// The help's last part: the script commands and the exit status.
+constexpr const char* kFooter =
+    "\nscript commands (--script FILE: one 'FRAME COMMAND ARGS...' a line, run after that "
+    "frame is drawn):\n"
+    "  camera:   orbit DYAW DPITCH | look DYAW DPITCH | pan RIGHT UP | dolly FACTOR |\n"
+    "            fly DX DY DZ | pick X Y (image fractions from the top left)\n"
+    "  lights:   light I colour|ambient|diffuse|specular R G B | light I radius R |\n"
+    "            light I position X Y Z | add-light point|spot|directional|sphere |\n"
+    "            frame-light I | headlight on|off\n"
+    "  settings: shadows on|off | depth D | threads N | resolution SCALE |\n"
+    "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
+    "            target-error E (0: none) | status (prints the status bar) |\n"
+    "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
+    "  history:  undo | redo\n"
+    "  waiting:  wait-spp N [SECONDS] | wait-jobs [SECONDS] (hold the script, and --frames'\n"
+    "            count, until the trace has N samples per pixel, or the background loads and\n"
+    "            renders and the preview's reflection maps are done; fails after SECONDS,\n"
+    "            default 120)\n"
+    "  animation: play | pause | time T | speed X | loop on|off | fps F |\n"
+    "            interpolation nearest|linear|catmull-rom|bspline |\n"
+    "            rotation matrix|closest|euler|log|quaternion |\n"
+    "            render-animation PATTERN FRAMES W H SPP [VIDEO] (in the background)\n"
+    "  files:    open PATH | open-background PATH | reload | save-scene PATH | save-image PATH "
+    "(the pane's trace) |\n"
+    "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
+    "A command that fails is reported and the run goes on; the run then exits 1.\n\n"
+    "exit status: 0 success, 1 a failed --frames run, 2 usage error.";
+
+}  // namespace
+
 std::vector<ScriptLine> read_script(const std::string& path) {
     std::ifstream f(path);
     if (!f) throw std::runtime_error("cannot open script '" + path + "'");
@@ -83,32 +115,7 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         ->group(render_group);
     rtapp::add_scene_options(app, out->render, true, render_group);
     rtapp::add_feature_options(app, out->render);
-    app.footer(
-        "\nscript commands (--script FILE: one 'FRAME COMMAND ARGS...' a line, run after that "
-        "frame is drawn):\n"
-        "  camera:   orbit DYAW DPITCH | look DYAW DPITCH | pan RIGHT UP | dolly FACTOR |\n"
-        "            fly DX DY DZ | pick X Y (image fractions from the top left)\n"
-        "  lights:   light I colour|ambient|diffuse|specular R G B | light I radius R |\n"
-        "            light I position X Y Z | add-light point|spot|directional|sphere |\n"
-        "            frame-light I | headlight on|off\n"
-        "  settings: shadows on|off | depth D | threads N | resolution SCALE |\n"
-        "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
-        "            target-error E (0: none) | status (prints the status bar) |\n"
-        "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
-        "  history:  undo | redo\n"
-        "  waiting:  wait-spp N [SECONDS] | wait-jobs [SECONDS] (hold the script, and --frames'\n"
-        "            count, until the trace has N samples per pixel, or the background loads and\n"
-        "            renders and the preview's reflection maps are done; fails after SECONDS,\n"
-        "            default 120)\n"
-        "  animation: play | pause | time T | speed X | loop on|off | fps F |\n"
-        "            interpolation nearest|linear|catmull-rom|bspline |\n"
-        "            rotation matrix|closest|euler|log|quaternion |\n"
-        "            render-animation PATTERN FRAMES W H SPP [VIDEO] (in the background)\n"
-        "  files:    open PATH | open-background PATH | reload | save-scene PATH | save-image PATH "
-        "(the pane's trace) |\n"
-        "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
-        "A command that fails is reported and the run goes on; the run then exits 1.\n\n"
-        "exit status: 0 success, 1 a failed --frames run, 2 usage error.");
+    app.footer(kFooter);
     try {
         app.parse(argc, argv);
         if (!size.empty() && !parse_size(size, &out->window_w, &out->window_h))
@@ -168,6 +175,8 @@ void apply_run_options(const RunOptions& options, ViewSettings* settings) {
     settings->target_error = options.target_error;
     settings->image_w = r.width;
     settings->image_h = r.height;
+    settings->layout = options.layout;
+    settings->show_panel = options.panel;
 }
 
 }  // namespace rt::view

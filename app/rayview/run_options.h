@@ -40,7 +40,8 @@ struct RunOptions {
     bool panel = true;               // --panel on|off
 };
 
-/// The settings the command line asks for, over `settings` (what the viewer starts with).
+/// The settings the command line asks for (render flags, --layout, --panel), over `settings`
+/// (what the viewer starts with).
 void apply_run_options(const RunOptions& options, ViewSettings* settings);
 
 /// "WxH" (each 64 to 16384) into *w and *h; false, and both unchanged, otherwise.

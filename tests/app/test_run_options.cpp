@@ -2,6 +2,7 @@
 // initial settings; bad values are usage errors (2); --help and --version exit 0.
 #include <gtest/gtest.h>
 
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,14 @@
 
 namespace rt::view {
 namespace {
+
+// A command line's words.
+std::vector<std::string> words(const std::string& line) {
+    std::istringstream in(line);
+    std::vector<std::string> out;
+    for (std::string w; in >> w;) out.push_back(w);
+    return out;
+}
 
 // parse_run_options on the arguments (argv[0] added); the exit code, or -1 to run.
 int parse(std::vector<std::string> args, RunOptions* out) {
@@ -20,39 +29,11 @@ int parse(std::vector<std::string> args, RunOptions* out) {
 
 TEST(RunOptions, RenderFlagsBecomeTheInitialSettings) {
     RunOptions opt;
-    ASSERT_EQ(parse({"scene.ray",
-                     "--width",
-                     "400",
-                     "--height",
-                     "100",
-                     "--spp",
-                     "8",
-                     "--depth",
-                     "3",
-                     "--cutoff",
-                     "0.01",
-                     "--threads",
-                     "1",
-                     "--seed",
-                     "7",
-                     "--no-shadows",
-                     "--light-radius",
-                     "0.2",
-                     "--aperture",
-                     "0.05",
-                     "--focus-distance",
-                     "4",
-                     "--roughness",
-                     "0.3",
-                     "--light-samples",
-                     "16",
-                     "--target-error",
-                     "0.002",
-                     "--no-specialize",
-                     "--missing-textures",
-                     "checker",
-                     "--dialect",
-                     "v0"},
+    ASSERT_EQ(parse(words("scene.ray --width 400 --height 100 --spp 8 --depth 3 --cutoff 0.01 "
+                          "--threads 1 --seed 7 --no-shadows --light-radius 0.2 --aperture 0.05 "
+                          "--focus-distance 4 --roughness 0.3 --light-samples 16 "
+                          "--target-error 0.002 --no-specialize --missing-textures checker "
+                          "--dialect v0 --layout trace --panel off"),
                     &opt),
               -1);
     EXPECT_EQ(opt.scene, "scene.ray");
@@ -81,6 +62,8 @@ TEST(RunOptions, RenderFlagsBecomeTheInitialSettings) {
     EXPECT_DOUBLE_EQ(vs.render.roughness, 0.3);
     EXPECT_EQ(vs.render.light_samples, 16);
     EXPECT_FALSE(vs.render.specialize);
+    EXPECT_EQ(vs.layout, 2);  // the trace alone
+    EXPECT_FALSE(vs.show_panel);
 }
 
 TEST(RunOptions, WithoutFlagsTheViewersDefaults) {
