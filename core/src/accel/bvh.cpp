@@ -9,6 +9,8 @@
 #include <numeric>
 #include <thread>
 
+#include "rt/util/threads.h"
+
 namespace rt {
 
 namespace {
@@ -17,7 +19,7 @@ namespace {
 // node and per bin.
 struct Box4 {
     __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY);
-    void extend(__m128 l, __m128 h) {
+    void extend(__m128 l, __m128 h) noexcept {
         lo = _mm_min_ps(lo, l);
         hi = _mm_max_ps(hi, h);
     }
@@ -47,9 +49,9 @@ inline __m128 ref_lo(const PrimRef& r) { return _mm_load_ps(r.lo); }
 inline __m128 ref_hi(const PrimRef& r) { return _mm_load_ps(r.hi); }
 // The centroid, from the bounds clamped to the finite floats: a box beyond float range (the
 // compile allows shapes out to 1e300) has infinite bounds, and -inf + inf would be NaN.
-inline __m128 ref_centre(const PrimRef& r) {
+inline __m128 ref_centre(const PrimRef& r) noexcept {
     const __m128 big = _mm_set1_ps(std::numeric_limits<float>::max()), half = _mm_set1_ps(0.5f);
-    auto clamp = [&](__m128 v) {
+    auto clamp = [&](__m128 v) noexcept {
         return _mm_min_ps(_mm_max_ps(v, _mm_sub_ps(_mm_setzero_ps(), big)), big);
     };
     return _mm_add_ps(_mm_mul_ps(clamp(ref_lo(r)), half), _mm_mul_ps(clamp(ref_hi(r)), half));
@@ -311,7 +313,7 @@ Bvh build_bvh(std::vector<PrimRef> refs, const Bounds3& exact_bounds,
     b.refs = refs.data();
     b.settings = settings;
     // Subtrees near the root go to other threads: log2 of the cores, at most 3 levels.
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    const unsigned cores = hardware_threads();
     b.spawn_depth = cores >= 8 ? 3 : cores >= 4 ? 2 : cores >= 2 ? 1 : 0;
     // A binary tree over n primitives in leaves of about max_leaf_size / 1.2 (what the SAH
     // makes of meshes) has twice as many nodes as leaves: reserved once, so the array does not

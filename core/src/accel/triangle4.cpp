@@ -21,17 +21,19 @@ TriRay::TriRay(const Ray& r) {
 
 namespace {
 
-inline __m128 abs_ps(__m128 v) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), v); }
+inline __m128 abs_ps(__m128 v) noexcept { return _mm_andnot_ps(_mm_set1_ps(-0.0f), v); }
 
 // The value, rounded and in a register: an empty asm the optimiser cannot see through, so a
 // product passed through it is never fused into a multiply-add (GCC contracts a * b - c * d into
 // an FMA with -march=native even in ISO mode, which broke watertightness: see the edge functions).
-inline __m128 rounded(__m128 v) {
+inline __m128 rounded(__m128 v) noexcept {
+#ifndef __wasm__  // WebAssembly has no fused multiply-add to contract into
     __asm__("" : "+x"(v));
+#endif
     return v;
 }
 // a * b - c * d with both products rounded: exactly -(c * d - a * b).
-inline __m128 cross_ps(__m128 a, __m128 b, __m128 c, __m128 d) {
+inline __m128 cross_ps(__m128 a, __m128 b, __m128 c, __m128 d) noexcept {
     return _mm_sub_ps(rounded(_mm_mul_ps(a, b)), rounded(_mm_mul_ps(c, d)));
 }
 
@@ -63,7 +65,7 @@ double plane_distance_double(const Tri4& tri, int l, const TriRay& ray) {
 // The watertight fallback: the edge functions of the lanes in `lanes` (those with an edge
 // function of exactly zero) recomputed in double and rounded back.
 void edges_in_double(const __m128 x[3], const __m128 y[3], int lanes, __m128* e0, __m128* e1,
-                     __m128* e2) {
+                     __m128* e2) noexcept {
     alignas(16) float fx[3][4], fy[3][4], f0[4], f1[4], f2[4];
     for (int v = 0; v < 3; ++v) {
         _mm_store_ps(fx[v], x[v]);
@@ -91,7 +93,7 @@ void edges_in_double(const __m128 x[3], const __m128 y[3], int lanes, __m128* e0
 // pbrt-v4's bound on the error of the distance, times |det| (delta_t * |det|), from the sheared
 // vertices (z already scaled by sz) and the edge functions.
 __m128 distance_error_scaled(const __m128 x[3], const __m128 y[3], const __m128 z[3], __m128 e0,
-                             __m128 e1, __m128 e2) {
+                             __m128 e1, __m128 e2) noexcept {
     const __m128 max_z = _mm_max_ps(_mm_max_ps(abs_ps(z[0]), abs_ps(z[1])), abs_ps(z[2]));
     const __m128 max_x = _mm_max_ps(_mm_max_ps(abs_ps(x[0]), abs_ps(x[1])), abs_ps(x[2]));
     const __m128 max_y = _mm_max_ps(_mm_max_ps(abs_ps(y[0]), abs_ps(y[1])), abs_ps(y[2]));

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "rt/util/charconv.h"
+
 namespace rt {
 
 static bool is_space(char c) {
@@ -130,7 +132,7 @@ bool parse_real(std::string_view s, double* out, bool* non_finite) {
 
     const std::string_view num = (s[0] == '+') ? s.substr(1) : s;
     double v = 0.0;
-    const auto r = std::from_chars(num.data(), num.data() + num.size(), v);
+    const auto r = from_chars_double(num.data(), num.data() + num.size(), v);
     if (r.ec == std::errc::result_out_of_range) {
         // Overflow is an error; underflow to a denormal or zero is fine. strtod tells them apart.
         v = std::strtod(std::string(num).c_str(), nullptr);

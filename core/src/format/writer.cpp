@@ -5,6 +5,8 @@
 #include <iterator>
 #include <variant>
 
+#include "rt/util/charconv.h"
+
 namespace rt {
 
 namespace {
@@ -304,7 +306,7 @@ private:
     // Shortest text that reads back to the same double.
     void num(double v) {
         char buf[32];
-        const auto r = std::to_chars(buf, buf + sizeof buf, v);
+        const auto r = to_chars_shortest(buf, buf + sizeof buf, v);
         m_out += ' ';
         m_out.append(buf, r.ptr);
     }

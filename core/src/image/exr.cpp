@@ -151,23 +151,6 @@ void save_exr(const Image& rgb, const std::vector<ExrChannel>& extra, bool full_
     write_file_atomic(path, stream.data());
 }
 
-const ExrChannel* ExrImage::find(const std::string& name) const {
-    for (const ExrChannel& c : channels)
-        if (c.name == name) return &c;
-    return nullptr;
-}
-
-Image ExrImage::rgb() const {
-    Image image(width, height);
-    const char* names[3] = {"R", "G", "B"};
-    for (size_t k = 0; k < 3; ++k) {
-        const ExrChannel* c = find(names[k]);
-        if (!c) throw std::runtime_error(std::string("the EXR image has no channel ") + names[k]);
-        for (size_t i = 0; i < c->values.size(); ++i) image.rgb[i * 3 + k] = c->values[i];
-    }
-    return image;
-}
-
 ExrImage load_exr(const std::string& path) {
     try {
         Imf::InputFile file(path.c_str());

@@ -10,6 +10,7 @@
 #include "camera_sample.h"
 #include "parallel.h"
 #include "rt/render/sampler.h"
+#include "rt/util/threads.h"
 
 namespace rt {
 
@@ -37,7 +38,7 @@ Image RenderState::image() const {
 
 int resolve_thread_count(int threads) {
     if (threads > 0) return std::min(threads, 256);
-    return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 256u));
+    return static_cast<int>(std::min(hardware_threads(), 256u));
 }
 
 namespace {

@@ -2,6 +2,8 @@
 
 #include <charconv>
 
+#include "rt/util/charconv.h"
+
 namespace rt {
 
 namespace {
@@ -69,7 +71,7 @@ std::string ray_text_for_mesh(const TriangleMesh& mesh) {
     s += "#vertex_num " + std::to_string(mesh.positions.size()) + "\n";
     char buf[64];
     auto num = [&](double v) {
-        const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 9);
+        const auto r = to_chars_general(buf, buf + sizeof buf, v, 9);
         s.append(buf, r.ptr);
         s += ' ';
     };

@@ -129,7 +129,7 @@ inline int intersect_node(const Bvh4Node& node, const BoxRay& ray, float t_max, 
 /// the far distance are applied once over all axes, with the largest slack (a looser bound,
 /// never a tighter one).
 inline int intersect_node_fast(const Bvh4Node& node, const BoxRay& ray, __m128 t_max,
-                               __m128* t_entry) {
+                               __m128* t_entry) noexcept {
     constexpr float kWiden = static_cast<float>(1.0 + 2.0 * gamma_float(3));
     const float* base = &node.lo[0][0];
     // Distance to the plane at float offset `off` of the node, along axis a.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdlib>
 #include <new>
 #include <vector>
 
@@ -20,7 +21,13 @@ struct HugePageAllocator {
     template <class U>
     HugePageAllocator(const HugePageAllocator<U>&) noexcept {}
     T* allocate(std::size_t n) {
-        if (n > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_array_new_length();
+        if (n > static_cast<std::size_t>(-1) / sizeof(T)) {
+#if defined(__cpp_exceptions)
+            throw std::bad_array_new_length();
+#else  // the web build's SIMD kernels (core/CMakeLists.txt)
+            std::abort();
+#endif
+        }
         return static_cast<T*>(huge_page_allocate(n * sizeof(T), alignof(T)));
     }
     void deallocate(T* p, std::size_t n) noexcept { huge_page_free(p, n * sizeof(T), alignof(T)); }

@@ -1,0 +1,68 @@
+// The render loop's tiles over threads (src/render/parallel.h): every tile once, and the
+// helper pool of the web page's threads build, which never waits for a helper to start.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include "render/parallel.h"
+
+namespace rt {
+namespace {
+
+TEST(Parallel, EveryTileOnceForAnyThreadCount) {
+    for (int threads : {1, 2, 5}) {
+        std::vector<std::atomic<int>> done(97);
+        RayCounters total;
+        const bool finished = parallel_tiles(threads, 97, nullptr, total, [&](int t, RayCounters&) {
+            ++done[static_cast<size_t>(t)];
+            return true;
+        });
+        EXPECT_TRUE(finished);
+        for (const auto& d : done) EXPECT_EQ(d.load(), 1) << threads << " threads";
+    }
+}
+
+// run() returns only once every helper that took the work has finished it, and it reuses its
+// helpers: a hundred calls start no more threads than the largest call asked for.
+TEST(Parallel, TheHelperPoolFinishesWhatItTookAndReusesItsThreads) {
+    HelperPool& pool = HelperPool::instance();
+    for (int call = 0; call < 100; ++call) {
+        std::atomic<int> entered{0}, left{0};
+        pool.run(3, [&] {
+            ++entered;
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+            ++left;
+        });
+        EXPECT_GE(entered.load(), 1);  // the caller at least
+        EXPECT_LE(entered.load(), 4);
+        EXPECT_EQ(left.load(), entered.load()) << "run() returned while a helper worked";
+    }
+    EXPECT_EQ(pool.threads(), 3);
+}
+
+// The tiles of one call are shared by the caller and the helpers that came: each tile once,
+// with calls from two threads at once.
+TEST(Parallel, TheHelperPoolSharesTilesBetweenConcurrentCalls) {
+    auto one_call = [] {
+        std::atomic<int> next{0};
+        std::vector<std::atomic<int>> done(200);
+        HelperPool::instance().run(2, [&] {
+            for (int t; (t = next.fetch_add(1)) < 200;) ++done[static_cast<size_t>(t)];
+        });
+        int once = 0;
+        for (const auto& d : done) once += d.load() == 1;
+        return once;
+    };
+    int a = 0, b = 0;
+    std::thread other([&] { a = one_call(); });
+    b = one_call();
+    other.join();
+    EXPECT_EQ(a, 200);
+    EXPECT_EQ(b, 200);
+}
+
+}  // namespace
+}  // namespace rt
