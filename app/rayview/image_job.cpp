@@ -1,8 +1,10 @@
 #include "image_job.h"
 
+#ifdef __linux__
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
+#endif
 
 #include <cstdio>
 
@@ -19,7 +21,10 @@ void ImageJob::start(RenderScene scene, const ImageJobSpec& spec) {
     m_stop = false;
     m_done = false;
     m_progress = 0;
-    m_thread = std::thread([this, spec] { run(spec); });
+    if (have_threads())
+        m_thread = std::thread([this, spec] { run(spec); });
+    else  // the single-thread web page: the image is rendered before this returns
+        run(spec), m_inline_result = true;
 }
 
 void ImageJob::cancel() {
@@ -31,8 +36,9 @@ void ImageJob::cancel() {
 }
 
 bool ImageJob::take_result(std::string* message, bool* ok) {
-    if (!m_done || !m_thread.joinable()) return false;
-    m_thread.join();
+    if (!m_done || (!m_thread.joinable() && !m_inline_result)) return false;
+    if (m_thread.joinable()) m_thread.join();
+    m_inline_result = false;
     m_scene.reset();
     std::lock_guard lock(m_mutex);
     if (m_message.empty()) return false;
@@ -46,7 +52,9 @@ void ImageJob::run(ImageJobSpec spec) {
     // Below the interface (nice 10, passed on to the render's worker threads) and above the
     // interactive trace (SCHED_IDLE): the window stays smooth and the image the user asked for
     // goes first.
+#ifdef __linux__
     setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
+#endif
     const Clock::time_point t0 = Clock::now();
     std::string message;
     bool ok = false;

@@ -15,6 +15,7 @@
 #include "rt/image/image.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
+#include "rt/util/threads.h"
 
 namespace rt::view {
 
@@ -62,6 +63,7 @@ private:
 
     std::unique_ptr<RenderScene> m_scene;
     std::thread m_thread;
+    bool m_inline_result = false;  // without threads: run() ran in start(), its result not taken
     std::atomic<bool> m_stop{false}, m_done{false};
     std::atomic<double> m_progress{0};
     std::mutex m_mutex;

@@ -1,5 +1,6 @@
 #include "loader.h"
 
+#include "rt/util/threads.h"
 #include "viewer.h"
 
 namespace rt::view {
@@ -25,14 +26,18 @@ void SceneLoader::start(const std::string& path, LoadFn load) {
     m_job = std::make_unique<Job>();
     m_job->path = path;
     Job* job = m_job.get();
-    job->thread = std::thread([job, load = std::move(load)] {
+    auto work = [job, load = std::move(load)] {
         try {
             job->scene = load(&job->error, &job->textures_missing);
         } catch (const std::exception& e) {
             job->error = e.what();
         }
         job->done = true;
-    });
+    };
+    if (have_threads())
+        job->thread = std::thread(std::move(work));
+    else  // the single-thread web page: loaded before this returns, taken at the next poll
+        work();
 }
 
 void SceneLoader::cancel() {

@@ -1,6 +1,9 @@
 // The viewer's progressive trace: one worker thread family (render_samples' own) driven by a
 // controller thread; only the interface thread touches OpenGL. Every edit goes through
 // stop() ... restart(): the worker is stopped and joined before the scene may change.
+// Without threads (the web page's single-thread build) the same passes are rendered on the
+// interface thread by pump(), a tile at a time between its frames, as the MPI mode splits a
+// pass into tiles (render_part, add_part_samples: the same image).
 #pragma once
 
 #include <atomic>
@@ -12,12 +15,22 @@
 #include "rt/image/image.h"
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
+#include "rt/util/threads.h"
 
 namespace rt::view {
 
 class Tracer {
 public:
+    /// `threaded` false: restart() starts no thread and pump() renders the trace.
+    explicit Tracer(bool threaded = have_threads()) : m_threaded(threaded) {}
     ~Tracer() { stop(); }
+    Tracer(const Tracer&) = delete;
+    Tracer& operator=(const Tracer&) = delete;
+
+    bool threaded() const { return m_threaded; }
+    /// Without threads: renders the trace for about `seconds` on this thread (at least one
+    /// tile), then returns. With threads: nothing.
+    void pump(double seconds);
 
     /// Stops the trace and waits for it: afterwards the scene may be edited.
     void stop();
@@ -50,7 +63,27 @@ public:
 private:
     void run(const RenderScene* scene, RenderSettings settings, int target_spp,
              double target_error);
+    /// After each pass: the image, the status and the history; true when the trace is done
+    /// (the target reached).
+    bool publish(const RenderState& state, double seconds, double target_error);
+    bool more_passes(const RenderState& state, int target_spp) const;
 
+    // The trace pump() renders (without threads): what restart() was given, the state, and the
+    // pass's tiles (those before m_next_tile done).
+    struct Cooperative {
+        const RenderScene* scene = nullptr;
+        RenderSettings settings;
+        int target_spp = 0;
+        double target_error = 0;
+        std::chrono::steady_clock::time_point t0;
+        bool coarse_done = false, done = true;
+        RenderState state;
+        std::vector<RenderPart> tiles;
+        size_t next_tile = 0;
+    };
+
+    const bool m_threaded;
+    Cooperative m_coop;
     RenderPlan m_plan;  // written by restart() only while no trace runs
     std::thread m_thread;
     std::atomic<bool> m_stop{false};

@@ -1,0 +1,76 @@
+// The viewer's trace (app/rayview/tracer.h): with threads, and pumped on the caller's thread as
+// the web page's single-thread build runs it, tile by tile between frames: the same passes,
+// the same image.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "rt/compile/compile.h"
+#include "rt/format/parser.h"
+#include "tracer.h"
+
+namespace rt::view {
+namespace {
+
+RenderScene lights_scene() {
+    Diagnostics diag;
+    const SceneDesc desc = parse_scene_file(RT_SOURCE_DIR "/scenes/lights.ray", diag);
+    return compile_scene(desc);
+}
+
+RenderSettings small(int w, int h) {
+    RenderSettings s;
+    s.width = w;
+    s.height = h;
+    s.threads = 2;
+    return s;
+}
+
+TEST(Tracer, PumpedOnOneThreadItMakesTheThreadedImage) {
+    const RenderScene scene = lights_scene();
+    const RenderSettings settings = small(70, 45);  // tiles cut at the right and the bottom
+    Image threaded, pumped;
+    {
+        Tracer t(true);
+        t.restart(scene, settings, 4);
+        for (int i = 0; i < 5000 && t.status().spp < 4; ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));  // no fifth pass
+        ASSERT_EQ(t.status().spp, 4);
+        ASSERT_TRUE(t.take_image(&threaded));
+    }
+    Tracer t(false);
+    EXPECT_FALSE(t.threaded());
+    t.restart(scene, settings, 4);
+    EXPECT_FALSE(t.take_image(&pumped)) << "nothing is traced before the first pump";
+    int pumps = 0;
+    for (; pumps < 10000 && t.status().spp < 4; ++pumps) t.pump(0.002);
+    t.pump(0.002);  // the target is reached: nothing more
+    EXPECT_EQ(t.status().spp, 4);
+    EXPECT_GT(pumps, 4) << "a pass was not split over pumps";
+    ASSERT_TRUE(t.take_image(&pumped));
+    ASSERT_EQ(pumped.width, 70);
+    EXPECT_EQ(pumped.rgb, threaded.rgb);  // bit for bit
+}
+
+TEST(Tracer, APumpReturnsAfterItsTimeAndAStopEndsTheTrace) {
+    const RenderScene scene = lights_scene();
+    Tracer t(false);
+    t.restart(scene, small(640, 480), 0);
+    t.pump(0.001);  // the coarse pass
+    Image image;
+    EXPECT_TRUE(t.take_image(&image));
+    EXPECT_EQ(image.width, 640);  // blocks of 8 pixels, at the full size
+    const auto start = std::chrono::steady_clock::now();
+    t.pump(0.001);  // a few tiles of the first pass, not the whole pass
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(250));
+    EXPECT_EQ(t.status().spp, 0);
+    t.stop();
+    t.pump(1.0);  // stopped: nothing more
+    EXPECT_EQ(t.status().spp, 0);
+    EXPECT_FALSE(t.take_image(&image));
+}
+
+}  // namespace
+}  // namespace rt::view
