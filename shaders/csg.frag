@@ -10,11 +10,13 @@
 //   leaf l:  [leaves + 6l] = (shape kind, tolerance, node, 0), [+1..+3] rows of leaf_from_set,
 //            [+4] = (centre, a), [+5] = (b, c, 0, 0): sphere a = r; box (a, b, c) = half sides;
 //            cylinder, cone a = r, b = h; torus a = tube, b = ring; triangles are never inside
-uniform samplerBuffer u_csg;
+// The texels are rows of kCsgRow in a 2D texture (GLSL ES 3.00 has no buffer textures).
+uniform sampler2D u_csg;
 uniform int u_csg_nodes, u_csg_children, u_csg_leaves;
 const int kMaxCsgNodes = 64;  // a larger tree is drawn unfiltered
+const int kCsgRow = 1024;     // Preview's kCsgRow
 
-vec4 csg_texel(int i) { return texelFetch(u_csg, i); }
+vec4 csg_texel(int i) { return texelFetch(u_csg, ivec2(i % kCsgRow, i / kCsgRow), 0); }
 
 // Spec §13.8's sign function of leaf l at p (set frame): < 0 inside, > 0 outside.
 float csg_sign(int l, vec3 p) {

@@ -50,28 +50,57 @@ void GlShaderKind::destroy(unsigned id) { glDeleteShader(id); }
 unsigned GlProgramKind::create() { return glCreateProgram(); }
 void GlProgramKind::destroy(unsigned id) { glDeleteProgram(id); }
 
-GlShader compile_shader(unsigned kind, const std::string& path,
-                        const std::vector<std::string>& defines) {
-    std::string src;
-    if (!read_file(path, &src)) throw std::runtime_error("cannot open shader '" + path + "'");
-    const size_t eol = src.find('\n');
+std::string shader_source(std::string src, const std::vector<std::string>& defines, bool es) {
+    size_t eol = src.find('\n');
+    if (eol == std::string::npos) eol = src.size();
     std::string prelude;
+    if (es) {
+        // "#version 330 core" -> GLSL ES 3.00, with the precisions GLSL 3.30 leaves implicit
+        // (ES has no default for floats in fragment shaders, nor for these samplers).
+        src.replace(0, eol, "#version 300 es");
+        eol = src.find('\n');
+        prelude +=
+            "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"
+            "precision highp samplerCube;\nprecision highp sampler2DArrayShadow;\n";
+    }
     for (const std::string& d : defines) {
         prelude += "#define ";
         prelude += d;
         prelude += " 1\n";
     }
-    if (eol != std::string::npos) src.insert(eol + 1, prelude);
-    const char* text = src.c_str();
+    if (eol == std::string::npos) src += '\n', eol = src.size() - 1;
+    src.insert(eol + 1, prelude);
+    return src;
+}
+
+GlShader compile_shader(unsigned kind, const std::vector<std::string>& paths,
+                        const std::vector<std::string>& defines) {
+    // One shader of several source strings (GLSL ES links one shader per stage): the first
+    // file as shader_source() makes it, the others without their #version line, kept blank so
+    // line numbers hold (the log's "N:line" counts the strings from 0).
+    std::vector<std::string> sources;
+    for (const std::string& path : paths) {
+        std::string file;
+        if (!read_file(path, &file)) throw std::runtime_error("cannot open shader '" + path + "'");
+        if (sources.empty()) {
+            sources.push_back(shader_source(std::move(file), defines, kGlslEs));
+        } else {
+            if (file.rfind("#version", 0) == 0) file.erase(0, file.find('\n'));
+            sources.push_back(std::move(file));
+        }
+    }
+    std::vector<const char*> texts;
+    for (const std::string& src : sources) texts.push_back(src.c_str());
     GlShader shader = GlShader::adopt(glCreateShader(kind));
-    glShaderSource(shader.id(), 1, &text, nullptr);
+    glShaderSource(shader.id(), static_cast<GLsizei>(texts.size()), texts.data(), nullptr);
     glCompileShader(shader.id());
     GLint ok = 0;
     glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
     if (!ok) {
         char log[4096];
         glGetShaderInfoLog(shader.id(), sizeof log, nullptr, log);
-        std::string message = path;  // "shaders/preview.frag: 0:12(5): error: ..."
+        std::string message;  // "shaders/preview.frag: 0:12(5): error: ..."
+        for (const std::string& path : paths) message += (message.empty() ? "" : " + ") + path;
         message += ": ";
         message += log;
         throw std::runtime_error(message);
@@ -81,14 +110,13 @@ GlShader compile_shader(unsigned kind, const std::string& path,
 
 GlProgram make_program(const std::string& dir, const std::string& vert, const std::string& frag,
                        const std::vector<std::string>& defines, const std::string& library) {
-    const GlShader vs = compile_shader(GL_VERTEX_SHADER, dir + "/" + vert, defines);
-    const GlShader fs = compile_shader(GL_FRAGMENT_SHADER, dir + "/" + frag, defines);
-    GlShader lib;
-    if (!library.empty()) lib = compile_shader(GL_FRAGMENT_SHADER, dir + "/" + library, defines);
+    const GlShader vs = compile_shader(GL_VERTEX_SHADER, {dir + "/" + vert}, defines);
+    std::vector<std::string> fragment = {dir + "/" + frag};
+    if (!library.empty()) fragment.push_back(dir + "/" + library);
+    const GlShader fs = compile_shader(GL_FRAGMENT_SHADER, fragment, defines);
     GlProgram program = GlProgram::make();
     glAttachShader(program.id(), vs.id());
     glAttachShader(program.id(), fs.id());
-    if (lib) glAttachShader(program.id(), lib.id());
     glLinkProgram(program.id());
     GLint ok = 0;
     glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);

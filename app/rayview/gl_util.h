@@ -82,13 +82,26 @@ using GlRenderbuffer = GlName<GlRenderbufferKind>;
 using GlShader = GlName<GlShaderKind>;
 using GlProgram = GlName<GlProgramKind>;
 
-/// Compiles one shader file (`kind`: GL_VERTEX_SHADER, ...) with `defines` inserted after its
-/// #version line as `#define NAME 1`. Throws std::runtime_error naming the file
+/// The shaders are written in GLSL 3.30 core; the web page's WebGL 2 compiles GLSL ES 3.00.
+#ifdef __EMSCRIPTEN__
+inline constexpr bool kGlslEs = true;
+#else
+inline constexpr bool kGlslEs = false;
+#endif
+/// A shader file's text as compiled: `defines` inserted after its #version line as
+/// `#define NAME 1`; with `es`, that line made `#version 300 es` and the default precisions
+/// declared (highp floats, ints and samplers).
+std::string shader_source(std::string src, const std::vector<std::string>& defines, bool es);
+
+/// Compiles one shader from its files (`kind`: GL_VERTEX_SHADER, ...; the later files are
+/// source strings after the first, their #version line dropped) with `defines` inserted after
+/// the first one's #version line as `#define NAME 1` (as GLSL ES in the web page:
+/// shader_source()). Throws std::runtime_error naming the file
 /// ("shaders/preview.frag: 0:12(5): error: ...").
-GlShader compile_shader(unsigned kind, const std::string& path,
+GlShader compile_shader(unsigned kind, const std::vector<std::string>& paths,
                         const std::vector<std::string>& defines);
-/// Compiles and links dir/vert + dir/frag (+ dir/library, a second fragment shader with functions
-/// `frag` declares, when not empty) with `defines`; errors name the files.
+/// Compiles and links dir/vert + dir/frag (+ dir/library, functions `frag` declares, compiled
+/// with it as a second source string when not empty) with `defines`; errors name the files.
 GlProgram make_program(const std::string& dir, const std::string& vert, const std::string& frag,
                        const std::vector<std::string>& defines = {},
                        const std::string& library = "");

@@ -164,14 +164,19 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
     }
     glBindVertexArray(0);
     if (leaves) {
-        buf.csg_buffer = GlBuffer::make();
-        glBindBuffer(GL_TEXTURE_BUFFER, buf.csg_buffer.id());
-        glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(csg.texels.size() * sizeof(float)),
-                     csg.texels.data(), GL_STATIC_DRAW);
+        // A 2D texture, kCsgRow texels a row (csg.frag's csg_texel): OpenGL ES and WebGL 2
+        // have no buffer textures.
+        const size_t texels = csg.texels.size() / 4;
+        const size_t rows = (texels + kCsgRow - 1) / kCsgRow;
+        std::vector<float> padded(csg.texels);
+        padded.resize(rows * kCsgRow * 4, 0.0f);
         buf.csg_texture = GlTexture::make();
-        glBindTexture(GL_TEXTURE_BUFFER, buf.csg_texture.id());
-        glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buf.csg_buffer.id());
-        glBindTexture(GL_TEXTURE_BUFFER, 0);
+        glBindTexture(GL_TEXTURE_2D, buf.csg_texture.id());
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, kCsgRow, static_cast<GLsizei>(rows), 0, GL_RGBA,
+                     GL_FLOAT, padded.data());
+        set_sampling(GL_TEXTURE_2D, GL_NEAREST, GL_CLAMP_TO_EDGE);  // texelFetch only
+        glBindTexture(GL_TEXTURE_2D, 0);
         buf.csg_nodes = csg.nodes;
         buf.csg_children = csg.children;
         buf.csg_leaves = csg.leaves;
@@ -295,7 +300,8 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
     GLint previous_fbo = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, m_shadow_fbo.id());
-    glDrawBuffer(GL_NONE);
+    const GLenum none = GL_NONE;
+    glDrawBuffers(1, &none);
     glReadBuffer(GL_NONE);
     glViewport(0, 0, kShadowResolution, kShadowResolution);
     glEnable(GL_DEPTH_TEST);
@@ -365,7 +371,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
         glBindVertexArray(buf.vao.id());
         if (buf.csg_texture) {
             glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_BUFFER, buf.csg_texture.id());
+            glBindTexture(GL_TEXTURE_2D, buf.csg_texture.id());
             glActiveTexture(GL_TEXTURE0);
             glUniform1i(loc(program, "u_csg_nodes"), buf.csg_nodes);
             glUniform1i(loc(program, "u_csg_children"), buf.csg_children);

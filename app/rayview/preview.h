@@ -56,6 +56,7 @@ public:
     static constexpr int kShadowResolution = 1024;
     static constexpr int kMaxEnvMaps = 8;
     static constexpr int kEnvResolution = 128;
+    static constexpr int kCsgRow = 1024;  // CSG texels per row of their texture (csg.frag's)
 
     /// The environment maps the last draw used (0 without reflections).
     int environment_maps() const { return m_env_drawn; }
@@ -81,8 +82,7 @@ private:
         GlVertexArray vao;  // none for a set no instance places
         GlBuffer vbo, ebo;
         std::vector<Range> ranges;
-        GlBuffer csg_buffer;  // the CSG trees (csg_preview.h), none without CSG
-        GlTexture csg_texture;
+        GlTexture csg_texture;  // the CSG trees (csg_preview.h), none without CSG
         int csg_nodes = 0, csg_children = 0, csg_leaves = 0;
     };
     static SetBuffers upload_set(const PreviewMesh& mesh, bool textured, const CsgTexels& csg,

@@ -14,7 +14,9 @@
 #include <type_traits>
 #include <variant>
 
+#include "gl_util.h"
 #include "preview.h"
+#include "rt/util/file_io.h"
 #include "test_util.h"
 
 namespace rt {
@@ -771,3 +773,49 @@ TEST(GlPreview, MirrorsAndGlassShowWhatTheTraceShows) {
 
 }  // namespace
 }  // namespace rt
+
+namespace rt::view {
+namespace {
+
+// Every shader, as the web page compiles it (GLSL ES 3.00, WebGL 2), with all its switches on,
+// passes Khronos' reference compiler (glslangValidator, Debian's glslang-tools). The preview's
+// fragment shader is checked with csg.frag after it, as make_program() compiles them.
+TEST(ShaderSource, EveryShaderCompilesAsGlslEs300) {
+    if (std::system("command -v glslangValidator >/dev/null 2>&1") != 0)
+        GTEST_SKIP() << "glslangValidator is not installed (glslang-tools)";
+    const std::string dir = RT_SOURCE_DIR "/shaders/";
+    const std::vector<std::string> all = {"RT_POINT",    "RT_SPOT",     "RT_DIRECTIONAL",
+                                          "RT_TEXTURES", "RT_SPECULAR", "RT_SHADOWS",
+                                          "RT_CSG"};
+    struct Case {
+        std::string file, library;
+    };
+    const std::filesystem::path tmp = testing::TempDir();
+    for (const Case& c :
+         {Case{"preview.vert", ""}, Case{"preview.frag", "csg.frag"},
+          Case{"shadow.frag", "csg.frag"}, Case{"lines.vert", ""}, Case{"lines.frag", ""}}) {
+        std::string text;
+        ASSERT_TRUE(read_file(dir + c.file, &text));
+        std::string es = shader_source(text, all, true);
+        ASSERT_EQ(es.rfind("#version 300 es\n", 0), 0u);
+        if (!c.library.empty()) {
+            std::string lib;
+            ASSERT_TRUE(read_file(dir + c.library, &lib));
+            es += lib.substr(lib.find('\n'));  // its #version line dropped, as compile_shader()
+        }
+        const std::filesystem::path file = tmp / c.file;  // the extension names the stage
+        write_file_atomic(file.string(), es);
+        const std::string log = (tmp / (c.file + ".log")).string();
+        const int rc =
+            std::system(("glslangValidator " + file.string() + " >" + log + " 2>&1").c_str());
+        std::string out;
+        read_file(log, &out);
+        EXPECT_EQ(rc, 0) << c.file << " as GLSL ES 3.00:\n" << out;
+    }
+    // The desktop's text is the file's with the defines after its #version line.
+    const std::string desktop = shader_source("#version 330 core\nvoid main() {}\n", {"A"}, false);
+    EXPECT_EQ(desktop, "#version 330 core\n#define A 1\nvoid main() {}\n");
+}
+
+}  // namespace
+}  // namespace rt::view
