@@ -6,13 +6,20 @@
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
-#include <dlfcn.h>
 #include <imgui.h>
+#ifdef __EMSCRIPTEN__
+#include <emscripten.h>
+
+#include "web.h"
+#else
+#include <dlfcn.h>
 #include <link.h>
+#endif
 
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -40,7 +47,7 @@ namespace {
 // LeakSanitizer can name the library of the driver's own small leak at exit and the chaos
 // test can suppress it by that name (never our code). Without ASan: nothing.
 void keep_gl_driver_loaded() {
-#ifdef RT_ASAN
+#if defined(RT_ASAN) && !defined(__EMSCRIPTEN__)
     dl_iterate_phdr(
         [](dl_phdr_info* info, size_t, void*) {
             const std::string name = info->dlpi_name ? info->dlpi_name : "";
@@ -108,7 +115,7 @@ ImGuiIO& init_imgui(GLFWwindow* window) {
     io.IniFilename = nullptr;
     ImGui::StyleColorsDark();
     ImGui_ImplGlfw_InitForOpenGL(window, true);
-    ImGui_ImplOpenGL3_Init("#version 330 core");
+    ImGui_ImplOpenGL3_Init(rt::view::kGlslEs ? "#version 300 es" : "#version 330 core");
     return io;
 }
 
@@ -147,10 +154,112 @@ void shutdown(GLFWwindow* window) {
     glfwTerminate();
 }
 
+#ifdef __EMSCRIPTEN__
+constexpr bool kInPage = true;  // the web page (app/web): the browser paces the frames
+#else
+constexpr bool kInPage = false;
+#endif
+
+// The monitor's content scale (the page's device pixel ratio).
+float content_scale(GLFWwindow* window) {
+#ifdef __EMSCRIPTEN__
+    (void)window;
+    return static_cast<float>(rt::view::web_pixel_ratio());
+#else
+    float x = 1, y = 1;
+    glfwGetWindowContentScale(window, &x, &y);
+    return x;
+#endif
+}
+
+// What the frames share: the window, the viewer and its panes, and the interface's state.
+struct Session {
+    GLFWwindow* window;
+    ImGuiIO& io;
+    rt::view::ViewerState& viewer;
+    rt::view::Panes& panes;
+    rt::view::PanelState ui;
+    rt::view::InputState input;
+    rt::view::ScriptRun script;
+    rt::view::FrameStats stats;
+    std::string title;
+    int exit_code = 0;
+};
+
+// One frame: events, the panel and the panes, input, the trace restarted when due, drawing.
+// False once the window is to close.
+bool frame(Session& s) {
+    using namespace rt::view;
+    ViewerState& viewer = s.viewer;
+    if (glfwWindowShouldClose(s.window)) return false;
+    // The title names the open scene, as a desktop program's does.
+    if (const std::string t = window_title(viewer); t != s.title)
+        glfwSetWindowTitle(s.window, (s.title = t).c_str());
+    // Events; dropped files open, the open file reloads when it changed on disk. With nothing
+    // to redraw at once the loop waits for an event or 1/30 s (new trace images), so it leaves
+    // the cores to the trace (in the page, the browser paces the frames).
+    const bool busy = viewer.edit_pending() || viewer.preview_stale || viewer.timeline.playing;
+    if (busy || kInPage)
+        glfwPollEvents();
+    else
+        glfwWaitEventsTimeout(1.0 / 30);
+    const double frame_s = s.stats.tick();
+    viewer.poll_files();
+    // Without threads the trace runs here, between frames, for part of one (the page's
+    // single-thread build); with threads this does nothing.
+    viewer.tracer.pump(1.0 / 40);
+    // Start the Dear ImGui frame; the control panel, the panes, input, restart, draw. Fonts
+    // follow the monitor's content scale and the user's UI scale.
+    s.io.FontGlobalScale = viewer.settings.ui_scale * std::max(1.0f, content_scale(s.window));
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    int fb_w = 0, fb_h = 0;
+    glfwGetFramebufferSize(s.window, &fb_w, &fb_h);
+    const ViewSettings& vs = viewer.settings;
+    const PaneLayout layout =
+        pane_layout(vs.layout, fb_w, fb_h, vs.show_panel ? vs.panel_w : 0, vs.aspect());
+    if (vs.show_panel) control_panel(viewer, s.ui, layout, s.panes.preview_defines(), frame_s);
+    if (vs.show_panel && viewer.loaded) status_bar(viewer, layout);
+    if (vs.show_panel && viewer.loaded) timeline_bar(viewer, layout);
+    help_overlay(&viewer.show_help);
+    if (viewer.loaded) {
+        const PaneHover hover = s.panes.show(viewer, layout, frame_s);
+        handle_input(viewer, s.input, s.io, layout, hover, frame_s);
+        timeline_keys(viewer);
+        viewer.step_animation(frame_s);
+        // A drag or a widget in use is one undo step when it ends.
+        viewer.track_history(ImGui::IsAnyItemActive() || ImGui::IsAnyMouseDown());
+        if (viewer.restart_if_due()) s.script.restarted();
+        s.panes.draw(viewer);
+    }
+    // Rendering
+    render_frame(fb_w, fb_h);
+    // Scripted input for this frame (after drawing, so screenshots show the frame).
+    bool done = s.script.end_frame(viewer, fb_w, fb_h, &s.exit_code) || g_quit;
+    glfwSwapBuffers(s.window);
+    return !done;
+}
+
+#ifdef __EMSCRIPTEN__
+void web_frame(void* arg) {
+    Session& s = *static_cast<Session*>(arg);
+    rt::view::web_fit_canvas(s.window);
+    if (frame(s)) return;
+    // A --frames run (or a script) is over: its statistics, then the page stays as it is.
+    if (s.stats.count() > 1) s.stats.print(s.viewer);
+    rt::view::web_finished(s.exit_code);
+    emscripten_cancel_main_loop();
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
     using namespace rt::view;
+#ifdef __EMSCRIPTEN__
+    setenv("RAYTRACER_DATA_DIR", kWebDataDir, 0);  // the page's files (app/web)
+#endif
     std::string data_error;
     const std::string data_dir = find_data(&data_error);
     RunOptions opt;
@@ -201,61 +310,20 @@ int main(int argc, char** argv) {
         const std::unique_ptr<Panes> panes = make_panes(data_dir + "/shaders");
         if (!panes) exit_code = 1;
         if (panes && !viewer.loaded) std::fprintf(stderr, "%s\n", viewer.message.c_str());
-        PanelState ui(opt.scene);
-        InputState input;
-        ScriptRun script(opt);
-        FrameStats stats;
-        std::string title;
-        while (exit_code == 0 && !glfwWindowShouldClose(window)) {
-            // The title names the open scene, as a desktop program's does.
-            if (const std::string t = window_title(viewer); t != title)
-                glfwSetWindowTitle(window, (title = t).c_str());
-            // Events; dropped files open, the open file reloads when it changed on disk. With
-            // nothing to redraw at once the loop waits for an event or 1/30 s (new trace
-            // images), so it leaves the cores to the trace.
-            const bool busy =
-                viewer.edit_pending() || viewer.preview_stale || viewer.timeline.playing;
-            if (busy)
-                glfwPollEvents();
-            else
-                glfwWaitEventsTimeout(1.0 / 30);
-            const double frame_s = stats.tick();
-            viewer.poll_files();
-            // Start the Dear ImGui frame; the control panel, the panes, input, restart, draw.
-            // Fonts follow the monitor's content scale and the user's UI scale.
-            float scale_x = 1, scale_y = 1;
-            glfwGetWindowContentScale(window, &scale_x, &scale_y);
-            io.FontGlobalScale = viewer.settings.ui_scale * std::max(1.0f, scale_x);
-            ImGui_ImplOpenGL3_NewFrame();
-            ImGui_ImplGlfw_NewFrame();
-            ImGui::NewFrame();
-            int fb_w = 0, fb_h = 0;
-            glfwGetFramebufferSize(window, &fb_w, &fb_h);
-            const ViewSettings& vs = viewer.settings;
-            const PaneLayout layout =
-                pane_layout(vs.layout, fb_w, fb_h, vs.show_panel ? vs.panel_w : 0, vs.aspect());
-            if (vs.show_panel) control_panel(viewer, ui, layout, panes->preview_defines(), frame_s);
-            if (vs.show_panel && viewer.loaded) status_bar(viewer, layout);
-            if (vs.show_panel && viewer.loaded) timeline_bar(viewer, layout);
-            help_overlay(&viewer.show_help);
-            if (viewer.loaded) {
-                const PaneHover hover = panes->show(viewer, layout, frame_s);
-                handle_input(viewer, input, io, layout, hover, frame_s);
-                timeline_keys(viewer);
-                viewer.step_animation(frame_s);
-                // A drag or a widget in use is one undo step when it ends.
-                viewer.track_history(ImGui::IsAnyItemActive() || ImGui::IsAnyMouseDown());
-                if (viewer.restart_if_due()) script.restarted();
-                panes->draw(viewer);
+        if (panes) {
+            Session session{window,         io, viewer, *panes, PanelState(opt.scene), {},
+                            ScriptRun(opt), {}, {},     0};
+            session.ui.samples_dir = data_dir + "/scenes";
+#ifdef __EMSCRIPTEN__
+            // The browser runs the frames: main() does not return, and the session lives on.
+            web_start(&viewer);
+            emscripten_set_main_loop_arg(web_frame, &session, 0, true);
+#endif
+            while (frame(session)) {
             }
-            // Rendering
-            render_frame(fb_w, fb_h);
-            // Scripted input for this frame (after drawing, so screenshots show the frame).
-            if (script.end_frame(viewer, fb_w, fb_h, &exit_code) || g_quit)
-                glfwSetWindowShouldClose(window, 1);
-            glfwSwapBuffers(window);
+            exit_code = session.exit_code;
+            session.script.print_summary(session.stats, viewer);
         }
-        script.print_summary(stats, viewer);
         glfwGetWindowSize(window, &config.window_w, &config.window_h);
         config.ui_scale = viewer.settings.ui_scale;
         config.recent = viewer.recent;

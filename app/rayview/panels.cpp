@@ -136,6 +136,15 @@ std::vector<std::string> completions(const std::string& typed) {
     return out;
 }
 
+std::vector<std::string> sample_scenes(const std::string& dir) {
+    std::vector<std::string> out;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+        if (e.path().extension() == ".ray" && e.is_regular_file(ec)) out.push_back(e.path());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
 bool file_panel(ViewerState& v, PanelState& ui) {
     if (v.loaded && v.loaded->id != ui.path_for) {  // a file opened: show its path
         std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.loaded->path.c_str());
@@ -184,6 +193,14 @@ bool file_panel(ViewerState& v, PanelState& ui) {
         for (size_t i = first; i < v.recent.size(); ++i)
             if (ImGui::Selectable(v.recent[i].c_str())) {
                 v.open_in_background(v.recent[i]);
+                break;
+            }
+    }
+    if (!ui.samples_dir.empty() && ImGui::CollapsingHeader("sample scenes")) {
+        if (ui.samples.empty()) ui.samples = sample_scenes(ui.samples_dir);
+        for (const std::string& path : ui.samples)
+            if (ImGui::Selectable(std::filesystem::path(path).filename().c_str())) {
+                v.open_in_background(path);
                 break;
             }
     }

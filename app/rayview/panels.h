@@ -28,12 +28,18 @@ struct PanelState {
     bool completing = false;                   // the path field lists matching files
     std::string completed_for;                 // the typed path the list below belongs to
     std::vector<std::string> completion_list;  // completions(completed_for)
+    std::string samples_dir;                   // the sample scenes' folder ("": no list)
+    std::vector<std::string> samples;          // sample_scenes(samples_dir), listed once
 };
+
+/// The .ray files in `dir` (not its subfolders), sorted.
+std::vector<std::string> sample_scenes(const std::string& dir);
 
 /// .ray files whose path starts with what is typed (the directory part lists its folder).
 std::vector<std::string> completions(const std::string& typed);
 
-/// The scene's path with completion, Open, Reload, the recent files, the last message, the
+/// The scene's path with completion, Open, Reload, the recent files, the sample scenes (the
+/// ones installed with the program, or packaged with the web page), the last message, the
 /// offer to open a file whose textures are missing with checker stand-ins, and which stand in.
 bool file_panel(ViewerState& v, PanelState& ui);
 /// The camera: frame, home, undo, redo, the half-height angle, aperture and focus distance,

@@ -11,6 +11,7 @@
 #include "rt/format/writer.h"
 #include "rt/render/camera.h"
 #include "rt/shapes/shapes.h"
+#include "rt/util/charconv.h"
 #include "rt/util/file_io.h"
 #include "rt/util/stopwatch.h"
 
@@ -120,9 +121,9 @@ void apply_edits(const SceneEdits& edits, bool headlight, int trace_w, int trace
 
 double float_as_decimal(float f) {
     char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, f);
+    const auto r = to_chars_shortest(buf, buf + sizeof buf, f);
     double d = f;
-    std::from_chars(buf, r.ptr, d);
+    from_chars_double(buf, r.ptr, d);
     return d;
 }
 
@@ -460,7 +461,10 @@ void ViewerState::remember_recent(const std::vector<std::string>& files) {
 void ViewerState::poll_files() {
     std::string result;
     bool ok = false;
-    if (image_job.take_result(&result, &ok)) ok ? note(result) : fail(result);
+    if (image_job.take_result(&result, &ok)) {
+        ok ? note(result) : fail(result);
+        if (ok && on_saved && !m_render_path.empty()) on_saved(m_render_path);
+    }
     std::unique_ptr<LoadedScene> next;
     std::string loaded_file;
     bool textures_missing = false;
@@ -495,11 +499,13 @@ void ViewerState::save_scene(const std::string& path) const {
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) desc.lights.push_back(edits.lights[i]);
     write_file_atomic(path, write_scene_for(desc, path));  // a temporary name, then renamed
+    if (on_saved) on_saved(path);
 }
 
 void ViewerState::save_trace(const std::string& path) const {
     if (last_trace.width == 0) throw std::runtime_error("nothing traced yet");
     save_image(holds_linear(image_format_from_path(path)) ? last_trace : displayed_trace(), path);
+    if (on_saved) on_saved(path);
 }
 
 void ViewerState::render_animation(const std::string& pattern, int frames, int width, int height,
@@ -519,12 +525,14 @@ void ViewerState::render_animation(const std::string& pattern, int frames, int w
     q.rotation = timeline.rotation;
     q.video = video;
     start_render(pattern, width, height, spp, q);
+    m_render_path.clear();
     note("rendering " + std::to_string(frames) + " frames to " + pattern + " ...");
 }
 
 void ViewerState::render_image(const std::string& path, int width, int height, int spp) {
     if (!loaded) return;
     start_render(path, width, height, spp, {});
+    m_render_path = path;  // one file (an animation's frames are not handed to on_saved)
     note("rendering " + path + " ...");
 }
 

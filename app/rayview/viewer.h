@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -257,6 +258,9 @@ struct ViewerState {
     std::vector<OrbitCamera> bookmarks;  // views the user kept
     bool show_help = false;              // the shortcuts overlay
     std::vector<std::string> dropped;    // files dropped onto the window, picked up by poll_files
+    /// Called with each file the viewer saves (a scene, a trace, a rendered image); the web
+    /// page downloads it. Nothing on the desktop.
+    std::function<void(const std::string& path)> on_saved;
 
     Tracer tracer;  // after `loaded`: stops before the scene it traces dies
     Image last_trace;
@@ -278,7 +282,8 @@ private:
                        bool textures_missing);
     /// Starts `loader` on `file`; `reload`: its result is merged as a reload.
     void load_in_background(const std::string& file, MissingTextures missing, bool reload);
-    bool m_reloading = false;  // the loader's job is a reload of the open file
+    bool m_reloading = false;   // the loader's job is a reload of the open file
+    std::string m_render_path;  // the image the background job writes ("" for an animation)
     void on_loaded();
     void restart();
     void move_joints();
