@@ -14,8 +14,11 @@ required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev li
 # mode (its tests are skipped with a message without it). ffmpeg encodes --video (without it the
 # frames are written with a warning, and the test of the encoding is skipped). desktop-file-utils
 # and shared-mime-info check the desktop entry and the MIME type of the package (tests/install).
+# Emscripten builds the web page (scripts/build-web.sh); Chromium and ChromeDriver load it in its
+# test (tests/web); glslang-tools checks the preview's shaders as GLSL ES 3.00.
 optional=(libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang libclang-rt-14-dev
-    libopenmpi-dev openmpi-bin ffmpeg desktop-file-utils shared-mime-info)
+    libopenmpi-dev openmpi-bin ffmpeg desktop-file-utils shared-mime-info emscripten chromium
+    chromium-driver glslang-tools)
 
 missing() {
     for p in "$@"; do
@@ -24,7 +27,8 @@ missing() {
 }
 mapfile -t need < <(missing "${required[@]}")
 mapfile -t want < <(missing "${optional[@]}")
-if ((${#need[@]} == 0 && ${#want[@]} == 0)); then
+imgui_src="$(dirname "$0")/../build-web-deps/imgui-1.86"
+if ((${#need[@]} == 0 && ${#want[@]} == 0)) && [ -f "$imgui_src/imgui.cpp" ]; then
     exit 0
 fi
 
@@ -40,4 +44,26 @@ if ((${#want[@]})); then
     echo "install-deps: installing ${want[*]}" >&2
     $sudo apt-get install -y -qq --no-install-recommends "${want[@]}" >/dev/null ||
         echo "install-deps: warning: optional packages not installed (${want[*]})" >&2
+fi
+
+# The web build compiles Dear ImGui itself (libimgui-dev holds a native library only): the
+# sources of the very version the desktop links, Debian's source package imgui 1.86, fetched
+# from the Debian archive once into build-web-deps/ (git ignores it).
+if [ ! -f "$imgui_src/imgui.cpp" ] && command -v emcc >/dev/null; then
+    echo "install-deps: fetching Debian's imgui 1.86 source package for the web build" >&2
+    tmp=$(mktemp -d)
+    trap 'rm -rf "$tmp"' EXIT
+    printf 'deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] %s bookworm main\n' \
+        http://deb.debian.org/debian >"$tmp/sources.list"
+    mkdir -p "$tmp/lists/partial" "$tmp/cache/archives/partial"
+    apt_src=(-o Dir::Etc::SourceList="$tmp/sources.list" -o Dir::Etc::SourceParts=/dev/null
+        -o Dir::State::Lists="$tmp/lists" -o Dir::Cache="$tmp/cache" -o Debug::NoDropPrivs=true -o APT::Sandbox::User=root)
+    if apt-get "${apt_src[@]}" update -qq 2>/dev/null &&
+        (cd "$tmp" && apt-get "${apt_src[@]}" source --download-only -qq imgui=1.86+ds-1 \
+            >/dev/null 2>&1); then
+        mkdir -p "$imgui_src"
+        tar -xJf "$tmp"/imgui_1.86+ds.orig.tar.xz -C "$imgui_src" --strip-components=1
+    else
+        echo "install-deps: warning: cannot fetch the imgui sources; no web build" >&2
+    fi
 fi

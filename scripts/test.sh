@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds everything (warnings as errors) and runs every test; then the
+# Installs what is missing, builds everything (warnings as errors) and the web page (build-web/)
+# and runs every test, the page's in headless Chromium among them; then the
 # unit tests, the fuzz crasher corpus, the CLI test and the viewer's chaos test (500 random
 # scripted events) again under AddressSanitizer and UndefinedBehaviorSanitizer (build-san/, any
 # finding fails, no GL tests), then one minute of fuzzing the parser and compiler in that same
@@ -13,6 +14,12 @@ cd "$(dirname "$0")/.."
 jobs=$(nproc)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRT_WERROR=ON >/dev/null
 cmake --build build -j"$jobs"
+# The web page, for its test in headless Chromium (tests/web): built once, into build-web/.
+if command -v emcmake >/dev/null; then
+    RT_WEB_JOBS="$jobs" ./scripts/build-web.sh
+else
+    echo "test: Emscripten is not installed: the web page is not built (its test skips)" >&2
+fi
 ctest --test-dir build --output-on-failure -j"$jobs"
 if [ "${RT_QUICK:-0}" = 1 ]; then exit 0; fi
 
@@ -33,7 +40,7 @@ else
 fi
 # The estimate's statistics test renders 256-spp references of four scenes: 9 s here, 160 s
 # under the sanitizers, for code the other progressive tests run too.
-ctest --test-dir build-san --output-on-failure -j"$jobs" -LE "gl|install" \
+ctest --test-dir build-san --output-on-failure -j"$jobs" -LE "gl|install|web" \
     -E "^Progressive.TheEstimateIsWithinAQuarterOfTheTrueError$"
 
 # Fuzzing: one minute from the seed corpus (crashes fail the run).
@@ -50,4 +57,4 @@ cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_REL
     -DRT_WERROR=ON -DRT_SANITIZE=thread -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF >/dev/null
 cmake --build build-tsan -j"$jobs" --target rt_app_tests
 TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1" \
-    ctest --test-dir build-tsan --output-on-failure -j"$jobs" -R "^Viewer\."
+    ctest --test-dir build-tsan --output-on-failure -j"$jobs" -R "^(Viewer|Tracer)\."
