@@ -24,7 +24,7 @@ void ImageJob::start(RenderScene scene, const ImageJobSpec& spec) {
     if (have_threads())
         m_thread = std::thread([this, spec] { run(spec); });
     else  // the single-thread web page: the image is rendered before this returns
-        run(spec), m_inline_result = true;
+        run(spec);
 }
 
 void ImageJob::cancel() {
@@ -36,9 +36,8 @@ void ImageJob::cancel() {
 }
 
 bool ImageJob::take_result(std::string* message, bool* ok) {
-    if (!m_done || (!m_thread.joinable() && !m_inline_result)) return false;
+    if (!m_done) return false;  // (a result taken once has its message cleared below)
     if (m_thread.joinable()) m_thread.join();
-    m_inline_result = false;
     m_scene.reset();
     std::lock_guard lock(m_mutex);
     if (m_message.empty()) return false;

@@ -63,7 +63,6 @@ private:
 
     std::unique_ptr<RenderScene> m_scene;
     std::thread m_thread;
-    bool m_inline_result = false;  // without threads: run() ran in start(), its result not taken
     std::atomic<bool> m_stop{false}, m_done{false};
     std::atomic<double> m_progress{0};
     std::mutex m_mutex;
