@@ -7,8 +7,9 @@ set -euo pipefail
 # writes .exr images, help2man writes the man pages from --help).
 required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev libcli11-dev
     libopenexr-dev help2man)
-# Optional: Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa
-# and Xvfb are for the viewer and its headless GL tests.
+# Optional: Ninja schedules builds better than make (scripts/test.sh uses it when it is there).
+# Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa and Xvfb
+# are for the viewer and its headless GL tests.
 # clang and libFuzzer (libclang-rt-14-dev) build the fuzz target of scripts/test.sh, which skips
 # the fuzz run with a message when they are missing. OpenMPI builds raytrace-mpi, the cluster
 # mode (its tests are skipped with a message without it). ffmpeg encodes --video (without it the
@@ -16,7 +17,7 @@ required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev li
 # and shared-mime-info check the desktop entry and the MIME type of the package (tests/install).
 # Emscripten builds the web page (scripts/build-web.sh); Chromium and ChromeDriver load it in its
 # test (tests/web); glslang-tools checks the preview's shaders as GLSL ES 3.00.
-optional=(libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang libclang-rt-14-dev
+optional=(ninja-build libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang libclang-rt-14-dev
     libopenmpi-dev openmpi-bin ffmpeg desktop-file-utils shared-mime-info emscripten chromium
     chromium-driver glslang-tools)
 
