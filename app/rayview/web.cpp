@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "rt/render/render.h"
@@ -56,6 +57,16 @@ void web_fit_canvas(GLFWwindow* window) {
     int cur_w = 0, cur_h = 0;
     glfwGetWindowSize(window, &cur_w, &cur_h);
     if (w > 0 && h > 0 && (w != cur_w || h != cur_h)) glfwSetWindowSize(window, w, h);
+}
+
+void web_follow_scene() {
+    static std::filesystem::path current;
+    if (!g_viewer || !g_viewer->loaded) return;
+    const std::filesystem::path dir = std::filesystem::path(g_viewer->loaded->path).parent_path();
+    if (dir.empty() || dir == current) return;
+    std::error_code ec;
+    std::filesystem::current_path(dir, ec);
+    current = dir;
 }
 
 void web_finished(int exit_code) { page_finished(exit_code); }

@@ -9,6 +9,8 @@ single-thread build), and checks from screenshots of the page:
   - the showpiece opens from ?scene=showpiece; the preview pane and the trace pane each match
     raytrace's image of it (mean absolute difference, imgdiff), and neither matches another
     scene's image (so the check can fail);
+  - saving the trace and the scene (after a light edit) downloads them: the image matches
+    raytrace's of its size, the scene holds the edit and renders;
   - a bad scene picked with the page's file input shows its file:line:col error in red in the
     panel, and the showpiece stays open;
   - without isolation the page says it traces on one thread, and still traces the showpiece;
@@ -135,7 +137,7 @@ def count_pixels(png, x, y, w, h, test):
 # ---- WebDriver ----
 
 class Browser:
-    def __init__(self, driver_port):
+    def __init__(self, driver_port, downloads):
         self.base = f'http://127.0.0.1:{driver_port}'
         args = ['--headless=new', '--no-sandbox', '--disable-gpu', '--disable-quic',
                 '--no-first-run', '--disable-background-networking', '--disable-component-update',
@@ -144,8 +146,12 @@ class Browser:
                 '--user-data-dir=' + tempfile.mkdtemp(prefix='rt-chromium-')]
         caps = {'capabilities': {'alwaysMatch': {
             'browserName': 'chrome',
-            'goog:chromeOptions': {'binary': '/usr/bin/chromium', 'args': args}}}}
+            'goog:chromeOptions': {'binary': '/usr/bin/chromium', 'args': args, 'prefs': {
+                'download.default_directory': downloads, 'download.prompt_for_download': False}}}}}
         self.session = self.call('POST', '/session', caps)['sessionId']
+        # What the page downloads lands in that directory (headless Chromium asks for it).
+        self.s('POST', '/goog/cdp/execute', {'cmd': 'Browser.setDownloadBehavior', 'params': {
+            'behavior': 'allow', 'downloadPath': downloads}})
 
     def call(self, method, path, body=None):
         data = json.dumps(body).encode() if body is not None else None
@@ -234,7 +240,10 @@ def main():
     try:
         for p in (isolated, plain, driver):
             wait_port(p)
-        browser = Browser(driver)
+        downloads = os.path.join(a.out, 'downloads')
+        shutil.rmtree(downloads, ignore_errors=True)
+        os.makedirs(downloads)
+        browser = Browser(driver, downloads)
         panes = ('--size 1280x480 --panel off --frames 60', '5 resolution 1;6 wait-spp {spp}')
 
         def open_showpiece(port, tag, spp):
@@ -266,7 +275,52 @@ def main():
                   f'the {pane} pane shows the showpiece (mean difference {near:.1f} of 255 '
                   f'against raytrace\'s image, at most {limit}; {far:.1f} against another scene)')
 
-        # 2. A bad scene, picked with the page's file input: its error in red, the showpiece kept.
+        # 2. Saving downloads: the trace pane's image, then the scene with its first light edited
+        # (relative names, as the panel's: beside the open scene).
+        saves = ('2 wait-spp 4;3 save-image showpiece-trace.png;'
+                 '4 light 0 colour 0.2 0.9 0.3;5 save-scene showpiece-edited.ray')
+        browser.go(f'http://127.0.0.1:{isolated}/index.html?scene=showpiece&script={saves}')
+        browser.wait('return window.rvExitCode !== undefined', 'the saving run to end')
+        got = {}
+        end = time.time() + 120
+        while len(got) < 2 and time.time() < end:
+            for name in ('showpiece-trace.png', 'showpiece-edited.ray'):
+                path = os.path.join(downloads, name)
+                if os.path.exists(path) and name not in got:
+                    got[name] = path
+            time.sleep(0.25)
+        check(len(got) == 2, f'saving downloads the files ({", ".join(sorted(got)) or "none"})')
+        if 'showpiece-trace.png' in got:
+            with open(got['showpiece-trace.png'], 'rb') as f:
+                tw, th = read_png(f.read())[:2]
+            # raytrace's image of the same size: the download is the trace, not another image.
+            sized = os.path.join(a.out, 'showpiece-sized.png')
+            subprocess.run([raytrace, '-q', os.path.join(scenes, 'showpiece.ray'), '--width',
+                            str(tw), '--height', str(th), '-o', sized], check=True)
+            other_sized = os.path.join(a.out, 'simple-sized.png')
+            subprocess.run([raytrace, '-q', os.path.join(scenes, 'simple.ray'), '--width',
+                            str(tw), '--height', str(th), '-o', other_sized], check=True)
+            near, far = mad(got['showpiece-trace.png'], sized), mad(got['showpiece-trace.png'],
+                                                                     other_sized)
+            check(near <= 12 and far > 24, f'the downloaded image is the trace ({tw}x{th}, mean '
+                  f'difference {near:.1f} against raytrace\'s image, {far:.1f} against another)')
+        if 'showpiece-edited.ray' in got:
+            # Beside the scene's parts and textures, the downloaded scene renders, with the edit.
+            edited = os.path.join(a.out, 'edited')
+            shutil.rmtree(edited, ignore_errors=True)
+            for sub in ('parts', 'textures'):
+                shutil.copytree(os.path.join(scenes, sub), os.path.join(edited, sub))
+            shutil.copy(got['showpiece-edited.ray'], edited)
+            with open(got['showpiece-edited.ray']) as f:
+                text = f.read()
+            r = subprocess.run([raytrace, '-q', os.path.join(edited, 'showpiece-edited.ray'),
+                                '--width', '64', '--height', '48', '-o',
+                                os.path.join(edited, 'edited.png')], capture_output=True, text=True)
+            check(re.search(r'#light_spot 0\.2 0\.9 0\.3 ', text) is not None and r.returncode == 0,
+                  'the downloaded scene holds the edited light and renders '
+                  f'({r.stderr.strip() or "raytrace: ok"})')
+
+        # 3. A bad scene, picked with the page's file input: its error in red, the showpiece kept.
         browser.go(f'http://127.0.0.1:{isolated}/index.html?scene=showpiece')
         browser.wait('const s = window.rvStatus && rvStatus(); return s && s.spp >= 1',
                      'the showpiece to trace')
@@ -308,7 +362,7 @@ def main():
         check(not st['error'], 'files dropped onto the page open, the included one with them '
                                f'({st["scene"]} {st["message"]})')
 
-        # 3. Not isolated: the single-thread build, with a note, traces the showpiece too.
+        # 4. Not isolated: the single-thread build, with a note, traces the showpiece too.
         st = open_showpiece(plain, 'single', 4)
         note = browser.js('return document.getElementById("note").textContent')
         check(browser.js('return window.rvThreads') is False and not st['threaded'] and
