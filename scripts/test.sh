@@ -13,7 +13,9 @@ cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 jobs=$(nproc)
 # Ninja when it is there (install-deps installs it): it schedules the two cores better than make.
-if [ -z "${CMAKE_GENERATOR:-}" ] && command -v ninja >/dev/null; then export CMAKE_GENERATOR=Ninja; fi
+if [ -z "${CMAKE_GENERATOR:-}" ] && command -v ninja >/dev/null; then
+    export CMAKE_GENERATOR=Ninja  # trees configured before keep their generator
+fi
 # Each part's time, to keep the whole under 25 minutes on 2 cores.
 start=$SECONDS
 last=$SECONDS
@@ -39,16 +41,17 @@ echo "test: ASan + UBSan (build-san/)" >&2
 export ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 if tests/fuzz/run.sh check 2>/dev/null; then
-    RT_FUZZ_BUILD=build-san RT_FUZZ_TARGETS="rt_tests rt_app_tests rt_viewer_tests raytrace raymerge imgdiff rayview" \
-        RT_JOBS="$jobs" tests/fuzz/run.sh build
+    RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" \
+        RT_FUZZ_TARGETS="rt_tests rt_app_tests rt_viewer_tests raytrace raymerge imgdiff rayview" \
+        tests/fuzz/run.sh build
     fuzz=1
 else
     cmake -S . -B build-san -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON \
         -DRT_SANITIZE="address;undefined;float-cast-overflow" -DRT_BUILD_BENCH=OFF \
         -DRT_GL_TESTS=OFF >/dev/null
-    cmake --build build-san -j"$jobs" --target rt_tests rt_app_tests rt_viewer_tests raytrace raymerge imgdiff rayview \
-        fuzz_replay
+    cmake --build build-san -j"$jobs" --target rt_tests rt_app_tests rt_viewer_tests raytrace \
+        raymerge imgdiff rayview fuzz_replay
     fuzz=0
 fi
 took "building build-san/"
@@ -62,7 +65,7 @@ took "the tests in build-san/"
 # the ThreadSanitizer tree builds beside it, and its log is shown when it ends.
 fuzz_pid=""
 if [ "$fuzz" = 1 ]; then
-    echo "test: fuzzing for 60 s (build-san/, log in build-san/fuzz.log) beside building build-tsan/" >&2
+    echo "test: fuzzing for 60 s (build-san/, log in build-san/fuzz.log) beside build-tsan/" >&2
     RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" tests/fuzz/run.sh 60 >build-san/fuzz.log 2>&1 &
     fuzz_pid=$!
     trap '[ -z "$fuzz_pid" ] || kill "$fuzz_pid" 2>/dev/null || true' EXIT
@@ -72,15 +75,17 @@ fi
 
 # ThreadSanitizer: the viewer's state and its trace threads (no GL; Mesa is not loaded).
 echo "test: ThreadSanitizer (build-tsan/)" >&2
-cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-    -DRT_WERROR=ON -DRT_SANITIZE=thread -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF >/dev/null
+cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON -DRT_SANITIZE=thread \
+    -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF >/dev/null
 cmake --build build-tsan -j"$jobs" --target rt_viewer_tests
 took "building build-tsan/"
 if [ -n "$fuzz_pid" ]; then
     status=0
     wait "$fuzz_pid" || status=$?
     fuzz_pid=""
-    grep -E "^(fuzz:|Done|stat::number_of_executed_units|==[0-9]+==|SUMMARY)" build-san/fuzz.log >&2 || true
+    grep -E "^(fuzz:|Done|stat::number_of_executed_units|==[0-9]+==|SUMMARY)" build-san/fuzz.log \
+        >&2 || true
     if [ "$status" != 0 ]; then
         tail -n 60 build-san/fuzz.log >&2
         echo "test: fuzzing failed (exit $status; the input is in build-san/artifacts/)" >&2
