@@ -1,5 +1,6 @@
 // A render split across processes (issue 16): parts of any tiles and sample ranges merge into
 // the very bits of the whole render, and a split that misses or repeats samples is refused.
+#include <algorithm>
 #include <cstring>
 
 #include "test_util.h"
@@ -102,6 +103,41 @@ TEST(RenderSplit, ProgressivePassesOfTilesAddAsTheWholePasses) {
     EXPECT_TRUE(same_bits(whole.sum, tiled.sum));
     EXPECT_TRUE(same_bits(whole.sum_sq, tiled.sum_sq));
     EXPECT_EQ(whole.samples, tiled.samples);
+}
+
+TEST(RenderSplit, TilesCoverTheImageOnceRowByRowAndMergeIntoTheWhole) {
+    const std::vector<RenderPart> tiles = tile_parts(37, 29, 16, 16, 3, 2, 5);
+    ASSERT_EQ(tiles.size(), 6u);  // 16 + 16 + 5 across, 16 + 13 down
+    std::vector<int> covered(37 * 29, 0);
+    for (size_t i = 0; i < tiles.size(); ++i) {
+        const RenderPart& t = tiles[i];
+        EXPECT_EQ(t.x0, 16 * static_cast<int>(i % 3));
+        EXPECT_EQ(t.y0, 16 * static_cast<int>(i / 3));
+        EXPECT_EQ(t.x1 - t.x0, i % 3 == 2 ? 5 : 16);
+        EXPECT_EQ(t.y1 - t.y0, i / 3 == 1 ? 13 : 16);
+        EXPECT_EQ(t.first, 3u);
+        EXPECT_EQ(t.count, 2u);
+        EXPECT_EQ(t.total, 5u);
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) ++covered[static_cast<size_t>(y * 37 + x)];
+    }
+    EXPECT_EQ(std::count(covered.begin(), covered.end(), 1), 37 * 29);
+    EXPECT_TRUE(tile_parts(0, 29, 16, 16, 0, 1, 1).empty());
+    EXPECT_EQ(tile_parts(37, 29, 64, 64, 0, 1, 1).size(), 1u);  // one tile, clipped to the image
+
+    // Rendered, they are the whole render.
+    const RenderScene scene = test::compile(kScene);
+    const RenderSettings s = settings(true);
+    const RenderPlan plan = make_render_plan(scene, s);
+    RenderState whole;
+    render_samples(whole, scene, plan, s, 3);
+    std::vector<RenderPart> parts = tile_parts(s.width, s.height, 8, 8, 0, 3, 3);
+    std::vector<const RenderPart*> ptrs;
+    for (RenderPart& p : parts) {
+        ASSERT_TRUE(render_part(p, scene, plan, s));
+        ptrs.push_back(&p);
+    }
+    EXPECT_TRUE(same_bits(merge_parts(ptrs, s.width, s.height, 3).image().rgb, whole.image().rgb));
 }
 
 TEST(RenderSplit, MissingAndRepeatedSamplesAreRefused) {

@@ -85,14 +85,8 @@ void make_tiles(Job& job) {
         job.tiles.assign(static_cast<size_t>(o.animation.frames), whole());
         return;
     }
-    for (int y = 0; y < o.height; y += kTileSize)
-        for (int x = 0; x < o.width; x += kTileSize) {
-            rt::RenderPart p;
-            p.x0 = x, p.y0 = y;
-            p.x1 = std::min(x + kTileSize, o.width), p.y1 = std::min(y + kTileSize, o.height);
-            p.first = 0, p.count = p.total = static_cast<uint32_t>(o.spp);
-            job.tiles.push_back(p);
-        }
+    const auto spp = static_cast<uint32_t>(o.spp);
+    job.tiles = rt::tile_parts(o.width, o.height, kTileSize, kTileSize, 0, spp, spp);
 }
 
 // A finished tile as one message: its blocks' sums and sums of squares (and for --progressive

@@ -73,16 +73,8 @@ void Tracer::pump(double seconds) {
                 return;
             }
             const uint32_t first = c.state.samples.empty() ? 0 : c.state.samples[0];
-            c.tiles.clear();
-            for (int y = 0; y < c.settings.height; y += kTileH)
-                for (int x = 0; x < c.settings.width; x += kTileW) {
-                    RenderPart p;
-                    p.x0 = x, p.y0 = y;
-                    p.x1 = std::min(x + kTileW, c.settings.width);
-                    p.y1 = std::min(y + kTileH, c.settings.height);
-                    p.first = first, p.count = 1, p.total = first + 1;
-                    c.tiles.push_back(std::move(p));
-                }
+            c.tiles = tile_parts(c.settings.width, c.settings.height, kTileW, kTileH, first, 1,
+                                 first + 1);
         }
         render_part(c.tiles[c.next_tile++], *c.scene, m_plan, c.settings);
         if (c.next_tile == c.tiles.size()) {  // the pass is complete

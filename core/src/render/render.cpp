@@ -221,6 +221,22 @@ std::vector<std::pair<uint32_t, int>> dyadic_blocks(uint32_t first, uint32_t cou
     return out;
 }
 
+std::vector<RenderPart> tile_parts(int width, int height, int tile_w, int tile_h, uint32_t first,
+                                   uint32_t count, uint32_t total) {
+    std::vector<RenderPart> out;
+    if (width <= 0 || height <= 0 || tile_w <= 0 || tile_h <= 0) return out;
+    out.reserve(static_cast<size_t>((width + tile_w - 1) / tile_w) *
+                static_cast<size_t>((height + tile_h - 1) / tile_h));
+    for (int y = 0; y < height; y += tile_h)
+        for (int x = 0; x < width; x += tile_w) {
+            RenderPart& p = out.emplace_back();
+            p.x0 = x, p.y0 = y;
+            p.x1 = x + std::min(tile_w, width - x), p.y1 = y + std::min(tile_h, height - y);
+            p.first = first, p.count = count, p.total = total;
+        }
+    return out;
+}
+
 bool render_part(RenderPart& part, const RenderScene& scene, const RenderPlan& plan,
                  const RenderSettings& settings, const ProgressFn& progress,
                  const std::atomic<bool>* stop) {

@@ -113,6 +113,12 @@ struct RenderPart {
 /// The maximal dyadic blocks of samples [first, first + count): (start, level) pairs in order.
 std::vector<std::pair<uint32_t, int>> dyadic_blocks(uint32_t first, uint32_t count);
 
+/// A width x height image cut into tiles of tile_w x tile_h (those on the right and bottom edges
+/// clipped), row by row, each to be rendered with samples [first, first + count) of `total`: the
+/// work items of the MPI mode and of the viewer's trace on one thread.
+std::vector<RenderPart> tile_parts(int width, int height, int tile_w, int tile_h, uint32_t first,
+                                   uint32_t count, uint32_t total);
+
 /// Renders `part`'s rectangle and samples (its blocks are filled; the rectangle must lie in the
 /// image and the samples in [0, total)). Throws std::invalid_argument otherwise. Returns false
 /// when stopped.
