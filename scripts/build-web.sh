@@ -10,6 +10,7 @@ if ! command -v emcmake >/dev/null; then
     echo "build-web: Emscripten is not installed (Debian package emscripten)" >&2
     exit 1
 fi
+. scripts/build-env.sh
 # Debian's Emscripten finds its node modules (acorn) there.
 export NODE_PATH="${NODE_PATH:+$NODE_PATH:}/usr/share/nodejs"
 emcmake cmake -S . -B build-web-obj -DCMAKE_BUILD_TYPE=Release -DRT_WERROR=ON \

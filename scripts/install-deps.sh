@@ -18,8 +18,8 @@ required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev li
 # Emscripten builds the web page (scripts/build-web.sh); Chromium and ChromeDriver load it in its
 # test (tests/web); glslang-tools checks the preview's shaders as GLSL ES 3.00.
 optional=(ninja-build libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang
-    libclang-rt-14-dev libopenmpi-dev openmpi-bin ffmpeg desktop-file-utils shared-mime-info emscripten chromium
-    chromium-driver glslang-tools)
+    libclang-rt-14-dev libopenmpi-dev openmpi-bin ffmpeg desktop-file-utils shared-mime-info
+    emscripten chromium chromium-driver glslang-tools)
 
 missing() {
     for p in "$@"; do

@@ -12,10 +12,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 jobs=$(nproc)
-# Ninja when it is there (install-deps installs it): it schedules the two cores better than make.
-if [ -z "${CMAKE_GENERATOR:-}" ] && command -v ninja >/dev/null; then
-    export CMAKE_GENERATOR=Ninja  # trees configured before keep their generator
-fi
+. scripts/build-env.sh
 # Each part's time, to keep the whole under 25 minutes on 2 cores.
 start=$SECONDS
 last=$SECONDS
@@ -66,9 +63,10 @@ took "the tests in build-san/"
 fuzz_pid=""
 if [ "$fuzz" = 1 ]; then
     echo "test: fuzzing for 60 s (build-san/, log in build-san/fuzz.log) beside build-tsan/" >&2
-    RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" tests/fuzz/run.sh 60 >build-san/fuzz.log 2>&1 &
+    # A process group of its own (setsid), so that a failure below stops libFuzzer with it.
+    RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" setsid tests/fuzz/run.sh 60 >build-san/fuzz.log 2>&1 &
     fuzz_pid=$!
-    trap '[ -z "$fuzz_pid" ] || kill "$fuzz_pid" 2>/dev/null || true' EXIT
+    trap '[ -z "$fuzz_pid" ] || kill -- "-$fuzz_pid" 2>/dev/null || true' EXIT
 else
     tests/fuzz/run.sh check || true  # prints why it is skipped
 fi

@@ -245,7 +245,6 @@ bool frame(Session& s) {
 void web_frame(void* arg) {
     Session& s = *static_cast<Session*>(arg);
     rt::view::web_fit_canvas(s.window);
-    rt::view::web_follow_scene();
     if (frame(s)) return;
     // A --frames run (or a script) is over: its statistics, then the page stays as it is.
     if (s.stats.count() > 1) s.stats.print(s.viewer);

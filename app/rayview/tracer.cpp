@@ -1,7 +1,5 @@
 #include "tracer.h"
 
-#include <algorithm>
-
 #ifdef __linux__
 #include <sched.h>
 #include <sys/resource.h>

@@ -264,6 +264,7 @@ void ViewerState::on_loaded() {
     loaded->file_time = modified(loaded->path);
     mark_edited();
     reset_history();
+    if (on_opened) on_opened(loaded->path);
 }
 
 void ViewerState::start_with(const ViewSettings& initial) {

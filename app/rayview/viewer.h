@@ -261,6 +261,9 @@ struct ViewerState {
     /// Called with each file the viewer saves (a scene, a trace, a rendered image); the web
     /// page downloads it. Nothing on the desktop.
     std::function<void(const std::string& path)> on_saved;
+    /// Called with each scene file that opens (at start, an open, a drop, a reload); the web
+    /// page makes its folder the working directory. Nothing on the desktop.
+    std::function<void(const std::string& path)> on_opened;
 
     Tracer tracer;  // after `loaded`: stops before the scene it traces dies
     Image last_trace;

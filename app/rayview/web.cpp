@@ -45,6 +45,12 @@ std::string quoted(const std::string& s) {
 void web_start(ViewerState* viewer) {
     g_viewer = viewer;
     viewer->on_saved = [](const std::string& path) { page_download(path.c_str()); };
+    viewer->on_opened = [](const std::string& path) {
+        const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+        std::error_code ec;  // a folder that is gone: relative saves stay where they were
+        if (!dir.empty()) std::filesystem::current_path(dir, ec);
+    };
+    if (viewer->loaded) viewer->on_opened(viewer->loaded->path);  // opened before this call
 }
 
 void web_fit_canvas(GLFWwindow* window) {
@@ -57,16 +63,6 @@ void web_fit_canvas(GLFWwindow* window) {
     int cur_w = 0, cur_h = 0;
     glfwGetWindowSize(window, &cur_w, &cur_h);
     if (w > 0 && h > 0 && (w != cur_w || h != cur_h)) glfwSetWindowSize(window, w, h);
-}
-
-void web_follow_scene() {
-    static std::filesystem::path current;
-    if (!g_viewer || !g_viewer->loaded) return;
-    const std::filesystem::path dir = std::filesystem::path(g_viewer->loaded->path).parent_path();
-    if (dir.empty() || dir == current) return;
-    std::error_code ec;
-    std::filesystem::current_path(dir, ec);
-    current = dir;
 }
 
 void web_finished(int exit_code) { page_finished(exit_code); }

@@ -12,15 +12,14 @@ struct ViewerState;
 /// Where the page's files are: the shaders and the sample scenes, packaged with the page.
 inline constexpr const char* kWebDataDir = "/data";
 
-/// Before the first frame: the viewer the page's calls go to; what it saves is downloaded.
+/// Before the first frame: the viewer the page's calls go to; what it saves is downloaded. The
+/// working directory follows the open scene, so that relative paths (the panel's "edited.ray",
+/// a script's) name files beside it: a scene saved there refers to its included files and
+/// textures as the original does, and downloaded, it works beside them on the user's disk.
 void web_start(ViewerState* viewer);
 /// Once a frame: the window takes the canvas's size on the page (CSS pixels times the
 /// device's pixel ratio).
 void web_fit_canvas(GLFWwindow* window);
-/// Once a frame: the working directory is the open scene's, so that relative paths (the panel's
-/// "edited.ray", a script's) name files beside it. A scene saved there refers to its included
-/// files and textures as the original does: downloaded, it works beside them on the user's disk.
-void web_follow_scene();
 /// The page's device pixel ratio (CSS pixels to the canvas's).
 double web_pixel_ratio();
 /// A --frames run is over (its statistics printed): tells the page, with the exit code.

@@ -259,6 +259,18 @@ std::string small_scene(const std::string& name, const std::string& light_colour
     return path;
 }
 
+TEST(Viewer, OnOpenedHearsEveryOpenAndReloadButNotAFailure) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    std::vector<std::string> heard;
+    v.on_opened = [&](const std::string& path) { heard.push_back(path); };
+    const std::string other = small_scene("rt_viewer_opened.ray", "1 1 1");
+    EXPECT_TRUE(v.open(other, false));
+    EXPECT_FALSE(v.open(RT_SOURCE_DIR "/scenes/no_such_file.ray", false));
+    EXPECT_TRUE(v.reload());
+    EXPECT_EQ(heard, (std::vector<std::string>{other, other}));
+}
+
 TEST(Viewer, ReloadKeepsTheEditsOfAnUnchangedFile) {
     const std::string path = small_scene("rt_viewer_touch.ray", "1 1 1");
     ViewerState v(path, false);

@@ -146,8 +146,7 @@ class Browser:
                 '--user-data-dir=' + tempfile.mkdtemp(prefix='rt-chromium-')]
         caps = {'capabilities': {'alwaysMatch': {
             'browserName': 'chrome',
-            'goog:chromeOptions': {'binary': '/usr/bin/chromium', 'args': args, 'prefs': {
-                'download.default_directory': downloads, 'download.prompt_for_download': False}}}}}
+            'goog:chromeOptions': {'binary': '/usr/bin/chromium', 'args': args}}}}
         self.session = self.call('POST', '/session', caps)['sessionId']
         # What the page downloads lands in that directory (headless Chromium asks for it).
         self.s('POST', '/goog/cdp/execute', {'cmd': 'Browser.setDownloadBehavior', 'params': {
@@ -216,11 +215,16 @@ def main():
     scenes = os.path.join(HERE, '..', '..', 'scenes')
     raytrace, imgdiff = os.path.join(a.bin, 'raytrace'), os.path.join(a.bin, 'imgdiff')
 
-    # What the panes must show: raytrace's images (640x480, its default settings).
-    ref = os.path.join(a.out, 'showpiece-raytrace.png')
-    other = os.path.join(a.out, 'simple-raytrace.png')
-    subprocess.run([raytrace, '-q', os.path.join(scenes, 'showpiece.ray'), '-o', ref], check=True)
-    subprocess.run([raytrace, '-q', os.path.join(scenes, 'simple.ray'), '-o', other], check=True)
+    def render(name, size=None):
+        """raytrace's image of scenes/NAME.ray (its default settings, 640x480 unless `size`)."""
+        out = os.path.join(a.out, f'{name}-raytrace{"-%dx%d" % size if size else ""}.png')
+        flags = ['--width', str(size[0]), '--height', str(size[1])] if size else []
+        subprocess.run([raytrace, '-q', os.path.join(scenes, name + '.ray'), *flags, '-o', out],
+                       check=True)
+        return out
+
+    # What the panes must show, and another scene's image, which they must not match.
+    ref, other = render('showpiece'), render('simple')
 
     def mad(image, reference):
         r = subprocess.run([imgdiff, image, reference], capture_output=True, text=True)
@@ -291,17 +295,12 @@ def main():
             time.sleep(0.25)
         check(len(got) == 2, f'saving downloads the files ({", ".join(sorted(got)) or "none"})')
         if 'showpiece-trace.png' in got:
-            with open(got['showpiece-trace.png'], 'rb') as f:
+            trace = got['showpiece-trace.png']
+            with open(trace, 'rb') as f:
                 tw, th = read_png(f.read())[:2]
             # raytrace's image of the same size: the download is the trace, not another image.
-            sized = os.path.join(a.out, 'showpiece-sized.png')
-            subprocess.run([raytrace, '-q', os.path.join(scenes, 'showpiece.ray'), '--width',
-                            str(tw), '--height', str(th), '-o', sized], check=True)
-            other_sized = os.path.join(a.out, 'simple-sized.png')
-            subprocess.run([raytrace, '-q', os.path.join(scenes, 'simple.ray'), '--width',
-                            str(tw), '--height', str(th), '-o', other_sized], check=True)
-            near, far = mad(got['showpiece-trace.png'], sized), mad(got['showpiece-trace.png'],
-                                                                     other_sized)
+            near = mad(trace, render('showpiece', (tw, th)))
+            far = mad(trace, render('simple', (tw, th)))
             check(near <= 12 and far > 24, f'the downloaded image is the trace ({tw}x{th}, mean '
                   f'difference {near:.1f} against raytrace\'s image, {far:.1f} against another)')
         if 'showpiece-edited.ray' in got:
