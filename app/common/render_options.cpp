@@ -83,6 +83,12 @@ void add_scene_options(CLI::App& app, RenderOptions& o, bool with_dialect,
         ->type_name("M")
         ->transform(CLI::IsMember({"error", "checker"}, CLI::ignore_case))
         ->group(group);
+    app.add_option("--max-pixels", o.max_pixels,
+                   "the largest image in pixels (the render, a texture, a reference);\n"
+                   "larger ones are refused before anything is allocated")
+        ->type_name("N")
+        ->check(kNoMinus)
+        ->group(group);
 }
 
 void add_feature_options(CLI::App& app, RenderOptions& o) {
@@ -106,6 +112,11 @@ void add_feature_options(CLI::App& app, RenderOptions& o) {
 void validate_render_options(const RenderOptions& o) {
     if (o.width < 1 || o.height < 1 || o.width > 32768 || o.height > 32768)
         throw UsageError("--width and --height must be between 1 and 32768");
+    if (o.max_pixels < 1) throw UsageError("--max-pixels must be at least 1");
+    if (static_cast<uint64_t>(o.width) * static_cast<uint64_t>(o.height) > o.max_pixels)
+        throw UsageError("--width x --height: an image of " + std::to_string(o.width) + "x" +
+                         std::to_string(o.height) + " pixels is larger than the budget of " +
+                         std::to_string(o.max_pixels) + " pixels; --max-pixels raises it");
     if (o.max_depth < 1) throw UsageError("--depth must be at least 1");
     if (!(o.cutoff >= 0.0)) throw UsageError("--cutoff must not be negative");
     if (o.spp < 1) throw UsageError("--spp must be at least 1");
@@ -120,5 +131,7 @@ void validate_render_options(const RenderOptions& o) {
         if (!(v >= 0.0) || !std::isfinite(v))
             throw UsageError(std::string(name) + " must be a finite number >= 0");
 }
+
+void apply_budgets(const RenderOptions& o) { rt::set_max_image_pixels(o.max_pixels); }
 
 }  // namespace rtapp

@@ -9,6 +9,7 @@
 
 #include "rt/format/parser.h"
 #include "rt/render/render.h"
+#include "rt/util/limits.h"
 
 namespace CLI {
 class App;
@@ -26,6 +27,7 @@ struct RenderOptions : rt::RenderSettings {
     int spp = 1;                         // raytrace: the samples; rayview: where the trace stops
     std::optional<rt::Dialect> dialect;  // overrides the dialect detected from the file tree
     rt::MissingTextures missing_textures = rt::MissingTextures::Error;  // --missing-textures
+    uint64_t max_pixels = rt::kDefaultMaxImagePixels;  // --max-pixels: the image budget
 };
 
 /// --width --height --depth --cutoff --spp --light-samples --seed --threads --no-shadows
@@ -34,7 +36,7 @@ struct RenderOptions : rt::RenderSettings {
 void add_render_options(CLI::App& app, RenderOptions& o, const std::string& spp_help,
                         const std::string& group = "Options");
 
-/// How scenes load: --missing-textures, and --dialect when `with_dialect`.
+/// How scenes load: --missing-textures, --max-pixels, and --dialect when `with_dialect`.
 void add_scene_options(CLI::App& app, RenderOptions& o, bool with_dialect,
                        const std::string& group = "Options");
 
@@ -42,7 +44,12 @@ void add_scene_options(CLI::App& app, RenderOptions& o, bool with_dialect,
 /// own help group.
 void add_feature_options(CLI::App& app, RenderOptions& o);
 
-/// The ranges of those options (after CLI11 has converted them). Throws UsageError.
+/// The ranges of those options (after CLI11 has converted them), --width x --height within
+/// --max-pixels among them. Throws UsageError.
 void validate_render_options(const RenderOptions& o);
+
+/// Puts the options' process-wide budgets in force (rt::set_max_image_pixels), before any file
+/// is read: call it once validate_render_options has passed.
+void apply_budgets(const RenderOptions& o);
 
 }  // namespace rtapp

@@ -332,6 +332,7 @@ Options parse_options(const std::vector<std::string>& args) {
     const bool spp_given = app.count("--spp") > 0;
     o.split.part = o.output.size() > 5 && o.output.compare(o.output.size() - 5, 5, ".part") == 0;
     validate(o, spp_given);
+    rtapp::apply_budgets(o);
     if (o.split.part) {  // the defaults: the whole image, every sample
         if (!o.split.tile) o.split.x1 = o.width, o.split.y1 = o.height;
         if (o.split.count == 0) o.split.count = static_cast<uint32_t>(o.spp);

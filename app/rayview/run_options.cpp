@@ -121,6 +121,7 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         if (!size.empty() && !parse_size(size, &out->window_w, &out->window_h))
             throw CLI::ValidationError("--size", "'" + size + "' is not WxH (e.g. 1280x720)");
         rtapp::validate_render_options(out->render);
+        rtapp::apply_budgets(out->render);
         if (!(out->target_error >= 0) || !std::isfinite(out->target_error))
             throw rtapp::UsageError("--target-error must be a finite number >= 0");
         out->spp_given = app.count("--spp") > 0;

@@ -1,0 +1,25 @@
+// The resource budget every reader and allocator of the library checks before it allocates: a
+// count or a size that a file declares, or that the user asks for, is compared with what the
+// file can hold and with this budget first, and refused with a message that names the size.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace rt {
+
+/// The default largest image, in pixels: 8192 x 8192. It bounds every image the library makes
+/// or reads (the render's own, textures, reference images, part files); --max-pixels raises it.
+inline constexpr uint64_t kDefaultMaxImagePixels = uint64_t{1} << 26;
+
+/// The budget in force (process-wide; kDefaultMaxImagePixels until set).
+uint64_t max_image_pixels();
+/// Sets the budget (at least 1); the programs call it from --max-pixels before loading anything.
+void set_max_image_pixels(uint64_t pixels);
+
+/// Empty when a `width` x `height` image fits the budget, else why not, naming the size and the
+/// flag that raises it: "<what> of 32768x32768 pixels (1073741824) is larger than the budget of
+/// 67108864 pixels (8192x8192; --max-pixels raises it)". No overflow for any 64-bit input.
+std::string image_size_error(uint64_t width, uint64_t height, const std::string& what);
+
+}  // namespace rt
