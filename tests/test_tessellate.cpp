@@ -143,5 +143,48 @@ TEST(Tessellate, SetCarriesMaterialsAndMirroredInstancesKeepOutwardNormals) {
     }
 }
 
+// The preview's mesh normals follow the trace's rule (spec §5): interpolated, then normalised
+// (the fragment shader's normalize), they give the trace's shading normal under a non-uniform
+// scale, for a mesh triangle as for a tessellated shape's vertex.
+TEST(Tessellate, MeshNormalsInterpolateAsTheTraceDoesUnderANonUniformScale) {
+    const RenderScene scene = test::compile(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+        "#vertex 0 0 0  1 0 1  0 0\n#vertex 1 0 0  0 1 1  0 0\n#vertex 0 1 0  -1 -1 1  0 0\n"
+        "#group_begin 8 0 0 0  0 1 0 0  0 0 0.5 0  0 0 0 1\n#shape_triangle 0 0 1 2\n"
+        "#group_end\n");
+    const PreviewMesh m = tessellate_set(scene.sets[0], 16);
+    ASSERT_EQ(m.triangle_count(), 1u);
+    const double w[3] = {0.25, 0.25, 0.5};
+    Vec3 p(0.0), n(0.0);
+    for (int k = 0; k < 3; ++k) {
+        p += w[k] * m.positions[m.indices[static_cast<size_t>(k)]];
+        n += w[k] * m.normals[m.indices[static_cast<size_t>(k)]];
+    }
+    const Ray ray{p + Vec3(0, 0, 5), Vec3(0, 0, -1)};
+    Hit hit;
+    ASSERT_TRUE(intersect(scene, ray, {0, kInf}, &hit));
+    const SurfaceInteraction si = interaction(scene, ray, hit, true);
+    EXPECT_NEAR(glm::length(glm::normalize(n) - si.n_shading), 0.0, 1e-12);
+
+    // A sphere under the same scale: inside each preview triangle, the interpolated normal is
+    // the mapped interpolation of the unit sphere's normals at the corners (the map is applied
+    // to the local rule, as for a mesh), not a mix of renormalised corner normals.
+    const RenderScene ellipsoid = test::compile(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n#group_begin 8 0 0 0  0 1 0 0  0 0 "
+        "0.5 0  0 0 0 1\n#shape_sphere 0 0 0 0 1\n#group_end\n");
+    const PreviewMesh e = tessellate_set(ellipsoid.sets[0], 16);
+    const Vec3 scale(8, 1, 0.5);
+    for (size_t t = 0; t < e.indices.size(); t += 3) {
+        Vec3 mixed(0.0), local(0.0);
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = e.indices[t + static_cast<size_t>(k)];
+            mixed += w[k] * e.normals[v];
+            local += w[k] * (e.positions[v] / scale);  // the unit sphere's normal there
+        }
+        const Vec3 expected = glm::normalize(local / scale);  // (A^-1)^T = diag(1 / scale)
+        EXPECT_NEAR(glm::length(glm::normalize(mixed) - expected), 0.0, 1e-9) << "triangle " << t;
+    }
+}
+
 }  // namespace
 }  // namespace rt

@@ -618,8 +618,9 @@ private:
             return m_vertex_of[file_vertex];
         const uint32_t id = static_cast<uint32_t>(set.vertex_positions.size());
         set.vertex_positions.push_back(xf ? xf->point(v.position) : v.position);
-        const Vec3 n = v.normal;
-        set.vertex_normals.push_back(n == Vec3(0.0) || !xf ? n : glm::normalize(xf->normal_dir(n)));
+        // Not renormalised: spec §5 normalises the interpolated sum
+        // (Transform::interpolable_normal).
+        set.vertex_normals.push_back(!xf ? v.normal : xf->interpolable_normal(v.normal));
         set.vertex_uvs.push_back(v.uv);
         if (!xf && file_vertex < m_vertex_of.size()) m_vertex_of[file_vertex] = id;
         return id;

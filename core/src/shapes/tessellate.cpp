@@ -9,7 +9,9 @@ void PreviewMesh::append(const PreviewMesh& other, const Transform* xf) {
     const uint32_t base = static_cast<uint32_t>(positions.size());
     for (size_t i = 0; i < other.positions.size(); ++i) {
         positions.push_back(xf ? xf->point(other.positions[i]) : other.positions[i]);
-        normals.push_back(xf ? glm::normalize(xf->normal_dir(other.normals[i])) : other.normals[i]);
+        // As the trace's mesh normals (spec §5): mapped, and normalised only after the
+        // interpolation (the fragment shader's normalize).
+        normals.push_back(xf ? xf->interpolable_normal(other.normals[i]) : other.normals[i]);
         uvs.push_back(other.uvs[i]);
     }
     // A mirroring transform reverses the winding; swap two corners to keep it counter-clockwise

@@ -125,7 +125,9 @@ struct GeometrySet {
     /// triangles that share it (transformed meshes keep one per triangle corner).
     std::vector<std::array<uint32_t, 3>> triangle_vertices;
     std::vector<Vec3> vertex_positions;
-    std::vector<Vec3> vertex_normals;  // unit, or zero for none
+    // The file's normals (not renormalised: spec §5 normalises the interpolated sum), mapped by
+    // a transform's (A^-1)^T when the set's frame is not the file's; zero for none.
+    std::vector<Vec3> vertex_normals;
     std::vector<Vec2> vertex_uvs;
     size_t triangle_count() const { return triangle_vertices.size(); }
     /// Triangle i's corners (in double; tri4 holds them in float for the walk).

@@ -116,6 +116,11 @@ struct Transform {
 
     Vec3 point(const Vec3& p) const { return Vec3(m * glm::dvec4(p, 1.0)); }
     Vec3 normal_dir(const Vec3& n) const { return normal * n; }
+    /// A normal that is interpolated before it is normalised (a mesh vertex's): normal_dir(n)
+    /// scaled by one positive factor of the transform (its normal matrix's largest entry), so
+    /// magnitudes stay near n's whatever the scale. Spec §5 normalises only the interpolated
+    /// sum; the map is linear, so no sum of such normals changes direction.
+    Vec3 interpolable_normal(const Vec3& n) const;
     Vec3 inv_point(const Vec3& p) const { return Vec3(inv * glm::dvec4(p, 1.0)); }
     Vec3 inv_vector(const Vec3& v) const { return Mat3(inv) * v; }
     /// The ray in the local frame, direction not renormalised so t is unchanged.
@@ -130,6 +135,14 @@ inline Transform Transform::from_matrix(const Mat4& mat) {
     t.inv = glm::inverse(mat);
     t.normal = glm::transpose(Mat3(t.inv));
     return t;
+}
+
+inline Vec3 Transform::interpolable_normal(const Vec3& n) const {
+    double largest = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) largest = std::max(largest, std::abs(normal[c][r]));
+    const Vec3 mapped = normal_dir(n);
+    return largest > 0.0 && std::isfinite(largest) ? mapped * (1.0 / largest) : mapped;
 }
 
 inline Bounds3 Transform::apply(const Bounds3& b) const {
