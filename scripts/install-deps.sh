@@ -48,23 +48,39 @@ if ((${#want[@]})); then
 fi
 
 # The web build compiles Dear ImGui itself (libimgui-dev holds a native library only): the
-# sources of the very version the desktop links, Debian's source package imgui 1.86, fetched
-# from the Debian archive once into build-web-deps/ (git ignores it).
+# sources of the very version the desktop links (libimgui-dev's source package), fetched once
+# into build-web-deps/ (git ignores it) from the machine's own apt sources: their deb lines as
+# deb-src lines (the same mirrors, suites and keys; apt's own configuration, proxies included,
+# applies), in a private apt state directory so the system's lists are left alone.
+deb_src_sources() {  # writes the deb-src equivalents of the enabled apt sources into $1
+    local out=$1 f
+    [ -f /etc/apt/sources.list ] &&
+        sed -n 's/^[[:space:]]*deb[[:space:]]/deb-src /p' /etc/apt/sources.list >"$out/src.list"
+    for f in /etc/apt/sources.list.d/*.list; do
+        [ -f "$f" ] && sed -n 's/^[[:space:]]*deb[[:space:]]/deb-src /p' "$f" >"$out/$(basename "$f")"
+    done
+    for f in /etc/apt/sources.list.d/*.sources; do
+        [ -f "$f" ] && sed 's/^\(Types:.*[[:space:]]\)deb\([[:space:]]\|$\)/\1deb-src\2/' "$f" >"$out/$(basename "$f")"
+    done
+}
 if [ ! -f "$imgui_src/imgui.cpp" ] && command -v emcc >/dev/null; then
-    echo "install-deps: fetching Debian's imgui 1.86 source package for the web build" >&2
+    version=$(dpkg-query -W -f='${source:Version}' libimgui-dev 2>/dev/null || true)
+    echo "install-deps: fetching Debian's imgui ${version:-?} source package for the web build" >&2
     tmp=$(mktemp -d)
     trap 'rm -rf "$tmp"' EXIT
-    printf 'deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] %s bookworm main\n' \
-        http://deb.debian.org/debian >"$tmp/sources.list"
-    mkdir -p "$tmp/lists/partial" "$tmp/cache/archives/partial"
-    apt_src=(-o Dir::Etc::SourceList="$tmp/sources.list" -o Dir::Etc::SourceParts=/dev/null
-        -o Dir::State::Lists="$tmp/lists" -o Dir::Cache="$tmp/cache" -o Debug::NoDropPrivs=true -o APT::Sandbox::User=root)
-    if apt-get "${apt_src[@]}" update -qq 2>/dev/null &&
-        (cd "$tmp" && apt-get "${apt_src[@]}" source --download-only -qq imgui=1.86+ds-1 \
-            >/dev/null 2>&1); then
+    mkdir -p "$tmp/parts" "$tmp/lists/partial" "$tmp/cache/archives/partial"
+    deb_src_sources "$tmp/parts"
+    apt_src=(-o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$tmp/parts"
+        -o Dir::State::Lists="$tmp/lists" -o Dir::Cache="$tmp/cache" -o Debug::NoDropPrivs=true
+        -o APT::Sandbox::User=root)
+    if [ -n "$version" ] && apt-get "${apt_src[@]}" update -qq 2>/dev/null &&
+        (cd "$tmp" && apt-get "${apt_src[@]}" source --download-only -qq "imgui=$version" \
+            >/dev/null 2>&1) && compgen -G "$tmp/imgui_*.orig.tar.*" >/dev/null; then
         mkdir -p "$imgui_src"
-        tar -xJf "$tmp"/imgui_1.86+ds.orig.tar.xz -C "$imgui_src" --strip-components=1
+        tar -xf "$(compgen -G "$tmp/imgui_*.orig.tar.*" | head -1)" -C "$imgui_src" \
+            --strip-components=1
     else
-        echo "install-deps: warning: cannot fetch the imgui sources; no web build" >&2
+        echo "install-deps: warning: cannot fetch the imgui sources (deb-src of the apt" \
+            "sources); no web build" >&2
     fi
 fi
