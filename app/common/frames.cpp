@@ -54,6 +54,16 @@ std::string frame_path(const std::string& pattern, int k) {
     return out;
 }
 
+std::string WrittenFrames::remove_all() {
+    const size_t n = m_paths.size();
+    std::error_code ec;
+    for (const std::string& path : m_paths) fs::remove(path, ec);
+    m_paths.clear();
+    if (n == 0) return "no frame was written";
+    return n == 1 ? "the 1 frame written so far was removed"
+                  : "the " + std::to_string(n) + " frames written so far were removed";
+}
+
 std::string find_program(const std::string& program) {
     const char* path = std::getenv("PATH");
     if (!path) return "";
