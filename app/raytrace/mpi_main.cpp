@@ -12,6 +12,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -127,6 +128,17 @@ void unpack(const std::vector<double>& in, rt::RenderPart& p, bool odd) {
 
 size_t packed_size(const rt::RenderPart& p, bool odd) {
     return (odd ? 9 : 6) * p.pixels() * rt::dyadic_blocks(p.first, p.count).size() + 4;
+}
+
+// --tile-timeout's limit: a week.
+constexpr double kMaxTileTimeout = 7 * 24 * 3600;
+
+// --tile-timeout's seconds; NaN (refused with the usage error) unless the whole text is a
+// number.
+double parse_tile_timeout(const char* text) {
+    char* end = nullptr;
+    const double s = std::strtod(text, &end);
+    return end != text && *end == '\0' ? s : std::nan("");
 }
 
 // Tests inject faults: RT_MPI_FAULT=die:RANK:K or hang:RANK:K, at the rank's K-th tile (from 0).
@@ -315,15 +327,17 @@ private:
         }
         if (flag) return st;
         const double limit = m_job.tile_timeout_s;
-        const std::string secs = std::to_string(static_cast<int>(limit));
+        char secs[32];
+        std::snprintf(secs, sizeof secs, "%g", limit);
         for (int r = 1; r < m_ranks; ++r) {
             const Assignment& a = m_work[static_cast<size_t>(r)];
             if (a.tile == -2 && rt::seconds_since(a.since) > limit)
-                abort_job("rank " + std::to_string(r) + " did not ask for a tile within " + secs +
-                          " s (--tile-timeout): it could not load the scene?");
+                abort_job("rank " + std::to_string(r) + " did not ask for a tile within " +
+                          std::string(secs) + " s (--tile-timeout): it could not load the scene?");
             if (a.tile >= 0 && rt::seconds_since(a.since) > limit)
                 abort_job("rank " + std::to_string(r) + " did not finish " +
-                          tile_name(m_job, a.tile) + " within " + secs + " s (--tile-timeout)");
+                          tile_name(m_job, a.tile) + " within " + std::string(secs) +
+                          " s (--tile-timeout)");
         }
         std::this_thread::sleep_for(std::chrono::microseconds(200));
         return std::nullopt;
@@ -520,7 +534,7 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--tile-timeout" && i + 1 < argc) {
-            job.tile_timeout_s = std::atof(argv[++i]);
+            job.tile_timeout_s = parse_tile_timeout(argv[++i]);
             continue;
         }
         args.push_back(a);
@@ -533,7 +547,9 @@ int main(int argc, char** argv) {
             throw UsageError(
                 "raytrace-mpi renders an image (also --progressive) or --frames: not .part, "
                 "--adaptive or a progressive sequence");
-        if (!(job.tile_timeout_s > 0)) throw UsageError("--tile-timeout must be > 0 seconds");
+        if (!(job.tile_timeout_s > 0 && job.tile_timeout_s <= kMaxTileTimeout))
+            throw UsageError("--tile-timeout takes seconds, more than 0 and at most " +
+                             std::to_string(static_cast<int>(kMaxTileTimeout)) + " (a week)");
         // A frame arrives from its worker without the scene at its time on rank 0.
         if (job.opt.exr.aovs.any() && job.opt.animation.frames > 0)
             throw UsageError("raytrace-mpi --frames writes no AOVs: use raytrace --frames --aov");

@@ -118,4 +118,14 @@ check "a worker's load error is printed with its rank" grep -q "raytrace-mpi: er
 check "a worker's load error: no image" test ! -e "$tmp/load.pfm"
 RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" --spp 4 -o "$tmp/p.part" >"$tmp/p.txt" 2>&1
 check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders an image (also --progressive) or --frames" "$tmp/p.txt"
+# --tile-timeout: seconds, more than 0 and at most a week; anything else (1e10 and inf were a
+# float-to-int overflow) is a usage error.
+for t in 1e10 inf nan 0 -1 5x 604801; do
+    RT_MPI_FAULT= mpirun -n 1 "$mpi" "$src/scenes/showpiece.ray" --tile-timeout "$t" \
+        -o "$tmp/tt.png" >"$tmp/tt.txt" 2>&1
+    check "--tile-timeout $t exits 2" test $? -eq 2
+    check "--tile-timeout $t: says its range" grep -q "tile-timeout takes seconds, more than 0 and at most 604800" "$tmp/tt.txt"
+done
+check "no image after them" test ! -e "$tmp/tt.png"
+
 summary "mpi"
