@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "rt/util/file_io.h"
 #include "version.h"
 
 namespace rtapp {
@@ -13,8 +14,13 @@ void setup_cli(CLI::App& app, const std::string& program) {
     app.set_help_flag("-h,--help", "this text");
     app.set_version_flag("--version", version_text(program),
                          "the version and the git commit it was built from");
+    // Checked as it is parsed, before CLI11 reads it: CLI11 would wait on a FIFO forever and
+    // read /dev/zero to the end.
     app.set_config("--config", "", "read options from a TOML or INI file (key = value)")
-        ->type_name("FILE");
+        ->type_name("FILE")
+        ->check(CLI::Validator([](std::string& path) { return rt::regular_file_error(path); }, "",
+                               "REGULAR_FILE"))
+        ->trigger_on_parse();
     app.allow_config_extras(CLI::config_extras_mode::error);
 }
 

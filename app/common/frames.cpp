@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "rt/util/file_io.h"
+
 extern char** environ;
 
 namespace rtapp {
@@ -52,6 +54,16 @@ std::string frame_path(const std::string& pattern, int k) {
     return out;
 }
 
+std::string WrittenFrames::remove_all() {
+    const size_t n = m_paths.size();
+    std::error_code ec;
+    for (const std::string& path : m_paths) fs::remove(path, ec);
+    m_paths.clear();
+    if (n == 0) return "no frame was written";
+    return n == 1 ? "the 1 frame written so far was removed"
+                  : "the " + std::to_string(n) + " frames written so far were removed";
+}
+
 std::string find_program(const std::string& program) {
     const char* path = std::getenv("PATH");
     if (!path) return "";
@@ -77,10 +89,16 @@ bool encode_video(const std::string& pattern, int frames, double fps, const std:
             "is not";
         return false;
     }
-    // ffmpeg picks the container by the extension: the temporary name keeps it.
+    // ffmpeg picks the container by the extension: the scratch file's name keeps it (and it
+    // is new, so ffmpeg -y overwrites nothing of the user's).
     const fs::path out(video);
-    const fs::path part =
-        out.parent_path() / (out.stem().string() + ".part" + out.extension().string());
+    fs::path part;
+    try {
+        part = rt::create_scratch_file(video, nullptr, out.extension().string());
+    } catch (const std::exception& e) {
+        *error = e.what();
+        return false;
+    }
     const std::string rate = std::to_string(fps), count = std::to_string(frames);
     std::vector<std::string> args = {ffmpeg,      "-nostdin",      "-y",
                                      "-loglevel", "error",         "-framerate",
@@ -92,14 +110,15 @@ bool encode_video(const std::string& pattern, int frames, double fps, const std:
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     pid_t pid = 0;
+    std::error_code ec;
     if (posix_spawn(&pid, ffmpeg.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
+        fs::remove(part, ec);
         *error = "cannot run " + ffmpeg;
         return false;
     }
     int status = 0;
     while (waitpid(pid, &status, 0) < 0) {
     }
-    std::error_code ec;
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
         fs::remove(part, ec);
         *error = "ffmpeg failed to encode " + video + " (its messages are above)";

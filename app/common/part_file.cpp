@@ -95,8 +95,8 @@ void write_part(const std::string& path, const PartFile& f) {
 }
 
 PartFile read_part(const std::string& path) {
-    std::string data;
-    if (!rt::read_file(path, &data)) throw std::runtime_error(path + ": cannot read it");
+    std::string data, why;
+    if (!rt::read_file(path, &data, &why)) throw std::runtime_error(why);
     if (data.rfind(kMagic, 0) != 0)
         throw std::runtime_error(path + ": not a part file (raytrace -o NAME.part writes them)");
     const size_t end = data.find("\ndata\n");

@@ -12,6 +12,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -40,7 +41,8 @@ namespace {
 
 using namespace raytrace;
 
-constexpr int kTagRequest = 1, kTagAssign = 2, kTagResult = 3, kTagLoadError = 4;
+// kTagError: a worker's failure (its scene does not load, a frame's animation fails), as text.
+constexpr int kTagRequest = 1, kTagAssign = 2, kTagResult = 3, kTagError = 4;
 constexpr int kTileSize = 32;
 volatile std::sig_atomic_t g_stopped = 0;
 
@@ -51,7 +53,7 @@ struct RankInfo {
     int pid = 0;
 };
 std::vector<RankInfo> g_ranks;
-std::vector<std::string> g_written;
+rtapp::WrittenFrames g_written;
 
 struct Job {
     Options opt;
@@ -128,6 +130,17 @@ size_t packed_size(const rt::RenderPart& p, bool odd) {
     return (odd ? 9 : 6) * p.pixels() * rt::dyadic_blocks(p.first, p.count).size() + 4;
 }
 
+// --tile-timeout's limit: a week.
+constexpr double kMaxTileTimeout = 7 * 24 * 3600;
+
+// --tile-timeout's seconds; NaN (refused with the usage error) unless the whole text is a
+// number.
+double parse_tile_timeout(const char* text) {
+    char* end = nullptr;
+    const double s = std::strtod(text, &end);
+    return end != text && *end == '\0' ? s : std::nan("");
+}
+
 // Tests inject faults: RT_MPI_FAULT=die:RANK:K or hang:RANK:K, at the rank's K-th tile (from 0).
 void maybe_fault(int rank, int nth) {
     const char* f = std::getenv("RT_MPI_FAULT");
@@ -137,6 +150,11 @@ void maybe_fault(int rank, int nth) {
     if (std::sscanf(f, "%7[a-z]:%d:%d", kind, &r, &t) != 3 || r != rank || t != nth) return;
     if (std::string(kind) == "die") std::_Exit(3);
     for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));  // hang
+}
+
+// A worker's failure, for rank 0 to stop the job with ("rank N " + text).
+void send_error(const std::string& text) {
+    MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, 0, kTagError, MPI_COMM_WORLD);
 }
 
 void worker(Job& job, int rank) {
@@ -153,7 +171,12 @@ void worker(Job& job, int rank) {
         p.count = static_cast<uint32_t>(msg[2]);
         p.total = static_cast<uint32_t>(msg[3]);
         if (job.frames) {  // the joints to frame t's time, and a plan for it
-            rt::animate(*job.scene, job.desc, job.opt.animation.time(t));
+            try {
+                rt::animate(*job.scene, job.desc, job.opt.animation.time(t));
+            } catch (const std::exception& e) {  // rank 0 stops the job, and removes the frames
+                send_error("failed at frame " + std::to_string(t) + ": " + e.what());
+                return;
+            }
             job.plan = rt::make_render_plan(*job.scene, job.opt);
         }
         rt::render_part(p, *job.scene, job.plan, job.settings);
@@ -164,13 +187,27 @@ void worker(Job& job, int rank) {
     }
 }
 
+[[noreturn]] void abort_job(const std::string& why) {
+    // A sequence: nothing of a failed job stays (as raytrace --frames).
+    const std::string outcome = g_written.count() > 0 ? g_written.remove_all() : "no image written";
+    std::cerr << "raytrace-mpi: error: " << why << "; " << outcome << "\n";
+    std::fflush(stderr);
+    MPI_Abort(MPI_COMM_WORLD, 1);
+    std::_Exit(1);
+}
+
 // A sequence's frame, written as soon as it arrives (atomically, as raytrace --frames does).
 void write_frame(Job& job, int k) {
     rt::RenderPart& p = job.tiles[static_cast<size_t>(k)];
     const rt::RenderState state = rt::merge_parts({&p}, job.opt.width, job.opt.height, p.total);
     const std::string path = rtapp::frame_path(job.opt.output, k);
-    write_outputs(state.image(), path, {}, job.opt.scene, ExrOutput{job.opt.exr.full_float, {}});
-    g_written.push_back(path);
+    try {
+        write_outputs(state.image(), path, {}, job.opt.scene,
+                      ExrOutput{job.opt.exr.full_float, {}});
+    } catch (const std::exception& e) {  // a full disk: the frames written so far go too
+        abort_job("frame " + std::to_string(k) + " not written (" + e.what() + ")");
+    }
+    g_written.add(path);
     p.blocks.clear();
     ++job.frames_written;
 }
@@ -179,19 +216,6 @@ struct Assignment {
     int tile = -1;
     rt::Clock::time_point since;
 };
-
-[[noreturn]] void abort_job(const std::string& why) {
-    std::string outcome = "no image written";
-    if (!g_written.empty()) {  // a sequence: nothing of a failed job stays
-        for (const std::string& f : g_written) std::filesystem::remove(f);
-        outcome = "the " + std::to_string(g_written.size()) +
-                  " frames written so far were removed; no frame written";
-    }
-    std::cerr << "raytrace-mpi: error: " << why << "; " << outcome << "\n";
-    std::fflush(stderr);
-    MPI_Abort(MPI_COMM_WORLD, 1);
-    std::_Exit(1);
-}
 
 // The workers whose process is gone, of those on rank 0's host (the others cannot be looked at
 // from here: mpirun's own message names them).
@@ -293,26 +317,27 @@ private:
         int flag = 0;
         MPI_Status st;
         MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
-        if (flag && st.MPI_TAG == kTagLoadError) {
+        if (flag && st.MPI_TAG == kTagError) {
             int count = 0;
             MPI_Get_count(&st, MPI_CHAR, &count);
             std::string text(static_cast<size_t>(count), '\0');
-            MPI_Recv(text.data(), count, MPI_CHAR, st.MPI_SOURCE, kTagLoadError, MPI_COMM_WORLD,
+            MPI_Recv(text.data(), count, MPI_CHAR, st.MPI_SOURCE, kTagError, MPI_COMM_WORLD,
                      MPI_STATUS_IGNORE);
-            abort_job("rank " + std::to_string(st.MPI_SOURCE) +
-                      " could not load the scene: " + text);
+            abort_job("rank " + std::to_string(st.MPI_SOURCE) + " " + text);
         }
         if (flag) return st;
         const double limit = m_job.tile_timeout_s;
-        const std::string secs = std::to_string(static_cast<int>(limit));
+        char secs[32];
+        std::snprintf(secs, sizeof secs, "%g", limit);
         for (int r = 1; r < m_ranks; ++r) {
             const Assignment& a = m_work[static_cast<size_t>(r)];
             if (a.tile == -2 && rt::seconds_since(a.since) > limit)
-                abort_job("rank " + std::to_string(r) + " did not ask for a tile within " + secs +
-                          " s (--tile-timeout): it could not load the scene?");
+                abort_job("rank " + std::to_string(r) + " did not ask for a tile within " +
+                          std::string(secs) + " s (--tile-timeout): it could not load the scene?");
             if (a.tile >= 0 && rt::seconds_since(a.since) > limit)
                 abort_job("rank " + std::to_string(r) + " did not finish " +
-                          tile_name(m_job, a.tile) + " within " + secs + " s (--tile-timeout)");
+                          tile_name(m_job, a.tile) + " within " + std::string(secs) +
+                          " s (--tile-timeout)");
         }
         std::this_thread::sleep_for(std::chrono::microseconds(200));
         return std::nullopt;
@@ -359,9 +384,7 @@ bool load(Job& job, int rank) {
         if (rank == 0) {
             std::cerr << e.what() << "\n";
         } else {
-            const std::string text = e.what();
-            MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, 0, kTagLoadError,
-                     MPI_COMM_WORLD);
+            send_error(std::string("could not load the scene: ") + e.what());
         }
         return false;
     }
@@ -403,7 +426,11 @@ int run_image(Job& job, int ranks) {
         m.finish();
     } else if (job.frames) {  // no worker: rank 0 renders every frame itself
         for (int k = 0; k < opt.animation.frames; ++k) {
-            if (k > 0) rt::animate(*job.scene, job.desc, opt.animation.time(k));
+            try {
+                if (k > 0) rt::animate(*job.scene, job.desc, opt.animation.time(k));
+            } catch (const std::exception& e) {
+                abort_job("frame " + std::to_string(k) + " not written (" + e.what() + ")");
+            }
             job.plan = rt::make_render_plan(*job.scene, opt);
             rt::render_part(job.tiles[static_cast<size_t>(k)], *job.scene, job.plan, opt);
             write_frame(job, k);
@@ -507,7 +534,7 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--tile-timeout" && i + 1 < argc) {
-            job.tile_timeout_s = std::atof(argv[++i]);
+            job.tile_timeout_s = parse_tile_timeout(argv[++i]);
             continue;
         }
         args.push_back(a);
@@ -520,7 +547,9 @@ int main(int argc, char** argv) {
             throw UsageError(
                 "raytrace-mpi renders an image (also --progressive) or --frames: not .part, "
                 "--adaptive or a progressive sequence");
-        if (!(job.tile_timeout_s > 0)) throw UsageError("--tile-timeout must be > 0 seconds");
+        if (!(job.tile_timeout_s > 0 && job.tile_timeout_s <= kMaxTileTimeout))
+            throw UsageError("--tile-timeout takes seconds, more than 0 and at most " +
+                             std::to_string(static_cast<int>(kMaxTileTimeout)) + " (a week)");
         // A frame arrives from its worker without the scene at its time on rank 0.
         if (job.opt.exr.aovs.any() && job.opt.animation.frames > 0)
             throw UsageError("raytrace-mpi --frames writes no AOVs: use raytrace --frames --aov");

@@ -120,7 +120,8 @@ void add_animation_options(CLI::App& app, Options& o) {
         ->group(group);
     app.add_option("--frames", a.frames,
                    "render N frames, frame k at --start + k / --fps, into -o's\n"
-                   "pattern (frame_%04d.png)")
+                   "pattern (frame_%04d.png); a frame that fails removes those\n"
+                   "written before it")
         ->type_name("N")
         ->group(group);
     app.add_option("--fps", a.fps, "frames per second of --frames")->type_name("F")->group(group);

@@ -1,7 +1,6 @@
 #include "output.h"
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 
 #include "rt/util/file_io.h"
@@ -12,22 +11,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool probe_writable(const std::string& path, std::string* why) {
+// Creates a file beside `path` and removes it: does the result have a place to go? Empty if
+// so, else the message.
+std::string probe_writable(const std::string& path) {
     std::error_code ec;
-    if (fs::is_directory(path, ec)) {
-        *why = "it is a directory";
-        return false;
+    if (fs::is_directory(path, ec)) return "cannot write '" + path + "': it is a directory";
+    try {
+        fs::remove(rt::create_scratch_file(path), ec);
+    } catch (const std::exception& e) {
+        return e.what();
     }
-    const std::string probe = path + ".part";
-    {
-        std::ofstream f(probe, std::ios::binary);
-        if (!f) {
-            *why = "cannot create files there";
-            return false;
-        }
-    }
-    fs::remove(probe, ec);
-    return true;
+    return "";
 }
 
 }  // namespace
@@ -35,9 +29,8 @@ bool probe_writable(const std::string& path, std::string* why) {
 bool probe_outputs(const std::vector<std::string>& paths) {
     for (const std::string& path : paths) {
         if (path.empty()) continue;
-        std::string why;
-        if (!probe_writable(path, &why)) {
-            std::cerr << "raytrace: error: cannot write '" << path << "': " << why << "\n";
+        if (const std::string why = probe_writable(path); !why.empty()) {
+            std::cerr << "raytrace: error: " << why << "\n";
             return false;
         }
     }
@@ -59,26 +52,20 @@ ExrOutput exr_output(const Options& opt, const rt::RenderState& state, const rt:
 void write_outputs(const rt::Image& image, const std::string& image_path,
                    const std::vector<TextFile>& texts, const std::string& scene,
                    const ExrOutput& exr) {
-    std::vector<std::string> staged;
+    std::vector<std::pair<std::string, std::string>> staged;  // (scratch file, its name)
     try {
-        for (const auto& [path, text] : texts) {
-            try {
-                rt::write_file_atomic(path + ".part", text);
-            } catch (const std::runtime_error&) {
-                throw std::runtime_error("cannot write '" + path + "'");
-            }
-            staged.push_back(path);
-        }
+        for (const auto& [path, text] : texts)
+            staged.emplace_back(rt::write_scratch_file(path, text), path);
         if (const size_t bad = rt::count_non_finite(image))
             std::cerr << scene << ": warning: " << bad << " non-finite pixel values written as 0\n";
         if (rt::image_format_from_path(image_path) == rt::ImageFormat::Exr)
             rt::save_exr(image, exr.channels, exr.full_float, image_path);
         else
             rt::save_image(image, image_path);
-        for (const std::string& path : staged) fs::rename(path + ".part", path);
+        for (const auto& [scratch, path] : staged) fs::rename(scratch, path);
     } catch (const std::exception&) {
         std::error_code ec;
-        for (const std::string& path : staged) fs::remove(path + ".part", ec);
+        for (const auto& [scratch, path] : staged) fs::remove(scratch, ec);
         throw;
     }
 }

@@ -14,8 +14,9 @@
 
 namespace raytrace {
 
-/// Creates and removes path.part for each non-empty path: its directory exists and is writable,
-/// and the path is no directory. Prints "raytrace: error: cannot write ..." and returns false
+/// Creates and removes a scratch file beside each non-empty path (rt::create_scratch_file, so
+/// no file of the user's is touched): its directory exists and is writable, and the path is no
+/// directory, FIFO or device. Prints "raytrace: error: cannot write ..." and returns false
 /// for the first that fails.
 bool probe_outputs(const std::vector<std::string>& paths);
 

@@ -81,6 +81,14 @@ rt::Image render_reference(const Options& opt, const rt::RenderScene& scene) {
     return ref.image();
 }
 
+// The reference image at `path`. load_pfm() opens it itself: a FIFO is refused first, not waited
+// on.
+rt::Image load_reference_file(const std::string& path) {
+    if (const std::string why = rt::regular_file_error(path); !why.empty())
+        throw std::runtime_error("--reference: " + why);
+    return rt::load_pfm(path);
+}
+
 }  // namespace
 
 rt::Image auto_reference(const Options& opt, const rt::SceneDesc& desc,
@@ -93,7 +101,7 @@ rt::Image auto_reference(const Options& opt, const rt::SceneDesc& desc,
     std::error_code ec;
     if (fs::exists(cached, ec)) {
         if (!opt.quiet) std::printf("reference %s (cached)\n", cached.string().c_str());
-        return rt::load_pfm(cached.string());
+        return load_reference_file(cached.string());
     }
     if (!opt.quiet)
         std::printf("reference rendering %d spp (cached afterwards as %s)\n",
@@ -112,7 +120,7 @@ std::optional<rt::Image> load_reference(const Options& opt, const rt::SceneDesc&
                                         const rt::RenderScene& scene) {
     const std::string& path = opt.progressive.reference;
     if (path.empty()) return std::nullopt;
-    rt::Image image = path == "auto" ? auto_reference(opt, desc, scene) : rt::load_pfm(path);
+    rt::Image image = path == "auto" ? auto_reference(opt, desc, scene) : load_reference_file(path);
     if (image.width != opt.width || image.height != opt.height)
         throw std::runtime_error("reference '" + path + "' is " + std::to_string(image.width) +
                                  "x" + std::to_string(image.height) + ", the image is " +

@@ -23,6 +23,23 @@ rt::ProgressFn frame_progress(const rt::ProgressFn& bar, int frame, int frames) 
     };
 }
 
+// Frame k: the scene's joints moved to its time (frame 0 is the compiled scene), rendered and
+// written. Throws on failure (a SceneError carries its place; others are runtime errors).
+void render_frame(const Options& opt, const rt::SceneDesc& desc, rt::RenderScene& scene, int k,
+                  const rt::ProgressFn& progress, rt::RayCounters* rays) {
+    if (k > 0) {
+        rt::Diagnostics diag;
+        rt::animate(scene, desc, opt.animation.time(k), &diag);
+        for (const rt::Warning& w : diag.warnings()) std::cerr << w.str() << "\n";
+    }
+    const rt::RenderPlan plan = rt::make_render_plan(scene, opt);
+    rt::RenderState state;
+    rt::render_samples(state, scene, plan, opt, opt.spp, progress);
+    *rays += state.rays;
+    write_outputs(state.image(), rtapp::frame_path(opt.output, k), {}, opt.scene,
+                  exr_output(opt, state, scene, plan));
+}
+
 }  // namespace
 
 int render_sequence(const Options& opt, const rt::SceneDesc& desc, rt::RenderScene& scene,
@@ -34,25 +51,25 @@ int render_sequence(const Options& opt, const rt::SceneDesc& desc, rt::RenderSce
     const rt::ProgressFn bar = terminal_progress_bar(opt.quiet);
     rt::RayCounters rays;
     const auto t_render = rt::Clock::now();
+    rtapp::WrittenFrames written;
     for (int k = 0; k < a.frames; ++k) {
-        const std::string path = rtapp::frame_path(opt.output, k);
-        if (k > 0) {  // frame 0 is the compiled scene
-            rt::Diagnostics diag;
-            try {
-                rt::animate(scene, desc, a.time(k), &diag);
-            } catch (const rt::SceneError& e) {
-                std::cerr << e.what() << "\n"
-                          << "raytrace: frame " << k << " not written; " << k << " frame"
-                          << (k == 1 ? "" : "s") << " before it were\n";
-                return 1;
-            }
-            for (const rt::Warning& w : diag.warnings()) std::cerr << w.str() << "\n";
+        // Any failure (the animation at this time, a full disk) ends the run with no frame of
+        // it left: a sequence is whole or not there (as raytrace-mpi's, docs/cluster.md).
+        std::string why;
+        try {
+            render_frame(opt, desc, scene, k, frame_progress(bar, k, a.frames), &rays);
+        } catch (const rt::SceneError& e) {  // its own line: file:line:col: error: ...
+            std::cerr << e.what() << "\n";
+            why = "the animation failed there";
+        } catch (const std::exception& e) {
+            why = e.what();
         }
-        const rt::RenderPlan plan = rt::make_render_plan(scene, opt);
-        rt::RenderState state;
-        rt::render_samples(state, scene, plan, opt, opt.spp, frame_progress(bar, k, a.frames));
-        rays += state.rays;
-        write_outputs(state.image(), path, {}, opt.scene, exr_output(opt, state, scene, plan));
+        if (!why.empty()) {
+            std::cerr << "raytrace: error: frame " << k << " not written (" << why << "); "
+                      << written.remove_all() << "\n";
+            return 1;
+        }
+        written.add(rtapp::frame_path(opt.output, k));
     }
     t.render_s = rt::seconds_since(t_render);
     if (!opt.quiet) {

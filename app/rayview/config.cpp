@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "rt/util/file_io.h"
@@ -28,9 +27,14 @@ std::string trim(const std::string& s) {
 
 }  // namespace
 
-UserConfig read_config(const std::string& path) {
+UserConfig read_config(const std::string& path, std::string* problem) {
     UserConfig c;
-    std::ifstream f(path);
+    std::string text, why;
+    std::error_code ec;
+    // Absent on a first run: the defaults, quietly. Anything else unreadable is said.
+    if (!read_file(path, &text, &why) && problem && std::filesystem::exists(path, ec))
+        *problem = why;
+    std::istringstream f(text);
     for (std::string line; std::getline(f, line);) {
         const size_t eq = line.find('=');
         if (line.empty() || line[0] == '#' || eq == std::string::npos) continue;

@@ -18,8 +18,10 @@ struct UserConfig {
 
 /// The config file's path ("" when neither XDG_CONFIG_HOME nor HOME is set).
 std::string config_path();
-/// Reads `path`; the defaults for what is missing (all of it when the file is absent).
-UserConfig read_config(const std::string& path);
+/// Reads `path`; the defaults for what is missing (all of it when the file is absent). A file
+/// that is there but cannot be read (a FIFO, a directory, no permission) gives the defaults
+/// too, with the reason in *problem.
+UserConfig read_config(const std::string& path, std::string* problem = nullptr);
 /// Writes `path` (its folder made if needed) atomically; false, and nothing written, on failure.
 bool write_config(const std::string& path, const UserConfig& config);
 

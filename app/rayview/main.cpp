@@ -274,7 +274,11 @@ int main(int argc, char** argv) {
 
     // What the last run kept: the window's size, the UI scale, the recent files.
     const std::string config_file = config_path();
-    UserConfig config = read_config(config_file);
+    std::string config_problem;
+    UserConfig config = read_config(config_file, &config_problem);
+    if (!config_problem.empty())
+        std::fprintf(stderr, "rayview: warning: the settings were not read: %s\n",
+                     config_problem.c_str());
     if (opt.window_w == 0) opt.window_w = config.window_w, opt.window_h = config.window_h;
 
     // Setup window

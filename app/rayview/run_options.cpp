@@ -4,13 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
 #include "cli.h"
 #include "data_dir.h"
+#include "rt/util/file_io.h"
 #include "version.h"
 
 namespace rt::view {
@@ -42,20 +42,30 @@ constexpr const char* kFooter =
     "  files:    open PATH | open-background PATH | reload | save-scene PATH | save-image PATH "
     "(the pane's trace) |\n"
     "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
-    "A command that fails is reported and the run goes on; the run then exits 1.\n\n"
-    "exit status: 0 success, 1 a failed --frames run, 2 usage error.";
+    "A command that fails is reported and the run goes on; the run then exits 1. Frame\n"
+    "numbers are at most 100000 (as --frames).\n\n"
+    "exit status: 0 success; 1 a failed --frames, --script or --screenshot run (a command, an\n"
+    "open, a background load or render failed, or the scene did not open at start-up); 2 usage\n"
+    "error (also a --script that is not a readable file, or a frame number out of range).";
 
 }  // namespace
 
 std::vector<ScriptLine> read_script(const std::string& path) {
-    std::ifstream f(path);
-    if (!f) throw std::runtime_error("cannot open script '" + path + "'");
+    std::string text, why;
+    if (!rt::read_file(path, &text, &why)) throw std::runtime_error("--script: " + why);
+    std::istringstream f(text);
     std::vector<ScriptLine> lines;
     std::string line;
-    while (std::getline(f, line)) {
+    for (int number = 1; std::getline(f, line); ++number) {
         std::istringstream ss(line);
         ScriptLine l;
-        if (!(ss >> l.frame >> l.command)) continue;
+        long long frame = 0;
+        if (!(ss >> frame >> l.command)) continue;
+        if (frame < 0 || frame > kMaxFrames)
+            throw std::runtime_error(path + ":" + std::to_string(number) + ": frame " +
+                                     std::to_string(frame) + " is not in 0.." +
+                                     std::to_string(kMaxFrames));
+        l.frame = static_cast<int>(frame);
         for (std::string a; ss >> a;) l.args.push_back(a);
         lines.push_back(l);
     }
@@ -81,9 +91,11 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
     rtapp::setup_cli(app, "rayview");
     app.add_option("scene", out->scene, "the .ray file (default: the showpiece)")
         ->type_name("SCENE.ray");
-    app.add_option("--frames", out->frames, "run N frames, save the window (--screenshot), exit")
+    app.add_option("--frames", out->frames,
+                   "run N frames (at most " + std::to_string(kMaxFrames) +
+                       "), save the window (--screenshot), exit")
         ->type_name("N")
-        ->check(CLI::Range(1, 100000000));
+        ->check(CLI::Range(1, kMaxFrames));
     app.add_option("--screenshot", out->screenshot, "where --frames saves the whole window")
         ->type_name("OUT.png");
     app.add_option("--script", script_path,

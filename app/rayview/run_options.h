@@ -11,13 +11,18 @@
 
 namespace rt::view {
 
+/// The most frames a --frames run or a script runs (a script's frame numbers are at most this
+/// too): about half an hour at 60 frames a second, so a typo never runs for days.
+constexpr int kMaxFrames = 100000;
+
 struct ScriptLine {
     int frame = 0;
     std::string command;
     std::vector<std::string> args;
 };
 
-/// Reads a script; throws std::runtime_error when the file cannot be opened.
+/// Reads a script; throws std::runtime_error when the file is not a regular file that can be
+/// read (a directory, a FIFO) or a frame number is not in 0..kMaxFrames.
 std::vector<ScriptLine> read_script(const std::string& path);
 
 /// The viewer's initial render options: raytrace's, but 256 samples per pixel (the trace's

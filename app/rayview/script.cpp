@@ -298,7 +298,9 @@ bool ScriptRun::end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code) {
     }
     ++m_frame;
     if (m_frames_left <= 0 || --m_frames_left > 0) return false;
-    if (m_failed) *exit_code = 1;
+    // A failed command, or any error of the viewer's: an open, a background load or render,
+    // the scene at start-up (each printed when it happened).
+    if (m_failed || v.failures > 0) *exit_code = 1;
     if (!m_screenshot.empty()) {
         try {
             save_window(fb_w, fb_h, m_screenshot);

@@ -244,6 +244,7 @@ ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTe
     reset_history();
     if (!loaded) {  // keeps running with the message shown, and watches the file
         message_is_error = true;
+        ++failures;
         m_watched = path;
         m_watched_time = modified(path);
         return;
@@ -430,6 +431,7 @@ bool ViewerState::finish_reload(std::unique_ptr<LoadedScene> next, const std::st
 }
 
 void ViewerState::fail(std::string text) {
+    ++failures;
     std::fprintf(stderr, "%s\n", text.c_str());
     message = std::move(text);
     message_is_error = true;

@@ -248,6 +248,9 @@ struct ViewerState {
     void note(std::string text);
     std::string message;  // the last error or note shown in the panel
     bool message_is_error = false;
+    /// Errors so far (fail(), and a scene that did not open at start-up): a scripted run
+    /// (--frames, --script, --screenshot) that had any exits 1.
+    int failures = 0;
     std::string checker_offer;    // a file that failed to open for its textures only, else ""
     std::string reload_conflict;  // a reload kept edits of what the file changed too, else ""
     MissingTextures missing_textures = MissingTextures::Error;  // how files open

@@ -190,4 +190,28 @@ if [ -d "$pub" ]; then
     check "missing texture: no output" test ! -e "$tmp/chess.png"
 fi
 
+# Only regular files are read: a FIFO (no writer: it would block forever; the timeout turns a
+# hang into a failed check, it measures nothing), a directory or a device as the scene, an
+# included file, a key file, a texture or --reference is an error that says what it is.
+mkdir "$tmp/fifo"
+mkfifo "$tmp/fifo/scene.ray" "$tmp/fifo/part.ray" "$tmp/fifo/k.key" "$tmp/fifo/t.bmp" "$tmp/fifo/ref.pfm"
+printf '#ray_file part.ray\n' >"$tmp/fifo/include.ray"
+printf '#key_file k.key\n#shape_sphere -1 0 0 0 1\n' >"$tmp/fifo/key.ray"
+printf '#texture t.bmp\n#shape_sphere -1 0 0 0 1\n' >"$tmp/fifo/texture.ray"
+not_regular() {  # not_regular NAME MESSAGE ARGS...: exit 1, MESSAGE, no image
+    local name=$1 message=$2
+    shift 2
+    timeout 60 "$rt" "$@" --width 8 --height 6 -q -o "$tmp/fifo/out.png" >"$tmp/fifo/err.txt" 2>&1
+    check "$name exits 1" test $? -eq 1
+    check "$name: the message says so" grep -qF -- "$message" "$tmp/fifo/err.txt"
+    check "$name: no image" test ! -e "$tmp/fifo/out.png"
+}
+not_regular "a FIFO scene" "cannot open scene file '$tmp/fifo/scene.ray': '$tmp/fifo/scene.ray' is a FIFO, not a regular file" "$tmp/fifo/scene.ray"
+not_regular "a directory scene" "'$tmp/fifo' is a directory, not a regular file" "$tmp/fifo"
+not_regular "a device scene" "'/dev/zero' is a character device, not a regular file" /dev/zero
+not_regular "a FIFO included" "include.ray:1:11: error: cannot read ray file '$tmp/fifo/part.ray': '$tmp/fifo/part.ray' is a FIFO, not a regular file" "$tmp/fifo/include.ray"
+not_regular "a FIFO key file" "key.ray:1:11: error: cannot read key file '$tmp/fifo/k.key': '$tmp/fifo/k.key' is a FIFO, not a regular file" "$tmp/fifo/key.ray"
+not_regular "a FIFO texture" "texture.ray:1:10: error: cannot decode texture '$tmp/fifo/t.bmp': '$tmp/fifo/t.bmp' is a FIFO, not a regular file" "$tmp/fifo/texture.ray"
+not_regular "a FIFO --reference" "--reference: '$tmp/fifo/ref.pfm' is a FIFO, not a regular file" "$tmp/ok.ray" --progressive --spp 2 --reference "$tmp/fifo/ref.pfm"
+
 summary "with the bad-input checks"

@@ -100,4 +100,18 @@ if command -v ffmpeg >/dev/null; then
     check "--video leaves no temporary" test ! -e "$tmp/arm.part.mp4"
 fi
 
+# A --frames run that fails (here frame 3's name is taken by a directory; on a cluster, a full
+# disk) leaves none of its frames, as raytrace-mpi's (docs/cluster.md), and says so.
+mkdir -p "$tmp/fail/f_3.pfm"
+"$rt" "$arm" "${size[@]}" --spp 1 --frames 6 -q -o "$tmp/fail/f_%d.pfm" >"$tmp/fail.txt" 2>&1
+check "a failed --frames run exits 1" test $? -eq 1
+check "it names the frame and the removal" grep -qF "raytrace: error: frame 3 not written (cannot write '$tmp/fail/f_3.pfm': it is a directory, not a regular file); the 3 frames written so far were removed" "$tmp/fail.txt"
+check "none of its frames is left" test "$(ls -A "$tmp/fail")" = "f_3.pfm"
+# A frame whose animation fails (its joint beyond the renderer's range at t = 0.5): the same.
+printf '#key_file k.key\n#shape_sphere -1 0 0 0 1\n#joint_begin arm\n#shape_sphere -1 0 0 0 1\n#joint_end\n' >"$tmp/fail/t.ray"
+printf '#DOFS 1 arm #DURATION 1 #FRAMES 2 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1  1 0 0 0 0 1 0 0 0 0 1 0 1e305 0 0 1\n' >"$tmp/fail/k.key"
+"$rt" "$tmp/fail/t.ray" "${size[@]}" --spp 1 --frames 3 --fps 2 -q -o "$tmp/fail/g_%d.pfm" >"$tmp/fail2.txt" 2>&1
+check "a frame whose animation fails exits 1" test $? -eq 1
+check "and its frames are removed" bash -c "! ls '$tmp'/fail/g_* 2>/dev/null && grep -qF 'frame 1 not written (the animation failed there); the 1 frame written so far was removed' '$tmp/fail2.txt'"
+
 summary "animation"

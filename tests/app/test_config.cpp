@@ -1,6 +1,7 @@
 // rayview's settings between runs (app/rayview/config.h): written and read back; bad values and
-// unknown keys are ignored; a missing file gives the defaults.
+// unknown keys are ignored; a missing file gives the defaults, a FIFO the defaults and a reason.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
@@ -38,6 +39,20 @@ TEST(Config, BadValuesAndAMissingFileGiveTheDefaults) {
     EXPECT_EQ(c.window_h, 720);
     EXPECT_EQ(c.ui_scale, 2.0f);
     EXPECT_TRUE(c.recent.empty());
+}
+
+TEST(Config, AFifoIsNotWaitedOnButSaid) {
+    const std::string path = ::testing::TempDir() + "rt_fifo_config.conf";
+    std::filesystem::remove(path);
+    ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+    std::string problem;
+    const UserConfig c = read_config(path, &problem);  // returns: nothing writes to the FIFO
+    EXPECT_EQ(c.window_w, 1280);
+    EXPECT_EQ(problem, "'" + path + "' is a FIFO, not a regular file");
+    std::string none;
+    read_config(::testing::TempDir() + "rt_no_such_config.conf", &none);
+    EXPECT_EQ(none, "");  // a first run has no settings yet: nothing to say
+    std::filesystem::remove(path);
 }
 
 TEST(Config, FollowsXdgConfigHome) {

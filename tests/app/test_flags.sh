@@ -55,6 +55,7 @@ declare -A rt=(
     [--output]="-o $tmp/x.pfm" [--width]="--width 20" [--height]="--height 10"
     [--depth]="--depth 2" [--cutoff]="--cutoff 0.01" [--spp]="--spp 2"
     [--light-samples]="--light-samples 4" [--seed]="--seed 3" [--threads]="--threads 1"
+    [--max-pixels]="--max-pixels 1000000"
     [--no-shadows]="--no-shadows" [--dialect]="--dialect v1"
     [--missing-textures]="--missing-textures checker" [--stats]="--stats"
     [--explain]="--explain" [--no-specialize]="--no-specialize" [--quiet]="--quiet"
@@ -86,6 +87,7 @@ declare -A rv=(
     [--size]="--size 800x600" [--panel]="--panel off" [--width]="--width 20"
     [--height]="--height 10" [--depth]="--depth 2" [--cutoff]="--cutoff 0.01" [--spp]="--spp 2"
     [--light-samples]="--light-samples 4" [--seed]="--seed 3" [--threads]="--threads 1"
+    [--max-pixels]="--max-pixels 1000000"
     [--no-shadows]="--no-shadows" [--no-specialize]="--no-specialize" [--dialect]="--dialect v1"
     [--target-error]="--target-error 0.01" [--missing-textures]="--missing-textures checker"
     [--light-radius]="--light-radius 0.1" [--aperture]="--aperture 0.05"
@@ -119,6 +121,10 @@ declare -A diff=(
 )
 check_flags "$bin/imgdiff" "$tmp/d1.png $tmp/d2.png" diff
 
+# What each program requires, so the flag tested is the one error.
+declare -A needs=([raytrace]="$scene" [rayview]="$scene" [raygen]="-o $tmp/g3.ray"
+    [raymerge]="-o $tmp/m3.png $tmp/a.part $tmp/b.part" [imgdiff]="$tmp/d1.png $tmp/d2.png")
+
 # --config: the options of a file are those of the command line.
 printf 'width = 32\nheight = 20\nspp = 4\nno-shadows = true\nlight-radius = 0.2\n' >"$tmp/render.toml"
 "$bin/raytrace" "$scene" --config "$tmp/render.toml" -q -o "$tmp/c1.pfm"
@@ -134,6 +140,18 @@ check "which names it" grep -q "no-such-option" "$tmp/err.txt"
 "$bin/raytrace" "$scene" --config "$tmp/missing.toml" -q -o "$tmp/c5.png" 2>"$tmp/err.txt"
 check "a missing config file is a usage error" test $? -eq 2
 check "no image after a usage error" test ! -e "$tmp/c4.png" -a ! -e "$tmp/c5.png"
+# Only a regular file is read as a config: a FIFO would block forever (timeout: a hang fails
+# the check, it is no measurement) and /dev/zero never ends.
+mkfifo "$tmp/fifo.toml"
+for config in "$tmp/fifo.toml" /dev/zero "$tmp"; do
+    for prog in raytrace rayview raygen raymerge imgdiff; do
+        [ -x "$bin/$prog" ] || continue
+        eval "DISPLAY= timeout 60 '$bin/$prog' ${needs[$prog]} --config $config" \
+            >/dev/null 2>"$tmp/err.txt"
+        check "$prog --config $config is a usage error" test $? -eq 2
+        check "which says what it is" grep -qE "'$config' is a (FIFO|character device|directory), not a regular file" "$tmp/err.txt"
+    done
+done
 
 # rayview's --dialect is raytrace's: a V3 file forced to V0 fails the same way in both.
 "$bin/raytrace" "$src/scenes/v3_torus.ray" --dialect v0 -q -o "$tmp/dv.png" 2>"$tmp/rt_err.txt"
@@ -144,8 +162,6 @@ if [ -x "$bin/rayview" ]; then
     check "with raytrace's message" grep -qxF "$(cat "$tmp/rt_err.txt")" "$tmp/rv_err.txt"
 fi
 
-declare -A needs=([raytrace]="$scene" [rayview]="$scene" [raygen]="-o $tmp/g3.ray"
-    [raymerge]="-o $tmp/m3.png $tmp/a.part $tmp/b.part" [imgdiff]="$tmp/d1.png $tmp/d2.png")
 for prog in raytrace rayview raygen raymerge imgdiff; do
     [ -x "$bin/$prog" ] || continue
     # With what it requires, so the unknown flag is the one error.

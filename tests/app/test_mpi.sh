@@ -53,6 +53,26 @@ check "a sequence: mpirun exits 0" test $? -eq 0
 for k in 0 1 2 3; do
     check "frame $k is raytrace's" cmp -s "$tmp/rt_$k.pfm" "$tmp/mpi_$k.pfm"
 done
+# A frame that cannot be written (its name taken by a directory; on a cluster, a full disk)
+# fails the job, and the frames written before it are removed, as raytrace --frames does; with
+# workers and with rank 0 alone.
+for n in 3 1; do
+    mkdir -p "$tmp/wf$n/f_3.pfm"
+    RT_MPI_FAULT= mpirun -n $n --oversubscribe "$mpi" "$arm" --width 48 --height 36 --spp 1 \
+        --frames 6 -q -o "$tmp/wf$n/f_%d.pfm" >"$tmp/wf$n.txt" 2>&1
+    check "$n ranks: an unwritable frame fails the job" test $? -ne 0
+    check "$n ranks: it is named" grep -qF "raytrace-mpi: error: frame 3 not written (cannot write '$tmp/wf$n/f_3.pfm': it is a directory, not a regular file); " "$tmp/wf$n.txt"
+    check "$n ranks: no frame of the job is left" test "$(ls -A "$tmp/wf$n")" = "f_3.pfm"
+done
+# A frame whose animation fails on a worker: the job fails with its message, no frame left.
+printf '#key_file k.key\n#shape_sphere -1 0 0 0 1\n#joint_begin arm\n#shape_sphere -1 0 0 0 1\n#joint_end\n' >"$tmp/far.ray"
+printf '#DOFS 1 arm #DURATION 1 #FRAMES 2 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1  1 0 0 0 0 1 0 0 0 0 1 0 1e305 0 0 1\n' >"$tmp/k.key"
+mkdir "$tmp/fa"
+RT_MPI_FAULT= "${run[@]}" "$mpi" "$tmp/far.ray" --width 8 --height 6 --spp 1 --frames 3 --fps 2 \
+    -q -o "$tmp/fa/g_%d.pfm" >"$tmp/fa.txt" 2>&1
+check "a worker's failed animation fails the job" test $? -ne 0
+check "with the worker's message" grep -q "raytrace-mpi: error: rank [12] failed at frame 1: .*joint reaches beyond" "$tmp/fa.txt"
+check "and no frame of the job is left" test -z "$(ls -A "$tmp/fa")"
 
 # Progressive: each pass's tiles handed out; the error report, and with --spp the same image.
 "$rt" "$src/scenes/showpiece.ray" "${size[@]}" --progressive -q -o "$tmp/prog-one.pfm"
@@ -87,7 +107,7 @@ RT_MPI_FAULT=die:1:1 "${run[@]}" "$mpi" "$arm" --width 48 --height 36 --frames 8
     -o "$tmp/dief_%d.pfm" >"$tmp/dief.txt" 2>&1
 check "a sequence's dying worker fails the job" test $? -ne 0
 check "a sequence's dying worker is named with its frame" grep -q "rank 1 (pid [0-9]*) died; under way: .*rank 1 had frame [0-9]" "$tmp/dief.txt"
-check "a sequence's frames written before are removed" bash -c "! ls '$tmp'/dief_* 2>/dev/null && grep -q 'frames written so far were removed' '$tmp/dief.txt'"
+check "a sequence's frames written before are removed" bash -c "! ls '$tmp'/dief_* 2>/dev/null && grep -q 'written so far w[a-z]* removed' '$tmp/dief.txt'"
 # A worker that cannot load the scene (here: another path; on a cluster, a file missing on its
 # node) stops the job with its own error.
 RT_MPI_FAULT= mpirun -n 1 --oversubscribe "$mpi" "$src/scenes/showpiece.ray" "${size[@]}" \
@@ -98,5 +118,14 @@ check "a worker's load error is printed with its rank" grep -q "raytrace-mpi: er
 check "a worker's load error: no image" test ! -e "$tmp/load.pfm"
 RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" --spp 4 -o "$tmp/p.part" >"$tmp/p.txt" 2>&1
 check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders an image (also --progressive) or --frames" "$tmp/p.txt"
+# --tile-timeout: seconds, more than 0 and at most a week; anything else (1e10 and inf were a
+# float-to-int overflow) is a usage error.
+for t in 1e10 inf 5x 604801; do
+    RT_MPI_FAULT= mpirun -n 1 "$mpi" "$src/scenes/showpiece.ray" --tile-timeout "$t" \
+        -o "$tmp/tt.png" >"$tmp/tt.txt" 2>&1
+    check "--tile-timeout $t exits 2" test $? -eq 2
+    check "--tile-timeout $t: says its range" grep -q "tile-timeout takes seconds, more than 0 and at most 604800" "$tmp/tt.txt"
+done
+check "no image after them" test ! -e "$tmp/tt.png"
 
 summary "mpi"

@@ -159,6 +159,38 @@ check "the non-finite resolution is refused" grep -q "resolution: 'nan' is not a
 check "the unwritable screenshot is reported" grep -q "no/such/dir/shot.png" "$tmp/badout.txt"
 check "the broken file's error is printed" grep -q "broken.ray:1:" "$tmp/badout.txt"
 check "the script's open works with no scene open" test -s "$tmp/after.png"
+# Any failure of a scripted run exits 1, with its message: a failed open (a FIFO here: an error,
+# not a frozen window; the timeout turns a hang into a failed check), a failed background load
+# or render, a scene that does not open at start-up.
+mkfifo "$tmp/fifo.ray"
+fails() {  # fails NAME MESSAGE RAYVIEW-ARGS...
+    local name=$1 message=$2
+    shift 2
+    timeout 120 "$(dirname "$0")/xrun.sh" "$rv" "$@" >"$tmp/failout.txt" 2>&1
+    check "$name exits 1" test $? -eq 1
+    check "$name: its message" grep -qF -- "$message" "$tmp/failout.txt"
+}
+echo "1 open $tmp/fifo.ray" >"$tmp/fifo.txt"
+fails "a scripted open of a FIFO" "'$tmp/fifo.ray' is a FIFO, not a regular file" \
+    --script "$tmp/fifo.txt" "$src/scenes/lights.ray"
+printf '1 open-background %s\n2 wait-jobs\n' "$tmp/none.ray" >"$tmp/bgload.txt"
+fails "a failed background load" "none.ray" --script "$tmp/bgload.txt" "$src/scenes/lights.ray"
+printf '1 render-image %s 16 16 1\n2 wait-jobs\n' "$tmp/no/dir/r.png" >"$tmp/bgrender.txt"
+fails "a failed background render" "no/dir/r.png" --script "$tmp/bgrender.txt" "$src/scenes/lights.ray"
+fails "--frames with a scene that does not open" "broken.ray:1:" --frames 3 "$tmp/broken.ray"
+# A script that is no regular file, and frame numbers past the maximum, are usage errors.
+mkdir "$tmp/scriptdir"
+for script in "$tmp/scriptdir" "$tmp/fifo.ray"; do
+    timeout 60 "$rv" --script "$script" "$src/scenes/lights.ray" >/dev/null 2>"$tmp/err.txt"
+    check "--script $script exits 2" test $? -eq 2
+    check "--script $script: says it is no regular file" grep -q "not a regular file" "$tmp/err.txt"
+done
+echo "100001 status" >"$tmp/late.txt"
+"$rv" --script "$tmp/late.txt" "$src/scenes/lights.ray" >/dev/null 2>"$tmp/err.txt"
+check "a frame number past 100000 exits 2" test $? -eq 2
+check "and names its line" grep -q "late.txt:1: frame 100001 is not in 0..100000" "$tmp/err.txt"
+"$rv" --frames 100001 "$src/scenes/lights.ray" >/dev/null 2>"$tmp/err.txt"
+check "--frames past 100000 exits 2" test $? -eq 2
 # Settings kept between runs: the window's size and the recent files.
 conf="$tmp/config/rayview/rayview.conf"
 check "the settings are written at exit" grep -q "^window = [0-9]*x[0-9]*$" "$conf"

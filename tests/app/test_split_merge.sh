@@ -81,4 +81,17 @@ check "samples beyond --spp say so" grep -q "is not inside the --spp 4 samples" 
 check "a malformed tile exits 2" test $? -eq 2
 check "usage errors write no part" test ! -e "$tmp/x.part"
 
+# Scratch files have names of their own (they were OUT.part, truncated and removed): an output
+# named like an input part does not destroy it, nor does raytrace -o x.png an x.png.part.
+mkdir "$tmp/own"
+cp "$tmp/tiles-0.part" "$tmp/own/img.pfm.part"
+"$merge" -q -o "$tmp/own/img.pfm" "$tmp/own/img.pfm.part" "$tmp/tiles-1.part" "$tmp/tiles-2.part"
+check "raymerge -o img.pfm img.pfm.part ... exits 0" test $? -eq 0
+check "and its input part is intact" cmp -s "$tmp/tiles-0.part" "$tmp/own/img.pfm.part"
+check "and the image is the whole render's" cmp -s "$tmp/tiles-whole.pfm" "$tmp/own/img.pfm"
+echo "not mine to touch" >"$tmp/own/x.png.part"
+"$rt" "$show" --width 16 --height 12 --spp 1 -q -o "$tmp/own/x.png"
+check "raytrace -o x.png leaves x.png.part alone" grep -qx "not mine to touch" "$tmp/own/x.png.part"
+check "and leaves no scratch file" test "$(ls -A "$tmp/own" | sort | tr '\n' ' ')" = "img.pfm img.pfm.part x.png x.png.part "
+
 summary "split and merge"

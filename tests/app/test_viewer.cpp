@@ -1,6 +1,8 @@
 // The viewer's state without a window: an edit reaches the traced scene only through the one
 // restart path (stop, apply the edits, restart), and a saved scene holds the edited lights as
 // described.
+#include <sys/stat.h>
+
 #include <chrono>
 #include <filesystem>
 #include <thread>
@@ -134,6 +136,34 @@ TEST(Viewer, AFailedOpenKeepsTheSceneAndSaysWhy) {
     EXPECT_GT(v.loaded->id, id);
     EXPECT_TRUE(v.message.empty());
     EXPECT_EQ(v.recent.size(), 1u);  // the same file once
+}
+
+// A FIFO (or a device) opened, dropped or loaded in the background is an error that says what it
+// is, and the open scene stays: nothing waits on the FIFO, which has no writer.
+TEST(Viewer, AFifoIsAnErrorAndTheSceneStays) {
+    const std::string fifo = ::testing::TempDir() + "rt_viewer_fifo.ray";
+    std::filesystem::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.loaded) << v.message;
+    const int id = v.loaded->id;
+    EXPECT_EQ(v.failures, 0);
+    EXPECT_FALSE(v.open(fifo, false));
+    EXPECT_EQ(v.loaded->id, id);
+    EXPECT_TRUE(v.message_is_error);
+    EXPECT_NE(v.message.find("'" + fifo + "' is a FIFO, not a regular file"), std::string::npos)
+        << v.message;
+    EXPECT_EQ(v.failures, 1);  // a scripted run exits 1
+    v.dropped.push_back(fifo);
+    v.poll_files();  // the drop loads in the background
+    for (int i = 0; i < 2000 && v.loader.busy(); ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        v.poll_files();
+    }
+    EXPECT_EQ(v.loaded->id, id);
+    EXPECT_EQ(v.failures, 2);
+    EXPECT_NE(v.message.find("is a FIFO"), std::string::npos) << v.message;
+    std::filesystem::remove(fifo);
 }
 
 // The script's light command: one colour (V0/V1: ambient 0, diffuse = specular), each of a V3

@@ -271,11 +271,12 @@ void ParserBase::run_prescan(const std::string& text, const std::string& name,
 }
 
 // Included files' texts by canonical path, read by the pre-scan and handed to the parse.
-const std::string* ParserBase::cached_text(const std::string& path, const std::string& canonical) {
+const std::string* ParserBase::cached_text(const std::string& path, const std::string& canonical,
+                                           std::string* why) {
     auto it = m_texts.find(canonical);
     if (it != m_texts.end()) return &it->second;
     std::string text;
-    if (!read_file(path, &text)) return nullptr;
+    if (!read_file(path, &text, why)) return nullptr;
     return &m_texts.emplace(canonical, std::move(text)).first->second;
 }
 

@@ -85,13 +85,21 @@ std::string quote(std::string_view s) {
     return r;
 }
 
+std::string read_failure(const std::string& lead, const std::string& path, const std::string& why) {
+    // read_file() names the path itself when it cannot open it; it is named once here.
+    const std::string opening = "cannot open '" + path + "': ";
+    const std::string reason = why.rfind(opening, 0) == 0 ? why.substr(opening.size()) : why;
+    return lead + " " + quote(path) + ": " + reason;
+}
+
 std::string describe(const Token& t) {
     return t.kind == TokenKind::End ? std::string("end of file") : quote(t.text);
 }
 
 bool is_file(const fs::path& p) {
     std::error_code ec;
-    return fs::is_regular_file(p, ec);
+    const fs::file_status st = fs::status(p, ec);
+    return !ec && fs::exists(st) && !fs::is_directory(st);
 }
 
 std::string canonical_path(const std::string& path) {
@@ -330,10 +338,10 @@ public:
     }
 
     SceneDesc run_file(const std::string& path) {
-        std::string text;
-        if (!read_file(path, &text)) {
+        std::string text, why;
+        if (!read_file(path, &text, &why)) {
             SourceLoc loc{intern_file_name(path), 0, 0};
-            throw SceneError(loc, "cannot open scene file '" + path + "'");
+            throw SceneError(loc, read_failure("cannot open scene file", path, why));
         }
         const std::string dir = fs::path(path).parent_path().string();
         return run(text, path, dir.empty() ? "." : dir);
@@ -528,8 +536,9 @@ private:
         std::string problem;
         if (found) {
             t.path = *found;
-            std::string error;
-            if (!load_texture_image(t.path, image.get(), &error))
+            // The image readers open files themselves: a FIFO is refused before it blocks.
+            std::string error = regular_file_error(t.path);
+            if (!error.empty() || !load_texture_image(t.path, image.get(), &error))
                 problem = "cannot decode texture " + quote(t.path) + ": " + error;
         } else {
             t.path = path;
@@ -683,8 +692,9 @@ private:
             if (m_scene.files[i].canonical_path == canonical) index = static_cast<int>(i);
         if (index < 0) {
             // Read once: the dialect pre-scan kept the text.
-            const std::string* cached = cached_text(resolved, canonical);
-            if (!cached) fail(f, pt, "cannot read ray file " + quote(resolved));
+            std::string why;
+            if (!cached_text(resolved, canonical, &why))
+                fail(f, pt, read_failure("cannot read ray file", resolved, why));
             const std::string text = std::move(m_texts[canonical]);
             m_texts.erase(canonical);
             index = static_cast<int>(m_scene.files.size());
@@ -704,8 +714,9 @@ private:
         const std::string path = word(f, d, "a .key file name");
         count_item(f, d, kKeyFiles);
         const std::string resolved = resolve(f, pt, path, "key file");
-        std::string text;
-        if (!read_file(resolved, &text)) fail(f, pt, "cannot read key file " + quote(resolved));
+        std::string text, why;
+        if (!read_file(resolved, &text, &why))
+            fail(f, pt, read_failure("cannot read key file", resolved, why));
         m_include_locs.push_back(f.lex.loc(d));
         f.key_files.push_back(parse_key_file(text, resolved));
         f.key_files.back().named = path;

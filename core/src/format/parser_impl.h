@@ -25,7 +25,12 @@ namespace rt::parser_impl {
 std::string quote(std::string_view s);
 /// "end of file" or the quoted token.
 std::string describe(const Token& t);
+/// `lead` and the quoted path, then why read_file() refused it ("No such file or directory",
+/// "'x' is a FIFO, not a regular file"): "cannot read key file 'x': ...".
+std::string read_failure(const std::string& lead, const std::string& path, const std::string& why);
 /// Filesystem queries that never throw (a path too long or otherwise invalid is "not there").
+/// is_file: anything there but a directory; a FIFO or a device is found, and reading it is
+/// refused with the reason (read_file), rather than "not found".
 bool is_file(const std::filesystem::path& p);
 std::string canonical_path(const std::string& path);
 std::string lower(std::string_view s);
@@ -167,7 +172,9 @@ protected:
     // ---- dialect detection (dialect.cpp) -------------------------------------------------
     void detect_dialect(const std::string& text, const std::string& name,
                         const std::string& canonical, const std::string& dir);
-    const std::string* cached_text(const std::string& path, const std::string& canonical);
+    /// The file's text (read once); nullptr, with the reason in *why, when it cannot be read.
+    const std::string* cached_text(const std::string& path, const std::string& canonical,
+                                   std::string* why = nullptr);
 
     // ---- key files (key_file.cpp) --------------------------------------------------------
     KeyFile parse_key_file(const std::string& text, const std::string& path);

@@ -7,7 +7,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <random>
 #include <stdexcept>
 
 namespace rt {
@@ -82,22 +82,65 @@ bool read_file(const std::string& path, std::string* out, std::string* why) {
     return reason.empty();
 }
 
-void write_file_atomic(const std::string& path, const std::string& data) {
-    const std::string tmp = path + ".part";
-    std::error_code ec;
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        f.write(data.data(), static_cast<std::streamsize>(data.size()));
-        f.close();  // a failed flush on close sets failbit too
-        if (!f) {
-            std::filesystem::remove(tmp, ec);
-            throw std::runtime_error("cannot write '" + path + "'");
+std::string create_scratch_file(const std::string& path, int* fd, const std::string& suffix) {
+    // The rename would replace a FIFO or a device (/dev/null as root) by the file.
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+        throw std::runtime_error("cannot write '" + path + "': it is " + kind_of(st.st_mode) +
+                                 ", not a regular file");
+    const std::filesystem::path target(path);
+    const std::string stem = target.parent_path().string();
+    const std::string prefix =
+        (stem.empty() ? "" : stem + "/") + "." + target.filename().string() + ".";
+    // Seeded once a thread from the system's entropy: two processes (the ranks of a job, two
+    // renders of one name) draw different names, and O_EXCL settles any clash that is left.
+    thread_local std::mt19937_64 random(std::random_device{}() ^
+                                        (static_cast<uint64_t>(::getpid()) << 32));
+    constexpr char kChars[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        std::string name = prefix;
+        for (int i = 0; i < 6; ++i) name += kChars[random() % (sizeof kChars - 1)];
+        name += suffix;
+        // 0666: the kernel takes the umask off, as for any new file.
+        const int f = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (f >= 0) {
+            if (fd)
+                *fd = f;
+            else
+                ::close(f);
+            return name;
         }
+        if (errno != EEXIST) break;
     }
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw std::runtime_error("cannot write '" + path + "'");
+    throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
+}
+
+std::string write_scratch_file(const std::string& path, const std::string& data) {
+    int fd = -1;
+    const std::string scratch = create_scratch_file(path, &fd);
+    int error = 0;
+    for (size_t done = 0; done < data.size() && !error;) {
+        const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
+        if (n >= 0)
+            done += static_cast<size_t>(n);
+        else if (errno != EINTR)
+            error = errno;
+    }
+    // The close reports what a full disk or a quota kept back (NFS writes on close).
+    if (::close(fd) != 0 && !error) error = errno;
+    if (error) {
+        ::unlink(scratch.c_str());
+        throw std::runtime_error("cannot write '" + path + "': " + std::strerror(error));
+    }
+    return scratch;
+}
+
+void write_file_atomic(const std::string& path, const std::string& data) {
+    const std::string scratch = write_scratch_file(path, data);
+    if (::rename(scratch.c_str(), path.c_str()) != 0) {
+        const int error = errno;
+        ::unlink(scratch.c_str());
+        throw std::runtime_error("cannot write '" + path + "': " + std::strerror(error));
     }
 }
 

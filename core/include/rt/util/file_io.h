@@ -1,5 +1,6 @@
 // Whole-file reading and writing shared by the library and the programs. Writes go to a
-// temporary name and are renamed, so a failed write never leaves a partial file.
+// scratch file of a unique name and are renamed, so a failed write never leaves a partial file
+// and never touches another one.
 #pragma once
 
 #include <string>
@@ -17,8 +18,23 @@ bool read_file(const std::string& path, std::string* out, std::string* why = nul
 /// OpenEXR) call it first.
 std::string regular_file_error(const std::string& path);
 
-/// Writes `data` to path.part, checks the close, then renames it to `path`. Throws
-/// std::runtime_error ("cannot write 'path'") and removes the temporary file on failure.
+/// Creates a new, empty file beside `path` (in its directory) under a name no other file has:
+/// ".NAME.XXXXXX" plus `suffix` (".tmp" unless given: ffmpeg, say, needs the extension). It is
+/// created exclusively (O_EXCL), so it never truncates or replaces an existing file, with the
+/// permissions a new file gets (0666 less the umask). Returns its name, and its descriptor in
+/// *fd (else it is closed). Throws std::runtime_error ("cannot write 'path': why").
+std::string create_scratch_file(const std::string& path, int* fd = nullptr,
+                                const std::string& suffix = ".tmp");
+
+/// Writes `data` to a new scratch file beside `path` (create_scratch_file) and returns its
+/// name, for the caller to rename to `path` when everything it writes is ready (or to remove).
+/// Throws std::runtime_error ("cannot write 'path': why") and leaves nothing behind on failure.
+std::string write_scratch_file(const std::string& path, const std::string& data);
+
+/// Writes `data` to a scratch file beside `path` (write_scratch_file), checks the close, then
+/// renames it to `path`, so `path` is either the old file or the whole new one, and no other
+/// file is touched. Throws std::runtime_error ("cannot write 'path': why") and removes the
+/// scratch file on failure.
 void write_file_atomic(const std::string& path, const std::string& data);
 
 }  // namespace rt

@@ -1,0 +1,116 @@
+// Whole-file reads and writes: only regular files are read, and a write touches no file but its
+// own (its scratch file has a name of its own, with a new file's permissions, and goes on failure).
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "rt/util/file_io.h"
+
+namespace fs = std::filesystem;
+using rt::read_file;
+using rt::write_file_atomic;
+
+namespace {
+
+std::string contents(const fs::path& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+// A fresh empty directory under the test's temporary directory.
+fs::path fresh_dir(const std::string& name) {
+    const fs::path dir = fs::path(::testing::TempDir()) / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+size_t entries(const fs::path& dir) {
+    return static_cast<size_t>(std::distance(fs::directory_iterator(dir), {}));
+}
+
+}  // namespace
+
+TEST(FileIo, ReadRefusesAFifoWithTheReason) {
+    const fs::path dir = fresh_dir("rt_io_fifo");
+    const std::string fifo = (dir / "scene.ray").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::string text, why;
+    EXPECT_FALSE(read_file(fifo, &text, &why));  // returns: the FIFO has no writer
+    EXPECT_EQ(why, "'" + fifo + "' is a FIFO, not a regular file");
+    EXPECT_EQ(rt::regular_file_error(fifo), why);
+}
+
+TEST(FileIo, WriteLeavesAFileNamedLikeItsScratchFileAlone) {
+    // NAME.part was the scratch name: an input of that name was truncated, then renamed away.
+    const fs::path dir = fresh_dir("rt_io_part");
+    std::ofstream(dir / "img.pfm.part") << "a part file";
+    write_file_atomic((dir / "img.pfm").string(), "the image");
+    EXPECT_EQ(contents(dir / "img.pfm"), "the image");
+    EXPECT_EQ(contents(dir / "img.pfm.part"), "a part file");
+    EXPECT_EQ(entries(dir), 2u);  // and no scratch file is left
+}
+
+TEST(FileIo, ScratchFilesHaveNamesOfTheirOwn) {
+    const fs::path dir = fresh_dir("rt_io_scratch");
+    const std::string target = (dir / "out.png").string();
+    const std::string a = rt::create_scratch_file(target);
+    const std::string b = rt::create_scratch_file(target, nullptr, ".mp4");
+    EXPECT_NE(a, b);
+    EXPECT_EQ(fs::path(a).parent_path(), dir);
+    EXPECT_EQ(fs::path(a).filename().string().rfind(".out.png.", 0), 0u) << a;
+    EXPECT_EQ(fs::path(a).extension(), ".tmp");
+    EXPECT_EQ(fs::path(b).extension(), ".mp4");
+    EXPECT_FALSE(fs::exists(target));
+}
+
+TEST(FileIo, WrittenFilesGetTheUmasksPermissions) {
+    const fs::path dir = fresh_dir("rt_io_mode");
+    const mode_t old = ::umask(022);
+    write_file_atomic((dir / "a.txt").string(), "a");
+    ::umask(027);
+    write_file_atomic((dir / "b.txt").string(), "b");
+    ::umask(old);
+    struct stat st {};
+    ASSERT_EQ(::stat((dir / "a.txt").c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0644u);
+    ASSERT_EQ(::stat((dir / "b.txt").c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0640u);
+}
+
+TEST(FileIo, AFailedWriteLeavesNothing) {
+    const fs::path dir = fresh_dir("rt_io_fail");
+    fs::create_directory(dir / "taken");  // a directory where the file would go
+    try {
+        write_file_atomic((dir / "taken").string(), "data");
+        FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("cannot write '" + (dir / "taken").string() + "'"),
+                  std::string::npos);
+    }
+    EXPECT_TRUE(fs::is_directory(dir / "taken"));
+    EXPECT_EQ(entries(dir), 1u);
+    EXPECT_THROW(write_file_atomic((dir / "none" / "x.txt").string(), "data"), std::runtime_error);
+    EXPECT_EQ(entries(dir), 1u);
+}
+
+TEST(FileIo, WriteRefusesToReplaceAFifo) {
+    const fs::path dir = fresh_dir("rt_io_wfifo");
+    const std::string fifo = (dir / "out.png").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    try {
+        write_file_atomic(fifo, "data");
+        FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "cannot write '" + fifo + "': it is a FIFO, not a regular file");
+    }
+    EXPECT_TRUE(fs::is_fifo(fifo));
+    EXPECT_EQ(entries(dir), 1u);
+}
