@@ -40,12 +40,13 @@ KeyFile ParserBase::parse_key_file(const std::string& text, const std::string& p
     if (n <= 0) fail(nloc, "#DOFS must be >= 1, got " + std::to_string(n));
     for (int i = 0; i < n; ++i) {
         const Token nt = k.lex.peek();
-        key.names.push_back(word(k, dofs, "a DOF name", true));
-        key.name_locs.push_back(k.lex.loc(nt));
+        std::string name = word(k, dofs, "a DOF name", true);
         // Spec §14.1: names equal as strings are an error; differing only in case is allowed.
-        for (int j = 0; j < i; ++j)
-            if (key.names[static_cast<size_t>(j)] == key.names.back())
-                fail(k, nt, "duplicate DOF name " + quote(key.names.back()));
+        if (!key.by_name.try_emplace(name, key.names.size()).second)
+            fail(k, nt, "duplicate DOF name " + quote(name));
+        key.by_lower_name[lower(name)].push_back(key.names.size());
+        key.names.push_back(std::move(name));
+        key.name_locs.push_back(k.lex.loc(nt));
     }
     const Token dur = expect("#DURATION");
     const Token dur_tok = k.lex.peek();
@@ -122,14 +123,17 @@ int ParserBase::bind_dof(FileState& f, const Token& nt, const std::string& name)
     size_t dof = 0;
     const std::string key = lower(name);
     for (KeyFile& k : f.key_files) {
+        // The exact match, else every DOF that matches ignoring case (`here` the last of them).
         std::vector<size_t> similar;
-        size_t here = k.names.size();
-        for (size_t j = 0; j < k.names.size() && here == k.names.size(); ++j)
-            if (k.names[j] == name) here = j;
-        if (here == k.names.size())
-            for (size_t j = 0; j < k.names.size(); ++j)
-                if (lower(k.names[j]) == key) similar.push_back(j), here = j;
-        if (here == k.names.size()) continue;
+        size_t here = 0;
+        if (const auto exact = k.by_name.find(name); exact != k.by_name.end()) {
+            here = exact->second;
+        } else if (const auto folded = k.by_lower_name.find(key); folded != k.by_lower_name.end()) {
+            similar = folded->second;
+            here = similar.back();
+        } else {
+            continue;
+        }
         if (hit) {
             warn(f.lex.loc(nt), "dof-repeat",
                  "DOF " + quote(k.names[here]) + " is also in " + quote(k.named) +
