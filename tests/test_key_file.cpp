@@ -1,9 +1,13 @@
 // The .key grammar (spec §14.1) and the binding of joints to DOFs (§14.2): every key kept, the
 // errors at their file:line:col, the warnings counted per file, and the course's own files (the
 // public Homework4 scenes: mine.key's non-affine and singular keys, test.key's 18-DOF figure).
+#include <sys/resource.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <iostream>
 
 #include "rt/accel/intersect.h"
 #include "rt/scene/scene_time.h"
@@ -13,6 +17,20 @@ namespace rt {
 namespace {
 
 namespace fs = std::filesystem;
+
+// Caps the address space of this process at `extra` bytes more than it maps now, so that an
+// allocation larger than that fails at once (std::bad_alloc) instead of filling memory. Not under
+// AddressSanitizer, whose shadow memory needs an address space without a cap.
+void cap_address_space(uint64_t extra) {
+#if defined(__SANITIZE_ADDRESS__)
+    (void)extra;
+#else
+    uint64_t pages = 0;
+    std::ifstream("/proc/self/statm") >> pages;
+    const rlimit cap{pages * 4096 + extra, pages * 4096 + extra};
+    setrlimit(RLIMIT_AS, &cap);
+#endif
+}
 
 class KeyFiles : public ::testing::Test {
 public:
@@ -153,6 +171,26 @@ TEST_F(KeyFiles, ManyDofsAndJointsBindByName) {
     const size_t last = key.find(" d99999");
     EXPECT_EQ(error_with_key(key.replace(last, 7, " d12345")),
               "k.key:1:688897: error: duplicate DOF name 'd12345'");
+}
+
+// A #FRAMES far beyond what the file holds is the shortfall at its end, with no allocation for
+// the frames it declares: here in a process that cannot map 1 GiB more (10 million frames of
+// one DOF filled 2.5 GB before; 2^27 frames ended in a bare std::bad_alloc).
+TEST_F(KeyFiles, AFrameCountBeyondTheFileAllocatesNothing) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");  // a child of its own, not a fork
+    for (const std::string frames : {"10000000", "134217728"}) {
+        const std::string key = "#DOFS 1 a #DURATION 1 #FRAMES " + frames + "\n" + kId + "\n";
+        const std::string numbers = std::to_string(16LL * std::stoll(frames));
+        EXPECT_EXIT(
+            {
+                cap_address_space(uint64_t{1} << 30);
+                std::cerr << error_with_key(key) << "\n";
+                std::exit(0);
+            },
+            testing::ExitedWithCode(0),
+            "k.key:3:1: error: key file has 16 numbers after #FRAMES, expected 16\u00b71\u00b7" +
+                frames + " = " + numbers);
+    }
 }
 
 TEST_F(KeyFiles, NonAffineAndSingularKeysAreCountedWarnings) {

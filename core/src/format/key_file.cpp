@@ -1,6 +1,7 @@
 // The .key file grammar (spec §14.1) and the binding of a joint's name to a DOF of its file's key
 // files (spec §14.2). Every key is kept: the scene description holds one KeyTrack per bound DOF,
 // and a joint's matrix is its key 0 as read (the static render of spec §14.7).
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -58,14 +59,20 @@ KeyFile ParserBase::parse_key_file(const std::string& text, const std::string& p
     if (nf <= 0) fail(floc, "#FRAMES must be >= 1, got " + std::to_string(nf));
     if (16LL * n * nf > 1LL << 31)
         fail(floc, "key file too large: " + expected_count(n, nf) + " numbers");
-    key.keys.assign(static_cast<size_t>(n), std::vector<Mat4>(static_cast<size_t>(nf)));
+    // Keys are added as they are read, each DOF's room reserved for no more frames than the rest
+    // of the text can hold (a key is 16 numbers of at least 2 bytes each): a #FRAMES larger than
+    // the file allocates nothing before the file runs out.
+    const size_t frames_that_fit = (k.lex.remaining() + 1) / (32 * static_cast<size_t>(n));
+    key.keys.resize(static_cast<size_t>(n));
+    for (std::vector<Mat4>& dof_keys : key.keys)
+        dof_keys.reserve(std::min(static_cast<size_t>(nf), frames_that_fit));
     key.track.assign(static_cast<size_t>(n), -1);
     long long read = 0;
     int not_affine = 0, singular = 0;
     SourceLoc first_not_affine, first_singular;
     for (int fr = 0; fr < nf; ++fr) {
         for (int j = 0; j < n; ++j) {
-            Mat4& m = key.keys[static_cast<size_t>(j)][static_cast<size_t>(fr)];
+            Mat4& m = key.keys[static_cast<size_t>(j)].emplace_back();
             const SourceLoc first = k.lex.loc(k.lex.peek());
             for (int i = 0; i < 16; ++i, ++read) {
                 const Token t = k.lex.next();
