@@ -83,9 +83,14 @@ void add_scene_options(CLI::App& app, RenderOptions& o, bool with_dialect,
         ->type_name("M")
         ->transform(CLI::IsMember({"error", "checker"}, CLI::ignore_case))
         ->group(group);
-    app.add_option("--max-pixels", o.max_pixels,
-                   "the largest image in pixels (the render, a texture, a reference);\n"
-                   "larger ones are refused before anything is allocated")
+    add_max_pixels_option(app, o.max_pixels, "the render, a texture, a reference", group);
+}
+
+void add_max_pixels_option(CLI::App& app, uint64_t& max_pixels, const std::string& images,
+                           const std::string& group) {
+    app.add_option("--max-pixels", max_pixels,
+                   "the largest image in pixels (" + images +
+                       ");\nlarger ones are refused before anything is allocated")
         ->type_name("N")
         ->check(kNoMinus)
         ->group(group);

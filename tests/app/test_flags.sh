@@ -74,6 +74,7 @@ declare -A rt=(
     [--video]="--frames 2 -o $tmp/v_%02d.png --video $tmp/v.mp4" [--frame]="--frame 1"
     [--tile]="--tile 0,0,12,8 -o $tmp/t.part" [--samples]="--spp 2 --samples 0:1 -o $tmp/s.part"
     [--exr-float]="-o $tmp/e.exr --exr-float" [--aov]="-o $tmp/e.exr --aov albedo,depth"
+    [--max-pixels]="--max-pixels 1000"
 )
 check_flags "$bin/raytrace" "$scene --width 24 --height 16 -q -o $tmp/o.png" rt
 
@@ -90,6 +91,7 @@ declare -A rv=(
     [--target-error]="--target-error 0.01" [--missing-textures]="--missing-textures checker"
     [--light-radius]="--light-radius 0.1" [--aperture]="--aperture 0.05"
     [--focus-distance]="--focus-distance 3" [--roughness]="--roughness 0.1"
+    [--max-pixels]="--max-pixels 1000"
 )
 DISPLAY= WAYLAND_DISPLAY= check_flags "$bin/rayview" "$scene --width 24 --height 16 --spp 1" rv
 
@@ -105,7 +107,7 @@ check_flags "$bin/raygen" "-n 50 -o $tmp/g.ray" gen
 echo "quiet = true" >"$tmp/merge.toml"
 declare -A merge=(
     [--help]="alone:--help" [--version]="alone:--version" [--config]="--config $tmp/merge.toml"
-    [--output]="-o $tmp/m2.png" [--quiet]="--quiet"
+    [--output]="-o $tmp/m2.png" [--quiet]="--quiet" [--max-pixels]="--max-pixels 1000"
 )
 check_flags "$bin/raymerge" "-o $tmp/m.png $tmp/a.part $tmp/b.part" merge
 
