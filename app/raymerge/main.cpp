@@ -39,7 +39,7 @@ int merge(const std::string& out, const std::vector<std::string>& paths, bool qu
     try {
         for (const std::string& p : paths) parts.push_back(rtapp::read_part(p));
     } catch (const std::exception& e) {
-        std::cerr << "raymerge: error: " << e.what() << "\n";
+        std::cerr << "raymerge: error: " << rtapp::error_text(e, "reading the parts") << "\n";
         return 1;
     }
     for (size_t i = 1; i < parts.size(); ++i) {
@@ -58,7 +58,7 @@ int merge(const std::string& out, const std::vector<std::string>& paths, bool qu
         std::cerr << "raymerge: error: the parts do not cover the image once: " << e.what() << "\n";
         return 1;
     } catch (const std::exception& e) {
-        std::cerr << "raymerge: error: " << e.what() << "\n";
+        std::cerr << "raymerge: error: " << rtapp::error_text(e, "merging the parts") << "\n";
         return 1;
     }
     if (!quiet)

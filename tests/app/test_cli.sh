@@ -190,4 +190,14 @@ if [ -d "$pub" ]; then
     check "missing texture: no output" test ! -e "$tmp/chess.png"
 fi
 
+# Out of memory (the address space capped at 1 GB; not under AddressSanitizer, which needs more):
+# said so, exit 1, no output, not a bare std::bad_alloc.
+if ! grep -q __asan_init "$rt"; then
+    (ulimit -v 1000000 && exec "$rt" "$tmp/ok.ray" --width 20000 --height 20000 \
+        --max-pixels 400000000 -q -o "$tmp/oom.png") >/dev/null 2>"$tmp/oom.txt"
+    check "out of memory exits 1" test $? -eq 1
+    check "out of memory says so" grep -qxF "raytrace: error: out of memory while rendering $tmp/ok.ray" "$tmp/oom.txt"
+    check "out of memory: no output" test ! -e "$tmp/oom.png"
+fi
+
 summary "with the bad-input checks"

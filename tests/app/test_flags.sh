@@ -145,6 +145,14 @@ if [ -x "$bin/rayview" ]; then
     check "rayview --dialect v0 refuses it too" test $? -eq 1
     check "with raytrace's message" grep -qxF "$(cat "$tmp/rt_err.txt")" "$tmp/rv_err.txt"
 fi
+# rayview says it is out of memory as raytrace does (headless; the address space capped at 1 GB,
+# not under AddressSanitizer, which needs more).
+if [ -x "$bin/rayview" ] && ! grep -q __asan_init "$bin/rayview"; then
+    (ulimit -v 1000000 && DISPLAY= WAYLAND_DISPLAY= exec "$bin/rayview" "$scene" --width 20000 \
+        --height 20000 --max-pixels 400000000) >/dev/null 2>"$tmp/oom.txt"
+    check "rayview out of memory exits 1" test $? -eq 1
+    check "and says so" grep -qxF "rayview: error: out of memory while rendering $scene" "$tmp/oom.txt"
+fi
 
 declare -A needs=([raytrace]="$scene" [rayview]="$scene" [raygen]="-o $tmp/g3.ray"
     [raymerge]="-o $tmp/m3.png $tmp/a.part $tmp/b.part" [imgdiff]="$tmp/d1.png $tmp/d2.png")

@@ -75,6 +75,15 @@ refused "an image beyond the budget" "huge.part: its image of 32768x32768 pixels
 refused "--max-pixels" "tiles-0.part: its image of 61x45 pixels (2745) is larger than the budget of 2000 pixels" --max-pixels 2000 "$tmp"/tiles-?.part
 "$merge" -o "$tmp/x.png" --max-pixels 0 "$tmp/tiles-0.part" >/dev/null 2>&1
 check "--max-pixels 0 exits 2" test $? -eq 2
+# The budget raised beyond the memory there is (the address space capped at 1 GB; not under
+# AddressSanitizer, which needs more): out of memory, said so, not a bare std::bad_alloc.
+if ! grep -q __asan_init "$merge"; then
+    (ulimit -v 1000000 && exec "$merge" -o "$tmp/x.png" --max-pixels 1073741824 "$tmp/huge.part") \
+        >/dev/null 2>"$tmp/oom.txt"
+    check "out of memory: exit 1" test $? -eq 1
+    check "out of memory: message" grep -qx "raymerge: error: out of memory while merging the parts" \
+        "$tmp/oom.txt"
+fi
 
 # raytrace's usage errors for splits.
 "$rt" "$show" --tile 0,0,10,10 -o "$tmp/x.png" >/dev/null 2>"$tmp/u.txt"
