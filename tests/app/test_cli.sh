@@ -32,6 +32,9 @@ check "no temporary left" test ! -e "$tmp/bad.png.part"
 
 "$rt" "$tmp/ok.ray" --width 0 -o "$tmp/x.png" >/dev/null 2>&1
 check "bad width exits 2" test $? -eq 2
+"$rt" "$tmp/ok.ray" --depth 30000 -o "$tmp/x.png" >/dev/null 2>"$tmp/usage.txt"
+check "a depth beyond the maximum exits 2" test $? -eq 2
+check "and names the maximum" grep -q "^raytrace: --depth must be between 1 and 256" "$tmp/usage.txt"
 "$rt" "$tmp/ok.ray" --bogus >/dev/null 2>"$tmp/usage.txt"
 check "unknown option exits 2" test $? -eq 2
 check "unknown option message" grep -q "^raytrace: .*--bogus" "$tmp/usage.txt"
