@@ -31,6 +31,7 @@ std::string hex(uint64_t v) {
 }
 
 void append_doubles(std::string& out, const std::vector<double>& v) {
+    if (v.empty()) return;  // its data() may be null, which memcpy must not be given
     const size_t at = out.size();
     out.resize(at + v.size() * sizeof(double));
     std::memcpy(out.data() + at, v.data(), v.size() * sizeof(double));
