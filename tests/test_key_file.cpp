@@ -1,9 +1,14 @@
 // The .key grammar (spec §14.1) and the binding of joints to DOFs (§14.2): every key kept, the
 // errors at their file:line:col, the warnings counted per file, and the course's own files (the
 // public Homework4 scenes: mine.key's non-affine and singular keys, test.key's 18-DOF figure).
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <iostream>
 
 #include "rt/accel/intersect.h"
 #include "rt/scene/scene_time.h"
@@ -13,6 +18,29 @@ namespace rt {
 namespace {
 
 namespace fs = std::filesystem;
+
+// Caps the address space of this process at `extra` bytes more than it maps now, so that an
+// allocation larger than that fails at once (std::bad_alloc) instead of filling memory. Not under
+// AddressSanitizer, whose shadow memory needs an address space without a cap.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define RT_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define RT_ASAN 1
+#endif
+void cap_address_space(uint64_t extra) {
+#if defined(RT_ASAN)
+    (void)extra;
+#else
+    uint64_t pages = 0;
+    std::ifstream("/proc/self/statm") >> pages;
+    const uint64_t limit = pages * static_cast<uint64_t>(sysconf(_SC_PAGESIZE)) + extra;
+    const rlimit cap{limit, limit};
+    setrlimit(RLIMIT_AS, &cap);
+#endif
+}
 
 class KeyFiles : public ::testing::Test {
 public:
@@ -121,6 +149,57 @@ TEST_F(KeyFiles, BadKeyFilesAreErrorsAtTheirPlace) {
                                              "#joint_begin at"),
                   std::string::npos)
             << e.what();
+    }
+}
+
+// 100,000 DOFs, and 20,000 joints bound to them (half only when case is ignored): each name is a
+// look-up, where scanning every name before it took minutes (46 s for the DOFs alone, 2 to 5 ms
+// per joint by case). A duplicate among them is still found.
+TEST_F(KeyFiles, ManyDofsAndJointsBindByName) {
+    constexpr int kDofs = 100000, kJoints = 20000;
+    std::string key = "#DOFS " + std::to_string(kDofs);
+    for (int i = 0; i < kDofs; ++i) key += " d" + std::to_string(i);
+    key += "\n#DURATION 1 #FRAMES 1\n";
+    for (int i = 0; i < kDofs; ++i) key += kId + "\n";
+    write("k.key", key);
+    std::string ray = "#key_file k.key\n";
+    for (int j = 0; j < kJoints; ++j)
+        ray += "#joint_begin " + std::string(j % 2 ? "D" : "d") +
+               std::to_string(kDofs - 1 - 5 * j) + "\n#joint_end\n";
+    Diagnostics diag;
+    const SceneDesc s = parse_scene_file(write("t.ray", ray), diag);
+    ASSERT_EQ(s.tracks.size(), static_cast<size_t>(kJoints));
+    EXPECT_EQ(s.tracks[0].name, "d99999");
+    EXPECT_EQ(s.tracks[1].name, "d99994");  // joint D99994, bound by case
+    EXPECT_EQ(s.tracks.back().name, "d4");
+    EXPECT_EQ(s.files[0].root.groups.back().track, kJoints - 1);
+    int by_case = 0;
+    for (const Warning& w : diag.warnings())
+        if (w.kind == "joint-case") by_case = w.count;
+    EXPECT_EQ(by_case, kJoints / 2);
+
+    const size_t last = key.find(" d99999");
+    EXPECT_EQ(error_with_key(key.replace(last, 7, " d12345")),
+              "k.key:1:688897: error: duplicate DOF name 'd12345'");
+}
+
+// A #FRAMES far beyond what the file holds is the shortfall at its end, with no allocation for
+// the frames it declares: here in a process that cannot map 1 GiB more (10 million frames of
+// one DOF filled 2.5 GB before; 2^27 frames ended in a bare std::bad_alloc).
+TEST_F(KeyFiles, AFrameCountBeyondTheFileAllocatesNothing) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");  // a child of its own, not a fork
+    for (const std::string frames : {"10000000", "134217728"}) {
+        const std::string key = "#DOFS 1 a #DURATION 1 #FRAMES " + frames + "\n" + kId + "\n";
+        const std::string numbers = std::to_string(16LL * std::stoll(frames));
+        EXPECT_EXIT(
+            {
+                cap_address_space(uint64_t{1} << 30);
+                std::cerr << error_with_key(key) << "\n";
+                std::exit(0);
+            },
+            testing::ExitedWithCode(0),
+            "k.key:3:1: error: key file has 16 numbers after #FRAMES, expected 16\u00b71\u00b7" +
+                frames + " = " + numbers);
     }
 }
 

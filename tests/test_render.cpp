@@ -49,6 +49,38 @@ TEST(Render, APlanForAnotherSizeIsRefused) {
     EXPECT_EQ(state.passes, 0);
 }
 
+// Two facing mirrors, emissive 1 and reflecting all: every level of a ray adds 1. At kMaxDepth
+// the recursion fits the worker threads' stacks, specialized or generic (the largest frames) and
+// under AddressSanitizer too; one level more is refused before anything is traced (30000 levels
+// overflowed the stack).
+TEST(Render, FacingMirrorsRenderAtTheMaximumDepthAndNoDeeper) {
+    const RenderScene s = test::compile(
+        "#camera 0 0 0  0 0 -1  0 1 0  0.1\n"
+        "#material 1 1 1  0 0 0  0 0 0  1 1 1  1  0 0 0  1  -1 !!\n"
+        "#shape_box 0  0 0 -1  1000 1000 0.1\n#shape_box 0  0 0 1  1000 1000 0.1\n");
+    RenderSettings settings;
+    settings.width = 32, settings.height = 16, settings.threads = 2;  // two tiles, two threads
+    settings.max_depth = kMaxDepth, settings.cutoff = 0;
+    for (const bool specialize : {true, false}) {
+        settings.specialize = specialize;
+        RenderState state;
+        render_samples(state, s, make_render_plan(s, settings), settings, 1);
+        EXPECT_EQ(state.image().at(0, 0), Vec3(kMaxDepth)) << specialize;
+        EXPECT_EQ(state.image().at(31, 15), Vec3(kMaxDepth)) << specialize;
+        EXPECT_EQ(state.rays.reflected, 32u * 16u * (kMaxDepth - 1)) << specialize;
+    }
+    settings.max_depth = kMaxDepth + 1;
+    const RenderPlan plan = make_render_plan(s, settings);
+    RenderState state;
+    EXPECT_THROW(render_samples(state, s, plan, settings, 1), std::invalid_argument);
+    EXPECT_THROW(render_coarse(s, plan, settings, 4), std::invalid_argument);
+    RayCounters rays;
+    EXPECT_THROW(
+        trace_ray(s, plan, settings, {{0, 0, 0}, {0, 0, -1}}, kMaxDepth + 1, Vec3(1.0), rays),
+        std::invalid_argument);
+    EXPECT_EQ(rays.total(), 0u);
+}
+
 TEST(Render, SameImageForAnyThreadCount) {
     for (int spp : {1, 4}) {
         const Image a = render_with(1, spp), b = render_with(2, spp), c = render_with(5, spp);

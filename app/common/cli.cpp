@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <new>
 
 #include "rt/util/file_io.h"
 #include "version.h"
@@ -36,6 +37,11 @@ int cli_exit(const CLI::App& app, const CLI::ParseError& e) {
     std::fprintf(stderr, "%s: %s (see %s --help)\n", app.get_name().c_str(), e.what(),
                  app.get_name().c_str());
     return 2;
+}
+
+std::string error_text(const std::exception& e, const std::string& doing) {
+    if (dynamic_cast<const std::bad_alloc*>(&e)) return "out of memory while " + doing;
+    return e.what();
 }
 
 }  // namespace rtapp

@@ -4,6 +4,7 @@
 // exit status of a usage error, 2.
 #pragma once
 
+#include <exception>
 #include <string>
 
 namespace CLI {
@@ -19,5 +20,9 @@ void setup_cli(CLI::App& app, const std::string& program);
 /// After app.parse() threw: prints the help or version (stdout, exit 0) or the error and a hint
 /// to --help (stderr, exit 2). Returns the exit status.
 int cli_exit(const CLI::App& app, const CLI::ParseError& e);
+
+/// The message of an error that ends a program: e.what(), but for std::bad_alloc (whose what()
+/// names only its type) "out of memory while <doing>".
+std::string error_text(const std::exception& e, const std::string& doing);
 
 }  // namespace rtapp

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "rt/util/file_io.h"
+#include "rt/util/limits.h"
 
 namespace rtapp {
 
@@ -30,6 +31,7 @@ std::string hex(uint64_t v) {
 }
 
 void append_doubles(std::string& out, const std::vector<double>& v) {
+    if (v.empty()) return;  // its data() may be null, which memcpy must not be given
     const size_t at = out.size();
     out.resize(at + v.size() * sizeof(double));
     std::memcpy(out.data() + at, v.data(), v.size() * sizeof(double));
@@ -122,6 +124,12 @@ PartFile read_part(const std::string& path) {
     if (f.header.width <= 0 || f.header.height <= 0 || p.x0 < 0 || p.y0 < 0 ||
         p.x1 > f.header.width || p.y1 > f.header.height || p.x0 >= p.x1 || p.y0 >= p.y1)
         throw std::runtime_error(path + ": bad header: its tile is not inside its image");
+    // Merging makes the whole image: refuse one beyond the budget before anything is allocated.
+    if (const std::string e =
+            rt::image_size_error(static_cast<uint64_t>(f.header.width),
+                                 static_cast<uint64_t>(f.header.height), "its image");
+        !e.empty())
+        throw std::runtime_error(path + ": " + e);
     if (blocks == 0 || blocks > 64)
         throw std::runtime_error(path + ": bad header: " + std::to_string(blocks) + " blocks");
     // Its blocks must be the dyadic blocks of its samples.
@@ -137,12 +145,15 @@ PartFile read_part(const std::string& path) {
             throw std::runtime_error(path + ": bad header: block " + std::to_string(b) +
                                      " is not a block of its samples");
     }
-    const size_t doubles = 6 * p.pixels() * blocks;
-    const size_t body = end + 6;
-    const size_t want = body + doubles * sizeof(double) + sizeof(uint64_t);
-    if (data.size() != want)
+    // The size its header announces: 6 doubles per pixel and block after the header, then the
+    // checksum. A tile of up to 2^62 pixels could wrap that product: compared by division first.
+    const size_t body = end + 6, pixel_bytes = 6 * sizeof(double) * blocks;
+    const bool fits = p.pixels() <= (SIZE_MAX - body - sizeof(uint64_t)) / pixel_bytes;
+    const size_t want = fits ? body + p.pixels() * pixel_bytes + sizeof(uint64_t) : 0;
+    if (!fits || data.size() != want)
         throw std::runtime_error(path + ": truncated: " + std::to_string(data.size()) + " bytes, " +
-                                 "its header announces " + std::to_string(want));
+                                 "its header announces " +
+                                 (fits ? std::to_string(want) : "more than 2^64"));
     uint64_t check = 0;
     std::memcpy(&check, data.data() + data.size() - sizeof check, sizeof check);
     if (check != fnv1a(data.substr(0, data.size() - sizeof check)))

@@ -24,7 +24,8 @@ void add_render_options(CLI::App& app, RenderOptions& o, const std::string& spp_
                         const std::string& group) {
     app.add_option("--width", o.width, "image width in pixels")->type_name("N")->group(group);
     app.add_option("--height", o.height, "image height in pixels")->type_name("N")->group(group);
-    app.add_option("--depth", o.max_depth, "recursion depth of camera rays (>= 1)")
+    app.add_option("--depth", o.max_depth,
+                   "recursion depth of camera rays (1 to " + std::to_string(rt::kMaxDepth) + ")")
         ->type_name("N")
         ->group(group);
     app.add_option("--cutoff", o.cutoff, "skip child rays whose path weight is below X")
@@ -83,9 +84,14 @@ void add_scene_options(CLI::App& app, RenderOptions& o, bool with_dialect,
         ->type_name("M")
         ->transform(CLI::IsMember({"error", "checker"}, CLI::ignore_case))
         ->group(group);
-    app.add_option("--max-pixels", o.max_pixels,
-                   "the largest image in pixels (the render, a texture, a reference);\n"
-                   "larger ones are refused before anything is allocated")
+    add_max_pixels_option(app, o.max_pixels, "the render, a texture, a reference", group);
+}
+
+void add_max_pixels_option(CLI::App& app, uint64_t& max_pixels, const std::string& images,
+                           const std::string& group) {
+    app.add_option("--max-pixels", max_pixels,
+                   "the largest image in pixels (" + images +
+                       ");\nlarger ones are refused before anything is allocated")
         ->type_name("N")
         ->check(kNoMinus)
         ->group(group);
@@ -117,7 +123,8 @@ void validate_render_options(const RenderOptions& o) {
         throw UsageError("--width x --height: an image of " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " pixels is larger than the budget of " +
                          std::to_string(o.max_pixels) + " pixels; --max-pixels raises it");
-    if (o.max_depth < 1) throw UsageError("--depth must be at least 1");
+    if (o.max_depth < 1 || o.max_depth > rt::kMaxDepth)
+        throw UsageError("--depth must be between 1 and " + std::to_string(rt::kMaxDepth));
     if (!(o.cutoff >= 0.0)) throw UsageError("--cutoff must not be negative");
     if (o.spp < 1) throw UsageError("--spp must be at least 1");
     if (o.light_samples < 1 || o.light_samples > kMaxLightSamples)

@@ -40,6 +40,11 @@ void add_render_options(CLI::App& app, RenderOptions& o, const std::string& spp_
 void add_scene_options(CLI::App& app, RenderOptions& o, bool with_dialect,
                        const std::string& group = "Options");
 
+/// --max-pixels N, the image budget, into `max_pixels`; `images` says which images it bounds
+/// (add_scene_options adds it; raymerge, which loads no scene, takes it alone).
+void add_max_pixels_option(CLI::App& app, uint64_t& max_pixels, const std::string& images,
+                           const std::string& group = "Options");
+
 /// The progressive features (--light-radius --aperture --focus-distance --roughness), in their
 /// own help group.
 void add_feature_options(CLI::App& app, RenderOptions& o);

@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "part_file.h"
 #include "raytrace/output.h"
+#include "render_options.h"
 #include "rt/render/render.h"
 
 namespace {
@@ -38,7 +39,7 @@ int merge(const std::string& out, const std::vector<std::string>& paths, bool qu
     try {
         for (const std::string& p : paths) parts.push_back(rtapp::read_part(p));
     } catch (const std::exception& e) {
-        std::cerr << "raymerge: error: " << e.what() << "\n";
+        std::cerr << "raymerge: error: " << rtapp::error_text(e, "reading the parts") << "\n";
         return 1;
     }
     for (size_t i = 1; i < parts.size(); ++i) {
@@ -57,7 +58,7 @@ int merge(const std::string& out, const std::vector<std::string>& paths, bool qu
         std::cerr << "raymerge: error: the parts do not cover the image once: " << e.what() << "\n";
         return 1;
     } catch (const std::exception& e) {
-        std::cerr << "raymerge: error: " << e.what() << "\n";
+        std::cerr << "raymerge: error: " << rtapp::error_text(e, "merging the parts") << "\n";
         return 1;
     }
     if (!quiet)
@@ -74,11 +75,13 @@ int main(int argc, char** argv) {
     std::string out;
     std::vector<std::string> parts;
     bool quiet = false;
+    uint64_t max_pixels = rt::kDefaultMaxImagePixels;
     app.add_option("-o,--output", out, "the image: .png .bmp .ppm (8-bit) or .pfm (float)")
         ->type_name("FILE")
         ->required();
     app.add_option("parts", parts, "the part files")->type_name("PART")->required();
     app.add_flag("-q,--quiet", quiet, "print errors only");
+    rtapp::add_max_pixels_option(app, max_pixels, "the image the parts make");
     app.footer(
         "exit status: 0 success, 1 a part refused or the output not written, 2 usage error.");
     try {
@@ -91,5 +94,10 @@ int main(int argc, char** argv) {
                   << "' (use .png, .bmp, .ppm or .pfm)\n";
         return 2;
     }
+    if (max_pixels < 1) {
+        std::cerr << "raymerge: --max-pixels must be at least 1\n";
+        return 2;
+    }
+    rt::set_max_image_pixels(max_pixels);  // parts of a larger image are refused as they are read
     return merge(out, parts, quiet);
 }

@@ -3,9 +3,11 @@
 // files appear only when everything succeeded.
 #include <cstdio>
 #include <iostream>
+#include <new>
 #include <optional>
 #include <utility>
 
+#include "cli.h"
 #include "frames.h"
 #include "options.h"
 #include "output.h"
@@ -52,6 +54,10 @@ std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* des
     } catch (const rt::SceneError& e) {
         print_warnings();
         std::cerr << e.what() << "\n";
+        return std::nullopt;
+    } catch (const std::bad_alloc& e) {
+        print_warnings();
+        std::cerr << "raytrace: error: " << rtapp::error_text(e, "loading " + opt.scene) << "\n";
         return std::nullopt;
     }
 }
@@ -171,7 +177,7 @@ int main(int argc, char** argv) {
     try {
         return run(opt);
     } catch (const std::exception& e) {
-        std::cerr << "raytrace: error: " << e.what() << "\n";
+        std::cerr << "raytrace: error: " << rtapp::error_text(e, "rendering " + opt.scene) << "\n";
         return 1;
     }
 }

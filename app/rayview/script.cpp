@@ -149,7 +149,7 @@ bool run_edit(const ScriptLine& l, ViewerState& v) {
     } else if (c == "shadows") {
         v.settings.render.shadows = on(l);
     } else if (c == "depth") {
-        v.settings.render.max_depth = whole(l, 0, 1, 64);
+        v.settings.render.max_depth = whole(l, 0, 1, kMaxDepth);
     } else if (c == "threads") {
         v.settings.render.threads = whole(l, 0, 0, 256);
     } else if (c == "target-error") {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "cli.h"
 #include "frames.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
@@ -205,7 +206,7 @@ std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* er
         }
         return s;
     } catch (const std::exception& e) {
-        *error = e.what();
+        *error = rtapp::error_text(e, "loading " + path);
         return nullptr;
     }
 }
@@ -219,12 +220,12 @@ int render_headless(const std::string& path, MissingTextures missing,
         return 1;
     }
     const std::string out = std::filesystem::path(path).stem().string() + ".png";
-    RenderState state;
-    render_samples(state, s->scene, make_render_plan(s->scene, settings), settings, spp);
     try {
+        RenderState state;
+        render_samples(state, s->scene, make_render_plan(s->scene, settings), settings, spp);
         save_image(state.image(), out);
     } catch (const std::exception& e) {
-        std::cerr << "rayview: error: " << e.what() << "\n";
+        std::cerr << "rayview: error: " << rtapp::error_text(e, "rendering " + path) << "\n";
         return 1;
     }
     std::printf("rayview: rendered %s headless (%dx%d, %d spp) to %s\n", path.c_str(),

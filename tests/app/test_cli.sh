@@ -32,6 +32,9 @@ check "no temporary left" test ! -e "$tmp/bad.png.part"
 
 "$rt" "$tmp/ok.ray" --width 0 -o "$tmp/x.png" >/dev/null 2>&1
 check "bad width exits 2" test $? -eq 2
+"$rt" "$tmp/ok.ray" --depth 30000 -o "$tmp/x.png" >/dev/null 2>"$tmp/usage.txt"
+check "a depth beyond the maximum exits 2" test $? -eq 2
+check "and names the maximum" grep -q "^raytrace: --depth must be between 1 and 256" "$tmp/usage.txt"
 "$rt" "$tmp/ok.ray" --bogus >/dev/null 2>"$tmp/usage.txt"
 check "unknown option exits 2" test $? -eq 2
 check "unknown option message" grep -q "^raytrace: .*--bogus" "$tmp/usage.txt"
@@ -213,5 +216,15 @@ not_regular "a FIFO included" "include.ray:1:11: error: cannot read ray file '$t
 not_regular "a FIFO key file" "key.ray:1:11: error: cannot read key file '$tmp/fifo/k.key': '$tmp/fifo/k.key' is a FIFO, not a regular file" "$tmp/fifo/key.ray"
 not_regular "a FIFO texture" "texture.ray:1:10: error: cannot decode texture '$tmp/fifo/t.bmp': '$tmp/fifo/t.bmp' is a FIFO, not a regular file" "$tmp/fifo/texture.ray"
 not_regular "a FIFO --reference" "--reference: '$tmp/fifo/ref.pfm' is a FIFO, not a regular file" "$tmp/ok.ray" --progressive --spp 2 --reference "$tmp/fifo/ref.pfm"
+
+# Out of memory (the address space capped at 1 GB; not under AddressSanitizer, which needs more):
+# said so, exit 1, no output, not a bare std::bad_alloc.
+if ! grep -q __asan_init "$rt"; then
+    (ulimit -v 1000000 && exec "$rt" "$tmp/ok.ray" --width 20000 --height 20000 \
+        --max-pixels 400000000 -q -o "$tmp/oom.png") >/dev/null 2>"$tmp/oom.txt"
+    check "out of memory exits 1" test $? -eq 1
+    check "out of memory says so" grep -qxF "raytrace: error: out of memory while rendering $tmp/ok.ray" "$tmp/oom.txt"
+    check "out of memory: no output" test ! -e "$tmp/oom.png"
+fi
 
 summary "with the bad-input checks"

@@ -97,6 +97,7 @@ TEST(Options, UsageErrorsThrow) {
         {"a.ray", "--width", "0"},
         {"a.ray", "--height", "40000"},
         {"a.ray", "--depth", "0"},
+        {"a.ray", "--depth", "257"},
         {"a.ray", "--cutoff", "-1"},
         {"a.ray", "--spp", "0"},
         {"a.ray", "--light-samples", "0"},

@@ -87,6 +87,7 @@ TEST(RunOptions, BadValuesAreUsageErrors) {
     for (const std::vector<std::string>& bad : {std::vector<std::string>{"--width", "0"},
                                                 {"--spp", "0"},
                                                 {"--depth", "0"},
+                                                {"--depth", "30000"},
                                                 {"--threads", "300"},
                                                 {"--light-radius", "-1"},
                                                 {"--target-error", "nan"},

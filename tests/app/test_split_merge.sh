@@ -2,8 +2,8 @@
 # Split renders end to end (issue 16): raytrace -o NAME.part with --tile and --samples, merged by
 # raymerge, equals the one-process render bit for bit (.pfm compared byte for byte) for several
 # split shapes, an instanced scene and an animation frame; every refused part (corrupt,
-# truncated, another scene, other settings, overlapping or missing coverage) gets its message
-# and no output file.
+# truncated, another scene, other settings, overlapping or missing coverage, an image beyond
+# --max-pixels) gets its message and no output file.
 # usage: test_split_merge.sh RAYTRACE RAYMERGE SOURCE_DIR
 set -u
 rt="$1"
@@ -67,6 +67,23 @@ refused "other settings" "depth2.part was rendered with other settings" "$tmp/ti
 refused "overlapping parts" "is in two parts ($tmp/tiles-1.part and $tmp/tiles-1.part)" "$tmp/tiles-0.part" "$tmp/tiles-1.part" "$tmp/tiles-2.part" "$tmp/tiles-1.part"
 refused "missing tile" "pixel (30, 20): samples 0..5 are in no part" "$tmp/tiles-0.part" "$tmp/tiles-1.part"
 refused "missing samples" "samples 4..5 are in no part" "$tmp/samples-0.part" "$tmp/samples-1.part"
+# A part of a 32768 x 32768 image (one pixel of it): refused by the size of its image before
+# anything is allocated (merging made the whole image first, 8.2 GB); --max-pixels is the budget.
+"$rt" "$show" --width 32768 --height 32768 --max-pixels 1073741824 --tile 0,0,1,1 -q \
+    -o "$tmp/huge.part"
+refused "an image beyond the budget" "huge.part: its image of 32768x32768 pixels (1073741824) is larger than the budget of 67108864 pixels" "$tmp/huge.part"
+refused "--max-pixels" "tiles-0.part: its image of 61x45 pixels (2745) is larger than the budget of 2000 pixels" --max-pixels 2000 "$tmp"/tiles-?.part
+"$merge" -o "$tmp/x.png" --max-pixels 0 "$tmp/tiles-0.part" >/dev/null 2>&1
+check "--max-pixels 0 exits 2" test $? -eq 2
+# The budget raised beyond the memory there is (the address space capped at 1 GB; not under
+# AddressSanitizer, which needs more): out of memory, said so, not a bare std::bad_alloc.
+if ! grep -q __asan_init "$merge"; then
+    (ulimit -v 1000000 && exec "$merge" -o "$tmp/x.png" --max-pixels 1073741824 "$tmp/huge.part") \
+        >/dev/null 2>"$tmp/oom.txt"
+    check "out of memory: exit 1" test $? -eq 1
+    check "out of memory: message" grep -qx "raymerge: error: out of memory while merging the parts" \
+        "$tmp/oom.txt"
+fi
 
 # raytrace's usage errors for splits.
 "$rt" "$show" --tile 0,0,10,10 -o "$tmp/x.png" >/dev/null 2>"$tmp/u.txt"

@@ -1,6 +1,7 @@
 // The .key file grammar (spec §14.1) and the binding of a joint's name to a DOF of its file's key
 // files (spec §14.2). Every key is kept: the scene description holds one KeyTrack per bound DOF,
 // and a joint's matrix is its key 0 as read (the static render of spec §14.7).
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -40,12 +41,13 @@ KeyFile ParserBase::parse_key_file(const std::string& text, const std::string& p
     if (n <= 0) fail(nloc, "#DOFS must be >= 1, got " + std::to_string(n));
     for (int i = 0; i < n; ++i) {
         const Token nt = k.lex.peek();
-        key.names.push_back(word(k, dofs, "a DOF name", true));
-        key.name_locs.push_back(k.lex.loc(nt));
+        std::string name = word(k, dofs, "a DOF name", true);
         // Spec §14.1: names equal as strings are an error; differing only in case is allowed.
-        for (int j = 0; j < i; ++j)
-            if (key.names[static_cast<size_t>(j)] == key.names.back())
-                fail(k, nt, "duplicate DOF name " + quote(key.names.back()));
+        if (!key.by_name.try_emplace(name, key.names.size()).second)
+            fail(k, nt, "duplicate DOF name " + quote(name));
+        key.by_lower_name[lower(name)].push_back(key.names.size());
+        key.names.push_back(std::move(name));
+        key.name_locs.push_back(k.lex.loc(nt));
     }
     const Token dur = expect("#DURATION");
     const Token dur_tok = k.lex.peek();
@@ -57,14 +59,20 @@ KeyFile ParserBase::parse_key_file(const std::string& text, const std::string& p
     if (nf <= 0) fail(floc, "#FRAMES must be >= 1, got " + std::to_string(nf));
     if (16LL * n * nf > 1LL << 31)
         fail(floc, "key file too large: " + expected_count(n, nf) + " numbers");
-    key.keys.assign(static_cast<size_t>(n), std::vector<Mat4>(static_cast<size_t>(nf)));
+    // Keys are added as they are read, each DOF's room reserved for no more frames than the rest
+    // of the text can hold (a key is 16 numbers of at least 2 bytes each): a #FRAMES larger than
+    // the file allocates nothing before the file runs out.
+    const size_t frames_that_fit = (k.lex.remaining() + 1) / (32 * static_cast<size_t>(n));
+    key.keys.resize(static_cast<size_t>(n));
+    for (std::vector<Mat4>& dof_keys : key.keys)
+        dof_keys.reserve(std::min(static_cast<size_t>(nf), frames_that_fit));
     key.track.assign(static_cast<size_t>(n), -1);
     long long read = 0;
     int not_affine = 0, singular = 0;
     SourceLoc first_not_affine, first_singular;
     for (int fr = 0; fr < nf; ++fr) {
         for (int j = 0; j < n; ++j) {
-            Mat4& m = key.keys[static_cast<size_t>(j)][static_cast<size_t>(fr)];
+            Mat4& m = key.keys[static_cast<size_t>(j)].emplace_back();
             const SourceLoc first = k.lex.loc(k.lex.peek());
             for (int i = 0; i < 16; ++i, ++read) {
                 const Token t = k.lex.next();
@@ -122,14 +130,17 @@ int ParserBase::bind_dof(FileState& f, const Token& nt, const std::string& name)
     size_t dof = 0;
     const std::string key = lower(name);
     for (KeyFile& k : f.key_files) {
+        // The exact match, else every DOF that matches ignoring case (`here` the last of them).
         std::vector<size_t> similar;
-        size_t here = k.names.size();
-        for (size_t j = 0; j < k.names.size() && here == k.names.size(); ++j)
-            if (k.names[j] == name) here = j;
-        if (here == k.names.size())
-            for (size_t j = 0; j < k.names.size(); ++j)
-                if (lower(k.names[j]) == key) similar.push_back(j), here = j;
-        if (here == k.names.size()) continue;
+        size_t here = 0;
+        if (const auto exact = k.by_name.find(name); exact != k.by_name.end()) {
+            here = exact->second;
+        } else if (const auto folded = k.by_lower_name.find(key); folded != k.by_lower_name.end()) {
+            similar = folded->second;
+            here = similar.back();
+        } else {
+            continue;
+        }
         if (hit) {
             warn(f.lex.loc(nt), "dof-repeat",
                  "DOF " + quote(k.names[here]) + " is also in " + quote(k.named) +

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "format/lexer.h"
@@ -70,6 +71,10 @@ struct KeyFile {
     std::vector<SourceLoc> name_locs;     // where each name is
     std::vector<std::vector<Mat4>> keys;  // [dof][frame]
     std::vector<int> track;               // [dof]: index into SceneDesc::tracks, or -1
+    // The DOFs by name, so binding a joint is one look-up, not a scan of every name: exactly as
+    // written, and with ASCII case ignored (lower case; every DOF of that name, in file order).
+    std::unordered_map<std::string, size_t> by_name;
+    std::unordered_map<std::string, std::vector<size_t>> by_lower_name;
 };
 
 // One open construct of a V3 shapes part (spec §13.5). The parser keeps them on an explicit

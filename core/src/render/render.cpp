@@ -43,8 +43,10 @@ int resolve_thread_count(int threads) {
 
 namespace {
 
-// A plan's camera is made for one image size: rendering another would map its pixels wrongly.
-void check_plan_size(const RenderPlan& plan, const RenderSettings& settings) {
+// The settings of a render, before any work: a depth within kMaxDepth, and the plan's image size
+// (a plan's camera is made for one size: rendering another would map its pixels wrongly).
+void check_settings(const RenderPlan& plan, const RenderSettings& settings) {
+    check_depth(settings.max_depth);
     if (plan.camera.width != settings.width || plan.camera.height != settings.height)
         throw std::invalid_argument("render plan made for " + std::to_string(plan.camera.width) +
                                     "x" + std::to_string(plan.camera.height) + ", rendered at " +
@@ -240,7 +242,7 @@ std::vector<RenderPart> tile_parts(int width, int height, int tile_w, int tile_h
 bool render_part(RenderPart& part, const RenderScene& scene, const RenderPlan& plan,
                  const RenderSettings& settings, const ProgressFn& progress,
                  const std::atomic<bool>* stop) {
-    check_plan_size(plan, settings);
+    check_settings(plan, settings);
     if (part.x0 < 0 || part.y0 < 0 || part.x1 > settings.width || part.y1 > settings.height ||
         part.x0 >= part.x1 || part.y0 >= part.y1)
         throw std::invalid_argument("the part's pixels lie outside the image");
@@ -433,7 +435,7 @@ RenderState merge_parts(const std::vector<const RenderPart*>& parts, int width, 
 
 Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
                     const RenderSettings& settings, int block, const std::atomic<bool>* stop) {
-    check_plan_size(plan, settings);
+    check_settings(plan, settings);
     block = std::max(1, block);
     Image img(settings.width, settings.height);
     RayCounters rays;
@@ -456,7 +458,7 @@ Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
 bool render_samples(RenderState& state, const RenderScene& scene, const RenderPlan& plan,
                     const RenderSettings& settings, int spp, const ProgressFn& progress,
                     const std::atomic<bool>* stop) {
-    check_plan_size(plan, settings);
+    check_settings(plan, settings);
     if (state.width != settings.width || state.height != settings.height)
         state.reset(settings.width, settings.height);
     if (spp <= 0) return true;

@@ -1,6 +1,8 @@
 #include "rt/render/shading.h"
 
 #include <array>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "rt/render/plan.h"
@@ -388,8 +390,15 @@ const ShadingVariant& shading_variant(uint32_t shade_variant) {
     return kTraceVariants[shade_variant & kShadeAll];
 }
 
+void check_depth(int depth) {
+    if (depth > kMaxDepth)
+        throw std::invalid_argument("ray depth " + std::to_string(depth) +
+                                    " is more than the maximum, " + std::to_string(kMaxDepth));
+}
+
 Vec3 trace_ray(const RenderScene& scene, const RenderPlan& plan, const RenderSettings& settings,
                const Ray& ray, int depth, const Vec3& weight, RayCounters& counters, Rng* rng) {
+    check_depth(depth);  // each level nests a call: bounded, so the stack is
     return plan.shading->trace(scene, plan, settings, ray, depth, weight, counters, rng);
 }
 

@@ -22,7 +22,7 @@ namespace rt {
 struct RenderSettings {
     int width = 640;
     int height = 480;
-    int max_depth = 5;
+    int max_depth = 5;  // at most kMaxDepth (rt/render/shading.h)
     double cutoff = 0.001;
     bool shadows = true;
     int threads = 0;  // 0: all cores
