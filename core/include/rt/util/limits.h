@@ -19,7 +19,7 @@ void set_max_image_pixels(uint64_t pixels);
 
 /// Empty when a `width` x `height` image fits the budget, else why not, naming the size and the
 /// flag that raises it: "<what> of 32768x32768 pixels (1073741824) is larger than the budget of
-/// 67108864 pixels (8192x8192; --max-pixels raises it)". No overflow for any 64-bit input.
+/// 67108864 pixels (8192x8192); --max-pixels raises it". No overflow for any 64-bit input.
 std::string image_size_error(uint64_t width, uint64_t height, const std::string& what);
 
 }  // namespace rt
