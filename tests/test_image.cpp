@@ -597,5 +597,32 @@ TEST(ImageDecode, BadBmpFieldsAreNamed) {
     EXPECT_EQ(decode_error("GIF89a"), "not a BMP, PNG, JPEG or PPM/PGM file");
 }
 
+// Issue 29: 30 #texture lines naming one 8192x8192 PNG decoded it 30 times (4 GB).
+TEST(ImageDecode, ATextureFileIsDecodedOncePerScene) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(::testing::TempDir()) / "rt_texture_cache";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "sub");
+    std::ofstream(dir / "tex.bmp", std::ios::binary) << fixture("grid.bmp");
+    fs::create_symlink("tex.bmp", dir / "link.bmp");
+    std::string top, inc;
+    for (int i = 0; i < 30; ++i)
+        top += "#texture " + std::string(i % 2 ? "tex.bmp\n" : "./tex.bmp\n");
+    top += "#texture sub/../link.bmp\n#ray_file inc.ray\n";
+    std::ofstream(dir / "top.ray") << top;
+    std::ofstream(dir / "sub" / "inc.ray") << "#texture ../tex.bmp\n";
+    std::ofstream(dir / "inc.ray") << "#texture tex.bmp\n";
+    Diagnostics diag;
+    const SceneDesc s = parse_scene_file((dir / "top.ray").string(), diag);
+    ASSERT_EQ(s.files.size(), 2u);
+    ASSERT_EQ(s.files[0].textures.size(), 31u);
+    const TextureImage* first = s.files[0].textures[0].image.get();
+    ASSERT_NE(first, nullptr);
+    EXPECT_EQ(first->width, 16);
+    for (const TextureDesc& t : s.files[0].textures) EXPECT_EQ(t.image.get(), first) << t.path;
+    EXPECT_EQ(s.files[1].textures[0].image.get(), first);
+    fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace rt
