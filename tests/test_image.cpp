@@ -416,6 +416,20 @@ TEST(ImageDecode, AHuffmanTableBeyondItsCodeSpaceIsAnError) {
     std::filesystem::remove(path);
 }
 
+// Found by fuzz_image: a scan using an AC table the file never defined (stb decoded with its
+// uninitialised memory). libjpeg says so too.
+TEST(ImageDecode, AScanUsingAnUndefinedHuffmanTableIsAnError) {
+    std::string jpeg;
+    ASSERT_TRUE(read_file(
+        std::string(RT_SOURCE_DIR) + "/tests/fuzz/crashers/image/jpeg_undefined_ac_table.jpg",
+        &jpeg));
+    TextureImage t;
+    std::string error;
+    EXPECT_FALSE(decode_png_jpeg_stb(jpeg, &t, &error));
+    EXPECT_EQ(error, "JPEG scan using a Huffman table it has not defined");
+    EXPECT_FALSE(decode_error(jpeg).empty());
+}
+
 TEST(ImageDecode, TruncatedFilesAreErrorsNotGarbage) {
     // Half of each file, and each cut just before its end (PNG's IEND, JPEG's EOI, the binary
     // formats' last pixel; an ASCII file cut in its last number still holds a number).

@@ -3,7 +3,8 @@
 // counts sum past 256 writes out of bounds in stbi__build_huffman), so stb only ever sees a file
 // that passed checks of ours first: its structure walked (PNG: every chunk's length and CRC, the
 // IHDR first and the IEND last; JPEG: every segment's length, every Huffman table's counts
-// against the code space, a frame before the first scan and the EOI at the end) and its size
+// against the code space, a frame before the first scan, every table a scan uses defined and the
+// EOI at the end) and its size
 // checked against the budget. stb is built for PNG and JPEG only, from memory only. Compiled in
 // every build, so that the fuzz target exercises it on the desktop too.
 #include <array>
@@ -78,10 +79,13 @@ bool check_png(std::string_view d, uint32_t* w, uint32_t* h, std::string* error)
 // ---- JPEG
 // ----------------------------------------------------------------------------------------
 
+// The Huffman tables a file has defined so far: [class: 0 DC, 1 AC][slot].
+using HuffmanTables = std::array<std::array<bool, 4>, 2>;
+
 // One DHT segment's tables: class and slot in range, each table's 16 counts within the code space
 // (at most 2^n codes of n bits, less those taken by shorter codes; so at most 256 symbols in
 // all, the bound stbi__build_huffman needs) and its symbols within the segment.
-bool check_dht(std::string_view seg, std::string* error) {
+bool check_dht(std::string_view seg, HuffmanTables* defined, std::string* error) {
     size_t pos = 0;
     while (pos < seg.size()) {
         if (seg.size() - pos < 17) return fail(error, "truncated JPEG Huffman table");
@@ -97,7 +101,25 @@ bool check_dht(std::string_view seg, std::string* error) {
         }
         if (symbols > 256 || seg.size() - pos - 17 < symbols)
             return fail(error, "bad JPEG Huffman table of " + std::to_string(symbols) + " symbols");
+        (*defined)[tc >> 4][tc & 15] = true;
         pos += 17 + symbols;
+    }
+    return true;
+}
+
+// A scan header (SOS): its length right, and every table it uses defined before it (stb decodes
+// with a table that was never defined from uninitialised memory): the DC tables when the scan
+// holds the DC coefficients (Ss = 0), the AC tables when it holds AC ones (Se > 0).
+bool check_sos(std::string_view seg, const HuffmanTables& defined, std::string* error) {
+    if (seg.empty()) return fail(error, "bad JPEG scan header");
+    const size_t n = static_cast<uint8_t>(seg[0]);
+    if (n < 1 || n > 4 || seg.size() != 1 + 2 * n + 3) return fail(error, "bad JPEG scan header");
+    const bool dc = seg[1 + 2 * n] == 0, ac = seg[2 + 2 * n] != 0;
+    for (size_t c = 0; c < n; ++c) {
+        const auto tables = static_cast<uint8_t>(seg[2 + 2 * c]);
+        const size_t td = tables >> 4, ta = tables & 15;
+        if (td > 3 || ta > 3 || (dc && !defined[0][td]) || (ac && !defined[1][ta]))
+            return fail(error, "JPEG scan using a Huffman table it has not defined");
     }
     return true;
 }
@@ -120,6 +142,7 @@ size_t skip_scan(std::string_view d, size_t pos) {
 bool check_jpeg(std::string_view d, uint32_t* w, uint32_t* h, std::string* error) {
     size_t pos = 2;  // after the SOI
     bool frame = false;
+    HuffmanTables defined{};
     for (;;) {
         while (pos < d.size() && static_cast<uint8_t>(d[pos]) != 0xFF) ++pos;  // as stb skips
         while (pos + 1 < d.size() && static_cast<uint8_t>(d[pos + 1]) == 0xFF) ++pos;  // fill
@@ -135,7 +158,7 @@ bool check_jpeg(std::string_view d, uint32_t* w, uint32_t* h, std::string* error
             return fail(error, "truncated JPEG: a segment of " + std::to_string(length) +
                                    " bytes at offset " + std::to_string(pos));
         const std::string_view seg = d.substr(pos + 2, length - 2);
-        if (m == 0xC4 && !check_dht(seg, error)) return false;
+        if (m == 0xC4 && !check_dht(seg, &defined, error)) return false;
         if (is_sof(m)) {
             if (frame) return fail(error, "JPEG file with two frames");
             if (seg.size() < 6) return fail(error, "bad JPEG frame header");
@@ -146,6 +169,7 @@ bool check_jpeg(std::string_view d, uint32_t* w, uint32_t* h, std::string* error
         pos += length;
         if (m == 0xDA) {  // SOS: the entropy-coded data follows
             if (!frame) return fail(error, "JPEG scan before its frame header");
+            if (!check_sos(seg, defined, error)) return false;
             pos = skip_scan(d, pos);
             if (pos == std::string_view::npos) return fail(error, "truncated JPEG (no EOI)");
         }
