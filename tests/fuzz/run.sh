@@ -84,7 +84,7 @@ if [ "$secs" != "-" ]; then limit=(-max_total_time="$secs"); fi
 status=0
 for t in "${targets[@]}"; do
     seeds "$t"
-    echo "fuzz: $t: $(ls "$work/$t/seeds" | wc -l) seeds, ${secs}s" >&2
+    echo "fuzz: $t: $(find "$work/$t/seeds" -type f | wc -l) seeds, ${secs}s" >&2
     # Absolute paths: the targets work in their own temporary directories.
     # shellcheck disable=SC2046
     "$dir/tests/fuzz/fuzz_$t" "$work/$t/new" "$work/$t/seeds" "${limit[@]}" $(options "$t") \
