@@ -571,6 +571,21 @@ TEST(ImageDecode, ExrFromMemoryEqualsTheFile) {
     }
 }
 
+// Found by fuzz_image: OpenEXR allocated the 1.8 GB a string attribute declared before reading it.
+TEST(ImageDecode, AnExrAttributeLongerThanTheFileIsRefused) {
+    std::string exr;
+    ASSERT_TRUE(read_file(
+        std::string(RT_SOURCE_DIR) + "/tests/fuzz/crashers/image/exr_huge_string_attribute.exr",
+        &exr));
+    try {
+        decode_exr(exr);
+        ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "EXR attribute 'writer' of 1811939328 bytes beyond the file's end");
+    }
+}
+
 // Issue 29: a FIFO named as a texture or a reference blocked the reader forever.
 TEST(ImageDecode, AFifoIsRefusedWithoutWaiting) {
     const std::string fifo = ::testing::TempDir() + "/rt_image_fifo.pfm";
