@@ -419,15 +419,17 @@ TEST(ImageDecode, AHuffmanTableBeyondItsCodeSpaceIsAnError) {
 // Found by fuzz_image: a scan using an AC table the file never defined (stb decoded with its
 // uninitialised memory). libjpeg says so too.
 TEST(ImageDecode, AScanUsingAnUndefinedHuffmanTableIsAnError) {
-    std::string jpeg;
-    ASSERT_TRUE(read_file(
-        std::string(RT_SOURCE_DIR) + "/tests/fuzz/crashers/image/jpeg_undefined_ac_table.jpg",
-        &jpeg));
-    TextureImage t;
-    std::string error;
-    EXPECT_FALSE(decode_png_jpeg_stb(jpeg, &t, &error));
-    EXPECT_EQ(error, "JPEG scan using a Huffman table it has not defined");
-    EXPECT_FALSE(decode_error(jpeg).empty());
+    // The second: a baseline frame's scan of Ss = Se = 0, whose AC table stb uses all the same.
+    for (const char* name : {"jpeg_undefined_ac_table.jpg", "jpeg_baseline_dc_only_scan.jpg"}) {
+        std::string jpeg;
+        ASSERT_TRUE(
+            read_file(std::string(RT_SOURCE_DIR) + "/tests/fuzz/crashers/image/" + name, &jpeg));
+        TextureImage t;
+        std::string error;
+        EXPECT_FALSE(decode_png_jpeg_stb(jpeg, &t, &error)) << name;
+        EXPECT_EQ(error, "JPEG scan using a Huffman table it has not defined") << name;
+        EXPECT_FALSE(decode_error(jpeg).empty()) << name;
+    }
 }
 
 TEST(ImageDecode, TruncatedFilesAreErrorsNotGarbage) {

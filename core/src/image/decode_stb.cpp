@@ -108,13 +108,17 @@ bool check_dht(std::string_view seg, HuffmanTables* defined, std::string* error)
 }
 
 // A scan header (SOS): its length right, and every table it uses defined before it (stb decodes
-// with a table that was never defined from uninitialised memory): the DC tables when the scan
-// holds the DC coefficients (Ss = 0), the AC tables when it holds AC ones (Se > 0).
-bool check_sos(std::string_view seg, const HuffmanTables& defined, std::string* error) {
+// with a table that was never defined from uninitialised memory): both tables in a sequential
+// frame (stb decodes all 64 coefficients whatever the scan's Ss and Se say); in a progressive
+// one the DC tables when the scan holds the DC coefficients (Ss = 0), the AC tables when it
+// holds AC ones (Se > 0).
+bool check_sos(std::string_view seg, bool progressive, const HuffmanTables& defined,
+               std::string* error) {
     if (seg.empty()) return fail(error, "bad JPEG scan header");
     const size_t n = static_cast<uint8_t>(seg[0]);
     if (n < 1 || n > 4 || seg.size() != 1 + 2 * n + 3) return fail(error, "bad JPEG scan header");
-    const bool dc = seg[1 + 2 * n] == 0, ac = seg[2 + 2 * n] != 0;
+    const bool dc = !progressive || seg[1 + 2 * n] == 0;
+    const bool ac = !progressive || seg[2 + 2 * n] != 0;
     for (size_t c = 0; c < n; ++c) {
         const auto tables = static_cast<uint8_t>(seg[2 + 2 * c]);
         const size_t td = tables >> 4, ta = tables & 15;
@@ -141,7 +145,7 @@ size_t skip_scan(std::string_view d, size_t pos) {
 // frame's size read (one frame, before the first scan).
 bool check_jpeg(std::string_view d, uint32_t* w, uint32_t* h, std::string* error) {
     size_t pos = 2;  // after the SOI
-    bool frame = false;
+    bool frame = false, progressive = false;
     HuffmanTables defined{};
     for (;;) {
         while (pos < d.size() && static_cast<uint8_t>(d[pos]) != 0xFF) ++pos;  // as stb skips
@@ -163,13 +167,14 @@ bool check_jpeg(std::string_view d, uint32_t* w, uint32_t* h, std::string* error
             if (frame) return fail(error, "JPEG file with two frames");
             if (seg.size() < 6) return fail(error, "bad JPEG frame header");
             frame = true;
+            progressive = m == 0xC2 || m == 0xC6 || m == 0xCA || m == 0xCE;
             *h = be16(seg, 1);
             *w = be16(seg, 3);
         }
         pos += length;
         if (m == 0xDA) {  // SOS: the entropy-coded data follows
             if (!frame) return fail(error, "JPEG scan before its frame header");
-            if (!check_sos(seg, defined, error)) return false;
+            if (!check_sos(seg, progressive, defined, error)) return false;
             pos = skip_scan(d, pos);
             if (pos == std::string_view::npos) return fail(error, "truncated JPEG (no EOI)");
         }
