@@ -4,9 +4,10 @@
 set -euo pipefail
 
 # Required to build the core, the CLIs and the tests (CLI11 parses the programs' options, OpenEXR
-# writes .exr images, help2man writes the man pages from --help).
+# writes .exr images, libpng and libjpeg-turbo decode PNG and JPEG textures, stb writes PNG and
+# BMP and decodes PNG and JPEG on the web page, help2man writes the man pages from --help).
 required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev libcli11-dev
-    libopenexr-dev help2man)
+    libopenexr-dev libpng-dev libjpeg-dev help2man)
 # Optional: Ninja schedules builds better than make (scripts/test.sh uses it when it is there).
 # Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa and Xvfb
 # are for the viewer and its headless GL tests.

@@ -3,11 +3,12 @@
 # and runs every test, the page's in headless Chromium among them; then the
 # unit tests, the fuzz crasher corpus, the CLI test and the viewer's chaos test (500 random
 # scripted events) again under AddressSanitizer and UndefinedBehaviorSanitizer (build-san/, any
-# finding fails, no GL tests), then one minute of fuzzing the parser and compiler in that same
-# tree, then the viewer's tests (the trace restarted 1000 times with edits) under
-# ThreadSanitizer (build-tsan/). With clang and libFuzzer the sanitizer tree
-# is clang's (it also builds the fuzz target); without them it is GCC's and fuzzing is skipped
-# with a message. RT_QUICK=1 stops after the first part.
+# finding fails, no GL tests), then 30 s of fuzzing each fuzz target (the parser and compiler,
+# the image decoders, key files, part files; tests/fuzz/run.sh) in that same tree, then the
+# viewer's tests (the trace restarted 1000 times with edits) under ThreadSanitizer (build-tsan/).
+# With clang and libFuzzer the sanitizer tree is clang's (it also builds the fuzz targets);
+# without them it is GCC's and fuzzing is skipped with a message. RT_QUICK=1 stops after the
+# first part.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
@@ -58,13 +59,14 @@ ctest --test-dir build-san --output-on-failure -j"$jobs" -LE "gl|install|web" \
     -E "^Progressive.TheEstimateIsWithinAQuarterOfTheTrueError$"
 took "the tests in build-san/"
 
-# Fuzzing: one minute from the seed corpus (crashes fail the run). libFuzzer keeps one core busy:
-# the ThreadSanitizer tree builds beside it, and its log is shown when it ends.
+# Fuzzing: 30 s of each target from its seeds (crashes fail the run). libFuzzer keeps one core
+# busy: the ThreadSanitizer tree builds beside it, and its log is shown when it ends.
 fuzz_pid=""
 if [ "$fuzz" = 1 ]; then
-    echo "test: fuzzing for 60 s (build-san/, log in build-san/fuzz.log) beside build-tsan/" >&2
+    echo "test: fuzzing 4 targets for 30 s each (build-san/, log in build-san/fuzz.log)" \
+        "beside build-tsan/" >&2
     # A process group of its own (setsid), so that a failure below stops libFuzzer with it.
-    RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" setsid tests/fuzz/run.sh 60 >build-san/fuzz.log 2>&1 &
+    RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" setsid tests/fuzz/run.sh 30 >build-san/fuzz.log 2>&1 &
     fuzz_pid=$!
     trap '[ -z "$fuzz_pid" ] || kill -- "-$fuzz_pid" 2>/dev/null || true' EXIT
 else

@@ -1,12 +1,18 @@
-// Image output: byte conversion of spec §9, PFM and EXR round trips, formats by extension, no
-// partial file.
+// Images: byte conversion of spec §9, PFM and EXR round trips, formats by extension, no partial
+// file; the decoders (rt/image/decode.h) on real files and on damaged or lying ones.
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
+#include "rt/image/decode.h"
 #include "rt/image/exr.h"
 #include "rt/image/image.h"
+#include "rt/util/file_io.h"
+#include "rt/util/limits.h"
 #include "test_util.h"
 
 namespace rt {
@@ -214,6 +220,439 @@ TEST(Image, ExrRefusesBadChannelsAndLeavesNoFile) {
     EXPECT_THROW(load_exr(::testing::TempDir() + "/rt_none.exr"), std::runtime_error);
     std::filesystem::remove(junk);
     std::filesystem::remove(path);
+}
+
+// ---- decoding -----------------------------------------------------------------------------------
+
+// The small real files of the image fuzz corpus: the 16x12 grid in every format and variant.
+std::string fixture(const std::string& name) {
+    std::string data, why;
+    EXPECT_TRUE(
+        read_file(std::string(RT_SOURCE_DIR) + "/tests/fuzz/corpus/image/" + name, &data, &why))
+        << why;
+    return data;
+}
+
+// The reference pixels: grid.ppm's raw RGB (a 13-byte header, then the samples).
+std::vector<uint8_t> reference_grid() {
+    const std::string ppm = fixture("grid.ppm");
+    EXPECT_EQ(ppm.substr(0, 13), "P6\n16 12\n255\n");
+    return {ppm.begin() + 13, ppm.end()};
+}
+
+std::string write_temp(const std::string& name, std::string_view data) {
+    const std::string path = ::testing::TempDir() + "/" + name;
+    std::ofstream(path, std::ios::binary)
+        .write(data.data(), static_cast<std::streamsize>(data.size()));
+    return path;
+}
+
+// Decodes through decode_texture(): the image, or a failure with the decoder's message.
+TextureImage decoded(std::string_view data) {
+    TextureImage t;
+    std::string error;
+    EXPECT_TRUE(decode_texture(data, &t, &error)) << error;
+    return t;
+}
+
+std::string decode_error(std::string_view data) {
+    TextureImage t;
+    std::string error;
+    EXPECT_FALSE(decode_texture(data, &t, &error));
+    EXPECT_TRUE(t.rgb.empty());  // no partial image
+    return error;
+}
+
+// The budget of max_image_pixels(), set for one test.
+struct BudgetScope {
+    explicit BudgetScope(uint64_t pixels) { set_max_image_pixels(pixels); }
+    ~BudgetScope() { set_max_image_pixels(kDefaultMaxImagePixels); }
+};
+
+TEST(ImageDecode, LosslessFilesDecodeToTheirPixels) {
+    const std::vector<uint8_t> ref = reference_grid();
+    // 24- and 32-bit BMPs (bottom-up, top-down, OS/2, V5 bit fields), PNGs (RGB, RGBA with its
+    // alpha dropped, 16-bit, interlaced), binary and ASCII PPM, 16-bit PPM.
+    for (const char* name : {"grid.bmp", "grid_topdown.bmp", "grid_os2.bmp", "grid_bgra.bmp",
+                             "grid_v5.bmp", "grid.png", "grid_rgba.png", "grid48.png",
+                             "grid_interlaced.png", "grid.ppm", "grid_ascii.ppm", "grid16.ppm"}) {
+        const TextureImage t = decoded(fixture(name));
+        EXPECT_EQ(t.width, 16) << name;
+        EXPECT_EQ(t.height, 12) << name;
+        EXPECT_EQ(t.rgb, ref) << name;
+    }
+}
+
+TEST(ImageDecode, GreyAndPalettesAreReplicated) {
+    const std::vector<uint8_t> ref = reference_grid();
+    // Grey: the same values in 8-bit and 16-bit PGM and 16-bit PNG, replicated (spec §7.3).
+    const TextureImage grey = decoded(fixture("grid.pgm"));
+    EXPECT_EQ(decoded(fixture("grid16.pgm")).rgb, grey.rgb);
+    EXPECT_EQ(decoded(fixture("grid_gray16.png")).rgb, grey.rgb);
+    for (size_t i = 0; i < grey.rgb.size(); i += 3) {
+        EXPECT_EQ(grey.rgb[i], grey.rgb[i + 1]);
+        EXPECT_EQ(grey.rgb[i], grey.rgb[i + 2]);
+    }
+    // An ASCII PGM of maxval 15 (green / 17) and a 4-bit BMP of 16 greys (green / 16 * 17).
+    const TextureImage ascii = decoded(fixture("grid_ascii.pgm"));
+    const TextureImage four = decoded(fixture("grid_4bit.bmp"));
+    for (size_t i = 0; i < ref.size(); ++i) {
+        const int g = ref[i / 3 * 3 + 1];
+        EXPECT_EQ(ascii.rgb[i], (g * 15 / 255 * 255 + 7) / 15) << i;
+        EXPECT_EQ(four.rgb[i], g / 16 * 17) << i;
+    }
+    // 8-bit palettes: the BMP and the PNG made from it agree; 1 bit is black or white.
+    EXPECT_EQ(decoded(fixture("grid_pal8.bmp")).rgb, decoded(fixture("grid_pal8.png")).rgb);
+    for (const uint8_t v : decoded(fixture("grid_1bit.bmp")).rgb) EXPECT_TRUE(v == 0 || v == 255);
+}
+
+TEST(ImageDecode, SixteenBitBmpFieldsScaleToEightBits) {
+    // 5-5-5 without compression, 5-6-5 in bit fields: each field v of n bits reads as
+    // round(v * 255 / (2^n - 1)).
+    const std::vector<uint8_t> ref = reference_grid();
+    const auto scaled = [](int v, int bits) {
+        const int max = (1 << bits) - 1, field = v >> (8 - bits);
+        return (field * 255 + max / 2) / max;
+    };
+    const TextureImage t555 = decoded(fixture("grid_555.bmp"));
+    const TextureImage t565 = decoded(fixture("grid_565.bmp"));
+    ASSERT_EQ(t555.rgb.size(), ref.size());
+    ASSERT_EQ(t565.rgb.size(), ref.size());
+    for (size_t i = 0; i < ref.size(); ++i) {
+        EXPECT_EQ(t555.rgb[i], scaled(ref[i], 5)) << i;
+        EXPECT_EQ(t565.rgb[i], scaled(ref[i], i % 3 == 1 ? 6 : 5)) << i;
+    }
+}
+
+TEST(ImageDecode, JpegsDecodeNearTheirPixels) {
+    const std::vector<uint8_t> ref = reference_grid();
+    for (const char* name : {"grid.jpg", "grid_444.jpg", "grid_progressive.jpg"}) {
+        const TextureImage t = decoded(fixture(name));
+        ASSERT_EQ(t.rgb.size(), ref.size()) << name;
+        double error = 0;
+        for (size_t i = 0; i < ref.size(); ++i) error += std::abs(t.rgb[i] - ref[i]);
+        // Lossy, and the grid's one-pixel lines lose their colour in 4:2:0 chroma; an image
+        // decoded wrong (shifted, mirrored, garbage) is off by 60 or more on average.
+        EXPECT_LT(error / static_cast<double>(ref.size()), 20.0) << name;
+    }
+    const TextureImage grey = decoded(fixture("grid_grey.jpg"));  // one component: replicated
+    for (size_t i = 0; i < grey.rgb.size(); i += 3) {
+        EXPECT_EQ(grey.rgb[i], grey.rgb[i + 1]);
+        EXPECT_NEAR(grey.rgb[i], ref[i + 1], 24);  // written from the green channel
+    }
+}
+
+TEST(ImageDecode, TheCheckedStbPathAgreesWithLibpngAndLibjpeg) {
+    for (const char* name : {"grid.png", "grid_rgba.png", "grid48.png", "grid_interlaced.png",
+                             "grid_pal8.png", "grid_gray16.png"}) {
+        TextureImage t;
+        std::string error;
+        ASSERT_TRUE(decode_png_jpeg_stb(fixture(name), &t, &error)) << name << error;
+        EXPECT_EQ(t.rgb, decoded(fixture(name)).rgb) << name;
+    }
+    for (const char* name : {"grid.jpg", "grid_444.jpg", "grid_progressive.jpg", "grid_grey.jpg"}) {
+        TextureImage t;
+        std::string error;
+        ASSERT_TRUE(decode_png_jpeg_stb(fixture(name), &t, &error)) << name << error;
+        const TextureImage lib = decoded(fixture(name));
+        ASSERT_EQ(t.rgb.size(), lib.rgb.size());
+        for (size_t i = 0; i < t.rgb.size(); ++i)  // two IDCTs and upsamplers
+            EXPECT_NEAR(t.rgb[i], lib.rgb[i], 12) << name << " " << i;
+    }
+}
+
+TEST(ImageDecode, TheScenesTexturesDecodeToWhatMakeTexturesWrote) {
+    // scenes/textures/make_textures.py: the checker's top-left square is light, the grid's red
+    // grows to the right and its green to the top, with dark lines every 16 pixels.
+    TextureImage checker, grid;
+    std::string error;
+    const std::string dir = std::string(RT_SOURCE_DIR) + "/scenes/textures/";
+    ASSERT_TRUE(load_texture_image(dir + "checker.bmp", &checker, &error)) << error;
+    ASSERT_TRUE(load_texture_image(dir + "grid.png", &grid, &error)) << error;
+    ASSERT_EQ(checker.width, 64);
+    EXPECT_EQ(std::vector<uint8_t>(checker.rgb.begin(), checker.rgb.begin() + 3),
+              (std::vector<uint8_t>{230, 225, 210}));
+    EXPECT_EQ(std::vector<uint8_t>(checker.rgb.begin() + 8 * 3, checker.rgb.begin() + 9 * 3),
+              (std::vector<uint8_t>{60, 70, 90}));
+    ASSERT_EQ(grid.width, 128);
+    for (const auto& [x, y] : {std::pair{5, 7}, std::pair{100, 120}, std::pair{17, 60}}) {
+        const uint8_t* p = &grid.rgb[(static_cast<size_t>(y) * 128 + x) * 3];
+        EXPECT_EQ(p[0], 255 * x / 127);
+        EXPECT_EQ(p[1], 255 * (127 - y) / 127);
+        EXPECT_EQ(p[2], 90);
+    }
+    EXPECT_EQ(grid.rgb[0], 20);  // a grid line
+}
+
+// The 19 bytes of issue 29: a 16-bit PGM header and no pixels (stb read past its buffer).
+TEST(ImageDecode, AHeaderWithoutPixelsIsTruncated) {
+    const std::string path = write_temp("rt_header_only.pgm", "P5 4096 4096 65535\n");
+    TextureImage t;
+    std::string error;
+    EXPECT_FALSE(load_texture_image(path, &t, &error));
+    EXPECT_EQ(error,
+              "truncated PNM: 4096x4096 pixels need 33554432 bytes of pixel data, the file has 0");
+    std::filesystem::remove(path);
+}
+
+// Issue 29: a JPEG whose first Huffman table claims 16 x 255 codes (stb wrote past its table);
+// the rest is the grid's JPEG.
+TEST(ImageDecode, AHuffmanTableBeyondItsCodeSpaceIsAnError) {
+    std::string jpeg = "\xFF\xD8\xFF\xC4";
+    const size_t length = 2 + 17 + 16 * 255;
+    jpeg += static_cast<char>(length >> 8);
+    jpeg += static_cast<char>(length & 0xFF);
+    jpeg += '\0';  // DC table 0
+    jpeg += std::string(16, '\xFF');
+    jpeg += std::string(16 * 255, '\0');
+    jpeg += fixture("grid.jpg").substr(2);
+    const std::string path = write_temp("rt_bad_huffman.jpg", jpeg);
+    TextureImage t;
+    std::string error;
+    EXPECT_FALSE(load_texture_image(path, &t, &error));
+    EXPECT_NE(error.find("Huffman"), std::string::npos) << error;
+    EXPECT_FALSE(decode_png_jpeg_stb(jpeg, &t, &error));
+    EXPECT_EQ(error, "JPEG Huffman table with more codes than fit their lengths");
+    std::filesystem::remove(path);
+}
+
+// Found by fuzz_image: a scan using an AC table the file never defined (stb decoded with its
+// uninitialised memory). libjpeg says so too.
+TEST(ImageDecode, AScanUsingAnUndefinedHuffmanTableIsAnError) {
+    // The second: a baseline frame's scan of Ss = Se = 0, whose AC table stb uses all the same.
+    for (const char* name : {"jpeg_undefined_ac_table.jpg", "jpeg_baseline_dc_only_scan.jpg"}) {
+        std::string jpeg;
+        ASSERT_TRUE(
+            read_file(std::string(RT_SOURCE_DIR) + "/tests/fuzz/crashers/image/" + name, &jpeg));
+        TextureImage t;
+        std::string error;
+        EXPECT_FALSE(decode_png_jpeg_stb(jpeg, &t, &error)) << name;
+        EXPECT_EQ(error, "JPEG scan using a Huffman table it has not defined") << name;
+        EXPECT_FALSE(decode_error(jpeg).empty()) << name;
+    }
+}
+
+TEST(ImageDecode, TruncatedFilesAreErrorsNotGarbage) {
+    // Half of each file, and each cut just before its end (PNG's IEND, JPEG's EOI, the binary
+    // formats' last pixel; an ASCII file cut in its last number still holds a number).
+    for (const char* name :
+         {"grid.bmp", "grid_pal8.bmp", "grid.png", "grid_interlaced.png", "grid.jpg",
+          "grid_progressive.jpg", "grid.ppm", "grid_ascii.ppm", "grid16.pgm"}) {
+        const std::string data = fixture(name);
+        const std::string ext = std::filesystem::path(name).extension().string();
+        std::vector<size_t> keep = {data.size() / 2};
+        if (name != std::string("grid_ascii.ppm"))
+            keep.push_back(data.size() - (ext == ".png" ? 12 : 2));
+        for (const size_t n : keep) {
+            const std::string cut = data.substr(0, n);
+            SCOPED_TRACE(std::string(name) + " cut to " + std::to_string(n));
+            EXPECT_FALSE(decode_error(cut).empty());
+            const std::string path = write_temp("rt_truncated" + ext, cut);
+            TextureImage t;
+            std::string error;
+            EXPECT_FALSE(load_texture_image(path, &t, &error));
+            std::filesystem::remove(path);
+            if (ext == ".png" || ext == ".jpg") {
+                EXPECT_FALSE(decode_png_jpeg_stb(cut, &t, &error));
+            }
+        }
+    }
+    EXPECT_EQ(decode_error(fixture("grid.bmp").substr(0, 315)),
+              "truncated BMP: 16x12 pixels need 576 bytes of pixel data, the file has 261");
+    EXPECT_EQ(decode_error(fixture("grid.ppm").substr(0, 300)),
+              "truncated PNM: 16x12 pixels need 576 bytes of pixel data, the file has 287");
+}
+
+// Issue 29: a BMP header of 54 bytes claiming a large image rendered as a 192 MB texture.
+std::string bmp_header(int32_t w, int32_t h, uint16_t bpp = 24, uint32_t compression = 0) {
+    std::string b(54, '\0');
+    const auto put = [&](size_t at, uint32_t v, int bytes) {
+        for (int k = 0; k < bytes; ++k) b[at + k] = static_cast<char>(v >> (8 * k));
+    };
+    b[0] = 'B';
+    b[1] = 'M';
+    put(10, 54, 4);
+    put(14, 40, 4);
+    put(18, static_cast<uint32_t>(w), 4);
+    put(22, static_cast<uint32_t>(h), 4);
+    put(26, 1, 2);
+    put(28, bpp, 2);
+    put(30, compression, 4);
+    return b;
+}
+
+TEST(ImageDecode, SizesAreCheckedAgainstTheFileAndTheBudgetBeforeAllocating) {
+    EXPECT_EQ(decode_error(bmp_header(8000, 8000)),
+              "truncated BMP: 8000x8000 pixels need 192000000 bytes of pixel data, the file has 0");
+    EXPECT_EQ(decode_error(bmp_header(100000, -100000)),
+              "BMP image of 100000x100000 pixels (10000000000) is larger than the budget of "
+              "67108864 pixels (8192x8192); --max-pixels raises it");
+    EXPECT_EQ(decode_error("P6 30000 30000 255\n"), image_size_error(30000, 30000, "PNM image"));
+    // ASCII: a sample takes at least two bytes.
+    EXPECT_EQ(decode_error("P3 100 100 255\n1 2 3\n"),
+              "truncated PNM: 100x100 pixels need 30000 samples, the file has room for at most 3");
+    // A lower budget refuses the grid in every format, naming its size and the flag.
+    const BudgetScope budget(100);
+    for (const char* name : {"grid.bmp", "grid.png", "grid.jpg", "grid.ppm", "grid_ascii.ppm"}) {
+        const std::string e = decode_error(fixture(name));
+        EXPECT_NE(e.find("of 16x12 pixels (192) is larger than the budget of 100 pixels"),
+                  std::string::npos)
+            << e;
+    }
+    for (const char* name : {"grid.png", "grid.jpg"}) {
+        TextureImage t;
+        std::string error;
+        EXPECT_FALSE(decode_png_jpeg_stb(fixture(name), &t, &error));
+        EXPECT_NE(error.find("of 16x12 pixels (192) is larger"), std::string::npos) << error;
+    }
+    Image image;
+    std::string error;
+    EXPECT_FALSE(decode_pfm(fixture("grid.pfm"), &image, &error));
+    EXPECT_EQ(error, image_size_error(16, 12, "PFM image"));
+    EXPECT_THROW(
+        {
+            try {
+                decode_exr(fixture("grid.exr"));
+            } catch (const std::runtime_error& e) {
+                EXPECT_EQ(std::string(e.what()), image_size_error(16, 12, "EXR image"));
+                throw;
+            }
+        },
+        std::runtime_error);
+}
+
+// Issue 29: a 20-byte PFM claiming 8192x8192 allocated 1.5 GB.
+TEST(ImageDecode, APfmIsCheckedAgainstItsBytes) {
+    const std::string path = write_temp("rt_lying.pfm", "PF\n8192 8192\n-1.0\n");
+    try {
+        load_pfm(path);
+        ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "cannot read '" + path +
+                      "': truncated PFM: 8192x8192 pixels need 805306368 bytes of pixel data, the "
+                      "file has 0");
+    }
+    std::filesystem::remove(path);
+    // The grid as floats, little-endian, rows from the bottom.
+    const std::vector<uint8_t> ref = reference_grid();
+    Image image;
+    std::string error;
+    ASSERT_TRUE(decode_pfm(fixture("grid.pfm"), &image, &error)) << error;
+    ASSERT_EQ(image.width, 16);
+    for (size_t i = 0; i < ref.size(); ++i) EXPECT_NEAR(image.rgb[i] * 255, ref[i], 1e-3) << i;
+    // Big-endian (a positive scale) reads the same.
+    std::string be = "PF\n16 12\n1.0\n";
+    const std::string le = fixture("grid.pfm");
+    const size_t at = le.size() - 16 * 12 * 12;
+    for (size_t i = at; i < le.size(); i += 4)
+        for (size_t k = 0; k < 4; ++k) be += le[i + 3 - k];
+    Image big;
+    ASSERT_TRUE(decode_pfm(be, &big, &error)) << error;
+    EXPECT_EQ(big.rgb, image.rgb);
+    EXPECT_FALSE(decode_pfm("PF\n16 12\n0\n", &big, &error));
+    EXPECT_EQ(error, "bad PFM header");
+}
+
+TEST(ImageDecode, ExrFromMemoryEqualsTheFile) {
+    const std::string path = ::testing::TempDir() + "/rt_decode.exr";
+    save_exr(exr_test_image(), {}, true, path);
+    std::string data;
+    ASSERT_TRUE(read_file(path, &data));
+    EXPECT_EQ(decode_exr(data).rgb().rgb, load_exr(path).rgb().rgb);
+    EXPECT_THROW(decode_exr(data.substr(0, data.size() / 2)), std::exception);
+    std::filesystem::remove(path);
+    // ffmpeg's grid (no compression, and ZIP with alpha): the grid's values, but for ffmpeg's
+    // conversion to linear floats.
+    const std::vector<uint8_t> ref = reference_grid();
+    for (const char* name : {"grid.exr", "grid_zip.exr"}) {
+        const Image rgb = decode_exr(fixture(name)).rgb();
+        ASSERT_EQ(rgb.rgb.size(), ref.size());
+        for (size_t i = 0; i < ref.size(); ++i)
+            EXPECT_NEAR(rgb.rgb[i] * 255, ref[i], 2.0) << name << " " << i;
+    }
+}
+
+// Found by fuzz_image: OpenEXR allocated the 1.8 GB a string attribute declared before reading it.
+TEST(ImageDecode, AnExrAttributeLongerThanTheFileIsRefused) {
+    std::string exr;
+    ASSERT_TRUE(read_file(
+        std::string(RT_SOURCE_DIR) + "/tests/fuzz/crashers/image/exr_huge_string_attribute.exr",
+        &exr));
+    try {
+        decode_exr(exr);
+        ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "EXR attribute 'writer' of 1811939328 bytes beyond the file's end");
+    }
+}
+
+// Issue 29: a FIFO named as a texture or a reference blocked the reader forever.
+TEST(ImageDecode, AFifoIsRefusedWithoutWaiting) {
+    const std::string fifo = ::testing::TempDir() + "/rt_image_fifo.pfm";
+    std::filesystem::remove(fifo);
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    TextureImage t;
+    std::string error;
+    EXPECT_FALSE(load_texture_image(fifo, &t, &error));
+    EXPECT_EQ(error, "'" + fifo + "' is a FIFO, not a regular file");
+    for (const auto& load : {+[](const std::string& p) { (void)load_pfm(p); },
+                             +[](const std::string& p) { (void)load_exr(p); },
+                             +[](const std::string& p) { (void)load_image(p); }}) {
+        try {
+            load(fifo);
+            ADD_FAILURE() << "no error";
+        } catch (const std::runtime_error& e) {
+            EXPECT_NE(std::string(e.what()).find("is a FIFO, not a regular file"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+    std::filesystem::remove(fifo);
+}
+
+TEST(ImageDecode, BadBmpFieldsAreNamed) {
+    EXPECT_EQ(decode_error(bmp_header(4, 4, 8, 1)), "unsupported BMP compression (RLE8)");
+    EXPECT_EQ(decode_error(bmp_header(4, 4, 4, 2)), "unsupported BMP compression (RLE4)");
+    EXPECT_EQ(decode_error(bmp_header(4, 4, 24, 9)), "unknown BMP compression 9");
+    EXPECT_EQ(decode_error(bmp_header(4, 4, 7)), "unsupported BMP depth of 7 bits");
+    EXPECT_EQ(decode_error(bmp_header(0, 4)), "bad BMP size 0x4");
+    EXPECT_EQ(decode_error(bmp_header(4, 4).substr(0, 30)), "truncated BMP header");
+    // An index past a 2-colour table.
+    std::string b = fixture("grid_4bit.bmp");
+    b[46] = 2;  // two colours
+    EXPECT_EQ(decode_error(b), "BMP pixel index 3 outside its colour table of 2");
+    EXPECT_EQ(decode_error("P5 2 1 100\n\x10\x70"), "PNM sample 112 above its maximum 100");
+    EXPECT_EQ(decode_error("P4 2 1\n\x10"), "unsupported PNM kind P4 (P2, P3, P5 and P6 are read)");
+    EXPECT_EQ(decode_error("GIF89a"), "not a BMP, PNG, JPEG or PPM/PGM file");
+}
+
+// Issue 29: 30 #texture lines naming one 8192x8192 PNG decoded it 30 times (4 GB).
+TEST(ImageDecode, ATextureFileIsDecodedOncePerScene) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(::testing::TempDir()) / "rt_texture_cache";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "sub");
+    std::ofstream(dir / "tex.bmp", std::ios::binary) << fixture("grid.bmp");
+    fs::create_symlink("tex.bmp", dir / "link.bmp");
+    std::string top, inc;
+    for (int i = 0; i < 30; ++i)
+        top += "#texture " + std::string(i % 2 ? "tex.bmp\n" : "./tex.bmp\n");
+    top += "#texture sub/../link.bmp\n#ray_file inc.ray\n";
+    std::ofstream(dir / "top.ray") << top;
+    std::ofstream(dir / "sub" / "inc.ray") << "#texture ../tex.bmp\n";
+    std::ofstream(dir / "inc.ray") << "#texture tex.bmp\n";
+    Diagnostics diag;
+    const SceneDesc s = parse_scene_file((dir / "top.ray").string(), diag);
+    ASSERT_EQ(s.files.size(), 2u);
+    ASSERT_EQ(s.files[0].textures.size(), 31u);
+    const TextureImage* first = s.files[0].textures[0].image.get();
+    ASSERT_NE(first, nullptr);
+    EXPECT_EQ(first->width, 16);
+    for (const TextureDesc& t : s.files[0].textures) EXPECT_EQ(t.image.get(), first) << t.path;
+    EXPECT_EQ(s.files[1].textures[0].image.get(), first);
+    fs::remove_all(dir);
 }
 
 }  // namespace

@@ -2,7 +2,9 @@
 // times. Any input must end in a SceneError or a compiled scene: a crash, a sanitizer report, a
 // hang or any other exception is a bug. An input holding a line "#@key" is two files: the text
 // before it is the scene, the text after it the key file fuzz.key (which the scene may name), so
-// the key grammar and the joint values are fuzzed too. Built as `fuzz_scene` (clang,
+// the key grammar and the joint values are fuzzed too; a first line "#@v0", "#@v1" or "#@v3" forces
+// that dialect (forced_dialect), so any text goes through each parser, the V3 one among them (the
+// seeds of tests/fuzz/corpus/scene hold some of each). Built as `fuzz_scene` (clang,
 // -fsanitize=fuzzer) and as `fuzz_replay` (any compiler, replays files: the crasher regression
 // corpus in tests/fuzz/crashers).
 //
@@ -11,63 +13,55 @@
 // anim.key), and every '/' that could end up in a path is replaced by '_' before parsing, so only
 // names in that directory resolve. A texture that does not resolve (such as tex.bmp, the course's
 // name) stands in as a checker (--missing-textures checker), so such scenes get past loading.
-#include <unistd.h>
-
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
+#include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 
+#include "fuzz_util.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/scene/scene_time.h"
 
 namespace {
 
-std::string g_dir;
-
-void write(const std::string& name, const char* text) {
-    std::ofstream f(g_dir + "/" + name, std::ios::binary);
-    f << text;
-}
-
-void remove_dir() {
-    std::error_code ec;
-    std::filesystem::remove_all(g_dir, ec);
-}
+using rt_fuzz::write_file;
 
 void setup() {
-    if (!g_dir.empty()) return;
-    std::string tmpl = (std::filesystem::temp_directory_path() / "rt_fuzz_XXXXXX").string();
-    if (!mkdtemp(tmpl.data())) {
-        std::perror("mkdtemp");
-        std::abort();
-    }
-    g_dir = tmpl;
-    write("inc.ray",
-          "#material 0 0 0 .1 .1 .1 .5 .5 .5 .2 .2 .2 10 0 0 0 1 0 !m!\n"
-          "#texture tex.ppm\n#vertex 0 0 0 0 0 1 0 0\n#vertex 1 0 0 0 0 1 1 0\n"
-          "#vertex 0 1 0 0 0 1 0 1\n#shape_sphere 0 0 0 0 1\n#shape_triangle 0 0 1 2\n");
-    write("inc0.ray",
-          "#material .1 .1 .1 .5 .5 .5 .2 .2 .2 0 0 0 .5 .25 1.5 -1 !m!\n"
-          "#shape_box -1 0 0 0 1 1 1\n#shape_cone -1 0 0 0 1 2\n");
-    write("inc3.ray",
-          "#camera 0 0 0 0 0 0 0 0 0 0\n"
-          "#material 0 0 0 .1 .1 .1 .5 .5 .5 .2 .2 .2 10 0 0 0 1 0 !m!\n"
-          "#texture tex.ppm\n#vertex 0 0 0 0 0 1 0 0\n#vertex 1 0 0 0 0 1 1 0\n"
-          "#vertex 0 1 0 0 0 1 0 1\n#key_file anim.key\n"
-          "#shape_triangles 0 #shape_list_begin #shape_triangle 0 1 2 #shape_list_end\n"
-          "#dynamic_affine arm #shape_torus 0 0 0 0 0.25 1\n");
-    write("loop.ray", "#ray_file loop.ray\n");
-    write("tex.ppm", "P3 2 2 255\n255 0 0  0 255 0\n0 0 255  255 255 255\n");
-    write("anim.key", "#DOFS 1 arm #DURATION 1 #FRAMES 1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
-    std::atexit(remove_dir);
-    if (chdir(g_dir.c_str()) != 0) {
-        std::perror("chdir");
-        std::abort();
-    }
+    static bool done = false;
+    if (done) return;
+    done = true;
+    write_file("inc.ray",
+               "#material 0 0 0 .1 .1 .1 .5 .5 .5 .2 .2 .2 10 0 0 0 1 0 !m!\n"
+               "#texture tex.ppm\n#vertex 0 0 0 0 0 1 0 0\n#vertex 1 0 0 0 0 1 1 0\n"
+               "#vertex 0 1 0 0 0 1 0 1\n#shape_sphere 0 0 0 0 1\n#shape_triangle 0 0 1 2\n");
+    write_file("inc0.ray",
+               "#material .1 .1 .1 .5 .5 .5 .2 .2 .2 0 0 0 .5 .25 1.5 -1 !m!\n"
+               "#shape_box -1 0 0 0 1 1 1\n#shape_cone -1 0 0 0 1 2\n");
+    write_file("inc3.ray",
+               "#camera 0 0 0 0 0 0 0 0 0 0\n"
+               "#material 0 0 0 .1 .1 .1 .5 .5 .5 .2 .2 .2 10 0 0 0 1 0 !m!\n"
+               "#texture tex.ppm\n#vertex 0 0 0 0 0 1 0 0\n#vertex 1 0 0 0 0 1 1 0\n"
+               "#vertex 0 1 0 0 0 1 0 1\n#key_file anim.key\n"
+               "#shape_triangles 0 #shape_list_begin #shape_triangle 0 1 2 #shape_list_end\n"
+               "#dynamic_affine arm #shape_torus 0 0 0 0 0.25 1\n");
+    write_file("loop.ray", "#ray_file loop.ray\n");
+    write_file("tex.ppm", "P3 2 2 255\n255 0 0  0 255 0\n0 0 255  255 255 255\n");
+    write_file("anim.key", "#DOFS 1 arm #DURATION 1 #FRAMES 1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
+}
+
+// A first line "#@v0", "#@v1" or "#@v3" forces that dialect (--dialect), as the programs can;
+// without it the dialect is detected from the text (spec §10).
+std::optional<rt::Dialect> forced_dialect(std::string* text) {
+    static const std::pair<std::string_view, rt::Dialect> kForced[] = {
+        {"#@v0\n", rt::Dialect::V0}, {"#@v1\n", rt::Dialect::V1}, {"#@v3\n", rt::Dialect::V3}};
+    for (const auto& [prefix, dialect] : kForced)
+        if (text->compare(0, prefix.size(), prefix) == 0) {
+            text->erase(0, prefix.size());
+            return dialect;
+        }
+    return std::nullopt;
 }
 
 }  // namespace
@@ -93,15 +87,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         key = text.substr(split + 5);
         text.resize(split);
     }
-    {
-        std::ofstream f(g_dir + "/fuzz.key", std::ios::binary | std::ios::trunc);
-        f << key;
-    }
+    write_file("fuzz.key", key);
     try {
         rt::Diagnostics diag;
         rt::ParseOptions options;
         options.missing_textures = rt::MissingTextures::Checker;
-        const rt::SceneDesc desc = rt::parse_scene_string(text, "fuzz.ray", diag, options, g_dir);
+        options.dialect = forced_dialect(&text);
+        const rt::SceneDesc desc =
+            rt::parse_scene_string(text, "fuzz.ray", diag, options, rt_fuzz::work_dir());
         rt::RenderScene scene = rt::compile_scene(desc);
         // Every interpolation and rotation once, at times inside, before and far past the loop.
         const double times[] = {0.37, -5.1, 1e7, 2.0};

@@ -1,5 +1,6 @@
-// Replays files through the fuzz target without libFuzzer: `fuzz_replay FILE|DIR...`. Used by
-// the crasher regression test (tests/fuzz/crashers) in every build, sanitized or not.
+// Replays files through a fuzz target without libFuzzer: `fuzz_replay_NAME FILE|DIR...`. Linked
+// with each target (tests/fuzz/CMakeLists.txt), it runs the crashers and the seeds of every target
+// in every build, sanitized or not.
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>

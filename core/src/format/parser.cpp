@@ -529,34 +529,45 @@ private:
         count_item(f, d, kTextures);
         TextureDesc t;
         t.loc = f.lex.loc(d);
-        const bool checker = m_options.missing_textures == MissingTextures::Checker;
-        std::string tried;
+        std::string tried, problem;
         const std::optional<std::string> found = try_resolve(f, pt, path, &tried);
-        auto image = std::make_shared<TextureImage>();
-        std::string problem;
         if (found) {
             t.path = *found;
-            // The image readers open files themselves: a FIFO is refused before it blocks.
-            std::string error = regular_file_error(t.path);
-            if (!error.empty() || !load_texture_image(t.path, image.get(), &error))
-                problem = "cannot decode texture " + quote(t.path) + ": " + error;
+            const DecodedTexture& decoded = decode_once(t.path);
+            t.image = decoded.image;
+            if (!t.image) problem = "cannot decode texture " + quote(t.path) + ": " + decoded.error;
         } else {
             t.path = path;
             problem = "cannot open texture " + quote(path) +
                       (tried.empty() ? std::string() : " (tried " + tried + ")");
         }
         if (!problem.empty()) {
-            if (!checker) fail(f, pt, problem);
+            if (m_options.missing_textures != MissingTextures::Checker) fail(f, pt, problem);
             // --missing-textures checker: a loud stand-in, one warning per missing file.
-            *image = checker_texture();
+            t.image = std::make_shared<const TextureImage>(checker_texture());
             const auto& missing = m_scene.missing_textures;
             if (std::find(missing.begin(), missing.end(), path) == missing.end()) {
                 m_scene.missing_textures.push_back(path);
                 warn(f.lex.loc(pt), "missing-texture:" + path, problem + "; a checker stands in");
             }
         }
-        t.image = std::move(image);
         f.desc.textures.push_back(std::move(t));
+    }
+
+    // A texture file is decoded once per scene, however many #texture lines (in however many
+    // files) name it: every naming shares the image, or the error.
+    struct DecodedTexture {
+        std::shared_ptr<const TextureImage> image;  // null when it does not decode
+        std::string error;
+    };
+    const DecodedTexture& decode_once(const std::string& path) {
+        const auto [it, added] = m_decoded.try_emplace(canonical_path(path));
+        if (added) {
+            auto image = std::make_shared<TextureImage>();
+            if (load_texture_image(path, image.get(), &it->second.error))
+                it->second.image = std::move(image);
+        }
+        return it->second;
     }
 
     void material(FileState& f, const Token& d) override {
@@ -932,7 +943,8 @@ private:
         std::string name;
     };
 
-    std::vector<Open> m_open;  // files being parsed below the top one
+    std::vector<Open> m_open;                         // files being parsed below the top one
+    std::map<std::string, DecodedTexture> m_decoded;  // by canonical path
     bool m_seen_background = false, m_seen_ambient = false;
 };
 

@@ -18,6 +18,7 @@
 #include <stdexcept>
 
 #include "rt/util/file_io.h"
+#include "rt/util/limits.h"
 
 namespace rt {
 
@@ -40,6 +41,26 @@ public:
 
 private:
     std::string m_data;
+    size_t m_pos = 0;
+};
+
+// A file's bytes in memory, for OpenEXR to read (decode_exr).
+class MemoryInStream : public Imf::IStream {
+public:
+    explicit MemoryInStream(std::string_view data) : Imf::IStream("memory"), m_data(data) {}
+    bool read(char c[], int n) override {
+        if (n < 0 || static_cast<size_t>(n) > m_data.size() - m_pos)
+            throw std::runtime_error("the file ends early (truncated EXR)");
+        std::memcpy(c, m_data.data() + m_pos, static_cast<size_t>(n));
+        m_pos += static_cast<size_t>(n);
+        return m_pos < m_data.size();
+    }
+    uint64_t tellg() override { return m_pos; }
+    void seekg(uint64_t pos) override { m_pos = std::min<uint64_t>(pos, m_data.size()); }
+    void clear() override {}
+
+private:
+    std::string_view m_data;
     size_t m_pos = 0;
 };
 
@@ -101,7 +122,9 @@ Imf::PixelType pixel_type(ExrPixel t, bool full_float) {
     return Imf::UINT;
 }
 
-constexpr size_t kMaxPixels = size_t{1} << 28;
+// The most values (pixels times channels) a file may hold: 16 channels of the largest image the
+// budget allows (the render's RGB and its AOVs are 15 at most).
+constexpr uint64_t kMaxChannelsAtBudget = 16;
 
 }  // namespace
 
@@ -151,54 +174,120 @@ void save_exr(const Image& rgb, const std::vector<ExrChannel>& extra, bool full_
     write_file_atomic(path, stream.data());
 }
 
-ExrImage load_exr(const std::string& path) {
-    try {
-        Imf::InputFile file(path.c_str());
-        const Imath::Box2i dw = file.header().dataWindow();
-        const int64_t w = int64_t{dw.max.x} - dw.min.x + 1, h = int64_t{dw.max.y} - dw.min.y + 1;
-        if (w <= 0 || h <= 0 || static_cast<uint64_t>(w) * static_cast<uint64_t>(h) > kMaxPixels)
-            throw std::runtime_error("the data window is empty or larger than 2^28 pixels");
-        ExrImage out;
-        out.width = static_cast<int>(w);
-        out.height = static_cast<int>(h);
-        const size_t pixels = static_cast<size_t>(w * h);
-        const Imf::ChannelList& list = file.header().channels();
-        // A list, not a vector: the slices point into the planes' words as they are added.
-        std::list<Plane> planes;
-        Imf::FrameBuffer frame;
-        for (auto it = list.begin(); it != list.end(); ++it) {
-            if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
-                throw std::runtime_error(std::string("channel '") + it.name() + "' is subsampled");
-            // Half and float read as float (exact), uint as uint.
-            const Imf::PixelType type = it.channel().type == Imf::UINT ? Imf::UINT : Imf::FLOAT;
-            planes.push_back({it.name(), it.channel().type, std::vector<uint32_t>(pixels, 0)});
-            frame.insert(it.name(),
-                         Imf::Slice::Make(type, planes.back().words.data(), dw, sizeof(uint32_t)));
+namespace {
+
+// OpenEXR 3.1 allocates an attribute's declared size before reading it (fuzz_image: a 300-byte
+// file declaring a 1.8 GB string): every header's attributes are walked first, and each size
+// checked against the bytes that follow. Throws std::runtime_error.
+void check_headers(std::string_view d) {
+    static constexpr char kMagic[4] = {0x76, 0x2f, 0x31, 0x01};
+    if (d.size() < 8 || d.substr(0, 4) != std::string_view(kMagic, 4))
+        throw std::runtime_error("not an OpenEXR file");
+    const bool multipart = (static_cast<uint8_t>(d[5]) & 0x10) != 0;  // version flag bit 12
+    size_t pos = 8;
+    auto text = [&]() {  // a null-terminated name of at most 255 bytes
+        const size_t end = d.find('\0', pos);
+        if (end == std::string_view::npos || end - pos > 255)
+            throw std::runtime_error("truncated or bad EXR header");
+        const std::string_view t = d.substr(pos, end - pos);
+        pos = end + 1;
+        return t;
+    };
+    for (;;) {
+        for (std::string_view name = text(); !name.empty(); name = text()) {
+            (void)text();  // the type
+            if (d.size() - pos < 4) throw std::runtime_error("truncated EXR header");
+            const uint32_t size = static_cast<uint32_t>(static_cast<uint8_t>(d[pos])) |
+                                  static_cast<uint32_t>(static_cast<uint8_t>(d[pos + 1])) << 8 |
+                                  static_cast<uint32_t>(static_cast<uint8_t>(d[pos + 2])) << 16 |
+                                  static_cast<uint32_t>(static_cast<uint8_t>(d[pos + 3])) << 24;
+            pos += 4;
+            if (size > d.size() - pos)
+                throw std::runtime_error("EXR attribute '" + std::string(name) + "' of " +
+                                         std::to_string(size) + " bytes beyond the file's end");
+            pos += size;
         }
-        file.setFrameBuffer(frame);
-        file.readPixels(dw.min.y, dw.max.y);
-        for (const Plane& p : planes) {
-            ExrChannel c;
-            c.name = p.name;
-            c.type = p.type == Imf::UINT    ? ExrPixel::Uint
-                     : p.type == Imf::FLOAT ? ExrPixel::Float
-                                            : ExrPixel::Half;
-            c.values.resize(pixels);
-            for (size_t i = 0; i < pixels; ++i) {
-                if (p.type == Imf::UINT) {
-                    c.values[i] = p.words[i];
-                } else {
-                    float f;
-                    std::memcpy(&f, &p.words[i], sizeof f);
-                    c.values[i] = static_cast<double>(f);
-                }
+        // A multi-part file's headers end with an empty one.
+        if (!multipart || pos >= d.size() || d[pos] == '\0') return;
+    }
+}
+
+// The pixels of an open file: every channel, the data window's size. The size is checked
+// against the image budget, and the channels' values against kMaxChannelsAtBudget times it,
+// before the planes are allocated.
+ExrImage read_exr(Imf::InputFile& file) {
+    const Imath::Box2i dw = file.header().dataWindow();
+    const int64_t w = int64_t{dw.max.x} - dw.min.x + 1, h = int64_t{dw.max.y} - dw.min.y + 1;
+    if (w <= 0 || h <= 0) throw std::runtime_error("the data window is empty");
+    const auto uw = static_cast<uint64_t>(w), uh = static_cast<uint64_t>(h);
+    if (std::string e = image_size_error(uw, uh, "EXR image"); !e.empty())
+        throw std::runtime_error(e);
+    const Imf::ChannelList& list = file.header().channels();
+    uint64_t channels = 0;
+    for (auto it = list.begin(); it != list.end(); ++it) ++channels;
+    if (channels * uw * uh > kMaxChannelsAtBudget * max_image_pixels())
+        throw std::runtime_error("EXR image of " + std::to_string(uw) + "x" + std::to_string(uh) +
+                                 " pixels in " + std::to_string(channels) +
+                                 " channels holds more than " +
+                                 std::to_string(kMaxChannelsAtBudget) +
+                                 " channels of the image budget (--max-pixels raises it)");
+    ExrImage out;
+    out.width = static_cast<int>(w);
+    out.height = static_cast<int>(h);
+    const size_t pixels = static_cast<size_t>(w * h);
+    // A list, not a vector: the slices point into the planes' words as they are added.
+    std::list<Plane> planes;
+    Imf::FrameBuffer frame;
+    for (auto it = list.begin(); it != list.end(); ++it) {
+        if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+            throw std::runtime_error(std::string("channel '") + it.name() + "' is subsampled");
+        // Half and float read as float (exact), uint as uint.
+        const Imf::PixelType type = it.channel().type == Imf::UINT ? Imf::UINT : Imf::FLOAT;
+        planes.push_back({it.name(), it.channel().type, std::vector<uint32_t>(pixels, 0)});
+        frame.insert(it.name(),
+                     Imf::Slice::Make(type, planes.back().words.data(), dw, sizeof(uint32_t)));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(dw.min.y, dw.max.y);
+    for (Plane& p : planes) {
+        ExrChannel c;
+        c.name = p.name;
+        c.type = p.type == Imf::UINT    ? ExrPixel::Uint
+                 : p.type == Imf::FLOAT ? ExrPixel::Float
+                                        : ExrPixel::Half;
+        c.values.resize(pixels);
+        for (size_t i = 0; i < pixels; ++i) {
+            if (p.type == Imf::UINT) {
+                c.values[i] = p.words[i];
+            } else {
+                float f;
+                std::memcpy(&f, &p.words[i], sizeof f);
+                c.values[i] = static_cast<double>(f);
             }
-            out.channels.push_back(std::move(c));
         }
-        return out;
+        p.words = {};  // freed as they are converted
+        out.channels.push_back(std::move(c));
+    }
+    return out;
+}
+
+}  // namespace
+
+ExrImage load_exr(const std::string& path) {
+    std::string data, why;
+    if (!read_file(path, &data, &why)) throw std::runtime_error(why);  // regular files only
+    try {
+        return decode_exr(data);
     } catch (const std::exception& e) {
         throw std::runtime_error("cannot read '" + path + "': " + e.what());
     }
+}
+
+ExrImage decode_exr(std::string_view data) {
+    check_headers(data);
+    MemoryInStream stream(data);
+    Imf::InputFile file(stream);
+    return read_exr(file);
 }
 
 }  // namespace rt

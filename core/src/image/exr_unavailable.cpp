@@ -19,4 +19,6 @@ void save_exr(const Image&, const std::vector<ExrChannel>&, bool, const std::str
 
 ExrImage load_exr(const std::string& path) { unavailable(path); }
 
+ExrImage decode_exr(std::string_view) { unavailable("memory"); }
+
 }  // namespace rt

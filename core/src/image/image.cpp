@@ -7,16 +7,17 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "rt/image/decode.h"
 #include "rt/image/exr.h"
 #include "rt/util/file_io.h"
 
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_FAILURE_USERMSG
-#include <stb_image.h>
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
+// GCC's -O3 sees stb's PNG writer index an allocation it cannot prove non-null (stb checks it).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <stb_image_write.h>
+#pragma GCC diagnostic pop
 
 namespace rt {
 
@@ -26,81 +27,36 @@ uint8_t to_byte(double c) {
     return static_cast<uint8_t>(std::floor(255.0 * c + 0.5));
 }
 
-// ASCII PNM (P2 grey, P3 colour), which stb_image does not read. Returns false if not one.
-static bool load_ascii_pnm(const std::string& path, TextureImage* out, std::string* error) {
-    std::ifstream f(path, std::ios::binary);
-    std::string magic;
-    if (!(f >> magic) || (magic != "P2" && magic != "P3")) return false;
-    const int channels = magic == "P3" ? 3 : 1;
-    auto next = [&](long* v) {
-        // Skips '#' comments between values.
-        for (;;) {
-            f >> std::ws;
-            if (f.peek() == '#') {
-                std::string line;
-                std::getline(f, line);
-                continue;
-            }
-            return static_cast<bool>(f >> *v);
-        }
-    };
-    long w = 0, h = 0, maxval = 0;
-    if (!next(&w) || !next(&h) || !next(&maxval) || w <= 0 || h <= 0 || w > (1L << 16) ||
-        h > (1L << 16) || maxval <= 0 || maxval > 65535) {
-        *error = "bad ASCII PNM header";
-        return true;
+TextureFormat sniff_texture_format(std::string_view d) {
+    const auto byte = [&](size_t i) { return i < d.size() ? static_cast<uint8_t>(d[i]) : 0; };
+    if (byte(0) == 'B' && byte(1) == 'M') return TextureFormat::Bmp;
+    if (byte(0) == 'P' && byte(1) >= '1' && byte(1) <= '7') return TextureFormat::Pnm;
+    if (d.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8)) return TextureFormat::Png;
+    if (byte(0) == 0xFF && byte(1) == 0xD8 && byte(2) == 0xFF) return TextureFormat::Jpeg;
+    return TextureFormat::Unknown;
+}
+
+bool decode_texture(std::string_view data, TextureImage* out, std::string* error) {
+    switch (sniff_texture_format(data)) {
+        case TextureFormat::Bmp:
+            return decode_bmp(data, out, error);
+        case TextureFormat::Pnm:
+            return decode_pnm(data, out, error);
+        case TextureFormat::Png:
+            return decode_png(data, out, error);
+        case TextureFormat::Jpeg:
+            return decode_jpeg(data, out, error);
+        case TextureFormat::Unknown:
+            break;
     }
-    // Every value takes at least two bytes (a digit and a separator): a header that promises
-    // more than the file holds is refused before anything is allocated.
-    std::error_code ec;
-    const auto bytes = std::filesystem::file_size(path, ec);
-    if (ec || static_cast<unsigned long long>(w * h * channels) > bytes / 2 + 1) {
-        *error = "ASCII PNM header promises more values than the file holds";
-        return true;
-    }
-    out->width = static_cast<int>(w);
-    out->height = static_cast<int>(h);
-    out->rgb.resize(static_cast<size_t>(w * h * 3));
-    for (long i = 0; i < w * h; ++i) {
-        long c[3] = {0, 0, 0};
-        for (int k = 0; k < channels; ++k)
-            if (!next(&c[k]) || c[k] < 0 || c[k] > maxval) {
-                *error = "truncated or bad ASCII PNM data";
-                out->width = 0;
-                return true;
-            }
-        for (int k = 0; k < 3; ++k)
-            out->rgb[static_cast<size_t>(i * 3 + k)] =
-                static_cast<uint8_t>((c[channels == 3 ? k : 0] * 255 + maxval / 2) / maxval);
-    }
-    return true;
+    *error = "not a BMP, PNG, JPEG or PPM/PGM file";
+    return false;
 }
 
 bool load_texture_image(const std::string& path, TextureImage* out, std::string* error) {
-    if (load_ascii_pnm(path, out, error)) return out->width > 0;
-    int w = 0, h = 0, n = 0;
-    // A header may promise far more pixels than the file holds (compressed formats): refuse
-    // textures above 2^26 pixels (8192 x 8192) before decoding.
-    if (stbi_info(path.c_str(), &w, &h, &n) && static_cast<long long>(w) * h > (1LL << 26)) {
-        std::string e = "texture of ";
-        e += std::to_string(w);
-        e += "x";
-        e += std::to_string(h);
-        e += " pixels is larger than the limit of 2^26 pixels";
-        *error = std::move(e);
-        return false;
-    }
-    // Ask for 3 channels: stb replicates grey and drops alpha, as spec §7.3 wants.
-    stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 3);
-    if (!data) {
-        *error = stbi_failure_reason() ? stbi_failure_reason() : "unknown decoder error";
-        return false;
-    }
-    out->width = w;
-    out->height = h;
-    out->rgb.assign(data, data + static_cast<size_t>(w) * h * 3);
-    stbi_image_free(data);
-    return true;
+    std::string data;
+    if (!read_file(path, &data, error)) return false;
+    return decode_texture(data, out, error);
 }
 
 TextureImage checker_texture() {
@@ -192,26 +148,11 @@ void save_image(const Image& image, const std::string& path) {
 }
 
 Image load_pfm(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw std::runtime_error("cannot open '" + path + "'");
-    std::string magic;
-    int w = 0, h = 0;
-    double scale = 0.0;
-    f >> magic >> w >> h >> scale;
-    f.get();  // the single whitespace byte after the header
-    if (magic != "PF" || w <= 0 || h <= 0 || w > (1 << 16) || h > (1 << 16) || scale == 0.0)
-        throw std::runtime_error("'" + path + "' is not a 3-channel PFM file of a sensible size");
-    if (scale > 0) throw std::runtime_error("'" + path + "': big-endian PFM is not supported");
-    Image image(w, h);
-    const size_t row_floats = static_cast<size_t>(w) * 3;
-    std::vector<float> row(row_floats);
-    for (int y = h - 1; y >= 0; --y) {
-        f.read(reinterpret_cast<char*>(row.data()),
-               static_cast<std::streamsize>(row_floats * sizeof(float)));
-        for (size_t i = 0; i < row_floats; ++i)
-            image.rgb[static_cast<size_t>(y) * row_floats + i] = static_cast<double>(row[i]);
-    }
-    if (!f) throw std::runtime_error("'" + path + "' is truncated");
+    std::string data, error;
+    if (!read_file(path, &data, &error)) throw std::runtime_error(error);
+    Image image;
+    if (!decode_pfm(data, &image, &error))
+        throw std::runtime_error("cannot read '" + path + "': " + error);
     return image;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rt/image/image.h"
@@ -47,7 +48,11 @@ struct ExrImage {
 };
 
 /// Reads an EXR file (scanline or tiled, any compression; the data window's size). Throws
-/// std::runtime_error when it cannot be opened or decoded, or holds more than 2^28 pixels.
+/// std::runtime_error when it is not a regular file, cannot be decoded, or is larger than the
+/// image budget (max_image_pixels(); its channels' values beyond 16 times the budget), which is
+/// checked before the pixels are allocated.
 ExrImage load_exr(const std::string& path);
+/// The same from the file's bytes in memory (the fuzz target's entry).
+ExrImage decode_exr(std::string_view data);
 
 }  // namespace rt

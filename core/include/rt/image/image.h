@@ -1,6 +1,7 @@
 // Images: linear float RGB in memory, 8-bit texture images, and reading/writing PNG, BMP, PPM,
 // JPEG (read), PFM (float) and OpenEXR (half or float; with extra channels: rt/image/exr.h).
-// Row 0 is the top row everywhere (spec §9).
+// Row 0 is the top row everywhere (spec §9). The decoders, and which library reads which format:
+// rt/image/decode.h.
 #pragma once
 
 #include <cstdint>
@@ -45,8 +46,10 @@ uint8_t to_byte(double c);
 /// The image as 8-bit RGB, each value through to_byte() (what PNG, BMP and PPM files hold).
 std::vector<uint8_t> to_bytes(const Image& image);
 
-/// Decodes BMP, PNG, JPEG, PPM/PGM (binary and ASCII), TGA. Returns false and sets *error on
-/// failure.
+/// Reads a regular file (read_file) and decodes it: BMP, PNG, JPEG or PPM/PGM (binary and
+/// ASCII), told by its content, not its name (decode_texture). Returns false and sets *error on
+/// failure; an image larger than the budget (max_image_pixels) or a file shorter than its header
+/// says is refused before the pixels are allocated.
 bool load_texture_image(const std::string& path, TextureImage* out, std::string* error);
 
 /// The stand-in for a texture that cannot be opened or decoded (--missing-textures checker): a
@@ -66,7 +69,8 @@ inline bool holds_linear(ImageFormat f) { return f == ImageFormat::Pfm || f == I
 /// EXR keep linear, unclamped values (EXR: half RGB; save_exr() writes float and more channels).
 void save_image(const Image& image, const std::string& path);
 
-/// Reads a PFM written by save_image (or any 3-channel PFM). Throws std::runtime_error.
+/// Reads a PFM written by save_image (or any 3-channel PFM). Throws std::runtime_error, also when
+/// the header's size is beyond the budget or beyond the bytes the file holds.
 Image load_pfm(const std::string& path);
 
 /// Reads any image as linear RGB: PFM and EXR (its R, G, B channels) as stored, the 8-bit
