@@ -306,13 +306,13 @@ TEST(ImageDecode, GreyAndPalettesAreReplicated) {
     for (const uint8_t v : decoded(fixture("grid_1bit.bmp")).rgb) EXPECT_TRUE(v == 0 || v == 255);
 }
 
-TEST(ImageDecode, SixteenBitBmpFieldsScaleToEightBits) {
-    // 5-5-5 without compression, 5-6-5 in bit fields: each field v of n bits reads as
-    // round(v * 255 / (2^n - 1)).
+TEST(ImageDecode, SixteenBitBmpFieldsRepeatTheirBitsToEight) {
+    // 5-5-5 without compression, 5-6-5 in bit fields: each field v of n bits reads as its bits
+    // repeated to fill 8 (v << (8 - n) | v >> (2n - 8)), as stb_image read them before.
     const std::vector<uint8_t> ref = reference_grid();
     const auto scaled = [](int v, int bits) {
-        const int max = (1 << bits) - 1, field = v >> (8 - bits);
-        return (field * 255 + max / 2) / max;
+        const int field = v >> (8 - bits);
+        return (field << (8 - bits)) | (field >> (2 * bits - 8));
     };
     const TextureImage t555 = decoded(fixture("grid_555.bmp"));
     const TextureImage t565 = decoded(fixture("grid_565.bmp"));

@@ -18,14 +18,22 @@ using decode_impl::le32;
 constexpr uint32_t kRgb = 0, kRle8 = 1, kRle4 = 2, kBitFields = 3, kJpeg = 4, kPng = 5,
                    kAlphaBitFields = 6;
 
-// One channel of a bit-field pixel: its mask's position and width, and the scale to 8 bits.
+// One channel of a bit-field pixel: its mask's position and width, and the way to 8 bits.
 struct Channel {
     uint32_t shift = 0;
     uint32_t max = 0;  // the largest value of the field: 2^bits - 1
+    int bits = 0;
 
+    // A field of fewer than 8 bits has its bits repeated to fill 8 (5 bits abcde: abcdeabc), as
+    // the readers before this one (stb_image) and most others do: 0 stays 0 and max becomes 255.
+    // A wider field keeps its top 8 bits.
     uint8_t get(uint32_t pixel) const {
-        const uint64_t v = (pixel >> shift) & max;
-        return static_cast<uint8_t>((v * 255 + max / 2) / max);
+        const uint32_t v = (pixel >> shift) & max;
+        if (bits >= 8) return static_cast<uint8_t>(v >> (bits - 8));
+        uint32_t out = 0;
+        int filled = 0;
+        for (; filled < 8; filled += bits) out = (out << bits) | v;
+        return static_cast<uint8_t>(out >> (filled - 8));
     }
 };
 
@@ -34,6 +42,7 @@ bool channel_of(uint32_t mask, uint32_t bpp, Channel* c) {
     if (mask == 0 || (bpp < 32 && mask >> bpp != 0)) return false;
     c->shift = static_cast<uint32_t>(std::countr_zero(mask));
     c->max = mask >> c->shift;
+    c->bits = std::popcount(c->max);
     return (c->max & (c->max + 1)) == 0;
 }
 

@@ -45,9 +45,10 @@ bool run(png_structp png, png_infop info, PngJob* job) {
     const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
     if (!decode_impl::check_size(w, h, "PNG image", job->error)) return false;
     // 8-bit RGB whatever the file holds (spec §7.3: alpha dropped, grey replicated), without
-    // gamma correction (texels are taken as they are): 16-bit samples rounded to 8 bits, palettes
+    // gamma correction (texels are taken as they are): 16-bit samples keep their high byte (as
+    // stb_image, the page's decoder, and the readers before this one did), palettes
     // and small greys expanded (a transparent colour becomes alpha, then dropped).
-    png_set_scale_16(png);
+    png_set_strip_16(png);
     png_set_palette_to_rgb(png);
     png_set_expand_gray_1_2_4_to_8(png);
     png_set_strip_alpha(png);
