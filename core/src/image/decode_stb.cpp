@@ -9,6 +9,7 @@
 // every build, so that the fuzz target exercises it on the desktop too.
 #include <array>
 #include <cstring>
+#include <memory>
 
 #include "image/decode_util.h"
 #include "rt/image/decode.h"
@@ -199,16 +200,17 @@ bool decode_png_jpeg_stb(std::string_view data, TextureImage* out, std::string* 
     if (data.size() > INT32_MAX) return fail(error, "file too large for stb_image");
     int sw = 0, sh = 0, channels = 0;
     // Three channels asked for: stb replicates grey and drops alpha (spec §7.3).
-    stbi_uc* pixels = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(data.data()),
-                                            static_cast<int>(data.size()), &sw, &sh, &channels, 3);
+    // Freed however this ends (start_image may throw std::bad_alloc).
+    const std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> pixels(
+        stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(data.data()),
+                              static_cast<int>(data.size()), &sw, &sh, &channels, 3),
+        &stbi_image_free);
     if (!pixels) return fail(error, stbi_failure_reason() ? stbi_failure_reason() : "bad image");
-    const bool same = static_cast<uint32_t>(sw) == w && static_cast<uint32_t>(sh) == h;
-    if (same) {
-        decode_impl::start_image(out, w, h);
-        std::memcpy(out->rgb.data(), pixels, out->rgb.size());
-    }
-    stbi_image_free(pixels);
-    return same || fail(error, "the decoded size differs from the header's");
+    if (static_cast<uint32_t>(sw) != w || static_cast<uint32_t>(sh) != h)
+        return fail(error, "the decoded size differs from the header's");
+    decode_impl::start_image(out, w, h);
+    std::memcpy(out->rgb.data(), pixels.get(), out->rgb.size());
+    return true;
 }
 
 }  // namespace rt
