@@ -97,6 +97,12 @@ void add_max_pixels_option(CLI::App& app, uint64_t& max_pixels, const std::strin
         ->group(group);
 }
 
+void check_max_pixels(uint64_t max_pixels) {
+    if (max_pixels < 1 || max_pixels > rt::kMaxImagePixelsLimit)
+        throw UsageError("--max-pixels must be between 1 and " +
+                         std::to_string(rt::kMaxImagePixelsLimit) + " (2^40)");
+}
+
 void add_feature_options(CLI::App& app, RenderOptions& o) {
     const std::string group = "progressive features (off by default; see docs/format.md)";
     app.add_option("--light-radius", o.light_radius,
@@ -118,11 +124,12 @@ void add_feature_options(CLI::App& app, RenderOptions& o) {
 void validate_render_options(const RenderOptions& o) {
     if (o.width < 1 || o.height < 1 || o.width > 32768 || o.height > 32768)
         throw UsageError("--width and --height must be between 1 and 32768");
-    if (o.max_pixels < 1) throw UsageError("--max-pixels must be at least 1");
-    if (static_cast<uint64_t>(o.width) * static_cast<uint64_t>(o.height) > o.max_pixels)
-        throw UsageError("--width x --height: an image of " + std::to_string(o.width) + "x" +
-                         std::to_string(o.height) + " pixels is larger than the budget of " +
-                         std::to_string(o.max_pixels) + " pixels; --max-pixels raises it");
+    check_max_pixels(o.max_pixels);
+    if (const std::string e =
+            rt::image_size_error(static_cast<uint64_t>(o.width), static_cast<uint64_t>(o.height),
+                                 "--width x --height: an image", o.max_pixels);
+        !e.empty())
+        throw UsageError(e);
     if (o.max_depth < 1 || o.max_depth > rt::kMaxDepth)
         throw UsageError("--depth must be between 1 and " + std::to_string(rt::kMaxDepth));
     if (!(o.cutoff >= 0.0)) throw UsageError("--cutoff must not be negative");

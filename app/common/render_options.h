@@ -45,6 +45,9 @@ void add_scene_options(CLI::App& app, RenderOptions& o, bool with_dialect,
 void add_max_pixels_option(CLI::App& app, uint64_t& max_pixels, const std::string& images,
                            const std::string& group = "Options");
 
+/// --max-pixels' range, 1 to rt::kMaxImagePixelsLimit. Throws UsageError.
+void check_max_pixels(uint64_t max_pixels);
+
 /// The progressive features (--light-radius --aperture --focus-distance --roughness), in their
 /// own help group.
 void add_feature_options(CLI::App& app, RenderOptions& o);

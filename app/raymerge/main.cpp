@@ -94,8 +94,10 @@ int main(int argc, char** argv) {
                   << "' (use .png, .bmp, .ppm or .pfm)\n";
         return 2;
     }
-    if (max_pixels < 1) {
-        std::cerr << "raymerge: --max-pixels must be at least 1\n";
+    try {
+        rtapp::check_max_pixels(max_pixels);
+    } catch (const rtapp::UsageError& e) {
+        std::cerr << "raymerge: " << e.what() << "\n";
         return 2;
     }
     rt::set_max_image_pixels(max_pixels);  // parts of a larger image are refused as they are read

@@ -13,11 +13,16 @@ std::atomic<uint64_t> g_max_image_pixels{kDefaultMaxImagePixels};
 uint64_t max_image_pixels() { return g_max_image_pixels.load(std::memory_order_relaxed); }
 
 void set_max_image_pixels(uint64_t pixels) {
-    g_max_image_pixels.store(std::max<uint64_t>(pixels, 1), std::memory_order_relaxed);
+    g_max_image_pixels.store(std::clamp<uint64_t>(pixels, 1, kMaxImagePixelsLimit),
+                             std::memory_order_relaxed);
 }
 
 std::string image_size_error(uint64_t width, uint64_t height, const std::string& what) {
-    const uint64_t budget = max_image_pixels();
+    return image_size_error(width, height, what, max_image_pixels());
+}
+
+std::string image_size_error(uint64_t width, uint64_t height, const std::string& what,
+                             uint64_t budget) {
     // width * height without overflow: compare width with budget / height first.
     if (width == 0 || height == 0 || width <= budget / height) return {};
     std::string e =

@@ -12,14 +12,22 @@ namespace rt {
 /// or reads (the render's own, textures, reference images, part files); --max-pixels raises it.
 inline constexpr uint64_t kDefaultMaxImagePixels = uint64_t{1} << 26;
 
+/// The largest budget that can be set: 2^40 pixels, far beyond any machine's memory, so that
+/// the size checks' products (pixels x channels x bytes) cannot overflow 64 bits.
+inline constexpr uint64_t kMaxImagePixelsLimit = uint64_t{1} << 40;
+
 /// The budget in force (process-wide; kDefaultMaxImagePixels until set).
 uint64_t max_image_pixels();
-/// Sets the budget (at least 1); the programs call it from --max-pixels before loading anything.
+/// Sets the budget, clamped to [1, kMaxImagePixelsLimit]; the programs call it from --max-pixels
+/// before loading anything.
 void set_max_image_pixels(uint64_t pixels);
 
 /// Empty when a `width` x `height` image fits the budget, else why not, naming the size and the
 /// flag that raises it: "<what> of 32768x32768 pixels (1073741824) is larger than the budget of
 /// 67108864 pixels (8192x8192); --max-pixels raises it". No overflow for any 64-bit input.
 std::string image_size_error(uint64_t width, uint64_t height, const std::string& what);
+/// The same against a given budget instead of the one in force.
+std::string image_size_error(uint64_t width, uint64_t height, const std::string& what,
+                             uint64_t budget);
 
 }  // namespace rt
