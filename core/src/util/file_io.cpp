@@ -60,13 +60,18 @@ bool read_file(const std::string& path, std::string* out, std::string* why) {
     const int fd = open_regular(path, &st, &reason);
     out->clear();
     if (fd >= 0) {
-        // The size from fstat sizes the buffer; a file that grows meanwhile is read to its end.
+        // The size from fstat sizes the buffer, which is filled first; only what a file that
+        // grew meanwhile adds goes through a small buffer (growing the whole one to probe for the
+        // end would double the memory of every read).
         out->resize(static_cast<size_t>(st.st_size));
         size_t done = 0;
+        char extra[4096];
         for (;;) {
-            if (done == out->size()) out->resize(out->size() + 4096);
-            const ssize_t n = ::read(fd, out->data() + done, out->size() - done);
+            const bool in_place = done < out->size();
+            const ssize_t n = in_place ? ::read(fd, out->data() + done, out->size() - done)
+                                       : ::read(fd, extra, sizeof extra);
             if (n > 0) {
+                if (!in_place) out->append(extra, static_cast<size_t>(n));
                 done += static_cast<size_t>(n);
             } else if (n == 0) {
                 break;

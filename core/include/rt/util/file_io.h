@@ -7,9 +7,9 @@
 
 namespace rt {
 
-/// Reads a regular file whole (one allocation, one read). False when it cannot be read, with
-/// the reason in *why when given (see regular_file_error). A FIFO, a device or a directory is
-/// never opened for reading (a FIFO would block, /dev/zero never ends): it is refused.
+/// Reads a regular file whole (into a buffer of the size the file has). False when it cannot be
+/// read, with the reason in *why when given (see regular_file_error). A FIFO, a device or a
+/// directory is never opened for reading (a FIFO would block, /dev/zero never ends): it is refused.
 bool read_file(const std::string& path, std::string* out, std::string* why = nullptr);
 
 /// Empty when `path` names a regular file that can be opened for reading, else why not:
