@@ -20,8 +20,9 @@ namespace {
 constexpr const char* kDescription =
     "Renders a .ray scene (V0, V1 or V3 dialect) with Whitted ray tracing.";
 constexpr const char* kFooter =
-    "exit status: 0 success, 1 scene error (printed as file:line:col: error: ...) or an output\n"
-    "that cannot be written, 2 usage error.";
+    "exit status: 0 success, 1 scene error (printed as file:line:col: error: ...), an input or\n"
+    "an output that cannot be read or written, a failed frame or running out of memory,\n"
+    "2 usage error.";
 
 // CLI11 parses every option straight into its field of `o`; the help shows each field's
 // default as it is when the options are added (the defaults of Options and RenderSettings).

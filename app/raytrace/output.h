@@ -35,7 +35,8 @@ struct ExrOutput {
 ExrOutput exr_output(const Options& opt, const rt::RenderState& state, const rt::RenderScene& scene,
                      const rt::RenderPlan& plan);
 
-/// Writes the texts to path.part, the image (atomically), then renames the texts; on failure
+/// Writes the texts to scratch files beside them (rt::write_scratch_file), the image
+/// (atomically), then renames the texts; on failure
 /// removes every temporary file and throws std::runtime_error. Non-finite pixels are written as
 /// 0 (spec §9) with a warning naming `scene`. An .exr image takes `exr`'s precision and channels.
 void write_outputs(const rt::Image& image, const std::string& image_path,

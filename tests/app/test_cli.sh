@@ -28,7 +28,7 @@ check "prints dialect" grep -q "(V1" "$tmp/out.txt"
 check "scene error exits 1" test $? -eq 1
 check "scene error message" grep -q "bad.ray:2:15: error: material index 0 out of range" "$tmp/err.txt"
 check "no output on scene error" test ! -e "$tmp/bad.png"
-check "no temporary left" test ! -e "$tmp/bad.png.part"
+check "no scratch file left" sh -c "! ls -A '$tmp' | grep -q '^\\.bad\\.png\\.'"
 
 "$rt" "$tmp/ok.ray" --width 0 -o "$tmp/x.png" >/dev/null 2>&1
 check "bad width exits 2" test $? -eq 2
