@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli.h"
 #include "frames.h"
 #include "options.h"
 #include "output.h"
@@ -174,7 +175,8 @@ void worker(Job& job, int rank) {
             try {
                 rt::animate(*job.scene, job.desc, job.opt.animation.time(t));
             } catch (const std::exception& e) {  // rank 0 stops the job, and removes the frames
-                send_error("failed at frame " + std::to_string(t) + ": " + e.what());
+                send_error("failed at frame " + std::to_string(t) + ": " +
+                           rtapp::error_text(e, "moving its joints"));
                 return;
             }
             job.plan = rt::make_render_plan(*job.scene, job.opt);
@@ -205,7 +207,8 @@ void write_frame(Job& job, int k) {
         write_outputs(state.image(), path, {}, job.opt.scene,
                       ExrOutput{job.opt.exr.full_float, {}});
     } catch (const std::exception& e) {  // a full disk: the frames written so far go too
-        abort_job("frame " + std::to_string(k) + " not written (" + e.what() + ")");
+        abort_job("frame " + std::to_string(k) + " not written (" +
+                  rtapp::error_text(e, "writing it") + ")");
     }
     g_written.add(path);
     p.blocks.clear();
@@ -429,7 +432,8 @@ int run_image(Job& job, int ranks) {
             try {
                 if (k > 0) rt::animate(*job.scene, job.desc, opt.animation.time(k));
             } catch (const std::exception& e) {
-                abort_job("frame " + std::to_string(k) + " not written (" + e.what() + ")");
+                abort_job("frame " + std::to_string(k) + " not written (" +
+                          rtapp::error_text(e, "moving its joints") + ")");
             }
             job.plan = rt::make_render_plan(*job.scene, opt);
             rt::render_part(job.tiles[static_cast<size_t>(k)], *job.scene, job.plan, opt);

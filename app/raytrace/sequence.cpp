@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "cli.h"
 #include "frames.h"
 #include "output.h"
 #include "rt/compile/compile.h"
@@ -61,8 +62,8 @@ int render_sequence(const Options& opt, const rt::SceneDesc& desc, rt::RenderSce
         } catch (const rt::SceneError& e) {  // its own line: file:line:col: error: ...
             std::cerr << e.what() << "\n";
             why = "the animation failed there";
-        } catch (const std::exception& e) {
-            why = e.what();
+        } catch (const std::exception& e) {  // std::bad_alloc: "out of memory while ..."
+            why = rtapp::error_text(e, "rendering it");
         }
         if (!why.empty()) {
             std::cerr << "raytrace: error: frame " << k << " not written (" << why << "); "

@@ -156,7 +156,8 @@ TEST(Viewer, AFifoIsAnErrorAndTheSceneStays) {
     EXPECT_EQ(v.failures, 1);  // a scripted run exits 1
     v.dropped.push_back(fifo);
     v.poll_files();  // the drop loads in the background
-    for (int i = 0; i < 2000 && v.loader.busy(); ++i) {
+    // No time limit of its own (ctest's timeout ends a hang): a slow, loaded machine is no failure.
+    while (v.loader.busy()) {
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
         v.poll_files();
     }
