@@ -158,6 +158,20 @@ void send_error(const std::string& text) {
     MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, 0, kTagError, MPI_COMM_WORLD);
 }
 
+// After a worker's error: rank 0 ends the job with MPI_Abort. A rank that finalized meanwhile
+// could leave mpirun waiting for ever (seen with OpenMPI 4.1: every rank gone, mpirun still
+// there), so the worker waits for the abort, taking whatever rank 0 still sends.
+void await_abort() {
+    for (;;) {
+        MPI_Status st;
+        MPI_Probe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
+        int count = 0;
+        MPI_Get_count(&st, MPI_BYTE, &count);
+        std::vector<char> ignored(static_cast<size_t>(std::max(count, 1)));
+        MPI_Recv(ignored.data(), count, MPI_BYTE, 0, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    }
+}
+
 void worker(Job& job, int rank) {
     const int ready = 1;
     MPI_Send(&ready, 1, MPI_INT, 0, kTagRequest, MPI_COMM_WORLD);
@@ -177,6 +191,7 @@ void worker(Job& job, int rank) {
             } catch (const std::exception& e) {  // rank 0 stops the job, and removes the frames
                 send_error("failed at frame " + std::to_string(t) + ": " +
                            rtapp::error_text(e, "moving its joints"));
+                await_abort();
                 return;
             }
             job.plan = rt::make_render_plan(*job.scene, job.opt);
