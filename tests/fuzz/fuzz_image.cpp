@@ -7,7 +7,8 @@
 // The image budget is lowered to 2^16 pixels, so that inputs declaring large images reach the
 // budget's refusal instead of spending the run on allocations (the checks are the same at any
 // budget): at 2^20, the many allocations of a few megabytes (an EXR's 16 channels of the budget)
-// passing through ASan's quarantine grew the process past libFuzzer's 2 GB in 5 minutes. Seeds: tests/fuzz/corpus/image (every format and variant) and scenes/textures.
+// passing through ASan's quarantine grew the process past libFuzzer's 2 GB in 5 minutes. Seeds:
+// tests/fuzz/corpus/image (every format and variant) and scenes/textures.
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
