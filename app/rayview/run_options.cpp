@@ -43,7 +43,7 @@ constexpr const char* kFooter =
     "(the pane's trace) |\n"
     "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
     "A command that fails is reported and the run goes on; the run then exits 1. Frame\n"
-    "numbers are at most 100000 (as --frames).\n\n"
+    "numbers are at most 100000 (as --frames); a script runs to two frames past its last.\n\n"
     "exit status: 0 success; 1 a failed --frames, --script or --screenshot run (a command, an\n"
     "open, a background load or render failed, or the scene did not open at start-up); 2 usage\n"
     "error (also a --script that is not a readable file, or a frame number out of range).";
