@@ -12,6 +12,7 @@
 
 #include "rt/accel/intersect.h"
 #include "rt/scene/scene_time.h"
+#include "rt/util/sanitizers.h"
 #include "test_util.h"
 
 namespace rt {
@@ -21,17 +22,9 @@ namespace fs = std::filesystem;
 
 // Caps the address space of this process at `extra` bytes more than it maps now, so that an
 // allocation larger than that fails at once (std::bad_alloc) instead of filling memory. Not under
-// AddressSanitizer, whose shadow memory needs an address space without a cap.
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define RT_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define RT_ASAN 1
-#endif
+// AddressSanitizer or ThreadSanitizer, whose shadow memory needs an address space without a cap.
 void cap_address_space(uint64_t extra) {
-#if defined(RT_ASAN)
+#if defined(RT_ASAN) || defined(RT_TSAN)
     (void)extra;
 #else
     uint64_t pages = 0;

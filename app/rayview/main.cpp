@@ -29,19 +29,11 @@
 #include "input.h"
 #include "panels.h"
 #include "panes.h"
+#include "rt/util/sanitizers.h"
 #include "script.h"
 #include "viewer.h"
 
 namespace {
-
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define RT_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define RT_ASAN 1
-#endif
 
 // Under AddressSanitizer: the GL driver's libraries stay mapped until exit (RTLD_NODELETE), so
 // LeakSanitizer can name the library of the driver's own small leak at exit and the chaos
