@@ -21,3 +21,16 @@ summary() {
 xrun() {
     "$(dirname "${BASH_SOURCE[0]}")/xrun.sh" "$@"
 }
+# check_out_of_memory NAME MESSAGE CMD...: CMD, whose address space is capped at 1 GB, exits 1
+# with the exact line MESSAGE on stderr (not a bare std::bad_alloc). Skipped for a sanitizer build
+# of CMD, whose shadow memory needs an address space without a cap.
+check_out_of_memory() {
+    local name="$1" message="$2" err
+    shift 2
+    grep -q -e __asan_init -e __tsan_init "$1" && return 0
+    err=$(mktemp)
+    (ulimit -v 1000000 && exec "$@") >/dev/null 2>"$err"
+    check "$name: exits 1" test $? -eq 1
+    check "$name: says so" grep -qxF "$message" "$err"
+    rm -f "$err"
+}

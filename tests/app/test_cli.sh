@@ -217,14 +217,9 @@ not_regular "a FIFO key file" "key.ray:1:11: error: cannot read key file '$tmp/f
 not_regular "a FIFO texture" "texture.ray:1:10: error: cannot decode texture '$tmp/fifo/t.bmp': '$tmp/fifo/t.bmp' is a FIFO, not a regular file" "$tmp/fifo/texture.ray"
 not_regular "a FIFO --reference" "--reference: '$tmp/fifo/ref.pfm' is a FIFO, not a regular file" "$tmp/ok.ray" --progressive --spp 2 --reference "$tmp/fifo/ref.pfm"
 
-# Out of memory (the address space capped at 1 GB; not under AddressSanitizer, which needs more):
-# said so, exit 1, no output, not a bare std::bad_alloc.
-if ! grep -q __asan_init "$rt"; then
-    (ulimit -v 1000000 && exec "$rt" "$tmp/ok.ray" --width 20000 --height 20000 \
-        --max-pixels 400000000 -q -o "$tmp/oom.png") >/dev/null 2>"$tmp/oom.txt"
-    check "out of memory exits 1" test $? -eq 1
-    check "out of memory says so" grep -qxF "raytrace: error: out of memory while rendering $tmp/ok.ray" "$tmp/oom.txt"
-    check "out of memory: no output" test ! -e "$tmp/oom.png"
-fi
+# Out of memory: said so, exit 1, no output.
+check_out_of_memory "out of memory" "raytrace: error: out of memory while rendering $tmp/ok.ray" \
+    "$rt" "$tmp/ok.ray" --width 20000 --height 20000 --max-pixels 400000000 -q -o "$tmp/oom.png"
+check "out of memory: no output" test ! -e "$tmp/oom.png"
 
 summary "with the bad-input checks"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Split renders end to end (issue 16): raytrace -o NAME.part with --tile and --samples, merged by
+# Split renders end to end: raytrace -o NAME.part with --tile and --samples, merged by
 # raymerge, equals the one-process render bit for bit (.pfm compared byte for byte) for several
 # split shapes, an instanced scene and an animation frame; every refused part (corrupt,
 # truncated, another scene, other settings, overlapping or missing coverage, an image beyond
@@ -75,15 +75,9 @@ refused "an image beyond the budget" "huge.part: its image of 32768x32768 pixels
 refused "--max-pixels" "tiles-0.part: its image of 61x45 pixels (2745) is larger than the budget of 2000 pixels" --max-pixels 2000 "$tmp"/tiles-?.part
 "$merge" -o "$tmp/x.png" --max-pixels 0 "$tmp/tiles-0.part" >/dev/null 2>&1
 check "--max-pixels 0 exits 2" test $? -eq 2
-# The budget raised beyond the memory there is (the address space capped at 1 GB; not under
-# AddressSanitizer, which needs more): out of memory, said so, not a bare std::bad_alloc.
-if ! grep -q __asan_init "$merge"; then
-    (ulimit -v 1000000 && exec "$merge" -o "$tmp/x.png" --max-pixels 1073741824 "$tmp/huge.part") \
-        >/dev/null 2>"$tmp/oom.txt"
-    check "out of memory: exit 1" test $? -eq 1
-    check "out of memory: message" grep -qx "raymerge: error: out of memory while merging the parts" \
-        "$tmp/oom.txt"
-fi
+# The budget raised beyond the memory there is: out of memory, said so.
+check_out_of_memory "out of memory" "raymerge: error: out of memory while merging the parts" \
+    "$merge" -o "$tmp/x.png" --max-pixels 1073741824 "$tmp/huge.part"
 
 # raytrace's usage errors for splits.
 "$rt" "$show" --tile 0,0,10,10 -o "$tmp/x.png" >/dev/null 2>"$tmp/u.txt"
