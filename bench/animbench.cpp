@@ -1,4 +1,4 @@
-// A frame update against a full compile (issue 15): animate() moves one joint over a static
+// A frame update against a full compile: animate() moves one joint over a static
 // mesh of about 100k triangles by recomputing the instances under joints and rebuilding the
 // top-level BVH only. Prints, for the joint holding a small part and the joint holding the mesh
 // itself, with and without a camera (no camera: the default camera needs the tight bounds of

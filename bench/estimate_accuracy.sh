@@ -4,7 +4,7 @@
 # of 512 spp, one row per scene and pass after the fourth (16 and 32 spp), with the ratio of the
 # estimated to the true relMSE. The reference's own error, spp / 512 of the image's for
 # independent samples, is taken out of the truth. Asserts nothing; the target is a ratio within
-# 0.75 to 1.25 (issue 17).
+# 0.75 to 1.25.
 # usage: bench/estimate_accuracy.sh [BUILD_DIR] [FEATURE OPTIONS...]
 #   default features: --light-radius 0.3 --aperture 0.02 --roughness 0.1
 set -euo pipefail

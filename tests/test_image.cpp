@@ -384,7 +384,7 @@ TEST(ImageDecode, TheScenesTexturesDecodeToWhatMakeTexturesWrote) {
     EXPECT_EQ(grid.rgb[0], 20);  // a grid line
 }
 
-// The 19 bytes of issue 29: a 16-bit PGM header and no pixels (stb read past its buffer).
+// 19 bytes: a 16-bit PGM header and no pixels (stb read past its buffer).
 TEST(ImageDecode, AHeaderWithoutPixelsIsTruncated) {
     const std::string path = write_temp("rt_header_only.pgm", "P5 4096 4096 65535\n");
     TextureImage t;

@@ -80,7 +80,7 @@ TEST(Progressive, ErrorFallsAsOneOverSamplesAndTheEstimateTracksIt) {
 }
 
 // The reference-free estimate against the true error (relMSE) at every pass after the fourth
-// (16 and 32 spp), on scenes of scenes/ with the progressive features on: within 25% (issue 17;
+// (16 and 32 spp), on scenes of scenes/ with the progressive features on: within 25% (the target;
 // bench/estimate_accuracy.sh measures every scene of scenes/ at a larger size). The truth is
 // measured against a 256-spp reference of another seed, whose own error adds spp / 256 of the
 // image's (independent samples; the low-discrepancy sequence makes it less), taken out. Measured at

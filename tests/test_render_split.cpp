@@ -1,4 +1,4 @@
-// A render split across processes (issue 16): parts of any tiles and sample ranges merge into
+// A render split across processes: parts of any tiles and sample ranges merge into
 // the very bits of the whole render, and a split that misses or repeats samples is refused.
 #include <algorithm>
 #include <cstring>

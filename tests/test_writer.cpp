@@ -123,7 +123,7 @@ TEST(Writer, OurScenesRoundTrip) {
     EXPECT_GE(n, 7);
 }
 
-// Saved next to a file, paths are relative to its directory (issue 14: the viewer wrote
+// Saved next to a file, paths are relative to its directory (once: the viewer wrote
 // absolute paths), and the saved file reads back with the same textures and includes.
 TEST(Writer, PathsRelativeToTheSavedFile) {
     const std::filesystem::path dir = std::filesystem::path(RT_SOURCE_DIR) / "scenes";

@@ -46,7 +46,7 @@ struct AnimationOptions {
     std::optional<rt::SceneTime> time(int k = 0) const;
 };
 
-/// A share of a split render (issue 16): -o NAME.part with --tile and --samples.
+/// A share of a split render: -o NAME.part with --tile and --samples.
 struct SplitOptions {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // --tile; x1 = 0: the whole image
     uint32_t first = 0, count = 0;       // --samples A:B as first = A, count = B - A; 0: all

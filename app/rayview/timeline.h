@@ -1,4 +1,4 @@
-// The animation's clock in the viewer (issue 15): the time the joints hold, playback (loop,
+// The animation's clock in the viewer: the time the joints hold, playback (loop,
 // speed) and the interpolation and rotation choices. No GL or ImGui: ViewerState owns one and
 // its restart path moves the joints to timeline.scene_time().
 #pragma once

@@ -20,7 +20,7 @@ TEST(CameraController, FileCameraRoundTrip) {
 }
 
 // The viewer shows raytrace's framing for any up vector: rolled, straight down, straight up
-// (issue 14: the file's up vector was dropped, so these showed upright or turned 180 degrees).
+// (once: the file's up vector was dropped, so these showed upright or turned 180 degrees).
 TEST(CameraController, FileCameraKeepsItsUpVector) {
     struct Case {
         const char* name;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The viewer's timeline under Xvfb (issue 15): a scripted scrub, play and pause show what
+# The viewer's timeline under Xvfb: a scripted scrub, play and pause show what
 # raytrace --at renders at the times the viewer reports, each pane alone at the render's size;
 # scrubbing changes the picture; "render animation" writes the frames raytrace --frames writes.
 # usage: test_rayview_animation.sh RAYVIEW SOURCE_DIR

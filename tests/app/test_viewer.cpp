@@ -276,7 +276,7 @@ TEST(Viewer, AV3SceneSavesAsV3WithItsEdits) {
     EXPECT_TRUE(std::holds_alternative<Torus>(d.files[0].root.shapes[0].geometry));
 }
 
-// Reloading keeps the user's edits (issue 14: a plain touch discarded the panel's light and camera
+// Reloading keeps the user's edits (once: a plain touch discarded the panel's light and camera
 // edits). A file of one point light and a sphere, written to a temporary place.
 std::string small_scene(const std::string& name, const std::string& light_colour) {
     const std::string path = ::testing::TempDir() + name;
@@ -381,7 +381,7 @@ TEST(Viewer, AFileThatFailsAtStartUpIsWatched) {
 }
 
 // A scene without lights is lit by a headlight along the view, which is never saved unless the
-// user keeps it (issue 14: such scenes showed black panes and no word why).
+// user keeps it (once: such scenes showed black panes and no word why).
 TEST(Viewer, ASceneWithoutLightsGetsAHeadlightThatIsNotSaved) {
     const std::string path = ::testing::TempDir() + "rt_viewer_dark.ray";
     write_file_atomic(path,
@@ -430,7 +430,7 @@ TEST(Viewer, NewLightsOfEveryKindStartAtTheEyeAlongTheView) {
     EXPECT_EQ(v.loaded->scene.lights.size(), before + 3);
 }
 
-// Saved scenes hold the numbers the panel showed (issue 14: 0.30000001192092896).
+// Saved scenes hold the numbers the panel showed (once: 0.30000001192092896).
 TEST(Viewer, FloatWidgetValuesAreTheirShortestDecimal) {
     EXPECT_EQ(float_as_decimal(0.3f), 0.3);
     EXPECT_EQ(float_as_decimal(1.15f), 1.15);

@@ -712,7 +712,7 @@ TEST(GlPreview, ShaderErrorsNameTheFile) {
     }
 }
 
-// Reflections and refraction (issue 14: mirrors and glass were black): a mirror wall behind a
+// Reflections and refraction (once: mirrors and glass were black): a mirror wall behind a
 // red ball and a clear glass ball in front of a green wall. With the trace's depth the preview
 // shows what the trace shows, approximately: it is not dark where the trace is lit, and its
 // mean difference is a fraction of local shading's.
