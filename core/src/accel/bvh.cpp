@@ -338,33 +338,4 @@ Bvh build_bvh(std::vector<PrimRef> refs, const Bounds3& exact_bounds,
     return bvh;
 }
 
-BoxRay::BoxRay(const Ray& r) {
-    float slack_hi = 0.0f;
-    for (int a = 0; a < 3; ++a) {
-        const float of = static_cast<float>(r.o[a]);
-        o[a] = _mm_set1_ps(of);
-        const double rounding = std::abs(r.o[a] - static_cast<double>(of));
-        if (std::abs(r.d[a]) < 1e-30) {
-            // A containment test (intersect_node): a huge reciprocal instead would turn an
-            // origin exactly on a box's upper face into a far distance of about 1 and cull
-            // every box behind it. The ray's drift |d| t_max is added there per query.
-            parallel[a] = true;
-            inv[a] = _mm_setzero_ps();
-            slack[a] = _mm_set1_ps(float_upper(rounding));
-            drift[a] = float_upper(std::abs(r.d[a]));
-            continue;
-        }
-        const double inv_d = 1.0 / r.d[a];
-        const float inv_f = static_cast<float>(inv_d);
-        // The origin's rounding to float moves the slab distances by up to |o - o_f| / |d|.
-        const double slack_d = (rounding + 1e-30) * std::abs(inv_d) * 2.0;
-        inv[a] = _mm_set1_ps(inv_f);
-        slack[a] = _mm_set1_ps(static_cast<float>(slack_d));
-        slack_hi = std::max(slack_hi, static_cast<float>(slack_d));
-        if (inv_f < 0.0f) near_off[a] = 12 + 4 * a, far_off[a] = 4 * a;
-    }
-    any_parallel = parallel[0] || parallel[1] || parallel[2];
-    slack_max = _mm_set1_ps(slack_hi);
-}
-
 }  // namespace rt

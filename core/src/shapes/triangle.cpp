@@ -1,7 +1,6 @@
 // Triangle (spec §5): p = w1 v1 + w2 v2 + w3 v3; geometric normal normalize((v2-v1) x (v3-v1));
 // shading normal interpolated when all three vertices have normals; uv interpolated. A triangle
 // bounds no solid: inside() is always false (a closed mesh's interior is not a triangle's).
-#include "rt/accel/triangle4.h"
 #include "rt/shapes/shapes.h"
 
 namespace rt {
@@ -36,19 +35,6 @@ static bool barycentric(const Triangle& tri, const Ray& ray, double* t, double* 
     *b2 = v / det;
     *t = glm::dot(e2, qv) / det;
     return !(det > 0.0 ? (u < 0.0 || v < 0.0 || u + v > det) : (u > 0.0 || v > 0.0 || u + v < det));
-}
-
-ShapeHits intersect(const Triangle& tri, const Ray& ray, Interval t) {
-    // Lane 0 of a block: the arithmetic every triangle of a scene goes through (a set's float
-    // copies are relative to GeometrySet::tri_origin; here the origin is 0).
-    Tri4 block{};
-    put_triangle(block, 0, tri.p0, tri.p1, tri.p2, Vec3(0.0));
-    ShapeHits h;
-    float tt[4];
-    if (intersect_tri4(block, TriRay(ray), 1, float_lower(t.lo), float_upper(t.hi), tt) &&
-        t.contains(static_cast<double>(tt[0])))
-        h.add(static_cast<double>(tt[0]), 0);
-    return h;
 }
 
 SurfacePoint surface_at(const Triangle& tri, const TriangleAttribs& attr, const Ray& ray, double t,
