@@ -125,12 +125,13 @@ int main(int argc, char** argv) {
     CLI::App app{
         "Times a frame update (animate) against a full compile, one joint over a\n"
         "100k-triangle mesh and the animated scenes of scenes/ (a table)."};
-    rtapp::setup_cli(app, "animbench");
+    rtapp::setup_cli(app, "animbench", true);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return rtapp::cli_exit(app, e);
     }
+    if (!rtapp::isa_usable("animbench")) return 2;
     std::printf("frame update (animate) against a full compile, median times\n\n");
     std::printf("| %-32s | %7s | %-6s | %10s | %9s | %8s | %7s | %s |\n", "scene", "tris", "camera",
                 "compile ms", "update ms", "ratio", "plan ms", "hits vs a compile at t");

@@ -643,7 +643,7 @@ int main(int argc, char** argv) {
         "Embree's default and robust modes) and checks that both find the same hits; with\n"
         "--leave-out, the generic against the specialized renderer on every scene of scenes/\n"
         "and ../shared/public-scenes (one LEAVEOUT line each)."};
-    rtapp::setup_cli(app, "raybench");
+    rtapp::setup_cli(app, "raybench", true);
     app.option_defaults()->always_capture_default();
     app.add_flag("--quick", quick, "one run of each, fewer rays");
     app.add_option("--repeats", repeats, "the median of N runs")
@@ -663,6 +663,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return rtapp::cli_exit(app, e);
     }
+    if (!rtapp::isa_usable("raybench")) return 2;
     if (quick && app.count("--repeats") == 0) repeats = 1;
     if (leave_out) {
         std::vector<std::filesystem::path> files;

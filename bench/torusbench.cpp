@@ -42,12 +42,13 @@ double ns_per_test(const S& shape, const std::vector<rt::Ray>& rays, int repeats
 
 int main(int argc, char** argv) {
     CLI::App app{"Times the torus test against a sphere test on the same rays (a table)."};
-    rtapp::setup_cli(app, "torusbench");
+    rtapp::setup_cli(app, "torusbench", true);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return rtapp::cli_exit(app, e);
     }
+    if (!rtapp::isa_usable("torusbench")) return 2;
     const rt::Torus torus{{0.2, -0.1, 0.3}, 0.25, 1.0};
     const rt::Sphere sphere{torus.centre, torus.ring + torus.tube};
     std::mt19937 rng(1);

@@ -5,15 +5,16 @@
 #include <new>
 
 #include "rt/util/file_io.h"
+#include "rt/util/isa.h"
 #include "version.h"
 
 namespace rtapp {
 
-void setup_cli(CLI::App& app, const std::string& program) {
+void setup_cli(CLI::App& app, const std::string& program, bool traces) {
     app.name(program);
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.set_help_flag("-h,--help", "this text");
-    app.set_version_flag("--version", version_text(program),
+    app.set_version_flag("--version", version_text(program, traces),
                          "the version and the git commit it was built from");
     // Checked as it is parsed, before CLI11 reads it: CLI11 would wait on a FIFO forever and
     // read /dev/zero to the end.
@@ -37,6 +38,12 @@ int cli_exit(const CLI::App& app, const CLI::ParseError& e) {
     std::fprintf(stderr, "%s: %s (see %s --help)\n", app.get_name().c_str(), e.what(),
                  app.get_name().c_str());
     return 2;
+}
+
+bool isa_usable(const std::string& program) {
+    if (rt::isa_error().empty()) return true;
+    std::fprintf(stderr, "%s: error: %s\n", program.c_str(), rt::isa_error().c_str());
+    return false;
 }
 
 std::string error_text(const std::exception& e, const std::string& doing) {

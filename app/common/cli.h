@@ -14,12 +14,18 @@ class ParseError;
 
 namespace rtapp {
 
-/// Sets up `app` for `program` as above. Call before adding the program's options.
-void setup_cli(CLI::App& app, const std::string& program);
+/// Sets up `app` for `program` as above. Call before adding the program's options. A program that
+/// traces rays (`traces`) names its instruction set in --version.
+void setup_cli(CLI::App& app, const std::string& program, bool traces = false);
 
 /// After app.parse() threw: prints the help or version (stdout, exit 0) or the error and a hint
 /// to --help (stderr, exit 2). Returns the exit status.
 int cli_exit(const CLI::App& app, const CLI::ParseError& e);
+
+/// False, after printing "PROGRAM: error: RAYTRACER_ISA=...: ..." to stderr, when the
+/// environment asks for an instruction set that does not exist or that this CPU cannot run. The
+/// programs that trace rays check it first and exit 2.
+bool isa_usable(const std::string& program);
 
 /// The message of an error that ends a program: e.what(), but for std::bad_alloc (whose what()
 /// names only its type) "out of memory while <doing>".

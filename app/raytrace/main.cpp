@@ -171,9 +171,10 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (opt.version) {
-        std::cout << rtapp::version_text("raytrace") << "\n";
+        std::cout << rtapp::version_text("raytrace", true) << "\n";
         return 0;
     }
+    if (!rtapp::isa_usable("raytrace")) return 2;
     try {
         return run(opt);
     } catch (const std::exception& e) {

@@ -577,7 +577,7 @@ int main(int argc, char** argv) {
         code = 2;
     }
     if (code == 0 && job.opt.version) {
-        if (rank == 0) std::cout << rtapp::version_text("raytrace-mpi") << "\n";
+        if (rank == 0) std::cout << rtapp::version_text("raytrace-mpi", true) << "\n";
     } else if (code == 0 && job.opt.help) {
         if (rank == 0)
             std::cout << "usage: mpirun -n N raytrace-mpi SCENE [raytrace's options] "
@@ -586,7 +586,10 @@ int main(int argc, char** argv) {
     } else if (code == 0) {
         const std::string first =
             job.opt.animation.frames > 0 ? rtapp::frame_path(job.opt.output, 0) : job.opt.output;
-        if (rank == 0 && !probe_outputs({first})) code = 1;
+        if (rank == 0 && !rtapp::isa_usable("raytrace-mpi"))
+            code = 2;
+        else if (rank == 0 && !probe_outputs({first}))
+            code = 1;
         MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
         if (code == 0) {
             try {

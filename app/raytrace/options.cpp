@@ -213,7 +213,7 @@ void make_app(CLI::App& app, Options& o) {
     app.get_formatter()->column_width(28);
     // A repeated option takes its last value, as before CLI11 (scripts/run.sh passes -o and
     // forwards the user's own arguments after it).
-    rtapp::setup_cli(app, "raytrace");
+    rtapp::setup_cli(app, "raytrace", true);
     app.option_defaults()->always_capture_default();
     add_render_options(app, o);
     add_output_options(app, o);

@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 
+#include "rt/util/isa.h"
 #include "rt/util/stopwatch.h"
 
 namespace raytrace {
@@ -303,6 +304,7 @@ void print_stats(const Timings& t, double build_s, const rt::RayCounters& rays) 
     std::printf("compile       %10.3f   (of which BVH build %.3f)\n", t.compile_s, build_s);
     std::printf("render        %10.3f\n", t.render_s);
     std::printf("total         %10.3f\n", t.parse_s + t.compile_s + t.render_s);
+    std::printf("\ninstruction set  %s\n", rt::isa_summary().c_str());
     std::printf("\nrays               count     per second of render time\n");
     const std::pair<const char*, uint64_t> kinds[] = {{"camera", rays.camera},
                                                       {"shadow", rays.shadow},

@@ -24,6 +24,7 @@
 #include <memory>
 #include <string>
 
+#include "cli.h"
 #include "config.h"
 #include "data_dir.h"
 #include "input.h"
@@ -258,6 +259,7 @@ int main(int argc, char** argv) {
     const int rc = parse_run_options(
         argc, argv, data_dir.empty() ? "" : data_dir + "/scenes/showpiece.ray", &opt);
     if (rc >= 0) return rc;
+    if (!rtapp::isa_usable("rayview")) return 2;
     if (opt.scene.empty()) {  // no scene named, and no default one
         std::fprintf(stderr, "rayview: no scene given, and the default one is missing: %s\n",
                      data_error.c_str());

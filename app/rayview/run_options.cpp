@@ -88,7 +88,7 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
     std::string script_path;
     CLI::App app{
         "Opens a .ray scene in a window: the OpenGL preview beside its progressive ray trace."};
-    rtapp::setup_cli(app, "rayview");
+    rtapp::setup_cli(app, "rayview", true);
     app.add_option("scene", out->scene, "the .ray file (default: the showpiece)")
         ->type_name("SCENE.ray");
     app.add_option("--frames", out->frames,
@@ -142,7 +142,7 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         return 0;
     } catch (const CLI::CallForVersion&) {
         // The version, and where this copy finds its shaders and scenes.
-        std::printf("%s\n", rtapp::version_text("rayview").c_str());
+        std::printf("%s\n", rtapp::version_text("rayview", true).c_str());
         try {
             std::printf("data: %s\n", rtapp::find_data_dir("shaders/preview.vert").c_str());
         } catch (const std::exception& e) {
