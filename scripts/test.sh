@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds everything (warnings as errors) and the web page (build-web/)
-# and runs every test, the page's in headless Chromium among them; then the
+# and runs every test, the page's in headless Chromium among them, and the core tests again with
+# the baseline kernels (RAYTRACER_ISA=sse2); then the
 # unit tests, the fuzz crasher corpus, the CLI test and the viewer's chaos test (500 random
 # scripted events) again under AddressSanitizer and UndefinedBehaviorSanitizer (build-san/, any
 # finding fails, no GL tests), then 30 s of fuzzing each fuzz target (the parser and compiler,
@@ -33,6 +34,10 @@ fi
 took "building the web page"
 ctest --test-dir build --output-on-failure -j"$jobs"
 took "the tests in build/"
+# The core tests once more with the baseline kernels (the tests above ran the widest ones this
+# CPU has; tests/app/test_isa.sh compares the images of each).
+RAYTRACER_ISA=sse2 build/tests/rt_tests --gtest_brief=1
+took "the core tests under RAYTRACER_ISA=sse2"
 if [ "${RT_QUICK:-0}" = 1 ]; then exit 0; fi
 
 echo "test: ASan + UBSan (build-san/)" >&2

@@ -15,7 +15,9 @@ void setup_cli(CLI::App& app, const std::string& program, bool traces) {
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.set_help_flag("-h,--help", "this text");
     app.set_version_flag("--version", version_text(program, traces),
-                         "the version and the git commit it was built from");
+                         traces
+                             ? "the version, the git commit it was built from, the ray kernels' ISA"
+                             : "the version and the git commit it was built from");
     // Checked as it is parsed, before CLI11 reads it: CLI11 would wait on a FIFO forever and
     // read /dev/zero to the end.
     app.set_config("--config", "", "read options from a TOML or INI file (key = value)")
