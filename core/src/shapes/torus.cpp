@@ -372,11 +372,31 @@ double largest_cubic_root(double a, double b, double c) {
     return z;
 }
 
+// The checks of a root x after the Newton step `step` (f' rho = df), for the two lanes of a pair
+// at once: true when both pass. Quadratic convergence: the error is below step^2 f'' / f', f''
+// of order 1 + R / rho, so the step must be tiny against the slope; and the root must not lie
+// within `margin` of an end of t (tlo, thi in sigma). A NaN root fails, one at infinity is not
+// checked (it is not in t).
+struct PairChecks {
+    D2 min_df, lo, hi, margin;
+    bool pass(D2 x, D2 df, D2 step) const {
+        const D2 absm = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+        const D2 as = _mm_and_pd(step, absm), ad = _mm_and_pd(df, absm);
+        D2 good = _mm_and_pd(_mm_cmple_pd(as, _mm_set1_pd(1e-7)), _mm_cmpge_pd(ad, min_df));
+        good = _mm_and_pd(good,
+                          _mm_cmple_pd(_mm_mul_pd(step, step), _mm_mul_pd(_mm_set1_pd(1e-14), ad)));
+        good = _mm_and_pd(good, _mm_cmpgt_pd(_mm_and_pd(_mm_sub_pd(x, lo), absm), margin));
+        good = _mm_andnot_pd(_mm_cmple_pd(_mm_and_pd(_mm_sub_pd(x, hi), absm), margin), good);
+        good = _mm_or_pd(good, _mm_cmpnlt_pd(x, _mm_set1_pd(kInf)));
+        return _mm_movemask_pd(_mm_and_pd(good, _mm_cmpord_pd(x, x))) == 3;
+    }
+};
+
 // One quadratic's two roots 0.5 (U - S), 0.5 (U + S) (sigma + sh), polished by one Newton step
-// on f in the two lanes of an SSE2 pair: x, and f' rho (its sign, and |f'| >= |f' rho| as
-// rho <= 1) and the step for the checks.
-void newton_pair(const TorusRay& r, double sh, double U, double S, double* x, double* df,
-                 double* step) {
+// on f in the two lanes of an SSE2 pair: x and f' rho (its sign, and |f'| >= |f' rho| as
+// rho <= 1); true when both pass the checks.
+bool newton_pair(const TorusRay& r, double sh, double U, double S, const PairChecks& c, double* x,
+                 double* df) {
     const D2 sv = _mm_sub_pd(_mm_mul_pd(_mm_set1_pd(0.5), _mm_add_pd(_mm_set1_pd(U), d2(-S, S))),
                              _mm_set1_pd(sh));
     const D2 ex = _mm_set1_pd(r.e.x), ey = _mm_set1_pd(r.e.y), ez = _mm_set1_pd(r.e.z);
@@ -391,9 +411,10 @@ void newton_pair(const TorusRay& r, double sh, double U, double S, double* x, do
     const D2 drho = _mm_mul_pd(
         _mm_set1_pd(2.0), _mm_add_pd(_mm_mul_pd(dr, rad), _mm_mul_pd(_mm_mul_pd(pty, ey), rho)));
     const D2 st = _mm_div_pd(_mm_mul_pd(fv, rho), drho);  // f / f', f' = drho / rho
-    _mm_storeu_pd(step, st);
+    const D2 xs = _mm_sub_pd(sv, st);
     _mm_storeu_pd(df, drho);
-    _mm_storeu_pd(x, _mm_sub_pd(sv, st));
+    _mm_storeu_pd(x, xs);
+    return c.pass(xs, drho, st);
 }
 
 // The fast path for a well-conditioned ring torus (R > r): the quartic's real roots in closed
@@ -425,25 +446,18 @@ bool fast_crossings(const TorusRay& r, const TorusQuartic& q, double inv4, doubl
         return false;
     const bool real1 = d1 > 0.0, real2 = d2v > 0.0;
     if (!real1 && !real2) return true;  // no crossing
-    double x[4], df[4], step[4];
+    const PairChecks checks{_mm_set1_pd(1e-3 * r.tube), _mm_set1_pd(tlo), _mm_set1_pd(thi),
+                            _mm_set1_pd(1e-7 * (1.0 + std::abs(tlo)))};
+    double x[4], df[4];
     int n = 2;
+    bool ok = true;
     if (real1 && real2) {
         const D2 s12 = _mm_sqrt_pd(d2(d1, d2v));
-        newton_pair(r, sh, -u, lane0(s12), x, df, step);
-        newton_pair(r, sh, u, lane1(s12), x + 2, df + 2, step + 2);
+        ok = newton_pair(r, sh, -u, lane0(s12), checks, x, df);
+        ok &= newton_pair(r, sh, u, lane1(s12), checks, x + 2, df + 2);
         n = 4;
     } else {
-        newton_pair(r, sh, real1 ? -u : u, root(real1 ? d1 : d2v), x, df, step);
-    }
-    const double margin = 1e-7 * (1.0 + std::abs(tlo));
-    bool ok = true;
-    for (int i = 0; i < n; ++i) {
-        ok &= x[i] == x[i];  // no NaN root
-        // Quadratic convergence: the error is below step^2 f'' / f', f'' of order 1 + R / rho.
-        ok &=
-            !(x[i] < kInf) || (std::abs(step[i]) <= 1e-7 && std::abs(df[i]) >= 1e-3 * r.tube &&
-                               step[i] * step[i] <= 1e-14 * std::abs(df[i]) &&
-                               std::abs(x[i] - tlo) > margin && !(std::abs(x[i] - thi) <= margin));
+        ok = newton_pair(r, sh, real1 ? -u : u, root(real1 ? d1 : d2v), checks, x, df);
     }
     if (n == 4) {
         // The two sorted pairs merged (each quadratic's pair is in order, else a gap check fails).
