@@ -8,6 +8,8 @@
 // circle, 1/2 on the inner equator, 3/4 on the bottom circle. Inside: f < 0.
 //
 // The torus is a V3 shape (#shape_torus, spec §13.5); the V0/V1 writer refuses it.
+#include <emmintrin.h>
+
 #include <cstdint>
 #include <cstring>
 
@@ -19,23 +21,33 @@ namespace {
 
 constexpr double kNoSeed = std::numeric_limits<double>::quiet_NaN();
 
-// a * b + c with one rounding (Dekker's product, Knuth's sum: the build has no FMA).
-double mul_add(double a, double b, double c) {
-    constexpr double kSplit = 134217729.0;  // 2^27 + 1
-    auto split = [](double x, double& hi, double& lo) {
-        const double s = kSplit * x;
-        hi = s - (s - x);
-        lo = x - hi;
+// Two lanes of double (SSE2) for independent square roots and divisions: one instruction for
+// two, each lane's result that of the scalar operation (IEEE, correctly rounded).
+using D2 = __m128d;
+D2 d2(double a, double b) { return _mm_set_pd(b, a); }
+double lane0(D2 v) { return _mm_cvtsd_f64(v); }
+double lane1(D2 v) { return _mm_cvtsd_f64(_mm_unpackhi_pd(v, v)); }
+// std::sqrt without the library's errno path (sqrtsd alone).
+double root(double x) { return _mm_cvtsd_f64(_mm_sqrt_sd(_mm_setzero_pd(), _mm_set_sd(x))); }
+
+// a * b + c with one rounding (Dekker's product, Knuth's sum: the build has no FMA), in the two
+// lanes of an SSE2 pair.
+D2 mul_add(D2 a, D2 b, D2 c) {
+    const D2 split = _mm_set1_pd(134217729.0);  // 2^27 + 1
+    auto hi_of = [&](D2 x) {
+        const D2 s = _mm_mul_pd(split, x);
+        return _mm_sub_pd(s, _mm_sub_pd(s, x));
     };
-    double ah, al, bh, bl;
-    split(a, ah, al);
-    split(b, bh, bl);
-    const double p = a * b;
-    const double pe = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
-    const double s = p + c;
-    const double bb = s - p;
-    const double se = (p - (s - bb)) + (c - bb);
-    return s + (pe + se);
+    const D2 ah = hi_of(a), al = _mm_sub_pd(a, ah), bh = hi_of(b), bl = _mm_sub_pd(b, bh);
+    const D2 p = _mm_mul_pd(a, b);
+    const D2 pe =
+        _mm_add_pd(_mm_add_pd(_mm_add_pd(_mm_sub_pd(_mm_mul_pd(ah, bh), p), _mm_mul_pd(ah, bl)),
+                              _mm_mul_pd(al, bh)),
+                   _mm_mul_pd(al, bl));
+    const D2 s = _mm_add_pd(p, c);
+    const D2 bb = _mm_sub_pd(s, p);
+    const D2 se = _mm_add_pd(_mm_sub_pd(p, _mm_sub_pd(s, bb)), _mm_sub_pd(c, bb));
+    return _mm_add_pd(s, _mm_add_pd(pe, se));
 }
 
 // Brackets refined at once: at most 3 monotone pieces of the quartic, the convex or concave ones
@@ -209,10 +221,6 @@ void add_crossings(const TorusRay& r, const TorusQuartic& q, Bracket* br, int n,
 bool torus_ray(const Torus& tor, const Ray& ray, TorusRay& r, double& pp) {
     const double dd = glm::dot(ray.d, ray.d), size = tor.ring + tor.tube;
     if (!(dd > 0.0) || !(size > 0.0)) return false;
-    const double len = std::sqrt(dd), inv = 1.0 / size, inv_len = 1.0 / len;
-    r.ring = tor.ring * inv, r.tube = tor.tube * inv;
-    r.e = ray.d * inv_len;
-    r.scale = size * inv_len;
     // q = o - c exactly as hi + lo, then p = q + t0 d with one rounding: p is accurate to its own
     // size (at most R + r), not to the ray's distance.
     Vec3 qh = ray.o - tor.centre, ql;
@@ -220,21 +228,33 @@ bool torus_ray(const Torus& tor, const Ray& ray, TorusRay& r, double& pp) {
         const double bb = qh[i] - ray.o[i];
         ql[i] = (ray.o[i] - (qh[i] - bb)) + (-tor.centre[i] - bb);
     }
-    r.t0 = -glm::dot(qh, ray.d) / dd;
-    for (int i = 0; i < 3; ++i) r.p[i] = (mul_add(r.t0, ray.d[i], qh[i]) + ql[i]) * inv;
+    const D2 it = _mm_div_pd(d2(1.0, -glm::dot(qh, ray.d)), d2(size, dd));  // 1 / size, t0
+    const double inv = lane0(it), inv_len = 1.0 / std::sqrt(dd);
+    r.t0 = lane1(it);
+    r.ring = tor.ring * inv, r.tube = tor.tube * inv;
+    r.e = ray.d * inv_len;
+    r.scale = size * inv_len;
+    const D2 t0 = _mm_set1_pd(r.t0), iv = _mm_set1_pd(inv);
+    const D2 pxy = _mm_mul_pd(
+        _mm_add_pd(mul_add(t0, d2(ray.d.x, ray.d.y), d2(qh.x, qh.y)), d2(ql.x, ql.y)), iv);
+    const D2 pz =
+        _mm_mul_pd(_mm_add_pd(mul_add(t0, d2(ray.d.z, 0.0), d2(qh.z, 0.0)), d2(ql.z, 0.0)), iv);
+    r.p = Vec3(lane0(pxy), lane1(pxy), lane0(pz));
     pp = glm::dot(r.p, r.p);
     return pp < 1.0;
 }
 
-// The sigma range [lo, hi] to search: the bounding sphere's chord (pp = |p|^2), the interval t,
-// the slab |y| <= r and the outer cylinder rho <= R + r, each widened by rounding margins. False
-// when it is empty or lies in the hole's cylinder rho < R - r (rho^2 is convex in sigma).
-bool sigma_range(const TorusRay& r, double pp, Interval t, double& lo, double& hi) {
+// The sigma range [lo, hi] to search: the bounding sphere's chord (pp = |p|^2), the interval t
+// (tlo, thi in sigma), the slab |y| <= r (inv_ey = 1 / e_y) and the outer cylinder rho <= R + r,
+// each widened by rounding margins. False when it is empty or lies in the hole's cylinder
+// rho < R - r (rho^2 is convex in sigma).
+bool sigma_range(const TorusRay& r, double pp, double tlo, double thi, double inv_ey, double& lo,
+                 double& hi) {
     const double w = std::sqrt(1.0 - pp) + 1e-12;
-    lo = std::max(-w, (t.lo - r.t0) / r.scale), hi = std::min(w, (t.hi - r.t0) / r.scale);
+    lo = std::max(-w, tlo), hi = std::min(w, thi);
     const double slab = r.tube * (1.0 + 1e-12);
     if (r.e.y != 0.0) {
-        const double inv = 1.0 / r.e.y, a = (-slab - r.p.y) * inv, b = (slab - r.p.y) * inv;
+        const double inv = inv_ey, a = (-slab - r.p.y) * inv, b = (slab - r.p.y) * inv;
         lo = std::max(lo, std::min(a, b)), hi = std::min(hi, std::max(a, b));
     } else if (std::abs(r.p.y) > slab) {
         return false;
@@ -308,61 +328,106 @@ int torus_brackets(const TorusRay& r, const TorusQuartic& q, double lo, double h
     return n;
 }
 
-// cbrt(x) for x > 0 to a few ulp, without a library call: an exponent-third guess (3% off) and
-// two of Halley's steps (cubic convergence).
-double cube_root(double x) {
-    std::uint64_t bits = 0;
-    std::memcpy(&bits, &x, sizeof bits);
-    bits = bits / 3 + 0x2a9f7893782da1ceULL;
-    double w = 0.0;
-    std::memcpy(&w, &bits, sizeof w);
-    for (int i = 0; i < 2; ++i) {
-        const double w3 = w * w * w;
-        w *= (w3 + 2.0 * x) / (2.0 * w3 + x);
-    }
-    return w;
-}
-
-// The largest real root of z^3 + a z^2 + b z + c (the caller checks the factorisation it gives).
-// Both of Cardano's cases are computed and one is selected (no branch): with one real root his
-// formula, with three the trigonometric one, cos(acos(m) / 3) = y(sqrt((1 + m) / 2)) by a degree-5
-// polynomial (1.4e-6 off); then one of Halley's steps on the cubic.
+// The largest real root of z^3 + a z^2 + b z + c (the caller checks the factorisation it gives):
+// with one real root (h > 0) Cardano's formula, w = cbrt(x) by an exponent-third guess (3% off)
+// and two of Halley's steps; with three the trigonometric one, cos(acos(m) / 3) = y(sqrt((1 + m) /
+// 2)) by a degree-5 polynomial (1.4e-6 off); then one of Halley's steps on the cubic. Only the
+// case at hand is computed: on the rays of a torus test nine in ten have one real root.
 double largest_cubic_root(double a, double b, double c) {
     const double a3 = a * (1.0 / 3.0);
     const double p = b - a * a3, q = (2.0 * a3 * a3 - b) * a3 + c;  // x^3 + p x + q, z = x - a/3
     const double h = 0.25 * q * q + p * p * p * (1.0 / 27.0);
-    // One real root: x = w - p / (3 w), w = cbrt(-q/2 - sign(q) sqrt(h)).
-    const double wq = 0.5 * std::abs(q) + std::sqrt(std::max(h, 0.0));
-    const double w = -std::copysign(cube_root(std::max(wq, 1e-300)), q);
-    const double x1 = w - p / (3.0 * w);
-    // Three: x = 2 m cos(acos(cs) / 3), m = sqrt(-p / 3).
-    const double m = std::sqrt(std::max(-p * (1.0 / 3.0), 1e-300));
-    const double cs = std::clamp(-0.5 * q / (m * m * m), -1.0, 1.0);
-    const double sg = std::sqrt(0.5 * (1.0 + cs));
-    const double y =
-        ((((0.004120803299140144 * sg - 0.01912182853543716) * sg + 0.04763450696127365) * sg -
-          0.10988445983996663) *
-             sg +
-         0.5772504050076003) *
-            sg +
-        0.5000013730081603;
-    const double x3 = 2.0 * m * y;
-    double z = (h > 0.0 ? x1 : x3) - a3;
+    double x = 0.0;
+    if (h > 0.0) {
+        // x = w - p / (3 w), w = cbrt(-q/2 - sign(q) sqrt(h)).
+        const double wq = std::max(0.5 * std::abs(q) + root(h), 1e-300);
+        std::uint64_t bits = 0;
+        std::memcpy(&bits, &wq, sizeof bits);
+        bits = bits / 3 + 0x2a9f7893782da1ceULL;
+        double w = 0.0;
+        std::memcpy(&w, &bits, sizeof w);
+        for (int i = 0; i < 2; ++i) {
+            const double w3 = w * w * w;
+            w *= (w3 + 2.0 * wq) / (2.0 * w3 + wq);
+        }
+        w = -std::copysign(w, q);
+        x = w - p / (3.0 * w);
+    } else {
+        // x = 2 m cos(acos(cs) / 3), m = sqrt(-p / 3).
+        const double m = root(std::max(-p * (1.0 / 3.0), 1e-300));
+        const double cs = std::clamp(-0.5 * q / (m * m * m), -1.0, 1.0);
+        const double sg = root(0.5 * (1.0 + cs));
+        const double y =
+            ((((0.004120803299140144 * sg - 0.01912182853543716) * sg + 0.04763450696127365) * sg -
+              0.10988445983996663) *
+                 sg +
+             0.5772504050076003) *
+                sg +
+            0.5000013730081603;
+        x = 2.0 * m * y;
+    }
+    double z = x - a3;
     const double g = ((z + a) * z + b) * z + c, dg = (3.0 * z + 2.0 * a) * z + b;
     z -= 2.0 * g * dg / (2.0 * dg * dg - g * (6.0 * z + 2.0 * a));  // Halley's step
     return z;
 }
 
+// The checks of a root x after the Newton step `step` (f' rho = df), for the two lanes of a pair
+// at once: true when both pass. Quadratic convergence: the error is below step^2 f'' / f', f''
+// of order 1 + R / rho, so the step must be tiny against the slope; and the root must not lie
+// within `margin` of an end of t (tlo, thi in sigma). A NaN root fails, one at infinity is not
+// checked (it is not in t).
+struct PairChecks {
+    D2 min_df, lo, hi, margin;
+    bool pass(D2 x, D2 df, D2 step) const {
+        const D2 absm = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+        const D2 as = _mm_and_pd(step, absm), ad = _mm_and_pd(df, absm);
+        D2 good = _mm_and_pd(_mm_cmple_pd(as, _mm_set1_pd(1e-7)), _mm_cmpge_pd(ad, min_df));
+        good = _mm_and_pd(good,
+                          _mm_cmple_pd(_mm_mul_pd(step, step), _mm_mul_pd(_mm_set1_pd(1e-14), ad)));
+        good = _mm_and_pd(good, _mm_cmpgt_pd(_mm_and_pd(_mm_sub_pd(x, lo), absm), margin));
+        good = _mm_andnot_pd(_mm_cmple_pd(_mm_and_pd(_mm_sub_pd(x, hi), absm), margin), good);
+        good = _mm_or_pd(good, _mm_cmpnlt_pd(x, _mm_set1_pd(kInf)));
+        return _mm_movemask_pd(_mm_and_pd(good, _mm_cmpord_pd(x, x))) == 3;
+    }
+};
+
+// One quadratic's two roots 0.5 (U - S), 0.5 (U + S) (sigma + sh), polished by one Newton step
+// on f in the two lanes of an SSE2 pair: x and f' rho (its sign, and |f'| >= |f' rho| as
+// rho <= 1); true when both pass the checks.
+bool newton_pair(const TorusRay& r, double sh, double U, double S, const PairChecks& c, double* x,
+                 double* df) {
+    const D2 sv = _mm_sub_pd(_mm_mul_pd(_mm_set1_pd(0.5), _mm_add_pd(_mm_set1_pd(U), d2(-S, S))),
+                             _mm_set1_pd(sh));
+    const D2 ex = _mm_set1_pd(r.e.x), ey = _mm_set1_pd(r.e.y), ez = _mm_set1_pd(r.e.z);
+    const D2 ptx = _mm_add_pd(_mm_set1_pd(r.p.x), _mm_mul_pd(sv, ex));
+    const D2 pty = _mm_add_pd(_mm_set1_pd(r.p.y), _mm_mul_pd(sv, ey));
+    const D2 ptz = _mm_add_pd(_mm_set1_pd(r.p.z), _mm_mul_pd(sv, ez));
+    const D2 rho = _mm_sqrt_pd(_mm_add_pd(_mm_mul_pd(ptx, ptx), _mm_mul_pd(ptz, ptz)));
+    const D2 dr = _mm_sub_pd(rho, _mm_set1_pd(r.ring));
+    const D2 fv = _mm_sub_pd(_mm_add_pd(_mm_mul_pd(dr, dr), _mm_mul_pd(pty, pty)),
+                             _mm_set1_pd(r.tube * r.tube));
+    const D2 rad = _mm_add_pd(_mm_mul_pd(ptx, ex), _mm_mul_pd(ptz, ez));
+    const D2 drho = _mm_mul_pd(
+        _mm_set1_pd(2.0), _mm_add_pd(_mm_mul_pd(dr, rad), _mm_mul_pd(_mm_mul_pd(pty, ey), rho)));
+    const D2 st = _mm_div_pd(_mm_mul_pd(fv, rho), drho);  // f / f', f' = drho / rho
+    const D2 xs = _mm_sub_pd(sv, st);
+    _mm_storeu_pd(df, drho);
+    _mm_storeu_pd(x, xs);
+    return c.pass(xs, drho, st);
+}
+
 // The fast path for a well-conditioned ring torus (R > r): the quartic's real roots in closed
 // form (Descartes' factorisation into two quadratics, with the resolvent cubic's largest root),
-// each polished by two Newton steps on f, processed as four lanes without data-dependent
-// branches. Returns false, leaving h untouched, unless every root is certain: each quadratic's
-// discriminant clear of zero (no near-double root, no grazing ray), each root's last Newton step
-// tiny against its slope (simple roots, error of the order of the step squared), the roots apart
-// with f's slope alternating in sign, and none near an end of t. The caller then falls back to
-// the robust brackets.
-bool fast_crossings(const TorusRay& r, const TorusQuartic& q, Interval t, ShapeHits& h) {
-    const double inv4 = 1.0 / q.c[4];
+// each polished by one Newton step on f, a quadratic's pair of roots in the two lanes of an SSE2
+// pair (only the quadratics with real roots: one on nine rays in ten that hit). inv4 = 1 / c4;
+// tlo, thi: t's ends in sigma. Returns false, leaving h untouched, unless every root is certain:
+// each quadratic's discriminant clear of zero (no near-double root, no grazing ray), each root's
+// last Newton step tiny against its slope (simple roots, error of the order of the step squared),
+// the roots apart with f's slope alternating in sign, and none near an end of t. The caller then
+// falls back to the robust brackets.
+bool fast_crossings(const TorusRay& r, const TorusQuartic& q, double inv4, double tlo, double thi,
+                    Interval t, ShapeHits& h) {
     const double a3 = q.c[3] * inv4, a2 = q.c[2] * inv4, a1 = q.c[1] * inv4, a0 = q.c[0] * inv4;
     const double sh = 0.25 * a3;  // s = y - sh: y^4 + P y^2 + Q y + S
     const double P = a2 - 6.0 * sh * sh, Q = a1 - 2.0 * sh * a2 + 8.0 * sh * sh * sh;
@@ -370,58 +435,46 @@ bool fast_crossings(const TorusRay& r, const TorusQuartic& q, Interval t, ShapeH
     const double z = largest_cubic_root(2.0 * P, P * P - 4.0 * S, -Q * Q);
     if (!(z > 1e-6)) return false;
     // (y^2 + u y + v)(y^2 - u y + w), u^2 = z.
-    const double u = std::sqrt(z), qu = Q * u * (1.0 / z);  // square root and division at once
+    const double u = root(z), qu = Q * u * (1.0 / z);  // square root and division at once
     const double v = 0.5 * (P + z - qu), w = 0.5 * (P + z + qu);
-    const double d1 = z - 4.0 * v, d2 = z - 4.0 * w;
+    const double d1 = z - 4.0 * v, d2v = z - 4.0 * w;
     constexpr double kClear = 1e-8;  // discriminants closer to 0: a near-double root
     // The factorisation is exact but for v w = S, off by the error of z: an exact one of a quartic
     // within 1e-13 of Q (of order 1), far below what moves a discriminant by kClear.
-    bool ok = std::abs(d1) > kClear && std::abs(d2) > kClear &&
-              std::abs(v * w - S) <= 1e-13 * (1.0 + std::abs(S));
-    const double s1 = std::sqrt(std::max(d1, 0.0)), s2 = std::sqrt(std::max(d2, 0.0));
-    double x[4] = {0.5 * (-u - s1), 0.5 * (-u + s1), 0.5 * (u - s2), 0.5 * (u + s2)};
-    const bool real[4] = {d1 > 0.0, d1 > 0.0, d2 > 0.0, d2 > 0.0};
-    double df[4], step[4];
-    for (int i = 0; i < 4; ++i) {
-        const double sv = x[i] - sh;
-        const Vec3 pt = r.p + sv * r.e;
-        const double rho = std::sqrt(pt.x * pt.x + pt.z * pt.z), dr = rho - r.ring;
-        const double fv = dr * dr + pt.y * pt.y - r.tube * r.tube;
-        const double drho = 2.0 * (dr * (pt.x * r.e.x + pt.z * r.e.z) + pt.y * r.e.y * rho);
-        step[i] = fv * rho / drho;  // f / f', f' = drho / rho
-        df[i] = drho;               // f' rho: its sign, and |f'| >= |f' rho| as rho <= 1
-        x[i] = sv - step[i];
+    if (!(std::abs(d1) > kClear && std::abs(d2v) > kClear &&
+          std::abs(v * w - S) <= 1e-13 * (1.0 + std::abs(S))))
+        return false;
+    const bool real1 = d1 > 0.0, real2 = d2v > 0.0;
+    if (!real1 && !real2) return true;  // no crossing
+    const PairChecks checks{_mm_set1_pd(1e-3 * r.tube), _mm_set1_pd(tlo), _mm_set1_pd(thi),
+                            _mm_set1_pd(1e-7 * (1.0 + std::abs(tlo)))};
+    double x[4], df[4];
+    int n = 2;
+    bool ok = true;
+    if (real1 && real2) {
+        const D2 s12 = _mm_sqrt_pd(d2(d1, d2v));
+        ok = newton_pair(r, sh, -u, lane0(s12), checks, x, df);
+        ok &= newton_pair(r, sh, u, lane1(s12), checks, x + 2, df + 2);
+        n = 4;
+    } else {
+        ok = newton_pair(r, sh, real1 ? -u : u, root(real1 ? d1 : d2v), checks, x, df);
     }
-    // Sort the real roots (the others moved to +inf): the two sorted pairs merged.
-    double sx[4], sd[4], ss[4];
-    for (int i = 0; i < 4; ++i) {
-        ok &= !real[i] || x[i] == x[i];  // no NaN root
-        sx[i] = real[i] ? x[i] : kInf, sd[i] = df[i], ss[i] = step[i];
+    if (n == 4) {
+        // The two sorted pairs merged (each quadratic's pair is in order, else a gap check fails).
+        auto cx = [&](int i, int j) {
+            const bool sw = x[j] < x[i];
+            const double xi = x[i], di = df[i];
+            x[i] = sw ? x[j] : xi, df[i] = sw ? df[j] : di;
+            x[j] = sw ? xi : x[j], df[j] = sw ? di : df[j];
+        };
+        cx(0, 2), cx(1, 3), cx(1, 2);
     }
-    auto cx = [&](int i, int j) {
-        const bool sw = sx[j] < sx[i];
-        const double xi = sx[i], di = sd[i], si = ss[i];
-        sx[i] = sw ? sx[j] : xi, sd[i] = sw ? sd[j] : di, ss[i] = sw ? ss[j] : si;
-        sx[j] = sw ? xi : sx[j], sd[j] = sw ? di : sd[j], ss[j] = sw ? si : ss[j];
-    };
-    cx(0, 2), cx(1, 3), cx(1, 2);  // each quadratic's pair is in order (else a gap check fails)
-    const double lo = (t.lo - r.t0) / r.scale, hi = (t.hi - r.t0) / r.scale;
-    const double margin = 1e-7 * (1.0 + std::abs(lo));
-    for (int i = 0; i < 4; ++i) {
-        const bool fin = sx[i] < kInf;
-        // Quadratic convergence: the error is below step^2 f'' / f', f'' of order 1 + R / rho.
-        ok &= !fin || (std::abs(ss[i]) <= 1e-7 && std::abs(sd[i]) >= 1e-3 * r.tube &&
-                       ss[i] * ss[i] <= 1e-14 * std::abs(sd[i]) && std::abs(sx[i] - lo) > margin &&
-                       !(std::abs(sx[i] - hi) <= margin));
-        if (i > 0) {
-            const bool pair = sx[i] < kInf;
-            ok &= !pair || (sx[i] - sx[i - 1] > 1e-6 && (sd[i] < 0.0) != (sd[i - 1] < 0.0));
-        }
-    }
+    for (int i = 1; i < n; ++i)
+        ok &= !(x[i] < kInf) || (x[i] - x[i - 1] > 1e-6 && (df[i] < 0.0) != (df[i - 1] < 0.0));
     if (!ok) return false;
-    for (int i = 0; i < 4; ++i) {
-        const double th = r.t0 + sx[i] * r.scale;
-        if (sx[i] < kInf && t.contains(th) && (h.count == 0 || th > h.t[h.count - 1])) h.add(th, 0);
+    for (int i = 0; i < n; ++i) {
+        const double th = r.t0 + x[i] * r.scale;
+        if (x[i] < kInf && t.contains(th) && (h.count == 0 || th > h.t[h.count - 1])) h.add(th, 0);
     }
     return true;
 }
@@ -448,17 +501,23 @@ ShapeHits intersect(const Torus& tor, const Ray& ray, Interval t) {
     ShapeHits h;
     TorusRay r;
     double pp = 0.0, lo = 0.0, hi = 0.0;
-    if (!torus_ray(tor, ray, r, pp) || !sigma_range(r, pp, t, lo, hi)) return h;
+    if (!torus_ray(tor, ray, r, pp)) return h;
     const Vec3& p = r.p;
     const Vec3& e = r.e;
-    const double R2 = r.ring * r.ring, ee = glm::dot(e, e), b = glm::dot(p, e);
+    const double ee = glm::dot(e, e);
+    // The divisions the tests share, two at a time: t's ends in sigma, 1 / e_y and 1 / |e|^4.
+    const D2 tr = _mm_div_pd(_mm_sub_pd(d2(t.lo, t.hi), _mm_set1_pd(r.t0)), _mm_set1_pd(r.scale));
+    const D2 ir = _mm_div_pd(_mm_set1_pd(1.0), d2(e.y, ee * ee));
+    const double tlo = lane0(tr), thi = lane1(tr);
+    if (!sigma_range(r, pp, tlo, thi, lane0(ir), lo, hi)) return h;
+    const double R2 = r.ring * r.ring, b = glm::dot(p, e);
     const double k = pp + R2 - r.tube * r.tube;
     const double exz = e.x * e.x + e.z * e.z, bxz = p.x * e.x + p.z * e.z;
     const double c4 = ee * ee, c3 = 4.0 * ee * b, c2 = 4.0 * b * b + 2.0 * ee * k - 4.0 * R2 * exz;
     const double c1 = 4.0 * b * k - 8.0 * R2 * bxz;
     const double c0 = k * k - 4.0 * R2 * (p.x * p.x + p.z * p.z);
     const TorusQuartic q{{c0, c1, c2, c3, c4}};
-    if (r.ring > r.tube && fast_crossings(r, q, t, h)) return h;
+    if (r.ring > r.tube && fast_crossings(r, q, lane1(ir), tlo, thi, t, h)) return h;
     Bracket br[kLanes];
     const int n = torus_brackets(r, q, lo, hi, br);
     add_crossings(r, q, br, n, t, h);
