@@ -3,6 +3,8 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <glm/glm.hpp>
 #include <limits>
@@ -27,17 +29,26 @@ constexpr double gamma(int n) { return (n * kMachineEps) / (1 - n * kMachineEps)
 inline constexpr double kFloatEps = 5.9604644775390625e-8;
 constexpr double gamma_float(int n) { return (n * kFloatEps) / (1 - n * kFloatEps); }
 
+/// std::nextafter(f, INFINITY) for a float that is not NaN, inline: the ray kernels compiled
+/// for AVX2 call it with the upper halves of the vector registers in use, where a call into
+/// libm's SSE code pays for the switch.
+inline float float_next_up(float f) {
+    if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
+    if (f == INFINITY) return f;
+    const uint32_t bits = std::bit_cast<uint32_t>(f);
+    return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
+}
 /// Rounds a double distance limit to float, never below it.
 inline float float_upper(double t) {
     if (!(t < 3.4e38)) return INFINITY;
     float f = static_cast<float>(t);
-    if (static_cast<double>(f) < t) f = std::nextafter(f, INFINITY);
+    if (static_cast<double>(f) < t) f = float_next_up(f);
     return f;
 }
 /// Rounds a double distance limit to float, never above it.
 inline float float_lower(double t) {
     float f = static_cast<float>(t);
-    if (static_cast<double>(f) > t) f = std::nextafter(f, -INFINITY);
+    if (static_cast<double>(f) > t) f = -float_next_up(-f);
     return f;
 }
 
