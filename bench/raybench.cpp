@@ -184,7 +184,8 @@ void ours_occluded(const RenderScene& scene, const RenderPlan& plan, const RayBa
 size_t ours_bytes(const RenderScene& scene) {
     size_t bytes = scene.top.nodes.size() * sizeof(Bvh4Node) + scene.top.indices.size() * 4;
     for (const GeometrySet& s : scene.sets) {
-        bytes += s.bvh.nodes.size() * sizeof(Bvh4Node) + s.bvh.indices.size() * 4;
+        bytes += s.bvh.nodes.size() * sizeof(Bvh4Node) + s.bvh.nodes8.size() * sizeof(Bvh8Node) +
+                 s.bvh.indices.size() * 4;
         // What rays read: nodes, leaf order, primitives, the float triangles the kernel tests and
         // the double vertices (and their indices) surface_at() refines hits with (not the
         // normals and uvs).
@@ -203,7 +204,7 @@ double ours_build_seconds(const RenderScene& scene) {
             prim_bounds[k].push_back(scene.sets[k].prim_bounds(i));
     const auto t0 = Clock::now();
     for (size_t k = 0; k < scene.sets.size(); ++k) {
-        const Bvh b = build_bvh(prim_bounds[k]);
+        const Bvh b = build_bvh(prim_bounds[k], set_bvh_settings(scene.sets[k].layout));
         if (b.nodes.empty() && !scene.sets[k].prims.empty()) std::printf("?");
     }
     return seconds_since(t0);

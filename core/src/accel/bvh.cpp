@@ -223,11 +223,12 @@ struct Builder {
     }
 };
 
-// Collapses the binary tree into 4-wide nodes: each node adopts the grandchildren of its
-// largest interior children until it has four.
+// Collapses the binary tree into W-wide nodes: each node adopts the grandchildren of its
+// largest interior children until it has W.
+template <class WideNode, int W>
 struct Collapser {
     const std::vector<Node2>& in;
-    HugePageVector<Bvh4Node>& out;
+    HugePageVector<WideNode>& out;
 
     uint32_t encode(uint32_t n2) {
         const Node2& n = in[n2];
@@ -238,7 +239,7 @@ struct Collapser {
     uint32_t emit(uint32_t n2) {
         const uint32_t index = static_cast<uint32_t>(out.size());
         out.emplace_back();
-        std::array<uint32_t, 4> kids{};
+        std::array<uint32_t, W> kids{};
         int k = 0;
         const Node2& root = in[n2];
         if (root.count > 0) {
@@ -246,7 +247,7 @@ struct Collapser {
         } else {
             kids[k++] = root.left;
             kids[k++] = root.right;
-            while (k < 4) {
+            while (k < W) {
                 // Open the interior child with the largest surface area.
                 int best = -1;
                 float area = -1;
@@ -260,8 +261,8 @@ struct Collapser {
                 kids[static_cast<size_t>(k++)] = c.right;
             }
         }
-        Bvh4Node node;
-        for (int i = 0; i < 4; ++i) {
+        WideNode node{};
+        for (int i = 0; i < W; ++i) {
             for (int a = 0; a < 3; ++a) {
                 node.lo[a][i] = INFINITY;  // empty slot: never hit
                 node.hi[a][i] = -INFINITY;
@@ -328,8 +329,13 @@ Bvh build_bvh(std::vector<PrimRef> refs, const Bounds3& exact_bounds,
     // Each 4-wide node takes up to three binary nodes (with their children); the exact count
     // is known only after the collapse, so the estimate is trimmed if it was well over.
     bvh.nodes.reserve(b.nodes.size() / 5 + 16);
-    Collapser c{b.nodes, bvh.nodes};
-    c.emit(root);
+    Collapser<Bvh4Node, 4>{b.nodes, bvh.nodes}.emit(root);
+    if (settings.wide) {
+        bvh.nodes8.reserve(bvh.nodes.size() / 2 + 16);
+        Collapser<Bvh8Node, 8>{b.nodes, bvh.nodes8}.emit(root);
+        if (bvh.nodes8.capacity() > bvh.nodes8.size() + bvh.nodes8.size() / 8)
+            bvh.nodes8.shrink_to_fit();
+    }
     std::vector<Node2>().swap(b.nodes);
     if (bvh.nodes.capacity() > bvh.nodes.size() + bvh.nodes.size() / 8) bvh.nodes.shrink_to_fit();
     bvh.indices.resize(n);

@@ -13,6 +13,7 @@
 #include "accel/queries.h"
 #include "accel/triangle_kernel.h"
 #include "accel/walk4.h"
+#include "accel/walk8.h"
 #include "rt/accel/intersect.h"
 
 RT_ISA_BEGIN
@@ -224,40 +225,55 @@ Ray to_set(const Instance& inst, const Ray& ray) {
 
 // Calls hits(prim, ShapeHits, t_max) for the primitives of a set along a ray in its frame;
 // hits returns true to stop the walk. Triangle-only sets test each leaf's triangles four at a
-// time (packed in leaf order); the other layouts test one primitive at a time.
-template <bool kOrdered, SetLayout L, bool kXf, bool kCsg, class F>
+// time (packed in leaf order), under the 8-wide nodes where there are and the caller's answer
+// does not depend on the order the leaves come in (kAnyOrder); the other layouts test one
+// primitive at a time.
+template <bool kOrdered, bool kAnyOrder, SetLayout L, bool kXf, bool kCsg, class F>
 bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
     bool stopped = false;
     if constexpr (L == SetLayout::Triangles) {
         const TriRay tri({r.o - set.tri_origin, r.d});
-        traverse_leaves<kOrdered>(
-            set.bvh, r, t_max, [&](uint32_t first, uint32_t count, double& best) {
-                // The leaf's blocks: `first` and on, full but for the last.
-                for (uint32_t k = 0; k < count; k += 4) {
-                    const uint32_t b = first + k / 4;
-                    const int lanes = count - k >= 4 ? 15 : (1 << (count - k)) - 1;
-                    float tt[4];
-                    int m = tri4_hits(set.tri4[b], tri, lanes, float_lower(t_min),
-                                      float_upper(best), tt);
-                    while (m) {
-                        const int l = __builtin_ctz(static_cast<unsigned>(m));
-                        m &= m - 1;
-                        ShapeHits h;
-                        const double th = static_cast<double>(tt[l]);
-                        if (th > t_min && th < best) h.add(th, 0);
-                        if (h.count && hits(set.tri4_prim[b][static_cast<size_t>(l)], h, best))
-                            return stopped = true;
-                    }
+        // Of hits at the same distance the lowest primitive index wins, whatever the order the
+        // leaves come in: the 4-wide and the 8-wide trees find the same one.
+        uint32_t best_prim = ~0u;
+        auto leaf = [&](uint32_t first, uint32_t count, double& best) {
+            // The leaf's blocks: `first` and on, full but for the last.
+            for (uint32_t k = 0; k < count; k += 4) {
+                const uint32_t b = first + k / 4;
+                const int lanes = count - k >= 4 ? 15 : (1 << (count - k)) - 1;
+                float tt[4];
+                int m =
+                    tri4_hits(set.tri4[b], tri, lanes, float_lower(t_min), float_upper(best), tt);
+                while (m) {
+                    const int l = __builtin_ctz(static_cast<unsigned>(m));
+                    m &= m - 1;
+                    const double th = static_cast<double>(tt[l]);
+                    const uint32_t prim = set.tri4_prim[b][static_cast<size_t>(l)];
+                    if (!(th > t_min &&
+                          (th < best || (kOrdered && th == best && prim < best_prim))))
+                        continue;
+                    ShapeHits h;
+                    h.add(th, 0);
+                    best_prim = prim;
+                    if (hits(prim, h, best)) return stopped = true;
                 }
-                return false;
-            });
+            }
+            return false;
+        };
+#if !defined(RT_ISA_SSE2)
+        if constexpr (kAnyOrder) {
+            traverse_leaves_wide<kOrdered>(set.bvh, r, t_max, leaf);
+            return stopped;
+        }
+#endif
+        traverse_leaves<kOrdered>(set.bvh, r, t_max, leaf);
     } else {
         // A triangles-only set's leaves name packed blocks, not primitive ranges: the generic
         // walk takes the packed one there too.
         if constexpr (L == SetLayout::Mixed)
             if (set.layout == SetLayout::Triangles)
-                return walk_set<kOrdered, SetLayout::Triangles, false, false>(set, r, t_max, t_min,
-                                                                              hits);
+                return walk_set<kOrdered, kAnyOrder, SetLayout::Triangles, false, false>(
+                    set, r, t_max, t_min, hits);
         TriRay tri;
         if constexpr (L == SetLayout::Mixed) tri = TriRay({r.o - set.tri_origin, r.d});
         traverse<kOrdered>(set.bvh, r, t_max, [&](uint32_t pi, double& best) {
@@ -282,35 +298,38 @@ bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min,
 
 // The walk of geometry variant V over one set: its layout when every set shares it, else the
 // set's own (one switch per set visited, not per primitive).
-template <uint32_t V, bool kOrdered, class F>
+template <uint32_t V, bool kOrdered, bool kAnyOrder, class F>
 bool walk(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
     constexpr bool kXf = (V & kGeomTransforms) != 0;
     constexpr bool kCsg = (V & kGeomCsg) != 0;
     constexpr uint32_t kLayout = (V & kGeomPerSet) >> kGeomLayoutShift;
     if constexpr (kLayout < kSetLayouts) {
         constexpr SetLayout kL = static_cast<SetLayout>(kLayout);
-        return walk_set < kOrdered, kL, kXf,
+        return walk_set < kOrdered, kAnyOrder, kL, kXf,
                kCsg && kL == SetLayout::Mixed > (set, r, t_max, t_min, hits);
     } else {
         switch (set.layout) {
             case SetLayout::Mixed:
-                return walk_set<kOrdered, SetLayout::Mixed, kXf, kCsg>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, kAnyOrder, SetLayout::Mixed, kXf, kCsg>(set, r, t_max,
+                                                                                  t_min, hits);
             case SetLayout::Analytic:
-                return walk_set<kOrdered, SetLayout::Analytic, kXf, false>(set, r, t_max, t_min,
-                                                                           hits);
+                return walk_set<kOrdered, kAnyOrder, SetLayout::Analytic, kXf, false>(set, r, t_max,
+                                                                                      t_min, hits);
             case SetLayout::Spheres:
-                return walk_set<kOrdered, SetLayout::Spheres, kXf, false>(set, r, t_max, t_min,
-                                                                          hits);
+                return walk_set<kOrdered, kAnyOrder, SetLayout::Spheres, kXf, false>(set, r, t_max,
+                                                                                     t_min, hits);
             case SetLayout::Boxes:
-                return walk_set<kOrdered, SetLayout::Boxes, kXf, false>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, kAnyOrder, SetLayout::Boxes, kXf, false>(set, r, t_max,
+                                                                                   t_min, hits);
             case SetLayout::Cylinders:
-                return walk_set<kOrdered, SetLayout::Cylinders, kXf, false>(set, r, t_max, t_min,
-                                                                            hits);
+                return walk_set<kOrdered, kAnyOrder, SetLayout::Cylinders, kXf, false>(
+                    set, r, t_max, t_min, hits);
             case SetLayout::Cones:
-                return walk_set<kOrdered, SetLayout::Cones, kXf, false>(set, r, t_max, t_min, hits);
+                return walk_set<kOrdered, kAnyOrder, SetLayout::Cones, kXf, false>(set, r, t_max,
+                                                                                   t_min, hits);
             case SetLayout::Triangles:
-                return walk_set<kOrdered, SetLayout::Triangles, kXf, false>(set, r, t_max, t_min,
-                                                                            hits);
+                return walk_set<kOrdered, kAnyOrder, SetLayout::Triangles, kXf, false>(
+                    set, r, t_max, t_min, hits);
         }
         return false;
     }
@@ -336,7 +355,7 @@ bool closest_hit(const RenderScene& scene, const Ray& ray, Interval t, Hit* hit)
     bool found = false;
     for_each_instance<V, true>(scene, ray, t_max, [&](uint32_t ii, const Ray& r, double& best) {
         const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
-        walk<V, true>(set, r, best, t.lo, [&](uint32_t pi, const ShapeHits& h, double& b) {
+        walk<V, true, true>(set, r, best, t.lo, [&](uint32_t pi, const ShapeHits& h, double& b) {
             if (h.count > 0) {
                 b = h.t[0];
                 *hit = {h.t[0], static_cast<int>(ii), pi, h.part[0], h.leaf};
@@ -356,9 +375,9 @@ bool any_hit(const RenderScene& scene, const Ray& ray, double t_max) {
     for_each_instance<V, false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
         const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
         double inner = t_max;
-        return hit = walk<V, false>(set, r, inner, 0.0, [&](uint32_t, const ShapeHits& h, double&) {
-                   return h.count > 0;
-               });
+        return hit = walk<V, false, true>(
+                   set, r, inner, 0.0,
+                   [&](uint32_t, const ShapeHits& h, double&) { return h.count > 0; });
     });
     return hit;
 }
@@ -370,15 +389,17 @@ Vec3 transmitted(const RenderScene& scene, const Ray& ray, double t_max) {
     for_each_instance<V, false>(scene, ray, limit, [&](uint32_t ii, const Ray& r, double&) {
         const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[ii].set)];
         double inner = t_max;
-        return walk<V, false>(set, r, inner, 0.0, [&](uint32_t pi, const ShapeHits& h, double&) {
-            int material = set.prims[pi].material;
-            if constexpr ((V & kGeomCsg) != 0)
-                if (h.leaf >= 0)
-                    material = set.csg.leaves[static_cast<size_t>(h.leaf)].prim.material;
-            const Vec3& tr = scene.materials[static_cast<size_t>(material)].transparent;
-            for (int k = 0; k < h.count; ++k) s *= tr;
-            return h.count > 0 && s == Vec3(0.0);
-        });
+        // The product of the crossings depends on their order: the 4-wide tree's, under every set.
+        return walk<V, false, false>(
+            set, r, inner, 0.0, [&](uint32_t pi, const ShapeHits& h, double&) {
+                int material = set.prims[pi].material;
+                if constexpr ((V & kGeomCsg) != 0)
+                    if (h.leaf >= 0)
+                        material = set.csg.leaves[static_cast<size_t>(h.leaf)].prim.material;
+                const Vec3& tr = scene.materials[static_cast<size_t>(material)].transparent;
+                for (int k = 0; k < h.count; ++k) s *= tr;
+                return h.count > 0 && s == Vec3(0.0);
+            });
     });
     return s;
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "compile/placement.h"
+#include "rt/util/isa.h"
 
 namespace rt {
 
@@ -221,17 +222,10 @@ private:
             set_bounds.extend(b);
         }
 
-        // Analytic shapes cost several box tests each (a cone's robust test is ~200
-        // instructions, a 4-wide node test ~40): sets without triangles get one shape per leaf,
-        // so the node test culls each shape by its own box. Triangles are tested four at a time.
         set.layout = layout_of(pending);
-        const bool analytic = set.layout != SetLayout::Triangles && set.layout != SetLayout::Mixed;
         const auto t0 = std::chrono::steady_clock::now();
         // The references move into the build, which frees them before the set grows.
-        set.bvh = build_bvh(std::move(refs), set_bounds,
-                            analytic                             ? BvhBuildSettings{1, 16, 1}
-                            : set.layout == SetLayout::Triangles ? BvhBuildSettings{4, 16, 4}
-                                                                 : BvhBuildSettings{});
+        set.bvh = build_bvh(std::move(refs), set_bounds, set_bvh_settings(set.layout));
         m_report.build_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -310,28 +304,41 @@ private:
                 put(i, set.tri4[i / 4], static_cast<int>(i % 4));
             return;
         }
-        // Each leaf in blocks of its own, in node order; the leaf then names its first block.
+        // Each leaf in blocks of its own, in the order of the nodes the closest-hit walk reads
+        // (the 8-wide ones when there are); the leaves of both trees then name their first block.
+        auto leaves = [](auto& nodes, auto&& f) {
+            for (auto& node : nodes)
+                for (uint32_t c = 0; c < node.num_children; ++c)
+                    if (node.child[c] & Bvh4Node::kLeaf) f(node.child[c]);
+        };
         size_t blocks = 0;
-        for (const Bvh4Node& node : set.bvh.nodes)
-            for (uint32_t c = 0; c < node.num_children; ++c)
-                if (node.child[c] & Bvh4Node::kLeaf)
-                    blocks += (Bvh4Node::leaf_count(node.child[c]) + 3) / 4;
+        leaves(set.bvh.nodes,
+               [&](uint32_t& child) { blocks += (Bvh4Node::leaf_count(child) + 3) / 4; });
         set.tri4.assign(blocks, Tri4{});
         set.tri4_prim.assign(blocks, {~0u, ~0u, ~0u, ~0u});
         uint32_t next = 0;
-        for (Bvh4Node& node : set.bvh.nodes) {
-            for (uint32_t c = 0; c < node.num_children; ++c) {
-                uint32_t& child = node.child[c];
-                if (!(child & Bvh4Node::kLeaf)) continue;
-                const uint32_t first = Bvh4Node::leaf_first(child);
-                const uint32_t count = Bvh4Node::leaf_count(child);
-                for (uint32_t k = 0; k < count; ++k) {
-                    put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
-                    set.tri4_prim[next + k / 4][k % 4] = first + k;
-                }
-                child = Bvh4Node::leaf(next, count);
-                next += (count + 3) / 4;
+        const bool wide = !set.bvh.nodes8.empty();
+        // A leaf's first block, by its first primitive.
+        std::vector<uint32_t> block_of(wide ? set.triangle_count() : 0);
+        auto pack = [&](uint32_t& child) {
+            const uint32_t first = Bvh4Node::leaf_first(child);
+            const uint32_t count = Bvh4Node::leaf_count(child);
+            for (uint32_t k = 0; k < count; ++k) {
+                put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
+                set.tri4_prim[next + k / 4][k % 4] = first + k;
             }
+            if (wide) block_of[first] = next;
+            child = Bvh4Node::leaf(next, count);
+            next += (count + 3) / 4;
+        };
+        if (wide) {
+            leaves(set.bvh.nodes8, pack);
+            leaves(set.bvh.nodes, [&](uint32_t& child) {
+                child = Bvh4Node::leaf(block_of[Bvh4Node::leaf_first(child)],
+                                       Bvh4Node::leaf_count(child));
+            });
+        } else {
+            leaves(set.bvh.nodes, pack);
         }
         std::vector<uint32_t>().swap(set.bvh.indices);  // the leaves name blocks now
     }
@@ -700,6 +707,19 @@ Light compile_light(const LightDesc& d) {
 
 CameraPose compile_camera(const CameraDesc& d) {
     return {d.position, d.direction, d.up, d.half_height_angle_rad};
+}
+
+BvhBuildSettings set_bvh_settings(SetLayout layout) {
+    switch (layout) {
+        case SetLayout::Mixed:
+            return {};
+        case SetLayout::Triangles:
+            return {4, 16, 4, active_isa() >= Isa::Avx2};
+        default:
+            // Analytic shapes cost several box tests each (a cone's robust test is ~200
+            // instructions, a 4-wide node test ~40): one per leaf, culled by its own box.
+            return {1, 16, 1};
+    }
 }
 
 RenderScene compile_scene(const SceneDesc& desc, CompileReport* report,

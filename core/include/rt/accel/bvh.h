@@ -1,6 +1,7 @@
 // Bounding volume hierarchy over boxes and indices. It knows nothing of shapes or of the scene
-// format: build_bvh() sees only primitive bounds and returns a 4-wide tree plus a primitive
-// order. The walks over it are kernels compiled per instruction set (core/src/accel/walk4.h).
+// format: build_bvh() sees only primitive bounds and returns a 4-wide tree (and on request an
+// 8-wide one over the same leaves) plus a primitive order. The walks over it are kernels compiled
+// per instruction set (core/src/accel/walk4.h).
 #pragma once
 
 #include <immintrin.h>
@@ -40,8 +41,20 @@ struct alignas(64) Bvh4Node {
     static constexpr uint32_t leaf_count(uint32_t child) { return (child & ~kLeaf) >> kCountShift; }
 };
 
+/// An 8-wide node, for the AVX2 and AVX-512 walks: one 256-bit instruction tests an axis of all
+/// eight child boxes (228 bytes padded to 256: four cache lines). Child codes as in Bvh4Node.
+struct alignas(64) Bvh8Node {
+    float lo[3][8];  // [axis][child]
+    float hi[3][8];
+    uint32_t child[8];
+    uint32_t num_children;
+};
+
 struct Bvh {
     HugePageVector<Bvh4Node> nodes;  // nodes[0] is the root (when there is any primitive)
+    /// With BvhBuildSettings::wide: the same leaves under 8-wide nodes (nodes8[0] the root),
+    /// collapsed from the same binary tree.
+    HugePageVector<Bvh8Node> nodes8;
     /// Leaves cover ranges of this primitive order. A user may renumber the leaves' ranges
     /// afterwards (the triangle sets point them at their packed blocks) and drop it.
     std::vector<uint32_t> indices;
@@ -56,6 +69,8 @@ struct BvhBuildSettings {
     /// The surface area heuristic counts a leaf's primitives in blocks of this many (a leaf of
     /// 1 to 4 triangles costs one 4-wide test), so it favours full blocks.
     int leaf_block = 1;
+    /// Also collapse the tree into 8-wide nodes (Bvh::nodes8).
+    bool wide = false;
 };
 
 /// What the builder sorts: a primitive's bounds rounded outward to float, and its index (32

@@ -45,6 +45,11 @@ RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr
 void animate(RenderScene& scene, const SceneDesc& desc, const std::optional<SceneTime>& time,
              Diagnostics* diag = nullptr);
 
+/// How compile_scene() builds the BVH of a set of this layout: one analytic shape per leaf (each
+/// culled by its own box); triangles by the SAH in blocks of four, with 8-wide nodes too when
+/// the active instruction set has their walk (AVX2 and wider).
+BvhBuildSettings set_bvh_settings(SetLayout layout);
+
 /// A light and the camera of the description as the renderer uses them (directions made unit
 /// for lights).
 Light compile_light(const LightDesc& desc);
