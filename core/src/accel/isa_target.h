@@ -8,7 +8,9 @@
 // and GLM code stays baseline and may be inlined into a kernel, never the reverse, so no function
 // compiled for AVX2 can be merged by the linker into code that runs on an older CPU. The whole
 // project is compiled with -ffp-contract=off: no multiply and add are fused into an FMA, so the
-// kernels do the same arithmetic, and find the same hits, under every instruction set.
+// kernels do the same arithmetic, and find the same hits, under every instruction set. The
+// AVX-512 kernels keep to 256-bit registers (prefer-vector-width here, and for copies the
+// flags in core/CMakeLists.txt): what they gain is AVX-512's instructions, not its width.
 #pragma once
 
 // Not formatted: a _Pragma takes one string literal, which clang-format would split.
@@ -19,7 +21,7 @@
 #define RT_ISA_BEGIN _Pragma("clang attribute push(__attribute__((target(\"avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi,bmi2,lzcnt,popcnt\"))), apply_to = function)") namespace rt::avx512 {
 #define RT_ISA_END } _Pragma("clang attribute pop")
 #else
-#define RT_ISA_BEGIN _Pragma("GCC push_options") _Pragma("GCC target(\"avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi,bmi2,lzcnt,popcnt\")") namespace rt::avx512 {
+#define RT_ISA_BEGIN _Pragma("GCC push_options") _Pragma("GCC target(\"avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi,bmi2,lzcnt,popcnt,prefer-vector-width=256\")") namespace rt::avx512 {
 #define RT_ISA_END } _Pragma("GCC pop_options")
 #endif
 #elif defined(RT_ISA_AVX2)
