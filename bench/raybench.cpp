@@ -28,7 +28,9 @@
 #include "rt/render/camera.h"
 #include "rt/render/render.h"
 #include "rt/scene/mesh_gen.h"
+#include "rt/util/isa.h"
 #include "rt/util/stopwatch.h"
+#include "walk_counts.h"
 
 #ifdef RT_HAVE_EMBREE
 #include <embree3/rtcore.h>
@@ -457,6 +459,34 @@ std::string rate(double v) {
     return buf;
 }
 
+// Nodes, leaves and triangle blocks visited per ray by the 4-wide and the 8-wide walks, when
+// the scene is one triangle set seen directly (the meshes) and the CPU runs AVX2.
+void print_walk_counts(const RenderScene& scene,
+                       std::initializer_list<std::tuple<const char*, RayBatch*, bool>> batches) {
+    const std::vector<Isa> isas = supported_isas();
+    if (scene.instances.size() != 1 || !scene.instances[0].identity ||
+        std::find(isas.begin(), isas.end(), Isa::Avx2) == isas.end())
+        return;
+    const GeometrySet& set = scene.sets[static_cast<size_t>(scene.instances[0].set)];
+    if (set.layout != SetLayout::Triangles || set.bvh.nodes8.empty()) return;
+    std::printf("  visited per ray   %8s %8s %8s   %8s %8s %8s\n", "4: nodes", "leaves", "blocks",
+                "8: nodes", "leaves", "blocks");
+    for (const auto& [figure, batch, any_hit] : batches) {
+        WalkCount c[2];
+        for (int k = 0; k < 2; ++k)
+            for (size_t i = 0; i < batch->rays.size(); ++i)
+                avx2::count_walk(set, batch->rays[i], batch->t_max[i], any_hit, k == 0 ? 4 : 8,
+                                 c[k]);
+        auto per_ray = [](uint64_t v, const WalkCount& w) {
+            return w.rays ? static_cast<double>(v) / static_cast<double>(w.rays) : 0.0;
+        };
+        std::printf("  %-16s %9.2f %8.2f %8.2f   %8.2f %8.2f %8.2f\n", figure,
+                    per_ray(c[0].nodes, c[0]), per_ray(c[0].leaves, c[0]),
+                    per_ray(c[0].blocks, c[0]), per_ray(c[1].nodes, c[1]),
+                    per_ray(c[1].leaves, c[1]), per_ray(c[1].blocks, c[1]));
+    }
+}
+
 void run_workload(Workload& w, int repeats, int threads, bool quick) {
     const int width = quick ? 320 : 640, height = quick ? 240 : 480;
     RenderSettings settings;
@@ -564,6 +594,9 @@ void run_workload(Workload& w, int repeats, int threads, bool quick) {
             std::printf("  %-8s against robust Embree: %zu hit/miss, %zu distance, %zu primitive\n",
                         row.figure, row.check_robust.hit_miss, row.check_robust.distance,
                         row.check_robust.primitive);
+    print_walk_counts(
+        w.scene,
+        {{"primary", &primary, false}, {"shadow", &shadow, true}, {"random", &random, false}});
     for (const Row& row : rows)
         std::printf(
             "BENCH %s %s ours=%.6g embree=%.6g speedup=%.3f embree_robust=%.6g "

@@ -99,9 +99,9 @@ inline int intersect_node_fast(const Bvh4Node& node, const BoxRay& ray, __m128 t
 /// nearest entry first and a subtree whose box starts beyond t_max is skipped (closest-hit
 /// queries); any-hit queries skip the sorting. The walk keeps the node it descends into in a
 /// register and pushes only the other children hit.
-template <bool kOrdered, bool kFast, class VisitLeaf>
+template <bool kOrdered, bool kFast, class VisitLeaf, class Count = NoWalkCount>
 void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
-                          VisitLeaf&& visit_leaf) {
+                          VisitLeaf&& visit_leaf, Count count = {}) {
     struct Entry {
         uint32_t child;
         float t;
@@ -125,6 +125,7 @@ void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
     for (;;) {
         if (!(cur & Bvh4Node::kLeaf)) {
             const Bvh4Node& node = nodes[cur];
+            count.node();
             alignas(16) float t[4];
             int mask;
             if constexpr (kFast) {
@@ -179,6 +180,7 @@ void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
                 }
             }
         } else {
+            count.leaf();
             if (visit_leaf(Bvh4Node::leaf_first(cur), Bvh4Node::leaf_count(cur), t_max)) return;
             if constexpr (kOrdered) tmax = t_max_f();
         }

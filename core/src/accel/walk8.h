@@ -66,9 +66,9 @@ struct BoxRay8 {
 /// traverse_leaves_impl() over the 8-wide nodes. With kOrdered (closest hit) the children hit
 /// are visited nearest first (one: no stack; two: one compare; more: sorted on the stack) and a
 /// subtree that starts beyond t_max is skipped; without (any hit) they are pushed as they come.
-template <bool kOrdered, class VisitLeaf>
+template <bool kOrdered, class VisitLeaf, class Count = NoWalkCount>
 void traverse_leaves8_impl(const Bvh& bvh, const BoxRay8& ray, double& t_max,
-                           VisitLeaf&& visit_leaf) {
+                           VisitLeaf&& visit_leaf, Count count = {}) {
     struct Entry {
         uint32_t child;
         float t;
@@ -89,6 +89,7 @@ void traverse_leaves8_impl(const Bvh& bvh, const BoxRay8& ray, double& t_max,
     for (;;) {
         if (!(cur & Bvh4Node::kLeaf)) {
             const Bvh8Node& node = nodes[cur];
+            count.node();
             __m256 te;
             int mask = intersect_node8(node, ray, _mm256_set1_ps(tmax), &te);
             if (mask) {
@@ -140,6 +141,7 @@ void traverse_leaves8_impl(const Bvh& bvh, const BoxRay8& ray, double& t_max,
                 }
             }
         } else {
+            count.leaf();
             if (visit_leaf(Bvh4Node::leaf_first(cur), Bvh4Node::leaf_count(cur), t_max)) return;
             if constexpr (kOrdered) tmax = t_max_f();
         }

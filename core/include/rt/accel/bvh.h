@@ -63,6 +63,22 @@ struct Bvh {
     bool empty() const { return nodes.empty(); }
 };
 
+/// What a walk did, for the benchmark's counts per ray (bench/walk_counts.cpp). The walks take
+/// a counter as their last template argument: the renderer's is NoWalkCount, which does
+/// nothing and compiles to nothing; CountWalk adds to a WalkCount.
+struct WalkCount {
+    uint64_t rays = 0, nodes = 0, leaves = 0, blocks = 0;
+};
+struct NoWalkCount {
+    void node() const {}
+    void leaf() const {}
+};
+struct CountWalk {
+    WalkCount* count;
+    void node() const { ++count->nodes; }
+    void leaf() const { ++count->leaves; }
+};
+
 struct BvhBuildSettings {
     int max_leaf_size = 4;
     int bins = 16;
