@@ -232,11 +232,18 @@ template <bool kOrdered, bool kAnyOrder, SetLayout L, bool kXf, bool kCsg, class
 bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min, F&& hits) {
     bool stopped = false;
     if constexpr (L == SetLayout::Triangles) {
-        const TriRay tri({r.o - set.tri_origin, r.d});
+        // For the closest hit, set up at the first leaf: a third of the primary rays on a mesh
+        // reach none. Shadow rays start on a surface and nearly all reach one.
+        TriRay tri = kOrdered ? TriRay() : TriRay({r.o - set.tri_origin, r.d});
+        bool tri_ready = !kOrdered;
         // Of hits at the same distance the lowest primitive index wins, whatever the order the
         // leaves come in: the 4-wide and the 8-wide trees find the same one.
         uint32_t best_prim = ~0u;
         auto leaf = [&](uint32_t first, uint32_t count, double& best) {
+            if (!tri_ready) {
+                tri = TriRay({r.o - set.tri_origin, r.d});
+                tri_ready = true;
+            }
             // The leaf's blocks: `first` and on, full but for the last.
             for (uint32_t k = 0; k < count; k += 4) {
                 const uint32_t b = first + k / 4;
