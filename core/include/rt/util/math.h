@@ -3,9 +3,9 @@
 #pragma once
 
 #include <algorithm>
-#include <bit>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <glm/glm.hpp>
 #include <limits>
 
@@ -35,8 +35,11 @@ constexpr double gamma_float(int n) { return (n * kFloatEps) / (1 - n * kFloatEp
 inline float float_next_up(float f) {
     if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
     if (f == INFINITY) return f;
-    const uint32_t bits = std::bit_cast<uint32_t>(f);
-    return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
+    uint32_t bits;  // std::bit_cast, which the web build's libc++ lacks
+    std::memcpy(&bits, &f, sizeof bits);
+    bits = f > 0.0f ? bits + 1 : bits - 1;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
 }
 /// Rounds a double distance limit to float, never below it.
 inline float float_upper(double t) {
