@@ -93,48 +93,44 @@ inline int intersect_node_fast(const Bvh4Node& node, const BoxRay& ray, __m128 t
     return _mm_movemask_ps(_mm_cmple_ps(t0, t1)) & ((1 << node.num_children) - 1);
 }
 
-/// Traversal: `visit_leaf(first, count, t_max)` tests the leaf's primitives (positions
+/// Traversal over 4-wide or 8-wide nodes (Bvh4Node, Bvh8Node): `test(node, tmax, t)` returns
+/// the mask of the children whose boxes the ray enters before tmax and writes their entry
+/// distances to t. `visit_leaf(first, count, t_max)` tests the leaf's primitives (positions
 /// first .. first + count - 1 of `indices`) and may shrink t_max (closest hit); it returns true
-/// to stop the whole walk (any hit). With kOrdered, children are visited
-/// nearest entry first and a subtree whose box starts beyond t_max is skipped (closest-hit
-/// queries); any-hit queries skip the sorting. The walk keeps the node it descends into in a
-/// register and pushes only the other children hit.
-template <bool kOrdered, bool kFast, class VisitLeaf, class Count = NoWalkCount>
-void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
-                          VisitLeaf&& visit_leaf, Count count = {}) {
+/// to stop the whole walk (any hit). With kOrdered, children are visited nearest entry first
+/// (one hit: no stack; two: one compare; more: sorted on the stack) and a subtree whose box
+/// starts beyond t_max is skipped (closest-hit queries); any-hit queries skip the sorting. The
+/// walk keeps the node it descends into in a register and pushes only the other children hit.
+template <bool kOrdered, class Node, class TestNode, class VisitLeaf, class Count>
+void walk_nodes(const Node* nodes, TestNode&& test, double& t_max, VisitLeaf&& visit_leaf,
+                Count count) {
+    constexpr int kWidth = sizeof(Node::child) / sizeof(uint32_t);
     struct Entry {
         uint32_t child;
         float t;
     };
-    // Each level pushes at most 3 entries; the build keeps the binary depth below
-    // 40 + log2(n) (bvh.cpp), so 512 entries hold any tree of up to 2^32 primitives.
+    // Each level pushes at most kWidth - 1 entries and consumes at least one level of the
+    // binary tree, which the build keeps below 40 + log2(n) deep (bvh.cpp): 512 entries hold
+    // any tree of up to 2^32 primitives.
     Entry stack[512];
     int sp = 0;
     // Box tests in float compare against t_max rounded up; updated when a leaf shrinks it.
     auto t_max_f = [&] { return static_cast<float>(t_max) * (1.0f + 1e-6f) + 1e-30f; };
     float tmax = t_max_f();
-    const Bvh4Node* nodes = bvh.nodes.data();
-    // A child pushed for later is fetched meanwhile (both of its cache lines).
+    // A child pushed for later is fetched meanwhile (all of its cache lines).
     auto prefetch = [&](uint32_t child) {
         if (child & Bvh4Node::kLeaf) return;
         const char* p = reinterpret_cast<const char*>(nodes + child);
-        _mm_prefetch(p, _MM_HINT_T0);
-        _mm_prefetch(p + 64, _MM_HINT_T0);
+        for (size_t line = 0; line < sizeof(Node) / 64; ++line)
+            _mm_prefetch(p + 64 * line, _MM_HINT_T0);
     };
     uint32_t cur = 0;
     for (;;) {
         if (!(cur & Bvh4Node::kLeaf)) {
-            const Bvh4Node& node = nodes[cur];
+            const Node& node = nodes[cur];
             count.node();
-            alignas(16) float t[4];
-            int mask;
-            if constexpr (kFast) {
-                __m128 te;
-                mask = intersect_node_fast(node, box_ray, _mm_set1_ps(tmax), &te);
-                _mm_store_ps(t, te);
-            } else {
-                mask = intersect_node(node, box_ray, tmax, t);
-            }
+            alignas(32) float t[kWidth];
+            int mask = test(node, tmax, t);
             if (mask) {
                 const int i0 = __builtin_ctz(static_cast<unsigned>(mask));
                 mask &= mask - 1;
@@ -162,18 +158,20 @@ void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
                         cur = a.child;
                         continue;
                     }
-                    // Three or four: pushed farthest first, the nearest taken at once.
-                    Entry hits[4] = {b, a};
+                    // More: sorted into the stack, farthest deepest; the nearest taken at once.
+                    Entry* hits = stack + sp;
+                    hits[0] = b;
+                    hits[1] = a;
                     int n = 2;
                     while (mask) {
                         const int i = __builtin_ctz(static_cast<unsigned>(mask));
                         mask &= mask - 1;
-                        Entry h{node.child[i], t[i]};
+                        const Entry h{node.child[i], t[i]};
                         int k = n++;
                         while (k > 0 && hits[k - 1].t < h.t) hits[k] = hits[k - 1], --k;
                         hits[k] = h;
                     }
-                    for (int k = 0; k < n - 1; ++k) stack[sp++] = hits[k];
+                    sp += n - 1;
                     prefetch(hits[n - 2].child);
                     cur = hits[n - 1].child;
                     continue;
@@ -194,6 +192,23 @@ void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
             }
         }
     }
+}
+
+/// walk_nodes() over the 4-wide nodes; kFast: the ray has no parallel axis.
+template <bool kOrdered, bool kFast, class VisitLeaf, class Count = NoWalkCount>
+void traverse_leaves_impl(const Bvh& bvh, const BoxRay& box_ray, double& t_max,
+                          VisitLeaf&& visit_leaf, Count count = {}) {
+    auto test = [&](const Bvh4Node& node, float tmax, float* t) {
+        if constexpr (kFast) {
+            __m128 te;
+            const int mask = intersect_node_fast(node, box_ray, _mm_set1_ps(tmax), &te);
+            _mm_store_ps(t, te);
+            return mask;
+        } else {
+            return intersect_node(node, box_ray, tmax, t);
+        }
+    };
+    walk_nodes<kOrdered>(bvh.nodes.data(), test, t_max, visit_leaf, count);
 }
 
 template <bool kOrdered = true, class VisitLeaf>

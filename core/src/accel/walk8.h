@@ -62,97 +62,17 @@ struct BoxRay8 {
     return _mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ)) & ((1 << node.num_children) - 1);
 }
 
-/// traverse_leaves_impl() over the 8-wide nodes. With kOrdered (closest hit) the children hit
-/// are visited nearest first (one: no stack; two: one compare; more: sorted on the stack) and a
-/// subtree that starts beyond t_max is skipped; without (any hit) they are pushed as they come.
+/// walk_nodes() (walk4.h) over the 8-wide nodes, for a ray with no parallel axis.
 template <bool kOrdered, class VisitLeaf, class Count = NoWalkCount>
 void traverse_leaves8_impl(const Bvh& bvh, const BoxRay8& ray, double& t_max,
                            VisitLeaf&& visit_leaf, Count count = {}) {
-    struct Entry {
-        uint32_t child;
-        float t;
+    auto test = [&](const Bvh8Node& node, float tmax, float* t) {
+        __m256 te;
+        const int mask = intersect_node8(node, ray, _mm256_set1_ps(tmax), &te);
+        _mm256_store_ps(t, te);
+        return mask;
     };
-    // Each level pushes at most 7 entries and consumes at least one level of the binary tree,
-    // which is below 72 deep (bvh.cpp): 512 entries hold any tree.
-    Entry stack[512];
-    int sp = 0;
-    auto t_max_f = [&] { return static_cast<float>(t_max) * (1.0f + 1e-6f) + 1e-30f; };
-    float tmax = t_max_f();
-    const Bvh8Node* nodes = bvh.nodes8.data();
-    auto prefetch = [&](uint32_t child) {
-        if (child & Bvh4Node::kLeaf) return;
-        const char* p = reinterpret_cast<const char*>(nodes + child);
-        for (int line = 0; line < 4; ++line) _mm_prefetch(p + 64 * line, _MM_HINT_T0);
-    };
-    uint32_t cur = 0;
-    for (;;) {
-        if (!(cur & Bvh4Node::kLeaf)) {
-            const Bvh8Node& node = nodes[cur];
-            count.node();
-            __m256 te;
-            int mask = intersect_node8(node, ray, _mm256_set1_ps(tmax), &te);
-            if (mask) {
-                alignas(32) float t[8];
-                _mm256_store_ps(t, te);
-                const int i0 = __builtin_ctz(static_cast<unsigned>(mask));
-                mask &= mask - 1;
-                if (!mask) {  // one child hit: descend without the stack
-                    cur = node.child[i0];
-                    continue;
-                }
-                if constexpr (!kOrdered) {
-                    while (mask) {
-                        const int i = __builtin_ctz(static_cast<unsigned>(mask));
-                        mask &= mask - 1;
-                        stack[sp++] = {node.child[i], 0.0f};
-                    }
-                    cur = node.child[i0];
-                    continue;
-                } else {
-                    const int i1 = __builtin_ctz(static_cast<unsigned>(mask));
-                    mask &= mask - 1;
-                    Entry a{node.child[i0], t[i0]}, b{node.child[i1], t[i1]};
-                    if (a.t >= b.t) std::swap(a, b);
-                    if (!mask) {  // two: the far one waits
-                        stack[sp++] = b;
-                        prefetch(b.child);
-                        cur = a.child;
-                        continue;
-                    }
-                    // Three to eight: sorted into the stack, farthest deepest; the nearest is
-                    // taken at once.
-                    Entry* base = stack + sp;
-                    base[0] = b;
-                    base[1] = a;
-                    int n = 2;
-                    while (mask) {
-                        const int i = __builtin_ctz(static_cast<unsigned>(mask));
-                        mask &= mask - 1;
-                        const Entry h{node.child[i], t[i]};
-                        int k = n++;
-                        while (k > 0 && base[k - 1].t < h.t) base[k] = base[k - 1], --k;
-                        base[k] = h;
-                    }
-                    sp += n - 1;
-                    prefetch(base[n - 2].child);
-                    cur = base[n - 1].child;
-                    continue;
-                }
-            }
-        } else {
-            count.leaf();
-            if (visit_leaf(Bvh4Node::leaf_first(cur), Bvh4Node::leaf_count(cur), t_max)) return;
-            if constexpr (kOrdered) tmax = t_max_f();
-        }
-        for (;;) {
-            if (sp == 0) return;
-            const Entry e = stack[--sp];
-            if (!kOrdered || e.t <= tmax) {
-                cur = e.child;
-                break;
-            }
-        }
-    }
+    walk_nodes<kOrdered>(bvh.nodes8.data(), test, t_max, visit_leaf, count);
 }
 
 /// The walk over the 8-wide nodes when the tree has them and the ray has no parallel axis, else
