@@ -11,22 +11,17 @@ void count_walk(const GeometrySet& set, const Ray& ray, double t_max, bool any_h
                 WalkCount& count) {
     ++count.rays;
     const TriRay tri({ray.o - set.tri_origin, ray.d});
-    // The leaf test of walks.h's triangle sets, without the tie rule (the counts do not need it).
+    // walks.h's leaf test of a triangle set, without its tie rule (the counts do not need it).
     auto leaf = [&](uint32_t first, uint32_t n, double& best) {
-        for (uint32_t k = 0; k < n; k += 4) {
-            ++count.blocks;
-            float tt[4];
-            int m = tri4_hits(set.tri4[first + k / 4], tri, n - k >= 4 ? 15 : (1 << (n - k)) - 1,
-                              0.0f, float_upper(best), tt);
-            for (; m; m &= m - 1) {
-                const double th = static_cast<double>(tt[__builtin_ctz(static_cast<unsigned>(m))]);
-                if (th > 0.0 && th < best) {
-                    if (any_hit) return true;
-                    best = th;
-                }
-            }
-        }
-        return false;
+        const uint32_t end = first + (n + 3) / 4;  // the leaf's blocks: [first, end)
+        count.blocks += end - first;
+        return leaf_block_hits(set.tri4.data(), first, n, tri, 0.0f, best,
+                               [&](uint32_t b, int, double t) {
+                                   if (!(t > 0.0 && t < best)) return false;
+                                   best = t;
+                                   if (any_hit) count.blocks -= end - 1 - b;  // not tested
+                                   return any_hit;
+                               });
     };
     const BoxRay box(ray);
     double best = t_max;

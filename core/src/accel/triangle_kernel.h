@@ -147,4 +147,23 @@ inline int tri4_hits(const Tri4& tri, const TriRay& ray, int lanes_mask, float t
     return mask;
 }
 
+/// The blocks of a packed leaf (blocks `first` and on, `count` triangles: full blocks but the
+/// last) against the ray in (t_lo, best), best read again for each block:
+/// `on_lane(block, lane, t)` for each lane hit (its t to be checked against the caller's own
+/// bounds); it returns true to stop, and so does this.
+template <class OnLane>
+bool leaf_block_hits(const Tri4* blocks, uint32_t first, uint32_t count, const TriRay& ray,
+                     float t_lo, const double& best, OnLane&& on_lane) {
+    for (uint32_t k = 0; k < count; k += 4) {
+        const uint32_t b = first + k / 4;
+        const int lanes = count - k >= 4 ? 15 : (1 << (count - k)) - 1;
+        float tt[4];
+        for (int m = tri4_hits(blocks[b], ray, lanes, t_lo, float_upper(best), tt); m; m &= m - 1) {
+            const int l = __builtin_ctz(static_cast<unsigned>(m));
+            if (on_lane(b, l, static_cast<double>(tt[l]))) return true;
+        }
+    }
+    return false;
+}
+
 RT_ISA_END

@@ -244,28 +244,18 @@ bool walk_set(const GeometrySet& set, const Ray& r, double& t_max, double t_min,
                 tri = TriRay({r.o - set.tri_origin, r.d});
                 tri_ready = true;
             }
-            // The leaf's blocks: `first` and on, full but for the last.
-            for (uint32_t k = 0; k < count; k += 4) {
-                const uint32_t b = first + k / 4;
-                const int lanes = count - k >= 4 ? 15 : (1 << (count - k)) - 1;
-                float tt[4];
-                int m =
-                    tri4_hits(set.tri4[b], tri, lanes, float_lower(t_min), float_upper(best), tt);
-                while (m) {
-                    const int l = __builtin_ctz(static_cast<unsigned>(m));
-                    m &= m - 1;
-                    const double th = static_cast<double>(tt[l]);
+            return leaf_block_hits(
+                set.tri4.data(), first, count, tri, float_lower(t_min), best,
+                [&](uint32_t b, int l, double th) {
                     const uint32_t prim = set.tri4_prim[b][static_cast<size_t>(l)];
                     if (!(th > t_min &&
                           (th < best || (kOrdered && th == best && prim < best_prim))))
-                        continue;
+                        return false;
                     ShapeHits h;
                     h.add(th, 0);
                     best_prim = prim;
-                    if (hits(prim, h, best)) return stopped = true;
-                }
-            }
-            return false;
+                    return stopped = hits(prim, h, best);
+                });
         };
 #if !defined(RT_ISA_SSE2)
         if constexpr (kAnyOrder) {
