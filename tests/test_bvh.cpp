@@ -183,24 +183,22 @@ TEST(Bvh, EveryGeometryVariantMatchesTheGenericWalk) {
     expect_variant_matches_generic(same, rng, 2000);
 }
 
-// Pairs of near-coincident triangles (the copy's vertices moved by up to 1e-6, as in a
-// z-fighting mesh): the packed walk tests four lanes against the bound at the start of a block,
-// the generic walk one triangle at a time against a bound tightened by the hits before. The
-// kernel's upper test is conservative, so both find the same triangle of every pair (before it
-// was, 2,942 of 325k hits differed).
-TEST(Bvh, NearCoincidentTrianglesGiveThePackedAndTheGenericWalkTheSameHit) {
-    std::mt19937 rng(2);
+// A scene of `triangles` random triangles of about `size`, each written `copies` times: exact
+// copies but the last, whose corners move by up to 1e-6 (near-coincident pairs, as in a
+// z-fighting mesh).
+std::string copied_triangles(std::mt19937& rng, int triangles, int copies, double size) {
     std::uniform_real_distribution<double> u(-5, 5), e(-1e-6, 1e-6);
     std::string text = "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 .5 .5 .5 1 -1 !!\n", shapes;
     int nv = 0;
-    for (int i = 0; i < 300; ++i) {
+    for (int i = 0; i < triangles; ++i) {
         Vec3 v[3];
-        for (Vec3& p : v) p = 0.3 * Vec3(u(rng), u(rng), u(rng));
+        for (Vec3& p : v) p = size * Vec3(u(rng), u(rng), u(rng));
         const Vec3 c(u(rng), u(rng), u(rng));
-        for (int copy = 0; copy < 2; ++copy) {
+        for (int copy = 0; copy < copies; ++copy) {
             for (const Vec3& p : v) {
                 char buf[200];
-                const Vec3 q = c + p + (copy ? Vec3(e(rng), e(rng), e(rng)) : Vec3(0.0));
+                const Vec3 q =
+                    c + p + (copy == copies - 1 ? Vec3(e(rng), e(rng), e(rng)) : Vec3(0.0));
                 std::snprintf(buf, sizeof buf, "#vertex %.17g %.17g %.17g 0 0 0 0 0\n", q.x, q.y,
                               q.z);
                 text += buf;
@@ -210,7 +208,17 @@ TEST(Bvh, NearCoincidentTrianglesGiveThePackedAndTheGenericWalkTheSameHit) {
             nv += 3;
         }
     }
-    const RenderScene scene = test::compile(text + shapes);
+    return text + shapes;
+}
+
+// Pairs of near-coincident triangles (the copy's vertices moved by up to 1e-6, as in a
+// z-fighting mesh): the packed walk tests four lanes against the bound at the start of a block,
+// the generic walk one triangle at a time against a bound tightened by the hits before. The
+// kernel's upper test is conservative, so both find the same triangle of every pair (before it
+// was, 2,942 of 325k hits differed).
+TEST(Bvh, NearCoincidentTrianglesGiveThePackedAndTheGenericWalkTheSameHit) {
+    std::mt19937 rng(2);
+    const RenderScene scene = test::compile(copied_triangles(rng, 300, 2, 0.3));
     ASSERT_EQ(read_geometry(scene).variant, geom_layout_bits(SetLayout::Triangles));
     expect_variant_matches_generic(scene, rng, 60000);
 }
@@ -402,29 +410,7 @@ TEST(Bvh, WideNodesHoldTheSameLeavesAsTheFourWideOnes) {
 // wins in both, as in the brute-force walk.
 TEST(Bvh, EveryInstructionSetFindsTheSameHitsAsBruteForce) {
     std::mt19937 rng(29);
-    std::uniform_real_distribution<double> u(-5, 5), e(-1e-6, 1e-6);
-    std::string text = "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 .5 .5 .5 1 -1 !!\n", shapes;
-    constexpr int kCopies = 25;
-    int nv = 0;
-    for (int i = 0; i < 200; ++i) {
-        Vec3 v[3];
-        for (Vec3& p : v) p = 0.6 * Vec3(u(rng), u(rng), u(rng));
-        const Vec3 c(u(rng), u(rng), u(rng));
-        for (int copy = 0; copy < kCopies; ++copy) {
-            for (const Vec3& p : v) {
-                char buf[200];
-                const Vec3 q =
-                    c + p + (copy == kCopies - 1 ? Vec3(e(rng), e(rng), e(rng)) : Vec3(0.0));
-                std::snprintf(buf, sizeof buf, "#vertex %.17g %.17g %.17g 0 0 0 0 0\n", q.x, q.y,
-                              q.z);
-                text += buf;
-            }
-            shapes += "#shape_triangle 0 " + std::to_string(nv) + " " + std::to_string(nv + 1) +
-                      " " + std::to_string(nv + 2) + "\n";
-            nv += 3;
-        }
-    }
-    const RenderScene scene = test::compile(text + shapes);
+    const RenderScene scene = test::compile(copied_triangles(rng, 200, 25, 0.6));
     const uint32_t variant = read_geometry(scene).variant;
     ASSERT_EQ(variant, geom_layout_bits(SetLayout::Triangles));
     EXPECT_EQ(scene.sets[0].bvh.nodes8.empty(), active_isa() == Isa::Sse2);
@@ -433,7 +419,7 @@ TEST(Bvh, EveryInstructionSetFindsTheSameHitsAsBruteForce) {
         sets.emplace_back(isa, isa == Isa::Sse2   ? &sse2::geometry_queries(variant)
                                : isa == Isa::Avx2 ? &avx2::geometry_queries(variant)
                                                   : &avx512::geometry_queries(variant));
-    std::uniform_real_distribution<double> d(-1, 1), len(0.5, 20);
+    std::uniform_real_distribution<double> u(-5, 5), d(-1, 1), len(0.5, 20);
     int hits = 0;
     for (int i = 0; i < 3000; ++i) {
         const Ray r{{u(rng), u(rng), u(rng)}, {d(rng), d(rng), d(rng)}};
