@@ -186,6 +186,49 @@ TEST(Progressive, TheTimeToATargetErrorFollowsTheFittedSlope) {
     EXPECT_LT(predict_time_to_error({}, 1e-3), 0);
 }
 
+TEST(Progressive, TheTimeToATargetErrorTakesABoundedSlope) {
+    // Falling as 1 / t^2 (early stratification): extrapolated at the Monte Carlo rate, the line
+    // e = C / t through the points (C their geometric mean of e t).
+    EXPECT_NEAR(predict_time_to_error({{1, 1e-2}, {2, 2.5e-3}}, 2.5e-5), std::sqrt(5e-5) / 2.5e-5,
+                1e-9);
+    // Falling as 1 / t^0.2 (noise): at the bound, e = C / sqrt(t), four times the time for half
+    // the error.
+    EXPECT_NEAR(predict_time_to_error({{1, 1e-2}, {2, 1e-2 * std::pow(2.0, -0.2)}}, 1e-4),
+                1e4 * std::pow(2.0, 0.3), 1e-6);
+    // Hardly falling: not told (once 2e16 seconds).
+    EXPECT_LT(predict_time_to_error({{1, 1e-2}, {2, 0.9999e-2}}, 1e-4), 0);
+}
+
+TEST(Progressive, TheTargetForecastIsSteadyOnNoisyPasses) {
+    // relMSE = 0.01 / t with +-25% noise per pass, one pass a second: the target 1e-4 is
+    // reached at t = 100 s.
+    TargetForecast f;
+    uint32_t seed = 12345;
+    auto noise = [&] {
+        seed = seed * 1664525u + 1013904223u;
+        return 0.75 + 0.5 * static_cast<double>(seed >> 8) / 16777216.0;
+    };
+    EXPECT_LT(f.add(1, 0.01 * noise(), 1e-4), 0);  // estimating
+    EXPECT_LT(f.add(2, 0.005 * noise(), 1e-4), 0);
+    // ... until eight passes gave three forecasts
+    double previous = -1;
+    for (int t = 3; t <= 60; ++t) {
+        double e = 0.01 / t * noise();
+        if (t == 40) e *= 10;  // one wild pass
+        const double at = f.add(t, e, 1e-4);
+        if (t < 8) continue;  // settling
+        ASSERT_GT(at, 0) << t;
+        EXPECT_GT(at, 50.0) << t;
+        EXPECT_LT(at, 200.0) << t;
+        if (t >= 20 && previous > 0) {
+            EXPECT_NEAR(at, previous, 0.3 * previous) << t;
+        }
+        previous = at;
+    }
+    f.clear();
+    EXPECT_LT(f.add(1, 0.01, 1e-4), 0);
+}
+
 TEST(Progressive, ConvergesToTheDirectlySupersampledImageWithFeaturesOff) {
     const RenderScene scene = test::compile(kScene);
     const RenderSettings s = small();

@@ -26,6 +26,7 @@ void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, i
         m_status = {};
         m_status.target_error = target_error;
         m_history.clear();
+        m_forecast.clear();
     }
     m_plan = make_render_plan(scene, settings);
     if (!m_threaded) {  // pump() renders it
@@ -129,10 +130,7 @@ bool Tracer::publish(const RenderState& state, double seconds, double target_err
         m_history.emplace_back(static_cast<float>(seconds), static_cast<float>(est.relmse));
     if (target_error > 0 && m_status.spp >= ProgressiveSettings::kTargetMinSpp) {
         // The time to the target, from the passes since the estimate settled.
-        std::vector<std::pair<double, double>> points;
-        for (size_t i = ProgressiveSettings::kTargetMinSpp - 1; i < m_history.size(); ++i)
-            points.emplace_back(m_history[i].first, m_history[i].second);
-        m_status.target_seconds = predict_time_to_error(points, target_error);
+        m_status.target_seconds = m_forecast.add(seconds, est.relmse, target_error);
         if (est.relmse <= target_error) {
             m_status.reached = true;
             m_status.target_seconds = seconds;

@@ -50,8 +50,8 @@ public:
         double estimate = 0;      // relMSE estimated from the samples
         double target_error = 0;  // the restart's target (0: none)
         bool reached = false;     // the estimate reached it: the trace stopped there
-        /// The seconds (since the restart) at which the estimate reaches the target, from the
-        /// slope of the history; negative while it cannot be told.
+        /// The seconds (since the restart) at which the estimate reaches the target
+        /// (TargetForecast); negative while it cannot be told.
         double target_seconds = -1;
     };
     /// The latest image if it changed since the last call (returns false otherwise).
@@ -92,6 +92,7 @@ private:
     bool m_updated = false;
     Status m_status;
     std::vector<std::pair<float, float>> m_history;
+    TargetForecast m_forecast;  // the time to the target error
 };
 
 }  // namespace rt::view

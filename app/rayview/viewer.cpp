@@ -751,19 +751,30 @@ std::string status_text(const ViewerState& v) {
     const Tracer::Status st = v.tracer.status();
     auto ms = [](double x) { return x < 0 ? std::string("...") : std::to_string(int(x)) + " ms"; };
     char head[160];
-    std::snprintf(head, sizeof head, "%d spp | %.2f Mray/s | relMSE %.3g", st.spp,
-                  st.rays_per_second / 1e6, st.estimate);
+    std::snprintf(head, sizeof head, "%d spp | %.2f Mray/s | relMSE ", st.spp,
+                  st.rays_per_second / 1e6);
     std::string s = head;
+    // The estimate needs two samples per pixel: "..." until then, not a misleading 0.
+    if (st.estimate > 0) {
+        char e[32];
+        std::snprintf(e, sizeof e, "%.3g", st.estimate);
+        s += e;
+    } else {
+        s += "...";
+    }
     if (st.target_error > 0) {
         char target[120];
         if (st.reached)
             std::snprintf(target, sizeof target, " | target %.3g reached at %.1f s",
                           st.target_error, st.target_seconds);
+        else if (st.target_seconds >= 0 && st.target_seconds - st.seconds > 3600)
+            std::snprintf(target, sizeof target, " | target %.3g in > 1 h", st.target_error);
         else if (st.target_seconds >= 0)
             std::snprintf(target, sizeof target, " | target %.3g in ~%.1f s", st.target_error,
                           std::max(0.0, st.target_seconds - st.seconds));
         else
-            std::snprintf(target, sizeof target, " | target %.3g", st.target_error);
+            std::snprintf(target, sizeof target, " | target %.3g in ... (estimating)",
+                          st.target_error);
         s += target;
     }
     s += " | first pass " + ms(v.first_pass_ms) + ", full resolution " + ms(v.first_full_ms);

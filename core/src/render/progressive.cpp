@@ -113,12 +113,58 @@ double predict_time_to_error(const std::vector<std::pair<double, double>>& point
     const auto& [t_last, e_last] = points.back();
     if (!(t_last > 0) || !(e_last > 0)) return -1;
     if (e_last <= target) return t_last;
-    std::vector<double> t, e;  // the later half of four or more
-    for (size_t i = points.size() >= 4 ? points.size() / 2 : 0; i < points.size(); ++i)
-        t.push_back(points[i].first), e.push_back(points[i].second);
-    const double slope = loglog_slope(t, e);
-    if (!(slope < -1e-3)) return -1;  // not falling (or fewer than two points)
-    return t_last * std::pow(target / e_last, 1.0 / slope);
+    // The points since a quarter of the last time: a span of 4x in time, wide enough that the
+    // estimate's noise hardly tilts the line, late enough that the early slope has settled; at
+    // most 48 of them, evenly spread.
+    size_t first = 0;
+    for (size_t i = 0; i < points.size(); ++i)
+        if (points[i].first <= 0.25 * t_last) first = i;
+    std::vector<double> lt, le;
+    const size_t span = points.size() - first, step = (span + 47) / 48;
+    for (size_t i = points.size() - 1;; i -= step) {
+        if (points[i].first > 0 && points[i].second > 0)
+            lt.push_back(std::log(points[i].first)), le.push_back(std::log(points[i].second));
+        if (i < first + step) break;
+    }
+    // The Theil-Sen line on log-log axes (the median of the pairs' slopes, then of the
+    // intercepts): one wild pass, a firefly's, tilts a least-squares line for as long as it is
+    // in the window, a median not.
+    std::vector<double> slopes, offsets;
+    for (size_t i = 0; i < lt.size(); ++i)
+        for (size_t j = i + 1; j < lt.size(); ++j)
+            if (lt[i] != lt[j]) slopes.push_back((le[i] - le[j]) / (lt[i] - lt[j]));
+    if (slopes.empty()) return -1;  // fewer than two points
+    auto median = [](std::vector<double>& v) {
+        const size_t h = v.size() / 2;
+        std::nth_element(v.begin(), v.begin() + h, v.end());
+        if (v.size() % 2) return v[h];
+        return 0.5 * (v[h] + *std::max_element(v.begin(), v.begin() + h));
+    };
+    const double fitted = median(slopes);
+    if (!(fitted < -0.1)) return -1;  // hardly falling
+    const double slope = std::clamp(fitted, -1.0, -0.5);
+    for (size_t i = 0; i < lt.size(); ++i) offsets.push_back(le[i] - slope * lt[i]);
+    // The line read at the last time: one noisy last pass does not move the forecast as it
+    // moves the last point.
+    const double e_fit = std::exp(median(offsets) + slope * std::log(t_last));
+    return t_last * std::max(1.0, std::pow(target / e_fit, 1.0 / slope));
+}
+
+double TargetForecast::add(double seconds, double relmse, double target) {
+    m_points.emplace_back(seconds, relmse);
+    // Six passes at least: the fit then spans three or more.
+    const double t = m_points.size() >= 6 ? predict_time_to_error(m_points, target) : -1;
+    if (t >= 0) {
+        if (m_recent.size() == 5) m_recent.erase(m_recent.begin());
+        m_recent.push_back(t);
+    }
+    if (m_recent.size() < 3) return -1;
+    std::vector<double> sorted = m_recent;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    // A pass whose fit could not tell keeps the forecast, until it lies in the past: "in ~0 s"
+    // while the error is still above the target would not be true.
+    const double median = sorted[sorted.size() / 2];
+    return median > seconds ? median : -1;
 }
 
 uint64_t choose_adaptive_pixels(RenderState& state, double budget, int explore) {

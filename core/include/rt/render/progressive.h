@@ -44,12 +44,33 @@ ErrorEstimate estimate_error(const RenderState& state);
 /// two): how fast the error falls against time or samples.
 double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
 
-/// When the error will reach `target`: the least-squares line through (seconds, relMSE) points
-/// on log-log axes (the later half of four or more, where the slope has settled), extrapolated from
-/// the last point. Returns the predicted seconds (the last point's when it is already reached), or
-/// a negative number when it cannot be told: fewer than two usable points, or an error that does
-/// not fall.
+/// When the error will reach `target`: a line through (seconds, relMSE) points on log-log axes,
+/// extrapolated. The line is fitted to the points since a quarter of the last time (a span wide
+/// enough that the estimate's noise hardly tilts it) by Theil-Sen (medians: a wild pass does not
+/// tilt it at all), and its slope bounded to [-1, -1/2]: Monte Carlo error falls as 1 / samples
+/// (-1), faster only while stratification or adaptive sampling still pays off early, which does
+/// not last (a steeper fit made the forecast optimistic); slower than -1/2 is the estimate's own
+/// noise, whose extrapolation is unbounded. Returns the predicted seconds (the last point's when
+/// it is already reached), or a negative number when it cannot be told: fewer than two usable
+/// points, or an error that hardly falls (a slope above -0.1).
 double predict_time_to_error(const std::vector<std::pair<double, double>>& points, double target);
+
+/// The time to a target error as an interactive trace shows it, from one (seconds, relMSE) point
+/// per pass: predict_time_to_error() over the points given, and the median of the last five
+/// predictions, so one noisy pass does not move it. Negative ("estimating") until three passes
+/// gave a prediction.
+class TargetForecast {
+public:
+    /// Adds a pass; returns the forecast (seconds from the start at which the error reaches
+    /// `target`), or a negative number while it cannot be told.
+    double add(double seconds, double relmse, double target);
+    /// Forgets every pass (a restart).
+    void clear() { *this = {}; }
+
+private:
+    std::vector<std::pair<double, double>> m_points;
+    std::vector<double> m_recent;  // the last predictions, oldest first
+};
 
 /// Adaptive sampling: shares `budget` samples among the pixels so that each pixel's total
 /// moves toward a share proportional to its estimated relative standard deviation (the optimal
