@@ -31,6 +31,7 @@ in vec3 v_normal;
 in vec2 v_uv;
 
 uniform vec3 u_eye;
+uniform bool u_mirrored;  // the instance's transform mirrors: the winding seen is reversed
 uniform vec3 u_ambient_light;
 uniform vec3 u_emissive;
 uniform vec3 u_ambient;
@@ -156,8 +157,12 @@ void main() {
     if (v_leaf >= 0 && !csg_valid(v_leaf, v_set)) discard;
 #endif
     vec3 d = normalize(v_world - u_eye);
+    // The two-sided rule (spec §5): the side the ray meets is the geometric normal's, which is
+    // the winding's (the tessellations wind counter-clockwise about it, and so do triangles in
+    // their set): N = n_s when the front face is seen, else -n_s, whichever way n_s points.
+    // A vertex normal against the winding then faces away and is dark, as in the trace.
     vec3 n = normalize(v_normal);
-    if (dot(d, n) > 0.0) n = -n;  // two-sided rule (spec §5)
+    if (gl_FrontFacing == u_mirrored) n = -n;
     vec3 t = texel(v_uv);
     vec3 ka = u_ambient * t;
     vec3 c = u_emissive * all_terms(t) + ka * u_ambient_light;

@@ -366,6 +366,9 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
                 normal[c * 3 + r] = static_cast<float>(inst.world_from_set.normal[c][r]);
         glUniformMatrix4fv(loc(program, "u_world_from_object"), 1, GL_FALSE, world);
         glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
+        // A mirroring instance turns its triangles' winding on screen (the two-sided rule).
+        glUniform1i(loc(program, "u_mirrored"),
+                    glm::determinant(Mat3(inst.world_from_set.m)) < 0 ? 1 : 0);
         const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
         if (!buf.vao) continue;
         glBindVertexArray(buf.vao.id());

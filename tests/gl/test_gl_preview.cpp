@@ -148,6 +148,30 @@ TEST(GlPreview, ShapesUnderTransformsAgreeWithTheTrace) {
     EXPECT_GE(c.colour_match, 0.90);
 }
 
+// The two-sided rule (spec §5) takes the side from the geometric normal, the winding: vertex
+// normals against it face away from the eye, and the light in front of the triangle does not
+// light it (ambient only), in the trace and in the preview; also under a mirroring group.
+TEST(GlPreview, NormalsAgainstTheWindingAreDarkAsInTheTrace) {
+    const std::string head =
+        std::string("#camera 0 0 9  0 0 -1  0 1 0  0.4\n#background 0.1 0.1 0.1\n"
+                    "#ambient .2 .2 .2\n#light_point 1 1 1  0 0 6  1 0 0\n") +
+        kMaterials +
+        "#vertex -3 -2 -2 0 0 -1 0 0\n#vertex 0 -2 -2 0 0 -1 1 0\n#vertex -1.5 2 -2 0 0 -1 0 1\n";
+    for (const bool mirrored : {false, true}) {
+        const std::string body = mirrored ? "#group_begin -1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\n"
+                                            "#shape_triangle 0 0 1 2\n#group_end\n"
+                                          : "#shape_triangle 0 0 1 2\n";
+        const RenderScene scene = test::compile(head + body);
+        const Comparison c = compare(scene);
+        EXPECT_GT(c.covered, kW * kH / 20) << mirrored;
+        EXPECT_GE(c.iou, 0.98) << mirrored;
+        EXPECT_GE(c.colour_match, 0.95) << mirrored;
+        // The trace is dark there: ambient only.
+        const Image traced = test::render(scene, kW, kH, 1, 0.001, false);
+        EXPECT_LT(traced.at(mirrored ? kW / 2 + 20 : kW / 2 - 20, kH / 2).x, 0.1) << mirrored;
+    }
+}
+
 // Tori (spec §13.7; no file names one until the V3 parser: built as a description), plain,
 // thin, spindle (r > R) and under a rotating, shearing transform.
 TEST(GlPreview, ToriAgreeWithTheTrace) {
