@@ -152,6 +152,23 @@ vec3 all_terms(vec3 t) { return u_texture_all ? t : vec3(1.0); }
 vec3 all_terms(vec3 t) { return vec3(1.0); }
 #endif
 
+#ifndef RT_ENV_PASS
+// The trace pane's display transform (rt::display_transform in core/src/image/image.cpp): the
+// colour times 2^exposure, then clamped (0), Reinhard's x / (1 + x) (1) or Narkowicz's fit of
+// the ACES curve (2). The environment maps stay linear: what they hold is shaded again.
+uniform float u_exposure_scale;
+uniform int u_tonemap;
+vec3 display(vec3 c) {
+    vec3 x = c * u_exposure_scale;
+    if (u_tonemap == 1) return max(x, vec3(0.0)) / (1.0 + max(x, vec3(0.0)));
+    if (u_tonemap == 2) {
+        x = max(x, vec3(0.0));
+        return clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+    }
+    return x;
+}
+#endif
+
 void main() {
 #ifdef RT_CSG
     if (v_leaf >= 0 && !csg_valid(v_leaf, v_set)) discard;
@@ -227,6 +244,6 @@ void main() {
 #ifdef RT_ENV_PASS
     frag_color = vec4(c, length(v_world - u_pass_centre));
 #else
-    frag_color = vec4(c, 1.0);
+    frag_color = vec4(display(c), 1.0);
 #endif
 }

@@ -114,6 +114,7 @@ void Panes::draw(ViewerState& v) {
     }
     const ViewSettings& s = v.settings;
     const bool overlay_changed = s.show_lights != m_drawn_lights || s.box_depth != m_drawn_depth ||
+                                 s.exposure != m_drawn_exposure || s.tonemap != m_drawn_tonemap ||
                                  s.group_depth != m_drawn_group_depth;
     if (!v.preview_stale && !overlay_changed && m_target.w == m_drawn_w && m_target.h == m_drawn_h)
         return;
@@ -122,7 +123,8 @@ void Panes::draw(ViewerState& v) {
     const Camera cam = make_camera(compile_camera(v.edits.camera.desc()), m_target.w, m_target.h);
     // The preview's copy of the scene: the joints at the timeline's time, every frame.
     const RenderScene& shown = loaded.shown;
-    m_preview.draw(shown, v.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth);
+    m_preview.draw(shown, v.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth,
+                   {s.exposure, s.tonemap});
     std::vector<LineVertex> lines = overlay_lines(shown, s.show_lights, s.box_depth);
     if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for ||
         (s.group_depth > 0 && shown.time != m_group_lines_time)) {
@@ -145,6 +147,8 @@ void Panes::draw(ViewerState& v) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     v.preview_stale = m_preview.environment_pending();  // drawn again until the maps are done
     m_drawn_lights = s.show_lights;
+    m_drawn_exposure = s.exposure;
+    m_drawn_tonemap = s.tonemap;
     m_drawn_depth = s.box_depth;
     m_drawn_group_depth = s.group_depth;
     m_drawn_w = m_target.w;

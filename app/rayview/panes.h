@@ -59,6 +59,8 @@ private:
     int m_loaded_id = 0;  // the scene m_preview holds (LoadedScene::id)
     // What m_target holds, so it is redrawn only when that changes.
     bool m_drawn_lights = true;
+    float m_drawn_exposure = 0;  // the display transform the preview was drawn with
+    Tonemap m_drawn_tonemap = Tonemap::Clamp;
     int m_drawn_depth = -1, m_drawn_group_depth = -1, m_drawn_w = 0, m_drawn_h = 0;
     std::vector<LineVertex> m_group_lines;  // group_box_lines() of that scene and depth
     int m_group_lines_depth = -1, m_group_lines_for = 0;

@@ -482,7 +482,7 @@ void Preview::set_frame_uniforms(unsigned program, const RenderScene& scene, con
 }
 
 void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camera& camera,
-                   int width, int height, int max_depth) {
+                   int width, int height, int max_depth, const DisplaySettings& display) {
     const bool shadows = plan.uses.shadows && !plan.lights.empty();
     if (shadows) render_shadow_maps(scene, plan.lights);
     std::vector<std::string> defines = frame_defines(plan, shadows);
@@ -497,13 +497,19 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     m_defines = defines;
 
     glViewport(0, 0, width, height);
-    glClearColor(static_cast<float>(scene.background.x), static_cast<float>(scene.background.y),
-                 static_cast<float>(scene.background.z), 1.0f);
+    Image background(1, 1);
+    background.set(0, 0, scene.background);
+    const Vec3 bg = display_transform(background, display.exposure_stops, display.tonemap).at(0, 0);
+    glClearColor(static_cast<float>(bg.x), static_cast<float>(bg.y), static_cast<float>(bg.z),
+                 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);  // two-sided, as the tracer
     glUseProgram(program);
     set_frame_uniforms(program, scene, plan, camera, shadows);
+    glUniform1f(loc(program, "u_exposure_scale"),
+                static_cast<float>(std::exp2(display.exposure_stops)));
+    glUniform1i(loc(program, "u_tonemap"), static_cast<int>(display.tonemap));
     DrawPass pass;
     pass.reflections = reflections;
     draw_instances(scene, program, pass);

@@ -14,6 +14,7 @@
 #include "overlay.h"
 #include "preview_geometry.h"
 #include "rt/compile/render_scene.h"
+#include "rt/image/image.h"
 #include "rt/render/camera.h"
 #include "rt/render/plan.h"
 
@@ -27,6 +28,13 @@ struct GlMatrices {
 /// The projection that maps the tracer's pixel rays (spec §6) onto GL's pixel centres; its near
 /// and far planes enclose `world` (see view_bounds).
 GlMatrices camera_matrices(const Camera& camera, const Bounds3& world);
+
+/// How linear colours are shown: 2^exposure_stops times, then the tonemap (as the trace's
+/// display_transform()).
+struct DisplaySettings {
+    double exposure_stops = 0;
+    Tonemap tonemap = Tonemap::Clamp;
+};
 
 class Preview {
 public:
@@ -45,9 +53,11 @@ public:
     /// trace's recursion depth), reflecting and transmitting materials add K_S times the
     /// reflected and T times the refracted view from environment cube maps (one per object, up
     /// to kMaxEnvMaps, the largest first; the rest share the nearest), rendered again only when
-    /// the lights, the shadows or the scene change; 1 draws local shading only.
+    /// the lights, the shadows or the scene change; 1 draws local shading only. `display`: the
+    /// trace pane's exposure and tonemap (rt::display_transform), applied to every pixel, the
+    /// background included, so the two panes show the same transform.
     void draw(const RenderScene& scene, const RenderPlan& plan, const Camera& camera, int width,
-              int height, int max_depth = 1);
+              int height, int max_depth = 1, const DisplaySettings& display = {});
     /// Draws line segments (pairs of vertices) over what draw() left, depth-tested.
     void draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
                     const Camera& camera) const;

@@ -148,13 +148,45 @@ TEST(GlPreview, ShapesUnderTransformsAgreeWithTheTrace) {
     EXPECT_GE(c.colour_match, 0.90);
 }
 
+// The trace pane's exposure and tonemap apply to the preview too (background included): the
+// panes show the same display transform.
+TEST(GlPreview, ExposureAndTonemapMatchTheTracePane) {
+    const RenderScene scene = test::compile(
+        std::string("#camera 0 1 9  0 -0.1 -1  0 1 0  0.4\n#background 0.3 0.2 0.1\n"
+                    "#ambient .3 .3 .3\n#light_point 1 1 1  3 4 5  1 0 0.01\n") +
+        kMaterials + "#shape_sphere 0 -1.5 0 0 1.5\n#shape_box 1 1.5 0 0 1.5 1.5 1.5\n");
+    const Image traced = test::render(scene, kW, kH, 1, 0.001, false);
+    const Camera cam = make_camera(scene, kW, kH);
+    for (const view::DisplaySettings d :
+         {view::DisplaySettings{1.0, Tonemap::Reinhard}, view::DisplaySettings{-1.0, Tonemap::Aces},
+          view::DisplaySettings{0.5, Tonemap::Clamp}}) {
+        Offscreen gl;
+        ASSERT_NE(gl.ctx, nullptr);
+        view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+        preview.load(scene, 96);
+        preview.draw(scene, plan_for(scene), cam, kW, kH, 1, d);
+        glFinish();
+        const Image shown = display_transform(traced, d.exposure_stops, d.tonemap);
+        int close = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                Vec3 t;
+                for (int k = 0; k < 3; ++k) t[k] = to_byte(shown.at(x, y)[k]);
+                close += glm::all(glm::lessThanEqual(glm::abs(gl.at(x, y) - t), Vec3(3.0)));
+            }
+        // Silhouettes and interpolated normals differ a little, as in the tests above.
+        EXPECT_GE(close, kW * kH * 9 / 10) << d.exposure_stops;
+    }
+}
+
 // The two-sided rule (spec §5) takes the side from the geometric normal, the winding: vertex
 // normals against it face away from the eye, and the light in front of the triangle does not
 // light it (ambient only), in the trace and in the preview; also under a mirroring group.
 TEST(GlPreview, NormalsAgainstTheWindingAreDarkAsInTheTrace) {
     const std::string head =
-        std::string("#camera 0 0 9  0 0 -1  0 1 0  0.4\n#background 0.1 0.1 0.1\n"
-                    "#ambient .2 .2 .2\n#light_point 1 1 1  0 0 6  1 0 0\n") +
+        std::string(
+            "#camera 0 0 9  0 0 -1  0 1 0  0.4\n#background 0.1 0.1 0.1\n"
+            "#ambient .2 .2 .2\n#light_point 1 1 1  0 0 6  1 0 0\n") +
         kMaterials +
         "#vertex -3 -2 -2 0 0 -1 0 0\n#vertex 0 -2 -2 0 0 -1 1 0\n#vertex -1.5 2 -2 0 0 -1 0 1\n";
     for (const bool mirrored : {false, true}) {
