@@ -280,8 +280,11 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
     int layers = 0;
     const std::vector<ShadowView> views = shadow_views(scene, lights, &layers);
     const Bounds3& w = scene.world_bounds;
-    if (m_shadows_valid && views == m_shadow_views) return;
+    // The joints' time too: a #dynamic_affine moves its shapes without moving the lights or, in
+    // general, the scene's bounds.
+    if (m_shadows_valid && views == m_shadow_views && scene.time == m_shadow_time) return;
     m_shadow_views = views;
+    m_shadow_time = scene.time;
     m_shadows_valid = true;
     if (layers == 0) return;
 

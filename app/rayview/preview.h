@@ -144,6 +144,7 @@ private:
     GlTexture m_shadow_tex;
     int m_shadow_layers = 0;
     std::vector<ShadowView> m_shadow_views;
+    std::optional<SceneTime> m_shadow_time;  // the joints' time the maps were rendered at
     bool m_shadows_valid = false;
     GlProgram m_line_program;
     GlVertexArray m_line_vao;

@@ -521,6 +521,54 @@ TEST(GlPreview, CsgShadowsAgreeWithTheTrace) {
     EXPECT_GE(a.iou, 0.9);
 }
 
+// The shadow maps follow the animation: drawn at t = 0 and then at t = 0.5 with the same preview,
+// the shadows are those of t = 0.5 (a #dynamic_affine sphere that slides across a floor; the
+// light and the scene's bounds stay the same).
+TEST(GlPreview, AnimatedShadowsFollowTheTime) {
+    const auto dir = std::filesystem::temp_directory_path() / "rt_gl_animated_shadows";
+    std::filesystem::create_directories(dir);
+    write_file_atomic((dir / "s.key").string(),
+                      "#DOFS 1 slide #DURATION 1 #FRAMES 2\n"
+                      "1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1   1 0 0 0  0 1 0 0  0 0 1 0  6 0 0 1\n");
+    write_file_atomic((dir / "s.ray").string(),
+                      "#camera 0 5 9  0 -0.55 -1  0 1 0  0.5\n"
+                      "#light_dir 0 0 0  1 1 1  0 0 0  0 -1 0\n"
+                      "#material 0 0 0  .2 .2 .2  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !m!\n"
+                      "#key_file s.key\n#shape_box 0  0 -1 0  12 0.2 6\n"
+                      "#shape_sphere 0  -5.5 2.5 0  0.1\n#shape_sphere 0  5.5 2.5 0  0.1\n"
+                      "#dynamic_affine slide #shape_sphere 0  -2 1 0  1\n");
+    Diagnostics diag;
+    const SceneDesc desc = parse_scene_file((dir / "s.ray").string(), diag);
+    std::filesystem::remove_all(dir);
+    RenderScene scene = compile_scene(desc, nullptr, SceneTime{0, Interpolation::Linear});
+    Offscreen gl;
+    ASSERT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 96);
+    const Camera cam = make_camera(scene, kW, kH);
+    preview.draw(scene, plan_for(scene, true), cam, kW, kH);  // the maps of t = 0
+    animate(scene, desc, SceneTime{0.5, Interpolation::Linear});
+    preview.draw(scene, plan_for(scene, false), cam, kW, kH);
+    glFinish();
+    const std::vector<unsigned char> lit = gl.rgba;
+    preview.draw(scene, plan_for(scene, true), cam, kW, kH);
+    glFinish();
+    const Image on = test::render(scene, kW, kH, 1, 0.001, true);
+    const Image off = test::render(scene, kW, kH, 1, 0.001, false);
+    int both = 0, either = 0, in_trace = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const size_t i = (static_cast<size_t>(kH - 1 - y) * kW + x) * 4;
+            const bool preview_dark = lit[i] - gl.rgba[i] > 20;
+            const bool trace_dark = to_byte(off.at(x, y).x) - to_byte(on.at(x, y).x) > 20;
+            both += preview_dark && trace_dark;
+            either += preview_dark || trace_dark;
+            in_trace += trace_dark;
+        }
+    EXPECT_GT(in_trace, kW * kH / 200);
+    EXPECT_GE(static_cast<double>(both) / std::max(either, 1), 0.9);
+}
+
 // The preview leaves out what the scene does not use: texture coordinates are uploaded only for
 // textured sets, and the program has only the light kinds and features present.
 TEST(GlPreview, UploadsAndCompilesOnlyWhatTheSceneUses) {
