@@ -10,8 +10,9 @@
 // 1 / (ca + la d + qa d^2); spots cut off by angle and fall off as cos^p (factor 1 when p = 0);
 // a non-positive denominator gives no light (the ambient included).
 // S is 1, or with shadows on the visibility looked up in the light's shadow map (opaque
-// occluders only; the trace also tints light through transparent ones, and averages a sphere
-// light's visibility over its sphere).
+// occluders), times the product of the T of the transparent surfaces on the light's way
+// (RT_TRANSMIT_SHADOWS: the transmittance map; the trace also averages a sphere light's
+// visibility over its sphere).
 //
 // The program is compiled for what a scene uses (Preview::program_for inserts the defines after
 // the #version line): RT_POINT, RT_SPOT, RT_DIRECTIONAL (light kinds present; sphere lights
@@ -74,18 +75,32 @@ const vec3 kFaceRight[6] = vec3[6](vec3(0, 0, -1), vec3(0, 0, 1), vec3(1, 0, 0),
 const vec3 kFaceUp[6] = vec3[6](vec3(0, 1, 0), vec3(0, 1, 0), vec3(0, 0, -1),
                                 vec3(0, 0, 1), vec3(0, 1, 0), vec3(0, 1, 0));
 
+#ifdef RT_TRANSMIT_SHADOWS
+// Light through transparent surfaces (spec §7.1's S_l, a product of their T): the map of the
+// layer holds the product of every transparent surface's T along the light's view (rgb) and
+// the depth of the nearest (alpha); a point beyond that depth gets the product.
+uniform sampler2DArray u_transmit_map;
+vec3 transmitted(vec2 s, float layer, float depth) {
+    vec4 m = texture(u_transmit_map, vec3(s, layer));
+    return depth > m.a + 2.0 / 255.0 ? m.rgb : vec3(1.0);
+}
+#else
+vec3 transmitted(vec2 s, float layer, float depth) { return vec3(1.0); }
+#endif
+
 // Visibility of light i from p (normal n facing the light's side): the point is first moved
 // along n by one and a half shadow-map texels (normal-offset shadows), then compared with a
-// 2x2 filtered lookup.
-float visibility(int i, vec3 p, vec3 n) {
+// 2x2 filtered lookup; times the light transparent surfaces let through.
+vec3 visibility(int i, vec3 p, vec3 n) {
     int layer = u_shadow_layer[i];
-    if (layer < 0) return 1.0;
+    if (layer < 0) return vec3(1.0);
     if (u_light_kind[i] == 0) {
         float texel = 2.0 * u_shadow_scale[i] / u_shadow_res;
         vec3 q = (p + 1.5 * texel * n - u_shadow_centre[i]) / u_shadow_scale[i];
         vec3 s = 0.5 + 0.5 * vec3(dot(q, u_shadow_a1[i]), dot(q, u_shadow_a2[i]),
                                   dot(q, u_light_direction[i]));
-        return texture(u_shadow_map, vec4(s.xy, float(layer), s.z - 0.5 / u_shadow_res));
+        return texture(u_shadow_map, vec4(s.xy, float(layer), s.z - 0.5 / u_shadow_res)) *
+               transmitted(s.xy, float(layer), s.z);
     }
     vec3 v = p - u_light_position[i];
     vec3 a = abs(v);
@@ -95,10 +110,11 @@ float visibility(int i, vec3 p, vec3 n) {
     float texel = 2.0 * dot(v, kFaceForward[f]) / u_shadow_res;
     v += 1.5 * texel * n;
     float w = dot(v, kFaceForward[f]);
-    if (w <= 0.0) return 1.0;
+    if (w <= 0.0) return vec3(1.0);
     vec2 s = 0.5 + 0.5 * vec2(dot(v, kFaceRight[f]), dot(v, kFaceUp[f])) / w;
     float ref = length(v) / u_shadow_scale[i] - 0.5 / u_shadow_res;
-    return texture(u_shadow_map, vec4(s, float(layer + f), ref));
+    return texture(u_shadow_map, vec4(s, float(layer + f), ref)) *
+           transmitted(s, float(layer + f), length(v) / u_shadow_scale[i]);
 }
 #endif
 
@@ -218,17 +234,17 @@ void main() {
         c += ka * u_light_ambient[i] * f;  // spec §13.9: never shadowed, any N.L
         float ndl = dot(n, l);
         if (ndl <= 0.0) continue;
+        vec3 sf = vec3(f);
 #ifdef RT_SHADOWS
-        float s = visibility(i, v_world, n);
-        if (s <= 0.0) continue;
-        f *= s;
+        sf *= visibility(i, v_world, n);
+        if (sf == vec3(0.0)) continue;
 #endif
 #ifdef RT_SPECULAR
         float rdl = min(dot(r, l), 1.0);
         float spec = rdl > 0.0 ? pow(rdl, u_exponent) : 0.0;
-        c += f * (u_diffuse * t * u_light_diffuse[i] * ndl + ks * u_light_specular[i] * spec);
+        c += sf * (u_diffuse * t * u_light_diffuse[i] * ndl + ks * u_light_specular[i] * spec);
 #else
-        c += f * (u_diffuse * t * u_light_diffuse[i] * ndl);
+        c += sf * (u_diffuse * t * u_light_diffuse[i] * ndl);
 #endif
     }
 #ifdef RT_REFLECTIONS

@@ -61,7 +61,8 @@ std::string shader_source(std::string src, const std::vector<std::string>& defin
         eol = src.find('\n');
         prelude +=
             "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"
-            "precision highp samplerCube;\nprecision highp sampler2DArrayShadow;\n";
+            "precision highp samplerCube;\nprecision highp sampler2DArrayShadow;\n"
+            "precision highp sampler2DArray;\n";
     }
     for (const std::string& d : defines) {
         prelude += "#define ";

@@ -79,11 +79,14 @@ Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
     // Compiled at once with every feature on, so a broken shader file fails here; the other
     // combinations of defines compile on first use (the same source with less of it).
     program_for({"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR",
-                 "RT_SHADOWS", "RT_CSG"});
+                 "RT_SHADOWS", "RT_TRANSMIT_SHADOWS", "RT_CSG"});
     m_line_program = make_program(shader_dir, "lines.vert", "lines.frag");
     m_shadow_program = make_program(shader_dir, "preview.vert", "shadow.frag");
     m_shadow_csg_program =
         make_program(shader_dir, "preview.vert", "shadow.frag", {"RT_CSG"}, "csg.frag");
+    m_transmit_program = make_program(shader_dir, "preview.vert", "shadow.frag", {"RT_TRANSMIT"});
+    m_transmit_csg_program = make_program(shader_dir, "preview.vert", "shadow.frag",
+                                          {"RT_TRANSMIT", "RT_CSG"}, "csg.frag");
     m_line_vao = GlVertexArray::make();
     m_line_vbo = GlBuffer::make();
 }
@@ -193,6 +196,7 @@ void Preview::load(const RenderScene& scene, const PreviewGeometry& geometry) {
     m_textures.clear();
     m_shadows_valid = false;
     m_csg = false;
+    m_transparent = false;
     m_env_chosen = m_env_valid = m_env_ready = false;
     m_env.clear();
     m_env_next = 0;
@@ -212,6 +216,7 @@ void Preview::load(const RenderScene& scene, const PreviewGeometry& geometry) {
         for (const int m : mesh.materials) {
             if (seen[static_cast<size_t>(m)]) continue;
             seen[static_cast<size_t>(m)] = 1;
+            m_transparent |= scene.materials[static_cast<size_t>(m)].transparent != Vec3(0.0);
             const int t = scene.materials[static_cast<size_t>(m)].texture;
             if (t >= 0) {
                 textured = true;
@@ -275,6 +280,34 @@ std::vector<Preview::ShadowView> Preview::shadow_views(const RenderScene& scene,
     return views;
 }
 
+// The clip matrix a shadow view's face is rendered with: a 90 degree view through cube face
+// `face` from a point or spot light (the depth written is the distance), or for a directional
+// light an orthographic view along its direction of travel over the scene's bounding sphere.
+Preview::ClipMatrix Preview::shadow_clip_from_world(const ShadowView& v, int face,
+                                                    const Bounds3& w) {
+    ClipMatrix clip;
+    auto& out = clip.m;
+    if (v.kind != LightKind::Directional) {
+        Camera c;
+        c.position = v.position;
+        c.forward = kFaceForward[face];
+        c.right = kFaceRight[face];
+        c.up = kFaceUp[face];
+        c.tan_w = c.tan_h = 1.0;
+        const GlMatrices m = camera_matrices(c, w);
+        for (int r = 0; r < 4; ++r)
+            for (int k = 0; k < 4; ++k) out[r][k] = m.clip_from_world[k * 4 + r];
+        return clip;
+    }
+    const Vec3 axes[3] = {v.a1, v.a2, v.direction};
+    for (int r = 0; r < 3; ++r) {
+        for (int k = 0; k < 3; ++k) out[r][k] = axes[r][k] / v.scale;
+        out[r][3] = -glm::dot(axes[r], v.centre) / v.scale;
+    }
+    out[3][3] = 1.0;
+    return clip;
+}
+
 void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights) {
     // Which lights get a map, and the view each is rendered with.
     int layers = 0;
@@ -324,39 +357,70 @@ void Preview::render_shadow_maps(const RenderScene& scene, const std::vector<Lig
             glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, m_shadow_tex.id(), 0,
                                       v.layer + face);
             glClear(GL_DEPTH_BUFFER_BIT);
-            if (radial) {
-                // A 90 degree view through the face; the depth written is the distance.
-                Camera c;
-                c.position = v.position;
-                c.forward = kFaceForward[face];
-                c.right = kFaceRight[face];
-                c.up = kFaceUp[face];
-                c.tan_w = c.tan_h = 1.0;
-                const GlMatrices m = camera_matrices(c, w);
-                glUniformMatrix4fv(loc(sp, "u_clip_from_world"), 1, GL_FALSE, m.clip_from_world);
-            } else {
-                // Orthographic along the direction of travel over the scene's bounding sphere.
-                double m[4][4] = {};
-                const Vec3 axes[3] = {v.a1, v.a2, v.direction};
-                for (int r = 0; r < 3; ++r) {
-                    for (int k = 0; k < 3; ++k) m[r][k] = axes[r][k] / v.scale;
-                    m[r][3] = -glm::dot(axes[r], v.centre) / v.scale;
-                }
-                m[3][3] = 1.0;
-                set_matrix(sp, "u_clip_from_world", m);
-            }
+            set_matrix(sp, "u_clip_from_world", shadow_clip_from_world(v, face, w).m);
             DrawPass pass;
             pass.opaque_only = true;
             draw_instances(scene, sp, pass);
         }
     }
+    if (m_transparent) render_transmit_maps(scene, views, layers);
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));  // draw buffers are
                                                                            // per framebuffer
 }
 
+void Preview::render_transmit_maps(const RenderScene& scene, const std::vector<ShadowView>& views,
+                                   int layers) {
+    if (!m_transmit_fbo) m_transmit_fbo = GlFramebuffer::make();
+    if (!m_transmit_tex) m_transmit_tex = GlTexture::make();
+    glBindTexture(GL_TEXTURE_2D_ARRAY, m_transmit_tex.id());
+    if (layers > m_transmit_layers) {
+        glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, kTransmitResolution, kTransmitResolution,
+                     layers, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+        m_transmit_layers = layers;
+        set_sampling(GL_TEXTURE_2D_ARRAY, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, m_transmit_fbo.id());
+    const GLenum colour = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &colour);
+    glViewport(0, 0, kTransmitResolution, kTransmitResolution);
+    // No depth test: every transparent surface on the light's way multiplies the colour (each
+    // face of a closed object once, as the trace's shadow ray crosses both), and the alpha keeps
+    // the nearest one's depth (a receiver nearer to the light than that is not behind any).
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendEquationSeparate(GL_FUNC_ADD, GL_MIN);
+    glBlendFuncSeparate(GL_ZERO, GL_SRC_COLOR, GL_ONE, GL_ONE);
+    glClearColor(1.0f, 1.0f, 1.0f, 1.0f);
+    const unsigned tp = (m_csg ? m_transmit_csg_program : m_transmit_program).id();
+    glUseProgram(tp);
+    glUniform1i(loc(tp, "u_csg"), 2);
+    glVertexAttrib1f(3, -1.0f);
+    const Bounds3& w = scene.world_bounds;
+    for (const ShadowView& v : views) {
+        if (v.layer < 0) continue;
+        const bool radial = v.kind != LightKind::Directional;
+        glUniform1i(loc(tp, "u_radial"), radial ? 1 : 0);
+        set_vec3(tp, "u_light_position", v.position);
+        glUniform1f(loc(tp, "u_far"), static_cast<float>(v.scale));
+        for (int face = 0; face < (radial ? 6 : 1); ++face) {
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, m_transmit_tex.id(), 0,
+                                      v.layer + face);
+            glClear(GL_COLOR_BUFFER_BIT);
+            set_matrix(tp, "u_clip_from_world", shadow_clip_from_world(v, face, w).m);
+            DrawPass pass;
+            pass.transparent_only = true;
+            draw_instances(scene, tp, pass);
+        }
+    }
+    glDisable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glEnable(GL_DEPTH_TEST);
+}
+
 void Preview::draw_instances(const RenderScene& scene, unsigned program,
                              const DrawPass& pass) const {
-    const bool shading = !pass.opaque_only, opaque_only = pass.opaque_only;
+    const bool shading = !pass.opaque_only && !pass.transparent_only,
+               opaque_only = pass.opaque_only;
     const bool reflections = shading && pass.reflections;
     for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
         const Instance& inst = scene.instances[ii];
@@ -388,6 +452,10 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
             if (pass.skip_map >= 0 && m_env_of[ii][ri] == pass.skip_map) continue;
             const Material& m = scene.materials[static_cast<size_t>(range.material)];
             if (opaque_only && m.transparent != Vec3(0.0)) continue;
+            if (pass.transparent_only) {
+                if (m.transparent == Vec3(0.0)) continue;
+                set_vec3(program, "u_transmit", m.transparent);
+            }
             if (reflections) {
                 const int e = m_env_of[ii][ri];
                 glUniform1i(loc(program, "u_env_on"), e >= 0 ? 1 : 0);
@@ -435,6 +503,7 @@ std::vector<std::string> Preview::frame_defines(const RenderPlan& plan, bool sha
     if (uses.textures) defines.push_back("RT_TEXTURES");
     if (uses.highlights) defines.push_back("RT_SPECULAR");
     if (shadows) defines.push_back("RT_SHADOWS");
+    if (shadows && m_transparent) defines.push_back("RT_TRANSMIT_SHADOWS");
     if (m_csg) defines.push_back("RT_CSG");
     return defines;
 }
@@ -480,6 +549,11 @@ void Preview::set_frame_uniforms(unsigned program, const RenderScene& scene, con
         glUniform1f(loc(program, "u_shadow_res"), static_cast<float>(kShadowResolution));
         glActiveTexture(GL_TEXTURE1);
         glBindTexture(GL_TEXTURE_2D_ARRAY, m_shadow_tex.id());
+        if (m_transparent) {
+            glUniform1i(loc(program, "u_transmit_map"), 4);
+            glActiveTexture(GL_TEXTURE4);
+            glBindTexture(GL_TEXTURE_2D_ARRAY, m_transmit_tex.id());
+        }
     }
     glActiveTexture(GL_TEXTURE0);
 }

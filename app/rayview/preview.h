@@ -64,6 +64,7 @@ public:
 
     static constexpr int kMaxShadowLights = 4;
     static constexpr int kShadowResolution = 1024;
+    static constexpr int kTransmitResolution = 512;
     static constexpr int kMaxEnvMaps = 8;
     static constexpr int kEnvResolution = 128;
     static constexpr int kCsgRow = 1024;  // CSG texels per row of their texture (csg.frag's)
@@ -112,11 +113,20 @@ private:
     static std::vector<ShadowView> shadow_views(const RenderScene& scene,
                                                 const std::vector<Light>& lights, int* layers);
     void render_shadow_maps(const RenderScene& scene, const std::vector<Light>& lights);
+    /// The transmittance maps of the same views (m_transmit_tex), when a material transmits.
+    void render_transmit_maps(const RenderScene& scene, const std::vector<ShadowView>& views,
+                              int layers);
+    /// The clip matrix shadow view `v`'s face is rendered with (row-major).
+    struct ClipMatrix {
+        double m[4][4] = {};
+    };
+    static ClipMatrix shadow_clip_from_world(const ShadowView& v, int face, const Bounds3& w);
     /// What draw_instances() draws: only opaque triangles, unshaded (shadow maps); with the
     /// environment maps bound per object; all but the objects that share map `skip_map` (that
     /// map's own pass).
     struct DrawPass {
         bool opaque_only = false, reflections = false;
+        bool transparent_only = false;  // only transmitting materials, their T in u_transmit
         int skip_map = -1;
     };
     void draw_instances(const RenderScene& scene, unsigned program, const DrawPass& pass) const;
@@ -140,6 +150,14 @@ private:
     std::vector<std::string> m_defines;
     size_t m_uploaded_floats = 0;
     GlProgram m_shadow_program, m_shadow_csg_program;  // without and with RT_CSG
+    // Light through transparent materials (spec §7.1: every surface on the shadow ray multiplies
+    // S_l by its T): per shadow layer, the product of the T of every transparent surface the
+    // light's view meets (rgb) and the depth of the nearest one (alpha), at a lower resolution.
+    GlProgram m_transmit_program, m_transmit_csg_program;
+    GlFramebuffer m_transmit_fbo;
+    GlTexture m_transmit_tex;
+    int m_transmit_layers = 0;
+    bool m_transparent = false;  // some material placed in the scene transmits
     GlFramebuffer m_shadow_fbo;
     GlTexture m_shadow_tex;
     int m_shadow_layers = 0;

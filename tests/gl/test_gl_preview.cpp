@@ -521,6 +521,51 @@ TEST(GlPreview, CsgShadowsAgreeWithTheTrace) {
     EXPECT_GE(a.iou, 0.9);
 }
 
+// Light through a transparent object (spec §7.1: S_l is the product of the T of every surface
+// the shadow ray crosses, so a glass ball of T 0.5 passes a quarter): the preview's shadow of
+// the glass ball is as light as the trace's, and that of an opaque ball as dark.
+TEST(GlPreview, TransparentObjectsCastTintedShadows) {
+    const RenderScene scene = test::compile(
+        "#camera 0 4 9  0 -0.45 -1  0 1 0  0.5\n#background 0 0 0\n#ambient .1 .1 .1\n"
+        "#light_dir 1 1 1  -0.2 -1 -0.1\n"
+        "#material 0 0 0  .2 .2 .2  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !floor!\n"
+        "#material 0 0 0  0 0 0  .1 .1 .1  0 0 0  1  .5 .6 .7  1  -1 !glass!\n"
+        "#shape_box 0 0 -1 0  10 0.2 10\n#shape_sphere 1 -1.6 0.5 0 1\n"
+        "#shape_sphere 0 1.6 0.5 0 1\n");
+    Offscreen gl;
+    ASSERT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 96);
+    const Camera cam = make_camera(scene, kW, kH);
+    preview.draw(scene, plan_for(scene, true), cam, kW, kH);
+    glFinish();
+    const std::vector<std::string> defines = preview.active_defines();
+    EXPECT_NE(std::find(defines.begin(), defines.end(), "RT_TRANSMIT_SHADOWS"), defines.end());
+    const Image on = test::render(scene, kW, kH, 1, 0.001, true);
+    const Image off = test::render(scene, kW, kH, 1, 0.001, false);
+    int tinted = 0, tinted_close = 0, dark = 0, dark_close = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const Vec3 lit = off.at(x, y), shadowed = on.at(x, y);
+            if (!(lit.x > 0.3)) continue;  // the floor in the light
+            Vec3 t;
+            for (int k = 0; k < 3; ++k) t[k] = to_byte(shadowed[k]);
+            const bool close = glm::all(glm::lessThanEqual(glm::abs(gl.at(x, y) - t), Vec3(12.0)));
+            if (shadowed.x < 0.2 * lit.x) {  // behind the opaque ball: ambient only
+                ++dark;
+                dark_close += close;
+            } else if (shadowed.x < 0.5 * lit.x) {  // behind the glass ball: T^2
+                ++tinted;
+                tinted_close += close;
+            }
+        }
+    EXPECT_GT(tinted, kW * kH / 200);
+    EXPECT_GT(dark, kW * kH / 200);
+    // Shadow edges differ by a texel or so of the maps and by the tessellation.
+    EXPECT_GE(tinted_close, tinted * 8 / 10);
+    EXPECT_GE(dark_close, dark * 8 / 10);
+}
+
 // The shadow maps follow the animation: drawn at t = 0 and then at t = 0.5 with the same preview,
 // the shadows are those of t = 0.5 (a #dynamic_affine sphere that slides across a floor; the
 // light and the scene's bounds stay the same).
@@ -888,19 +933,22 @@ TEST(ShaderSource, EveryShaderCompilesAsGlslEs300) {
     if (std::system("command -v glslangValidator >/dev/null 2>&1") != 0)
         GTEST_SKIP() << "glslangValidator is not installed (glslang-tools)";
     const std::string dir = RT_SOURCE_DIR "/shaders/";
-    const std::vector<std::string> all = {"RT_POINT",    "RT_SPOT",     "RT_DIRECTIONAL",
-                                          "RT_TEXTURES", "RT_SPECULAR", "RT_SHADOWS",
-                                          "RT_CSG"};
+    const std::vector<std::string> all = {
+        "RT_POINT",    "RT_SPOT",    "RT_DIRECTIONAL",      "RT_TEXTURES",
+        "RT_SPECULAR", "RT_SHADOWS", "RT_TRANSMIT_SHADOWS", "RT_CSG"};
     struct Case {
         std::string file, library;
+        bool transmit = false;  // shadow.frag's transmittance maps (RT_TRANSMIT)
     };
     const std::filesystem::path tmp = testing::TempDir();
-    for (const Case& c :
-         {Case{"preview.vert", ""}, Case{"preview.frag", "csg.frag"},
-          Case{"shadow.frag", "csg.frag"}, Case{"lines.vert", ""}, Case{"lines.frag", ""}}) {
+    for (const Case& c : {Case{"preview.vert", ""}, Case{"preview.frag", "csg.frag"},
+                          Case{"shadow.frag", "csg.frag"}, Case{"shadow.frag", "csg.frag", true},
+                          Case{"lines.vert", ""}, Case{"lines.frag", ""}}) {
         std::string text;
         ASSERT_TRUE(read_file(dir + c.file, &text));
-        std::string es = shader_source(text, all, true);
+        std::vector<std::string> defines = all;
+        if (c.transmit) defines.push_back("RT_TRANSMIT");
+        std::string es = shader_source(text, defines, true);
         ASSERT_EQ(es.rfind("#version 300 es\n", 0), 0u);
         if (!c.library.empty()) {
             std::string lib;
