@@ -2,7 +2,8 @@
 // preview-against-trace measurements. Prints the mean absolute difference per channel (0-255)
 // and the share of pixels where the second image is bright (luminance > 0.3) and the first one
 // nearly black (< 0.05): "the preview shows black where the trace is lit" when called as
-// imgdiff PREVIEW TRACE, and the largest difference of one value (linear, 1 = white). Reads the
+// imgdiff PREVIEW TRACE, the share of pixels off by more than K/255 in one channel (--off, 32 by
+// default), and the largest difference of one value (linear, 1 = white). Reads the
 // 8-bit formats, PFM and EXR (rt::load_image). Exits 1 when a limit given is exceeded, 2 on a
 // usage or read error.
 #include <CLI/CLI.hpp>
@@ -33,7 +34,7 @@ struct Region {
 
 int main(int argc, char** argv) {
     std::string a_path, b_path;
-    double max_mad = -1, max_dark = -1, max_abs = -1;
+    double max_mad = -1, max_dark = -1, max_abs = -1, off = 32, max_off = -1;
     std::vector<int> crop;
     CLI::App app{
         "Compares two images of the same size: mean absolute difference per channel "
@@ -50,6 +51,12 @@ int main(int argc, char** argv) {
                    "exit 1 when a value differs by more than X (linear, 1 = white; 0: the "
                    "same values)")
         ->type_name("X");
+    app.add_option("--off", off, "count the pixels off by more than K/255 in one channel")
+        ->type_name("K")
+        ->capture_default_str();
+    app.add_option("--max-off-share", max_off,
+                   "exit 1 when the share of pixels off by more than --off exceeds S")
+        ->type_name("S");
     app.add_option("--crop", crop, "compare only this rectangle of both images")
         ->type_name("X Y W H")
         ->expected(4);
@@ -82,15 +89,19 @@ int main(int argc, char** argv) {
         return 2;
     }
     double sum[3] = {0, 0, 0}, largest = 0;
-    long dark = 0;
+    long dark = 0, off_count = 0;
     for (int y = r.y; y < r.y + r.h; ++y)
         for (int x = r.x; x < r.x + r.w; ++x) {
             const size_t i = (static_cast<size_t>(y) * a.width + x) * 3;
+            bool is_off = false;
             for (size_t k = 0; k < 3; ++k) {
                 const double d = std::abs(a.rgb[i + k] - b.rgb[i + k]);
-                sum[k] += bytes ? std::round(255 * d) : 255 * d;
+                const double d255 = bytes ? std::round(255 * d) : 255 * d;
+                sum[k] += d255;
+                is_off |= d255 > off;
                 largest = std::max(largest, d);
             }
+            off_count += is_off;
             dark += luminance(b, i) > 0.3 && luminance(a, i) < 0.05;
         }
     const double n = static_cast<double>(r.w) * r.h;
@@ -98,8 +109,11 @@ int main(int argc, char** argv) {
     const double share = static_cast<double>(dark) / n;
     std::printf("mean abs diff %.2f %.2f %.2f; dark where lit %.4f (%ld of %.0f pixels)\n", mad[0],
                 mad[1], mad[2], share, dark, n);
+    const double off_share = static_cast<double>(off_count) / n;
+    std::printf("off by more than %g/255: %.4f (%ld pixels)\n", off, off_share, off_count);
     std::printf("max abs diff %.6g\n", largest);
-    bool over = (max_dark >= 0 && share > max_dark) || (max_abs >= 0 && largest > max_abs);
+    bool over = (max_dark >= 0 && share > max_dark) || (max_abs >= 0 && largest > max_abs) ||
+                (max_off >= 0 && off_share > max_off);
     for (double m : mad) over |= max_mad >= 0 && m > max_mad;
     return over ? 1 : 0;
 }

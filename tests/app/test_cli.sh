@@ -88,6 +88,13 @@ done
 check "no aov channel in a plain exr" bash -c "'$rt' '$tmp/ok.ray' -q -o '$tmp/h.exr' --width 32 --height 24 --spp 2 && ! grep -qaF Albedo '$tmp/h.exr'"
 check "half exr RGB is the pfm's within half's rounding" "$imgdiff" "$tmp/e.pfm" "$tmp/h.exr" --max-abs 0.002
 check "half exr RGB is rounded" bash -c "! '$imgdiff' '$tmp/e.pfm' '$tmp/h.exr' --max-abs 0 >/dev/null"
+# The share of pixels off by more than K/255: none between an image and itself; another
+# background is off, and --max-off-share then fails.
+check "an image is off nowhere against itself" bash -c "'$imgdiff' '$tmp/e.pfm' '$tmp/e.pfm' --max-off-share 0 | grep -q 'off by more than 32/255: 0.0000 (0 pixels)'"
+{ printf '#background 0.5 0.5 0.5\n'; cat "$tmp/ok.ray"; } >"$tmp/grey.ray"
+"$rt" "$tmp/grey.ray" -q -o "$tmp/grey.png" --width 32 --height 24 --spp 2
+"$rt" "$tmp/ok.ray" -q -o "$tmp/plain.png" --width 32 --height 24 --spp 2
+check "another background is off by more than 32/255" bash -c "! '$imgdiff' '$tmp/grey.png' '$tmp/plain.png' --max-off-share 0 >/dev/null"
 "$rt" "$tmp/ok.ray" -q --progressive --spp 4 -o "$tmp/pe.exr" --width 32 --height 24 --aov samples,depth
 check "progressive exr with aovs" grep -qaF Samples.N "$tmp/pe.exr"
 "$rt" "$tmp/ok.ray" -q --frames 2 -o "$tmp/fe_%d.exr" --width 16 --height 12 --aov normal 2>/dev/null
