@@ -1,18 +1,74 @@
 #include "loader.h"
 
+#include "cli.h"
+#include "rt/compile/compile.h"
+#include "rt/render/camera.h"
 #include "rt/util/threads.h"
-#include "viewer.h"
 
 namespace rt::view {
+
+std::string stand_in_text(const SceneDesc& desc) {
+    if (desc.missing_textures.empty()) return "";
+    std::string text = "checker stand-ins for missing textures:";
+    for (const std::string& t : desc.missing_textures) text += "\n  " + t;
+    return text;
+}
+
+LoadResult load_scene(const LoadRequest& request) {
+    LoadResult result;
+    const std::string& path = request.path;
+    try {
+        Diagnostics diag;
+        auto s = std::make_unique<LoadedScene>();
+        s->path = path;
+        s->missing_textures = request.missing;
+        ParseOptions options;
+        options.missing_textures = request.missing;
+        options.dialect = request.dialect;
+        try {
+            s->desc = parse_scene_file(path, diag, options);
+        } catch (const SceneError&) {
+            // Would checker stand-ins open it? Then the textures were all that failed.
+            if (request.missing == MissingTextures::Error) {
+                Diagnostics quiet;
+                options.missing_textures = MissingTextures::Checker;
+                try {
+                    result.textures_missing =
+                        !parse_scene_file(path, quiet, options).missing_textures.empty();
+                } catch (const std::exception&) {
+                }
+            }
+            throw;
+        }
+        CompileReport report;
+        report.record_locations = true;  // for picking
+        s->scene = compile_scene(s->desc, &report);
+        s->prim_locs = std::move(report.prim_locs);
+        s->material_names = std::move(report.material_names);
+        if (request.for_preview) s->preview = prepare_preview(s->scene);
+        s->shown = s->scene;
+        if (s->desc.camera) {
+            s->file_camera = *s->desc.camera;
+        } else {  // spec §6.3's default camera, framed for 4:3
+            const CameraPose d = default_camera(s->scene.world_bounds, 640, 480);
+            s->file_camera.position = d.position;
+            s->file_camera.direction = d.direction;
+            s->file_camera.up = d.up;
+            s->file_camera.half_height_angle_rad = d.half_height_angle_rad;
+        }
+        result.scene = std::move(s);
+    } catch (const std::exception& e) {
+        result.error = rtapp::error_text(e, "loading " + path);
+    }
+    return result;
+}
 
 struct SceneLoader::Job {
     std::string path;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
     std::thread thread;
     std::atomic<bool> done{false};
-    std::unique_ptr<LoadedScene> scene;  // written by the thread before done
-    std::string error;
-    bool textures_missing = false;
+    LoadResult result;  // written by the thread before done
     ~Job() {
         if (thread.joinable()) thread.join();
     }
@@ -21,16 +77,16 @@ struct SceneLoader::Job {
 SceneLoader::SceneLoader() = default;
 SceneLoader::~SceneLoader() = default;  // joins every thread (Job's destructor)
 
-void SceneLoader::start(const std::string& path, LoadFn load) {
+void SceneLoader::start(const LoadRequest& request) {
     cancel();
     m_job = std::make_unique<Job>();
-    m_job->path = path;
+    m_job->path = request.path;
     Job* job = m_job.get();
-    auto work = [job, load = std::move(load)] {
+    auto work = [job, request] {
         try {
-            job->scene = load(&job->error, &job->textures_missing);
+            job->result = load_scene(request);
         } catch (const std::exception& e) {
-            job->error = e.what();
+            job->result.error = e.what();
         }
         job->done = true;
     };
@@ -59,14 +115,11 @@ double SceneLoader::seconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_job->start).count();
 }
 
-bool SceneLoader::take(std::unique_ptr<LoadedScene>* scene, std::string* error,
-                       bool* textures_missing, std::string* path) {
+bool SceneLoader::take(LoadResult* result, std::string* path) {
     reap();
     if (!m_job || !m_job->done) return false;
     m_job->thread.join();
-    *scene = std::move(m_job->scene);
-    *error = std::move(m_job->error);
-    *textures_missing = m_job->textures_missing;
+    *result = std::move(m_job->result);
     *path = std::move(m_job->path);
     m_job.reset();
     return true;

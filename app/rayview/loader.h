@@ -1,42 +1,88 @@
-// Opening a scene without freezing the window: the file is read and compiled on a thread of
-// its own while the open scene stays interactive. A cancelled load is abandoned (its thread
-// finishes in the background and its result is dropped), so cancel never waits for a parser.
+// Opening a scene: load_scene() reads and compiles a file in one call that returns a result,
+// and SceneLoader runs it without freezing the window (on a thread of its own while the open
+// scene stays interactive). A cancelled load is abandoned (its thread finishes in the
+// background and its result is dropped), so cancel never waits for a parser.
 #pragma once
 
 #include <atomic>
 #include <chrono>
-#include <functional>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "preview_geometry.h"
+#include "rt/compile/render_scene.h"
+#include "rt/format/parser.h"
+#include "rt/scene/scene_desc.h"
+
 namespace rt::view {
 
-struct LoadedScene;
+/// A scene as read from its file. `scene`'s camera and lights are those of the last restart;
+/// the edits live in ViewerState::edits until then.
+struct LoadedScene {
+    std::string path;
+    SceneDesc desc;     // as parsed
+    RenderScene scene;  // what the trace renders (changed only while it is stopped)
+    /// The preview's copy (the same sets, shared): its joints follow the timeline every frame
+    /// while the trace restarts at its own pace; camera and lights as of the last restart.
+    RenderScene shown;
+    CameraDesc file_camera;                     // Home returns here
+    std::filesystem::file_time_type file_time;  // the file's time when last read
+    int id = 0;  // counts the scenes opened, so views of the scene know when it changed
+    /// How it was opened: with Checker, desc.missing_textures lists the stand-ins (a reload
+    /// opens it the same way).
+    MissingTextures missing_textures = MissingTextures::Error;
+    std::vector<std::vector<SourceLoc>> prim_locs;  // CompileReport's, for picking
+    std::vector<std::string> material_names;
+    /// The preview's tessellation, made with the scene (on the loader's thread) and freed once
+    /// the preview uploaded it.
+    PreviewGeometry preview;
+};
+
+/// What to open and how.
+struct LoadRequest {
+    std::string path;
+    MissingTextures missing = MissingTextures::Error;
+    /// Also tessellate it for the preview (LoadedScene::preview); a headless render does not.
+    bool for_preview = true;
+    std::optional<Dialect> dialect;  // overrides the one detected from the file tree (--dialect)
+};
+
+/// A scene read, or why not.
+struct LoadResult {
+    std::unique_ptr<LoadedScene> scene;  // null on failure
+    std::string error;                   // on failure: "loading PATH: ..." (file:line:col)
+    /// With MissingTextures::Error, a failed open is tried again with checker stand-ins: true
+    /// when that would open it (the failure was only textures that cannot be opened).
+    bool textures_missing = false;
+};
+
+/// Reads and compiles a scene.
+LoadResult load_scene(const LoadRequest& request);
+
+/// The panel's note on the textures that stand in as checkers ("" when none).
+std::string stand_in_text(const SceneDesc& desc);
 
 class SceneLoader {
 public:
-    /// Reads and compiles a scene: nullptr and *error on failure; *textures_missing as
-    /// load_scene() says.
-    using LoadFn =
-        std::function<std::unique_ptr<LoadedScene>(std::string* error, bool* textures_missing)>;
     SceneLoader();
     ~SceneLoader();
     SceneLoader(const SceneLoader&) = delete;
     SceneLoader& operator=(const SceneLoader&) = delete;
 
-    /// Starts loading `path` with `load`; a load under way is cancelled first.
-    void start(const std::string& path, LoadFn load);
+    /// Starts load_scene(request); a load under way is cancelled first.
+    void start(const LoadRequest& request);
     /// Drops the load under way (the open scene stays).
     void cancel();
     bool busy() const { return m_job != nullptr; }
     const std::string& path() const;
     double seconds() const;  // since the load started
-    /// Once the load under way has ended: its scene (nullptr on failure), error and whether
-    /// only textures failed; false while it runs or when none runs.
-    bool take(std::unique_ptr<LoadedScene>* scene, std::string* error, bool* textures_missing,
-              std::string* path);
+    /// Once the load under way has ended: its result and the path it read; false while it runs
+    /// or when none runs.
+    bool take(LoadResult* result, std::string* path);
 
 private:
     struct Job;

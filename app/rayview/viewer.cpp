@@ -154,71 +154,14 @@ bool edit_light(const std::string& what, double a, double b, double c, LightDesc
     return true;
 }
 
-std::string stand_in_text(const SceneDesc& desc) {
-    if (desc.missing_textures.empty()) return "";
-    std::string text = "checker stand-ins for missing textures:";
-    for (const std::string& t : desc.missing_textures) text += "\n  " + t;
-    return text;
-}
-
-std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error,
-                                        MissingTextures missing, bool* textures_missing,
-                                        bool for_preview, std::optional<Dialect> dialect) {
-    if (textures_missing) *textures_missing = false;
-    try {
-        Diagnostics diag;
-        auto s = std::make_unique<LoadedScene>();
-        s->path = path;
-        s->missing_textures = missing;
-        ParseOptions options;
-        options.missing_textures = missing;
-        options.dialect = dialect;
-        try {
-            s->desc = parse_scene_file(path, diag, options);
-        } catch (const SceneError&) {
-            // Would checker stand-ins open it? Then the textures were all that failed.
-            if (missing == MissingTextures::Error && textures_missing) {
-                Diagnostics quiet;
-                options.missing_textures = MissingTextures::Checker;
-                try {
-                    *textures_missing =
-                        !parse_scene_file(path, quiet, options).missing_textures.empty();
-                } catch (const std::exception&) {
-                }
-            }
-            throw;
-        }
-        CompileReport report;
-        report.record_locations = true;  // for picking
-        s->scene = compile_scene(s->desc, &report);
-        s->prim_locs = std::move(report.prim_locs);
-        s->material_names = std::move(report.material_names);
-        if (for_preview) s->preview = prepare_preview(s->scene);
-        s->shown = s->scene;
-        if (s->desc.camera) {
-            s->file_camera = *s->desc.camera;
-        } else {  // spec §6.3's default camera, framed for 4:3
-            const CameraPose d = default_camera(s->scene.world_bounds, 640, 480);
-            s->file_camera.position = d.position;
-            s->file_camera.direction = d.direction;
-            s->file_camera.up = d.up;
-            s->file_camera.half_height_angle_rad = d.half_height_angle_rad;
-        }
-        return s;
-    } catch (const std::exception& e) {
-        *error = rtapp::error_text(e, "loading " + path);
-        return nullptr;
-    }
-}
-
 int render_headless(const std::string& path, MissingTextures missing,
                     const RenderSettings& settings, int spp, std::optional<Dialect> dialect) {
-    std::string error;
-    const auto s = load_scene(path, &error, missing, nullptr, false, dialect);  // no preview
-    if (!s) {
-        std::cerr << error << "\n";
+    const LoadResult r = load_scene({path, missing, false, dialect});  // no preview
+    if (!r.scene) {
+        std::cerr << r.error << "\n";
         return 1;
     }
+    const LoadedScene* s = r.scene.get();
     const std::string out = std::filesystem::path(path).stem().string() + ".png";
     try {
         RenderState state;
@@ -239,9 +182,10 @@ ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTe
     // The trace takes every core, at a lower priority than the interface (Tracer::run), so
     // frames stay smooth.
     settings.render.threads = resolve_thread_count(0);
-    bool textures_missing = false;
-    loaded = load_scene(path, &message, missing, &textures_missing, true, dialect);
-    if (textures_missing) checker_offer = path;
+    LoadResult r = load_scene({path, missing, true, dialect});
+    loaded = std::move(r.scene);
+    message = std::move(r.error);
+    if (r.textures_missing) checker_offer = path;
     reset_history();
     if (!loaded) {  // keeps running with the message shown, and watches the file
         message_is_error = true;
@@ -329,22 +273,17 @@ bool ViewerState::open_with_checker() {
 }
 
 bool ViewerState::open_as(std::string file, bool keep_camera, MissingTextures missing) {
-    std::string err;
-    bool textures_missing = false;
-    auto next = load_scene(file, &err, missing, &textures_missing, true, dialect);
-    return finish_open(std::move(next), file, err, textures_missing, keep_camera);
+    LoadResult next = load_scene({file, missing, true, dialect});
+    return finish_open(std::move(next), file, keep_camera);
 }
 
-void ViewerState::load_in_background(const std::string& file, MissingTextures missing,
-                                     bool reload) {
-    loader.start(file, [file, missing, d = dialect](std::string* error, bool* textures_missing) {
-        return load_scene(file, error, missing, textures_missing, true, d);
-    });
+void ViewerState::load_in_background(const LoadRequest& request, bool reload) {
+    loader.start(request);
     m_reloading = reload;
 }
 
 void ViewerState::open_in_background(std::string file) {
-    load_in_background(file, missing_textures, false);
+    load_in_background({file, missing_textures, true, dialect}, false);
     note("loading " + file + " ...");
 }
 
@@ -354,17 +293,16 @@ void ViewerState::cancel_loading() {
     loader.cancel();
 }
 
-bool ViewerState::finish_open(std::unique_ptr<LoadedScene> next, const std::string& file,
-                              const std::string& err, bool textures_missing, bool keep_camera) {
-    checker_offer = textures_missing ? file : "";
-    if (!next) {
-        fail(err);
+bool ViewerState::finish_open(LoadResult next, const std::string& file, bool keep_camera) {
+    checker_offer = next.textures_missing ? file : "";
+    if (!next.scene) {
+        fail(std::move(next.error));
         if (loaded) loaded->file_time = modified(loaded->path);  // do not retry every frame
         return false;
     }
     const OrbitCamera kept = edits.camera;
     tracer.stop();  // it traces the scene that is replaced here
-    loaded = std::move(next);
+    loaded = std::move(next.scene);
     loaded->id = ++m_scenes_opened;
     message.clear();
     message_is_error = false;
@@ -384,19 +322,14 @@ bool ViewerState::finish_open(std::unique_ptr<LoadedScene> next, const std::stri
 
 bool ViewerState::reload() {
     if (!loaded) return false;
-    std::string err;
-    bool textures_missing = false;
-    auto next =
-        load_scene(loaded->path, &err, loaded->missing_textures, &textures_missing, true, dialect);
-    return finish_reload(std::move(next), err, textures_missing);
+    return finish_reload(load_scene({loaded->path, loaded->missing_textures, true, dialect}));
 }
 
 void ViewerState::reload_in_background() {
-    if (loaded) load_in_background(loaded->path, loaded->missing_textures, true);
+    if (loaded) load_in_background({loaded->path, loaded->missing_textures, true, dialect}, true);
 }
 
-bool ViewerState::finish_reload(std::unique_ptr<LoadedScene> next, const std::string& err,
-                                bool textures_missing) {
+bool ViewerState::finish_reload(LoadResult next) {
     // What the user edited, against the scene as it was read last (edits made while a
     // background reload ran count too).
     OrbitCamera file_view;
@@ -409,7 +342,7 @@ bool ViewerState::finish_reload(std::unique_ptr<LoadedScene> next, const std::st
     const CameraDesc old_camera = loaded->file_camera;
     const std::string file = loaded->path;  // finish_open replaces `loaded`
     const Timeline playback = timeline;     // a reload keeps the time and the playback
-    if (!finish_open(std::move(next), file, err, textures_missing, false)) return false;
+    if (!finish_open(std::move(next), file, false)) return false;
     timeline = playback;
     timeline.seek(timeline.time, animation_length());
     if (camera_edited) edits.camera = mine.camera;
@@ -469,14 +402,13 @@ void ViewerState::poll_files() {
         ok ? note(result) : fail(result);
         if (ok && on_saved && !m_render_path.empty()) on_saved(m_render_path);
     }
-    std::unique_ptr<LoadedScene> next;
+    LoadResult next;
     std::string loaded_file;
-    bool textures_missing = false;
-    if (loader.take(&next, &result, &textures_missing, &loaded_file)) {
+    if (loader.take(&next, &loaded_file)) {
         if (m_reloading && loaded && loaded_file == loaded->path)
-            finish_reload(std::move(next), result, textures_missing);
+            finish_reload(std::move(next));
         else
-            finish_open(std::move(next), loaded_file, result, textures_missing, false);
+            finish_open(std::move(next), loaded_file, false);
         m_reloading = false;
     }
     if (!dropped.empty()) {  // the window stays interactive while it loads

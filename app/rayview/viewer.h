@@ -25,28 +25,6 @@
 
 namespace rt::view {
 
-/// A scene as read from its file. `scene`'s camera and lights are those of the last restart;
-/// the edits live in ViewerState::edits until then.
-struct LoadedScene {
-    std::string path;
-    SceneDesc desc;     // as parsed
-    RenderScene scene;  // what the trace renders (changed only while it is stopped)
-    /// The preview's copy (the same sets, shared): its joints follow the timeline every frame
-    /// while the trace restarts at its own pace; camera and lights as of the last restart.
-    RenderScene shown;
-    CameraDesc file_camera;                     // Home returns here
-    std::filesystem::file_time_type file_time;  // the file's time when last read
-    int id = 0;  // counts the scenes opened, so views of the scene know when it changed
-    /// How it was opened: with Checker, desc.missing_textures lists the stand-ins (a reload
-    /// opens it the same way).
-    MissingTextures missing_textures = MissingTextures::Error;
-    std::vector<std::vector<SourceLoc>> prim_locs;  // CompileReport's, for picking
-    std::vector<std::string> material_names;
-    /// The preview's tessellation, made with the scene (on the loader's thread) and freed once
-    /// the preview uploaded it.
-    PreviewGeometry preview;
-};
-
 /// What a click picked: the primitive under the pixel and what the panel says about it.
 struct Selection {
     int instance = -1;  // -1: nothing
@@ -105,19 +83,6 @@ double float_as_decimal(float f);
 
 /// The headlight: a white directional light along the view of `camera`.
 LightDesc headlight_desc(const OrbitCamera& camera);
-
-/// The panel's note on the textures that stand in as checkers ("" when none).
-std::string stand_in_text(const SceneDesc& desc);
-
-/// Reads and compiles a scene; nullptr and `*error` on failure. With MissingTextures::Error a
-/// failed open is tried again with checker stand-ins: `*textures_missing` (when given) says
-/// whether that would open it (the failure was only textures that cannot be opened).
-/// `for_preview`: also tessellate it for the preview (LoadedScene::preview); a headless render
-/// does not. `dialect` overrides the one detected from the file tree (--dialect).
-std::unique_ptr<LoadedScene> load_scene(const std::string& path, std::string* error,
-                                        MissingTextures missing = MissingTextures::Error,
-                                        bool* textures_missing = nullptr, bool for_preview = true,
-                                        std::optional<Dialect> dialect = std::nullopt);
 
 /// Without a display: the same renderer, headless (`spp` samples per pixel, `settings`' size),
 /// to SCENE.png in the working directory. Returns the exit code.
@@ -281,13 +246,11 @@ struct ViewerState {
 private:
     bool open_as(std::string file, bool keep_camera, MissingTextures missing);
     /// The second half of opening: a scene read (or the error) becomes the open one.
-    bool finish_open(std::unique_ptr<LoadedScene> next, const std::string& file,
-                     const std::string& err, bool textures_missing, bool keep_camera);
+    bool finish_open(LoadResult next, const std::string& file, bool keep_camera);
     /// A reload read: it becomes the open scene, the user's edits merged (see reload()).
-    bool finish_reload(std::unique_ptr<LoadedScene> next, const std::string& err,
-                       bool textures_missing);
+    bool finish_reload(LoadResult next);
     /// Starts `loader` on `file`; `reload`: its result is merged as a reload.
-    void load_in_background(const std::string& file, MissingTextures missing, bool reload);
+    void load_in_background(const LoadRequest& request, bool reload);
     bool m_reloading = false;   // the loader's job is a reload of the open file
     std::string m_render_path;  // the image the background job writes ("" for an animation)
     void on_loaded();
