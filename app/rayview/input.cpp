@@ -35,12 +35,12 @@ bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const Pan
             const float ddx = at.x - io.MousePos.x, ddy = at.y - io.MousePos.y;
             if (depth > 0 && ddx * ddx + ddy * ddy < 144.0f) {
                 input.dragged_light = static_cast<int>(i);
-                input.dragged_scene = v.loaded->id;
+                input.dragged_scene = v.session.loaded->id;
             }
         }
     }
     // A release ends the drag; so does a reload or a removed light under it.
-    if (!ImGui::IsMouseDown(ImGuiMouseButton_Left) || input.dragged_scene != v.loaded->id ||
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Left) || input.dragged_scene != v.session.loaded->id ||
         input.dragged_light >= static_cast<int>(lights.size()))
         input.dragged_light = -1;
     if (input.dragged_light < 0 || (io.MouseDelta.x == 0 && io.MouseDelta.y == 0)) return false;
@@ -119,7 +119,7 @@ bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const Pa
     if ((hover.preview || hover.trace) && input.dragged_light < 0)
         edited |= mouse_camera(v.edits.camera, io, layout);
     if (!io.WantCaptureKeyboard)
-        edited |= fly_camera(v.edits.camera, v.loaded->scene.world_bounds, frame_s);
+        edited |= fly_camera(v.edits.camera, v.session.loaded->scene.world_bounds, frame_s);
     if (edited) v.mark_edited();
     // Undo and redo (text fields keep their own): Ctrl+Z, Ctrl+Shift+Z or Ctrl+Y.
     if (!io.WantTextInput && io.KeyCtrl) {

@@ -27,6 +27,7 @@
 #include "cli.h"
 #include "config.h"
 #include "data_dir.h"
+#include "headless.h"
 #include "input.h"
 #include "panels.h"
 #include "panes.h"
@@ -65,7 +66,7 @@ void glfw_error(int code, const char* message) {
 // Files dropped onto the window go to the viewer, which opens them at the next frame.
 void on_drop(GLFWwindow* window, int count, const char** paths) {
     auto* viewer = static_cast<rt::view::ViewerState*>(glfwGetWindowUserPointer(window));
-    for (int i = 0; i < count; ++i) viewer->dropped.emplace_back(paths[i]);
+    for (int i = 0; i < count; ++i) viewer->ui.dropped.emplace_back(paths[i]);
 }
 
 // A 3.3 core context (#version 330 core) with vsync; nullptr (and glfwTerminate) without a
@@ -134,8 +135,8 @@ std::string find_data(std::string* error) {
 
 // "showpiece.ray - rayview", or "rayview" with no scene open.
 std::string window_title(const rt::view::ViewerState& viewer) {
-    if (!viewer.loaded) return "rayview";
-    return std::filesystem::path(viewer.loaded->path).filename().string() + " - rayview";
+    if (!viewer.session.loaded) return "rayview";
+    return std::filesystem::path(viewer.session.loaded->path).filename().string() + " - rayview";
 }
 
 // In reverse order of initialisation.
@@ -191,7 +192,7 @@ bool frame(Session& s) {
     // Events; dropped files open, the open file reloads when it changed on disk. With nothing
     // to redraw at once the loop waits for an event or 1/30 s (new trace images), so it leaves
     // the cores to the trace (in the page, the browser paces the frames).
-    const bool busy = viewer.edit_pending() || viewer.preview_stale || viewer.timeline.playing;
+    const bool busy = viewer.edit_pending() || viewer.ui.preview_stale || viewer.timeline.playing;
     if (busy || kInPage)
         glfwPollEvents();
     else
@@ -200,7 +201,7 @@ bool frame(Session& s) {
     viewer.poll_files();
     // Without threads the trace runs here, between frames, for part of one (the page's
     // single-thread build); with threads this does nothing.
-    viewer.tracer.pump(1.0 / 40);
+    viewer.trace.tracer.pump(1.0 / 40);
     // Start the Dear ImGui frame; the control panel, the panes, input, restart, draw. Fonts
     // follow the monitor's content scale and the user's UI scale.
     s.io.FontGlobalScale = viewer.settings.ui_scale * std::max(1.0f, content_scale(s.window));
@@ -213,10 +214,10 @@ bool frame(Session& s) {
     const PaneLayout layout =
         pane_layout(vs.layout, fb_w, fb_h, vs.show_panel ? vs.panel_w : 0, vs.aspect());
     if (vs.show_panel) control_panel(viewer, s.ui, layout, s.panes.preview_defines(), frame_s);
-    if (vs.show_panel && viewer.loaded) status_bar(viewer, layout);
-    if (vs.show_panel && viewer.loaded) timeline_bar(viewer, layout);
-    help_overlay(&viewer.show_help);
-    if (viewer.loaded) {
+    if (vs.show_panel && viewer.session.loaded) status_bar(viewer, layout);
+    if (vs.show_panel && viewer.session.loaded) timeline_bar(viewer, layout);
+    help_overlay(&viewer.ui.show_help);
+    if (viewer.session.loaded) {
         const PaneHover hover = s.panes.show(viewer, layout, frame_s);
         handle_input(viewer, s.input, s.io, layout, hover, frame_s);
         timeline_keys(viewer);
@@ -302,12 +303,13 @@ int main(int argc, char** argv) {
         apply_run_options(opt, &initial);
         initial.ui_scale = config.ui_scale;
         viewer.start_with(initial);
-        viewer.remember_recent(config.recent);
+        viewer.session.remember_recent(config.recent);
         glfwSetWindowUserPointer(window, &viewer);
         glfwSetDropCallback(window, on_drop);
         const std::unique_ptr<Panes> panes = make_panes(data_dir + "/shaders");
         if (!panes) exit_code = 1;
-        if (panes && !viewer.loaded) std::fprintf(stderr, "%s\n", viewer.message.c_str());
+        if (panes && !viewer.session.loaded)
+            std::fprintf(stderr, "%s\n", viewer.messages.text.c_str());
         if (panes) {
             Session session{window,         io, viewer, *panes, PanelState(opt.scene), {},
                             ScriptRun(opt), {}, {},     0};
@@ -324,7 +326,7 @@ int main(int argc, char** argv) {
         }
         glfwGetWindowSize(window, &config.window_w, &config.window_h);
         config.ui_scale = viewer.settings.ui_scale;
-        config.recent = viewer.recent;
+        config.recent = viewer.session.recent;
         if (!write_config(config_file, config))
             std::fprintf(stderr, "rayview: cannot write the settings to '%s'\n",
                          config_file.c_str());

@@ -146,9 +146,9 @@ std::vector<std::string> sample_scenes(const std::string& dir) {
 }
 
 bool file_panel(ViewerState& v, PanelState& ui) {
-    if (v.loaded && v.loaded->id != ui.path_for) {  // a file opened: show its path
-        std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.loaded->path.c_str());
-        ui.path_for = v.loaded->id;
+    if (v.session.loaded && v.session.loaded->id != ui.path_for) {  // a file opened: show its path
+        std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
+        ui.path_for = v.session.loaded->id;
     }
     bool opened = false;
     bool open_typed = false;  // Enter in the field, Open, or a file picked from the completions
@@ -174,25 +174,27 @@ bool file_panel(ViewerState& v, PanelState& ui) {
     if (open_typed) {  // in the background: the open scene stays interactive
         ui.completing = false;
         v.open_in_background(ui.path_buf);
-        if (v.loaded)  // until it opens (or fails, with the error shown) the open scene's path
-            std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.loaded->path.c_str());
+        if (v.session
+                .loaded)  // until it opens (or fails, with the error shown) the open scene's path
+            std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
     }
-    if (v.loader.busy()) {
+    if (v.jobs.loader.busy()) {
         const char spinner[] = "|/-\\";
-        ImGui::Text("%c loading %s (%.1f s)", spinner[static_cast<int>(v.loader.seconds() * 8) % 4],
-                    v.loader.path().c_str(), v.loader.seconds());
+        ImGui::Text("%c loading %s (%.1f s)",
+                    spinner[static_cast<int>(v.jobs.loader.seconds() * 8) % 4],
+                    v.jobs.loader.path().c_str(), v.jobs.loader.seconds());
         ImGui::SameLine();
         if (ImGui::SmallButton("Cancel")) v.cancel_loading();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Reload") && v.loaded) opened |= v.reload();
+    if (ImGui::Button("Reload") && v.session.loaded) opened |= v.reload();
     ImGui::SameLine();
     ImGui::TextDisabled("(or drop a .ray file)");
-    const size_t first = v.loaded ? 1 : 0;  // the open file is recent[0]
-    if (v.recent.size() > first && ImGui::CollapsingHeader("recent files")) {
-        for (size_t i = first; i < v.recent.size(); ++i)
-            if (ImGui::Selectable(v.recent[i].c_str())) {
-                v.open_in_background(v.recent[i]);
+    const size_t first = v.session.loaded ? 1 : 0;  // the open file is recent[0]
+    if (v.session.recent.size() > first && ImGui::CollapsingHeader("recent files")) {
+        for (size_t i = first; i < v.session.recent.size(); ++i)
+            if (ImGui::Selectable(v.session.recent[i].c_str())) {
+                v.open_in_background(v.session.recent[i]);
                 break;
             }
     }
@@ -206,23 +208,23 @@ bool file_panel(ViewerState& v, PanelState& ui) {
     }
     // Errors here, wrapped (they name files and their includes); notes go to the status bar,
     // so "saved ..." never moves the panel's controls.
-    if (!v.message.empty() && v.message_is_error) {
+    if (!v.messages.text.empty() && v.messages.is_error) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
-        ImGui::TextWrapped("%s", v.message.c_str());
+        ImGui::TextWrapped("%s", v.messages.text.c_str());
         ImGui::PopStyleColor();
     }
-    if (!v.reload_conflict.empty()) {
+    if (!v.session.reload_conflict.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.8f, 0.3f, 1));
-        ImGui::TextWrapped("%s", v.reload_conflict.c_str());
+        ImGui::TextWrapped("%s", v.session.reload_conflict.c_str());
         ImGui::PopStyleColor();
         if (ImGui::Button("Use the file's")) v.use_file_edits();
         ImGui::SameLine();
-        if (ImGui::Button("Keep mine")) v.reload_conflict.clear();
+        if (ImGui::Button("Keep mine")) v.session.reload_conflict.clear();
     }
-    if (!v.checker_offer.empty() && ImGui::Button("open with checker stand-ins"))
+    if (!v.session.checker_offer.empty() && ImGui::Button("open with checker stand-ins"))
         opened |= v.open_with_checker();
-    if (v.loaded) {
-        const std::string stand_ins = stand_in_text(v.loaded->desc);
+    if (v.session.loaded) {
+        const std::string stand_ins = stand_in_text(v.session.loaded->desc);
         if (!stand_ins.empty()) {
             ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.8f, 0.3f, 1));
             ImGui::TextWrapped("%s", stand_ins.c_str());
@@ -242,17 +244,18 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
         "right drag looks around, WASD/QE fly (F1: every shortcut)");
     if (ImGui::Button("Frame (F)") || (keys && ImGui::IsKeyPressed(GLFW_KEY_F))) {
         // The selection, or else the whole scene.
-        cam.frame(v.selection.instance >= 0 ? v.selection.bounds : v.loaded->scene.world_bounds,
+        cam.frame(v.ui.selection.instance >= 0 ? v.ui.selection.bounds
+                                               : v.session.loaded->scene.world_bounds,
                   static_cast<double>(layout.image_w) / static_cast<double>(layout.image_h));
         edited = true;
     }
     ImGui::SameLine();
     if (ImGui::Button("Home") || (keys && ImGui::IsKeyPressed(GLFW_KEY_HOME))) {
-        cam.set_from(v.loaded->file_camera, v.loaded->scene.world_bounds);
+        cam.set_from(v.session.loaded->file_camera, v.session.loaded->scene.world_bounds);
         edited = true;
     }
     ImGui::SameLine();
-    if (ImGui::Button("Help (F1)")) v.show_help = !v.show_help;
+    if (ImGui::Button("Help (F1)")) v.ui.show_help = !v.ui.show_help;
     if (ImGui::Button("Undo")) v.undo();
     ImGui::SameLine();
     if (ImGui::Button("Redo")) v.redo();
@@ -268,29 +271,29 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
                          focus > 0 ? "%.3f" : "scene centre", kClamp) &&
         std::isfinite(focus))
         r.focus_distance = decimal(focus), edited = true;
-    if (v.selection.instance >= 0) {  // what a click in a pane picked
-        const Selection& sel = v.selection;
+    if (v.ui.selection.instance >= 0) {  // what a click in a pane picked
+        const Selection& sel = v.ui.selection;
         ImGui::TextWrapped("selected: %s, %s\n%s\nin %s\nat (%.3g, %.3g, %.3g)", sel.shape.c_str(),
                            sel.material.c_str(), sel.where.c_str(), sel.groups.c_str(), sel.point.x,
                            sel.point.y, sel.point.z);
-        if (ImGui::SmallButton("clear selection")) v.selection = {}, v.preview_stale = true;
+        if (ImGui::SmallButton("clear selection")) v.ui.selection = {}, v.ui.preview_stale = true;
     } else {
         ImGui::TextDisabled("click a shape in a pane to select it");
     }
     if (ImGui::Button("Set as the scene's camera")) v.set_file_camera();
     ImGui::SameLine();
-    if (ImGui::Button("Bookmark")) v.bookmarks.push_back(cam);
-    for (size_t i = 0; i < v.bookmarks.size(); ++i) {
+    if (ImGui::Button("Bookmark")) v.ui.bookmarks.push_back(cam);
+    for (size_t i = 0; i < v.ui.bookmarks.size(); ++i) {
         ImGui::PushID(static_cast<int>(i));
         if (ImGui::Button(("view " + std::to_string(i + 1)).c_str()))
-            cam = v.bookmarks[i], edited = true;
+            cam = v.ui.bookmarks[i], edited = true;
         ImGui::SameLine();
         if (ImGui::SmallButton("x")) {
-            v.bookmarks.erase(v.bookmarks.begin() + static_cast<long>(i));
+            v.ui.bookmarks.erase(v.ui.bookmarks.begin() + static_cast<long>(i));
             ImGui::PopID();
             break;
         }
-        if (i + 1 < v.bookmarks.size() && (i + 1) % 4 != 0) ImGui::SameLine();
+        if (i + 1 < v.ui.bookmarks.size() && (i + 1) % 4 != 0) ImGui::SameLine();
         ImGui::PopID();
     }
     return edited;
@@ -346,7 +349,7 @@ bool lights_panel(ViewerState& v) {
     bool edited = false;
     ImGui::Separator();
     ImGui::Text("Lights");
-    const bool three_colours = v.loaded->desc.dialect == Dialect::V3;
+    const bool three_colours = v.session.loaded->desc.dialect == Dialect::V3;
     for (size_t i = 0; i < v.edits.lights.size(); ++i) {
         ImGui::PushID(static_cast<int>(i));
         edited |= light_editor(v.edits.lights[i], &v.edits.light_on[i], three_colours);
@@ -390,17 +393,17 @@ bool lights_panel(ViewerState& v) {
 void status_panel(const ViewerState& v, const std::vector<std::string>& preview_defines,
                   double frame_s) {
     ImGui::Separator();
-    const Tracer::Status st = v.tracer.status();
+    const Tracer::Status st = v.trace.tracer.status();
     ImGui::Text("%.1f s since the last change; frame %.1f ms", st.seconds, 1000 * frame_s);
     // What the renderer left out for this scene, recomputed on each restart: the lights and
     // settings change it.
     int left = 0;
-    for (const std::string& l : v.explained) left += l.rfind("left out", 0) == 0;
+    for (const std::string& l : v.trace.explained) left += l.rfind("left out", 0) == 0;
     std::string header = "renderer: ";
     header += std::to_string(left);
     header += " feature(s) left out###leftout";
     if (ImGui::CollapsingHeader(header.c_str())) {
-        for (const std::string& l : v.explained) ImGui::TextWrapped("%s", l.c_str());
+        for (const std::string& l : v.trace.explained) ImGui::TextWrapped("%s", l.c_str());
         std::string shader = "preview shader:";
         for (const std::string& d : preview_defines) {
             shader += ' ';
@@ -409,7 +412,7 @@ void status_panel(const ViewerState& v, const std::vector<std::string>& preview_
         ImGui::TextWrapped("%s", shader.c_str());
     }
     std::vector<float> logs;
-    for (const auto& [t, e] : v.tracer.history()) logs.push_back(std::log10(e));
+    for (const auto& [t, e] : v.trace.tracer.history()) logs.push_back(std::log10(e));
     if (!logs.empty())
         ImGui::PlotLines("log10 error", logs.data(), static_cast<int>(logs.size()), 0, nullptr,
                          FLT_MAX, FLT_MAX, ImVec2(0, 60));
@@ -421,9 +424,9 @@ void save_panel(ViewerState& v, PanelState& ui) {
     if (ImGui::Button("Save scene (camera and lights)")) {
         try {
             v.save_scene(ui.scene_buf);
-            v.note(std::string("saved ") + ui.scene_buf);
+            v.messages.note(std::string("saved ") + ui.scene_buf);
         } catch (const std::exception& e) {
-            v.fail(e.what());
+            v.messages.fail(e.what());
         }
     }
     // The image: rendered again at a size and sample count of the user's choice, in the
@@ -433,12 +436,12 @@ void save_panel(ViewerState& v, PanelState& ui) {
     ui.image_size[1] = std::clamp(ui.image_size[1], 1, 32768);
     ImGui::InputInt("samples per pixel", &ui.image_spp);
     ui.image_spp = std::clamp(ui.image_spp, 1, 1 << 16);
-    if (v.image_job.running()) {
-        ImGui::ProgressBar(static_cast<float>(v.image_job.progress()), ImVec2(-80, 0));
+    if (v.jobs.image.running()) {
+        ImGui::ProgressBar(static_cast<float>(v.jobs.image.progress()), ImVec2(-80, 0));
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) {
-            v.image_job.cancel();
-            v.note("the image was cancelled; nothing written");
+            v.jobs.image.cancel();
+            v.messages.note("the image was cancelled; nothing written");
         }
     } else if (ImGui::Button("Render and save image (.png .pfm ...)")) {
         v.render_image(ui.save_buf, ui.image_size[0], ui.image_size[1], ui.image_spp);
@@ -446,9 +449,9 @@ void save_panel(ViewerState& v, PanelState& ui) {
     if (ImGui::Button("Save the pane's trace as it is")) {
         try {
             v.save_trace(ui.save_buf);
-            v.note(std::string("saved ") + ui.save_buf);
+            v.messages.note(std::string("saved ") + ui.save_buf);
         } catch (const std::exception& e) {
-            v.fail(e.what());
+            v.messages.fail(e.what());
         }
     }
 }
@@ -509,9 +512,9 @@ void status_bar(const ViewerState& v, const PaneLayout& layout) {
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
     ImGui::Text("%s", status_text(v).c_str());
-    if (!v.message.empty() && !v.message_is_error) {  // the last note
+    if (!v.messages.text.empty() && !v.messages.is_error) {  // the last note
         ImGui::SameLine();
-        ImGui::TextDisabled("| %s", v.message.c_str());
+        ImGui::TextDisabled("| %s", v.messages.text.c_str());
     }
     ImGui::End();
 }
@@ -533,7 +536,7 @@ void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
     }
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 10);  // room for the labels
     file_panel(v, ui);                                 // opening a file marks its own edit
-    if (v.loaded) {
+    if (v.session.loaded) {
         bool edited = camera_panel(v, layout);
         edited |= settings_panel(v);
         edited |= lights_panel(v);

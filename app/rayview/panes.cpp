@@ -53,7 +53,7 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     // While the view moves, the preview draws at a lower resolution (software GL fills pixels
     // slowly): half, and less while frames take longer than 30 ms, back towards half below
     // 20 ms; a quarter second after the last change, full.
-    const bool moving = v.moving();
+    const bool moving = v.trace.moving();
     if (moving && frame_s > 0.030) m_moving_div = std::min(4.0, m_moving_div * 1.25);
     if (moving && frame_s < 0.020) m_moving_div = std::max(2.0, m_moving_div / 1.1);
     const double div = moving ? m_moving_div : 1.0;
@@ -77,7 +77,7 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     }
     // Say why a pane is blank: nothing to draw, or nothing that lights it.
     const char* blank = nullptr;
-    if (v.loaded->scene.instances.empty() || v.loaded->scene.world_bounds.empty())
+    if (v.session.loaded->scene.instances.empty() || v.session.loaded->scene.world_bounds.empty())
         blank = "the scene is empty: it has no shapes";
     else if (v.edits.lights.empty() && !v.settings.headlight)
         blank = "the scene has no lights (turn the headlight on in the panel)";
@@ -95,18 +95,18 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
 
 void Panes::draw(ViewerState& v) {
     // A new trace, or another exposure or tonemap of the last one (display only).
-    const bool new_trace = v.take_trace_image();
+    const bool new_trace = v.trace.take_image();
     if (new_trace || v.settings.exposure != m_shown_exposure ||
         v.settings.tonemap != m_shown_tonemap) {
         const bool as_is = v.settings.exposure == 0 && v.settings.tonemap == Tonemap::Clamp;
-        if (v.last_trace.width > 0 && as_is)
-            m_trace.upload(v.last_trace);  // no copy of every pass when nothing changes it
-        else if (v.last_trace.width > 0)
+        if (v.trace.last_trace.width > 0 && as_is)
+            m_trace.upload(v.trace.last_trace);  // no copy of every pass when nothing changes it
+        else if (v.trace.last_trace.width > 0)
             m_trace.upload(v.displayed_trace());
         m_shown_exposure = v.settings.exposure;
         m_shown_tonemap = v.settings.tonemap;
     }
-    LoadedScene& loaded = *v.loaded;
+    LoadedScene& loaded = *v.session.loaded;
     if (loaded.id != m_loaded_id) {  // tessellated with the scene, off this thread
         m_preview.load(loaded.scene, loaded.preview);
         loaded.preview = {};
@@ -116,14 +116,15 @@ void Panes::draw(ViewerState& v) {
     const bool overlay_changed = s.show_lights != m_drawn_lights || s.box_depth != m_drawn_depth ||
                                  s.exposure != m_drawn_exposure || s.tonemap != m_drawn_tonemap ||
                                  s.group_depth != m_drawn_group_depth;
-    if (!v.preview_stale && !overlay_changed && m_target.w == m_drawn_w && m_target.h == m_drawn_h)
+    if (!v.ui.preview_stale && !overlay_changed && m_target.w == m_drawn_w &&
+        m_target.h == m_drawn_h)
         return;
     glBindFramebuffer(GL_FRAMEBUFFER, m_target.fbo.id());
     // The camera of the latest input, also while a restart waits.
     const Camera cam = make_camera(compile_camera(v.edits.camera.desc()), m_target.w, m_target.h);
     // The preview's copy of the scene: the joints at the timeline's time, every frame.
     const RenderScene& shown = loaded.shown;
-    m_preview.draw(shown, v.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth,
+    m_preview.draw(shown, v.trace.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth,
                    {s.exposure, s.tonemap});
     std::vector<LineVertex> lines = overlay_lines(shown, s.show_lights, s.box_depth);
     if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for ||
@@ -139,13 +140,13 @@ void Panes::draw(ViewerState& v) {
         m_group_lines_time = shown.time;
     }
     lines.insert(lines.end(), m_group_lines.begin(), m_group_lines.end());
-    if (v.selection.instance >= 0) {  // the picked primitive, highlighted
-        const std::vector<LineVertex> sel = box_lines(v.selection.bounds, Vec3(1.0, 0.6, 0.1));
+    if (v.ui.selection.instance >= 0) {  // the picked primitive, highlighted
+        const std::vector<LineVertex> sel = box_lines(v.ui.selection.bounds, Vec3(1.0, 0.6, 0.1));
         lines.insert(lines.end(), sel.begin(), sel.end());
     }
     m_preview.draw_lines(lines, shown, cam);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    v.preview_stale = m_preview.environment_pending();  // drawn again until the maps are done
+    v.ui.preview_stale = m_preview.environment_pending();  // drawn again until the maps are done
     m_drawn_lights = s.show_lights;
     m_drawn_exposure = s.exposure;
     m_drawn_tonemap = s.tonemap;

@@ -12,6 +12,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "light_edit.h"
+
 namespace rt::view {
 
 void save_window(int width, int height, const std::string& path) {
@@ -43,7 +45,7 @@ void FrameStats::print(const ViewerState& v) const {
     std::printf(
         "rayview: %d frames, mean %.1f ms, max %.1f ms; first traced pass %.0f ms "
         "after the last change\n",
-        m_count, 1000 * m_total_s / (m_count - 1), 1000 * m_max_s, v.first_pass_ms);
+        m_count, 1000 * m_total_s / (m_count - 1), 1000 * m_max_s, v.trace.first_pass_ms);
     auto quantile = [](std::vector<double> x, double q) {
         std::sort(x.begin(), x.end());
         return x.empty() ? 0.0 : x[static_cast<size_t>(q * static_cast<double>(x.size() - 1))];
@@ -51,14 +53,14 @@ void FrameStats::print(const ViewerState& v) const {
     std::printf(
         "rayview: frames after start-up: median %.1f ms, p95 %.1f ms; first "
         "traced pass after a change: median %.0f ms, p95 %.0f ms (%zu changes)\n",
-        quantile(m_ms, 0.5), quantile(m_ms, 0.95), quantile(v.first_pass_samples, 0.5),
-        quantile(v.first_pass_samples, 0.95), v.first_pass_samples.size());
+        quantile(m_ms, 0.5), quantile(m_ms, 0.95), quantile(v.trace.first_pass_samples, 0.5),
+        quantile(v.trace.first_pass_samples, 0.95), v.trace.first_pass_samples.size());
     std::printf(
         "rayview: first full-resolution pass after a change: median %.0f ms, p95 %.0f ms "
         "(%zu changes)\n",
-        quantile(v.first_full_samples, 0.5), quantile(v.first_full_samples, 0.95),
-        v.first_full_samples.size());
-    const Tracer::Status st = v.tracer.status();
+        quantile(v.trace.first_full_samples, 0.5), quantile(v.trace.first_full_samples, 0.95),
+        v.trace.first_full_samples.size());
+    const Tracer::Status st = v.trace.tracer.status();
     std::printf("rayview: trace at %d spp, %.2f Mray/s on %d threads\n", st.spp,
                 st.rays_per_second / 1e6, resolve_thread_count(v.settings.render.threads));
 }
@@ -220,9 +222,9 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
     } else if (c == "pick") {
         v.pick(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
         std::printf("rayview: frame %d: picked %s %s %s in %s\n", m_frame,
-                    v.selection.instance < 0 ? "nothing" : v.selection.shape.c_str(),
-                    v.selection.material.c_str(), v.selection.where.c_str(),
-                    v.selection.groups.c_str());
+                    v.ui.selection.instance < 0 ? "nothing" : v.ui.selection.shape.c_str(),
+                    v.ui.selection.material.c_str(), v.ui.selection.where.c_str(),
+                    v.ui.selection.groups.c_str());
     } else if (c == "boxes") {
         s.group_depth = whole(l, 0, 0, 8);
         s.box_depth = whole(l, 1, 0, 8);
@@ -237,7 +239,7 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         if (it == names.end()) throw std::runtime_error("tonemap: clamp, reinhard or aces");
         s.tonemap = it->second;
     } else if (c == "help") {
-        v.show_help = on(l);
+        v.ui.show_help = on(l);
     } else if (c == "markers") {
         s.show_lights = on(l);
     } else if (c == "undo") {
@@ -258,7 +260,7 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
     } else if (c == "screenshot" && !path.empty()) {
         save_window(fb_w, fb_h, path);
         std::printf("rayview: frame %d: %s (trace at %d spp)\n", m_frame, path.c_str(),
-                    v.tracer.status().spp);
+                    v.trace.tracer.status().spp);
     } else {
         throw std::runtime_error("unknown command or missing argument: '" + c + "'");
     }
@@ -268,9 +270,10 @@ bool ScriptRun::end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code) {
     if (m_wait != Wait::None) {  // this frame again until what the script waits for is there
         const double waited =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - m_wait_start).count();
-        const bool done = m_wait == Wait::Spp
-                              ? !v.edit_pending() && v.tracer.status().spp >= m_wait_spp
-                              : !v.loader.busy() && !v.image_job.running() && !v.preview_stale;
+        const bool done =
+            m_wait == Wait::Spp
+                ? !v.edit_pending() && v.trace.tracer.status().spp >= m_wait_spp
+                : !v.jobs.loader.busy() && !v.jobs.image.running() && !v.ui.preview_stale;
         if (done) {
             m_wait = Wait::None;  // shown from the next frame on, which runs the next commands
         } else if (waited > m_wait_limit_s) {
@@ -300,7 +303,7 @@ bool ScriptRun::end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code) {
     if (m_frames_left <= 0 || --m_frames_left > 0) return false;
     // A failed command, or any error of the viewer's: an open, a background load or render,
     // the scene at start-up (each printed when it happened).
-    if (m_failed || v.failures > 0) *exit_code = 1;
+    if (m_failed || v.messages.failures > 0) *exit_code = 1;
     if (!m_screenshot.empty()) {
         try {
             save_window(fb_w, fb_h, m_screenshot);

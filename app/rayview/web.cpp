@@ -44,13 +44,14 @@ std::string quoted(const std::string& s) {
 
 void web_start(ViewerState* viewer) {
     g_viewer = viewer;
-    viewer->on_saved = [](const std::string& path) { page_download(path.c_str()); };
-    viewer->on_opened = [](const std::string& path) {
+    viewer->hooks.on_saved = [](const std::string& path) { page_download(path.c_str()); };
+    viewer->hooks.on_opened = [](const std::string& path) {
         const std::filesystem::path dir = std::filesystem::path(path).parent_path();
         std::error_code ec;  // a folder that is gone: relative saves stay where they were
         if (!dir.empty()) std::filesystem::current_path(dir, ec);
     };
-    if (viewer->loaded) viewer->on_opened(viewer->loaded->path);  // opened before this call
+    if (viewer->session.loaded)
+        viewer->hooks.on_opened(viewer->session.loaded->path);  // opened before this call
 }
 
 void web_fit_canvas(GLFWwindow* window) {
@@ -77,7 +78,7 @@ extern "C" {
 /// Opens a file of the page's file system (picked or dropped files, a sample), as a file
 /// dropped onto the desktop window: at the next frame, in the background.
 EMSCRIPTEN_KEEPALIVE void rv_open(const char* path) {
-    if (rt::view::g_viewer) rt::view::g_viewer->dropped.emplace_back(path);
+    if (rt::view::g_viewer) rt::view::g_viewer->ui.dropped.emplace_back(path);
 }
 
 /// The viewer's state as JSON: the open scene, the message line, the trace's progress.
@@ -86,17 +87,18 @@ EMSCRIPTEN_KEEPALIVE const char* rv_status() {
     static std::string json;
     const rt::view::ViewerState* v = rt::view::g_viewer;
     if (!v) return "{}";
-    const rt::view::Tracer::Status st = v->tracer.status();
+    const rt::view::Tracer::Status st = v->trace.tracer.status();
     char numbers[256];
-    std::snprintf(numbers, sizeof numbers,
-                  "\"spp\":%d,\"seconds\":%.3f,\"rays_per_second\":%.0f,\"threads\":%d,"
-                  "\"threaded\":%s,\"loading\":%s",
-                  st.spp, st.seconds, st.rays_per_second,
-                  v->tracer.threaded() ? rt::resolve_thread_count(v->settings.render.threads) : 1,
-                  v->tracer.threaded() ? "true" : "false", v->loader.busy() ? "true" : "false");
-    json = "{\"scene\":" + quoted(v->loaded ? v->loaded->path : "") +
-           ",\"message\":" + quoted(v->message) +
-           ",\"error\":" + (v->message_is_error ? "true" : "false") + "," + numbers + "}";
+    std::snprintf(
+        numbers, sizeof numbers,
+        "\"spp\":%d,\"seconds\":%.3f,\"rays_per_second\":%.0f,\"threads\":%d,"
+        "\"threaded\":%s,\"loading\":%s",
+        st.spp, st.seconds, st.rays_per_second,
+        v->trace.tracer.threaded() ? rt::resolve_thread_count(v->settings.render.threads) : 1,
+        v->trace.tracer.threaded() ? "true" : "false", v->jobs.loader.busy() ? "true" : "false");
+    json = "{\"scene\":" + quoted(v->session.loaded ? v->session.loaded->path : "") +
+           ",\"message\":" + quoted(v->messages.text) +
+           ",\"error\":" + (v->messages.is_error ? "true" : "false") + "," + numbers + "}";
     return json.c_str();
 }
 

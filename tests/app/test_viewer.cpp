@@ -8,6 +8,7 @@
 #include <thread>
 #include <variant>
 
+#include "light_edit.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
@@ -30,10 +31,10 @@ void restart(ViewerState& v) {
 
 TEST(Viewer, EditsReachTheTracedSceneAtTheRestart) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.set_trace_size(32, 24);
     restart(v);  // opening the file is an edit
-    ASSERT_EQ(v.loaded->scene.lights.size(), 3u);
+    ASSERT_EQ(v.session.loaded->scene.lights.size(), 3u);
     EXPECT_EQ(v.settings.render.width, 32);
     EXPECT_EQ(v.settings.render.height, 24);
 
@@ -41,9 +42,10 @@ TEST(Viewer, EditsReachTheTracedSceneAtTheRestart) {
     v.edits.light_on[2] = 0;  // the directional light off
     v.edits.camera.orbit(0.3, 0.1);
     v.mark_edited();
-    EXPECT_EQ(v.loaded->scene.lights[0].diffuse, Vec3(1.6, 0.3, 0.3));  // not before the restart
+    EXPECT_EQ(v.session.loaded->scene.lights[0].diffuse,
+              Vec3(1.6, 0.3, 0.3));  // not before the restart
     restart(v);
-    const RenderScene& s = v.loaded->scene;
+    const RenderScene& s = v.session.loaded->scene;
     ASSERT_EQ(s.lights.size(), 2u);
     EXPECT_EQ(s.lights[0].diffuse, Vec3(0, 0, 3));
     EXPECT_EQ(s.lights[0].kind, LightKind::Spot);
@@ -75,7 +77,7 @@ TEST(Viewer, TheTimelineMovesThePreviewAtOnceAndTheTraceAtTheRestart) {
     EXPECT_EQ(tl.frame(), 24);
 
     ViewerState v(RT_SOURCE_DIR "/scenes/robot_arm.ray", false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     EXPECT_DOUBLE_EQ(v.animation_length(), 4.0);
     v.set_trace_size(32, 24);
     restart(v);
@@ -83,28 +85,30 @@ TEST(Viewer, TheTimelineMovesThePreviewAtOnceAndTheTraceAtTheRestart) {
     v.step_animation(0.75);  // the preview's copy moves at once
     const SceneTime at = v.timeline.scene_time();
     EXPECT_DOUBLE_EQ(at.seconds, 0.75);
-    ASSERT_TRUE(v.loaded->shown.time);
-    EXPECT_EQ(*v.loaded->shown.time, at);
-    EXPECT_NE(v.loaded->scene.time, v.loaded->shown.time);  // the trace's, at the restart
+    ASSERT_TRUE(v.session.loaded->shown.time);
+    EXPECT_EQ(*v.session.loaded->shown.time, at);
+    EXPECT_NE(v.session.loaded->scene.time,
+              v.session.loaded->shown.time);  // the trace's, at the restart
     EXPECT_TRUE(v.edit_pending());
     v.timeline.playing = false;
     restart(v);
-    ASSERT_TRUE(v.loaded->scene.time);
-    EXPECT_EQ(*v.loaded->scene.time, at);
-    const RenderScene fresh = compile_scene(v.loaded->desc, nullptr, at);
-    ASSERT_EQ(v.loaded->scene.instances.size(), fresh.instances.size());
+    ASSERT_TRUE(v.session.loaded->scene.time);
+    EXPECT_EQ(*v.session.loaded->scene.time, at);
+    const RenderScene fresh = compile_scene(v.session.loaded->desc, nullptr, at);
+    ASSERT_EQ(v.session.loaded->scene.instances.size(), fresh.instances.size());
     for (size_t i = 0; i < fresh.instances.size(); ++i) {
-        EXPECT_EQ(v.loaded->scene.instances[i].world_from_set.m,
+        EXPECT_EQ(v.session.loaded->scene.instances[i].world_from_set.m,
                   fresh.instances[i].world_from_set.m);
-        EXPECT_EQ(v.loaded->shown.instances[i].world_from_set.m,
+        EXPECT_EQ(v.session.loaded->shown.instances[i].world_from_set.m,
                   fresh.instances[i].world_from_set.m);
     }
-    EXPECT_EQ(&v.loaded->shown.sets[0], &v.loaded->scene.sets[0]);  // shared, not copied
+    EXPECT_EQ(&v.session.loaded->shown.sets[0],
+              &v.session.loaded->scene.sets[0]);  // shared, not copied
 }
 
 TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.edits.lights[1].position = Vec3(1, 2, 3);
     v.edits.light_on[0] = 0;        // the spot off: not saved
     v.add_light(LightKind::Point);  // at the eye
@@ -127,15 +131,15 @@ TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {
 
 TEST(Viewer, AFailedOpenKeepsTheSceneAndSaysWhy) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
-    const int id = v.loaded->id;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    const int id = v.session.loaded->id;
     EXPECT_FALSE(v.open(RT_SOURCE_DIR "/scenes/no_such_file.ray", false));
-    EXPECT_EQ(v.loaded->id, id);
-    EXPECT_NE(v.message.find("no_such_file.ray"), std::string::npos) << v.message;
+    EXPECT_EQ(v.session.loaded->id, id);
+    EXPECT_NE(v.messages.text.find("no_such_file.ray"), std::string::npos) << v.messages.text;
     EXPECT_TRUE(v.open(kLights, true));
-    EXPECT_GT(v.loaded->id, id);
-    EXPECT_TRUE(v.message.empty());
-    EXPECT_EQ(v.recent.size(), 1u);  // the same file once
+    EXPECT_GT(v.session.loaded->id, id);
+    EXPECT_TRUE(v.messages.text.empty());
+    EXPECT_EQ(v.session.recent.size(), 1u);  // the same file once
 }
 
 // A FIFO (or a device) opened, dropped or loaded in the background is an error that says what it
@@ -145,25 +149,26 @@ TEST(Viewer, AFifoIsAnErrorAndTheSceneStays) {
     std::filesystem::remove(fifo);
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
-    const int id = v.loaded->id;
-    EXPECT_EQ(v.failures, 0);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    const int id = v.session.loaded->id;
+    EXPECT_EQ(v.messages.failures, 0);
     EXPECT_FALSE(v.open(fifo, false));
-    EXPECT_EQ(v.loaded->id, id);
-    EXPECT_TRUE(v.message_is_error);
-    EXPECT_NE(v.message.find("'" + fifo + "' is a FIFO, not a regular file"), std::string::npos)
-        << v.message;
-    EXPECT_EQ(v.failures, 1);  // a scripted run exits 1
-    v.dropped.push_back(fifo);
+    EXPECT_EQ(v.session.loaded->id, id);
+    EXPECT_TRUE(v.messages.is_error);
+    EXPECT_NE(v.messages.text.find("'" + fifo + "' is a FIFO, not a regular file"),
+              std::string::npos)
+        << v.messages.text;
+    EXPECT_EQ(v.messages.failures, 1);  // a scripted run exits 1
+    v.ui.dropped.push_back(fifo);
     v.poll_files();  // the drop loads in the background
     // No time limit of its own (ctest's timeout ends a hang): a slow, loaded machine is no failure.
-    while (v.loader.busy()) {
+    while (v.jobs.loader.busy()) {
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
         v.poll_files();
     }
-    EXPECT_EQ(v.loaded->id, id);
-    EXPECT_EQ(v.failures, 2);
-    EXPECT_NE(v.message.find("is a FIFO"), std::string::npos) << v.message;
+    EXPECT_EQ(v.session.loaded->id, id);
+    EXPECT_EQ(v.messages.failures, 2);
+    EXPECT_NE(v.messages.text.find("is a FIFO"), std::string::npos) << v.messages.text;
     std::filesystem::remove(fifo);
 }
 
@@ -199,15 +204,15 @@ TEST(Viewer, ScriptEditsOneOrThreeLightColoursAndTheRadius) {
 // Three-colour edits reach the traced scene through the restart path.
 TEST(Viewer, ThreeColourEditsReachTheTracedScene) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.set_trace_size(16, 12);
     restart(v);
     v.edits.lights[1].ambient = Vec3(0.2, 0.3, 0.4);
     v.edits.lights[1].specular = Vec3(0, 1, 0);
     v.mark_edited();
     restart(v);
-    EXPECT_EQ(v.loaded->scene.lights[1].ambient, Vec3(0.2, 0.3, 0.4));
-    EXPECT_EQ(v.loaded->scene.lights[1].specular, Vec3(0, 1, 0));
+    EXPECT_EQ(v.session.loaded->scene.lights[1].ambient, Vec3(0.2, 0.3, 0.4));
+    EXPECT_EQ(v.session.loaded->scene.lights[1].specular, Vec3(0, 1, 0));
 }
 
 // A scene whose texture cannot be opened: the error, then the offer to open it with a checker
@@ -219,29 +224,30 @@ TEST(Viewer, MissingTexturesOpenWithCheckerStandIns) {
                       "#material 0 0 0  .1 .1 .1  .8 .8 .8  0 0 0  1  0 0 0  1  0 !m!\n"
                       "#light_dir 1 1 1  0 -1 0\n#shape_sphere 0 0 0 0 1\n");
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
-    EXPECT_TRUE(v.checker_offer.empty());
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    EXPECT_TRUE(v.session.checker_offer.empty());
     EXPECT_FALSE(v.open(path, false));
-    EXPECT_NE(v.message.find("no_such_texture.png"), std::string::npos) << v.message;
-    EXPECT_EQ(v.checker_offer, path);
-    EXPECT_EQ(v.loaded->path, kLights);  // the previous scene stays
-    EXPECT_EQ(stand_in_text(v.loaded->desc), "");
-    ASSERT_TRUE(v.open_with_checker()) << v.message;
-    EXPECT_EQ(v.loaded->path, path);
-    EXPECT_TRUE(v.checker_offer.empty());
-    EXPECT_EQ(v.loaded->missing_textures, MissingTextures::Checker);
-    ASSERT_EQ(v.loaded->desc.missing_textures, std::vector<std::string>{"no_such_texture.png"});
-    EXPECT_NE(stand_in_text(v.loaded->desc).find("no_such_texture.png"), std::string::npos);
+    EXPECT_NE(v.messages.text.find("no_such_texture.png"), std::string::npos) << v.messages.text;
+    EXPECT_EQ(v.session.checker_offer, path);
+    EXPECT_EQ(v.session.loaded->path, kLights);  // the previous scene stays
+    EXPECT_EQ(stand_in_text(v.session.loaded->desc), "");
+    ASSERT_TRUE(v.open_with_checker()) << v.messages.text;
+    EXPECT_EQ(v.session.loaded->path, path);
+    EXPECT_TRUE(v.session.checker_offer.empty());
+    EXPECT_EQ(v.session.loaded->missing_textures, MissingTextures::Checker);
+    ASSERT_EQ(v.session.loaded->desc.missing_textures,
+              std::vector<std::string>{"no_such_texture.png"});
+    EXPECT_NE(stand_in_text(v.session.loaded->desc).find("no_such_texture.png"), std::string::npos);
     // Another failure (not a texture) makes no offer.
     EXPECT_FALSE(v.open(RT_SOURCE_DIR "/scenes/no_such_file.ray", false));
-    EXPECT_TRUE(v.checker_offer.empty());
+    EXPECT_TRUE(v.session.checker_offer.empty());
 
     ViewerState direct(path, false, MissingTextures::Checker);
-    ASSERT_TRUE(direct.loaded) << direct.message;
-    EXPECT_EQ(direct.loaded->desc.missing_textures.size(), 1u);
+    ASSERT_TRUE(direct.session.loaded) << direct.messages.text;
+    EXPECT_EQ(direct.session.loaded->desc.missing_textures.size(), 1u);
     ViewerState refused(path, false);
-    EXPECT_FALSE(refused.loaded);
-    EXPECT_EQ(refused.checker_offer, path);
+    EXPECT_FALSE(refused.session.loaded);
+    EXPECT_EQ(refused.session.checker_offer, path);
 }
 
 // A V3 scene saves as V3 (the writer's syntax), with the viewer's three-colour and radius edits.
@@ -254,8 +260,8 @@ TEST(Viewer, AV3SceneSavesAsV3WithItsEdits) {
         "#material 0 0 0  0.5 0.5 0.5  0.6 0.5 0.4  0.3 0.3 0.3  20  0 0 0  1  -1 !!\n"
         "#shape_torus 0  0 0 0  0.4 1.2\n");
     ViewerState v(path, false);
-    ASSERT_TRUE(v.loaded) << v.message;
-    ASSERT_EQ(v.loaded->desc.dialect, Dialect::V3);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    ASSERT_EQ(v.session.loaded->desc.dialect, Dialect::V3);
     LightDesc& l = v.edits.lights[0];
     ASSERT_EQ(l.kind, LightKind::Sphere);
     l.ambient = Vec3(0.2, 0.3, 0.4);
@@ -292,9 +298,9 @@ std::string small_scene(const std::string& name, const std::string& light_colour
 
 TEST(Viewer, OnOpenedHearsEveryOpenAndReloadButNotAFailure) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     std::vector<std::string> heard;
-    v.on_opened = [&](const std::string& path) { heard.push_back(path); };
+    v.hooks.on_opened = [&](const std::string& path) { heard.push_back(path); };
     const std::string other = small_scene("rt_viewer_opened.ray", "1 1 1");
     EXPECT_TRUE(v.open(other, false));
     EXPECT_FALSE(v.open(RT_SOURCE_DIR "/scenes/no_such_file.ray", false));
@@ -305,62 +311,64 @@ TEST(Viewer, OnOpenedHearsEveryOpenAndReloadButNotAFailure) {
 TEST(Viewer, ReloadKeepsTheEditsOfAnUnchangedFile) {
     const std::string path = small_scene("rt_viewer_touch.ray", "1 1 1");
     ViewerState v(path, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.edits.lights[0].set_colour(Vec3(0, 0, 3));
     v.edits.camera.orbit(0.4, 0.2);
     const CameraDesc edited = v.edits.camera.desc();
-    const int id = v.loaded->id;
+    const int id = v.session.loaded->id;
     ASSERT_TRUE(v.reload());
-    EXPECT_GT(v.loaded->id, id);
+    EXPECT_GT(v.session.loaded->id, id);
     EXPECT_EQ(v.edits.lights[0].diffuse, Vec3(0, 0, 3));
     EXPECT_EQ(v.edits.camera.desc().position, edited.position);
-    EXPECT_TRUE(v.reload_conflict.empty()) << v.reload_conflict;
-    EXPECT_NE(v.message.find("your edits are kept"), std::string::npos) << v.message;
-    EXPECT_FALSE(v.message_is_error);
+    EXPECT_TRUE(v.session.reload_conflict.empty()) << v.session.reload_conflict;
+    EXPECT_NE(v.messages.text.find("your edits are kept"), std::string::npos) << v.messages.text;
+    EXPECT_FALSE(v.messages.is_error);
 }
 
 TEST(Viewer, ReloadOfAChangedFileKeepsTheEditsAndOffersTheFile) {
     const std::string path = small_scene("rt_viewer_changed.ray", "1 1 1");
     ViewerState v(path, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.edits.lights[0].set_colour(Vec3(0, 0, 3));
     small_scene("rt_viewer_changed.ray", "0.5 0.5 0.5");  // the file's light changes too
     ASSERT_TRUE(v.reload());
     EXPECT_EQ(v.edits.lights[0].diffuse, Vec3(0, 0, 3));
-    EXPECT_NE(v.reload_conflict.find("lights"), std::string::npos) << v.reload_conflict;
-    EXPECT_EQ(v.reload_conflict.find("camera"), std::string::npos) << v.reload_conflict;
+    EXPECT_NE(v.session.reload_conflict.find("lights"), std::string::npos)
+        << v.session.reload_conflict;
+    EXPECT_EQ(v.session.reload_conflict.find("camera"), std::string::npos)
+        << v.session.reload_conflict;
     v.use_file_edits();  // the user's choice: the file's
     EXPECT_EQ(v.edits.lights[0].diffuse, Vec3(0.5));
-    EXPECT_TRUE(v.reload_conflict.empty());
+    EXPECT_TRUE(v.session.reload_conflict.empty());
 }
 
 TEST(Viewer, ReloadWithoutEditsTakesTheFile) {
     const std::string path = small_scene("rt_viewer_plain.ray", "1 1 1");
     ViewerState v(path, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     small_scene("rt_viewer_plain.ray", "0.25 0.5 1");
     ASSERT_TRUE(v.reload());
     EXPECT_EQ(v.edits.lights[0].diffuse, Vec3(0.25, 0.5, 1));
-    EXPECT_TRUE(v.reload_conflict.empty());
-    EXPECT_TRUE(v.message.empty()) << v.message;
+    EXPECT_TRUE(v.session.reload_conflict.empty());
+    EXPECT_TRUE(v.messages.text.empty()) << v.messages.text;
 }
 
 TEST(Viewer, ATouchReloadsAndKeepsTheEdits) {
     const std::string path = small_scene("rt_viewer_poll.ray", "1 1 1");
     ViewerState v(path, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.edits.light_on[0] = 0;
-    const int id = v.loaded->id;
+    const int id = v.session.loaded->id;
     std::filesystem::last_write_time(
         path, std::filesystem::last_write_time(path) + std::chrono::seconds(2));
     std::this_thread::sleep_for(std::chrono::milliseconds(600));  // polled twice a second
     v.poll_files();  // starts the reload in the background
-    EXPECT_EQ(v.loaded->id, id);
-    for (int i = 0; i < 2000 && v.loaded->id == id; ++i) {
+    EXPECT_EQ(v.session.loaded->id, id);
+    for (int i = 0; i < 2000 && v.session.loaded->id == id; ++i) {
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
         v.poll_files();
     }
-    EXPECT_GT(v.loaded->id, id);
+    EXPECT_GT(v.session.loaded->id, id);
     EXPECT_EQ(v.edits.light_on[0], 0);
 }
 
@@ -368,16 +376,17 @@ TEST(Viewer, AFileThatFailsAtStartUpIsWatched) {
     const std::string path = ::testing::TempDir() + "rt_viewer_broken.ray";
     write_file_atomic(path, "#shape_sphere 0  0 0 0  1\n");  // material 0 does not exist
     ViewerState v(path, false);
-    ASSERT_FALSE(v.loaded);
-    EXPECT_TRUE(v.message_is_error);
-    EXPECT_NE(v.message.find("rt_viewer_broken.ray:1:"), std::string::npos) << v.message;
+    ASSERT_FALSE(v.session.loaded);
+    EXPECT_TRUE(v.messages.is_error);
+    EXPECT_NE(v.messages.text.find("rt_viewer_broken.ray:1:"), std::string::npos)
+        << v.messages.text;
     small_scene("rt_viewer_broken.ray", "1 1 1");  // fixed in an editor
     std::filesystem::last_write_time(
         path, std::filesystem::last_write_time(path) + std::chrono::seconds(2));
     std::this_thread::sleep_for(std::chrono::milliseconds(600));
     v.poll_files();
-    ASSERT_TRUE(v.loaded) << v.message;
-    EXPECT_EQ(v.loaded->desc.lights.size(), 1u);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    EXPECT_EQ(v.session.loaded->desc.lights.size(), 1u);
 }
 
 // A scene without lights is lit by a headlight along the view, which is never saved unless the
@@ -389,15 +398,15 @@ TEST(Viewer, ASceneWithoutLightsGetsAHeadlightThatIsNotSaved) {
                       "#material 0 0 0  0 0 0  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !!\n"
                       "#shape_sphere 0  0 0 0  1\n");
     ViewerState v(path, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     EXPECT_TRUE(v.headlight_on());
     v.set_trace_size(16, 12);
     v.edits.camera.orbit(0.3, 0.2);
     v.mark_edited();
     restart(v);
-    ASSERT_EQ(v.loaded->scene.lights.size(), 1u);
-    EXPECT_EQ(v.loaded->scene.lights[0].kind, LightKind::Directional);
-    EXPECT_VEC_NEAR(v.loaded->scene.lights[0].direction, v.edits.camera.forward(), 1e-12);
+    ASSERT_EQ(v.session.loaded->scene.lights.size(), 1u);
+    EXPECT_EQ(v.session.loaded->scene.lights[0].kind, LightKind::Directional);
+    EXPECT_VEC_NEAR(v.session.loaded->scene.lights[0].direction, v.edits.camera.forward(), 1e-12);
     const std::string saved = ::testing::TempDir() + "rt_viewer_dark_saved.ray";
     v.save_scene(saved);
     Diagnostics diag;
@@ -405,7 +414,7 @@ TEST(Viewer, ASceneWithoutLightsGetsAHeadlightThatIsNotSaved) {
     v.settings.headlight = false;  // off: dark, as the file says
     v.mark_edited();
     restart(v);
-    EXPECT_TRUE(v.loaded->scene.lights.empty());
+    EXPECT_TRUE(v.session.loaded->scene.lights.empty());
     v.settings.headlight = true;
     v.keep_headlight();  // asked: now a light of the scene
     EXPECT_FALSE(v.headlight_on());
@@ -415,7 +424,7 @@ TEST(Viewer, ASceneWithoutLightsGetsAHeadlightThatIsNotSaved) {
 
 TEST(Viewer, NewLightsOfEveryKindStartAtTheEyeAlongTheView) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     const size_t before = v.edits.lights.size();
     for (LightKind k : {LightKind::Point, LightKind::Spot, LightKind::Directional}) v.add_light(k);
     ASSERT_EQ(v.edits.lights.size(), before + 3);
@@ -427,7 +436,7 @@ TEST(Viewer, NewLightsOfEveryKindStartAtTheEyeAlongTheView) {
     EXPECT_EQ(v.edits.lights[before + 2].kind, LightKind::Directional);
     v.set_trace_size(16, 12);
     restart(v);
-    EXPECT_EQ(v.loaded->scene.lights.size(), before + 3);
+    EXPECT_EQ(v.session.loaded->scene.lights.size(), before + 3);
 }
 
 // Saved scenes hold the numbers the panel showed (once: 0.30000001192092896).
@@ -449,7 +458,7 @@ TEST(Viewer, FloatWidgetValuesAreTheirShortestDecimal) {
 // the redo steps; opening a file starts a new history.
 TEST(Viewer, UndoAndRedoEveryEdit) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     const UndoState start{v.edits, v.settings};
     EXPECT_FALSE(v.undo());
     v.edits.camera.orbit(0.2, 0);  // a drag over three frames: one step
@@ -463,7 +472,7 @@ TEST(Viewer, UndoAndRedoEveryEdit) {
     v.settings.render.max_depth = 2;
     v.settings.render.width = 99;  // the trace's size follows the pane: not an edit
     v.track_history(false);
-    EXPECT_EQ(v.undo_steps(), 3u);
+    EXPECT_EQ(v.history.undo_steps(), 3u);
 
     ASSERT_TRUE(v.undo());  // the depth
     EXPECT_EQ(v.settings.render.max_depth, 5);
@@ -487,7 +496,7 @@ TEST(Viewer, UndoAndRedoEveryEdit) {
     EXPECT_EQ(v.edits.light_on[1], 1);
 
     ASSERT_TRUE(v.open(kLights, false));
-    EXPECT_EQ(v.undo_steps(), 0u);
+    EXPECT_EQ(v.history.undo_steps(), 0u);
     EXPECT_FALSE(v.undo());
 }
 
@@ -495,10 +504,10 @@ TEST(Viewer, UndoAndRedoEveryEdit) {
 // PFM or EXR (linear), and they are no edit for the trace.
 TEST(Viewer, ExposureAndTonemapAreForDisplayAndEightBitFiles) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
-    v.last_trace = Image(2, 1);
-    v.last_trace.set(0, 0, Vec3(0.25, 0.5, 1.0));
-    v.last_trace.set(1, 0, Vec3(2.0, 0.0, 0.1));
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    v.trace.last_trace = Image(2, 1);
+    v.trace.last_trace.set(0, 0, Vec3(0.25, 0.5, 1.0));
+    v.trace.last_trace.set(1, 0, Vec3(2.0, 0.0, 0.1));
     v.settings.exposure = 1;
     v.settings.tonemap = Tonemap::Reinhard;
     const std::string png = ::testing::TempDir() + "rt_viewer_exposed.png";
@@ -513,15 +522,17 @@ TEST(Viewer, ExposureAndTonemapAreForDisplayAndEightBitFiles) {
     const std::string exr = ::testing::TempDir() + "rt_viewer_exposed.exr";
     v.save_trace(exr);
     const Image linear = load_pfm(pfm), half = load_image(exr);
-    ASSERT_EQ(linear.rgb.size(), v.last_trace.rgb.size());
-    ASSERT_EQ(half.rgb.size(), v.last_trace.rgb.size());
+    ASSERT_EQ(linear.rgb.size(), v.trace.last_trace.rgb.size());
+    ASSERT_EQ(half.rgb.size(), v.trace.last_trace.rgb.size());
     for (size_t i = 0; i < linear.rgb.size(); ++i) {
-        EXPECT_FLOAT_EQ(static_cast<float>(linear.rgb[i]), static_cast<float>(v.last_trace.rgb[i]));
+        EXPECT_FLOAT_EQ(static_cast<float>(linear.rgb[i]),
+                        static_cast<float>(v.trace.last_trace.rgb[i]));
         // Half keeps 11 significant bits; the tonemapped value would be far off (0.1 -> 0.17).
-        EXPECT_NEAR(half.rgb[i], v.last_trace.rgb[i], std::abs(v.last_trace.rgb[i]) * 0x1p-10);
+        EXPECT_NEAR(half.rgb[i], v.trace.last_trace.rgb[i],
+                    std::abs(v.trace.last_trace.rgb[i]) * 0x1p-10);
     }
     v.track_history(false);  // a display setting is an undo step, not a restart
-    EXPECT_EQ(v.undo_steps(), 1u);
+    EXPECT_EQ(v.history.undo_steps(), 1u);
 }
 
 // A click picks the primitive under it: its shape, its material's name and the file:line of
@@ -537,23 +548,23 @@ TEST(Viewer, PickNamesTheShapeItsMaterialAndItsDirective) {
                       "#shape_box 0  1 0 0  1 1 1\n"
                       "#group_end\n");
     ViewerState v(path, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.set_trace_size(64, 48);
     // x = -1 at depth 5 with tan(0.5) * 4/3: image fraction 0.5 - 1 / (2 * 5 * 0.7284) = 0.363
     ASSERT_TRUE(v.pick(0.363, 0.5));
-    EXPECT_EQ(v.selection.shape, "sphere");
-    EXPECT_EQ(v.selection.material, "!chalk! (material 0)");
-    EXPECT_NE(v.selection.where.find("rt_viewer_pick.ray:4:"), std::string::npos)
-        << v.selection.where;
-    EXPECT_NEAR(glm::length(v.selection.point - Vec3(-1, 0, 0)), 0.5, 1e-9);  // on it
-    EXPECT_NEAR(v.selection.bounds.centre().x, -1, 1e-9);
-    EXPECT_EQ(v.selection.groups, "rt_viewer_pick.ray");
+    EXPECT_EQ(v.ui.selection.shape, "sphere");
+    EXPECT_EQ(v.ui.selection.material, "!chalk! (material 0)");
+    EXPECT_NE(v.ui.selection.where.find("rt_viewer_pick.ray:4:"), std::string::npos)
+        << v.ui.selection.where;
+    EXPECT_NEAR(glm::length(v.ui.selection.point - Vec3(-1, 0, 0)), 0.5, 1e-9);  // on it
+    EXPECT_NEAR(v.ui.selection.bounds.centre().x, -1, 1e-9);
+    EXPECT_EQ(v.ui.selection.groups, "rt_viewer_pick.ray");
     ASSERT_TRUE(v.pick(0.637, 0.5));
-    EXPECT_EQ(v.selection.shape, "box");
-    EXPECT_NE(v.selection.where.find("rt_viewer_pick.ray:7:"), std::string::npos);
-    EXPECT_EQ(v.selection.groups, "rt_viewer_pick.ray > group at line 5");
+    EXPECT_EQ(v.ui.selection.shape, "box");
+    EXPECT_NE(v.ui.selection.where.find("rt_viewer_pick.ray:7:"), std::string::npos);
+    EXPECT_EQ(v.ui.selection.groups, "rt_viewer_pick.ray > group at line 5");
     EXPECT_FALSE(v.pick(0.5, 0.02));  // the background
-    EXPECT_EQ(v.selection.instance, -1);
+    EXPECT_EQ(v.ui.selection.instance, -1);
     v.frame_light(0);
     EXPECT_VEC_NEAR(v.edits.camera.target, Vec3(0, 3, 3), 1e-12);
 }
@@ -562,16 +573,17 @@ TEST(Viewer, PickNamesTheShapeItsMaterialAndItsDirective) {
 // background, written when done; a cancelled job writes nothing.
 TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.edits.light_on[0] = v.edits.light_on[1] = v.edits.light_on[2] = 0;  // all dark
     v.settings.headlight = false;
     const std::string path = ::testing::TempDir() + "rt_viewer_job.png";
     std::filesystem::remove(path);
     v.render_image(path, 48, 36, 2);
-    for (int i = 0; i < 2000 && v.image_job.running(); ++i)
+    for (int i = 0; i < 2000 && v.jobs.image.running(); ++i)
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     v.poll_files();  // takes the result
-    EXPECT_NE(v.message.find("saved " + path + " (48x36, 2 spp"), std::string::npos) << v.message;
+    EXPECT_NE(v.messages.text.find("saved " + path + " (48x36, 2 spp"), std::string::npos)
+        << v.messages.text;
     TextureImage im;
     std::string error;
     ASSERT_TRUE(load_texture_image(path, &im, &error)) << error;
@@ -585,8 +597,8 @@ TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {
     const std::string big = ::testing::TempDir() + "rt_viewer_cancelled.png";
     std::filesystem::remove(big);
     v.render_image(big, 4000, 3000, 64);
-    v.image_job.cancel();
-    EXPECT_FALSE(v.image_job.running());
+    v.jobs.image.cancel();
+    EXPECT_FALSE(v.jobs.image.running());
     EXPECT_FALSE(std::filesystem::exists(big));
 }
 
@@ -594,44 +606,44 @@ TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {
 // leaves it; a failed one says why and leaves it too.
 TEST(Viewer, FilesOpenInTheBackgroundAndCanBeCancelled) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
-    const int id = v.loaded->id;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    const int id = v.session.loaded->id;
     auto wait = [&] {
-        for (int i = 0; i < 2000 && v.loader.busy(); ++i) {
+        for (int i = 0; i < 2000 && v.jobs.loader.busy(); ++i) {
             std::this_thread::sleep_for(std::chrono::milliseconds(2));
             v.poll_files();
         }
     };
     v.open_in_background(RT_SOURCE_DIR "/scenes/shapes.ray");
-    EXPECT_EQ(v.loaded->id, id);  // still the open scene, interactive
+    EXPECT_EQ(v.session.loaded->id, id);  // still the open scene, interactive
     wait();
-    EXPECT_FALSE(v.loader.busy());
-    EXPECT_GT(v.loaded->id, id);
-    EXPECT_NE(v.loaded->path.find("shapes.ray"), std::string::npos);
+    EXPECT_FALSE(v.jobs.loader.busy());
+    EXPECT_GT(v.session.loaded->id, id);
+    EXPECT_NE(v.session.loaded->path.find("shapes.ray"), std::string::npos);
 
-    const int shapes = v.loaded->id;
+    const int shapes = v.session.loaded->id;
     v.open_in_background(kLights);
     v.cancel_loading();
-    EXPECT_FALSE(v.loader.busy());
+    EXPECT_FALSE(v.jobs.loader.busy());
     for (int i = 0; i < 100; ++i) {  // the abandoned load's result never arrives
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
         v.poll_files();
     }
-    EXPECT_EQ(v.loaded->id, shapes);
-    EXPECT_NE(v.message.find("cancelled"), std::string::npos) << v.message;
+    EXPECT_EQ(v.session.loaded->id, shapes);
+    EXPECT_NE(v.messages.text.find("cancelled"), std::string::npos) << v.messages.text;
 
     v.open_in_background(RT_SOURCE_DIR "/scenes/no_such_file.ray");
     wait();
-    EXPECT_EQ(v.loaded->id, shapes);
-    EXPECT_TRUE(v.message_is_error);
-    EXPECT_NE(v.message.find("no_such_file.ray"), std::string::npos) << v.message;
+    EXPECT_EQ(v.session.loaded->id, shapes);
+    EXPECT_TRUE(v.messages.is_error);
+    EXPECT_NE(v.messages.text.find("no_such_file.ray"), std::string::npos) << v.messages.text;
 }
 
 // The one restart path under load: the trace restarted 1000 times with an edit each time while
 // it runs (the ThreadSanitizer run of scripts/test.sh checks this for races).
 TEST(Viewer, ATraceRestartedAThousandTimesWithEdits) {
     ViewerState v(kLights, false);
-    ASSERT_TRUE(v.loaded) << v.message;
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.set_trace_size(24, 18);
     int restarts = 0;
     for (int i = 0; i < 1000; ++i) {
@@ -640,14 +652,14 @@ TEST(Viewer, ATraceRestartedAThousandTimesWithEdits) {
         v.settings.render.shadows = i % 3 != 0;
         v.mark_edited();
         for (int k = 0; k < 5000 && !v.restart_if_due(); ++k) {  // up to 1 s
-            v.take_trace_image();  // what the interface thread does meanwhile
+            v.trace.take_image();  // what the interface thread does meanwhile
             std::this_thread::sleep_for(std::chrono::microseconds(200));
         }
         restarts += !v.edit_pending();
-        if (i % 100 == 0) (void)v.tracer.status();
+        if (i % 100 == 0) (void)v.trace.tracer.status();
     }
     EXPECT_EQ(restarts, 1000);
-    EXPECT_EQ(v.loaded->scene.lights[0].position.x, v.edits.lights[0].position.x);
+    EXPECT_EQ(v.session.loaded->scene.lights[0].position.x, v.edits.lights[0].position.x);
 }
 
 }  // namespace

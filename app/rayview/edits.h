@@ -1,0 +1,66 @@
+// What the user edits, on the description side: the camera and the lights (SceneEdits), the
+// renderer's settings and the viewer's own knobs (ViewSettings), and UndoState, what undo and
+// redo restore. No GL.
+#pragma once
+
+#include <vector>
+
+#include "camera_controller.h"
+#include "rt/image/image.h"
+#include "rt/render/render.h"
+#include "rt/scene/scene_desc.h"
+
+namespace rt::view {
+
+/// The user's edits, on the description side: the camera and every light, on or off.
+struct SceneEdits {
+    OrbitCamera camera;
+    std::vector<LightDesc> lights;
+    std::vector<char> light_on;
+};
+
+/// What the user sets: the renderer's settings and the viewer's own knobs.
+struct ViewSettings {
+    RenderSettings render;
+    int target_spp = 256;
+    float target_error = 1e-4f;     // the trace stops at this estimated relMSE too (0: never)
+    float resolution_scale = 0.5f;  // trace pixels per pane pixel
+    bool show_lights = true;        // light markers over the preview
+    int box_depth = 0;              // BVH levels drawn over the preview, 0 = off
+    int group_depth = 0;            // scene graph group levels drawn over it, 0 = off
+    int layout = 0;                 // 0 both panes, 1 preview alone, 2 trace alone
+    bool show_panel = true;         // the control panel left of the panes
+    float panel_w = 380;            // its width in pixels (the user resizes it; 0: collapsed)
+    float ui_scale = 1;             // fonts and panel, times the monitor's content scale
+    bool headlight = true;          // a scene without lights is lit along the view (never saved)
+    // How the trace is shown and saved to 8-bit files (display only: no re-render).
+    float exposure = 0;  // stops
+    Tonemap tonemap = Tonemap::Clamp;
+    // The render's size, as raytrace's --width and --height: both panes keep its aspect.
+    int image_w = 640, image_h = 480;
+    double aspect() const { return static_cast<double>(image_w) / static_cast<double>(image_h); }
+    bool operator==(const ViewSettings&) const = default;
+};
+
+/// What undo and redo restore: every edit of the camera, the lights and the settings.
+struct UndoState {
+    SceneEdits edits;
+    ViewSettings settings;
+};
+
+/// Two lists of lights alike but for where they were read (a reload moves lines).
+bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b);
+
+/// The settings that follow the window, not the user's edits (undo keeps them as they are): the
+/// trace's size, which follows the pane, and the panel's width, visibility and scale, from
+/// `window` into `*s`.
+void keep_window_settings(ViewSettings* s, const ViewSettings& window);
+
+/// The double a float widget's value stands for: the shortest decimal that reads back as the
+/// float (0.3f gives 0.3, not 0.30000001192092896), so a saved scene holds the numbers shown.
+double float_as_decimal(float f);
+
+/// The headlight: a white directional light along the view of `camera`.
+LightDesc headlight_desc(const OrbitCamera& camera);
+
+}  // namespace rt::view

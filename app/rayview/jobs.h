@@ -1,0 +1,19 @@
+// The viewer's background work: a scene loading (or reloading) and an image or animation
+// rendering, each on a thread of its own while the window stays interactive. No GL.
+#pragma once
+
+#include <string>
+
+#include "image_job.h"
+#include "loader.h"
+
+namespace rt::view {
+
+struct Jobs {
+    SceneLoader loader;
+    bool reloading = false;  // the loader's job is a reload of the open file
+    ImageJob image;
+    std::string image_path;  // the image the render job writes ("" for an animation)
+};
+
+}  // namespace rt::view

@@ -1,0 +1,19 @@
+#include "messages.h"
+
+#include <cstdio>
+
+namespace rt::view {
+
+void Messages::fail(std::string message) {
+    ++failures;
+    std::fprintf(stderr, "%s\n", message.c_str());
+    text = std::move(message);
+    is_error = true;
+}
+
+void Messages::note(std::string message) {
+    text = std::move(message);
+    is_error = false;
+}
+
+}  // namespace rt::view

@@ -1,0 +1,33 @@
+// The viewer's own state of the window, not the scene's: what is selected, the bookmarked
+// views, the help overlay, the files dropped, whether the preview has an edit to draw, and the
+// web page's hooks. No GL.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "camera_controller.h"
+#include "selection.h"
+
+namespace rt::view {
+
+struct ViewUi {
+    Selection selection;
+    std::vector<OrbitCamera> bookmarks;  // views the user kept
+    bool show_help = false;              // the shortcuts overlay
+    std::vector<std::string> dropped;    // files dropped onto the window, picked up by poll_files
+    bool preview_stale = true;           // an edit the preview has not drawn yet
+};
+
+/// What the web page does when the viewer saves or opens a file; nothing on the desktop.
+struct PageHooks {
+    /// Called with each file the viewer saves (a scene, a trace, a rendered image); the web
+    /// page downloads it.
+    std::function<void(const std::string& path)> on_saved;
+    /// Called with each scene file that opens (at start, an open, a drop, a reload); the web
+    /// page makes its folder the working directory.
+    std::function<void(const std::string& path)> on_opened;
+};
+
+}  // namespace rt::view
