@@ -33,6 +33,7 @@
 #include "panes.h"
 #include "rt/util/sanitizers.h"
 #include "script.h"
+#include "timeline_bar.h"
 #include "viewer.h"
 
 namespace {

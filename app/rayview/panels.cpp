@@ -519,6 +519,35 @@ void status_bar(const ViewerState& v, const PaneLayout& layout) {
     ImGui::End();
 }
 
+void animation_panel(ViewerState& v, PanelState& ui) {
+    const double length = v.animation_length();
+    if (length <= 0 || !ImGui::CollapsingHeader("animation", ImGuiTreeNodeFlags_DefaultOpen))
+        return;
+    const Timeline& tl = v.timeline;
+    ImGui::Text("%zu DOFs, %.3g s loop; t = %.3f s (%s, %s)", v.session.loaded->desc.tracks.size(),
+                length, tl.time, interpolation_name(tl.interpolation), rotation_name(tl.rotation));
+    float fps = static_cast<float>(v.timeline.fps);
+    if (ImGui::InputFloat("frames per second", &fps, 1, 5, "%.3g"))
+        v.timeline.fps = std::clamp(static_cast<double>(fps), 1.0, 240.0);
+    if (ui.anim_frames <= 0) ui.anim_frames = static_cast<int>(std::ceil(length * v.timeline.fps));
+    ImGui::InputInt("frames", &ui.anim_frames);
+    ui.anim_frames = std::clamp(ui.anim_frames, 1, 100000);
+    ImGui::InputText("frame files", ui.anim_pattern, sizeof ui.anim_pattern);
+    ImGui::InputText("video (ffmpeg)", ui.anim_video, sizeof ui.anim_video);
+    if (v.jobs.image.running()) {
+        ImGui::ProgressBar(static_cast<float>(v.jobs.image.progress()), ImVec2(-80, 0));
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel##animation")) {
+            v.jobs.image.cancel();
+            v.messages.note("render cancelled; the frames written so far stay");
+        }
+    } else if (ImGui::Button("Render animation")) {
+        v.render_animation(ui.anim_pattern, ui.anim_frames, ui.image_size[0], ui.image_size[1],
+                           ui.image_spp, ui.anim_video);
+    }
+    ImGui::TextDisabled("at the image size and samples of \"save\" below");
+}
+
 void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
                    const std::vector<std::string>& preview_defines, double frame_s) {
     // Resizable in width (the panes follow next frame) and collapsible.

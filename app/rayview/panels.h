@@ -62,12 +62,6 @@ void save_panel(ViewerState& v, PanelState& ui);
 void status_bar(const ViewerState& v, const PaneLayout& layout);
 /// Every shortcut in a window over the panes, opened and closed with F1 or ? (Esc closes it).
 void help_overlay(bool* open);
-/// The timeline above the status bar (an animated scene only): play/pause, back to the start,
-/// scrub, the frame, loop, speed, the interpolation and rotation.
-void timeline_bar(ViewerState& v, const PaneLayout& layout);
-/// Space plays and pauses, Left and Right step a frame (an animated scene, keyboard not taken by
-/// a widget). Returns whether a key did something.
-bool timeline_keys(ViewerState& v);
 /// The animation's DOFs and loop, its fps, and "render animation" in the background.
 void animation_panel(ViewerState& v, PanelState& ui);
 /// The whole panel as one ImGui window, resizable and collapsible.

@@ -1,15 +1,15 @@
 // The timeline over the bottom of the panes (an animated scene only), as Blender's: play/pause
 // (space), back to the start, the time slider (scrub), the frame, loop, speed, and the
-// interpolation and rotation choices of spec §14.7. The panel's "animation" section renders the
-// sequence in the background.
+// interpolation and rotation choices of spec §14.7. The panel's "animation" section
+// (panels.cpp) renders the sequence in the background.
+#include "timeline_bar.h"
+
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-
-#include "panels.h"
 
 namespace rt::view {
 
@@ -100,35 +100,6 @@ void timeline_bar(ViewerState& v, const PaneLayout& layout) {
     changed |= enum_combo("##rotation", &tl.rotation, kRotations, rotation_name, 8.5f * em);
     if (changed) v.seek(tl.time);  // the same time, other values: the trace restarts
     ImGui::End();
-}
-
-void animation_panel(ViewerState& v, PanelState& ui) {
-    const double length = v.animation_length();
-    if (length <= 0 || !ImGui::CollapsingHeader("animation", ImGuiTreeNodeFlags_DefaultOpen))
-        return;
-    const Timeline& tl = v.timeline;
-    ImGui::Text("%zu DOFs, %.3g s loop; t = %.3f s (%s, %s)", v.session.loaded->desc.tracks.size(),
-                length, tl.time, interpolation_name(tl.interpolation), rotation_name(tl.rotation));
-    float fps = static_cast<float>(v.timeline.fps);
-    if (ImGui::InputFloat("frames per second", &fps, 1, 5, "%.3g"))
-        v.timeline.fps = std::clamp(static_cast<double>(fps), 1.0, 240.0);
-    if (ui.anim_frames <= 0) ui.anim_frames = static_cast<int>(std::ceil(length * v.timeline.fps));
-    ImGui::InputInt("frames", &ui.anim_frames);
-    ui.anim_frames = std::clamp(ui.anim_frames, 1, 100000);
-    ImGui::InputText("frame files", ui.anim_pattern, sizeof ui.anim_pattern);
-    ImGui::InputText("video (ffmpeg)", ui.anim_video, sizeof ui.anim_video);
-    if (v.jobs.image.running()) {
-        ImGui::ProgressBar(static_cast<float>(v.jobs.image.progress()), ImVec2(-80, 0));
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel##animation")) {
-            v.jobs.image.cancel();
-            v.messages.note("render cancelled; the frames written so far stay");
-        }
-    } else if (ImGui::Button("Render animation")) {
-        v.render_animation(ui.anim_pattern, ui.anim_frames, ui.image_size[0], ui.image_size[1],
-                           ui.image_spp, ui.anim_video);
-    }
-    ImGui::TextDisabled("at the image size and samples of \"save\" below");
 }
 
 }  // namespace rt::view
