@@ -64,6 +64,74 @@ bool colour(const char* label, Vec3* v) {
     return true;
 }
 
+// A float slider over a float setting; typed values are clamped, non-finite ones refused.
+bool slider_float(const char* label, float* value, float lo, float hi, const char* format,
+                  ImGuiSliderFlags flags = kClamp) {
+    float f = *value;
+    if (!ImGui::SliderFloat(label, &f, lo, hi, format, flags) || !std::isfinite(f)) return false;
+    *value = f;
+    return true;
+}
+
+// A float drag over a double setting; typed values are clamped, non-finite ones refused.
+bool drag(const char* label, double* value, float speed, float lo, float hi, const char* format) {
+    float f = static_cast<float>(*value);
+    if (!ImGui::DragFloat(label, &f, speed, lo, hi, format, kClamp) || !std::isfinite(f))
+        return false;
+    *value = decimal(f);
+    return true;
+}
+
+// An angle in radians, shown in degrees.
+bool angle_slider(const char* label, double* rad, float lo_deg, float hi_deg) {
+    float deg = static_cast<float>(*rad * 180 / kPi);
+    if (!ImGui::SliderFloat(label, &deg, lo_deg, hi_deg, "%.1f deg", kClamp) || !std::isfinite(deg))
+        return false;
+    *rad = decimal(deg) * kPi / 180;
+    return true;
+}
+
+// A V0/V1 light's one colour (its diffuse and specular).
+bool one_colour(LightDesc& l) {
+    Vec3 c = l.diffuse;
+    if (!colour("colour", &c)) return false;
+    l.set_colour(c);
+    return true;
+}
+
+// A sphere light's radius, >= 0.
+bool sphere_radius(LightDesc& l) {
+    float r = static_cast<float>(l.radius);
+    if (!ImGui::DragFloat("radius", &r, 0.01f, 0.0f, 1e6f, "%.3f", kClamp) || !std::isfinite(r))
+        return false;
+    l.radius = decimal(std::max(0.0f, r));
+    return true;
+}
+
+// The constant, linear and quadratic attenuation of a light with a position.
+bool attenuation(LightDesc& l) {
+    float a[3] = {static_cast<float>(l.constant_atten), static_cast<float>(l.linear_atten),
+                  static_cast<float>(l.quadratic_atten)};
+    if (!ImGui::DragFloat3("attenuation", a, 0.005f, 0.0f, 100.0f, "%.3f", kClamp) ||
+        !std::isfinite(a[0] + a[1] + a[2]))
+        return false;
+    l.constant_atten = decimal(a[0]);
+    l.linear_atten = decimal(a[1]);
+    l.quadratic_atten = decimal(a[2]);
+    return true;
+}
+
+// A direction, shown and edited made unit (as the renderer uses it); zero is refused.
+bool unit_direction(const char* label, Vec3* direction) {
+    const Vec3 unit = glm::normalize(*direction);
+    float d[3] = {static_cast<float>(unit.x), static_cast<float>(unit.y),
+                  static_cast<float>(unit.z)};
+    if (!ImGui::DragFloat3(label, d, 0.01f) || !(glm::length(Vec3(d[0], d[1], d[2])) > 0))
+        return false;
+    *direction = glm::normalize(Vec3(d[0], d[1], d[2]));
+    return true;
+}
+
 // One light's controls: a V3 light's three colours (spec §13.3), a V0/V1 light's one colour
 // (its diffuse and specular), a sphere light's radius. Directions are shown and edited made
 // unit, as the renderer uses them.
@@ -79,30 +147,15 @@ bool light_editor(LightDesc& l, char* on, bool three_colours) {
         edited |= colour("diffuse", &l.diffuse);
         edited |= colour("specular", &l.specular);
     } else {
-        Vec3 c = l.diffuse;
-        if (colour("colour", &c)) l.set_colour(c), edited = true;
+        edited |= one_colour(l);
     }
-    if (l.kind == LightKind::Sphere) {
-        float r = static_cast<float>(l.radius);
-        if (ImGui::DragFloat("radius", &r, 0.01f, 0.0f, 1e6f, "%.3f", kClamp) && std::isfinite(r))
-            l.radius = decimal(std::max(0.0f, r)), edited = true;
-    }
+    if (l.kind == LightKind::Sphere) edited |= sphere_radius(l);
     if (l.kind != LightKind::Directional) {
         edited |= drag3("position", &l.position, 0.05f);
-        float a[3] = {static_cast<float>(l.constant_atten), static_cast<float>(l.linear_atten),
-                      static_cast<float>(l.quadratic_atten)};
-        if (ImGui::DragFloat3("attenuation", a, 0.005f, 0.0f, 100.0f, "%.3f", kClamp) &&
-            std::isfinite(a[0] + a[1] + a[2]))
-            l.constant_atten = decimal(a[0]), l.linear_atten = decimal(a[1]),
-            l.quadratic_atten = decimal(a[2]), edited = true;
+        edited |= attenuation(l);
     }
-    if (l.kind == LightKind::Directional || l.kind == LightKind::Spot) {
-        const Vec3 unit = glm::normalize(l.direction);
-        float d[3] = {static_cast<float>(unit.x), static_cast<float>(unit.y),
-                      static_cast<float>(unit.z)};
-        if (ImGui::DragFloat3("direction", d, 0.01f) && glm::length(Vec3(d[0], d[1], d[2])) > 0)
-            l.direction = glm::normalize(Vec3(d[0], d[1], d[2])), edited = true;
-    }
+    if (l.kind == LightKind::Directional || l.kind == LightKind::Spot)
+        edited |= unit_direction("direction", &l.direction);
     if (l.kind == LightKind::Spot) {
         edited |= slider("cut-off (rad)", &l.cutoff_rad, 0.0f, 3.1416f);
         edited |= slider("drop-off exponent", &l.spot_exponent, 0.0f, 256.0f);
@@ -260,23 +313,21 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
     ImGui::SameLine();
     if (ImGui::Button("Redo")) v.redo();
     // The field of view as the spec's half-height angle, shown in degrees.
-    float ha = static_cast<float>(cam.half_height * 180 / kPi);
-    if (ImGui::SliderFloat("half-height angle", &ha, 1.0f, 85.0f, "%.1f deg", kClamp) &&
-        std::isfinite(ha))
-        cam.half_height = decimal(ha) * kPi / 180, edited = true;
+    edited |= angle_slider("half-height angle", &cam.half_height, 1.0f, 85.0f);
     RenderSettings& r = v.settings.render;
     edited |= slider("aperture", &r.aperture, 0.0f, 0.5f);
-    float focus = static_cast<float>(r.focus_distance);
-    if (ImGui::DragFloat("focus distance", &focus, 0.05f, 0.0f, 1e6f,
-                         focus > 0 ? "%.3f" : "scene centre", kClamp) &&
-        std::isfinite(focus))
-        r.focus_distance = decimal(focus), edited = true;
+    const bool focus_set = static_cast<float>(r.focus_distance) > 0;
+    edited |= drag("focus distance", &r.focus_distance, 0.05f, 0.0f, 1e6f,
+                   focus_set ? "%.3f" : "scene centre");
     if (v.ui.selection.instance >= 0) {  // what a click in a pane picked
         const Selection& sel = v.ui.selection;
         ImGui::TextWrapped("selected: %s, %s\n%s\nin %s\nat (%.3g, %.3g, %.3g)", sel.shape.c_str(),
                            sel.material.c_str(), sel.where.c_str(), sel.groups.c_str(), sel.point.x,
                            sel.point.y, sel.point.z);
-        if (ImGui::SmallButton("clear selection")) v.ui.selection = {}, v.ui.preview_stale = true;
+        if (ImGui::SmallButton("clear selection")) {
+            v.ui.selection = {};
+            v.ui.preview_stale = true;
+        }
     } else {
         ImGui::TextDisabled("click a shape in a pane to select it");
     }
@@ -285,8 +336,10 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
     if (ImGui::Button("Bookmark")) v.ui.bookmarks.push_back(cam);
     for (size_t i = 0; i < v.ui.bookmarks.size(); ++i) {
         ImGui::PushID(static_cast<int>(i));
-        if (ImGui::Button(("view " + std::to_string(i + 1)).c_str()))
-            cam = v.ui.bookmarks[i], edited = true;
+        if (ImGui::Button(("view " + std::to_string(i + 1)).c_str())) {
+            cam = v.ui.bookmarks[i];
+            edited = true;
+        }
         ImGui::SameLine();
         if (ImGui::SmallButton("x")) {
             v.ui.bookmarks.erase(v.ui.bookmarks.begin() + static_cast<long>(i));
@@ -318,15 +371,10 @@ bool settings_panel(ViewerState& v) {
     edited |= slider("cutoff", &r.cutoff, 0.0f, 0.1f, "%.4f");
     edited |= slider("target spp", &s.target_spp, 1, 4096);
     // The trace also stops at an estimated error (relMSE), as raytrace --target-error.
-    float target = s.target_error;
-    if (ImGui::SliderFloat("target error", &target, 0.0f, 0.01f, target > 0 ? "%.1e" : "off",
-                           kClamp | ImGuiSliderFlags_Logarithmic) &&
-        std::isfinite(target))
-        s.target_error = target, edited = true;
-    float scale = s.resolution_scale;
-    if (ImGui::SliderFloat("resolution", &scale, 0.1f, 1.0f, "%.3f", kClamp) &&
-        std::isfinite(scale))
-        s.resolution_scale = scale, edited = true;
+    edited |=
+        slider_float("target error", &s.target_error, 0.0f, 0.01f,
+                     s.target_error > 0 ? "%.1e" : "off", kClamp | ImGuiSliderFlags_Logarithmic);
+    edited |= slider_float("resolution", &s.resolution_scale, 0.1f, 1.0f, "%.3f");
     edited |= slider("threads (0 = all)", &r.threads, 0, 64);
     edited |= slider("light radius", &r.light_radius, 0.0f, 2.0f);
     edited |= slider("roughness", &r.roughness, 0.0f, 1.0f);
@@ -338,10 +386,7 @@ bool settings_panel(ViewerState& v) {
     int tonemap = static_cast<int>(s.tonemap);
     if (ImGui::Combo("tonemap", &tonemap, "clamp (as raytrace)\0Reinhard\0ACES filmic\0"))
         s.tonemap = static_cast<Tonemap>(tonemap);
-    float ui_scale = s.ui_scale;
-    if (ImGui::SliderFloat("UI scale", &ui_scale, 0.75f, 2.5f, "%.2f", kClamp) &&
-        std::isfinite(ui_scale))
-        s.ui_scale = ui_scale;
+    slider_float("UI scale", &s.ui_scale, 0.75f, 2.5f, "%.2f");  // the window's, not an edit
     return edited;
 }
 
