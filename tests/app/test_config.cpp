@@ -1,5 +1,6 @@
-// rayview's settings between runs (app/rayview/config.h): written and read back; bad values and
-// unknown keys are ignored; a missing file gives the defaults, a FIFO the defaults and a reason.
+// rayview's settings between runs (app/rayview/state/config.h): written and read back; bad values
+// and unknown keys are ignored; a missing file gives the defaults, a FIFO the defaults and a
+// reason.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 

@@ -1,5 +1,5 @@
-// rayview's command line (app/rayview/run_options.h): raytrace's render flags become the viewer's
-// initial settings; bad values are usage errors (2); --help and --version exit 0.
+// rayview's command line (app/rayview/state/run_options.h): raytrace's render flags become the
+// viewer's initial settings; bad values are usage errors (2); --help and --version exit 0.
 #include <gtest/gtest.h>
 
 #include <sstream>

@@ -1,6 +1,6 @@
-// The viewer's trace (app/rayview/tracer.h): with threads, and pumped on the caller's thread as
-// the web page's single-thread build runs it, tile by tile between frames: the same passes,
-// the same image.
+// The viewer's trace (app/rayview/state/tracer.h): with threads, and pumped on the caller's thread
+// as the web page's single-thread build runs it, tile by tile between frames: the same passes, the
+// same image.
 #include <gtest/gtest.h>
 
 #include <chrono>
