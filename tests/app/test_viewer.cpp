@@ -662,5 +662,78 @@ TEST(Viewer, ATraceRestartedAThousandTimesWithEdits) {
     EXPECT_EQ(v.session.loaded->scene.lights[0].position.x, v.edits.lights[0].position.x);
 }
 
+// load_scene alone, no ViewerState: a file that does not parse gives no scene and an error
+// naming the file, line and column; a texture that cannot be opened says that checker
+// stand-ins would open it; the scene that opens comes with its preview geometry on request.
+TEST(ViewerLoad, LoadSceneReturnsTheSceneOrTheErrorAtItsPlace) {
+    const auto load = [](const std::string& path, bool for_preview = true) {
+        LoadRequest request;
+        request.path = path;
+        request.for_preview = for_preview;
+        return load_scene(request);
+    };
+    const std::string bad = ::testing::TempDir() + "rt_viewer_load_bad.ray";
+    write_file_atomic(bad, "#light_dir 1 1 1  0 -1 0\n\n#shape_sphere 0 0 0 0 oops\n");
+    const LoadResult failed = load(bad);
+    EXPECT_FALSE(failed.scene);
+    EXPECT_FALSE(failed.textures_missing);
+    EXPECT_NE(failed.error.find("rt_viewer_load_bad.ray:3:"), std::string::npos) << failed.error;
+
+    const std::string texture = ::testing::TempDir() + "rt_viewer_load_texture.ray";
+    write_file_atomic(texture,
+                      "#texture no_such_texture.png\n"
+                      "#material 0 0 0  .1 .1 .1  .8 .8 .8  0 0 0  1  0 0 0  1  0 !m!\n"
+                      "#light_dir 1 1 1  0 -1 0\n#shape_sphere 0 0 0 0 1\n");
+    const LoadResult refused = load(texture);
+    EXPECT_FALSE(refused.scene);
+    EXPECT_TRUE(refused.textures_missing);
+    EXPECT_NE(refused.error.find("no_such_texture.png"), std::string::npos) << refused.error;
+
+    const LoadResult opened = load(kLights, false);
+    ASSERT_TRUE(opened.scene) << opened.error;
+    EXPECT_EQ(opened.error, "");
+    EXPECT_EQ(opened.scene->path, kLights);
+    EXPECT_EQ(opened.scene->desc.lights.size(), 3u);
+    EXPECT_EQ(opened.scene->scene.instances.size(), opened.scene->shown.instances.size());
+}
+
+// History alone, without a viewer: an edit becomes a step once no gesture is under way, the
+// window's settings are not an edit, and undo and redo walk the steps.
+TEST(ViewerHistory, StepsAfterTheGestureUndoAndRedo) {
+    History h;
+    SceneEdits edits;
+    ViewSettings settings;
+    h.reset({edits, settings});
+    settings.target_spp = 64;
+    h.track(edits, settings, true);  // a drag under way: not yet a step
+    EXPECT_EQ(h.undo_steps(), 0u);
+    h.track(edits, settings, false);
+    EXPECT_EQ(h.undo_steps(), 1u);
+    settings.render.width = 99;  // follows the pane: no step
+    settings.panel_w = 200;
+    h.track(edits, settings, false);
+    EXPECT_EQ(h.undo_steps(), 1u);
+
+    UndoState back;
+    ASSERT_TRUE(h.undo({edits, settings}, &back));
+    EXPECT_EQ(back.settings.target_spp, 256);
+    EXPECT_EQ(h.undo_steps(), 0u);
+    EXPECT_EQ(h.redo_steps(), 1u);
+    EXPECT_FALSE(h.undo(back, &back));  // nothing more to undo
+    h.settle(back);
+    UndoState forward;
+    ASSERT_TRUE(h.redo(back, &forward));
+    EXPECT_EQ(forward.settings.target_spp, 64);
+    EXPECT_EQ(h.redo_steps(), 0u);
+    EXPECT_EQ(h.undo_steps(), 1u);
+    // A new edit after an undo drops what redo held.
+    ASSERT_TRUE(h.undo(forward, &back));
+    h.settle(back);
+    edits.camera.distance = 7;
+    h.track(edits, back.settings, false);
+    EXPECT_EQ(h.redo_steps(), 0u);
+    EXPECT_EQ(h.undo_steps(), 1u);
+}
+
 }  // namespace
 }  // namespace rt::view
