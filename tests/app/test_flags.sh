@@ -117,7 +117,7 @@ echo "max-mad = 255" >"$tmp/diff.toml"
 declare -A diff=(
     [--help]="alone:--help" [--version]="alone:--version" [--config]="--config $tmp/diff.toml"
     [--max-mad]="--max-mad 255" [--max-dark-share]="--max-dark-share 1" [--crop]="--crop 0 0 4 4"
-    [--max-abs]="--max-abs 1"
+    [--max-abs]="--max-abs 1" [--off]="--off 16" [--max-off-share]="--max-off-share 1"
 )
 check_flags "$bin/imgdiff" "$tmp/d1.png $tmp/d2.png" diff
 
