@@ -24,7 +24,9 @@
 // with both looked up in an environment cube map rendered from the object's centre, one bounce
 // deep, whose alpha holds the distance of what each texel sees, so the lookup is corrected for
 // the parallax between the map's centre and the fragment), RT_ENV_PASS (that map's own pass:
-// alpha = distance from u_pass_centre).
+// alpha = distance from u_pass_centre), RT_PLANAR (fragments on the planes of planar
+// reflections read them instead of the cube map: planar.cpp), RT_CLIP_PLANE (a planar
+// reflection's own pass).
 const int kMaxLights = 16;
 
 in vec3 v_world;
@@ -185,7 +187,36 @@ vec3 display(vec3 c) {
 }
 #endif
 
+#ifdef RT_CLIP_PLANE
+// A planar reflection's pass (planar.cpp): only what lies on the eye's side of the mirror.
+uniform vec4 u_clip_plane;
+uniform float u_clip_epsilon;
+#endif
+#ifdef RT_PLANAR
+// Planar reflections: fragments on one of the planes (within its epsilon, the surface's own
+// plane) read what the mirror shows from that plane's layer, at their own pixel.
+uniform int u_planar_count;
+uniform vec4 u_planar[2];
+uniform float u_planar_epsilon[2];
+uniform sampler2DArray u_planar_map;
+uniform vec2 u_viewport;
+int planar_layer(vec3 p, vec3 ng) {
+    for (int k = 0; k < u_planar_count; ++k)
+        if (abs(dot(vec4(p, 1.0), u_planar[k])) < u_planar_epsilon[k] &&
+            abs(dot(ng, u_planar[k].xyz)) > 0.999)
+            return k;
+    return -1;
+}
+#endif
+
 void main() {
+#ifdef RT_PLANAR
+    // The surface's own plane, from the screen derivatives (before any discard).
+    vec3 ng = normalize(cross(dFdx(v_world), dFdy(v_world)));
+#endif
+#ifdef RT_CLIP_PLANE
+    if (dot(vec4(v_world, 1.0), u_clip_plane) < u_clip_epsilon) discard;
+#endif
 #ifdef RT_CSG
     if (v_leaf >= 0 && !csg_valid(v_leaf, v_set)) discard;
 #endif
@@ -249,7 +280,13 @@ void main() {
     }
 #ifdef RT_REFLECTIONS
     if (u_env_on) {  // spec §7.4: the reflection weight K_S is not textured
-        c += u_specular * environment(v_world, d - 2.0 * dot(d, n) * n);
+#ifdef RT_PLANAR
+        int k = planar_layer(v_world, ng);
+        if (k >= 0)
+            c += u_specular * texture(u_planar_map, vec3(gl_FragCoord.xy / u_viewport, float(k))).rgb;
+        else
+#endif
+            c += u_specular * environment(v_world, d - 2.0 * dot(d, n) * n);
         if (u_transparent != vec3(0.0)) {
             // The eye sees the side facing it: entering, eta = 1 / refind.
             vec3 t_dir = refract(d, n, 1.0 / u_refind);

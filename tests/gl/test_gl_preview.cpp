@@ -868,6 +868,7 @@ TEST(GlPreview, ShaderErrorsNameTheFile) {
 struct PreviewAgainstTrace {
     double mean_abs = 0;    // per channel, 0-255, over the image
     double dark_share = 0;  // trace luminance > 0.3, preview < 0.05
+    int planes = 0;         // planar reflections drawn
 };
 
 PreviewAgainstTrace preview_against_trace(const RenderScene& scene, int depth) {
@@ -881,6 +882,7 @@ PreviewAgainstTrace preview_against_trace(const RenderScene& scene, int depth) {
     EXPECT_EQ(preview.environment_maps() > 0, depth >= 2);
     const Image traced = test::render(scene, kW, kH, 5);
     PreviewAgainstTrace out;
+    out.planes = preview.planar_reflections();
     long dark = 0;
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
@@ -920,6 +922,26 @@ TEST(GlPreview, MirrorsAndGlassShowWhatTheTraceShows) {
     EXPECT_LT(reflected.mean_abs, 0.5 * local.mean_abs);
 }
 
+// A mirror floor (spec §7.4): the trace shows the spheres mirrored in it; the preview draws the
+// scene mirrored about the floor's plane for it (a cube map from the floor's centre cannot), and
+// the two agree where the reflections are.
+TEST(GlPreview, AMirrorFloorReflectsTheScene) {
+    const RenderScene scene = test::compile(
+        "#camera 0 3 8  0 -0.35 -1  0 1 0  0.45\n#ambient 0.2 0.2 0.2\n"
+        "#light_point 1 1 1  0 6 4  1 0 0\n"
+        "#material 0 0 0  0.1 0.1 0.1  0.2 0.2 0.2  0.7 0.7 0.7  50  0 0 0  1  -1 !floor!\n"
+        "#material 0 0 0  0.2 0 0  0.9 0.1 0.1  0 0 0  1  0 0 0  1  -1 !red!\n"
+        "#material 0 0 0  0 0 0.2  0.1 0.2 0.9  0 0 0  1  0 0 0  1  -1 !blue!\n"
+        "#vertex -6 0 -4  0 0 0  0 0\n#vertex -6 0 4  0 0 0  0 0\n#vertex 6 0 4  0 0 0  0 0\n"
+        "#vertex 6 0 -4  0 0 0  0 0\n#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 3\n"
+        "#shape_sphere 1  -1.5 1.2 0  1\n#shape_sphere 2  1.5 1.2 0.5  1\n");
+    const PreviewAgainstTrace reflected = preview_against_trace(scene, 5);
+    std::printf("mirror floor: mean difference %.2f, dark where lit %.4f, %d planes\n",
+                reflected.mean_abs, reflected.dark_share, reflected.planes);
+    EXPECT_EQ(reflected.planes, 1);
+    EXPECT_LT(reflected.mean_abs, 0.6);  // 1.19 with the cube map of the floor's centre
+}
+
 }  // namespace
 }  // namespace rt
 
@@ -934,8 +956,9 @@ TEST(ShaderSource, EveryShaderCompilesAsGlslEs300) {
         GTEST_SKIP() << "glslangValidator is not installed (glslang-tools)";
     const std::string dir = RT_SOURCE_DIR "/shaders/";
     const std::vector<std::string> all = {
-        "RT_POINT",    "RT_SPOT",    "RT_DIRECTIONAL",      "RT_TEXTURES",
-        "RT_SPECULAR", "RT_SHADOWS", "RT_TRANSMIT_SHADOWS", "RT_CSG"};
+        "RT_POINT",       "RT_SPOT",    "RT_DIRECTIONAL",      "RT_TEXTURES",
+        "RT_SPECULAR",    "RT_SHADOWS", "RT_TRANSMIT_SHADOWS", "RT_CSG",
+        "RT_REFLECTIONS", "RT_PLANAR",  "RT_CLIP_PLANE"};
     struct Case {
         std::string file, library;
         bool transmit = false;  // shadow.frag's transmittance maps (RT_TRANSMIT)

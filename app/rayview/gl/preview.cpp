@@ -79,7 +79,7 @@ Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
     // Compiled at once with every feature on, so a broken shader file fails here; the other
     // combinations of defines compile on first use (the same source with less of it).
     program_for({"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR",
-                 "RT_SHADOWS", "RT_TRANSMIT_SHADOWS", "RT_CSG"});
+                 "RT_SHADOWS", "RT_TRANSMIT_SHADOWS", "RT_CSG", "RT_REFLECTIONS", "RT_PLANAR"});
     m_line_program = make_program(shader_dir, "lines.vert", "lines.frag");
     m_shadow_program = make_program(shader_dir, "preview.vert", "shadow.frag");
     m_shadow_csg_program =
@@ -123,10 +123,15 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
                      [&](size_t a, size_t b) { return mesh.materials[a] < mesh.materials[b]; });
     std::vector<unsigned> indices;
     SetBuffers buf;
+    std::vector<size_t> range_tris;
     for (size_t t : order) {
         const int m = mesh.materials[t];
-        if (buf.ranges.empty() || buf.ranges.back().material != m)
-            buf.ranges.push_back({m, static_cast<unsigned>(indices.size()), 0, Bounds3{}});
+        if (buf.ranges.empty() || buf.ranges.back().material != m) {
+            if (!buf.ranges.empty()) buf.ranges.back().faces = flat_faces(mesh, range_tris);
+            range_tris.clear();
+            buf.ranges.push_back({m, static_cast<unsigned>(indices.size()), 0, Bounds3{}, {}});
+        }
+        range_tris.push_back(t);
         for (int k = 0; k < 3; ++k) {
             const unsigned v = mesh.indices[t * 3 + static_cast<size_t>(k)];
             indices.push_back(v);
@@ -134,6 +139,7 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
         }
         buf.ranges.back().count += 3;
     }
+    if (!buf.ranges.empty()) buf.ranges.back().faces = flat_faces(mesh, range_tris);
     buf.vao = GlVertexArray::make();
     glBindVertexArray(buf.vao.id());
     buf.vbo = GlBuffer::make();
@@ -435,7 +441,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
         glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
         // A mirroring instance turns its triangles' winding on screen (the two-sided rule).
         glUniform1i(loc(program, "u_mirrored"),
-                    glm::determinant(Mat3(inst.world_from_set.m)) < 0 ? 1 : 0);
+                    (glm::determinant(Mat3(inst.world_from_set.m)) < 0) != pass.mirrored ? 1 : 0);
         const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
         if (!buf.vao) continue;
         glBindVertexArray(buf.vao.id());
@@ -570,6 +576,9 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     const bool reflections = max_depth >= 2 && m_env_ready;
     if (reflections) defines.push_back("RT_REFLECTIONS");
     m_env_drawn = reflections ? static_cast<int>(m_env.size()) : 0;
+    m_planes.clear();
+    if (reflections) render_planar_maps(scene, plan, camera, shadows, width, height);
+    if (!m_planes.empty()) defines.push_back("RT_PLANAR");
     const GLuint program = program_for(defines);
     m_defines = defines;
 
@@ -587,6 +596,7 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     glUniform1f(loc(program, "u_exposure_scale"),
                 static_cast<float>(std::exp2(display.exposure_stops)));
     glUniform1i(loc(program, "u_tonemap"), static_cast<int>(display.tonemap));
+    if (!m_planes.empty()) set_planar_uniforms(program, width, height);
     DrawPass pass;
     pass.reflections = reflections;
     draw_instances(scene, program, pass);

@@ -66,11 +66,17 @@ public:
     static constexpr int kShadowResolution = 1024;
     static constexpr int kTransmitResolution = 512;
     static constexpr int kMaxEnvMaps = 8;
+    static constexpr int kMaxPlanes = 2;  // planar reflections drawn a frame
     static constexpr int kEnvResolution = 128;
     static constexpr int kCsgRow = 1024;  // CSG texels per row of their texture (csg.frag's)
 
     /// The environment maps the last draw used (0 without reflections).
     int environment_maps() const { return m_env_drawn; }
+    /// The view is moving (the viewer's drag or orbit): one planar reflection a frame rather
+    /// than kMaxPlanes, each a pass over the whole scene (software GL: the orbit's frame time).
+    bool moving = false;
+    /// The planar reflections the last draw rendered (0 without reflections).
+    int planar_reflections() const { return static_cast<int>(m_planes.size()); }
     /// Environment maps left to render again (after a change of the lights or the shadows): a
     /// draw renders faces of maps for about `env_budget_ms` (at least one), and shows stale ones,
     /// or none before every map has its first bounce, until then. Draw again while this is true.
@@ -84,10 +90,19 @@ public:
     size_t uploaded_floats() const { return m_uploaded_floats; }
 
 private:
+    /// A flat part of a range: its triangles in one plane n.p + d = 0 (set frame, n unit), their
+    /// area and the area-weighted centroid (on the plane), and their box.
+    struct FlatFace {
+        Vec3 n{0.0};
+        double d = 0, area = 0;
+        Vec3 centroid{0.0};
+        Bounds3 bounds;
+    };
     struct Range {
         int material;
-        unsigned first, count;  // in indices
-        Bounds3 bounds;         // of its vertices, in the set's frame
+        unsigned first, count;        // in indices
+        Bounds3 bounds;               // of its vertices, in the set's frame
+        std::vector<FlatFace> faces;  // its largest flat parts (planar reflections), if any
     };
     struct SetBuffers {
         GlVertexArray vao;  // none for a set no instance places
@@ -126,6 +141,7 @@ private:
     /// map's own pass).
     struct DrawPass {
         bool opaque_only = false, reflections = false;
+        bool mirrored = false;  // a planar reflection's pass: every winding seen is reversed
         bool transparent_only = false;  // only transmitting materials, their T in u_transmit
         int skip_map = -1;
     };
@@ -144,6 +160,26 @@ private:
     void update_environment_maps(const RenderScene& scene, const RenderPlan& plan, bool shadows);
     void render_environment_face(const RenderScene& scene, const RenderPlan& plan, bool shadows,
                                  size_t map, int face, int bounce);
+
+    // Planar reflections (planar.cpp): the largest flat faces of reflecting materials, facing
+    // the eye, get the scene drawn mirrored about their plane into a layer of m_planar_tex, which
+    // preview.frag reads at the fragment's pixel for fragments on that plane (the cube maps
+    // cannot show a plane's reflection: their centre is not on it).
+    struct PlanarView {
+        glm::dvec4 plane{0.0};  // world n.p + d, positive on the eye's side
+        double epsilon = 0;     // how far from it a fragment still counts as on it
+    };
+    static std::vector<FlatFace> flat_faces(const PreviewMesh& mesh,
+                                            const std::vector<size_t>& tris);
+    std::vector<PlanarView> choose_planes(const RenderScene& scene, const Camera& camera) const;
+    void render_planar_maps(const RenderScene& scene, const RenderPlan& plan, const Camera& camera,
+                            bool shadows, int width, int height);
+    void set_planar_uniforms(unsigned program, int width, int height) const;
+    std::vector<PlanarView> m_planes;  // those the last draw rendered
+    GlFramebuffer m_planar_fbo;
+    GlTexture m_planar_tex;  // RGBA16F array, one layer a plane, half the pane's resolution
+    GlRenderbuffer m_planar_depth;
+    int m_planar_w = 0, m_planar_h = 0;
 
     std::string m_shader_dir;
     std::map<std::vector<std::string>, GlProgram> m_programs;  // by defines

@@ -124,6 +124,7 @@ void Panes::draw(ViewerState& v) {
     const Camera cam = make_camera(compile_camera(v.edits.camera.desc()), m_target.w, m_target.h);
     // The preview's copy of the scene: the joints at the timeline's time, every frame.
     const RenderScene& shown = loaded.shown;
+    m_preview.moving = v.trace.moving();
     m_preview.draw(shown, v.trace.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth,
                    {s.exposure, s.tonemap});
     std::vector<LineVertex> lines = overlay_lines(shown, s.show_lights, s.box_depth);

@@ -1,0 +1,239 @@
+// The preview's planar reflections (spec §7.4's K_S x reflected on flat mirrors, approximated):
+// an environment cube map seen from an object's centre cannot show what a floor or a wall
+// mirrors, since the centre is not on the plane. The usual raster technique does: the scene is
+// drawn once more with the camera's view mirrored about the plane, what lies behind the plane
+// clipped away, into a texture that the mirror's fragments read at their own pixel. The faces
+// that get one are the largest flat faces of reflecting materials (triangle planes, a box's
+// faces, a tessellation's flat parts) facing the eye, at most kMaxPlanes a frame (one while the
+// view moves), rendered at half the pane's resolution with the preview's local shading and shadows
+// (one bounce; the curved mirrors keep their cube maps).
+#define GL_GLEXT_PROTOTYPES
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "overlay.h"
+#include "preview.h"
+
+namespace rt::view {
+
+namespace {
+
+// Triangles whose planes agree to these tolerances are one face: normals within about 0.06
+// degrees, offsets within 1e-5 of the range's size.
+constexpr double kNormalStep = 1e-3;
+constexpr double kOffsetStep = 1e-5;
+// Ranges with more triangles are meshes, not walls: their flat parts are not looked for.
+constexpr size_t kMaxFaceTriangles = 20000;
+constexpr size_t kFacesPerRange = 8;
+
+bool reflects(const Material& m) { return m.specular != Vec3(0.0); }
+
+// The reflection about the plane n.p + d = 0 (n unit), as a 4x4 matrix: p - 2 (n.p + d) n.
+Mat4 reflection(const glm::dvec4& plane) {
+    const Vec3 n(plane);
+    Mat4 r(1.0);
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) r[c][k] -= 2.0 * n[k] * n[c];
+    for (int k = 0; k < 3; ++k) r[3][k] = -2.0 * plane.w * n[k];
+    return r;
+}
+
+}  // namespace
+
+std::vector<Preview::FlatFace> Preview::flat_faces(const PreviewMesh& mesh,
+                                                   const std::vector<size_t>& tris) {
+    if (tris.empty() || tris.size() > kMaxFaceTriangles) return {};
+    Bounds3 box;
+    for (size_t t : tris)
+        for (int k = 0; k < 3; ++k) box.extend(mesh.positions[mesh.indices[t * 3 + k]]);
+    const double size = std::max(glm::length(box.diagonal()), 1e-300);
+    std::map<std::tuple<long, long, long, long>, FlatFace> faces;
+    for (size_t t : tris) {
+        const Vec3& a = mesh.positions[mesh.indices[t * 3]];
+        const Vec3& b = mesh.positions[mesh.indices[t * 3 + 1]];
+        const Vec3& c = mesh.positions[mesh.indices[t * 3 + 2]];
+        const Vec3 cr = glm::cross(b - a, c - a);
+        const double twice_area = glm::length(cr);
+        if (!(twice_area > 0.0)) continue;
+        Vec3 n = cr / twice_area;
+        // One sign per plane: the first non-zero component positive.
+        const double lead = std::abs(n.x) > 1e-9 ? n.x : std::abs(n.y) > 1e-9 ? n.y : n.z;
+        if (lead < 0) n = -n;
+        const double d = -glm::dot(n, a);
+        const auto key =
+            std::make_tuple(std::lround(n.x / kNormalStep), std::lround(n.y / kNormalStep),
+                            std::lround(n.z / kNormalStep), std::lround(d / (kOffsetStep * size)));
+        FlatFace& f = faces[key];
+        const double area = 0.5 * twice_area;
+        if (f.area == 0) f.n = n, f.d = d;
+        f.centroid += area * (a + b + c) / 3.0;
+        f.area += area;
+        f.bounds.extend(a);
+        f.bounds.extend(b);
+        f.bounds.extend(c);
+    }
+    std::vector<FlatFace> out;
+    for (auto& [key, f] : faces) {
+        f.centroid /= f.area;
+        out.push_back(f);
+    }
+    std::sort(out.begin(), out.end(),
+              [](const FlatFace& x, const FlatFace& y) { return x.area > y.area; });
+    if (out.size() > kFacesPerRange) out.resize(kFacesPerRange);
+    return out;
+}
+
+std::vector<Preview::PlanarView> Preview::choose_planes(const RenderScene& scene,
+                                                        const Camera& camera) const {
+    struct Candidate {
+        PlanarView view;
+        double score;
+    };
+    std::vector<Candidate> candidates;
+    const double scene_size = std::max(glm::length(scene.world_bounds.diagonal()), 1e-300);
+    for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
+        const Instance& inst = scene.instances[ii];
+        const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
+        if (!buf.vao) continue;
+        const Transform& xf = inst.world_from_set;
+        const double scale = std::cbrt(std::abs(glm::determinant(Mat3(xf.m))));
+        for (const Range& r : buf.ranges) {
+            if (!reflects(scene.materials[static_cast<size_t>(r.material)])) continue;
+            for (const FlatFace& f : r.faces) {
+                const Vec3 centre = xf.point(f.centroid);
+                Vec3 n = glm::normalize(xf.normal_dir(f.n));
+                double d = -glm::dot(n, centre);
+                const double side = glm::dot(n, camera.position) + d;
+                if (!std::isfinite(side) || std::abs(side) < 1e-9 * scene_size) continue;
+                if (side < 0) n = -n, d = -d;
+                // Some of it in front of the eye.
+                const Bounds3 world = xf.apply(f.bounds);
+                bool ahead = false;
+                for (int i = 0; i < 8 && !ahead; ++i) {
+                    const Vec3 corner{(i & 1) ? world.hi.x : world.lo.x,
+                                      (i & 2) ? world.hi.y : world.lo.y,
+                                      (i & 4) ? world.hi.z : world.lo.z};
+                    ahead = glm::dot(corner - camera.position, camera.forward) > 0;
+                }
+                if (!ahead) continue;
+                const double dist = glm::length(centre - camera.position);
+                const double area = f.area * scale * scale;
+                candidates.push_back(
+                    {{glm::dvec4(n, d), 1e-4 * scene_size}, area / std::max(dist * dist, 1e-300)});
+            }
+        }
+    }
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    std::vector<PlanarView> out;
+    for (const Candidate& c : candidates) {
+        if (out.size() == static_cast<size_t>(moving ? 1 : kMaxPlanes)) break;
+        // One view serves every face of the same plane (a floor of two triangles in two sets).
+        const bool same = std::any_of(out.begin(), out.end(), [&](const PlanarView& v) {
+            return glm::dot(Vec3(v.plane), Vec3(c.view.plane)) > 1 - 1e-9 &&
+                   std::abs(v.plane.w - c.view.plane.w) < c.view.epsilon;
+        });
+        if (!same) out.push_back(c.view);
+    }
+    return out;
+}
+
+void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& plan,
+                                 const Camera& camera, bool shadows, int width, int height) {
+    m_planes = choose_planes(scene, camera);
+    if (m_planes.empty()) return;
+    const int w = std::max(1, width / 2), h = std::max(1, height / 2);
+    if (!m_planar_tex) m_planar_tex = GlTexture::make();
+    if (!m_planar_depth) m_planar_depth = GlRenderbuffer::make();
+    if (!m_planar_fbo) m_planar_fbo = GlFramebuffer::make();
+    if (w != m_planar_w || h != m_planar_h) {
+        glBindTexture(GL_TEXTURE_2D_ARRAY, m_planar_tex.id());
+        glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA16F, w, h, kMaxPlanes, 0, GL_RGBA, GL_FLOAT,
+                     nullptr);
+        set_sampling(GL_TEXTURE_2D_ARRAY, GL_LINEAR, GL_CLAMP_TO_EDGE);
+        glBindRenderbuffer(GL_RENDERBUFFER, m_planar_depth.id());
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+        m_planar_w = w;
+        m_planar_h = h;
+    }
+    GLint previous_fbo = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_planar_fbo.id());
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                              m_planar_depth.id());
+    const GLenum colour = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &colour);
+    glViewport(0, 0, w, h);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    // The local shading and shadows of the main pass, linear (no display transform), with what
+    // lies behind the mirror dropped (RT_CLIP_PLANE).
+    std::vector<std::string> defines = frame_defines(plan, shadows);
+    defines.push_back("RT_CLIP_PLANE");
+    const unsigned program = program_for(defines);
+    glUseProgram(program);
+    set_frame_uniforms(program, scene, plan, camera, shadows);
+    glUniform1f(uniform(program, "u_exposure_scale"), 1.0f);
+    glUniform1i(uniform(program, "u_tonemap"), 0);
+    const Bounds3 world = view_bounds(scene);
+    for (size_t k = 0; k < m_planes.size(); ++k) {
+        const PlanarView& v = m_planes[k];
+        glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, m_planar_tex.id(), 0,
+                                  static_cast<GLint>(k));
+        glClearColor(static_cast<float>(scene.background.x), static_cast<float>(scene.background.y),
+                     static_cast<float>(scene.background.z), 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        // The world seen from the mirrored eye is the mirrored world seen from the eye: clip
+        // from world = P V R, with near and far planes that enclose the mirrored scene too.
+        const Mat4 r = reflection(v.plane);
+        const Bounds3 mirrored = Transform::from_matrix(r).apply(world);
+        Bounds3 both = world;
+        both.extend(mirrored);
+        const GlMatrices pv = camera_matrices(camera, both);
+        float clip[16];
+        for (int c = 0; c < 4; ++c)
+            for (int row = 0; row < 4; ++row) {
+                double sum = 0;
+                for (int k2 = 0; k2 < 4; ++k2)
+                    sum += static_cast<double>(pv.clip_from_world[k2 * 4 + row]) * r[c][k2];
+                clip[c * 4 + row] = static_cast<float>(sum);
+            }
+        glUniformMatrix4fv(uniform(program, "u_clip_from_world"), 1, GL_FALSE, clip);
+        // Highlights as the mirrored eye sees them.
+        set_vec3(program, "u_eye", Vec3(r * glm::dvec4(camera.position, 1.0)));
+        glUniform4f(uniform(program, "u_clip_plane"), static_cast<float>(v.plane.x),
+                    static_cast<float>(v.plane.y), static_cast<float>(v.plane.z),
+                    static_cast<float>(v.plane.w));
+        glUniform1f(uniform(program, "u_clip_epsilon"), static_cast<float>(v.epsilon));
+        DrawPass pass;
+        pass.mirrored = true;
+        draw_instances(scene, program, pass);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
+    glViewport(0, 0, width, height);
+}
+
+void Preview::set_planar_uniforms(unsigned program, int width, int height) const {
+    glUniform1i(uniform(program, "u_planar_count"), static_cast<int>(m_planes.size()));
+    for (size_t k = 0; k < m_planes.size(); ++k) {
+        const glm::dvec4& p = m_planes[k].plane;
+        glUniform4f(uniform(program, "u_planar[" + std::to_string(k) + "]"),
+                    static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z),
+                    static_cast<float>(p.w));
+        glUniform1f(uniform(program, "u_planar_epsilon[" + std::to_string(k) + "]"),
+                    static_cast<float>(4.0 * m_planes[k].epsilon));
+    }
+    glUniform2f(uniform(program, "u_viewport"), static_cast<float>(width),
+                static_cast<float>(height));
+    glUniform1i(uniform(program, "u_planar_map"), 5);
+    glActiveTexture(GL_TEXTURE5);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, m_planar_tex.id());
+    glActiveTexture(GL_TEXTURE0);
+}
+
+}  // namespace rt::view
