@@ -328,10 +328,18 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
         "#light_dir 1 1 1  0 -1 0\n"
         "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n#shape_sphere 0 0 0 0 1\n"
         "#shape_box 0 3 0 0 1 1 1\n");
-    const auto none = view::overlay_lines(scene, false, 0);
+    const view::LightMarkers off{false, -1, false}, small{true, -1, false};
+    const auto none = view::overlay_lines(scene, off, 0);
     EXPECT_TRUE(none.empty());
-    const auto lights = view::overlay_lines(scene, true, 0);
-    EXPECT_GT(lights.size(), 12u);  // a cross, a cone and an arrow
+    // By default small crosses only: the point and the spot light's (the directional light has
+    // no position); the selected light's direction too, or every light's when asked.
+    EXPECT_EQ(view::overlay_lines(scene, small, 0).size(), 2u * 6);
+    const auto spot = view::overlay_lines(scene, {true, 1, false}, 0);
+    EXPECT_GT(spot.size(), 2u * 6 + 2 * 16);  // the crosses and the spot's cone
+    const auto arrows = view::overlay_lines(scene, {true, 2, false}, 0);
+    EXPECT_EQ(arrows.size(), 2u * (6 + 3 * 3 + 1));  // the crosses and three arrows with a bar
+    const auto lights = view::overlay_lines(scene, {true, -1, true}, 0);
+    EXPECT_EQ(lights.size(), spot.size() + arrows.size() - 2 * 6);
     EXPECT_EQ(lights.size() % 2, 0u);
     // A sphere light: its cross and three circles of 32 segments at its radius.
     RenderScene with_sphere = scene;
@@ -340,14 +348,14 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     sphere.position = Vec3(1, 2, 3);
     sphere.radius = 0.5;
     with_sphere.lights = {sphere};
-    const auto marker = view::overlay_lines(with_sphere, true, 0);
+    const auto marker = view::overlay_lines(with_sphere, small, 0);
     ASSERT_EQ(marker.size(), 2u * (3 + 3 * 32));
     for (size_t i = 6; i < marker.size(); ++i)
         EXPECT_NEAR(
             glm::length(Vec3(marker[i].position[0], marker[i].position[1], marker[i].position[2]) -
                         sphere.position),
             0.5, 1e-6);
-    const auto boxes = view::overlay_lines(scene, false, 2);
+    const auto boxes = view::overlay_lines(scene, off, 2);
     EXPECT_GE(boxes.size(), 2u * 12 * 2);  // the instance's box and its nodes' boxes
     // Drawn: the overlay changes pixels of the preview.
     Offscreen gl;
@@ -363,7 +371,7 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     preview.draw(framed, plan_for(framed), cam, kW, kH);
     glFinish();
     const std::vector<unsigned char> plain = gl.rgba;
-    preview.draw_lines(view::overlay_lines(framed, true, 2), framed, cam);
+    preview.draw_lines(view::overlay_lines(framed, small, 2), framed, cam);
     glFinish();
     EXPECT_NE(plain, gl.rgba);
 }
@@ -432,7 +440,7 @@ TEST(GlPreview, GroupBoxesIncludeCsgNodes) {
     EXPECT_EQ(view::group_box_lines(desc, 2).size(), 6u * 24);
     EXPECT_EQ(view::group_box_lines(desc, 8).size(), 6u * 24);
     // The BVH overlay ends with the compiled nodes' boxes: the same two.
-    const auto bvh = view::overlay_lines(compile_scene(desc), false, 1);
+    const auto bvh = view::overlay_lines(compile_scene(desc), {false, -1, false}, 1);
     ASSERT_GE(bvh.size(), 4u * 24);
     const Bounds3 lens_node = line_bounds(bvh, bvh.size() - 48, 24);
     const Bounds3 ring_node = line_bounds(bvh, bvh.size() - 24, 24);

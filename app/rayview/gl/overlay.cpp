@@ -80,15 +80,19 @@ std::vector<LineVertex> box_lines(const Bounds3& box, const Vec3& colour) {
     return std::move(b.out);
 }
 
-std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth) {
+std::vector<LineVertex> overlay_lines(const RenderScene& scene, const LightMarkers& lights,
+                                      int bvh_depth) {
     LineBuilder b;
     const Bounds3& w = scene.world_bounds;
     const double size = w.empty() ? 1.0 : glm::length(w.diagonal());
-    if (lights) {
-        for (const Light& l : scene.lights) {
+    if (lights.show) {
+        for (size_t li = 0; li < scene.lights.size(); ++li) {
+            const Light& l = scene.lights[li];
+            const bool direction = lights.directions || static_cast<int>(li) == lights.selected;
             const Vec3 c = marker_colour(glm::max(l.diffuse, l.specular));
-            const double s = 0.03 * size;
+            const double s = (direction ? 0.03 : 0.015) * size;
             if (l.kind == LightKind::Directional) {
+                if (!direction) continue;  // no position to mark
                 // Parallel rays (unlike a spot's cone): three arrows along the direction of
                 // travel towards the scene's centre, side by side, with a bar across their tails.
                 const Vec3 centre = w.empty() ? Vec3(0.0) : w.centre();
@@ -111,7 +115,7 @@ std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int
                 b.segment(l.position - d, l.position + d, c);
             }
             if (l.kind == LightKind::Sphere && l.radius > 0) b.wire_sphere(l.position, l.radius, c);
-            if (l.kind == LightKind::Spot) {
+            if (l.kind == LightKind::Spot && direction) {
                 // The cut-off cone, 0.15 of the scene's size long.
                 Vec3 a1, a2;
                 orthonormal_basis(l.direction, &a1, &a2);

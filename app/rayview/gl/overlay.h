@@ -18,11 +18,21 @@ struct LineVertex {
 /// The scene's bounds grown by what the overlay draws around it (light markers and arrows).
 Bounds3 view_bounds(const RenderScene& scene);
 
-/// Overlay geometry: a marker per light (a cross for point lights, a cone for spots, an arrow for
-/// directional ones, a cross and three great circles at the radius for sphere lights) and, up to
-/// `bvh_depth` levels, the boxes of the instances and of their BVH nodes (the flattened groups'
-/// boxes) and of their CSG nodes, in world space.
-std::vector<LineVertex> overlay_lines(const RenderScene& scene, bool lights, int bvh_depth);
+/// Which light markers the overlay draws: none, or a small cross at each light with a position
+/// (three great circles at the radius for sphere lights), and the direction (a spot's cut-off
+/// cone, a directional light's arrows towards the scene's centre) of light `selected` only, or of
+/// every light with `directions`. Drawn for all, the cones and arrows cross most scenes.
+struct LightMarkers {
+    bool show = true;
+    int selected = -1;
+    bool directions = false;
+};
+
+/// Overlay geometry: the light markers and, up to `bvh_depth` levels, the boxes of the
+/// instances and of their BVH nodes (the flattened groups' boxes) and of their CSG nodes, in
+/// world space.
+std::vector<LineVertex> overlay_lines(const RenderScene& scene, const LightMarkers& lights,
+                                      int bvh_depth);
 
 /// The 12 edges of a world-space box (the selection's), in one colour.
 std::vector<LineVertex> box_lines(const Bounds3& box, const Vec3& colour);

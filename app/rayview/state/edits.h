@@ -26,6 +26,7 @@ struct ViewSettings {
     float target_error = 1e-4f;     // the trace stops at this estimated relMSE too (0: never)
     float resolution_scale = 0.5f;  // trace pixels per pane pixel
     bool show_lights = true;        // light markers over the preview
+    bool light_directions = false;  // every light's cone or arrows, not the selected one's only
     int box_depth = 0;              // BVH levels drawn over the preview, 0 = off
     int group_depth = 0;            // scene graph group levels drawn over it, 0 = off
     int layout = 0;                 // 0 both panes, 1 preview alone, 2 trace alone

@@ -27,7 +27,7 @@ constexpr const char* kFooter =
     "            light I position X Y Z | add-light point|spot|directional|sphere |\n"
     "            frame-light I | headlight on|off\n"
     "  settings: shadows on|off | depth D | threads N | resolution SCALE |\n"
-    "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off |\n"
+    "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off|all |\n"
     "            target-error E (0: none) | status (prints the status bar) |\n"
     "            exposure STOPS | tonemap clamp|reinhard|aces | help on|off\n"
     "  history:  undo | redo\n"

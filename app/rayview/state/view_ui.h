@@ -14,6 +14,9 @@ namespace rt::view {
 
 struct ViewUi {
     Selection selection;
+    /// The light last edited in the panel, framed or dragged (-1: none): the preview draws its
+    /// direction (a spot's cone, a directional light's arrows), the others' small markers only.
+    int selected_light = -1;
     std::vector<OrbitCamera> bookmarks;  // views the user kept
     bool show_help = false;              // the shortcuts overlay
     std::vector<std::string> dropped;    // files dropped onto the window, picked up by poll_files

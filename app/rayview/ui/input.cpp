@@ -35,6 +35,7 @@ bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const Pan
             const float ddx = at.x - io.MousePos.x, ddy = at.y - io.MousePos.y;
             if (depth > 0 && ddx * ddx + ddy * ddy < 144.0f) {
                 input.dragged_light = static_cast<int>(i);
+                v.ui.selected_light = static_cast<int>(i);
                 input.dragged_scene = v.session.loaded->id;
             }
         }

@@ -365,6 +365,10 @@ bool settings_panel(ViewerState& v) {
     edited |= ImGui::Checkbox("shadows", &r.shadows);
     ImGui::SameLine();
     ImGui::Checkbox("light markers", &s.show_lights);
+    if (s.show_lights) {
+        ImGui::SameLine();
+        ImGui::Checkbox("every light's direction", &s.light_directions);
+    }
     slider("group box levels", &s.group_depth, 0, 8);
     slider("BVH box levels", &s.box_depth, 0, 8);
     edited |= slider("depth", &r.max_depth, 1, 10);
@@ -397,9 +401,14 @@ bool lights_panel(ViewerState& v) {
     const bool three_colours = v.session.loaded->desc.dialect == Dialect::V3;
     for (size_t i = 0; i < v.edits.lights.size(); ++i) {
         ImGui::PushID(static_cast<int>(i));
-        edited |= light_editor(v.edits.lights[i], &v.edits.light_on[i], three_colours);
+        // The light being edited shows its direction in the preview.
+        if (light_editor(v.edits.lights[i], &v.edits.light_on[i], three_colours)) {
+            v.ui.selected_light = static_cast<int>(i);
+            edited = true;
+        }
         if (ImGui::Button("frame")) {  // find a light outside the view
             v.frame_light(i);
+            v.ui.selected_light = static_cast<int>(i);
             edited = true;
         }
         ImGui::SameLine();

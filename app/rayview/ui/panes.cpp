@@ -114,6 +114,8 @@ void Panes::draw(ViewerState& v) {
     }
     const ViewSettings& s = v.settings;
     const bool overlay_changed = s.show_lights != m_drawn_lights || s.box_depth != m_drawn_depth ||
+                                 s.light_directions != m_drawn_directions ||
+                                 v.ui.selected_light != m_drawn_selected ||
                                  s.exposure != m_drawn_exposure || s.tonemap != m_drawn_tonemap ||
                                  s.group_depth != m_drawn_group_depth;
     if (!v.ui.preview_stale && !overlay_changed && m_target.w == m_drawn_w &&
@@ -127,7 +129,8 @@ void Panes::draw(ViewerState& v) {
     m_preview.moving = v.trace.moving();
     m_preview.draw(shown, v.trace.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth,
                    {s.exposure, s.tonemap});
-    std::vector<LineVertex> lines = overlay_lines(shown, s.show_lights, s.box_depth);
+    std::vector<LineVertex> lines =
+        overlay_lines(shown, {s.show_lights, v.ui.selected_light, s.light_directions}, s.box_depth);
     if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for ||
         (s.group_depth > 0 && shown.time != m_group_lines_time)) {
         // Walked again only when the scene, the level or (with the boxes on) the joints' time
@@ -149,6 +152,8 @@ void Panes::draw(ViewerState& v) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     v.ui.preview_stale = m_preview.environment_pending();  // drawn again until the maps are done
     m_drawn_lights = s.show_lights;
+    m_drawn_directions = s.light_directions;
+    m_drawn_selected = v.ui.selected_light;
     m_drawn_exposure = s.exposure;
     m_drawn_tonemap = s.tonemap;
     m_drawn_depth = s.box_depth;

@@ -58,7 +58,8 @@ private:
     Tonemap m_shown_tonemap = Tonemap::Clamp;
     int m_loaded_id = 0;  // the scene m_preview holds (LoadedScene::id)
     // What m_target holds, so it is redrawn only when that changes.
-    bool m_drawn_lights = true;
+    bool m_drawn_lights = true, m_drawn_directions = false;
+    int m_drawn_selected = -1;
     float m_drawn_exposure = 0;  // the display transform the preview was drawn with
     Tonemap m_drawn_tonemap = Tonemap::Clamp;
     int m_drawn_depth = -1, m_drawn_group_depth = -1, m_drawn_w = 0, m_drawn_h = 0;

@@ -241,7 +241,10 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
     } else if (c == "help") {
         v.ui.show_help = on(l);
     } else if (c == "markers") {
-        s.show_lights = on(l);
+        // on | off | all (every light's direction, not the selected one's only)
+        const bool all = !l.args.empty() && l.args[0] == "all";
+        s.show_lights = all || on(l);
+        s.light_directions = all;
     } else if (c == "undo") {
         if (!v.undo()) throw std::runtime_error("undo: nothing to undo");
     } else if (c == "redo") {
