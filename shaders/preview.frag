@@ -138,6 +138,12 @@ uniform bool u_env_on;  // this material reflects or transmits, and has a map
 uniform samplerCube u_env;
 uniform vec3 u_transparent;  // T
 uniform float u_refind;
+// A transmitting sphere's centre and radius in its set's frame (radius 0: not a sphere), and
+// the instance's transforms (preview.vert's, and their inverse).
+uniform vec4 u_solid_sphere;
+uniform mat4 u_world_from_object;
+uniform mat4 u_set_from_world;
+uniform mat3 u_normal_matrix;
 
 // What a ray from p along unit dir sees, from the map: the distance stored along a direction
 // from the centre gives the point the ray meets (three fixed-point steps from "infinitely
@@ -290,7 +296,28 @@ void main() {
         if (u_transparent != vec3(0.0)) {
             // The eye sees the side facing it: entering, eta = 1 / refind.
             vec3 t_dir = refract(d, n, 1.0 / u_refind);
-            if (t_dir != vec3(0.0)) c += u_transparent * environment(v_world, normalize(t_dir));
+            if (t_dir != vec3(0.0)) {
+                vec3 from = v_world, dir = normalize(t_dir), weight = u_transparent;
+                if (u_solid_sphere.w > 0.0) {
+                    // A sphere (in its set's frame, so also an ellipsoid in the world): the
+                    // second interface, where the refracted ray leaves the solid, bends it
+                    // again (a ball of glass inverts what is behind it, as in the trace); the
+                    // light crossing it is weighted by T at both surfaces.
+                    vec3 ps = (u_set_from_world * vec4(v_world, 1.0)).xyz - u_solid_sphere.xyz;
+                    vec3 ts = mat3(u_set_from_world) * dir;
+                    float a = dot(ts, ts), b = dot(ts, ps);
+                    float disc = b * b - a * (dot(ps, ps) - u_solid_sphere.w * u_solid_sphere.w);
+                    float s = (-b + sqrt(max(disc, 0.0))) / a;
+                    vec3 qs = ps + s * ts;
+                    from = (u_world_from_object * vec4(qs + u_solid_sphere.xyz, 1.0)).xyz;
+                    vec3 n2 = normalize(u_normal_matrix * qs);  // outward at the exit
+                    vec3 out_dir = refract(dir, -n2, u_refind);
+                    // Total internal reflection: what the inner surface mirrors, one bounce.
+                    dir = out_dir != vec3(0.0) ? normalize(out_dir) : reflect(dir, -n2);
+                    weight *= u_transparent;
+                }
+                c += weight * environment(from, dir);
+            }
         }
     }
 #endif

@@ -950,6 +950,22 @@ TEST(GlPreview, AMirrorFloorReflectsTheScene) {
     EXPECT_LT(reflected.mean_abs, 0.6);  // 1.19 with the cube map of the floor's centre
 }
 
+// A ball of glass is a lens: the trace sees what is behind it through two interfaces, upside
+// down (a red wall below a blue one shows red at the ball's top); so does the preview.
+TEST(GlPreview, AGlassBallInvertsWhatIsBehindIt) {
+    const RenderScene scene = test::compile(
+        "#camera 0 0 6  0 0 -1  0 1 0  0.25\n#ambient 0.3 0.3 0.3\n"
+        "#light_point 1 1 1  0 0 6  1 0 0\n"
+        "#material 0 0 0  0.3 0 0  0.9 0.1 0.1  0 0 0  1  0 0 0  1  -1 !red!\n"
+        "#material 0 0 0  0 0 0.3  0.1 0.1 0.9  0 0 0  1  0 0 0  1  -1 !blue!\n"
+        "#material 0 0 0  0 0 0  0 0 0  0 0 0  1  1 1 1  1.5  -1 !glass!\n"
+        "#shape_box 0  0 -2 -4  20 4 0.2\n#shape_box 1  0 2 -4  20 4 0.2\n"
+        "#shape_sphere 2  0 0 0  1\n");
+    const PreviewAgainstTrace through = preview_against_trace(scene, 5);
+    std::printf("glass ball: mean difference %.2f\n", through.mean_abs);
+    EXPECT_LT(through.mean_abs, 3.0);  // 5.4 through the front surface alone
+}
+
 }  // namespace
 }  // namespace rt
 

@@ -140,6 +140,19 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
         buf.ranges.back().count += 3;
     }
     if (!buf.ranges.empty()) buf.ranges.back().faces = flat_faces(mesh, range_tris);
+    // Ranges that are one sphere (the tessellation's vertices lie on it): refraction
+    // through them takes two interfaces (preview.frag).
+    for (Range& r : buf.ranges) {
+        if (r.bounds.empty()) continue;
+        const Vec3 c = r.bounds.centre();
+        const double radius = 0.5 * (r.bounds.hi.x - r.bounds.lo.x);
+        bool round = radius > 0;
+        for (unsigned i = r.first; i < r.first + r.count && round; ++i) {
+            const double dist = glm::length(mesh.positions[indices[i]] - c);
+            round = std::abs(dist - radius) <= 1e-3 * radius;
+        }
+        if (round) r.sphere = glm::dvec4(c, radius);
+    }
     buf.vao = GlVertexArray::make();
     glBindVertexArray(buf.vao.id());
     buf.vbo = GlBuffer::make();
@@ -439,6 +452,13 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
                 normal[c * 3 + r] = static_cast<float>(inst.world_from_set.normal[c][r]);
         glUniformMatrix4fv(loc(program, "u_world_from_object"), 1, GL_FALSE, world);
         glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
+        if (reflections) {
+            float set_from_world[16];
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 4; ++r)
+                    set_from_world[c * 4 + r] = static_cast<float>(inst.world_from_set.inv[c][r]);
+            glUniformMatrix4fv(loc(program, "u_set_from_world"), 1, GL_FALSE, set_from_world);
+        }
         // A mirroring instance turns its triangles' winding on screen (the two-sided rule).
         glUniform1i(loc(program, "u_mirrored"),
                     (glm::determinant(Mat3(inst.world_from_set.m)) < 0) != pass.mirrored ? 1 : 0);
@@ -473,6 +493,12 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
                     set_vec3(program, "u_env_centre", map.centre);
                     set_vec3(program, "u_transparent", m.transparent);
                     glUniform1f(loc(program, "u_refind"), static_cast<float>(m.refractive_index));
+                    const Range& range_shape = buf.ranges[ri];
+                    glUniform4f(loc(program, "u_solid_sphere"),
+                                static_cast<float>(range_shape.sphere.x),
+                                static_cast<float>(range_shape.sphere.y),
+                                static_cast<float>(range_shape.sphere.z),
+                                static_cast<float>(range_shape.sphere.w));
                 }
             }
             if (shading) {

@@ -103,6 +103,9 @@ private:
         unsigned first, count;        // in indices
         Bounds3 bounds;               // of its vertices, in the set's frame
         std::vector<FlatFace> faces;  // its largest flat parts (planar reflections), if any
+        /// When every vertex lies on one sphere (a sphere's tessellation, in the set's frame):
+        /// its centre and radius, for refraction through the solid; radius 0 otherwise.
+        glm::dvec4 sphere{0.0};
     };
     struct SetBuffers {
         GlVertexArray vao;  // none for a set no instance places
