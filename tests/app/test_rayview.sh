@@ -199,6 +199,9 @@ sed -i 's/^window = .*/window = 800x500/' "$conf"
 xrun "$rv" --frames 3 --screenshot "$tmp/sized.png" \
     "$src/scenes/lights.ray" >/dev/null 2>&1
 check "the next run opens at the kept size" bash -c "file '$tmp/sized.png' | grep -q '800 x 500'"
+xrun "$rv" --frames 3 --size 640x480 --screenshot "$tmp/other.png" \
+    "$src/scenes/lights.ray" >/dev/null 2>&1
+check "a scripted --size run keeps the saved size" grep -q "^window = 800x500$" "$conf"
 # A kill (SIGTERM; Ctrl+C's SIGINT the same) closes the viewer as its window's close button
 # does: exit 0, settings kept. (A background job here ignores SIGINT, hence TERM.)
 rm -f "$conf"

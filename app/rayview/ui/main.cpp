@@ -275,6 +275,10 @@ int main(int argc, char** argv) {
     if (!config_problem.empty())
         std::fprintf(stderr, "rayview: warning: the settings were not read: %s\n",
                      config_problem.c_str());
+    // A scripted run at a --size of its own (tests, screenshots) leaves the window size the
+    // user's interactive runs keep.
+    const bool keep_saved_size =
+        opt.window_w != 0 && (opt.frames > 0 || !opt.script.empty() || !opt.screenshot.empty());
     if (opt.window_w == 0) opt.window_w = config.window_w, opt.window_h = config.window_h;
 
     // Setup window
@@ -325,7 +329,7 @@ int main(int argc, char** argv) {
             exit_code = session.exit_code;
             session.script.print_summary(session.stats, viewer);
         }
-        glfwGetWindowSize(window, &config.window_w, &config.window_h);
+        if (!keep_saved_size) glfwGetWindowSize(window, &config.window_w, &config.window_h);
         config.ui_scale = viewer.settings.ui_scale;
         config.recent = viewer.session.recent;
         if (!write_config(config_file, config))
