@@ -17,9 +17,9 @@ namespace rt::view {
 
 namespace {
 
-// The help's last part: the script commands and the exit status.
-constexpr const char* kFooter =
-    "\nscript commands (--script FILE: one 'FRAME COMMAND ARGS...' a line, run after that "
+// The script commands (the help's footer and the F1 overlay).
+constexpr const char* kScriptCommands =
+    "script commands (--script FILE: one 'FRAME COMMAND ARGS...' a line, run after that "
     "frame is drawn):\n"
     "  camera:   orbit DYAW DPITCH | look DYAW DPITCH | pan RIGHT UP | dolly FACTOR |\n"
     "            fly DX DY DZ | pick X Y (image fractions from the top left)\n"
@@ -43,12 +43,18 @@ constexpr const char* kFooter =
     "(the pane's trace) |\n"
     "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
     "A command that fails is reported and the run goes on; the run then exits 1. Frame\n"
-    "numbers are at most 100000 (as --frames); a script runs to two frames past its last.\n\n"
-    "exit status: 0 success; 1 a failed --frames, --script or --screenshot run (a command, an\n"
+    "numbers are at most 100000 (as --frames); a script runs to two frames past its last.";
+
+// The help's last part: the script commands and the exit status.
+const std::string kFooter =
+    std::string("\n") + kScriptCommands +
+    "\n\nexit status: 0 success; 1 a failed --frames, --script or --screenshot run (a command, an\n"
     "open, a background load or render failed, or the scene did not open at start-up); 2 usage\n"
     "error (also a --script that is not a readable file, or a frame number out of range).";
 
 }  // namespace
+
+const char* script_commands_help() { return kScriptCommands; }
 
 std::vector<ScriptLine> read_script(const std::string& path) {
     std::string text, why;
@@ -98,8 +104,7 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         ->check(CLI::Range(1, kMaxFrames));
     app.add_option("--screenshot", out->screenshot, "where --frames saves the whole window")
         ->type_name("OUT.png");
-    app.add_option("--script", script_path,
-                   "replay input at given frames (commands: app/rayview/script.h)")
+    app.add_option("--script", script_path, "replay input at given frames (the commands: below)")
         ->type_name("FILE");
     const std::map<std::string, int> layouts{{"both", 0}, {"preview", 1}, {"trace", 2}};
     app.add_option("--layout", out->layout, "the panes shown: both (default), preview or trace")

@@ -49,6 +49,9 @@ struct RunOptions {
 /// (what the viewer starts with).
 void apply_run_options(const RunOptions& options, ViewSettings* settings);
 
+/// The script commands (--script), as --help and the F1 overlay list them.
+const char* script_commands_help();
+
 /// "WxH" (each 64 to 16384) into *w and *h; false, and both unchanged, otherwise.
 bool parse_size(const std::string& text, int* w, int* h);
 

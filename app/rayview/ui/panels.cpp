@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "run_options.h"
+
 namespace rt::view {
 
 namespace {
@@ -552,7 +554,10 @@ void help_overlay(bool* open) {
         }
         ImGui::EndTable();
     }
-    ImGui::TextDisabled("Every flag: rayview --help. Scripted input: app/rayview/script.h.");
+    if (ImGui::CollapsingHeader("Script commands (rayview --script FILE)",
+                                ImGuiTreeNodeFlags_DefaultOpen))
+        ImGui::TextUnformatted(script_commands_help());
+    ImGui::TextDisabled("Every flag: rayview --help.");
     ImGui::End();
 }
 
