@@ -570,10 +570,24 @@ void status_bar(const ViewerState& v, const PaneLayout& layout) {
     ImGui::Begin("status", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-    ImGui::Text("%s", status_text(v).c_str());
+    const std::string status = status_text(v);
+    ImGui::Text("%s", status.c_str());
     if (!v.messages.text.empty() && !v.messages.is_error) {  // the last note
         ImGui::SameLine();
         ImGui::TextDisabled("| %s", v.messages.text.c_str());
+    }
+    // A narrow window cuts the line: the whole of it, and the last message with its paths in
+    // full, on hover.
+    if (ImGui::IsWindowHovered()) {
+        ImGui::BeginTooltip();
+        ImGui::PushTextWrapPos(ImGui::GetFontSize() * 45.0f);
+        ImGui::TextUnformatted(status.c_str());
+        if (!v.messages.text.empty()) {
+            ImGui::Separator();
+            ImGui::TextUnformatted(v.messages.text.c_str());
+        }
+        ImGui::PopTextWrapPos();
+        ImGui::EndTooltip();
     }
     ImGui::End();
 }
