@@ -106,6 +106,22 @@ TEST(Viewer, TheTimelineMovesThePreviewAtOnceAndTheTraceAtTheRestart) {
               &v.session.loaded->scene.sets[0]);  // shared, not copied
 }
 
+// The trace pane refines at full resolution once the view is still: a change of the trace's
+// size restarts the trace but is not an edit, so the refinement's own restart does not put the
+// view back to "moving" (which would shrink it again).
+TEST(Viewer, AResizedTraceRestartsWithoutCountingAsAnEdit) {
+    TraceSession t;
+    t.mark_edited();
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    const double before = t.seconds_since_edit();
+    EXPECT_GE(before, 0.02);
+    t.set_size(64, 48);
+    EXPECT_TRUE(t.edit_pending());  // the new size restarts the trace
+    EXPECT_GE(t.seconds_since_edit(), before);
+    t.mark_edited();
+    EXPECT_LT(t.seconds_since_edit(), before);
+}
+
 TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {
     ViewerState v(kLights, false);
     ASSERT_TRUE(v.session.loaded) << v.messages.text;

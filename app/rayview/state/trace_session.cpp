@@ -11,7 +11,7 @@ void TraceSession::set_size(int w, int h) {
     if (w == m_w && h == m_h) return;
     m_w = w;
     m_h = h;
-    mark_edited();
+    m_edited = true;  // a restart, but not an edit of the view
 }
 
 bool TraceSession::due(int scene_id) {
@@ -60,5 +60,7 @@ bool TraceSession::take_image() {
 }
 
 bool TraceSession::moving() const { return seconds_since(m_change_time) < 0.25; }
+
+double TraceSession::seconds_since_edit() const { return seconds_since(m_edit_time); }
 
 }  // namespace rt::view

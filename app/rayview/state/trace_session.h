@@ -34,7 +34,10 @@ struct TraceSession {
     bool print_left_out = false;
 
     /// Something the trace shows changed: the next due() is true once the policy allows.
-    void mark_edited() { m_edited = true; }
+    void mark_edited() {
+        m_edited = true;
+        m_edit_time = Clock::now();
+    }
     bool edit_pending() const { return m_edited; }
     /// The trace's size in pixels; a change is an edit.
     void set_size(int w, int h);
@@ -52,6 +55,9 @@ struct TraceSession {
     bool take_image();
     /// Less than a quarter second since the last restart: the view is moving.
     bool moving() const;
+    /// Seconds since the last edit (mark_edited(); a change of size is none): once the view is
+    /// still, the trace pane refines at full resolution.
+    double seconds_since_edit() const;
 
 private:
     bool m_edited = true;
@@ -61,6 +67,7 @@ private:
     Clock::time_point m_input_time = Clock::now();         // the first edit since the restart
     Clock::time_point m_served_input_time = m_input_time;  // the edit the running trace answers
     Clock::time_point m_change_time{};                     // the last restart
+    Clock::time_point m_edit_time = Clock::now();          // the last mark_edited()
 };
 
 }  // namespace rt::view

@@ -441,6 +441,15 @@ std::string status_text(const ViewerState& v) {
                           st.target_error);
         s += target;
     }
+    // The trace's size: the resolution setting while the view changes, full once still.
+    char size[80];
+    const bool full = v.trace.seconds_since_edit() > 0.5 || v.settings.resolution_scale >= 1.0f;
+    if (full)
+        std::snprintf(size, sizeof size, " | %dx%d (full)", v.trace.width(), v.trace.height());
+    else
+        std::snprintf(size, sizeof size, " | %dx%d (%.2g while editing)", v.trace.width(),
+                      v.trace.height(), static_cast<double>(v.settings.resolution_scale));
+    s += size;
     s += " | first pass " + ms(v.trace.first_pass_ms) + ", full resolution " +
          ms(v.trace.first_full_ms);
     if (v.headlight_on()) s += " | headlight: the scene has no lights";

@@ -40,8 +40,11 @@ Panes::Panes(const std::string& shader_dir) : m_preview(shader_dir) {
 
 PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     const ViewSettings& s = v.settings;
-    v.set_trace_size(std::max(16, static_cast<int>(p.image_w * s.resolution_scale)),
-                     std::max(16, static_cast<int>(p.image_h * s.resolution_scale)));
+    // The resolution setting serves a view that changes; half a second after the last edit the
+    // trace starts again at full resolution (the status bar says which).
+    const float scale = v.trace.seconds_since_edit() > 0.5 ? 1.0f : s.resolution_scale;
+    v.set_trace_size(std::max(16, static_cast<int>(p.image_w * scale)),
+                     std::max(16, static_cast<int>(p.image_h * scale)));
 
     ImGui::SetNextWindowPos(ImVec2(p.panel_w, 0));
     ImGui::SetNextWindowSize(ImVec2(static_cast<float>(p.panes) * p.pane_w, p.pane_h));
