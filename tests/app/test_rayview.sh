@@ -137,6 +137,19 @@ for cmd in pan dolly look fly light add-light frame-light depth; do
 done
 check "pick names the shape and its directive" grep -q "picked .* lights.ray:[0-9]" "$tmp/allout.txt"
 check "save-scene writes the edits" grep -q "#light_directional\|#light_dir" "$tmp/saved.ray"
+# "Revert to the file" (script: revert): the file's lights again after an edit and an added
+# light, whatever was kept.
+cat >"$tmp/revert.txt" <<SCRIPT
+3 light 0 position 1 5 2
+4 add-light point
+5 save-scene $tmp/edited.ray
+6 revert
+7 save-scene $tmp/reverted.ray
+SCRIPT
+(cd "$src/scenes" && xrun "$rv" --script "$tmp/revert.txt" lights.ray >/dev/null 2>&1)
+check "revert runs" test $? -eq 0
+check "the edit was saved before the revert" bash -c "grep -c '^#light_' '$tmp/edited.ray' | grep -qx 4"
+check "revert brings back the file's lights" bash -c "grep -c '^#light_' '$tmp/reverted.ray' | grep -qx 3 && grep -q '^#light_spot 1.6 0.3 0.3 *-2 6 2' '$tmp/reverted.ray'"
 check "save-image writes the trace" test -s "$tmp/saved.png"
 echo "1 teleport 1 2" >"$tmp/unknown.txt"
 xrun "$rv" --frames 3 --script "$tmp/unknown.txt" \

@@ -485,6 +485,12 @@ void save_panel(ViewerState& v, PanelState& ui) {
             v.messages.fail(e.what());
         }
     }
+    // Back to the file's camera and lights whatever was kept or edited (one undo step).
+    ImGui::SameLine();
+    if (ImGui::Button("Revert to the file")) {
+        v.use_file_edits();
+        v.messages.note("the file's camera and lights");
+    }
     // The image: rendered again at a size and sample count of the user's choice, in the
     // background, or the pane's trace as it is.
     ImGui::InputInt2("image size", ui.image_size);

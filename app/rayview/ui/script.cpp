@@ -213,6 +213,8 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         v.open_in_background(path);
     } else if (c == "reload") {
         v.reload();
+    } else if (c == "revert") {
+        v.use_file_edits();
     } else if (c == "save-scene" && !path.empty()) {
         v.save_scene(path);
     } else if (c == "save-image" && !path.empty()) {
