@@ -254,6 +254,10 @@ TEST(Viewer, MissingTexturesOpenWithCheckerStandIns) {
     ASSERT_EQ(v.session.loaded->desc.missing_textures,
               std::vector<std::string>{"no_such_texture.png"});
     EXPECT_NE(stand_in_text(v.session.loaded->desc).find("no_such_texture.png"), std::string::npos);
+    // The choice is asked once a session: the file opens with stand-ins again, no question.
+    ASSERT_TRUE(v.open(kLights, false)) << v.messages.text;
+    EXPECT_TRUE(v.open(path, false)) << v.messages.text;
+    EXPECT_TRUE(v.session.checker_offer.empty());
     // Another failure (not a texture) makes no offer.
     EXPECT_FALSE(v.open(RT_SOURCE_DIR "/scenes/no_such_file.ray", false));
     EXPECT_TRUE(v.session.checker_offer.empty());
@@ -264,6 +268,10 @@ TEST(Viewer, MissingTexturesOpenWithCheckerStandIns) {
     ViewerState refused(path, false);
     EXPECT_FALSE(refused.session.loaded);
     EXPECT_EQ(refused.session.checker_offer, path);
+    // The offer belongs to its message: a newer one (here a note) outdates it.
+    EXPECT_EQ(refused.session.checker_offer_message, refused.messages.serial);
+    refused.messages.note("something else");
+    EXPECT_NE(refused.session.checker_offer_message, refused.messages.serial);
 }
 
 // A V3 scene saves as V3 (the writer's syntax), with the viewer's three-colour and radius edits.

@@ -12,6 +12,9 @@ struct Messages {
     /// Errors so far (fail(), and a scene that did not open at start-up): a scripted run
     /// (--frames, --script, --screenshot) that had any exits 1.
     int failures = 0;
+    /// Counts the messages shown (fail(), note()): an offer tied to one message (open with
+    /// checker stand-ins) goes when another message replaces it.
+    int serial = 0;
     /// An error: shown, printed to stderr and counted.
     void fail(std::string message);
     /// A note ("saved ...").

@@ -17,8 +17,9 @@ namespace rt::view {
 
 struct SceneSession {
     std::unique_ptr<LoadedScene> loaded;  // null until a file opens
-    std::string checker_offer;    // a file that failed to open for its textures only, else ""
-    std::string reload_conflict;  // a reload kept edits of what the file changed too, else ""
+    std::string checker_offer;       // a file that failed to open for its textures only, else ""
+    int checker_offer_message = -1;  // Messages::serial of its error: gone with a newer one
+    std::string reload_conflict;     // a reload kept edits of what the file changed too, else ""
     MissingTextures missing_textures = MissingTextures::Error;  // how files open
     std::optional<Dialect> dialect;   // --dialect: every file opens in it (else detected)
     std::vector<std::string> recent;  // files opened (absolute), most recent first, at most 8

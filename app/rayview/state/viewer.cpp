@@ -39,7 +39,9 @@ ViewerState::ViewerState(const std::string& path, bool print_left_out, MissingTe
     LoadResult r = load_scene(session.request(path));
     session.loaded = std::move(r.scene);
     messages.text = std::move(r.error);
+    ++messages.serial;
     if (r.textures_missing) session.checker_offer = path;
+    session.checker_offer_message = messages.serial;
     reset_history();
     if (!session.loaded) {  // keeps running with the message shown, and watches the file
         messages.is_error = true;
@@ -106,6 +108,8 @@ bool ViewerState::open(std::string file, bool keep_camera) {
 
 bool ViewerState::open_with_checker() {
     if (session.checker_offer.empty()) return false;
+    // Asked once a session: the files opened after this one open the same way.
+    session.missing_textures = MissingTextures::Checker;
     return open_as(session.checker_offer, false, MissingTextures::Checker);
 }
 
@@ -135,6 +139,7 @@ bool ViewerState::finish_open(LoadResult next, const std::string& file, bool kee
     session.checker_offer = next.textures_missing ? file : "";
     if (!next.scene) {
         messages.fail(std::move(next.error));
+        session.checker_offer_message = messages.serial;
         if (session.loaded)  // do not retry every frame
             session.loaded->file_time = file_time(session.loaded->path);
         return false;

@@ -276,7 +276,11 @@ bool file_panel(ViewerState& v, PanelState& ui) {
         ImGui::SameLine();
         if (ImGui::Button("Keep mine")) v.session.reload_conflict.clear();
     }
-    if (!v.session.checker_offer.empty() && ImGui::Button("open with checker stand-ins"))
+    // The offer goes with its message: a newer error or note replaces both.
+    if (!v.session.checker_offer.empty() && v.session.checker_offer_message != v.messages.serial)
+        v.session.checker_offer.clear();
+    if (!v.session.checker_offer.empty() &&
+        ImGui::Button("open with checker stand-ins (for the rest of the session)"))
         opened |= v.open_with_checker();
     if (v.session.loaded) {
         const std::string stand_ins = stand_in_text(v.session.loaded->desc);
