@@ -8,6 +8,7 @@
 #include <thread>
 #include <variant>
 
+#include "key_queue.h"
 #include "light_edit.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
@@ -120,6 +121,25 @@ TEST(Viewer, AResizedTraceRestartsWithoutCountingAsAnEdit) {
     EXPECT_GE(t.seconds_since_edit(), before);
     t.mark_edited();
     EXPECT_LT(t.seconds_since_edit(), before);
+}
+
+// Two taps within one slow frame both count (ImGui samples the keyboard once a frame), with the
+// modifiers each had; auto-repeats only where asked; the next frame starts empty.
+TEST(Viewer, KeyTapsWithinOneFrameAreQueued) {
+    KeyQueue q;
+    constexpr int kRight = 262, kZ = 90;
+    q.press(kRight, false, false, false);
+    q.press(kRight, false, false, false);
+    q.press(kRight, false, false, true);  // held: an auto-repeat
+    q.press(kZ, true, true, false);       // Ctrl+Shift+Z
+    EXPECT_EQ(q.presses(kRight), 3);
+    EXPECT_EQ(q.presses(kRight, false, false), 2);
+    EXPECT_EQ(q.presses(kZ), 0);  // not without Ctrl
+    EXPECT_EQ(q.presses(kZ, true), 1);
+    EXPECT_TRUE(q.shifted(kZ));
+    EXPECT_FALSE(q.shifted(kRight));
+    q.next_frame();
+    EXPECT_EQ(q.presses(kRight), 0);
 }
 
 TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "key_queue.h"
 #include "rt/compile/compile.h"
 #include "rt/render/camera.h"
 
@@ -123,14 +124,12 @@ bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const Pa
         edited |= fly_camera(v.edits.camera, v.session.loaded->scene.world_bounds, frame_s);
     if (edited) v.mark_edited();
     // Undo and redo (text fields keep their own): Ctrl+Z, Ctrl+Shift+Z or Ctrl+Y.
-    if (!io.WantTextInput && io.KeyCtrl) {
-        if (ImGui::IsKeyPressed(GLFW_KEY_Z, false)) {
-            if (io.KeyShift)
-                v.redo();
-            else
-                v.undo();
-        }
-        if (ImGui::IsKeyPressed(GLFW_KEY_Y, false)) v.redo();
+    // Every press counts, also several within one slow frame (key_queue.h).
+    if (!io.WantTextInput) {
+        const KeyQueue& keys = key_queue();
+        for (int i = keys.presses(GLFW_KEY_Z, true, false); i > 0; --i)
+            keys.shifted(GLFW_KEY_Z) ? v.redo() : v.undo();
+        for (int i = keys.presses(GLFW_KEY_Y, true, false); i > 0; --i) v.redo();
     }
     return edited;
 }

@@ -29,6 +29,7 @@
 #include "data_dir.h"
 #include "headless.h"
 #include "input.h"
+#include "key_queue.h"
 #include "panels.h"
 #include "panes.h"
 #include "rt/util/sanitizers.h"
@@ -102,8 +103,17 @@ std::unique_ptr<rt::view::Panes> make_panes(const std::string& shader_dir) {
     }
 }
 
+// Every key press into the frame's queue (key_queue.h). Installed before ImGui's back end,
+// which calls it after its own.
+void on_key(GLFWwindow*, int key, int, int action, int mods) {
+    if (action == GLFW_PRESS || action == GLFW_REPEAT)
+        rt::view::key_queue().press(key, (mods & GLFW_MOD_CONTROL) != 0,
+                                    (mods & GLFW_MOD_SHIFT) != 0, action == GLFW_REPEAT);
+}
+
 // Dear ImGui: context, style, and the GLFW and OpenGL 3 back ends.
 ImGuiIO& init_imgui(GLFWwindow* window) {
+    glfwSetKeyCallback(window, on_key);
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
@@ -194,6 +204,7 @@ bool frame(Session& s) {
     // to redraw at once the loop waits for an event or 1/30 s (new trace images), so it leaves
     // the cores to the trace (in the page, the browser paces the frames).
     const bool busy = viewer.edit_pending() || viewer.ui.preview_stale || viewer.timeline.playing;
+    rt::view::key_queue().next_frame();  // the last frame read its presses
     if (busy || kInPage)
         glfwPollEvents();
     else

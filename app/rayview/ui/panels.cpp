@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "key_queue.h"
 #include "run_options.h"
 
 namespace rt::view {
@@ -301,7 +302,7 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
     ImGui::TextWrapped(
         "Camera: drag orbits, shift/middle drag pans, wheel dollies, "
         "right drag looks around, WASD/QE fly (F1: every shortcut)");
-    if (ImGui::Button("Frame (F)") || (keys && ImGui::IsKeyPressed(GLFW_KEY_F))) {
+    if (ImGui::Button("Frame (F)") || (keys && key_queue().presses(GLFW_KEY_F) > 0)) {
         // The selection, or else the whole scene.
         cam.frame(v.ui.selection.instance >= 0 ? v.ui.selection.bounds
                                                : v.session.loaded->scene.world_bounds,
@@ -309,7 +310,7 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
         edited = true;
     }
     ImGui::SameLine();
-    if (ImGui::Button("Home") || (keys && ImGui::IsKeyPressed(GLFW_KEY_HOME))) {
+    if (ImGui::Button("Home") || (keys && key_queue().presses(GLFW_KEY_HOME) > 0)) {
         cam.set_from(v.session.loaded->file_camera, v.session.loaded->scene.world_bounds);
         edited = true;
     }
@@ -524,11 +525,14 @@ void save_panel(ViewerState& v, PanelState& ui) {
 
 void help_overlay(bool* open) {
     const ImGuiIO& io = ImGui::GetIO();
-    if (!io.WantTextInput && (ImGui::IsKeyPressed(GLFW_KEY_F1, false) ||
-                              (io.KeyShift && ImGui::IsKeyPressed(GLFW_KEY_SLASH, false))))
-        *open = !*open;
+    const KeyQueue& keys = key_queue();
+    // F1 or ? (shifted /) toggles it, each tap (two in one frame cancel out).
+    const int taps =
+        keys.presses(GLFW_KEY_F1, false, false) +
+        (keys.shifted(GLFW_KEY_SLASH) ? keys.presses(GLFW_KEY_SLASH, false, false) : 0);
+    if (!io.WantTextInput && taps % 2 == 1) *open = !*open;
     if (!*open) return;
-    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) *open = false;
+    if (keys.presses(GLFW_KEY_ESCAPE, false, false) > 0) *open = false;
     const ImGuiViewport* vp = ImGui::GetMainViewport();
     ImGui::SetNextWindowPos(ImVec2(vp->Size.x * 0.5f, vp->Size.y * 0.5f), ImGuiCond_Always,
                             ImVec2(0.5f, 0.5f));

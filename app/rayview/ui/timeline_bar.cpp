@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "key_queue.h"
+
 namespace rt::view {
 
 namespace {
@@ -39,14 +41,13 @@ bool timeline_keys(ViewerState& v) {
     const double length = v.animation_length();
     if (length <= 0 || io.WantCaptureKeyboard) return false;
     Timeline& tl = v.timeline;
-    if (ImGui::IsKeyPressed(GLFW_KEY_SPACE, false)) {
+    const KeyQueue& keys = key_queue();  // every tap, also within one slow frame
+    if (keys.presses(GLFW_KEY_SPACE, false, false) % 2 == 1) {
         if (!tl.playing && tl.time >= length && !tl.loop) tl.time = 0;  // played to the end
         tl.playing = !tl.playing;
         return true;
     }
-    const int step = ImGui::IsKeyPressed(GLFW_KEY_RIGHT)  ? 1
-                     : ImGui::IsKeyPressed(GLFW_KEY_LEFT) ? -1
-                                                          : 0;
+    const int step = keys.presses(GLFW_KEY_RIGHT) - keys.presses(GLFW_KEY_LEFT);
     if (step == 0) return false;
     tl.playing = false;
     v.seek((tl.frame() + step) / tl.fps);
