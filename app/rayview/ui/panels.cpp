@@ -374,7 +374,7 @@ bool settings_panel(ViewerState& v) {
     ImGui::Checkbox("light markers", &s.show_lights);
     if (s.show_lights) {
         ImGui::SameLine();
-        ImGui::Checkbox("every light's direction", &s.light_directions);
+        ImGui::Checkbox("all directions", &s.light_directions);
     }
     slider("group box levels", &s.group_depth, 0, 8);
     slider("BVH box levels", &s.box_depth, 0, 8);
@@ -472,11 +472,27 @@ void status_panel(const ViewerState& v, const std::vector<std::string>& preview_
         }
         ImGui::TextWrapped("%s", shader.c_str());
     }
+    // The estimated error of each pass on a log scale, its axes labelled: the relMSE at the top
+    // and the bottom, the passes and their time along the bottom.
     std::vector<float> logs;
-    for (const auto& [t, e] : v.trace.tracer.history()) logs.push_back(std::log10(e));
-    if (!logs.empty())
-        ImGui::PlotLines("log10 error", logs.data(), static_cast<int>(logs.size()), 0, nullptr,
-                         FLT_MAX, FLT_MAX, ImVec2(0, 60));
+    const std::vector<std::pair<float, float>> history = v.trace.tracer.history();
+    for (const auto& [t, e] : history) logs.push_back(std::log10(e));
+    if (!logs.empty()) {
+        const auto [lo_it, hi_it] = std::minmax_element(logs.begin(), logs.end());
+        const float lo = std::floor(*lo_it), hi = std::max(std::ceil(*hi_it), lo + 1);
+        ImGui::PlotLines("##error", logs.data(), static_cast<int>(logs.size()), 0, nullptr, lo, hi,
+                         ImVec2(0, 70));
+        const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+        ImDrawList* draw = ImGui::GetWindowDrawList();
+        const ImU32 grey = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+        char label[48];
+        std::snprintf(label, sizeof label, "1e%+.0f", static_cast<double>(hi));
+        draw->AddText(ImVec2(a.x + 3, a.y + 1), grey, label);
+        std::snprintf(label, sizeof label, "1e%+.0f", static_cast<double>(lo));
+        draw->AddText(ImVec2(a.x + 3, b.y - ImGui::GetTextLineHeight() - 1), grey, label);
+        ImGui::TextDisabled("relMSE (log) by pass: 1 .. %zu, 0 .. %.1f s", logs.size(),
+                            static_cast<double>(history.back().first));
+    }
 }
 
 void save_panel(ViewerState& v, PanelState& ui) {
