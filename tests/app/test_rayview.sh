@@ -149,6 +149,11 @@ SCRIPT
 (cd "$src/scenes" && xrun "$rv" --script "$tmp/revert.txt" lights.ray >/dev/null 2>&1)
 check "revert runs" test $? -eq 0
 check "the edit was saved before the revert" bash -c "grep -c '^#light_' '$tmp/edited.ray' | grep -qx 4"
+# A material edit (the panel's, script: material) is saved with the scene.
+printf '3 material 0 diffuse 0.1 0.6 0.1\n4 save-scene %s\n' "$tmp/material.ray" >"$tmp/material.txt"
+(cd "$src/scenes" && xrun "$rv" --script "$tmp/material.txt" lights.ray >/dev/null 2>&1)
+check "a material edit runs" test $? -eq 0
+check "a material edit is saved" grep -q '^#material .*0.1 0.6 0.1.*!white!' "$tmp/material.ray"
 check "revert brings back the file's lights" bash -c "grep -c '^#light_' '$tmp/reverted.ray' | grep -qx 3 && grep -q '^#light_spot 1.6 0.3 0.3 *-2 6 2' '$tmp/reverted.ray'"
 check "save-image writes the trace" test -s "$tmp/saved.png"
 echo "1 teleport 1 2" >"$tmp/unknown.txt"

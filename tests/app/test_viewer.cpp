@@ -498,6 +498,36 @@ TEST(Viewer, FloatWidgetValuesAreTheirShortestDecimal) {
     EXPECT_NE(write_scene(d).find(" 0.3 0 0"), std::string::npos) << write_scene(d);
 }
 
+// A material edited in the panel reaches the traced scene and the preview's copy at the
+// restart, is one undo step, and is saved with the scene in its #material line.
+TEST(Viewer, MaterialEditsReachBothPanesUndoAndSave) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    v.set_trace_size(32, 24);
+    restart(v);
+    ASSERT_FALSE(v.edits.materials.empty());
+    EXPECT_EQ(v.edits.materials[0].diffuse, Vec3(0.85));  // lights.ray's !white!
+    v.track_history(false);
+    v.edits.materials[0].diffuse = Vec3(0.25, 0.5, 0.75);
+    v.edits.materials[0].specular_exponent = 12;
+    v.track_history(false);
+    EXPECT_EQ(v.history.undo_steps(), 1u);
+    v.mark_edited();
+    EXPECT_EQ(v.session.loaded->scene.materials[0].diffuse, Vec3(0.85));  // not before it
+    restart(v);
+    EXPECT_EQ(v.session.loaded->scene.materials[0].diffuse, Vec3(0.25, 0.5, 0.75));
+    EXPECT_EQ(v.session.loaded->shown.materials[0].specular_exponent, 12.0);
+    const std::string path = ::testing::TempDir() + "rt_viewer_material.ray";
+    v.save_scene(path);
+    std::string text;
+    ASSERT_TRUE(read_file(path, &text));
+    EXPECT_NE(text.find("0.25 0.5 0.75"), std::string::npos) << text;
+    ASSERT_TRUE(v.undo());
+    EXPECT_EQ(v.edits.materials[0].diffuse, Vec3(0.85));
+    restart(v);
+    EXPECT_EQ(v.session.loaded->scene.materials[0].diffuse, Vec3(0.85));
+}
+
 // Undo and redo of the camera, a light and a setting; a gesture is one step; a new edit drops
 // the redo steps; opening a file starts a new history.
 TEST(Viewer, UndoAndRedoEveryEdit) {

@@ -206,6 +206,13 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
     return buf;
 }
 
+void Preview::materials_changed(const RenderScene& scene) {
+    m_env_chosen = false;
+    m_shadows_valid = false;
+    m_transparent = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                [](const Material& m) { return m.transparent != Vec3(0.0); });
+}
+
 void Preview::load(const RenderScene& scene, int detail) {
     load(scene, prepare_preview(scene, detail));
 }

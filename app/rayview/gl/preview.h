@@ -58,6 +58,9 @@ public:
     /// background included, so the two panes show the same transform.
     void draw(const RenderScene& scene, const RenderPlan& plan, const Camera& camera, int width,
               int height, int max_depth = 1, const DisplaySettings& display = {});
+    /// The scene's materials were edited: the environment maps are chosen again (which objects
+    /// reflect) and the shadow and transmittance maps rendered again (which cast them).
+    void materials_changed(const RenderScene& scene);
     /// Draws line segments (pairs of vertices) over what draw() left, depth-tested.
     void draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
                     const Camera& camera) const;

@@ -4,6 +4,19 @@
 
 namespace rt::view {
 
+bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+        const Material &x = a[i], &y = b[i];
+        if (x.emissive != y.emissive || x.ambient != y.ambient || x.diffuse != y.diffuse ||
+            x.specular != y.specular || x.specular_exponent != y.specular_exponent ||
+            x.transparent != y.transparent || x.refractive_index != y.refractive_index ||
+            x.texture != y.texture)
+            return false;
+    }
+    return true;
+}
+
 bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b) {
     if (a.size() != b.size()) return false;
     for (size_t i = 0; i < a.size(); ++i) {

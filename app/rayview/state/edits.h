@@ -12,11 +12,13 @@
 
 namespace rt::view {
 
-/// The user's edits, on the description side: the camera and every light, on or off.
+/// The user's edits, on the description side: the camera and every light, on or off; and the
+/// materials, one per RenderScene::materials (the files' in order, the V0 default last).
 struct SceneEdits {
     OrbitCamera camera;
     std::vector<LightDesc> lights;
     std::vector<char> light_on;
+    std::vector<Material> materials;
 };
 
 /// What the user sets: the renderer's settings and the viewer's own knobs.
@@ -51,6 +53,8 @@ struct UndoState {
 
 /// Two lists of lights alike but for where they were read (a reload moves lines).
 bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b);
+/// Two lists of materials alike in every term.
+bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b);
 
 /// The settings that follow the window, not the user's edits (undo keeps them as they are): the
 /// trace's size, which follows the pane, and the panel's width, visibility and scale, from

@@ -9,7 +9,8 @@ bool same_state(const SceneEdits& edits, const ViewSettings& settings, const Und
     ViewSettings x = settings;
     keep_window_settings(&x, b.settings);
     return x == b.settings && edits.camera == b.edits.camera &&
-           edits.light_on == b.edits.light_on && same_lights(edits.lights, b.edits.lights);
+           edits.light_on == b.edits.light_on && same_lights(edits.lights, b.edits.lights) &&
+           same_materials(edits.materials, b.edits.materials);
 }
 
 }  // namespace

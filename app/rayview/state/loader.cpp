@@ -45,6 +45,7 @@ LoadResult load_scene(const LoadRequest& request) {
         s->scene = compile_scene(s->desc, &report);
         s->prim_locs = std::move(report.prim_locs);
         s->material_names = std::move(report.material_names);
+        s->file_materials = s->scene.materials;
         if (request.for_preview) s->preview = prepare_preview(s->scene);
         s->shown = s->scene;
         if (s->desc.camera) {

@@ -37,6 +37,7 @@ struct LoadedScene {
     MissingTextures missing_textures = MissingTextures::Error;
     std::vector<std::vector<SourceLoc>> prim_locs;  // CompileReport's, for picking
     std::vector<std::string> material_names;
+    std::vector<Material> file_materials;  // the compiled materials as the file has them
     /// The preview's tessellation, made with the scene (on the loader's thread) and freed once
     /// the preview uploaded it.
     PreviewGeometry preview;

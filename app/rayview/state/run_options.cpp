@@ -26,6 +26,8 @@ constexpr const char* kScriptCommands =
     "  lights:   light I colour|ambient|diffuse|specular R G B | light I radius R |\n"
     "            light I position X Y Z | add-light point|spot|directional|sphere |\n"
     "            frame-light I | headlight on|off\n"
+    "  materials: material I emissive|ambient|diffuse|specular|transparent R G B |\n"
+    "            material I exponent E | material I index N\n"
     "  settings: shadows on|off | depth D | threads N | resolution SCALE |\n"
     "            boxes GROUP_LEVELS BVH_LEVELS | layout both|preview|trace | markers on|off|all |\n"
     "            target-error E (0: none) | status (prints the status bar) |\n"

@@ -71,6 +71,7 @@ Selection pick_at(const LoadedScene& scene, const OrbitCamera& camera, int w, in
     s.bounds = inst.identity ? b : inst.world_from_set.apply(b);
     s.shape = prim.csg >= 0 ? "CSG node" : shape_kind_name(prim.kind);
     const size_t m = static_cast<size_t>(prim.material);
+    s.material_index = prim.material;
     const std::string name = m < scene.material_names.size() ? scene.material_names[m] : "";
     s.material = (name.empty() ? "" : "!" + name + "! ") + "(material " + std::to_string(m) + ")";
     const auto& locs = scene.prim_locs;

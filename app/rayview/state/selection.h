@@ -17,6 +17,7 @@ struct Selection {
     Bounds3 bounds;                      // world bounds of the primitive (a CSG node's whole tree)
     Vec3 point{0.0};                     // where the ray met it
     std::string shape, material, where;  // "sphere"; "glass (material 3)"; "file:line:col"
+    int material_index = -1;             // into RenderScene::materials
     std::string groups;                  // its file and groups: "pawn.ray > group at line 3 > ..."
 };
 

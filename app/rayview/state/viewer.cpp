@@ -22,6 +22,7 @@ void apply_edits(const SceneEdits& edits, bool headlight, int trace_w, int trace
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) scene->lights.push_back(compile_light(edits.lights[i]));
     if (headlight) scene->lights.push_back(compile_light(headlight_desc(edits.camera)));
+    if (edits.materials.size() == scene->materials.size()) scene->materials = edits.materials;
     settings->width = trace_w;
     settings->height = trace_h;
 }
@@ -64,6 +65,7 @@ void ViewerState::on_loaded() {
     edits.camera.set_from(s.file_camera, s.scene.world_bounds);
     edits.lights = s.desc.lights;
     edits.light_on.assign(edits.lights.size(), 1);
+    edits.materials = s.file_materials;
     s.file_time = file_time(s.path);
     mark_edited();
     reset_history();
@@ -172,12 +174,20 @@ bool ViewerState::finish_reload(LoadResult next) {
     // What the user edited, against the scene as it was read last (edits made while a
     // background reload ran count too).
     const ReloadMerge merge = edits_before_reload(*session.loaded, edits);
+    const std::vector<Material> old_file = session.loaded->file_materials, mine = edits.materials;
     const std::string file = session.loaded->path;  // finish_open replaces `loaded`
     const Timeline playback = timeline;             // a reload keeps the time and the playback
     if (!finish_open(std::move(next), file, false)) return false;
     timeline = playback;
     timeline.seek(timeline.time, animation_length());
-    const std::string both = merge_reload(merge, *session.loaded, &edits);
+    std::string both = merge_reload(merge, *session.loaded, &edits);
+    // Material edits stay when the file still has as many materials; when the file changed
+    // them too, that is said as for the lights.
+    if (!same_materials(mine, old_file) && mine.size() == edits.materials.size()) {
+        if (!same_materials(session.loaded->file_materials, old_file))
+            both += both.empty() ? "materials" : " and materials";
+        edits.materials = mine;
+    }
     const std::string name = std::filesystem::path(session.loaded->path).filename().string();
     session.reload_conflict.clear();
     if (!both.empty())
@@ -194,6 +204,7 @@ void ViewerState::use_file_edits() {
     edits.camera.set_from(s.file_camera, s.scene.world_bounds);
     edits.lights = s.desc.lights;
     edits.light_on.assign(edits.lights.size(), 1);
+    edits.materials = s.file_materials;
     session.reload_conflict.clear();
     mark_edited();
 }
@@ -237,6 +248,20 @@ void ViewerState::save_scene(const std::string& path) const {
     desc.lights.clear();
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) desc.lights.push_back(edits.lights[i]);
+    // The edited materials into their files' descriptions (compiled in the files' order).
+    size_t k = 0;
+    for (FileDesc& f : desc.files)
+        for (MaterialDesc& md : f.materials) {
+            if (k >= edits.materials.size()) break;
+            const Material& m = edits.materials[k++];
+            md.emissive = m.emissive;
+            md.ambient = m.ambient;
+            md.diffuse = m.diffuse;
+            md.specular = m.specular;
+            md.specular_exponent = m.specular_exponent;
+            md.transparent = m.transparent;
+            md.refractive_index = m.refractive_index;
+        }
     write_file_atomic(path, write_scene_for(desc, path));  // a temporary name, then renamed
     if (hooks.on_saved) hooks.on_saved(path);
 }
@@ -369,6 +394,7 @@ void ViewerState::restart() {
     apply_edits(edits, headlight_on(), trace.width(), trace.height(), &s.scene, &settings.render);
     s.shown.camera = s.scene.camera;  // the preview's overlays show the same lights
     s.shown.lights = s.scene.lights;
+    s.shown.materials = s.scene.materials;
     trace.restart(s.scene, settings.render, settings.target_spp, settings.target_error, s.id);
 }
 

@@ -495,6 +495,45 @@ void status_panel(const ViewerState& v, const std::vector<std::string>& preview_
     }
 }
 
+// One material's terms (spec §7, §13.9): its colours (HDR), the exponent, the transparency
+// and the refraction index, each an edit of SceneEdits::materials (undo, both panes at the
+// restart, saved with the scene). The material follows the last pick, or the list.
+bool materials_panel(ViewerState& v, PanelState& ui) {
+    std::vector<Material>& materials = v.edits.materials;
+    if (materials.empty() || !ImGui::CollapsingHeader("Materials")) return false;
+    const LoadedScene& s = *v.session.loaded;
+    const int picked = v.ui.selection.instance >= 0 ? v.ui.selection.material_index : -1;
+    if (picked >= 0 && picked != ui.material_picked) ui.material = picked;
+    ui.material_picked = picked;
+    ui.material = std::clamp(ui.material, 0, static_cast<int>(materials.size()) - 1);
+    auto name = [&](int i) {
+        const size_t k = static_cast<size_t>(i);
+        const std::string n = k < s.material_names.size() ? s.material_names[k] : "";
+        return (n.empty() ? "" : "!" + n + "! ") + "(material " + std::to_string(i) + ")";
+    };
+    if (ImGui::BeginCombo("material", name(ui.material).c_str())) {
+        for (int i = 0; i < static_cast<int>(materials.size()); ++i)
+            if (ImGui::Selectable(name(i).c_str(), i == ui.material)) ui.material = i;
+        ImGui::EndCombo();
+    }
+    Material& m = materials[static_cast<size_t>(ui.material)];
+    bool edited = false;
+    edited |= colour("emissive", &m.emissive);
+    edited |= colour("ambient", &m.ambient);
+    edited |= colour("diffuse", &m.diffuse);
+    edited |= colour("specular", &m.specular);
+    edited |= colour("transparent", &m.transparent);
+    edited |= slider("exponent", &m.specular_exponent, 0.0f, 1000.0f);
+    edited |= slider("refraction index", &m.refractive_index, 0.1f, 4.0f);
+    if (m.texture >= 0)
+        ImGui::TextDisabled("texture %d (every term it modulates, spec §7.3)", m.texture);
+    if (ImGui::Button("Revert this material")) {
+        m = s.file_materials[static_cast<size_t>(ui.material)];
+        edited = true;
+    }
+    return edited;
+}
+
 void save_panel(ViewerState& v, PanelState& ui) {
     ImGui::InputText("save as", ui.save_buf, sizeof ui.save_buf);
     ImGui::InputText("scene file", ui.scene_buf, sizeof ui.scene_buf);
@@ -672,6 +711,7 @@ void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
         bool edited = camera_panel(v, layout);
         edited |= settings_panel(v);
         edited |= lights_panel(v);
+        edited |= materials_panel(v, ui);
         if (edited) v.mark_edited();
         status_panel(v, preview_defines, frame_s);
         animation_panel(v, ui);

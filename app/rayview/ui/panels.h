@@ -25,6 +25,8 @@ struct PanelState {
     char anim_video[1024] = "";
     int anim_frames = 0;
     int path_for = 0;                          // the scene (LoadedScene::id) path_buf shows
+    int material = 0;                          // the material the panel edits
+    int material_picked = -1;                  // the selection's material when last seen
     bool completing = false;                   // the path field lists matching files
     std::string completed_for;                 // the typed path the list below belongs to
     std::vector<std::string> completion_list;  // completions(completed_for)

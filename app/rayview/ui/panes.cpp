@@ -114,6 +114,12 @@ void Panes::draw(ViewerState& v) {
         m_preview.load(loaded.scene, loaded.preview);
         loaded.preview = {};
         m_loaded_id = loaded.id;
+        m_drawn_materials = loaded.shown.materials;
+    }
+    if (!same_materials(loaded.shown.materials, m_drawn_materials)) {  // edited in the panel
+        m_preview.materials_changed(loaded.shown);
+        m_drawn_materials = loaded.shown.materials;
+        v.ui.preview_stale = true;
     }
     const ViewSettings& s = v.settings;
     const bool overlay_changed = s.show_lights != m_drawn_lights || s.box_depth != m_drawn_depth ||

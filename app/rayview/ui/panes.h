@@ -60,7 +60,8 @@ private:
     // What m_target holds, so it is redrawn only when that changes.
     bool m_drawn_lights = true, m_drawn_directions = false;
     int m_drawn_selected = -1;
-    float m_drawn_exposure = 0;  // the display transform the preview was drawn with
+    std::vector<Material> m_drawn_materials;  // the materials the preview's maps were made for
+    float m_drawn_exposure = 0;               // the display transform the preview was drawn with
     Tonemap m_drawn_tonemap = Tonemap::Clamp;
     int m_drawn_depth = -1, m_drawn_group_depth = -1, m_drawn_w = 0, m_drawn_h = 0;
     std::vector<LineVertex> m_group_lines;  // group_box_lines() of that scene and depth

@@ -211,6 +211,31 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         v.open(path, false);
     } else if (c == "open-background" && !path.empty()) {
         v.open_in_background(path);
+    } else if (c == "material") {
+        // material I emissive|ambient|diffuse|specular|transparent R G B | material I
+        // exponent E | material I index N: the panel's material edits.
+        const size_t i = static_cast<size_t>(whole(l, 0, 0, 1 << 20));
+        if (i >= v.edits.materials.size() || l.args.size() < 3)
+            throw std::runtime_error("material: I WHAT VALUES... (the scene has " +
+                                     std::to_string(v.edits.materials.size()) + " materials)");
+        Material& m = v.edits.materials[i];
+        const std::string& what = l.args[1];
+        auto arg = [&](size_t k) { return number(l, k, -1e30, 1e30); };
+        Vec3* colour = what == "emissive"      ? &m.emissive
+                       : what == "ambient"     ? &m.ambient
+                       : what == "diffuse"     ? &m.diffuse
+                       : what == "specular"    ? &m.specular
+                       : what == "transparent" ? &m.transparent
+                                               : nullptr;
+        if (colour)
+            *colour = Vec3(arg(2), arg(3), arg(4));
+        else if (what == "exponent")
+            m.specular_exponent = arg(2);
+        else if (what == "index")
+            m.refractive_index = arg(2);
+        else
+            throw std::runtime_error("material: cannot set " + what);
+        v.mark_edited();
     } else if (c == "reload") {
         v.reload();
     } else if (c == "revert") {
