@@ -410,6 +410,10 @@ void ViewerState::step_animation(double frame_s) {
     if (!shown.rig.animated() || shown.time == t) return;
     try {
         animate(shown, session.loaded->desc, t);  // its warnings come with the trace's restart
+        // A joint under a CSG node compiles the scene again, from the file's materials: the
+        // edited ones stay (as the traced scene's at its restart).
+        if (shown.materials.size() == session.loaded->scene.materials.size())
+            shown.materials = session.loaded->scene.materials;
     } catch (const SceneError& e) {
         timeline.playing = false;
         messages.fail(e.what());

@@ -527,6 +527,15 @@ bool materials_panel(ViewerState& v, PanelState& ui) {
     edited |= slider("refraction index", &m.refractive_index, 0.1f, 4.0f);
     if (m.texture >= 0)
         ImGui::TextDisabled("texture %d (every term it modulates, spec §7.3)", m.texture);
+    // The top file's materials come first, then the included files' and the built-in default:
+    // the writer saves the top file only.
+    if (static_cast<size_t>(ui.material) >= s.desc.files[0].materials.size()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+        ImGui::TextWrapped(
+            "not the top file's (an included file's, or the built-in default): "
+            "edited for this session, not saved");
+        ImGui::PopStyleColor();
+    }
     if (ImGui::Button("Revert this material")) {
         m = s.file_materials[static_cast<size_t>(ui.material)];
         edited = true;
