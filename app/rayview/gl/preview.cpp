@@ -102,6 +102,20 @@ unsigned Preview::program_for(const std::vector<std::string>& defines) {
     return id;
 }
 
+// A range that is one sphere (the tessellation's vertices all lie on it, in the set's frame):
+// its centre and radius, for refraction through two interfaces (preview.frag); else radius 0.
+glm::dvec4 Preview::sphere_of(const PreviewMesh& mesh, const std::vector<unsigned>& indices,
+                              const Range& r) {
+    if (r.bounds.empty()) return glm::dvec4(0.0);
+    const Vec3 c = r.bounds.centre();
+    const double radius = 0.5 * (r.bounds.hi.x - r.bounds.lo.x);
+    if (!(radius > 0)) return glm::dvec4(0.0);
+    for (unsigned i = r.first; i < r.first + r.count; ++i)
+        if (std::abs(glm::length(mesh.positions[indices[i]] - c) - radius) > 1e-3 * radius)
+            return glm::dvec4(0.0);
+    return glm::dvec4(c, radius);
+}
+
 Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
                                         const CsgTexels& csg, size_t* floats) {
     // Interleaved position, normal (uv) and (CSG leaf) as floats; triangles grouped by material.
@@ -140,19 +154,7 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
         buf.ranges.back().count += 3;
     }
     if (!buf.ranges.empty()) buf.ranges.back().faces = flat_faces(mesh, range_tris);
-    // Ranges that are one sphere (the tessellation's vertices lie on it): refraction
-    // through them takes two interfaces (preview.frag).
-    for (Range& r : buf.ranges) {
-        if (r.bounds.empty()) continue;
-        const Vec3 c = r.bounds.centre();
-        const double radius = 0.5 * (r.bounds.hi.x - r.bounds.lo.x);
-        bool round = radius > 0;
-        for (unsigned i = r.first; i < r.first + r.count && round; ++i) {
-            const double dist = glm::length(mesh.positions[indices[i]] - c);
-            round = std::abs(dist - radius) <= 1e-3 * radius;
-        }
-        if (round) r.sphere = glm::dvec4(c, radius);
-    }
+    for (Range& r : buf.ranges) r.sphere = sphere_of(mesh, indices, r);
     buf.vao = GlVertexArray::make();
     glBindVertexArray(buf.vao.id());
     buf.vbo = GlBuffer::make();

@@ -117,6 +117,8 @@ private:
         GlTexture csg_texture;  // the CSG trees (csg_preview.h), none without CSG
         int csg_nodes = 0, csg_children = 0, csg_leaves = 0;
     };
+    static glm::dvec4 sphere_of(const PreviewMesh& mesh, const std::vector<unsigned>& indices,
+                                const Range& r);
     static SetBuffers upload_set(const PreviewMesh& mesh, bool textured, const CsgTexels& csg,
                                  size_t* floats);
     // What a shadow map was rendered for, to know when to render it again.
