@@ -950,6 +950,28 @@ TEST(GlPreview, AMirrorFloorReflectsTheScene) {
     EXPECT_LT(reflected.mean_abs, 0.6);  // 1.19 with the cube map of the floor's centre
 }
 
+// What a mirror floor shows is shaded as the trace shades it, reflections included: a chrome
+// ball seen in the floor shows what the ball mirrors (its cube map), not its own dark diffuse
+// colour. The scene is lit red and blue from the walls the ball reflects.
+TEST(GlPreview, AMirrorFloorShowsTheReflectionsOfWhatItMirrors) {
+    const RenderScene scene = test::compile(
+        "#camera 0 2.2 8  0 -0.3 -1  0 1 0  0.5\n#ambient 0.3 0.3 0.3\n"
+        "#light_point 1 1 1  0 6 6  1 0 0\n"
+        "#material 0 0 0  0 0 0  0 0 0  0.8 0.8 0.8  50  0 0 0  1  -1 !floor!\n"
+        "#material 0 0 0  0 0 0  0.02 0.02 0.02  0.9 0.9 0.9  300  0 0 0  1  -1 !chrome!\n"
+        "#material 0 0 0  0.9 0.1 0.1  0.9 0.1 0.1  0 0 0  1  0 0 0  1  -1 !red!\n"
+        "#material 0 0 0  0.1 0.1 0.9  0.1 0.1 0.9  0 0 0  1  0 0 0  1  -1 !blue!\n"
+        "#vertex -8 0 -6  0 0 0  0 0\n#vertex -8 0 12  0 0 0  0 0\n#vertex 8 0 12  0 0 0  0 0\n"
+        "#vertex 8 0 -6  0 0 0  0 0\n#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 3\n"
+        "#shape_sphere 1  0 1.2 0  1.2\n"
+        "#shape_box 2  0 4 -5  16 8 0.2\n#shape_box 3  0 4 11  16 8 0.2\n"
+        "#shape_box 2  -7 4 3  0.2 8 16\n#shape_box 3  7 4 3  0.2 8 16\n");
+    const PreviewAgainstTrace reflected = preview_against_trace(scene, 5);
+    std::printf("chrome ball over a mirror floor: mean difference %.2f\n", reflected.mean_abs);
+    EXPECT_EQ(reflected.planes, 1);      // the floor; 2 when a facet of the ball was taken too
+    EXPECT_LT(reflected.mean_abs, 2.6);  // 3.19 with the ball's local shading in the floor
+}
+
 // A ball of glass is a lens: the trace sees what is behind it through two interfaces, upside
 // down (a red wall below a blue one shows red at the ball's top); so does the preview.
 TEST(GlPreview, AGlassBallInvertsWhatIsBehindIt) {

@@ -30,6 +30,9 @@ constexpr double kOffsetStep = 1e-5;
 // Ranges with more triangles are meshes, not walls: their flat parts are not looked for.
 constexpr size_t kMaxFaceTriangles = 20000;
 constexpr size_t kFacesPerRange = 8;
+// Faces smaller than this share of their range's area are the facets of a tessellated curved
+// surface (a sphere's, a cylinder's), which keeps its cube map; a box's face is a sixth or more.
+constexpr double kMinFaceShare = 0.05;
 
 bool reflects(const Material& m) { return m.specular != Vec3(0.0); }
 
@@ -77,8 +80,11 @@ std::vector<Preview::FlatFace> Preview::flat_faces(const PreviewMesh& mesh,
         f.bounds.extend(b);
         f.bounds.extend(c);
     }
+    double total = 0;
+    for (const auto& [key, f] : faces) total += f.area;
     std::vector<FlatFace> out;
     for (auto& [key, f] : faces) {
+        if (f.area < kMinFaceShare * total) continue;  // a facet of a curved surface
         f.centroid /= f.area;
         out.push_back(f);
     }
@@ -171,9 +177,12 @@ void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& pla
     glViewport(0, 0, w, h);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    // The local shading and shadows of the main pass, linear (no display transform), with what
-    // lies behind the mirror dropped (RT_CLIP_PLANE).
+    // The shading and shadows of the main pass, linear (no display transform), with what lies
+    // behind the mirror dropped (RT_CLIP_PLANE). What the mirror shows reflects and refracts
+    // through its own cube maps, as it does in the main pass: a chrome ball seen in the floor
+    // is not its dark diffuse colour.
     std::vector<std::string> defines = frame_defines(plan, shadows);
+    defines.push_back("RT_REFLECTIONS");
     defines.push_back("RT_CLIP_PLANE");
     const unsigned program = program_for(defines);
     glUseProgram(program);
@@ -212,6 +221,7 @@ void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& pla
         glUniform1f(uniform(program, "u_clip_epsilon"), static_cast<float>(v.epsilon));
         DrawPass pass;
         pass.mirrored = true;
+        pass.reflections = true;
         draw_instances(scene, program, pass);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
