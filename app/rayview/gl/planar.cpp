@@ -179,10 +179,11 @@ void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& pla
     glDisable(GL_CULL_FACE);
     // The shading and shadows of the main pass, linear (no display transform), with what lies
     // behind the mirror dropped (RT_CLIP_PLANE). What the mirror shows reflects and refracts
-    // through its own cube maps, as it does in the main pass: a chrome ball seen in the floor
-    // is not its dark diffuse colour.
+    // through its own cube maps, as it does in the main pass (a chrome ball seen in the floor
+    // is not its dark diffuse colour) once the view is still; while it moves, local shading
+    // keeps the frame time.
     std::vector<std::string> defines = frame_defines(plan, shadows);
-    defines.push_back("RT_REFLECTIONS");
+    if (!moving) defines.push_back("RT_REFLECTIONS");
     defines.push_back("RT_CLIP_PLANE");
     const unsigned program = program_for(defines);
     glUseProgram(program);
@@ -221,7 +222,7 @@ void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& pla
         glUniform1f(uniform(program, "u_clip_epsilon"), static_cast<float>(v.epsilon));
         DrawPass pass;
         pass.mirrored = true;
-        pass.reflections = true;
+        pass.reflections = !moving;
         draw_instances(scene, program, pass);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
