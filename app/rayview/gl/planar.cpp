@@ -5,8 +5,9 @@
 // clipped away, into a texture that the mirror's fragments read at their own pixel. The faces
 // that get one are the largest flat faces of reflecting materials (triangle planes, a box's
 // faces, a tessellation's flat parts) facing the eye, at most kMaxPlanes a frame (one while the
-// view moves), rendered at half the pane's resolution with the preview's local shading and shadows
-// (one bounce; the curved mirrors keep their cube maps).
+// view moves), rendered at half the pane's resolution with the preview's shading and shadows;
+// what the mirror shows reflects through the cube maps once the view is still (the curved
+// mirrors keep their cube maps).
 #define GL_GLEXT_PROTOTYPES
 #include <GL/gl.h>
 #include <GL/glext.h>
