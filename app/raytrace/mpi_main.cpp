@@ -402,7 +402,9 @@ bool load(Job& job, int rank) {
         if (rank == 0) {
             std::cerr << e.what() << "\n";
         } else {
+            // Exiting now could let mpirun stop rank 0 before it reads and prints the error.
             send_error(std::string("could not load the scene: ") + e.what());
+            await_abort();
         }
         return false;
     }
