@@ -57,6 +57,7 @@ std::vector<Preview::FlatFace> Preview::flat_faces(const PreviewMesh& mesh,
         for (int k = 0; k < 3; ++k) box.extend(mesh.positions[mesh.indices[t * 3 + k]]);
     const double size = std::max(glm::length(box.diagonal()), 1e-300);
     std::map<std::tuple<long, long, long, long>, FlatFace> faces;
+    double total = 0;  // the range's area
     for (size_t t : tris) {
         const Vec3& a = mesh.positions[mesh.indices[t * 3]];
         const Vec3& b = mesh.positions[mesh.indices[t * 3 + 1]];
@@ -74,6 +75,7 @@ std::vector<Preview::FlatFace> Preview::flat_faces(const PreviewMesh& mesh,
                             std::lround(n.z / kNormalStep), std::lround(d / (kOffsetStep * size)));
         FlatFace& f = faces[key];
         const double area = 0.5 * twice_area;
+        total += area;
         if (f.area == 0) f.n = n, f.d = d;
         f.centroid += area * (a + b + c) / 3.0;
         f.area += area;
@@ -81,8 +83,6 @@ std::vector<Preview::FlatFace> Preview::flat_faces(const PreviewMesh& mesh,
         f.bounds.extend(b);
         f.bounds.extend(c);
     }
-    double total = 0;
-    for (const auto& [key, f] : faces) total += f.area;
     std::vector<FlatFace> out;
     for (auto& [key, f] : faces) {
         if (f.area < kMinFaceShare * total) continue;  // a facet of a curved surface
