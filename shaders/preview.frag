@@ -138,9 +138,12 @@ uniform bool u_env_on;  // this material reflects or transmits, and has a map
 uniform samplerCube u_env;
 uniform vec3 u_transparent;  // T
 uniform float u_refind;
-// A transmitting sphere's centre and radius in its set's frame (radius 0: not a sphere), and
-// the instance's transforms (preview.vert's, and their inverse).
+// The solid a transmitting range is in its set's frame (preview.cpp's Range::Solid: 0 none,
+// 1 a sphere, u_solid_sphere's centre and radius, 2 a box, u_solid_lo to u_solid_hi), and the
+// instance's transforms (preview.vert's, and their inverse).
+uniform int u_solid;
 uniform vec4 u_solid_sphere;
+uniform vec3 u_solid_lo, u_solid_hi;
 uniform mat4 u_world_from_object;
 uniform mat4 u_set_from_world;
 uniform mat3 u_normal_matrix;
@@ -298,23 +301,43 @@ void main() {
             vec3 t_dir = refract(d, n, 1.0 / u_refind);
             if (t_dir != vec3(0.0)) {
                 vec3 from = v_world, dir = normalize(t_dir), weight = u_transparent;
-                if (u_solid_sphere.w > 0.0) {
-                    // A sphere (in its set's frame, so also an ellipsoid in the world): the
-                    // second interface, where the refracted ray leaves the solid, bends it
-                    // again (a ball of glass inverts what is behind it, as in the trace); the
-                    // light crossing it is weighted by T at both surfaces.
-                    vec3 ps = (u_set_from_world * vec4(v_world, 1.0)).xyz - u_solid_sphere.xyz;
+                if (u_solid != 0) {
+                    // The second interface, where the refracted ray leaves the solid (in its
+                    // set's frame, so also a sheared one in the world), bends it again (a ball
+                    // of glass inverts what is behind it, as in the trace); the light crossing
+                    // it is weighted by T at both surfaces.
+                    vec3 ps = (u_set_from_world * vec4(v_world, 1.0)).xyz;
                     vec3 ts = mat3(u_set_from_world) * dir;
-                    float a = dot(ts, ts), b = dot(ts, ps);
-                    float disc = b * b - a * (dot(ps, ps) - u_solid_sphere.w * u_solid_sphere.w);
-                    float s = (-b + sqrt(max(disc, 0.0))) / a;
-                    vec3 qs = ps + s * ts;
-                    from = (u_world_from_object * vec4(qs + u_solid_sphere.xyz, 1.0)).xyz;
-                    vec3 n2 = normalize(u_normal_matrix * qs);  // outward at the exit
+                    vec3 qs, ns;  // the exit and its outward normal, in the set's frame
+                    if (u_solid == 1) {
+                        vec3 pc = ps - u_solid_sphere.xyz;
+                        float a = dot(ts, ts), b = dot(ts, pc);
+                        float disc = b * b - a * (dot(pc, pc) - u_solid_sphere.w * u_solid_sphere.w);
+                        ns = pc + (-b + sqrt(max(disc, 0.0))) / a * ts;
+                        qs = ns + u_solid_sphere.xyz;
+                    } else {
+                        // A box: the nearest of the three far slabs.
+                        vec3 far = mix(u_solid_lo, u_solid_hi, step(0.0, ts));
+                        vec3 s3 = (far - ps) / ts;  // +inf or nan along a zero component
+                        float s = 1e30;
+                        int axis = 0;
+                        for (int k = 0; k < 3; ++k)
+                            if (ts[k] != 0.0 && s3[k] < s) {
+                                s = s3[k];
+                                axis = k;
+                            }
+                        qs = ps + max(s, 0.0) * ts;
+                        ns = vec3(0.0);
+                        ns[axis] = sign(ts[axis]);
+                    }
+                    from = (u_world_from_object * vec4(qs, 1.0)).xyz;
+                    vec3 n2 = normalize(u_normal_matrix * ns);  // outward at the exit
                     vec3 out_dir = refract(dir, -n2, u_refind);
-                    // Total internal reflection: what the inner surface mirrors, one bounce.
-                    dir = out_dir != vec3(0.0) ? normalize(out_dir) : reflect(dir, -n2);
-                    weight *= u_transparent;
+                    // Total internal reflection: no refracted ray, only what the inner surface
+                    // mirrors, weighted by K_S as in the trace (one bounce of it here).
+                    bool tir = out_dir == vec3(0.0);
+                    dir = tir ? reflect(dir, -n2) : normalize(out_dir);
+                    weight *= tir ? u_specular : u_transparent;
                 }
                 c += weight * environment(from, dir);
             }

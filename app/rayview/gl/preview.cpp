@@ -102,18 +102,49 @@ unsigned Preview::program_for(const std::vector<std::string>& defines) {
     return id;
 }
 
-// A range that is one sphere (the tessellation's vertices all lie on it, in the set's frame):
-// its centre and radius, for refraction through two interfaces (preview.frag); else radius 0.
-glm::dvec4 Preview::sphere_of(const PreviewMesh& mesh, const std::vector<unsigned>& indices,
-                              const Range& r) {
-    if (r.bounds.empty()) return glm::dvec4(0.0);
-    const Vec3 c = r.bounds.centre();
-    const double radius = 0.5 * (r.bounds.hi.x - r.bounds.lo.x);
-    if (!(radius > 0)) return glm::dvec4(0.0);
-    for (unsigned i = r.first; i < r.first + r.count; ++i)
-        if (std::abs(glm::length(mesh.positions[indices[i]] - c) - radius) > 1e-3 * radius)
-            return glm::dvec4(0.0);
-    return glm::dvec4(c, radius);
+// The solid a range is, for refraction through its second interface (preview.frag), in the
+// set's frame: a sphere when its vertices all lie on one (a sphere's tessellation; its centre
+// and radius into *sphere), a box when its triangles face along the axes, lie on the faces of
+// their bounds and cover their area once (a box's six faces, not two boxes side by side).
+Preview::Range::Solid Preview::solid_of(const PreviewMesh& mesh,
+                                        const std::vector<unsigned>& indices, const Range& r,
+                                        glm::dvec4* sphere) {
+    if (r.bounds.empty()) return Range::Solid::None;
+    const Vec3 c = r.bounds.centre(), size = r.bounds.diagonal();
+    const double radius = 0.5 * size.x;
+    if (radius > 0) {
+        bool on_sphere = true;
+        for (unsigned i = r.first; i < r.first + r.count && on_sphere; ++i)
+            on_sphere =
+                std::abs(glm::length(mesh.positions[indices[i]] - c) - radius) <= 1e-3 * radius;
+        if (on_sphere) {
+            *sphere = glm::dvec4(c, radius);
+            return Range::Solid::Sphere;
+        }
+    }
+    if (!(size.x > 0 && size.y > 0 && size.z > 0)) return Range::Solid::None;
+    const double tol = 1e-6 * glm::length(size);
+    double area = 0;
+    for (unsigned i = r.first; i + 2 < r.first + r.count; i += 3) {
+        const Vec3& a = mesh.positions[indices[i]];
+        const Vec3& b = mesh.positions[indices[i + 1]];
+        const Vec3& d = mesh.positions[indices[i + 2]];
+        const Vec3 n = glm::cross(b - a, d - a);
+        const double twice = glm::length(n);
+        if (!(twice > 0)) continue;
+        // One axis, and the plane of that axis's lo or hi bound.
+        int axis = 0;
+        for (int k = 1; k < 3; ++k)
+            if (std::abs(n[k]) > std::abs(n[axis])) axis = k;
+        if (std::abs(n[axis]) < (1 - 1e-9) * twice) return Range::Solid::None;
+        const double lo = r.bounds.lo[axis], hi = r.bounds.hi[axis];
+        for (const Vec3* p : {&a, &b, &d})
+            if (std::abs((*p)[axis] - lo) > tol && std::abs((*p)[axis] - hi) > tol)
+                return Range::Solid::None;
+        area += 0.5 * twice;
+    }
+    const double box_area = 2 * (size.x * size.y + size.y * size.z + size.z * size.x);
+    return std::abs(area - box_area) <= 1e-6 * box_area ? Range::Solid::Box : Range::Solid::None;
 }
 
 Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
@@ -154,7 +185,7 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
         buf.ranges.back().count += 3;
     }
     if (!buf.ranges.empty()) buf.ranges.back().faces = flat_faces(mesh, range_tris);
-    for (Range& r : buf.ranges) r.sphere = sphere_of(mesh, indices, r);
+    for (Range& r : buf.ranges) r.solid = solid_of(mesh, indices, r, &r.sphere);
     buf.vao = GlVertexArray::make();
     glBindVertexArray(buf.vao.id());
     buf.vbo = GlBuffer::make();
@@ -502,12 +533,13 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
                     set_vec3(program, "u_env_centre", map.centre);
                     set_vec3(program, "u_transparent", m.transparent);
                     glUniform1f(loc(program, "u_refind"), static_cast<float>(m.refractive_index));
-                    const Range& range_shape = buf.ranges[ri];
-                    glUniform4f(loc(program, "u_solid_sphere"),
-                                static_cast<float>(range_shape.sphere.x),
-                                static_cast<float>(range_shape.sphere.y),
-                                static_cast<float>(range_shape.sphere.z),
-                                static_cast<float>(range_shape.sphere.w));
+                    glUniform1i(loc(program, "u_solid"), static_cast<int>(range.solid));
+                    glUniform4f(loc(program, "u_solid_sphere"), static_cast<float>(range.sphere.x),
+                                static_cast<float>(range.sphere.y),
+                                static_cast<float>(range.sphere.z),
+                                static_cast<float>(range.sphere.w));
+                    set_vec3(program, "u_solid_lo", range.bounds.lo);
+                    set_vec3(program, "u_solid_hi", range.bounds.hi);
                 }
             }
             if (shading) {

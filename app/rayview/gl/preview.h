@@ -106,8 +106,10 @@ private:
         unsigned first, count;        // in indices
         Bounds3 bounds;               // of its vertices, in the set's frame
         std::vector<FlatFace> faces;  // its largest flat parts (planar reflections), if any
-        /// When every vertex lies on one sphere (a sphere's tessellation, in the set's frame):
-        /// its centre and radius, for refraction through the solid; radius 0 otherwise.
+        /// The solid the range is, for refraction through its second interface (in the set's
+        /// frame): a sphere when every vertex lies on one (its centre and radius), a box when
+        /// its triangles cover exactly the faces of their bounds; else none.
+        enum class Solid { None, Sphere, Box } solid = Solid::None;
         glm::dvec4 sphere{0.0};
     };
     struct SetBuffers {
@@ -117,8 +119,8 @@ private:
         GlTexture csg_texture;  // the CSG trees (csg_preview.h), none without CSG
         int csg_nodes = 0, csg_children = 0, csg_leaves = 0;
     };
-    static glm::dvec4 sphere_of(const PreviewMesh& mesh, const std::vector<unsigned>& indices,
-                                const Range& r);
+    static Range::Solid solid_of(const PreviewMesh& mesh, const std::vector<unsigned>& indices,
+                                 const Range& r, glm::dvec4* sphere);
     static SetBuffers upload_set(const PreviewMesh& mesh, bool textured, const CsgTexels& csg,
                                  size_t* floats);
     // What a shadow map was rendered for, to know when to render it again.
