@@ -972,6 +972,26 @@ TEST(GlPreview, AMirrorFloorShowsTheReflectionsOfWhatItMirrors) {
     EXPECT_LT(reflected.mean_abs, 2.6);  // 3.19 with the ball's local shading in the floor
 }
 
+// A mirror box of the floor's material: its faces are weighed against the box, not against
+// the floor that shares their material, so its front face is a planar mirror too and shows the
+// red wall behind the eye, as in the trace.
+TEST(GlPreview, ASmallMirrorOfTheFloorsMaterialReflectsToo) {
+    const RenderScene scene = test::compile(
+        "#camera 0 2 6  0 -0.2 -1  0 1 0  0.35\n#ambient 0.3 0.3 0.3\n"
+        "#light_point 1 1 1  0 4 4  1 0 0\n"
+        "#material 0 0 0  0.1 0.1 0.1  0.2 0.2 0.2  0.8 0.8 0.8  50  0 0 0  1  -1 !mirror!\n"
+        "#material 0 0 0  0.9 0.1 0.1  0.9 0.1 0.1  0 0 0  1  0 0 0  1  -1 !red!\n"
+        "#vertex -20 0 -20  0 0 0  0 0\n#vertex -20 0 20  0 0 0  0 0\n"
+        "#vertex 20 0 20  0 0 0  0 0\n#vertex 20 0 -20  0 0 0  0 0\n"
+        "#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 3\n"
+        "#shape_box 0  0 1.2 0  2.4 2.4 0.5\n#shape_box 1  0 3 9  20 6 0.2\n");
+    const PreviewAgainstTrace mirrored = preview_against_trace(scene, 3);
+    std::printf("mirror box of the floor's material: mean difference %.2f, %d planes\n",
+                mirrored.mean_abs, mirrored.planes);
+    EXPECT_EQ(mirrored.planes, 2);      // the floor and the box's front
+    EXPECT_LT(mirrored.mean_abs, 2.0);  // 12.7 with the box's faces weighed against the floor
+}
+
 // A ball of glass is a lens: the trace sees what is behind it through two interfaces, upside
 // down (a red wall below a blue one shows red at the ball's top); so does the preview.
 TEST(GlPreview, AGlassBallInvertsWhatIsBehindIt) {
