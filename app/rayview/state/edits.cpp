@@ -17,6 +17,26 @@ bool same_materials(const std::vector<Material>& a, const std::vector<Material>&
     return true;
 }
 
+MaterialOrigin material_origin(const SceneDesc& desc, size_t material) {
+    MaterialOrigin o;
+    size_t first_material = 0;
+    int first_texture = 0;
+    for (size_t f = 0; f < desc.files.size(); ++f) {
+        const FileDesc& file = desc.files[f];
+        const int textures = static_cast<int>(file.textures.size());
+        if (material < first_material + file.materials.size()) {
+            o.file = static_cast<int>(f);
+            o.index = static_cast<int>(material - first_material);
+            o.first_texture = first_texture;
+            o.textures = textures;
+            return o;
+        }
+        first_material += file.materials.size();
+        first_texture += textures;
+    }
+    return o;
+}
+
 bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b) {
     if (a.size() != b.size()) return false;
     for (size_t i = 0; i < a.size(); ++i) {

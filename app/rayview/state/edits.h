@@ -56,6 +56,16 @@ bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& 
 /// Two lists of materials alike in every term.
 bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b);
 
+/// Where material `material` of the compiled scene comes from (compile_scene's order: each
+/// file's materials in file order, the V0 default last): its file in SceneDesc::files and its
+/// index there (file -1: the built-in default), and that file's textures in the scene's list
+/// (a material may use only its own file's).
+struct MaterialOrigin {
+    int file = -1, index = -1;
+    int first_texture = 0, textures = 0;
+};
+MaterialOrigin material_origin(const SceneDesc& desc, size_t material);
+
 /// The settings that follow the window, not the user's edits (undo keeps them as they are): the
 /// trace's size, which follows the pane, and the panel's width, visibility and scale, from
 /// `window` into `*s`.

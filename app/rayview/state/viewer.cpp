@@ -248,20 +248,17 @@ void ViewerState::save_scene(const std::string& path) const {
     desc.lights.clear();
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) desc.lights.push_back(edits.lights[i]);
-    // The edited materials into their files' descriptions (compiled in the files' order).
-    size_t k = 0;
-    for (FileDesc& f : desc.files)
-        for (MaterialDesc& md : f.materials) {
-            if (k >= edits.materials.size()) break;
-            const Material& m = edits.materials[k++];
-            md.emissive = m.emissive;
-            md.ambient = m.ambient;
-            md.diffuse = m.diffuse;
-            md.specular = m.specular;
-            md.specular_exponent = m.specular_exponent;
-            md.transparent = m.transparent;
-            md.refractive_index = m.refractive_index;
-        }
+    // The edited materials into their files' descriptions, textures as their files' indices.
+    for (size_t k = 0; k < edits.materials.size(); ++k) {
+        const MaterialOrigin o = material_origin(desc, k);
+        if (o.file < 0) continue;  // the built-in default
+        const Material& m = edits.materials[k];
+        MaterialDesc& md =
+            desc.files[static_cast<size_t>(o.file)].materials[static_cast<size_t>(o.index)];
+        material_terms_into(m, &md);
+        const int t = m.texture - o.first_texture;
+        md.texture = m.texture >= 0 && t >= 0 && t < o.textures ? t : -1;
+    }
     write_file_atomic(path, write_scene_for(desc, path));  // a temporary name, then renamed
     if (hooks.on_saved) hooks.on_saved(path);
 }

@@ -54,27 +54,15 @@ private:
             for (const TextureDesc& t : f.textures) m_scene.textures.push_back(t.image);
             m_material_offset.push_back(static_cast<int>(m_scene.materials.size()));
             for (const MaterialDesc& md : f.materials) {
-                Material m = to_material(md);
-                if (md.texture >= 0) m.texture = m_texture_offset.back() + md.texture;
+                Material m = compile_material(md);
+                m.texture = md.texture >= 0 ? m_texture_offset.back() + md.texture : -1;
                 m_scene.materials.push_back(m);
                 if (m_report.record_locations) m_report.material_names.push_back(md.name);
             }
         }
         m_default_material = static_cast<int>(m_scene.materials.size());
-        m_scene.materials.push_back(to_material(v0_default_material()));
+        m_scene.materials.push_back(compile_material(v0_default_material()));
         if (m_report.record_locations) m_report.material_names.emplace_back("(default)");
-    }
-
-    static Material to_material(const MaterialDesc& d) {
-        Material m;
-        m.emissive = d.emissive;
-        m.ambient = d.ambient;
-        m.diffuse = d.diffuse;
-        m.specular = d.specular;
-        m.specular_exponent = d.specular_exponent;
-        m.transparent = d.transparent;
-        m.refractive_index = d.refractive_index;
-        return m;
     }
 
     // What is compiled into one set and placed: a file's root list, or a bound joint's subtree
@@ -685,6 +673,29 @@ Bounds3 GeometrySet::prim_bounds(size_t i) const {
             return xf ? bounds(shape, xf->m).widened() : bounds(shape);
         }
     });
+}
+
+Material compile_material(const MaterialDesc& d) {
+    Material m;
+    m.emissive = d.emissive;
+    m.ambient = d.ambient;
+    m.diffuse = d.diffuse;
+    m.specular = d.specular;
+    m.specular_exponent = d.specular_exponent;
+    m.transparent = d.transparent;
+    m.refractive_index = d.refractive_index;
+    m.texture = d.texture;
+    return m;
+}
+
+void material_terms_into(const Material& m, MaterialDesc* d) {
+    d->emissive = m.emissive;
+    d->ambient = m.ambient;
+    d->diffuse = m.diffuse;
+    d->specular = m.specular;
+    d->specular_exponent = m.specular_exponent;
+    d->transparent = m.transparent;
+    d->refractive_index = m.refractive_index;
 }
 
 Light compile_light(const LightDesc& d) {
