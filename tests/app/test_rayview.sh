@@ -91,6 +91,31 @@ printf '2 markers off\n3 wait-jobs\n' >"$tmp/markers.txt"
 check "the preview of materials.ray is near the trace" "$imgdiff" "$tmp/materials.png" \
     "$tmp/materials-raytrace.png" --max-mad 12 --max-dark-share 0.01
 
+# A texture put on a material in the panel (script: material I texture T) shows in the preview
+# as in the trace of the file that names it: the image and the set's texture coordinates are
+# uploaded then (the preview had left both out).
+for t in -1 0; do
+    cat >"$tmp/retexture$t.ray" <<SCENE
+#camera 0 0 4  0 0 -1  0 1 0  0.5
+#light_dir 1 1 1  0 0 -1
+#texture $src/scenes/textures/checker.bmp
+#material 0 0 0  0.2 0.2 0.2  0.8 0.8 0.8  0 0 0  1  0 0 0  1  $t !ball!
+#shape_sphere 0  0 0 0  1.5
+SCENE
+done
+"$(dirname "$rv")/raytrace" -q "$tmp/retexture0.ray" --width 320 --height 240 \
+    -o "$tmp/retexture-raytrace.png"
+printf '2 markers off\n3 material 0 texture 0\n' >"$tmp/retexture.txt"
+xrun "$rv" --size 320x240 --panel off --layout preview --frames 12 --script "$tmp/retexture.txt" \
+    --screenshot "$tmp/retexture.png" "$tmp/retexture-1.ray" >/dev/null 2>&1
+check "a texture put on a material shows in the preview" "$imgdiff" "$tmp/retexture.png" \
+    "$tmp/retexture-raytrace.png" --max-mad 3
+printf '3 material 0 texture 1\n' >"$tmp/retexture-bad.txt"
+xrun "$rv" --size 320x240 --frames 6 --script "$tmp/retexture-bad.txt" \
+    "$tmp/retexture-1.ray" >"$tmp/retexture-bad.out" 2>&1
+check "a texture index the file lacks is refused with its range" \
+    grep -q "texture.*\(-1\|0\)" "$tmp/retexture-bad.out"
+
 # The target error: the trace stops once its estimate reaches it, and the status bar says when;
 # before that, the time it will take (from the slope of the error against time).
 cat >"$tmp/target.txt" <<SCRIPT

@@ -528,6 +528,54 @@ TEST(Viewer, MaterialEditsReachBothPanesUndoAndSave) {
     EXPECT_EQ(v.session.loaded->scene.materials[0].diffuse, Vec3(0.85));
 }
 
+// Each material of the compiled scene knows its file, its index there and the textures it may
+// use (its file's): materials.ray's five, then its floor's (parts/floor.ray, one texture),
+// then the V0 default.
+TEST(Viewer, MaterialsKnowTheirFileAndItsTextures) {
+    Diagnostics diag;
+    const SceneDesc d = parse_scene_file(RT_SOURCE_DIR "/scenes/materials.ray", diag);
+    ASSERT_EQ(d.files.size(), 2u);
+    const MaterialOrigin glass = material_origin(d, 1);
+    EXPECT_EQ(glass.file, 0);
+    EXPECT_EQ(glass.index, 1);
+    EXPECT_EQ(glass.textures, 0);
+    const MaterialOrigin floor = material_origin(d, 5);
+    EXPECT_EQ(floor.file, 1);
+    EXPECT_EQ(floor.index, 0);
+    EXPECT_EQ(floor.first_texture, 0);
+    EXPECT_EQ(floor.textures, 1);
+    EXPECT_EQ(material_origin(d, 6).file, -1);  // the built-in default
+    const RenderScene scene = compile_scene(d);
+    EXPECT_EQ(scene.materials[5].texture, floor.first_texture + d.files[1].materials[0].texture);
+}
+
+// A material's texture edited in the panel (another of its file's, or none) reaches the traced
+// scene and is saved as the file's texture index in its #material line.
+TEST(Viewer, TextureEditsReachTheSceneAndAreSaved) {
+    ViewerState v(RT_SOURCE_DIR "/scenes/textures.ray", false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    v.set_trace_size(32, 24);
+    restart(v);
+    ASSERT_EQ(v.edits.materials[0].texture, 0);
+    v.edits.materials[0].texture = 3;   // checker -> grid
+    v.edits.materials[1].texture = -1;  // wood -> none
+    v.track_history(false);
+    v.mark_edited();
+    restart(v);
+    EXPECT_EQ(v.session.loaded->scene.materials[0].texture, 3);
+    EXPECT_EQ(v.session.loaded->shown.materials[1].texture, -1);
+    const std::string path = ::testing::TempDir() + "rt_viewer_texture.ray";
+    v.save_scene(path);
+    Diagnostics diag;
+    const SceneDesc saved = parse_scene_file(path, diag);
+    ASSERT_EQ(saved.files[0].materials.size(), 4u);
+    EXPECT_EQ(saved.files[0].materials[0].texture, 3);
+    EXPECT_EQ(saved.files[0].materials[1].texture, -1);
+    EXPECT_EQ(saved.files[0].materials[2].texture, 2);  // not edited
+    ASSERT_TRUE(v.undo());
+    EXPECT_EQ(v.edits.materials[0].texture, 0);
+}
+
 // Undo and redo of the camera, a light and a setting; a gesture is one step; a new edit drops
 // the redo steps; opening a file starts a new history.
 TEST(Viewer, UndoAndRedoEveryEdit) {

@@ -168,6 +168,7 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
                      [&](size_t a, size_t b) { return mesh.materials[a] < mesh.materials[b]; });
     std::vector<unsigned> indices;
     SetBuffers buf;
+    buf.uvs = textured;
     std::vector<size_t> range_tris;
     for (size_t t : order) {
         const int m = mesh.materials[t];
@@ -246,6 +247,17 @@ void Preview::materials_changed(const RenderScene& scene) {
                                 [](const Material& m) { return m.transparent != Vec3(0.0); });
 }
 
+bool Preview::needs_upload(const RenderScene& scene) const {
+    for (const SetBuffers& buf : m_sets)
+        for (const Range& r : buf.ranges) {
+            const int t = scene.materials[static_cast<size_t>(r.material)].texture;
+            if (t >= 0 && (!buf.uvs || static_cast<size_t>(t) >= m_textures.size() ||
+                           !m_textures[static_cast<size_t>(t)]))
+                return true;
+        }
+    return false;
+}
+
 void Preview::load(const RenderScene& scene, int detail) {
     load(scene, prepare_preview(scene, detail));
 }
@@ -253,6 +265,7 @@ void Preview::load(const RenderScene& scene, int detail) {
 void Preview::load(const RenderScene& scene, const PreviewGeometry& geometry) {
     m_sets.clear();
     m_textures.clear();
+    m_detail = geometry.detail;
     m_shadows_valid = false;
     m_csg = false;
     m_transparent = false;

@@ -61,6 +61,10 @@ public:
     /// The scene's materials were edited: the environment maps are chosen again (which objects
     /// reflect) and the shadow and transmittance maps rendered again (which cast them).
     void materials_changed(const RenderScene& scene);
+    /// A material now uses a texture that was not uploaded, on a set uploaded without texture
+    /// coordinates: load() again (with prepare_preview(scene, detail())).
+    bool needs_upload(const RenderScene& scene) const;
+    int detail() const { return m_detail; }
     /// Draws line segments (pairs of vertices) over what draw() left, depth-tested.
     void draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
                     const Camera& camera) const;
@@ -115,6 +119,7 @@ private:
     struct SetBuffers {
         GlVertexArray vao;  // none for a set no instance places
         GlBuffer vbo, ebo;
+        bool uvs = false;  // texture coordinates uploaded
         std::vector<Range> ranges;
         GlTexture csg_texture;  // the CSG trees (csg_preview.h), none without CSG
         int csg_nodes = 0, csg_children = 0, csg_leaves = 0;
@@ -195,6 +200,7 @@ private:
     std::map<std::vector<std::string>, GlProgram> m_programs;  // by defines
     std::vector<std::string> m_defines;
     size_t m_uploaded_floats = 0;
+    int m_detail = 48;                                 // the tessellation's, of the last load
     GlProgram m_shadow_program, m_shadow_csg_program;  // without and with RT_CSG
     // Light through transparent materials (spec §7.1: every surface on the shadow ray multiplies
     // S_l by its T): per shadow layer, the product of the T of every transparent surface the

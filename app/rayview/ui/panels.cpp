@@ -495,6 +495,39 @@ void status_panel(const ViewerState& v, const std::vector<std::string>& preview_
     }
 }
 
+namespace {
+
+// A material's texture: none or one of its own file's (the file's #texture lines; textures
+// modulate K_D, or every term in V3: spec §7.3, §13.9).
+bool texture_combo(const SceneDesc& desc, size_t material, int* texture) {
+    const MaterialOrigin o = material_origin(desc, material);
+    if (o.textures == 0) return false;
+    const auto& files = desc.files[static_cast<size_t>(o.file)].textures;
+    auto name = [&](int t) {
+        const int k = t - o.first_texture;
+        if (t < 0 || k < 0 || k >= o.textures) return std::string("none");
+        return std::filesystem::path(files[static_cast<size_t>(k)].path).filename().string() +
+               " (texture " + std::to_string(k) + ")";
+    };
+    bool edited = false;
+    if (ImGui::BeginCombo("texture", name(*texture).c_str())) {
+        for (int t = -1; t < o.textures; ++t) {
+            const int global = t < 0 ? -1 : o.first_texture + t;
+            if (ImGui::Selectable(name(global).c_str(), global == *texture) && global != *texture) {
+                *texture = global;
+                edited = true;
+            }
+        }
+        ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(desc.dialect == Dialect::V3 ? "modulates every term (spec §13.9)"
+                                                      : "modulates K_D (spec §7.3)");
+    return edited;
+}
+
+}  // namespace
+
 // One material's terms (spec §7, §13.9): its colours (HDR), the exponent, the transparency
 // and the refraction index, each an edit of SceneEdits::materials (undo, both panes at the
 // restart, saved with the scene). The material follows the last pick, or the list.
@@ -525,8 +558,7 @@ bool materials_panel(ViewerState& v, PanelState& ui) {
     edited |= colour("transparent", &m.transparent);
     edited |= slider("exponent", &m.specular_exponent, 0.0f, 1000.0f);
     edited |= slider("refraction index", &m.refractive_index, 0.1f, 4.0f);
-    if (m.texture >= 0)
-        ImGui::TextDisabled("texture %d (every term it modulates, spec §7.3)", m.texture);
+    edited |= texture_combo(s.desc, static_cast<size_t>(ui.material), &m.texture);
     // The top file's materials come first, then the included files' and the built-in default:
     // the writer saves the top file only.
     if (static_cast<size_t>(ui.material) >= s.desc.files[0].materials.size()) {

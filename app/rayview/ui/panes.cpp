@@ -117,6 +117,9 @@ void Panes::draw(ViewerState& v) {
         m_drawn_materials = loaded.shown.materials;
     }
     if (!same_materials(loaded.shown.materials, m_drawn_materials)) {  // edited in the panel
+        // A texture put on a material: its image and the set's texture coordinates.
+        if (m_preview.needs_upload(loaded.shown))
+            m_preview.load(loaded.shown, prepare_preview(loaded.shown, m_preview.detail()));
         m_preview.materials_changed(loaded.shown);
         m_drawn_materials = loaded.shown.materials;
         v.ui.preview_stale = true;

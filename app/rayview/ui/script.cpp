@@ -213,7 +213,7 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         v.open_in_background(path);
     } else if (c == "material") {
         // material I emissive|ambient|diffuse|specular|transparent R G B | material I
-        // exponent E | material I index N: the panel's material edits.
+        // exponent E | material I index N | material I texture T: the panel's material edits.
         const size_t i = static_cast<size_t>(whole(l, 0, 0, 1 << 20));
         if (i >= v.edits.materials.size() || l.args.size() < 3)
             throw std::runtime_error("material: I WHAT VALUES... (the scene has " +
@@ -233,7 +233,12 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
             m.specular_exponent = arg(2);
         else if (what == "index")
             m.refractive_index = arg(2);
-        else
+        else if (what == "texture") {
+            // The file's texture index, as in its #material line; -1 for none.
+            const MaterialOrigin o = material_origin(v.session.loaded->desc, i);
+            const int t = static_cast<int>(whole(l, 2, -1, o.textures - 1));
+            m.texture = t < 0 ? -1 : o.first_texture + t;
+        } else
             throw std::runtime_error("material: cannot set " + what);
         v.mark_edited();
     } else if (c == "reload") {
