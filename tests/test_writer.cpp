@@ -169,6 +169,63 @@ TEST(Writer, V0AndEditsRoundTrip) {
     expect_same(a, b);
 }
 
+// An edited material replaced in a file's text: that directive (its numbers and !name!)
+// becomes the writer's, every other byte stays, and the result parses to the edit.
+TEST(Writer, ReplacesAMaterialInPlace) {
+    const std::string text =
+        "// a part\n#material 0 0 0  .1 .1 .1  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !dull!  // old\n"
+        "  #material 0 0 0  .2 .2 .2  .5 .5 .5  0 0 0\n    1  0 0 0  1  -1 !two lines!\n"
+        "#shape_sphere 1 0 0 0 1\n";
+    SceneDesc a = test::parse(text);
+    ASSERT_EQ(a.files[0].materials.size(), 2u);
+    MaterialDesc m = a.files[0].materials[1];
+    m.diffuse = Vec3(0.25, 0.5, 0.75);
+    m.specular_exponent = 12;
+    const std::string patched =
+        replace_materials(text, "part.ray", {{m.loc, write_material(m, a.dialect)}});
+    EXPECT_EQ(patched.substr(0, text.find("  #material")),
+              text.substr(0, text.find("  #material")));
+    EXPECT_NE(patched.find("  #material 0 0 0 0.2 0.2 0.2 0.25 0.5 0.75"), std::string::npos)
+        << patched;
+    EXPECT_NE(patched.find("!two lines!\n#shape_sphere 1 0 0 0 1\n"), std::string::npos) << patched;
+    Diagnostics d;
+    const SceneDesc b = parse_scene_string(patched, "part.ray", d);
+    ASSERT_EQ(b.files[0].materials.size(), 2u);
+    EXPECT_EQ(b.files[0].materials[1].diffuse, Vec3(0.25, 0.5, 0.75));
+    EXPECT_EQ(b.files[0].materials[1].specular_exponent, 12.0);
+    EXPECT_EQ(b.files[0].materials[0].diffuse, Vec3(0.8));  // not edited
+    // V0: kspec = e / 128 and one transparency, as the file has them.
+    MaterialDesc v0 = m;
+    v0.specular_exponent = 64;
+    EXPECT_NE(write_material(v0, Dialect::V0).find(" 0.5 0 1 -1 !two lines!"), std::string::npos)
+        << write_material(v0, Dialect::V0);
+}
+
+// A file that changed since it was read is not patched blind: the location no longer holds a
+// #material, or a comment sits inside the directive; the error names the file, line and column.
+TEST(Writer, RefusesToReplaceWhatIsNoLongerThere) {
+    const std::string text = "#material 0 0 0  .1 .1 .1  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !m!\n";
+    MaterialDesc m = test::parse(text).files[0].materials[0];
+    const std::string with = write_material(m, Dialect::V1);
+    try {
+        replace_materials("// a new first line\n" + text, "part.ray", {{m.loc, with}});
+        FAIL() << "no error";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("part.ray:1:1: error: cannot write the edited "
+                                             "material here: the file no longer has its "
+                                             "#material there"),
+                  std::string::npos)
+            << e.what();
+    }
+    const std::string commented =
+        "#material 0 0 0  .1 .1 .1 // diffuse\n .8 .8 .8  0 0 0  1  0 0 0  1  -1 !m!\n";
+    EXPECT_THROW(replace_materials(commented, "part.ray", {{m.loc, with}}), SceneError);
+    SourceLoc beyond = m.loc;
+    beyond.line = 7;
+    EXPECT_THROW(replace_materials(text, "part.ray", {{beyond, with}}), SceneError);
+    EXPECT_THROW(replace_materials("#material 0 0 0 !m", "part.ray", {{m.loc, with}}), SceneError);
+}
+
 // ---- V3 (spec §13) ----
 
 // A V3 description with two materials and four vertices in its top-level file.

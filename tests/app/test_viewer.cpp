@@ -576,6 +576,55 @@ TEST(Viewer, TextureEditsReachTheSceneAndAreSaved) {
     EXPECT_EQ(v.edits.materials[0].texture, 0);
 }
 
+// An included file's material (materials.ray's floor, from parts/floor.ray) is written into
+// that file only when asked, as its one #material line, the rest of the file kept; a file
+// changed since it was read is an error and nothing is written.
+TEST(Viewer, IncludedMaterialsAreSavedIntoTheirFileWhenAsked) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(::testing::TempDir()) / "rt_viewer_included";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "parts");
+    fs::create_directories(dir / "textures");
+    fs::copy_file(RT_SOURCE_DIR "/scenes/materials.ray", dir / "materials.ray");
+    fs::copy_file(RT_SOURCE_DIR "/scenes/parts/floor.ray", dir / "parts/floor.ray");
+    fs::copy_file(RT_SOURCE_DIR "/scenes/textures/checker.bmp", dir / "textures/checker.bmp");
+    std::string floor_before;
+    ASSERT_TRUE(read_file((dir / "parts/floor.ray").string(), &floor_before));
+    ViewerState v((dir / "materials.ray").string(), false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    EXPECT_TRUE(v.edited_included_files().empty());
+    ASSERT_EQ(material_origin(v.session.loaded->desc, 5).file, 1);
+    v.edits.materials[5].diffuse = Vec3(0.25, 0.5, 0.75);
+    ASSERT_EQ(v.edited_included_files().size(), 1u);
+    EXPECT_EQ(fs::path(v.edited_included_files()[0]).filename(), "floor.ray");
+
+    const std::string saved = (dir / "saved.ray").string();
+    v.save_scene(saved);  // not asked: the part stays as it was
+    std::string floor;
+    ASSERT_TRUE(read_file((dir / "parts/floor.ray").string(), &floor));
+    EXPECT_EQ(floor, floor_before);
+
+    v.save_scene(saved, true);
+    ASSERT_TRUE(read_file((dir / "parts/floor.ray").string(), &floor));
+    EXPECT_NE(floor, floor_before);
+    EXPECT_EQ(floor.substr(0, floor.find('\n')), floor_before.substr(0, floor_before.find('\n')));
+    EXPECT_NE(floor.find("0.25 0.5 0.75"), std::string::npos) << floor;
+    Diagnostics diag;
+    const RenderScene back = compile_scene(parse_scene_file(saved, diag));
+    EXPECT_EQ(back.materials[5].diffuse, Vec3(0.25, 0.5, 0.75));
+    EXPECT_EQ(back.materials[5].texture, 0);
+
+    // The part changed on disk since it was read: an error, and neither file is written.
+    write_file_atomic((dir / "parts/floor.ray").string(), "// moved down\n" + floor_before);
+    v.edits.materials[5].diffuse = Vec3(0.5);
+    v.edits.camera.orbit(0.3, 0);
+    const std::string other = (dir / "other.ray").string();
+    EXPECT_THROW(v.save_scene(other, true), SceneError);
+    EXPECT_FALSE(fs::exists(other));
+    ASSERT_TRUE(read_file((dir / "parts/floor.ray").string(), &floor));
+    EXPECT_EQ(floor, "// moved down\n" + floor_before);
+}
+
 // Undo and redo of the camera, a light and a setting; a gesture is one step; a new edit drops
 // the redo steps; opening a file starts a new history.
 TEST(Viewer, UndoAndRedoEveryEdit) {

@@ -1,12 +1,13 @@
 // libFuzzer target: scene text -> parse_scene_string -> compile_scene -> animate() at a few
-// times. Any input must end in a SceneError or a compiled scene: a crash, a sanitizer report, a
-// hang or any other exception is a bug. An input holding a line "#@key" is two files: the text
-// before it is the scene, the text after it the key file fuzz.key (which the scene may name), so
-// the key grammar and the joint values are fuzzed too; a first line "#@v0", "#@v1" or "#@v3" forces
-// that dialect (forced_dialect), so any text goes through each parser, the V3 one among them (the
-// seeds of tests/fuzz/corpus/scene hold some of each). Built as `fuzz_scene` (clang,
-// -fsanitize=fuzzer) and as `fuzz_replay` (any compiler, replays files: the crasher regression
-// corpus in tests/fuzz/crashers).
+// times, and the text with its materials written back in place (replace_materials). Any input must
+// end in a SceneError or a compiled scene: a crash, a sanitizer report, a hang or any other
+// exception is a bug. An input holding a line "#@key" is two files: the text before it is the
+// scene, the text after it the key file fuzz.key (which the scene may name), so the key grammar and
+// the joint values are fuzzed too; a first line "#@v0", "#@v1" or "#@v3" forces that dialect
+// (forced_dialect), so any text goes through each parser, the V3 one among them (the seeds of
+// tests/fuzz/corpus/scene hold some of each). Built as `fuzz_scene` (clang, -fsanitize=fuzzer) and
+// as `fuzz_replay` (any compiler, replays files: the crasher regression corpus in
+// tests/fuzz/crashers).
 //
 // Includes, textures and key files cannot escape: the harness works in a private temporary
 // directory holding a few fixture files (inc.ray, inc0.ray, the V3 inc3.ray, loop.ray, tex.ppm,
@@ -18,10 +19,12 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "fuzz_util.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
+#include "rt/format/writer.h"
 #include "rt/scene/scene_time.h"
 
 namespace {
@@ -107,6 +110,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             }
         }
         if (!desc.tracks.empty()) (void)rt::compile_scene(rt::scene_at_time(desc, rt::SceneTime{}));
+        // The viewer's in-place save of edited materials (replace_materials) on this text: each
+        // of the top file's materials written back where it was read, then parsed again.
+        std::vector<std::pair<rt::SourceLoc, std::string>> edits;
+        for (const rt::MaterialDesc& m : desc.files[0].materials)
+            edits.emplace_back(m.loc, rt::write_material(m, desc.dialect));
+        if (!edits.empty()) {
+            const std::string patched = rt::replace_materials(text, "fuzz.ray", std::move(edits));
+            (void)rt::parse_scene_string(patched, "fuzz.ray", diag, options, rt_fuzz::work_dir());
+        }
     } catch (const rt::SceneError&) {
         // The expected way for bad input to end.
     }

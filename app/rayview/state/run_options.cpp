@@ -43,8 +43,8 @@ constexpr const char* kScriptCommands =
     "            rotation matrix|closest|euler|log|quaternion |\n"
     "            render-animation PATTERN FRAMES W H SPP [VIDEO] (in the background)\n"
     "  files:    open PATH | open-background PATH | reload | revert (the file's camera and\n"
-    "            lights) | save-scene PATH | save-image PATH "
-    "(the pane's trace) |\n"
+    "            lights) | save-scene PATH | save-scene-all PATH (and the edited\n"
+    "            materials into their included files) | save-image PATH (the pane's trace) |\n"
     "            render-image PATH W H SPP (in the background) | screenshot PATH\n"
     "A command that fails is reported and the run goes on; the run then exits 1. Frame\n"
     "numbers are at most 100000 (as --frames); a script runs to two frames past its last.";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #include "frames.h"
 #include "rt/compile/compile.h"
@@ -242,13 +243,30 @@ void ViewerState::poll_files() {
     }
 }
 
-void ViewerState::save_scene(const std::string& path) const {
-    SceneDesc desc = session.loaded->desc;
+std::vector<std::string> ViewerState::edited_included_files() const {
+    std::vector<std::string> files;
+    if (!session.loaded) return files;
+    const LoadedScene& s = *session.loaded;
+    if (edits.materials.size() != s.file_materials.size()) return files;
+    for (size_t k = 0; k < edits.materials.size(); ++k) {
+        const MaterialOrigin o = material_origin(s.desc, k);
+        if (o.file <= 0 || same_materials({edits.materials[k]}, {s.file_materials[k]})) continue;
+        const std::string& path = s.desc.files[static_cast<size_t>(o.file)].path;
+        if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
+    }
+    return files;
+}
+
+void ViewerState::save_scene(const std::string& path, bool included_too) const {
+    const LoadedScene& s = *session.loaded;
+    SceneDesc desc = s.desc;
     desc.camera = edits.camera.desc();
     desc.lights.clear();
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) desc.lights.push_back(edits.lights[i]);
-    // The edited materials into their files' descriptions, textures as their files' indices.
+    // The edited materials into their files' descriptions, textures as their files' indices;
+    // an included file's edited directives, as text, to replace in that file.
+    std::map<size_t, std::vector<std::pair<SourceLoc, std::string>>> included;
     for (size_t k = 0; k < edits.materials.size(); ++k) {
         const MaterialOrigin o = material_origin(desc, k);
         if (o.file < 0) continue;  // the built-in default
@@ -258,8 +276,20 @@ void ViewerState::save_scene(const std::string& path) const {
         material_terms_into(m, &md);
         const int t = m.texture - o.first_texture;
         md.texture = m.texture >= 0 && t >= 0 && t < o.textures ? t : -1;
+        if (included_too && o.file > 0 && k < s.file_materials.size() &&
+            !same_materials({m}, {s.file_materials[k]}))
+            included[static_cast<size_t>(o.file)].emplace_back(md.loc,
+                                                               write_material(md, desc.dialect));
     }
-    write_file_atomic(path, write_scene_for(desc, path));  // a temporary name, then renamed
+    std::vector<std::pair<std::string, std::string>> writes{{path, write_scene_for(desc, path)}};
+    for (auto& [f, changes] : included) {
+        const std::string& file = desc.files[f].path;
+        std::string text, why;
+        if (!read_file(file, &text, &why)) throw std::runtime_error(file + ": " + why);
+        writes.emplace_back(file, replace_materials(text, file, std::move(changes)));
+    }
+    for (const auto& [file, text] : writes)
+        write_file_atomic(file, text);  // a temporary name, then renamed
     if (hooks.on_saved) hooks.on_saved(path);
 }
 

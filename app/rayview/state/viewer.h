@@ -74,8 +74,14 @@ struct ViewerState {
     /// dropped onto the window, and reloads the open file in the background when it changed on
     /// disk (its time is checked twice a second, not every frame).
     void poll_files();
-    /// The description with the viewer's camera and lights, as a .ray file. Throws.
-    void save_scene(const std::string& path) const;
+    /// The description with the viewer's camera, lights and materials, as a .ray file. The
+    /// materials of included files are written into those files only with `included_too`:
+    /// each edited #material directive replaced in place, every other byte kept; every text is
+    /// made before any file is written, so an error (a file changed since it was read) writes
+    /// nothing. Throws.
+    void save_scene(const std::string& path, bool included_too = false) const;
+    /// The included files (as resolved) whose materials differ from the file's.
+    std::vector<std::string> edited_included_files() const;
     /// The latest traced image: 8-bit formats with the exposure and tonemap shown, PFM linear.
     /// Throws.
     void save_trace(const std::string& path) const;

@@ -559,13 +559,20 @@ bool materials_panel(ViewerState& v, PanelState& ui) {
     edited |= slider("exponent", &m.specular_exponent, 0.0f, 1000.0f);
     edited |= slider("refraction index", &m.refractive_index, 0.1f, 4.0f);
     edited |= texture_combo(s.desc, static_cast<size_t>(ui.material), &m.texture);
-    // The top file's materials come first, then the included files' and the built-in default:
-    // the writer saves the top file only.
-    if (static_cast<size_t>(ui.material) >= s.desc.files[0].materials.size()) {
+    // An included file's material is saved into that file when asked (the Save section); the
+    // built-in default is in no file.
+    const MaterialOrigin origin = material_origin(s.desc, static_cast<size_t>(ui.material));
+    if (origin.file != 0) {
+        const std::string where =
+            origin.file < 0
+                ? std::string("the built-in default: edited for this session, not saved")
+                : "from " +
+                      std::filesystem::path(s.desc.files[static_cast<size_t>(origin.file)].path)
+                          .filename()
+                          .string() +
+                      ": saved into it when asked under Save";
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-        ImGui::TextWrapped(
-            "not the top file's (an included file's, or the built-in default): "
-            "edited for this session, not saved");
+        ImGui::TextWrapped("%s", where.c_str());
         ImGui::PopStyleColor();
     }
     if (ImGui::Button("Revert this material")) {
@@ -578,10 +585,21 @@ bool materials_panel(ViewerState& v, PanelState& ui) {
 void save_panel(ViewerState& v, PanelState& ui) {
     ImGui::InputText("save as", ui.save_buf, sizeof ui.save_buf);
     ImGui::InputText("scene file", ui.scene_buf, sizeof ui.scene_buf);
-    if (ImGui::Button("Save scene (camera and lights)")) {
+    // Materials of included files live in those files: written there (each edited #material
+    // line replaced, the rest kept) only when asked.
+    const std::vector<std::string> parts = v.edited_included_files();
+    std::string names;
+    for (const std::string& p : parts)
+        names += (names.empty() ? "" : ", ") + std::filesystem::path(p).filename().string();
+    if (!parts.empty())
+        ImGui::Checkbox(("also write the edited materials into " + names).c_str(),
+                        &ui.save_included);
+    if (ImGui::Button("Save scene (camera, lights, materials)")) {
+        const bool included = ui.save_included && !parts.empty();
         try {
-            v.save_scene(ui.scene_buf);
-            v.messages.note(std::string("saved ") + ui.scene_buf);
+            v.save_scene(ui.scene_buf, included);
+            v.messages.note(std::string("saved ") + ui.scene_buf +
+                            (included ? " and the materials of " + names : ""));
         } catch (const std::exception& e) {
             v.messages.fail(e.what());
         }

@@ -17,6 +17,7 @@ struct PanelState {
     char path_buf[1024];
     char save_buf[1024] = "rayview.png";
     char scene_buf[1024] = "edited.ray";
+    bool save_included = false;      // also write edited materials into their included files
     int image_size[2] = {640, 480};  // "Render and save image": raytrace's default size
     int image_spp = 16;
     // "Render animation": the frame files' %d pattern, the frame count (0: the loop at the

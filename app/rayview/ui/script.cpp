@@ -247,6 +247,8 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         v.use_file_edits();
     } else if (c == "save-scene" && !path.empty()) {
         v.save_scene(path);
+    } else if (c == "save-scene-all" && !path.empty()) {
+        v.save_scene(path, true);  // and the edited materials of included files
     } else if (c == "save-image" && !path.empty()) {
         v.save_trace(path);
     } else if (c == "render-image" && l.args.size() >= 4) {

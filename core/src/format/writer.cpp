@@ -1,5 +1,7 @@
 #include "rt/format/writer.h"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <filesystem>
 #include <iterator>
@@ -25,6 +27,13 @@ public:
         } else {
             run_v1();
         }
+        return m_out;
+    }
+
+    /// One #material directive, without its newline.
+    std::string material_only(const MaterialDesc& m) {
+        material(m);
+        m_out.pop_back();
         return m_out;
     }
 
@@ -413,6 +422,64 @@ std::string write_scene_for(const SceneDesc& desc, const std::string& saved_path
     auto dir = std::filesystem::absolute(saved_path, ec).lexically_normal().parent_path();
     if (ec) return write_scene(desc);
     return Writer(desc, true, dir.string()).run();
+}
+
+std::string write_material(const MaterialDesc& m, Dialect dialect) {
+    SceneDesc desc;
+    desc.dialect = dialect;
+    return Writer(desc, true).material_only(m);
+}
+
+std::string replace_materials(const std::string& text, const std::string& file,
+                              std::vector<std::pair<SourceLoc, std::string>> edits) {
+    // Each location as an offset into the text (lines and columns count from 1, in bytes).
+    std::vector<size_t> line_start{0};
+    for (size_t i = 0; i < text.size(); ++i)
+        if (text[i] == '\n') line_start.push_back(i + 1);
+    struct Span {
+        size_t begin, end;
+        const std::string* with;
+        SourceLoc at;
+    };
+    std::vector<Span> spans;
+    for (const auto& [loc, with] : edits) {
+        const SourceLoc at{&file, loc.line, loc.col};
+        const auto fail = [&](const std::string& why) {
+            return SceneError(at, "cannot write the edited material here: " + why);
+        };
+        if (loc.line < 1 || static_cast<size_t>(loc.line) > line_start.size() || loc.col < 1)
+            throw fail("no such line in the file as it is now");
+        const size_t begin =
+            line_start[static_cast<size_t>(loc.line - 1)] + static_cast<size_t>(loc.col - 1);
+        static constexpr std::string_view kDirective = "#material";
+        if (text.compare(begin, kDirective.size(), kDirective) != 0)
+            throw fail("the file no longer has its #material there");
+        // Its numbers, then the !name! string: nothing else may come between (a comment would
+        // be lost, and a '!' inside one would end the search early).
+        size_t open = begin + kDirective.size();
+        while (open < text.size() && text[open] != '!') {
+            const char c = text[open];
+            if (!(std::isspace(static_cast<unsigned char>(c)) || std::isdigit(c) || c == '.' ||
+                  c == '-' || c == '+' || c == 'e' || c == 'E'))
+                throw fail("it holds more than its numbers and name");
+            ++open;
+        }
+        const size_t close = open < text.size() ? text.find('!', open + 1) : std::string::npos;
+        if (close == std::string::npos) throw fail("its !name! string is not closed");
+        spans.push_back({begin, close + 1, &with, at});
+    }
+    std::sort(spans.begin(), spans.end(),
+              [](const Span& a, const Span& b) { return a.begin < b.begin; });
+    std::string out;
+    size_t from = 0;
+    for (const Span& s : spans) {
+        if (s.begin < from) throw SceneError(s.at, "two edits of one material");
+        out.append(text, from, s.begin - from);
+        out += *s.with;
+        from = s.end;
+    }
+    out.append(text, from, std::string::npos);
+    return out;
 }
 
 }  // namespace rt

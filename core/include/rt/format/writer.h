@@ -5,6 +5,8 @@
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "rt/scene/scene_desc.h"
 
@@ -21,5 +23,15 @@ std::string write_scene(const SceneDesc& desc, bool absolute_paths = true);
 /// The same text for saving at `saved_path`: texture and included file paths relative to its
 /// directory (where the parser looks first), so the saved scene and its files can move together.
 std::string write_scene_for(const SceneDesc& desc, const std::string& saved_path);
+
+/// One #material directive as the writer writes it in `dialect` (no newline).
+std::string write_material(const MaterialDesc& m, Dialect dialect);
+/// `text`, the contents of the .ray file `file`, with the #material directives at the given
+/// locations (MaterialDesc::loc: line and column from 1, in bytes) replaced by the given text;
+/// every other byte, comments included, stays. A location where the file no longer has a
+/// #material, or one whose numbers and !name! string have anything else between them, is a
+/// SceneError at that location (the file changed since it was read): nothing is replaced.
+std::string replace_materials(const std::string& text, const std::string& file,
+                              std::vector<std::pair<SourceLoc, std::string>> edits);
 
 }  // namespace rt
