@@ -333,11 +333,13 @@ void main() {
                     from = (u_world_from_object * vec4(qs, 1.0)).xyz;
                     vec3 n2 = normalize(u_normal_matrix * ns);  // outward at the exit
                     vec3 out_dir = refract(dir, -n2, u_refind);
-                    // Total internal reflection: no refracted ray, only what the inner surface
-                    // mirrors, weighted by K_S as in the trace (one bounce of it here).
+                    // The exit as the trace shades it: K_S times what the inner surface mirrors
+                    // (seen past the solid, which its map leaves out), plus T times the ray
+                    // that leaves, none under total internal reflection.
+                    c += weight * u_specular * environment(from, reflect(dir, -n2));
                     bool tir = out_dir == vec3(0.0);
-                    dir = tir ? reflect(dir, -n2) : normalize(out_dir);
-                    weight *= tir ? u_specular : u_transparent;
+                    dir = tir ? dir : normalize(out_dir);
+                    weight *= tir ? vec3(0.0) : u_transparent;
                 }
                 c += weight * environment(from, dir);
             }
