@@ -876,6 +876,7 @@ TEST(GlPreview, ShaderErrorsNameTheFile) {
 struct PreviewAgainstTrace {
     double mean_abs = 0;    // per channel, 0-255, over the image
     double dark_share = 0;  // trace luminance > 0.3, preview < 0.05
+    double off_share = 0;   // off by more than 32/255 in a channel
     int planes = 0;         // planar reflections drawn
 };
 
@@ -891,18 +892,21 @@ PreviewAgainstTrace preview_against_trace(const RenderScene& scene, int depth) {
     const Image traced = test::render(scene, kW, kH, 5);
     PreviewAgainstTrace out;
     out.planes = preview.planar_reflections();
-    long dark = 0;
+    long dark = 0, off = 0;
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
             const Vec3 g = gl.at(x, y) / 255.0;
             Vec3 t;
             for (int k = 0; k < 3; ++k) t[k] = to_byte(traced.at(x, y)[k]) / 255.0;
+            off += std::max({std::abs(g.x - t.x), std::abs(g.y - t.y), std::abs(g.z - t.z)}) >
+                   32.5 / 255;
             out.mean_abs += (std::abs(g.x - t.x) + std::abs(g.y - t.y) + std::abs(g.z - t.z)) / 3;
             auto lum = [](const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; };
             dark += lum(t) > 0.3 && lum(g) < 0.05;
         }
     out.mean_abs *= 255.0 / (kW * kH);
     out.dark_share = static_cast<double>(dark) / (kW * kH);
+    out.off_share = static_cast<double>(off) / (kW * kH);
     return out;
 }
 
@@ -1006,6 +1010,43 @@ TEST(GlPreview, AGlassBallInvertsWhatIsBehindIt) {
     const PreviewAgainstTrace through = preview_against_trace(scene, 5);
     std::printf("glass ball: mean difference %.2f\n", through.mean_abs);
     EXPECT_LT(through.mean_abs, 3.0);  // 5.4 through the front surface alone
+}
+
+// What a mirror floor shows is as sharp as the trace's once the view is still: a fine checker
+// wall seen in it (the reflection rendered at the pane's resolution, not half of it).
+TEST(GlPreview, AMirrorShowsFineDetailSharply) {
+    const std::string tex = std::string(RT_SOURCE_DIR) + "/scenes/textures/checker.bmp";
+    const RenderScene scene = test::compile(
+        "#camera 0 1.5 8  0 -0.1 -1  0 1 0  0.3\n#ambient 0.4 0.4 0.4\n"
+        "#light_point 1 1 1  0 4 6  1 0 0\n#texture " +
+        tex +
+        "\n#material 0 0 0  0 0 0  0 0 0  0.9 0.9 0.9  50  0 0 0  1  -1 !mirror!\n"
+        "#material 0 0 0  0.3 0.3 0.3  0.8 0.8 0.8  0 0 0  1  0 0 0  1  0 !checker!\n"
+        "#vertex -8 0 -3  0 0 0  0 0\n#vertex -8 0 9  0 0 0  0 0\n#vertex 8 0 9  0 0 0  0 0\n"
+        "#vertex 8 0 -3  0 0 0  0 0\n#vertex -8 0 -3  0 0 1  0 0\n#vertex 8 0 -3  0 0 1  24 0\n"
+        "#vertex 8 6 -3  0 0 1  24 9\n#vertex -8 6 -3  0 0 1  0 9\n"
+        "#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 3\n"
+        "#shape_triangle 1 4 5 6\n#shape_triangle 1 4 6 7\n");
+    const PreviewAgainstTrace mirrored = preview_against_trace(scene, 3);
+    std::printf("fine checker in a mirror: mean difference %.2f, %.1f%% off\n", mirrored.mean_abs,
+                100 * mirrored.off_share);
+    EXPECT_EQ(mirrored.planes, 1);
+    EXPECT_LT(mirrored.off_share, 0.08);  // 37% at half the resolution
+}
+
+// A ball of clear glass with a highlight colour mirrors at its inner surface too: the trace adds
+// K_S times what the far side mirrors where the ray leaves, so its upper half shows the lit
+// floor below, not only the dark sky behind.
+TEST(GlPreview, GlassMirrorsInsideAsTheTraceDoes) {
+    const RenderScene scene = test::compile(
+        "#camera 0 1 6  0 0 -1  0 1 0  0.25\n#ambient 0.3 0.3 0.3\n"
+        "#light_point 1 1 1  0 5 5  1 0 0\n"
+        "#material 0 0 0  0.3 0.3 0.3  0.9 0.9 0.9  0 0 0  1  0 0 0  1  -1 !floor!\n"
+        "#material 0 0 0  0 0 0  0 0 0  0.5 0.5 0.5  100  0.5 0.5 0.5  1  -1 !glass!\n"
+        "#shape_box 0  0 -0.1 0  20 0.2 20\n#shape_sphere 1  0 1 0  1\n");
+    const PreviewAgainstTrace inside = preview_against_trace(scene, 5);
+    std::printf("glass mirroring inside: mean difference %.2f\n", inside.mean_abs);
+    EXPECT_LT(inside.mean_abs, 3.6);  // 3.92 without; the trace's further inner bounces remain
 }
 
 // A block of glass shifts what is behind it: the ray leaves through the face opposite the one

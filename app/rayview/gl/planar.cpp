@@ -5,9 +5,9 @@
 // clipped away, into a texture that the mirror's fragments read at their own pixel. The faces
 // that get one are the largest flat faces of reflecting materials (triangle planes, a box's
 // faces, a tessellation's flat parts) facing the eye, at most kMaxPlanes a frame (one while the
-// view moves), rendered at half the pane's resolution with the preview's shading and shadows;
-// what the mirror shows reflects through the cube maps once the view is still (the curved
-// mirrors keep their cube maps).
+// view moves), rendered with the preview's shading and shadows at the pane's resolution once
+// the view is still, where what the mirror shows also reflects through the cube maps (half the
+// resolution and local shading while it moves; the curved mirrors keep their cube maps).
 #define GL_GLEXT_PROTOTYPES
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -200,7 +200,10 @@ void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& pla
                                  const Camera& camera, bool shadows, int width, int height) {
     m_planes = choose_planes(scene, camera);
     if (m_planes.empty()) return;
-    const int w = std::max(1, width / 2), h = std::max(1, height / 2);
+    // Half the pane's resolution while the view moves; the pane's own once it is still, so a
+    // mirror shows a checker floor as sharp as the trace does.
+    const int scale = moving ? 2 : 1;
+    const int w = std::max(1, width / scale), h = std::max(1, height / scale);
     if (!m_planar_tex) m_planar_tex = GlTexture::make();
     if (!m_planar_depth) m_planar_depth = GlRenderbuffer::make();
     if (!m_planar_fbo) m_planar_fbo = GlFramebuffer::make();
