@@ -1049,6 +1049,25 @@ TEST(GlPreview, GlassMirrorsInsideAsTheTraceDoes) {
     EXPECT_LT(inside.mean_abs, 3.6);  // 3.92 without; the trace's further inner bounces remain
 }
 
+// A block of green glass on a checker floor: what shows through it is the floor behind, at a
+// grazing angle, where three steps along the map's distances had not found the floor yet.
+TEST(GlPreview, AGrazingFloorSeenThroughGlassIsWhereTheTraceSeesIt) {
+    const std::string tex = std::string(RT_SOURCE_DIR) + "/scenes/textures/checker.bmp";
+    const RenderScene scene = test::compile(
+        "#camera 0 1.2 7  0 -0.05 -1  0 1 0  0.14\n#ambient 0.4 0.4 0.4\n"
+        "#background 0.45 0.6 0.8\n#light_point 1 1 1  -2 6 6  1 0 0\n#texture " +
+        tex +
+        "\n#material 0 0 0  0.3 0.3 0.3  0.8 0.8 0.8  0 0 0  1  0 0 0  1  0 !floor!\n"
+        "#material 0 0 0  0 0 0  0.05 0.05 0.05  0.1 0.1 0.1  100  0.3 0.8 0.4  1.1  -1 !glass!\n"
+        "#vertex -20 0 -20  0 1 0  0 10\n#vertex -20 0 20  0 1 0  0 0\n"
+        "#vertex 20 0 20  0 1 0  10 0\n#vertex 20 0 -20  0 1 0  10 10\n"
+        "#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 3\n#shape_box 1  0 1 0  1.6 2 0.6\n");
+    const PreviewAgainstTrace through = preview_against_trace(scene, 5);
+    std::printf("checker floor through green glass: mean difference %.2f, %.1f%% off\n",
+                through.mean_abs, 100 * through.off_share);
+    EXPECT_LT(through.off_share, 0.08);  // 10.2% with three steps, not eight
+}
+
 // A block of glass shifts what is behind it: the ray leaves through the face opposite the one
 // it entered, parallel to where it came from (as in the trace), not along the first bend.
 TEST(GlPreview, AGlassBlockShiftsWhatIsBehindIt) {
