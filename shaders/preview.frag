@@ -222,30 +222,12 @@ int planar_layer(vec3 p, vec3 ng) {
 }
 #endif
 
-void main() {
-#ifdef RT_PLANAR
-    // The surface's own plane, from the screen derivatives (before any discard).
-    vec3 ng = normalize(cross(dFdx(v_world), dFdy(v_world)));
-#endif
-#ifdef RT_CLIP_PLANE
-    if (dot(vec4(v_world, 1.0), u_clip_plane) < u_clip_epsilon) discard;
-#endif
-#ifdef RT_CSG
-    if (v_leaf >= 0 && !csg_valid(v_leaf, v_set)) discard;
-#endif
-    vec3 d = normalize(v_world - u_eye);
-    // The two-sided rule (spec §5): the side the ray meets is the geometric normal's, which is
-    // the winding's (the tessellations wind counter-clockwise about it, and so do triangles in
-    // their set): N = n_s when the front face is seen, else -n_s, whichever way n_s points.
-    // A vertex normal against the winding then faces away and is dark, as in the trace.
-    vec3 n = normalize(v_normal);
-    if (gl_FrontFacing == u_mirrored) n = -n;
-    vec3 t = texel(v_uv);
-    vec3 ka = u_ambient * t;
-    vec3 c = u_emissive * all_terms(t) + ka * u_ambient_light;
+// Every light's terms at p with the normal n facing the ray d (the sum over lights above):
+// t is the texel, ka and ks the textured K_A and K_S.
+vec3 lights(vec3 p, vec3 n, vec3 d, vec3 t, vec3 ka, vec3 ks) {
+    vec3 c = vec3(0.0);
 #ifdef RT_SPECULAR
     vec3 r = d - 2.0 * dot(d, n) * n;
-    vec3 ks = u_specular * all_terms(t);
 #endif
     for (int i = 0; i < u_light_count; ++i) {
         vec3 l;
@@ -257,7 +239,7 @@ void main() {
 #endif
         {
 #if defined(RT_POINT) || defined(RT_SPOT)
-            vec3 delta = u_light_position[i] - v_world;
+            vec3 delta = u_light_position[i] - p;
             float dist = length(delta);
             if (dist <= 0.0) continue;
             l = delta / dist;
@@ -280,7 +262,7 @@ void main() {
         if (ndl <= 0.0) continue;
         vec3 sf = vec3(f);
 #ifdef RT_SHADOWS
-        sf *= visibility(i, v_world, n);
+        sf *= visibility(i, p, n);
         if (sf == vec3(0.0)) continue;
 #endif
 #ifdef RT_SPECULAR
@@ -291,6 +273,36 @@ void main() {
         c += sf * (u_diffuse * t * u_light_diffuse[i] * ndl);
 #endif
     }
+    return c;
+}
+
+void main() {
+#ifdef RT_PLANAR
+    // The surface's own plane, from the screen derivatives (before any discard).
+    vec3 ng = normalize(cross(dFdx(v_world), dFdy(v_world)));
+#endif
+#ifdef RT_CLIP_PLANE
+    if (dot(vec4(v_world, 1.0), u_clip_plane) < u_clip_epsilon) discard;
+#endif
+#ifdef RT_CSG
+    if (v_leaf >= 0 && !csg_valid(v_leaf, v_set)) discard;
+#endif
+    vec3 d = normalize(v_world - u_eye);
+    // The two-sided rule (spec §5): the side the ray meets is the geometric normal's, which is
+    // the winding's (the tessellations wind counter-clockwise about it, and so do triangles in
+    // their set): N = n_s when the front face is seen, else -n_s, whichever way n_s points.
+    // A vertex normal against the winding then faces away and is dark, as in the trace.
+    vec3 n = normalize(v_normal);
+    if (gl_FrontFacing == u_mirrored) n = -n;
+    vec3 t = texel(v_uv);
+    vec3 ka = u_ambient * t;
+    vec3 c = u_emissive * all_terms(t) + ka * u_ambient_light;
+#ifdef RT_SPECULAR
+    vec3 ks = u_specular * all_terms(t);
+#else
+    vec3 ks = vec3(0.0);
+#endif
+    c += lights(v_world, n, d, t, ka, ks);
 #ifdef RT_REFLECTIONS
     if (u_env_on) {  // spec §7.4: the reflection weight K_S is not textured
 #ifdef RT_PLANAR
@@ -337,9 +349,12 @@ void main() {
                     from = (u_world_from_object * vec4(qs, 1.0)).xyz;
                     vec3 n2 = normalize(u_normal_matrix * ns);  // outward at the exit
                     vec3 out_dir = refract(dir, -n2, u_refind);
-                    // The exit as the trace shades it: K_S times what the inner surface mirrors
-                    // (seen past the solid, which its map leaves out), plus T times the ray
-                    // that leaves, none under total internal reflection.
+                    // The exit as the trace shades it: its local shading (the normal facing the
+                    // ray, inward), K_S times what the inner surface mirrors (seen past the
+                    // solid, which its map leaves out), plus T times the ray that leaves, none
+                    // under total internal reflection.
+                    c += weight * (u_emissive * all_terms(t) + ka * u_ambient_light +
+                                   lights(from, -n2, dir, t, ka, u_specular * all_terms(t)));
                     c += weight * u_specular * environment(from, reflect(dir, -n2));
                     bool tir = out_dir == vec3(0.0);
                     dir = tir ? dir : normalize(out_dir);

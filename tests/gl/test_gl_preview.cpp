@@ -1068,6 +1068,19 @@ TEST(GlPreview, AGrazingFloorSeenThroughGlassIsWhereTheTraceSeesIt) {
     EXPECT_LT(through.off_share, 0.08);  // 10.2% with three steps, not eight
 }
 
+// Where a ray leaves a tinted glass ball the trace shades the inner surface like any hit (its
+// normal facing the ray): lit from above, the ball's lower half glows blue from inside.
+TEST(GlPreview, GlassIsShadedWhereTheRayLeaves) {
+    const RenderScene scene = test::compile(
+        "#camera 0 0 6  0 0 -1  0 1 0  0.25\n#ambient 0.2 0.2 0.2\n"
+        "#light_dir 1 1 1  0 -1 -0.2\n"
+        "#material 0 0 0  0 0 0.2  0.1 0.1 0.8  0 0 0  1  0.7 0.7 0.7  1  -1 !blue glass!\n"
+        "#shape_sphere 0  0 0 0  1\n");
+    const PreviewAgainstTrace inner = preview_against_trace(scene, 5);
+    std::printf("tinted glass shaded inside: mean difference %.2f\n", inner.mean_abs);
+    EXPECT_LT(inner.mean_abs, 2.0);  // 3.75 without the exit's shading
+}
+
 // A block of glass shifts what is behind it: the ray leaves through the face opposite the one
 // it entered, parallel to where it came from (as in the trace), not along the first bend.
 TEST(GlPreview, AGlassBlockShiftsWhatIsBehindIt) {
