@@ -139,10 +139,12 @@ uniform samplerCube u_env;
 uniform vec3 u_transparent;  // T
 uniform float u_refind;
 // The solid a transmitting range is in its set's frame (preview.cpp's Range::Solid: 0 none,
-// 1 a sphere, u_solid_sphere's centre and radius, 2 a box, u_solid_lo to u_solid_hi), and the
+// 1 a sphere, u_solid_sphere's centre and radius, 2 a box, u_solid_lo to u_solid_hi, 3 a torus
+// about y, centred at u_solid_sphere.xyz, ring and tube radii u_solid_radii), and the
 // instance's transforms (preview.vert's, and their inverse).
 uniform int u_solid;
 uniform vec4 u_solid_sphere;
+uniform vec2 u_solid_radii;
 uniform vec3 u_solid_lo, u_solid_hi;
 uniform mat4 u_world_from_object;
 uniform mat4 u_set_from_world;
@@ -331,6 +333,28 @@ void main() {
                         float disc = b * b - a * (dot(pc, pc) - u_solid_sphere.w * u_solid_sphere.w);
                         ns = pc + (-b + sqrt(max(disc, 0.0))) / a * ts;
                         qs = ns + u_solid_sphere.xyz;
+                    } else if (u_solid == 3) {
+                        // A torus: sphere tracing its distance (spec §13.7's surface) from
+                        // inside, where it is the safe step, to where it is crossed.
+                        vec3 tu = normalize(ts);
+                        float R = u_solid_radii.x, r = u_solid_radii.y, s = 1e-3 * r;
+                        vec3 q = ps - u_solid_sphere.xyz;
+                        // The tessellation's flat faces lie a little outside the saddle-shaped
+                        // inner part: from there the first steps go in.
+                        bool inside = false;
+                        for (int k = 0; k < 64; ++k) {
+                            vec3 p3 = q + s * tu;
+                            float dist = length(vec2(length(p3.xz) - R, p3.y)) - r;
+                            if (dist < -1e-4 * r)
+                                inside = true;
+                            else if (inside || dist > 0.05 * r)
+                                break;
+                            s += max(abs(dist), 1e-2 * r);
+                        }
+                        ns = q + s * tu;
+                        float rho = max(length(ns.xz), 1e-9);
+                        qs = ns + u_solid_sphere.xyz;
+                        ns = vec3(ns.x * (1.0 - R / rho), ns.y, ns.z * (1.0 - R / rho));
                     } else {
                         // A box: the nearest of the three far slabs.
                         vec3 far = mix(u_solid_lo, u_solid_hi, step(0.0, ts));

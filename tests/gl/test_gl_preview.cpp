@@ -1081,6 +1081,22 @@ TEST(GlPreview, GlassIsShadedWhereTheRayLeaves) {
     EXPECT_LT(inner.mean_abs, 2.0);  // 3.75 without the exit's shading
 }
 
+// A ring of glass bends what is behind it twice too: the ray leaves the torus where sphere
+// tracing its distance from inside finds the surface (spec §13.7), as the trace's does.
+TEST(GlPreview, AGlassTorusBendsWhatIsBehindItTwice) {
+    const RenderScene scene = test::compile(
+        "#camera 0 3 6  0 -0.45 -1  0 1 0  0.35\n#light_point 0 0 0  1 1 1  1 1 1  0 4 6  1 0 0\n"
+        "#material 0 0 0  0.3 0 0  0.9 0.1 0.1  0 0 0  1  0 0 0  1  -1 !red!\n"
+        "#material 0 0 0  0 0 0.3  0.1 0.1 0.9  0 0 0  1  0 0 0  1  -1 !blue!\n"
+        "#material 0 0 0  0 0 0  0 0 0  0 0 0  1  1 1 1  1.5  -1 !glass!\n"
+        "#shape_box 0  -5 -1 0  10 0.2 20\n#shape_box 1  5 -1 0  10 0.2 20\n"
+        "#shape_torus 2  0 0 0  0.6 1.4\n");
+    const PreviewAgainstTrace through = preview_against_trace(scene, 5);
+    std::printf("glass torus: mean difference %.2f, %.1f%% off\n", through.mean_abs,
+                100 * through.off_share);
+    EXPECT_LT(through.mean_abs, 3.0);
+}
+
 // A block of glass shifts what is behind it: the ray leaves through the face opposite the one
 // it entered, parallel to where it came from (as in the trace), not along the first bend.
 TEST(GlPreview, AGlassBlockShiftsWhatIsBehindIt) {

@@ -104,11 +104,13 @@ unsigned Preview::program_for(const std::vector<std::string>& defines) {
 
 // The solid a range is, for refraction through its second interface (preview.frag), in the
 // set's frame: a sphere when its vertices all lie on one (a sphere's tessellation; its centre
-// and radius into *sphere), a box when its triangles face along the axes, lie on the faces of
-// their bounds and cover their area once (a box's six faces, not two boxes side by side).
+// and radius into *sphere), a torus about y when they all lie on one (its centre into *sphere,
+// its ring and tube radii into *radii), a box when its triangles face along the axes, lie on
+// the faces of their bounds and cover their area once (a box's six faces, not two boxes side by
+// side).
 Preview::Range::Solid Preview::solid_of(const PreviewMesh& mesh,
                                         const std::vector<unsigned>& indices, const Range& r,
-                                        glm::dvec4* sphere) {
+                                        glm::dvec4* sphere, glm::dvec2* radii) {
     if (r.bounds.empty()) return Range::Solid::None;
     const Vec3 c = r.bounds.centre(), size = r.bounds.diagonal();
     const double radius = 0.5 * size.x;
@@ -123,6 +125,22 @@ Preview::Range::Solid Preview::solid_of(const PreviewMesh& mesh,
         }
     }
     if (!(size.x > 0 && size.y > 0 && size.z > 0)) return Range::Solid::None;
+    // A torus about y (spec §13.7): bounds c +- (R + r, r, R + r), every vertex on
+    // (rho - R)^2 + y^2 = r^2 (a spindle torus, r > R, has no such tessellation).
+    const double tube = 0.5 * size.y, ring = 0.5 * size.x - tube;
+    if (ring >= tube && std::abs(size.x - size.z) <= 1e-6 * size.x) {
+        bool on_torus = true;
+        for (unsigned i = r.first; i < r.first + r.count && on_torus; ++i) {
+            const Vec3 q = mesh.positions[indices[i]] - c;
+            const double rho = std::hypot(q.x, q.z);
+            on_torus = std::abs(std::hypot(rho - ring, q.y) - tube) <= 1e-3 * tube;
+        }
+        if (on_torus) {
+            *sphere = glm::dvec4(c, 0.0);
+            *radii = glm::dvec2(ring, tube);
+            return Range::Solid::Torus;
+        }
+    }
     const double tol = 1e-6 * glm::length(size);
     double area = 0;
     for (unsigned i = r.first; i + 2 < r.first + r.count; i += 3) {
@@ -186,7 +204,7 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
         buf.ranges.back().count += 3;
     }
     if (!buf.ranges.empty()) buf.ranges.back().faces = flat_faces(mesh, range_tris);
-    for (Range& r : buf.ranges) r.solid = solid_of(mesh, indices, r, &r.sphere);
+    for (Range& r : buf.ranges) r.solid = solid_of(mesh, indices, r, &r.sphere, &r.radii);
     buf.vao = GlVertexArray::make();
     glBindVertexArray(buf.vao.id());
     buf.vbo = GlBuffer::make();
@@ -551,6 +569,8 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
                                 static_cast<float>(range.sphere.y),
                                 static_cast<float>(range.sphere.z),
                                 static_cast<float>(range.sphere.w));
+                    glUniform2f(loc(program, "u_solid_radii"), static_cast<float>(range.radii.x),
+                                static_cast<float>(range.radii.y));
                     set_vec3(program, "u_solid_lo", range.bounds.lo);
                     set_vec3(program, "u_solid_hi", range.bounds.hi);
                 }

@@ -112,9 +112,11 @@ private:
         std::vector<FlatFace> faces;  // its largest flat parts (planar reflections), if any
         /// The solid the range is, for refraction through its second interface (in the set's
         /// frame): a sphere when every vertex lies on one (its centre and radius), a box when
-        /// its triangles cover exactly the faces of their bounds; else none.
-        enum class Solid { None, Sphere, Box } solid = Solid::None;
+        /// its triangles cover exactly the faces of their bounds, a torus about the y axis when
+        /// every vertex lies on one (its centre, and ring and tube radii in `radii`); else none.
+        enum class Solid { None, Sphere, Box, Torus } solid = Solid::None;
         glm::dvec4 sphere{0.0};
+        glm::dvec2 radii{0.0};
     };
     struct SetBuffers {
         GlVertexArray vao;  // none for a set no instance places
@@ -125,7 +127,7 @@ private:
         int csg_nodes = 0, csg_children = 0, csg_leaves = 0;
     };
     static Range::Solid solid_of(const PreviewMesh& mesh, const std::vector<unsigned>& indices,
-                                 const Range& r, glm::dvec4* sphere);
+                                 const Range& r, glm::dvec4* sphere, glm::dvec2* radii);
     static SetBuffers upload_set(const PreviewMesh& mesh, bool textured, const CsgTexels& csg,
                                  size_t* floats);
     // What a shadow map was rendered for, to know when to render it again.
