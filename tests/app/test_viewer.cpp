@@ -10,9 +10,11 @@
 
 #include "key_queue.h"
 #include "light_edit.h"
+#include "preview_geometry.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
+#include "rt/shapes/shapes.h"
 #include "rt/util/file_io.h"
 #include "test_util.h"
 #include "viewer.h"
@@ -623,6 +625,47 @@ TEST(Viewer, IncludedMaterialsAreSavedIntoTheirFileWhenAsked) {
     EXPECT_FALSE(fs::exists(other));
     ASSERT_TRUE(read_file((dir / "parts/floor.ray").string(), &floor));
     EXPECT_EQ(floor, "// moved down\n" + floor_before);
+}
+
+// A big mesh's coarse version for the moving view: about the target's triangles, no triangle
+// collapsed, each of one of the source's materials, its bounds within a cell of the source's.
+TEST(Viewer, BigMeshesGetACoarseVersionNearTheirShape) {
+    Sphere ball;
+    ball.centre = Vec3(1, 2, 3);
+    ball.radius = 2;
+    PreviewMesh mesh = tessellate(ball, 500);  // about 250k triangles
+    mesh.materials.assign(mesh.triangle_count(), 0);
+    Box box;
+    box.centre = Vec3(4, 2, 3);
+    box.half = Vec3(0.5);
+    PreviewMesh cube = tessellate(box);
+    cube.materials.assign(cube.triangle_count(), 1);
+    mesh.append(cube);
+    ASSERT_GT(mesh.triangle_count(), 200000u);
+    const PreviewMesh coarse = decimate(mesh, 20000);
+    EXPECT_LE(coarse.triangle_count(), 20000u);
+    EXPECT_GT(coarse.triangle_count(), 10000u);
+    ASSERT_EQ(coarse.materials.size(), coarse.triangle_count());
+    ASSERT_EQ(coarse.normals.size(), coarse.positions.size());
+    Bounds3 a, b;
+    for (const Vec3& p : mesh.positions) a.extend(p);
+    for (const Vec3& p : coarse.positions) b.extend(p);
+    const double cell = 5.0 / std::sqrt(20000.0);  // the grid's first guess, along 5 units
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(a.lo[k], b.lo[k], cell) << k;
+        EXPECT_NEAR(a.hi[k], b.hi[k], cell) << k;
+    }
+    bool both = false;
+    for (size_t t = 0; t < coarse.triangle_count(); ++t) {
+        const uint32_t* i = &coarse.indices[3 * t];
+        ASSERT_TRUE(i[0] != i[1] && i[1] != i[2] && i[0] != i[2]) << t;
+        ASSERT_TRUE(coarse.materials[t] == 0 || coarse.materials[t] == 1);
+        both |= coarse.materials[t] == 1;
+    }
+    EXPECT_TRUE(both);  // the small box is still there
+    for (const Vec3& n : coarse.normals) EXPECT_NEAR(glm::length(n), 1.0, 1e-9);
+    // Small meshes come back as they are; prepare_preview makes coarse versions of big sets only.
+    EXPECT_EQ(decimate(cube, 20000).triangle_count(), cube.triangle_count());
 }
 
 // Undo and redo of the camera, a light and a setting; a gesture is one step; a new edit drops

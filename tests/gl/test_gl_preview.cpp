@@ -1097,6 +1097,47 @@ TEST(GlPreview, AGlassTorusBendsWhatIsBehindItTwice) {
     EXPECT_LT(through.mean_abs, 3.0);
 }
 
+// While the view moves a big mesh is drawn coarse (its PreviewGeometry::Set::coarse), and in
+// full once still; both look like the trace of the ball.
+TEST(GlPreview, BigMeshesAreDrawnCoarseWhileTheViewMoves) {
+    const RenderScene scene = test::compile(
+        "#camera 0 0 5  0 0 -1  0 1 0  0.4\n#light_dir 1 1 1  -1 -1 -1\n#ambient 0.2 0.2 0.2\n"
+        "#material 0 0 0  0.2 0.2 0.2  0.8 0.6 0.4  0 0 0  1  0 0 0  1  -1 !m!\n"
+        "#shape_sphere 0  0 0 0  1.5\n");
+    const view::PreviewGeometry geometry = view::prepare_preview(scene, 720);  // 518k triangles
+    ASSERT_GT(geometry.sets[0].mesh.triangle_count(), view::kCoarseAbove);
+    ASSERT_GT(geometry.sets[0].coarse.triangle_count(), 0u);
+    const Image traced = test::render(scene, kW, kH, 5);
+    Offscreen gl;
+    ASSERT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, geometry);
+    const Camera cam = make_camera(scene, kW, kH);
+    auto difference = [&] {
+        double sum = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x)
+                for (int k = 0; k < 3; ++k)
+                    sum += std::abs(gl.at(x, y)[k] - to_byte(traced.at(x, y)[k]));
+        return sum / (3.0 * kW * kH);
+    };
+    preview.moving = true;
+    preview.draw(scene, plan_for(scene), cam, kW, kH);
+    glFinish();
+    EXPECT_EQ(preview.triangles_drawn(), geometry.sets[0].coarse.triangle_count());
+    EXPECT_LE(preview.triangles_drawn(), view::kCoarseTriangles);
+    const double moving = difference();
+    preview.moving = false;
+    preview.draw(scene, plan_for(scene), cam, kW, kH);
+    glFinish();
+    EXPECT_EQ(preview.triangles_drawn(), geometry.sets[0].mesh.triangle_count());
+    const double still = difference();
+    std::printf("big ball: mean difference %.3f moving (%zu triangles), %.3f still\n", moving,
+                geometry.sets[0].coarse.triangle_count(), still);
+    EXPECT_LT(moving, 0.5);
+    EXPECT_LT(still, 0.5);
+}
+
 // A block of glass shifts what is behind it: the ray leaves through the face opposite the one
 // it entered, parallel to where it came from (as in the trace), not along the first bend.
 TEST(GlPreview, AGlassBlockShiftsWhatIsBehindIt) {

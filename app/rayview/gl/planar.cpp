@@ -273,6 +273,7 @@ void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& pla
         DrawPass pass;
         pass.mirrored = true;
         pass.reflections = !moving;
+        pass.coarse = moving;
         draw_instances(scene, program, pass);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));

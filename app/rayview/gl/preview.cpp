@@ -315,6 +315,17 @@ void Preview::load(const RenderScene& scene, const PreviewGeometry& geometry) {
         }
         m_csg |= !csg.leaf_of_vertex.empty();
         m_sets.push_back(upload_set(mesh, textured, csg, &m_uploaded_floats));
+        const PreviewMesh& coarse = geometry.sets[si].coarse;
+        if (coarse.triangle_count() > 0) {
+            SetBuffers& full = m_sets.back();
+            full.coarse = std::make_unique<SetBuffers>(
+                upload_set(coarse, textured, CsgTexels{}, &m_uploaded_floats));
+            for (const Range& r : full.coarse->ranges) {
+                size_t k = 0;
+                while (k + 1 < full.ranges.size() && full.ranges[k].material != r.material) ++k;
+                full.coarse->full_range.push_back(k);
+            }
+        }
     }
     // Textures: 8-bit RGB, row 0 first, bilinear with wrap and no mipmaps (spec §7.3).
     for (size_t ti = 0; ti < scene.textures.size(); ++ti) {
@@ -533,7 +544,8 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
         // A mirroring instance turns its triangles' winding on screen (the two-sided rule).
         glUniform1i(loc(program, "u_mirrored"),
                     (glm::determinant(Mat3(inst.world_from_set.m)) < 0) != pass.mirrored ? 1 : 0);
-        const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
+        const SetBuffers& full = m_sets[static_cast<size_t>(inst.set)];
+        const SetBuffers& buf = pass.coarse && full.coarse ? *full.coarse : full;
         if (!buf.vao) continue;
         glBindVertexArray(buf.vao.id());
         if (buf.csg_texture) {
@@ -546,7 +558,8 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
         }
         for (size_t ri = 0; ri < buf.ranges.size(); ++ri) {
             const Range& range = buf.ranges[ri];
-            if (pass.skip_map >= 0 && m_env_of[ii][ri] == pass.skip_map) continue;
+            const size_t fri = &buf == &full ? ri : buf.full_range[ri];  // the full set's range
+            if (pass.skip_map >= 0 && m_env_of[ii][fri] == pass.skip_map) continue;
             const Material& m = scene.materials[static_cast<size_t>(range.material)];
             if (opaque_only && m.transparent != Vec3(0.0)) continue;
             if (pass.transparent_only) {
@@ -554,7 +567,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
                 set_vec3(program, "u_transmit", m.transparent);
             }
             if (reflections) {
-                const int e = m_env_of[ii][ri];
+                const int e = m_env_of[ii][fri];
                 glUniform1i(loc(program, "u_env_on"), e >= 0 ? 1 : 0);
                 if (e >= 0) {
                     const EnvMap& map = m_env[static_cast<size_t>(e)];
@@ -585,6 +598,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
                 if (m.texture >= 0)
                     glBindTexture(GL_TEXTURE_2D, m_textures[static_cast<size_t>(m.texture)].id());
             }
+            if (pass.main) m_triangles_drawn += range.count / 3;
             glDrawElements(
                 GL_TRIANGLES, static_cast<GLsizei>(range.count), GL_UNSIGNED_INT,
                 reinterpret_cast<const void*>(static_cast<size_t>(range.first) * sizeof(unsigned)));
@@ -699,6 +713,9 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     if (!m_planes.empty()) set_planar_uniforms(program, width, height);
     DrawPass pass;
     pass.reflections = reflections;
+    pass.coarse = moving;
+    pass.main = true;
+    m_triangles_drawn = 0;
     draw_instances(scene, program, pass);
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -80,7 +81,8 @@ public:
     /// The environment maps the last draw used (0 without reflections).
     int environment_maps() const { return m_env_drawn; }
     /// The view is moving (the viewer's drag or orbit): one planar reflection a frame rather
-    /// than kMaxPlanes, each a pass over the whole scene (software GL: the orbit's frame time).
+    /// than kMaxPlanes, each a pass over the whole scene, and big meshes drawn coarse
+    /// (PreviewGeometry::Set::coarse; software GL: the orbit's frame time).
     bool moving = false;
     /// The planar reflections the last draw rendered (0 without reflections).
     int planar_reflections() const { return static_cast<int>(m_planes.size()); }
@@ -95,6 +97,8 @@ public:
     const std::vector<std::string>& active_defines() const { return m_defines; }
     /// Floats of vertex data the last load() uploaded (uv only for textured sets).
     size_t uploaded_floats() const { return m_uploaded_floats; }
+    /// Triangles the last draw() drew in its main pass (the coarse sets' while moving).
+    size_t triangles_drawn() const { return m_triangles_drawn; }
 
 private:
     /// A flat part of a range: its triangles in one plane n.p + d = 0 (set frame, n unit), their
@@ -125,6 +129,10 @@ private:
         std::vector<Range> ranges;
         GlTexture csg_texture;  // the CSG trees (csg_preview.h), none without CSG
         int csg_nodes = 0, csg_children = 0, csg_leaves = 0;
+        /// The set's coarse version (PreviewGeometry::Set::coarse), drawn while the view
+        /// moves; its full_range gives, per range, the full set's range of its material.
+        std::unique_ptr<SetBuffers> coarse;
+        std::vector<size_t> full_range;
     };
     static Range::Solid solid_of(const PreviewMesh& mesh, const std::vector<unsigned>& indices,
                                  const Range& r, glm::dvec4* sphere, glm::dvec2* radii);
@@ -160,6 +168,8 @@ private:
         bool opaque_only = false, reflections = false;
         bool mirrored = false;  // a planar reflection's pass: every winding seen is reversed
         bool transparent_only = false;  // only transmitting materials, their T in u_transmit
+        bool coarse = false;  // the sets' coarse versions where they have one (the view moves)
+        bool main = false;    // the pane's own pass (counted in triangles_drawn)
         int skip_map = -1;
     };
     void draw_instances(const RenderScene& scene, unsigned program, const DrawPass& pass) const;
@@ -202,6 +212,7 @@ private:
     std::map<std::vector<std::string>, GlProgram> m_programs;  // by defines
     std::vector<std::string> m_defines;
     size_t m_uploaded_floats = 0;
+    mutable size_t m_triangles_drawn = 0;
     int m_detail = 48;                                 // the tessellation's, of the last load
     GlProgram m_shadow_program, m_shadow_csg_program;  // without and with RT_CSG
     // Light through transparent materials (spec §7.1: every surface on the shadow ray multiplies

@@ -1,6 +1,7 @@
 // The preview's geometry before any GL: each placed set tessellated, with its CSG leaves'
-// texels. Made off the interface thread while a scene loads (SceneLoader), so the frame that
-// swaps the scene in only uploads it. No GL here.
+// texels, and a coarse version of each big one that the preview draws while the view moves.
+// Made off the interface thread while a scene loads (SceneLoader), so the frame that swaps the
+// scene in only uploads it. No GL here.
 #pragma once
 
 #include <vector>
@@ -16,10 +17,25 @@ struct PreviewGeometry {
         bool placed = false;
         PreviewMesh mesh;
         CsgTexels csg;
+        /// decimate(mesh, kCoarseTriangles) when the mesh has more than kCoarseAbove
+        /// triangles and no CSG leaves; else empty.
+        PreviewMesh coarse;
     };
     std::vector<Set> sets;
     int detail = 0;
 };
 PreviewGeometry prepare_preview(const RenderScene& scene, int detail = 48);
+
+/// Meshes above this many triangles get a coarse version of about kCoarseTriangles.
+constexpr size_t kCoarseAbove = 250000;
+constexpr size_t kCoarseTriangles = 80000;
+
+/// A coarser `mesh` of at most about `target` triangles, by vertex clustering: the vertices in
+/// one cell of a uniform grid over the mesh's bounds (and of one material) become one, at
+/// their mean position with their normals' normalised sum and the first one's uv; triangles
+/// that collapse and repeats are dropped. The grid is refined until the count is near the
+/// target. Each triangle keeps its material; CSG leaves are not kept (the caller does not ask
+/// for meshes that have them). A mesh already at or below `target` comes back as it is.
+PreviewMesh decimate(const PreviewMesh& mesh, size_t target);
 
 }  // namespace rt::view

@@ -59,7 +59,10 @@ bool TraceSession::take_image() {
     return true;
 }
 
-bool TraceSession::moving() const { return seconds_since(m_change_time) < 0.25; }
+// Also without a restart: with the trace pane hidden (the preview alone) nothing restarts.
+bool TraceSession::moving() const {
+    return seconds_since(m_change_time) < 0.25 || seconds_since(m_edit_time) < 0.25;
+}
 
 double TraceSession::seconds_since_edit() const { return seconds_since(m_edit_time); }
 

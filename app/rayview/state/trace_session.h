@@ -53,7 +53,7 @@ struct TraceSession {
                  float target_error, int scene_id);
     /// Takes the trace's latest image into `last_trace`; false when there is none new.
     bool take_image();
-    /// Less than a quarter second since the last restart: the view is moving.
+    /// Less than a quarter second since the last restart or edit: the view is moving.
     bool moving() const;
     /// Seconds since the last edit (mark_edited(); a change of size is none): once the view is
     /// still, the trace pane refines at full resolution.
