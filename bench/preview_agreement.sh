@@ -13,7 +13,8 @@ build=$(realpath "${1:-build}")
 shift || true
 src=$(cd "$(dirname "$0")/.." && pwd)
 pub=$(realpath "$src/../shared/public-scenes")
-scenes=("$@")
+scenes=()
+for scene in "$@"; do scenes+=("$(realpath -m "$scene")"); done  # each run cds to its scene
 if ((${#scenes[@]} == 0)); then
     scenes=("$src/scenes/v0.ray" "$src/scenes/materials.ray" "$src/scenes/showpiece.ray"
         "$src/scenes/v3_csg.ray" "$src/scenes/robot_arm.ray"
