@@ -45,6 +45,7 @@ PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
         return it->second;
     };
     PreviewMesh out;
+    std::vector<size_t> source;         // the mesh's triangle each kept one comes from
     std::unordered_set<uint64_t> seen;  // the sorted corners of each triangle kept
     for (size_t t = 0; t < mesh.triangle_count(); ++t) {
         std::array<uint32_t, 3> c{corner(t, 0), corner(t, 1), corner(t, 2)};
@@ -57,6 +58,7 @@ PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
         if (!seen.insert(key).second) continue;
         out.indices.insert(out.indices.end(), c.begin(), c.end());
         out.materials.push_back(mesh.materials[t]);
+        source.push_back(t);
     }
     out.positions.reserve(clusters.size());
     for (const Cluster& c : clusters) {
@@ -64,6 +66,20 @@ PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
         const double n = glm::length(c.normal);
         out.normals.push_back(n > 0 ? c.normal / n : Vec3(0, 1, 0));
         if (uvs) out.uvs.push_back(c.uv);
+    }
+    // A triangle the clustering folded over faces against its normals (the two-sided rule
+    // would draw it dark): wound back to its source triangle's sense against its normals.
+    const auto along = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& normals) {
+        return glm::dot(glm::cross(b - a, c - a), normals) >= 0;
+    };
+    for (size_t k = 0; k < source.size(); ++k) {
+        const uint32_t* v = &mesh.indices[3 * source[k]];
+        uint32_t* w = &out.indices[3 * k];
+        const bool was = along(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]],
+                               mesh.normals[v[0]] + mesh.normals[v[1]] + mesh.normals[v[2]]);
+        const bool is = along(out.positions[w[0]], out.positions[w[1]], out.positions[w[2]],
+                              out.normals[w[0]] + out.normals[w[1]] + out.normals[w[2]]);
+        if (was != is) std::swap(w[1], w[2]);
     }
     return out;
 }

@@ -33,7 +33,8 @@ constexpr size_t kCoarseTriangles = 80000;
 /// A coarser `mesh` of at most about `target` triangles, by vertex clustering: the vertices in
 /// one cell of a uniform grid over the mesh's bounds (and of one material) become one, at
 /// their mean position with their normals' normalised sum and the first one's uv; triangles
-/// that collapse and repeats are dropped. The grid is refined until the count is near the
+/// that collapse and repeats are dropped, and one folded over (facing against its normals
+/// where its source did not) is wound back. The grid is refined until the count is near the
 /// target. Each triangle keeps its material; CSG leaves are not kept (the caller does not ask
 /// for meshes that have them). A mesh already at or below `target` comes back as it is.
 PreviewMesh decimate(const PreviewMesh& mesh, size_t target);
