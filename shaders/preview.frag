@@ -211,8 +211,8 @@ uniform float u_clip_epsilon;
 // Planar reflections: fragments on one of the planes (within its epsilon, the surface's own
 // plane) read what the mirror shows from that plane's layer, at their own pixel.
 uniform int u_planar_count;
-uniform vec4 u_planar[2];
-uniform float u_planar_epsilon[2];
+uniform vec4 u_planar[4];
+uniform float u_planar_epsilon[4];
 uniform sampler2DArray u_planar_map;
 uniform vec2 u_viewport;
 int planar_layer(vec3 p, vec3 ng) {

@@ -181,17 +181,28 @@ std::vector<Preview::PlanarView> Preview::choose_planes(const RenderScene& scene
             }
         }
     }
-    std::stable_sort(candidates.begin(), candidates.end(),
+    // One view serves every face of the same plane (a floor of many tiles, each its own
+    // instance), so a plane is ranked by the sum of its faces' scores.
+    const auto same_plane = [](const PlanarView& a, const PlanarView& b) {
+        return glm::dot(Vec3(a.plane), Vec3(b.plane)) > 1 - 1e-9 &&
+               std::abs(a.plane.w - b.plane.w) < b.epsilon;
+    };
+    std::vector<Candidate> planes;
+    for (const Candidate& c : candidates) {
+        const auto it = std::find_if(planes.begin(), planes.end(), [&](const Candidate& p) {
+            return same_plane(p.view, c.view);
+        });
+        if (it == planes.end())
+            planes.push_back(c);
+        else
+            it->score += c.score;
+    }
+    std::stable_sort(planes.begin(), planes.end(),
                      [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
     std::vector<PlanarView> out;
-    for (const Candidate& c : candidates) {
+    for (const Candidate& c : planes) {
         if (out.size() == static_cast<size_t>(moving ? 1 : kMaxPlanes)) break;
-        // One view serves every face of the same plane (a floor of two triangles in two sets).
-        const bool same = std::any_of(out.begin(), out.end(), [&](const PlanarView& v) {
-            return glm::dot(Vec3(v.plane), Vec3(c.view.plane)) > 1 - 1e-9 &&
-                   std::abs(v.plane.w - c.view.plane.w) < c.view.epsilon;
-        });
-        if (!same) out.push_back(c.view);
+        out.push_back(c.view);
     }
     return out;
 }

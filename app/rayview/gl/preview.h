@@ -74,7 +74,7 @@ public:
     static constexpr int kShadowResolution = 1024;
     static constexpr int kTransmitResolution = 512;
     static constexpr int kMaxEnvMaps = 8;
-    static constexpr int kMaxPlanes = 2;  // planar reflections drawn a frame
+    static constexpr int kMaxPlanes = 4;  // planar reflections drawn a frame
     static constexpr int kEnvResolution = 128;
     static constexpr int kCsgRow = 1024;  // CSG texels per row of their texture (csg.frag's)
 
