@@ -26,7 +26,8 @@
 // the parallax between the map's centre and the fragment), RT_ENV_PASS (that map's own pass:
 // alpha = distance from u_pass_centre), RT_PLANAR (fragments on the planes of planar
 // reflections read them instead of the cube map: planar.cpp), RT_CLIP_PLANE (a planar
-// reflection's own pass).
+// reflection's own pass), RT_INNER_HITS (still frames: what a glass solid mirrors inside is
+// followed for up to four hits, not one).
 const int kMaxLights = 16;
 
 in vec3 v_world;
@@ -149,6 +150,7 @@ uniform vec3 u_solid_lo, u_solid_hi;
 uniform mat4 u_world_from_object;
 uniform mat4 u_set_from_world;
 uniform mat3 u_normal_matrix;
+uniform int u_inner_hits;  // hits inside a solid the depth limit lets the trace shade
 
 // What a ray from p along unit dir sees, from the map: the distance stored along a direction
 // from the centre gives the point the ray meets, whose direction from the centre is then
@@ -168,6 +170,54 @@ vec3 environment(vec3 p, vec3 dir) {
         t_prev = t;
     }
     return texture(u_env, q).rgb;
+}
+
+// Where a ray from ps along ts (inside the solid, its set's frame) leaves it, qs, and the
+// outward normal there, ns: the solid of a transmitting range (u_solid).
+void solid_exit(vec3 ps, vec3 ts, out vec3 qs, out vec3 ns) {
+    if (u_solid == 1) {
+        vec3 pc = ps - u_solid_sphere.xyz;
+        float a = dot(ts, ts), b = dot(ts, pc);
+        float disc = b * b - a * (dot(pc, pc) - u_solid_sphere.w * u_solid_sphere.w);
+        ns = pc + (-b + sqrt(max(disc, 0.0))) / a * ts;
+        qs = ns + u_solid_sphere.xyz;
+    } else if (u_solid == 3) {
+        // A torus: sphere tracing its distance (spec §13.7's surface) from inside, where it is
+        // the safe step, to where it is crossed.
+        vec3 tu = normalize(ts);
+        float R = u_solid_radii.x, r = u_solid_radii.y, s = 1e-3 * r;
+        vec3 q = ps - u_solid_sphere.xyz;
+        // The tessellation's flat faces lie a little outside the saddle-shaped inner part:
+        // from there the first steps go in.
+        bool inside = false;
+        for (int k = 0; k < 64; ++k) {
+            vec3 p3 = q + s * tu;
+            float dist = length(vec2(length(p3.xz) - R, p3.y)) - r;
+            if (dist < -1e-4 * r)
+                inside = true;
+            else if (inside || dist > 0.05 * r)
+                break;
+            s += max(abs(dist), 1e-2 * r);
+        }
+        ns = q + s * tu;
+        float rho = max(length(ns.xz), 1e-9);
+        qs = ns + u_solid_sphere.xyz;
+        ns = vec3(ns.x * (1.0 - R / rho), ns.y, ns.z * (1.0 - R / rho));
+    } else {
+        // A box: the nearest of the three far slabs.
+        vec3 far = mix(u_solid_lo, u_solid_hi, step(0.0, ts));
+        vec3 s3 = (far - ps) / ts;  // +inf or nan along a zero component
+        float s = 1e30;
+        int axis = 0;
+        for (int k = 0; k < 3; ++k)
+            if (ts[k] != 0.0 && s3[k] < s) {
+                s = s3[k];
+                axis = k;
+            }
+        qs = ps + max(s, 0.0) * ts;
+        ns = vec3(0.0);
+        ns[axis] = sign(ts[axis]);
+    }
 }
 #endif
 
@@ -323,68 +373,62 @@ void main() {
                     // The second interface, where the refracted ray leaves the solid (in its
                     // set's frame, so also a sheared one in the world), bends it again (a ball
                     // of glass inverts what is behind it, as in the trace); the light crossing
-                    // it is weighted by T at both surfaces.
+                    // it is weighted by T at both surfaces. What the inner surface mirrors
+                    // (K_S) meets the surface again: with RT_INNER_HITS (still frames), up to
+                    // four hits inside, at most u_inner_hits (the depth limit), each shaded as
+                    // the trace shades it, the last one's mirror image looked up; without (the
+                    // view moves; the cube maps' passes), the first hit only.
                     vec3 ps = (u_set_from_world * vec4(v_world, 1.0)).xyz;
                     vec3 ts = mat3(u_set_from_world) * dir;
-                    vec3 qs, ns;  // the exit and its outward normal, in the set's frame
-                    if (u_solid == 1) {
-                        vec3 pc = ps - u_solid_sphere.xyz;
-                        float a = dot(ts, ts), b = dot(ts, pc);
-                        float disc = b * b - a * (dot(pc, pc) - u_solid_sphere.w * u_solid_sphere.w);
-                        ns = pc + (-b + sqrt(max(disc, 0.0))) / a * ts;
-                        qs = ns + u_solid_sphere.xyz;
-                    } else if (u_solid == 3) {
-                        // A torus: sphere tracing its distance (spec §13.7's surface) from
-                        // inside, where it is the safe step, to where it is crossed.
-                        vec3 tu = normalize(ts);
-                        float R = u_solid_radii.x, r = u_solid_radii.y, s = 1e-3 * r;
-                        vec3 q = ps - u_solid_sphere.xyz;
-                        // The tessellation's flat faces lie a little outside the saddle-shaped
-                        // inner part: from there the first steps go in.
-                        bool inside = false;
-                        for (int k = 0; k < 64; ++k) {
-                            vec3 p3 = q + s * tu;
-                            float dist = length(vec2(length(p3.xz) - R, p3.y)) - r;
-                            if (dist < -1e-4 * r)
-                                inside = true;
-                            else if (inside || dist > 0.05 * r)
-                                break;
-                            s += max(abs(dist), 1e-2 * r);
+                    vec3 spec = u_specular * all_terms(t);
+#ifdef RT_INNER_HITS
+                    for (int hit = 1; hit <= 4; ++hit) {
+                        vec3 qs, ns;  // the exit and its outward normal, in the set's frame
+                        solid_exit(ps, ts, qs, ns);
+                        from = (u_world_from_object * vec4(qs, 1.0)).xyz;
+                        vec3 n2 = normalize(u_normal_matrix * ns);  // outward at the exit
+                        // Its local shading, the normal facing the ray (inward).
+                        c += weight * (u_emissive * all_terms(t) + ka * u_ambient_light +
+                                       lights(from, -n2, dir, t, ka, spec));
+                        if (hit >= u_inner_hits) {  // the depth limit: no child rays
+                            weight = vec3(0.0);
+                            break;
                         }
-                        ns = q + s * tu;
-                        float rho = max(length(ns.xz), 1e-9);
-                        qs = ns + u_solid_sphere.xyz;
-                        ns = vec3(ns.x * (1.0 - R / rho), ns.y, ns.z * (1.0 - R / rho));
-                    } else {
-                        // A box: the nearest of the three far slabs.
-                        vec3 far = mix(u_solid_lo, u_solid_hi, step(0.0, ts));
-                        vec3 s3 = (far - ps) / ts;  // +inf or nan along a zero component
-                        float s = 1e30;
-                        int axis = 0;
-                        for (int k = 0; k < 3; ++k)
-                            if (ts[k] != 0.0 && s3[k] < s) {
-                                s = s3[k];
-                                axis = k;
-                            }
-                        qs = ps + max(s, 0.0) * ts;
-                        ns = vec3(0.0);
-                        ns[axis] = sign(ts[axis]);
+                        vec3 out_dir = refract(dir, -n2, u_refind);
+                        vec3 in_dir = reflect(dir, -n2);
+                        vec3 inner = weight * u_specular;
+                        if (out_dir != vec3(0.0))  // none leaves under total internal reflection
+                            c += weight * u_transparent * environment(from, normalize(out_dir));
+                        if (hit == 4 || max(inner.r, max(inner.g, inner.b)) < 0.001) {
+                            // The mirror image seen past the solid, which its map leaves out.
+                            c += inner * environment(from, in_dir);
+                            weight = vec3(0.0);
+                            break;
+                        }
+                        weight = inner;
+                        dir = in_dir;
+                        ps = qs;
+                        ts = mat3(u_set_from_world) * dir;
                     }
+#else
+                    vec3 qs, ns;
+                    solid_exit(ps, ts, qs, ns);
                     from = (u_world_from_object * vec4(qs, 1.0)).xyz;
-                    vec3 n2 = normalize(u_normal_matrix * ns);  // outward at the exit
-                    vec3 out_dir = refract(dir, -n2, u_refind);
-                    // The exit as the trace shades it: its local shading (the normal facing the
-                    // ray, inward), K_S times what the inner surface mirrors (seen past the
-                    // solid, which its map leaves out), plus T times the ray that leaves, none
-                    // under total internal reflection.
+                    vec3 n2 = normalize(u_normal_matrix * ns);
                     c += weight * (u_emissive * all_terms(t) + ka * u_ambient_light +
-                                   lights(from, -n2, dir, t, ka, u_specular * all_terms(t)));
-                    c += weight * u_specular * environment(from, reflect(dir, -n2));
-                    bool tir = out_dir == vec3(0.0);
-                    dir = tir ? dir : normalize(out_dir);
-                    weight *= tir ? vec3(0.0) : u_transparent;
+                                   lights(from, -n2, dir, t, ka, spec));
+                    if (u_inner_hits <= 1) {
+                        weight = vec3(0.0);
+                    } else {
+                        c += weight * u_specular * environment(from, reflect(dir, -n2));
+                        vec3 out_dir = refract(dir, -n2, u_refind);
+                        bool tir = out_dir == vec3(0.0);
+                        dir = tir ? dir : normalize(out_dir);
+                        weight *= tir ? vec3(0.0) : u_transparent;
+                    }
+#endif
                 }
-                c += weight * environment(from, dir);
+                if (weight != vec3(0.0)) c += weight * environment(from, dir);
             }
         }
     }

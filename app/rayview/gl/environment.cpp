@@ -156,6 +156,7 @@ void Preview::render_environment_face(const RenderScene& scene, const RenderPlan
     c.tan_w = c.tan_h = 1.0;
     set_frame_uniforms(program, scene, plan, c, shadows);
     set_vec3(program, "u_pass_centre", map.centre);
+    glUniform1i(uniform(program, "u_inner_hits"), std::max(1, m_max_depth - 2));  // one deeper
     DrawPass pass;
     pass.reflections = bounce == 1;
     pass.skip_map = static_cast<int>(k);

@@ -244,13 +244,14 @@ void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& pla
     // is not its dark diffuse colour) once the view is still; while it moves, local shading
     // keeps the frame time.
     std::vector<std::string> defines = frame_defines(plan, shadows);
-    if (!moving) defines.push_back("RT_REFLECTIONS");
+    if (!moving) defines.insert(defines.end(), {"RT_REFLECTIONS", "RT_INNER_HITS"});
     defines.push_back("RT_CLIP_PLANE");
     const unsigned program = program_for(defines);
     glUseProgram(program);
     set_frame_uniforms(program, scene, plan, camera, shadows);
     glUniform1f(uniform(program, "u_exposure_scale"), 1.0f);
     glUniform1i(uniform(program, "u_tonemap"), 0);
+    glUniform1i(uniform(program, "u_inner_hits"), std::max(1, m_max_depth - 2));  // one deeper
     const Bounds3 world = view_bounds(scene);
     for (size_t k = 0; k < m_planes.size(); ++k) {
         const PlanarView& v = m_planes[k];

@@ -79,7 +79,8 @@ Preview::Preview(const std::string& shader_dir) : m_shader_dir(shader_dir) {
     // Compiled at once with every feature on, so a broken shader file fails here; the other
     // combinations of defines compile on first use (the same source with less of it).
     program_for({"RT_POINT", "RT_SPOT", "RT_DIRECTIONAL", "RT_TEXTURES", "RT_SPECULAR",
-                 "RT_SHADOWS", "RT_TRANSMIT_SHADOWS", "RT_CSG", "RT_REFLECTIONS", "RT_PLANAR"});
+                 "RT_SHADOWS", "RT_TRANSMIT_SHADOWS", "RT_CSG", "RT_REFLECTIONS", "RT_PLANAR",
+                 "RT_INNER_HITS"});
     m_line_program = make_program(shader_dir, "lines.vert", "lines.frag");
     m_shadow_program = make_program(shader_dir, "preview.vert", "shadow.frag");
     m_shadow_csg_program =
@@ -681,6 +682,7 @@ void Preview::set_frame_uniforms(unsigned program, const RenderScene& scene, con
 void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camera& camera,
                    int width, int height, int max_depth, const DisplaySettings& display) {
     const bool shadows = plan.uses.shadows && !plan.lights.empty();
+    m_max_depth = max_depth;
     if (shadows) render_shadow_maps(scene, plan.lights);
     std::vector<std::string> defines = frame_defines(plan, shadows);
     // The joints moved (animate() rebuilds the instances): the maps are chosen again.
@@ -689,6 +691,9 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
     if (max_depth >= 2 && !m_env.empty()) update_environment_maps(scene, plan, shadows);
     const bool reflections = max_depth >= 2 && m_env_ready;
     if (reflections) defines.push_back("RT_REFLECTIONS");
+    // Hits inside a solid past the first, once the view is still: each repeats a glass
+    // fragment's shading, which the frame time while the view moves does without.
+    if (reflections && !moving) defines.push_back("RT_INNER_HITS");
     m_env_drawn = reflections ? static_cast<int>(m_env.size()) : 0;
     m_planes.clear();
     if (reflections) render_planar_maps(scene, plan, camera, shadows, width, height);
@@ -711,6 +716,9 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
                 static_cast<float>(std::exp2(display.exposure_stops)));
     glUniform1i(loc(program, "u_tonemap"), static_cast<int>(display.tonemap));
     if (!m_planes.empty()) set_planar_uniforms(program, width, height);
+    // The camera ray has the full depth: the ray refracted into a solid hits its inside at
+    // depth - 1, and so on.
+    glUniform1i(loc(program, "u_inner_hits"), std::max(1, max_depth - 1));
     DrawPass pass;
     pass.reflections = reflections;
     pass.coarse = moving;

@@ -242,6 +242,7 @@ private:
     GlRenderbuffer m_env_depth;
     bool m_env_chosen = false, m_env_valid = false, m_env_shadows = false;
     std::optional<SceneTime> m_env_time;  // the scene's time when the maps were chosen
+    int m_max_depth = 5;              // the trace's recursion depth, for the hits inside a solid
     bool m_env_ready = false;         // every map has had its first bounce since the scene loaded
     size_t m_env_next = 0;            // the next (bounce * maps + map) to render
     std::vector<Light> m_env_lights;  // what the maps were rendered with
