@@ -136,6 +136,7 @@ uniform vec3 u_pass_centre;  // the centre of the map this pass renders
 #ifdef RT_REFLECTIONS
 uniform vec3 u_env_centre;  // the centre of the map of this material's object
 uniform bool u_env_on;  // this material reflects or transmits, and has a map
+uniform vec3 u_background;  // what a ray that meets nothing sees (linear)
 uniform samplerCube u_env;
 uniform vec3 u_transparent;  // T
 uniform float u_refind;
@@ -156,10 +157,39 @@ uniform int u_inner_hits;  // hits inside a solid the depth limit lets the trace
 // from the centre gives the point the ray meets, whose direction from the centre is then
 // looked up; fixed-point steps from "infinitely far" until the point moves by less than 0.1%
 // (at most eight: a floor seen at a grazing angle takes more than three).
-vec3 environment(vec3 p, vec3 dir) {
+vec3 environment(vec3 p, vec3 dir, bool leaving) {
     vec3 pc = p - u_env_centre;
     vec3 q = dir;
     float t_prev = -1.0;
+    if (leaving) {
+        // A ray that leaves a solid (from near the map's centre, inside it) past the edge of
+        // what the centre sees its way, a floor's far edge, meets nothing, which the steps
+        // below cannot tell: it is marched through the map instead, in steps growing by 25%
+        // from a fiftieth of what the centre sees that way, until a point lies just beyond
+        // the surface the map holds in its direction, less than a step, which the point
+        // before saw too (then the steps below start from there; a point hidden from the
+        // centre, under a floor past its edge, is not a hit), or none does (then the ray
+        // meets nothing: the background).
+        float h = 0.02 * min(texture(u_env, dir).a, 1e6 * (1.0 + length(pc)));
+        float s = h;
+        bool crossed = false;
+        float d_prev = -1.0;
+        for (int k = 0; k < 40; ++k) {
+            vec3 x = pc + s * dir;
+            float d = texture(u_env, x).a;
+            float behind = length(x) - d;
+            if (behind >= 0.0 && behind < 1.5 * h && abs(d - d_prev) < 2.0 * h + 0.1 * d) {
+                crossed = true;
+                break;
+            }
+            d_prev = d;
+            h *= 1.25;
+            s += h;
+        }
+        if (!crossed) return u_background;
+        t_prev = s;
+        q = pc + s * dir;
+    }
     for (int k = 0; k < 8; ++k) {
         float dist = texture(u_env, q).a;  // |hit - centre| of what q sees
         float b = dot(pc, dir);
@@ -328,6 +358,52 @@ vec3 lights(vec3 p, vec3 n, vec3 d, vec3 t, vec3 ka, vec3 ks) {
     return c;
 }
 
+#if defined(RT_REFLECTIONS) && defined(RT_INNER_HITS)
+// The light a ray leaving a torus at qs (its set's frame; from in the world) along dir brings
+// back: through its hole or past its saddle the trace's ray meets the torus again, where the
+// re-entry is shaded (the normal facing the ray), mirrors K_S times what the map shows, and
+// lets T through its side to where it leaves again; a ray that misses the torus sees the map.
+// `hits` counts the surfaces the depth limit still lets the trace meet on this path.
+vec3 past_torus(vec3 qs, vec3 from, vec3 dir, int hits, vec3 t, vec3 ka, vec3 spec) {
+    vec3 tu = normalize(mat3(u_set_from_world) * dir);
+    float R = u_solid_radii.x, r = u_solid_radii.y;
+    vec3 q = qs - u_solid_sphere.xyz;
+    float s = 1e-3 * r, dist = 1.0;
+    bool met = false;
+    for (int k = 0; k < 128 && s < 4.0 * (R + r); ++k) {
+        vec3 p3 = q + s * tu;
+        dist = length(vec2(length(p3.xz) - R, p3.y)) - r;
+        if (dist < 1e-4 * r && s > 2e-2 * r) {
+            met = true;
+            break;
+        }
+        s += max(dist, 1e-3 * r);
+    }
+    if (!met) return environment(from, dir, true);
+    vec3 es = q + s * tu;  // the re-entry, from the torus's centre
+    float rho = max(length(es.xz), 1e-9);
+    vec3 ne = vec3(es.x * (1.0 - R / rho), es.y, es.z * (1.0 - R / rho));
+    vec3 e = (u_world_from_object * vec4(es + u_solid_sphere.xyz, 1.0)).xyz;
+    vec3 n = normalize(u_normal_matrix * ne);  // outward: it faces the ray
+    vec3 c = u_emissive * all_terms(t) + ka * u_ambient_light + lights(e, n, dir, t, ka, spec);
+    if (hits <= 1) return c;
+    c += u_specular * environment(e, reflect(dir, n), false);
+    vec3 in_dir = refract(dir, n, 1.0 / u_refind);
+    if (in_dir == vec3(0.0)) return c;
+    in_dir = normalize(in_dir);
+    vec3 xs, nx;
+    solid_exit(es + u_solid_sphere.xyz, mat3(u_set_from_world) * in_dir, xs, nx);
+    vec3 x = (u_world_from_object * vec4(xs, 1.0)).xyz;
+    vec3 n2 = normalize(u_normal_matrix * nx);
+    c += u_transparent *
+         (u_emissive * all_terms(t) + ka * u_ambient_light + lights(x, -n2, in_dir, t, ka, spec));
+    vec3 out_dir = refract(in_dir, -n2, u_refind);
+    if (hits > 2 && out_dir != vec3(0.0))
+        c += u_transparent * u_transparent * environment(x, normalize(out_dir), true);
+    return c;
+}
+#endif
+
 void main() {
 #ifdef RT_PLANAR
     // The surface's own plane, from the screen derivatives (before any discard).
@@ -363,7 +439,7 @@ void main() {
             c += u_specular * texture(u_planar_map, vec3(gl_FragCoord.xy / u_viewport, float(k))).rgb;
         else
 #endif
-            c += u_specular * environment(v_world, d - 2.0 * dot(d, n) * n);
+            c += u_specular * environment(v_world, d - 2.0 * dot(d, n) * n, false);
         if (u_transparent != vec3(0.0)) {
             // The eye sees the side facing it: entering, eta = 1 / refind.
             vec3 t_dir = refract(d, n, 1.0 / u_refind);
@@ -397,11 +473,16 @@ void main() {
                         vec3 out_dir = refract(dir, -n2, u_refind);
                         vec3 in_dir = reflect(dir, -n2);
                         vec3 inner = weight * u_specular;
-                        if (out_dir != vec3(0.0))  // none leaves under total internal reflection
-                            c += weight * u_transparent * environment(from, normalize(out_dir));
+                        if (out_dir != vec3(0.0)) {  // none leaves under total internal reflection
+                            out_dir = normalize(out_dir);
+                            c += weight * u_transparent *
+                                 (u_solid == 3 ? past_torus(qs, from, out_dir, u_inner_hits - hit,
+                                                            t, ka, spec)
+                                               : environment(from, out_dir, true));
+                        }
                         if (hit == 4 || max(inner.r, max(inner.g, inner.b)) < 0.001) {
                             // The mirror image seen past the solid, which its map leaves out.
-                            c += inner * environment(from, in_dir);
+                            c += inner * environment(from, in_dir, false);
                             weight = vec3(0.0);
                             break;
                         }
@@ -420,7 +501,7 @@ void main() {
                     if (u_inner_hits <= 1) {
                         weight = vec3(0.0);
                     } else {
-                        c += weight * u_specular * environment(from, reflect(dir, -n2));
+                        c += weight * u_specular * environment(from, reflect(dir, -n2), false);
                         vec3 out_dir = refract(dir, -n2, u_refind);
                         bool tir = out_dir == vec3(0.0);
                         dir = tir ? dir : normalize(out_dir);
@@ -428,7 +509,7 @@ void main() {
                     }
 #endif
                 }
-                if (weight != vec3(0.0)) c += weight * environment(from, dir);
+                if (weight != vec3(0.0)) c += weight * environment(from, dir, u_solid != 0);
             }
         }
     }

@@ -636,6 +636,7 @@ void Preview::set_frame_uniforms(unsigned program, const RenderScene& scene, con
     glUniformMatrix4fv(loc(program, "u_clip_from_world"), 1, GL_FALSE, mats.clip_from_world);
     set_vec3(program, "u_eye", camera.position);
     set_vec3(program, "u_ambient_light", scene.ambient);
+    set_vec3(program, "u_background", scene.background);
     glUniform1i(loc(program, "u_light_count"), lights);
     for (int i = 0; i < lights; ++i) {
         const Light& l = plan.lights[static_cast<size_t>(i)];
