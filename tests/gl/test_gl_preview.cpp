@@ -880,21 +880,9 @@ struct PreviewAgainstTrace {
     int planes = 0;         // planar reflections drawn
 };
 
-// The preview at the recursion depth `depth` against the trace at `trace_depth` (the same by
-// default).
-PreviewAgainstTrace preview_against_trace(const RenderScene& scene, int depth,
-                                          int trace_depth = 0) {
-    Offscreen gl;
-    EXPECT_NE(gl.ctx, nullptr);
-    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
-    preview.load(scene, 96);
-    const Camera cam = make_camera(scene, kW, kH);
-    preview.draw(scene, plan_for(scene, true), cam, kW, kH, depth);
-    glFinish();
-    EXPECT_EQ(preview.environment_maps() > 0, depth >= 2);
-    const Image traced = test::render(scene, kW, kH, trace_depth > 0 ? trace_depth : depth);
+// The preview drawn in gl against the trace's image, both kW x kH.
+PreviewAgainstTrace against_trace(const Offscreen& gl, const Image& traced) {
     PreviewAgainstTrace out;
-    out.planes = preview.planar_reflections();
     long dark = 0, off = 0;
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
@@ -910,6 +898,24 @@ PreviewAgainstTrace preview_against_trace(const RenderScene& scene, int depth,
     out.mean_abs *= 255.0 / (kW * kH);
     out.dark_share = static_cast<double>(dark) / (kW * kH);
     out.off_share = static_cast<double>(off) / (kW * kH);
+    return out;
+}
+
+// The preview at the recursion depth `depth` against the trace at `trace_depth` (the same by
+// default).
+PreviewAgainstTrace preview_against_trace(const RenderScene& scene, int depth,
+                                          int trace_depth = 0) {
+    Offscreen gl;
+    EXPECT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 96);
+    const Camera cam = make_camera(scene, kW, kH);
+    preview.draw(scene, plan_for(scene, true), cam, kW, kH, depth);
+    glFinish();
+    EXPECT_EQ(preview.environment_maps() > 0, depth >= 2);
+    const Image traced = test::render(scene, kW, kH, trace_depth > 0 ? trace_depth : depth);
+    PreviewAgainstTrace out = against_trace(gl, traced);
+    out.planes = preview.planar_reflections();
     return out;
 }
 
@@ -1182,25 +1188,17 @@ TEST(GlPreview, BigMeshesAreDrawnCoarseWhileTheViewMoves) {
     view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
     preview.load(scene, geometry);
     const Camera cam = make_camera(scene, kW, kH);
-    auto difference = [&] {
-        double sum = 0;
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x)
-                for (int k = 0; k < 3; ++k)
-                    sum += std::abs(gl.at(x, y)[k] - to_byte(traced.at(x, y)[k]));
-        return sum / (3.0 * kW * kH);
-    };
     preview.moving = true;
     preview.draw(scene, plan_for(scene), cam, kW, kH);
     glFinish();
     EXPECT_EQ(preview.triangles_drawn(), geometry.sets[0].coarse.triangle_count());
     EXPECT_LE(preview.triangles_drawn(), view::kCoarseTriangles);
-    const double moving = difference();
+    const double moving = against_trace(gl, traced).mean_abs;
     preview.moving = false;
     preview.draw(scene, plan_for(scene), cam, kW, kH);
     glFinish();
     EXPECT_EQ(preview.triangles_drawn(), geometry.sets[0].mesh.triangle_count());
-    const double still = difference();
+    const double still = against_trace(gl, traced).mean_abs;
     std::printf("big ball: mean difference %.3f moving (%zu triangles), %.3f still\n", moving,
                 geometry.sets[0].coarse.triangle_count(), still);
     EXPECT_LT(moving, 0.5);
