@@ -596,6 +596,8 @@ TEST(Viewer, IncludedMaterialsAreSavedIntoTheirFileWhenAsked) {
     ASSERT_TRUE(v.session.loaded) << v.messages.text;
     EXPECT_TRUE(v.edited_included_files().empty());
     ASSERT_EQ(material_origin(v.session.loaded->desc, 5).file, 1);
+    EXPECT_EQ(v.session.loaded->origin(5).file, 1);  // the table made with the scene
+    EXPECT_EQ(v.session.loaded->origin(6).file, -1);
     v.edits.materials[5].diffuse = Vec3(0.25, 0.5, 0.75);
     ASSERT_EQ(v.edited_included_files().size(), 1u);
     EXPECT_EQ(fs::path(v.edited_included_files()[0]).filename(), "floor.ray");

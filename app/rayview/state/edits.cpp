@@ -17,24 +17,22 @@ bool same_materials(const std::vector<Material>& a, const std::vector<Material>&
     return true;
 }
 
-MaterialOrigin material_origin(const SceneDesc& desc, size_t material) {
-    MaterialOrigin o;
-    size_t first_material = 0;
+std::vector<MaterialOrigin> material_origins(const SceneDesc& desc) {
+    std::vector<MaterialOrigin> out;
     int first_texture = 0;
     for (size_t f = 0; f < desc.files.size(); ++f) {
         const FileDesc& file = desc.files[f];
         const int textures = static_cast<int>(file.textures.size());
-        if (material < first_material + file.materials.size()) {
-            o.file = static_cast<int>(f);
-            o.index = static_cast<int>(material - first_material);
-            o.first_texture = first_texture;
-            o.textures = textures;
-            return o;
-        }
-        first_material += file.materials.size();
+        for (size_t m = 0; m < file.materials.size(); ++m)
+            out.push_back({static_cast<int>(f), static_cast<int>(m), first_texture, textures});
         first_texture += textures;
     }
-    return o;
+    return out;
+}
+
+MaterialOrigin material_origin(const SceneDesc& desc, size_t material) {
+    const std::vector<MaterialOrigin> all = material_origins(desc);
+    return material < all.size() ? all[material] : MaterialOrigin{};
 }
 
 bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b) {

@@ -65,6 +65,9 @@ struct MaterialOrigin {
     int first_texture = 0, textures = 0;
 };
 MaterialOrigin material_origin(const SceneDesc& desc, size_t material);
+/// material_origin of every file material, in one walk over the files (a table made once per
+/// load: the panels ask every frame).
+std::vector<MaterialOrigin> material_origins(const SceneDesc& desc);
 
 /// The settings that follow the window, not the user's edits (undo keeps them as they are): the
 /// trace's size, which follows the pane, and the panel's width, visibility and scale, from

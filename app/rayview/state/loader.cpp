@@ -46,6 +46,7 @@ LoadResult load_scene(const LoadRequest& request) {
         s->prim_locs = std::move(report.prim_locs);
         s->material_names = std::move(report.material_names);
         s->file_materials = s->scene.materials;
+        s->material_origins = material_origins(s->desc);
         if (request.for_preview) s->preview = prepare_preview(s->scene);
         s->shown = s->scene;
         if (s->desc.camera) {

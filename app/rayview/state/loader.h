@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "edits.h"
 #include "preview_geometry.h"
 #include "rt/compile/render_scene.h"
 #include "rt/format/parser.h"
@@ -37,7 +38,12 @@ struct LoadedScene {
     MissingTextures missing_textures = MissingTextures::Error;
     std::vector<std::vector<SourceLoc>> prim_locs;  // CompileReport's, for picking
     std::vector<std::string> material_names;
-    std::vector<Material> file_materials;  // the compiled materials as the file has them
+    std::vector<Material> file_materials;          // the compiled materials as the file has them
+    std::vector<MaterialOrigin> material_origins;  // of the file materials (edits.h)
+    /// Where compiled material k comes from (file -1: the built-in default).
+    MaterialOrigin origin(size_t k) const {
+        return k < material_origins.size() ? material_origins[k] : MaterialOrigin{};
+    }
     /// The preview's tessellation, made with the scene (on the loader's thread) and freed once
     /// the preview uploaded it.
     PreviewGeometry preview;

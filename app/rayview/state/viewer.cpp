@@ -249,7 +249,7 @@ std::vector<std::string> ViewerState::edited_included_files() const {
     const LoadedScene& s = *session.loaded;
     if (edits.materials.size() != s.file_materials.size()) return files;
     for (size_t k = 0; k < edits.materials.size(); ++k) {
-        const MaterialOrigin o = material_origin(s.desc, k);
+        const MaterialOrigin o = s.origin(k);
         if (o.file <= 0 || same_materials({edits.materials[k]}, {s.file_materials[k]})) continue;
         const std::string& path = s.desc.files[static_cast<size_t>(o.file)].path;
         if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
@@ -268,7 +268,7 @@ void ViewerState::save_scene(const std::string& path, bool included_too) const {
     // an included file's edited directives, as text, to replace in that file.
     std::map<size_t, std::vector<std::pair<SourceLoc, std::string>>> included;
     for (size_t k = 0; k < edits.materials.size(); ++k) {
-        const MaterialOrigin o = material_origin(desc, k);
+        const MaterialOrigin o = s.origin(k);
         if (o.file < 0) continue;  // the built-in default
         const Material& m = edits.materials[k];
         MaterialDesc& md =

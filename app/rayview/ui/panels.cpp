@@ -499,8 +499,9 @@ namespace {
 
 // A material's texture: none or one of its own file's (the file's #texture lines; textures
 // modulate K_D, or every term in V3: spec §7.3, §13.9).
-bool texture_combo(const SceneDesc& desc, size_t material, int* texture) {
-    const MaterialOrigin o = material_origin(desc, material);
+bool texture_combo(const LoadedScene& s, size_t material, int* texture) {
+    const SceneDesc& desc = s.desc;
+    const MaterialOrigin o = s.origin(material);
     if (o.textures == 0) return false;
     const auto& files = desc.files[static_cast<size_t>(o.file)].textures;
     auto name = [&](int t) {
@@ -558,10 +559,10 @@ bool materials_panel(ViewerState& v, PanelState& ui) {
     edited |= colour("transparent", &m.transparent);
     edited |= slider("exponent", &m.specular_exponent, 0.0f, 1000.0f);
     edited |= slider("refraction index", &m.refractive_index, 0.1f, 4.0f);
-    edited |= texture_combo(s.desc, static_cast<size_t>(ui.material), &m.texture);
+    edited |= texture_combo(s, static_cast<size_t>(ui.material), &m.texture);
     // An included file's material is saved into that file when asked (the Save section); the
     // built-in default is in no file.
-    const MaterialOrigin origin = material_origin(s.desc, static_cast<size_t>(ui.material));
+    const MaterialOrigin origin = s.origin(static_cast<size_t>(ui.material));
     if (origin.file != 0) {
         const std::string where =
             origin.file < 0

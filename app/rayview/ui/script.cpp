@@ -235,7 +235,7 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
             m.refractive_index = arg(2);
         else if (what == "texture") {
             // The file's texture index, as in its #material line; -1 for none.
-            const MaterialOrigin o = material_origin(v.session.loaded->desc, i);
+            const MaterialOrigin o = v.session.loaded->origin(i);
             const int t = static_cast<int>(whole(l, 2, -1, o.textures - 1));
             m.texture = t < 0 ? -1 : o.first_texture + t;
         } else
