@@ -152,6 +152,20 @@ uniform mat4 u_world_from_object;
 uniform mat4 u_set_from_world;
 uniform mat3 u_normal_matrix;
 uniform int u_inner_hits;  // hits inside a solid the depth limit lets the trace shade
+// Of those, followed: four in still frames (RT_INNER_HITS), else the first only.
+#ifdef RT_INNER_HITS
+const int kInnerTraced = 4;
+#else
+const int kInnerTraced = 1;
+#endif
+
+// A torus about y (spec §13.7's surface) of ring and tube radii R and r, at q from its centre:
+// the distance to it (negative inside) and the outward normal's direction.
+float torus_distance(vec3 q, float R, float r) { return length(vec2(length(q.xz) - R, q.y)) - r; }
+vec3 torus_normal(vec3 q, float R) {
+    float k = 1.0 - R / max(length(q.xz), 1e-9);
+    return vec3(q.x * k, q.y, q.z * k);
+}
 
 // What a ray from p along unit dir sees, from the map: the distance stored along a direction
 // from the centre gives the point the ray meets, whose direction from the centre is then
@@ -221,18 +235,15 @@ void solid_exit(vec3 ps, vec3 ts, out vec3 qs, out vec3 ns) {
         // from there the first steps go in.
         bool inside = false;
         for (int k = 0; k < 64; ++k) {
-            vec3 p3 = q + s * tu;
-            float dist = length(vec2(length(p3.xz) - R, p3.y)) - r;
+            float dist = torus_distance(q + s * tu, R, r);
             if (dist < -1e-4 * r)
                 inside = true;
             else if (inside || dist > 0.05 * r)
                 break;
             s += max(abs(dist), 1e-2 * r);
         }
-        ns = q + s * tu;
-        float rho = max(length(ns.xz), 1e-9);
-        qs = ns + u_solid_sphere.xyz;
-        ns = vec3(ns.x * (1.0 - R / rho), ns.y, ns.z * (1.0 - R / rho));
+        qs = q + s * tu + u_solid_sphere.xyz;
+        ns = torus_normal(q + s * tu, R);
     } else {
         // A box: the nearest of the three far slabs.
         vec3 far = mix(u_solid_lo, u_solid_hi, step(0.0, ts));
@@ -358,6 +369,14 @@ vec3 lights(vec3 p, vec3 n, vec3 d, vec3 t, vec3 ka, vec3 ks) {
     return c;
 }
 
+#ifdef RT_REFLECTIONS
+// The local shading of a point of the fragment's material seen along d, the normal n facing
+// the ray: what main() adds before reflection and refraction.
+vec3 local_terms(vec3 p, vec3 n, vec3 d, vec3 t, vec3 ka, vec3 ks) {
+    return u_emissive * all_terms(t) + ka * u_ambient_light + lights(p, n, d, t, ka, ks);
+}
+#endif
+
 #if defined(RT_REFLECTIONS) && defined(RT_INNER_HITS)
 // The light a ray leaving a torus at qs (its set's frame; from in the world) along dir brings
 // back: through its hole or past its saddle the trace's ray meets the torus again, where the
@@ -371,8 +390,7 @@ vec3 past_torus(vec3 qs, vec3 from, vec3 dir, int hits, vec3 t, vec3 ka, vec3 sp
     float s = 1e-3 * r, dist = 1.0;
     bool met = false;
     for (int k = 0; k < 128 && s < 4.0 * (R + r); ++k) {
-        vec3 p3 = q + s * tu;
-        dist = length(vec2(length(p3.xz) - R, p3.y)) - r;
+        dist = torus_distance(q + s * tu, R, r);
         if (dist < 1e-4 * r && s > 2e-2 * r) {
             met = true;
             break;
@@ -381,11 +399,10 @@ vec3 past_torus(vec3 qs, vec3 from, vec3 dir, int hits, vec3 t, vec3 ka, vec3 sp
     }
     if (!met) return environment(from, dir, true);
     vec3 es = q + s * tu;  // the re-entry, from the torus's centre
-    float rho = max(length(es.xz), 1e-9);
-    vec3 ne = vec3(es.x * (1.0 - R / rho), es.y, es.z * (1.0 - R / rho));
+    vec3 ne = torus_normal(es, R);
     vec3 e = (u_world_from_object * vec4(es + u_solid_sphere.xyz, 1.0)).xyz;
     vec3 n = normalize(u_normal_matrix * ne);  // outward: it faces the ray
-    vec3 c = u_emissive * all_terms(t) + ka * u_ambient_light + lights(e, n, dir, t, ka, spec);
+    vec3 c = local_terms(e, n, dir, t, ka, spec);
     if (hits <= 1) return c;
     c += u_specular * environment(e, reflect(dir, n), false);
     vec3 in_dir = refract(dir, n, 1.0 / u_refind);
@@ -395,8 +412,7 @@ vec3 past_torus(vec3 qs, vec3 from, vec3 dir, int hits, vec3 t, vec3 ka, vec3 sp
     solid_exit(es + u_solid_sphere.xyz, mat3(u_set_from_world) * in_dir, xs, nx);
     vec3 x = (u_world_from_object * vec4(xs, 1.0)).xyz;
     vec3 n2 = normalize(u_normal_matrix * nx);
-    c += u_transparent *
-         (u_emissive * all_terms(t) + ka * u_ambient_light + lights(x, -n2, in_dir, t, ka, spec));
+    c += u_transparent * local_terms(x, -n2, in_dir, t, ka, spec);
     vec3 out_dir = refract(in_dir, -n2, u_refind);
     if (hits > 2 && out_dir != vec3(0.0))
         c += u_transparent * u_transparent * environment(x, normalize(out_dir), true);
@@ -450,22 +466,19 @@ void main() {
                     // set's frame, so also a sheared one in the world), bends it again (a ball
                     // of glass inverts what is behind it, as in the trace); the light crossing
                     // it is weighted by T at both surfaces. What the inner surface mirrors
-                    // (K_S) meets the surface again: with RT_INNER_HITS (still frames), up to
-                    // four hits inside, at most u_inner_hits (the depth limit), each shaded as
-                    // the trace shades it, the last one's mirror image looked up; without (the
-                    // view moves; the cube maps' passes), the first hit only.
+                    // (K_S) meets the surface again: kInnerTraced hits inside, at most
+                    // u_inner_hits (the depth limit), each shaded as the trace shades it, the
+                    // last one's mirror image looked up.
                     vec3 ps = (u_set_from_world * vec4(v_world, 1.0)).xyz;
                     vec3 ts = mat3(u_set_from_world) * dir;
                     vec3 spec = u_specular * all_terms(t);
-#ifdef RT_INNER_HITS
-                    for (int hit = 1; hit <= 4; ++hit) {
+                    for (int hit = 1; hit <= kInnerTraced; ++hit) {
                         vec3 qs, ns;  // the exit and its outward normal, in the set's frame
                         solid_exit(ps, ts, qs, ns);
                         from = (u_world_from_object * vec4(qs, 1.0)).xyz;
                         vec3 n2 = normalize(u_normal_matrix * ns);  // outward at the exit
                         // Its local shading, the normal facing the ray (inward).
-                        c += weight * (u_emissive * all_terms(t) + ka * u_ambient_light +
-                                       lights(from, -n2, dir, t, ka, spec));
+                        c += weight * local_terms(from, -n2, dir, t, ka, spec);
                         if (hit >= u_inner_hits) {  // the depth limit: no child rays
                             weight = vec3(0.0);
                             break;
@@ -475,12 +488,15 @@ void main() {
                         vec3 inner = weight * u_specular;
                         if (out_dir != vec3(0.0)) {  // none leaves under total internal reflection
                             out_dir = normalize(out_dir);
-                            c += weight * u_transparent *
-                                 (u_solid == 3 ? past_torus(qs, from, out_dir, u_inner_hits - hit,
-                                                            t, ka, spec)
-                                               : environment(from, out_dir, true));
+#ifdef RT_INNER_HITS
+                            if (u_solid == 3)
+                                c += weight * u_transparent *
+                                     past_torus(qs, from, out_dir, u_inner_hits - hit, t, ka, spec);
+                            else
+#endif
+                                c += weight * u_transparent * environment(from, out_dir, true);
                         }
-                        if (hit == 4 || max(inner.r, max(inner.g, inner.b)) < 0.001) {
+                        if (hit == kInnerTraced || max(inner.r, max(inner.g, inner.b)) < 0.001) {
                             // The mirror image seen past the solid, which its map leaves out.
                             c += inner * environment(from, in_dir, false);
                             weight = vec3(0.0);
@@ -491,25 +507,8 @@ void main() {
                         ps = qs;
                         ts = mat3(u_set_from_world) * dir;
                     }
-#else
-                    vec3 qs, ns;
-                    solid_exit(ps, ts, qs, ns);
-                    from = (u_world_from_object * vec4(qs, 1.0)).xyz;
-                    vec3 n2 = normalize(u_normal_matrix * ns);
-                    c += weight * (u_emissive * all_terms(t) + ka * u_ambient_light +
-                                   lights(from, -n2, dir, t, ka, spec));
-                    if (u_inner_hits <= 1) {
-                        weight = vec3(0.0);
-                    } else {
-                        c += weight * u_specular * environment(from, reflect(dir, -n2), false);
-                        vec3 out_dir = refract(dir, -n2, u_refind);
-                        bool tir = out_dir == vec3(0.0);
-                        dir = tir ? dir : normalize(out_dir);
-                        weight *= tir ? vec3(0.0) : u_transparent;
-                    }
-#endif
                 }
-                if (weight != vec3(0.0)) c += weight * environment(from, dir, u_solid != 0);
+                if (weight != vec3(0.0)) c += weight * environment(from, dir, false);
             }
         }
     }
