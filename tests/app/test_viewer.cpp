@@ -537,16 +537,17 @@ TEST(Viewer, MaterialsKnowTheirFileAndItsTextures) {
     Diagnostics diag;
     const SceneDesc d = parse_scene_file(RT_SOURCE_DIR "/scenes/materials.ray", diag);
     ASSERT_EQ(d.files.size(), 2u);
-    const MaterialOrigin glass = material_origin(d, 1);
+    const std::vector<MaterialOrigin> origins = material_origins(d);
+    ASSERT_EQ(origins.size(), 6u);  // the built-in default, material 6, is in no file
+    const MaterialOrigin glass = origins[1];
     EXPECT_EQ(glass.file, 0);
     EXPECT_EQ(glass.index, 1);
     EXPECT_EQ(glass.textures, 0);
-    const MaterialOrigin floor = material_origin(d, 5);
+    const MaterialOrigin floor = origins[5];
     EXPECT_EQ(floor.file, 1);
     EXPECT_EQ(floor.index, 0);
     EXPECT_EQ(floor.first_texture, 0);
     EXPECT_EQ(floor.textures, 1);
-    EXPECT_EQ(material_origin(d, 6).file, -1);  // the built-in default
     const RenderScene scene = compile_scene(d);
     EXPECT_EQ(scene.materials[5].texture, floor.first_texture + d.files[1].materials[0].texture);
 }
@@ -595,9 +596,8 @@ TEST(Viewer, IncludedMaterialsAreSavedIntoTheirFileWhenAsked) {
     ViewerState v((dir / "materials.ray").string(), false);
     ASSERT_TRUE(v.session.loaded) << v.messages.text;
     EXPECT_TRUE(v.edited_included_files().empty());
-    ASSERT_EQ(material_origin(v.session.loaded->desc, 5).file, 1);
-    EXPECT_EQ(v.session.loaded->origin(5).file, 1);  // the table made with the scene
-    EXPECT_EQ(v.session.loaded->origin(6).file, -1);
+    ASSERT_EQ(v.session.loaded->origin(5).file, 1);   // the table made with the scene
+    EXPECT_EQ(v.session.loaded->origin(6).file, -1);  // the built-in default
     v.edits.materials[5].diffuse = Vec3(0.25, 0.5, 0.75);
     ASSERT_EQ(v.edited_included_files().size(), 1u);
     EXPECT_EQ(fs::path(v.edited_included_files()[0]).filename(), "floor.ray");

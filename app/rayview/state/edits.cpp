@@ -30,11 +30,6 @@ std::vector<MaterialOrigin> material_origins(const SceneDesc& desc) {
     return out;
 }
 
-MaterialOrigin material_origin(const SceneDesc& desc, size_t material) {
-    const std::vector<MaterialOrigin> all = material_origins(desc);
-    return material < all.size() ? all[material] : MaterialOrigin{};
-}
-
 bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b) {
     if (a.size() != b.size()) return false;
     for (size_t i = 0; i < a.size(); ++i) {

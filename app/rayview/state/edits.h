@@ -56,17 +56,16 @@ bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& 
 /// Two lists of materials alike in every term.
 bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b);
 
-/// Where material `material` of the compiled scene comes from (compile_scene's order: each
-/// file's materials in file order, the V0 default last): its file in SceneDesc::files and its
+/// Where a material of the compiled scene comes from: its file in SceneDesc::files and its
 /// index there (file -1: the built-in default), and that file's textures in the scene's list
 /// (a material may use only its own file's).
 struct MaterialOrigin {
     int file = -1, index = -1;
     int first_texture = 0, textures = 0;
 };
-MaterialOrigin material_origin(const SceneDesc& desc, size_t material);
-/// material_origin of every file material, in one walk over the files (a table made once per
-/// load: the panels ask every frame).
+/// The origin of every file material, in compile_scene's order (each file's materials in file
+/// order; the V0 default, last, is in none): one walk over the files, made once per load
+/// (LoadedScene::origin), since the panels ask every frame.
 std::vector<MaterialOrigin> material_origins(const SceneDesc& desc);
 
 /// The settings that follow the window, not the user's edits (undo keeps them as they are): the
