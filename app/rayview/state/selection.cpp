@@ -1,7 +1,6 @@
 #include "selection.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <vector>
 
 #include "rt/accel/intersect.h"
@@ -10,46 +9,6 @@
 #include "rt/shapes/shapes.h"
 
 namespace rt::view {
-
-namespace {
-
-bool same_loc(const SourceLoc& a, const SourceLoc& b) {
-    return a.line == b.line && a.col == b.col && a.file && b.file && *a.file == *b.file;
-}
-
-// The groups (and CSG nodes) from `g` down to the directive at `loc`, outermost first, as
-// "group at line 12 > joint 'arm' at line 15"; false when it is not below `g`.
-bool find_group_path(const GroupDesc& g, const SourceLoc& loc, std::vector<std::string>* path) {
-    for (const ShapeDesc& s : g.shapes)
-        if (same_loc(s.loc, loc)) return true;
-    auto step = [&](const GroupDesc& child, const std::string& what) {
-        path->push_back(what + " at line " + std::to_string(child.loc.line));
-        if (find_group_path(child, loc, path)) return true;
-        path->pop_back();
-        return false;
-    };
-    for (const GroupDesc& child : g.groups)
-        if (step(child, child.joint.empty() ? "group" : "joint '" + child.joint + "'")) return true;
-    for (const CsgDesc& c : g.csgs) {
-        if (same_loc(c.loc, loc)) return true;
-        for (const GroupDesc& operand : c.operands)
-            if (step(operand, std::string(csg_op_name(c.op)) + " operand")) return true;
-    }
-    return false;
-}
-
-std::string group_path(const SceneDesc& desc, const SourceLoc& loc) {
-    for (const FileDesc& f : desc.files) {
-        std::vector<std::string> path;
-        if (!find_group_path(f.root, loc, &path)) continue;
-        std::string text = std::filesystem::path(f.path).filename().string();
-        for (const std::string& p : path) text += " > " + p;
-        return text;
-    }
-    return "";
-}
-
-}  // namespace
 
 Selection pick_at(const LoadedScene& scene, const OrbitCamera& camera, int w, int h, double x,
                   double y) {

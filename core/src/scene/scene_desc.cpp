@@ -1,7 +1,11 @@
-// Helpers on the description: the bounds of a described shape (the viewer's group boxes).
+// Helpers on the description: the bounds of a described shape (the viewer's group boxes) and
+// the groups above a directive.
 #include "rt/scene/scene_desc.h"
 
+#include <filesystem>
+#include <string>
 #include <variant>
+#include <vector>
 
 namespace rt {
 
@@ -36,6 +40,46 @@ const char* csg_op_name(CsgOp op) {
             break;
     }
     return "difference";
+}
+
+namespace {
+
+bool same_loc(const SourceLoc& a, const SourceLoc& b) {
+    return a.line == b.line && a.col == b.col && a.file && b.file && *a.file == *b.file;
+}
+
+// The groups (and CSG nodes) from `g` down to the directive at `loc`, outermost first, as
+// "group at line 12 > joint 'arm' at line 15"; false when it is not below `g`.
+bool find_group_path(const GroupDesc& g, const SourceLoc& loc, std::vector<std::string>* path) {
+    for (const ShapeDesc& s : g.shapes)
+        if (same_loc(s.loc, loc)) return true;
+    auto step = [&](const GroupDesc& child, const std::string& what) {
+        path->push_back(what + " at line " + std::to_string(child.loc.line));
+        if (find_group_path(child, loc, path)) return true;
+        path->pop_back();
+        return false;
+    };
+    for (const GroupDesc& child : g.groups)
+        if (step(child, child.joint.empty() ? "group" : "joint '" + child.joint + "'")) return true;
+    for (const CsgDesc& c : g.csgs) {
+        if (same_loc(c.loc, loc)) return true;
+        for (const GroupDesc& operand : c.operands)
+            if (step(operand, std::string(csg_op_name(c.op)) + " operand")) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+std::string group_path(const SceneDesc& desc, const SourceLoc& loc) {
+    for (const FileDesc& f : desc.files) {
+        std::vector<std::string> path;
+        if (!find_group_path(f.root, loc, &path)) continue;
+        std::string text = std::filesystem::path(f.path).filename().string();
+        for (const std::string& p : path) text += " > " + p;
+        return text;
+    }
+    return "";
 }
 
 }  // namespace rt

@@ -198,4 +198,9 @@ struct SceneDesc {
     std::vector<std::string> missing_textures;
 };
 
+/// Where the directive at `loc` sits: its file and the groups (and CSG nodes) above it,
+/// outermost first, as "pawn.ray > group at line 12 > joint 'arm' at line 15"; "" when no file of
+/// `desc` holds it. What the viewer's picking and the ray tree (rt/render/inspect.h) name.
+std::string group_path(const SceneDesc& desc, const SourceLoc& loc);
+
 }  // namespace rt
