@@ -32,10 +32,18 @@ enum ShadeFeature : uint32_t {
     kShadeAll = (1u << 10) - 1,
 };
 
+namespace shading {
+/// The recorder of a render (shading_impl.h): it records nothing. An empty type passed by value
+/// takes no register.
+struct NoRecord {
+    static constexpr bool kOn = false;
+};
+}  // namespace shading
+
 /// The shading code of one ShadeFeature combination (shading.cpp).
 struct ShadingVariant {
     Vec3 (*trace)(const RenderScene&, const RenderPlan&, const RenderSettings&, const Ray&,
-                  int depth, const Vec3& weight, RayCounters&, Rng*);
+                  int depth, const Vec3& weight, RayCounters&, Rng*, shading::NoRecord);
 };
 const ShadingVariant& shading_variant(uint32_t shade_variant);
 
