@@ -504,4 +504,18 @@ bool render_samples(RenderState& state, const RenderScene& scene, const RenderPl
     return true;
 }
 
+Vec3 render_pixel_value(const RenderScene& scene, const RenderPlan& plan,
+                        const RenderSettings& settings, int x, int y, int spp) {
+    check_settings(plan, settings);
+    if (x < 0 || y < 0 || x >= settings.width || y >= settings.height || spp < 1)
+        throw std::invalid_argument("pixel " + std::to_string(x) + "," + std::to_string(y) +
+                                    " or " + std::to_string(spp) + " samples out of range");
+    const Pass pass{scene, plan, settings, settings.stochastic()};
+    DyadicSum acc;
+    RayCounters rays;
+    const PixelSums sums = render_pixel(pass, x, y, {0, spp, 0, spp}, acc, rays);
+    // As RenderState::image() divides the sums.
+    return sums.sum / static_cast<double>(spp);
+}
+
 }  // namespace rt

@@ -144,6 +144,12 @@ Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
                     const RenderSettings& settings, int block,
                     const std::atomic<bool>* stop = nullptr);
 
+/// Pixel (x, y) of render_samples(state, scene, plan, settings, spp) on a fresh state: the mean
+/// of its spp samples, summed as the render sums them (the same bits). Throws
+/// std::invalid_argument for a pixel outside the image.
+Vec3 render_pixel_value(const RenderScene& scene, const RenderPlan& plan,
+                        const RenderSettings& settings, int x, int y, int spp);
+
 /// Number of threads render_samples() uses for a settings value (0 = all cores).
 int resolve_thread_count(int threads);
 
