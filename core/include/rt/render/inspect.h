@@ -1,0 +1,161 @@
+// The ray tree of one pixel sample: every ray the renderer traces for it (camera, reflected,
+// refracted and shadow rays), each hit and every term of the shading equation with its inputs
+// (spec §7, §8, §13.9; docs/format.md). The tree is written down by the renderer's own shading
+// code (render/shading_impl.h), compiled once more with a recorder, so it explains the very
+// value the renderer computes: its colour is the sample's colour bit for bit.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rt/accel/intersect.h"
+#include "rt/compile/render_scene.h"
+#include "rt/render/plan.h"
+#include "rt/render/render.h"
+#include "rt/scene/scene_desc.h"
+
+namespace rt {
+
+/// A primitive met by a ray: its instance, its index in the instance's set, its kind and, for a
+/// CSG node's hit, the leaf hit.
+struct InspectPrim {
+    int instance = -1;
+    int set = -1;
+    uint32_t prim = 0;
+    ShapeKind kind = ShapeKind::Sphere;
+    bool csg = false;
+};
+
+/// A surface a shadow ray crosses: where, and the transparency T it lets through.
+struct InspectOccluder {
+    InspectPrim prim;
+    double t = 0.0;         // along the shadow ray (its direction is not unit toward a point)
+    double distance = 0.0;  // from the ray's origin
+    int material = -1;
+    Vec3 transparent{0.0};  // the material's T (0: opaque)
+};
+
+/// One shadow ray: from the offset point toward a point (t in (0, 1)) or a direction.
+struct InspectShadowRay {
+    Ray ray;
+    double t_max = 1.0;  // 1: toward ray.o + ray.d (a point); infinite: a direction
+    Vec3 transmittance{1.0};
+    std::vector<InspectOccluder> occluders;  // in order along the ray
+};
+
+/// One light's terms at a hit (spec §7.1, §7.2, §13.9).
+struct InspectLight {
+    int light = -1;  // index into RenderScene::lights
+    LightKind kind = LightKind::Point;
+    bool one_colour = true;  // spec §7.1's one intensity (else §13.9's three colours)
+    Vec3 position{0.0};      // where this sample put it (soft shadows move it)
+    Vec3 ambient{0.0}, diffuse{0.0}, specular{0.0};  // A_l, D_l (I_l), S'_l
+    // Attenuation: points and spots.
+    bool attenuated = false;
+    double distance = 0.0, denominator = 1.0;  // d and c0 + c1 d + c2 d^2
+    double constant = 1.0, linear = 0.0, quadratic = 0.0;
+    // Spot limit.
+    bool spot = false;
+    double cos_angle = 1.0, cutoff_deg = 180.0, spot_exponent = 0.0, spot_factor = 1.0;
+    double factor = 0.0;  // f_l = spot / denominator (1 for directional lights)
+    bool facing_known = false;
+    Vec3 to_light{0.0};  // L
+    double n_dot_l = 0.0;
+    double r_dot_l = 0.0;     // R.L, R the mirror direction of the view ray
+    double highlight = 0.0;   // spec_l = max(R.L, 0)^n
+    Vec3 ambient_term{0.0};   // V3: K_A A_l f_l
+    Vec3 diffuse_term{0.0};   // I_l K_D (N.L), before the shadow factor
+    Vec3 specular_term{0.0};  // I_l K_S spec_l, before the shadow factor
+    bool shadow_tested = false;
+    Vec3 shadow{1.0};                           // S_l
+    size_t shadow_ray_count = 0;                // shadow rays traced (a sphere light's points)
+    std::vector<InspectShadowRay> shadow_rays;  // the first kMaxShadowRays of them
+    Vec3 value{0.0};                            // what the light adds to the colour
+    std::string note;                           // why it adds nothing, when it does not
+    static constexpr size_t kMaxShadowRays = 16;
+};
+
+/// Why a reflected or refracted ray was not traced.
+struct InspectStop {
+    std::string kind;  // "reflected" or "refracted"
+    std::string why;   // "depth limit", "cutoff", "total internal reflection", ...
+    Vec3 weight{0.0};  // the path weight it would have had
+};
+
+/// One ray of the tree and what it met.
+struct InspectRay {
+    enum class Kind { Camera, Reflected, Refracted };
+    Kind kind = Kind::Camera;
+    int depth = 0;  // the depth it was traced with (the camera ray: the settings' max_depth)
+    Ray ray;        // as traced (reflected and refracted rays start at the offset point)
+    Vec3 weight{1.0};
+    int parent = -1;
+    // Refraction: the ratio of indices and cos of the incident angle.
+    double eta = 1.0, cos_incident = 1.0;
+    bool hit = false;
+    // The hit.
+    double t = 0.0, distance = 0.0;  // along ray.d, and from the origin
+    Vec3 point{0.0};
+    InspectPrim prim;
+    int material = -1;
+    Vec3 n_geometric{0.0}, n_shading{0.0}, n{0.0};  // n: the normal shaded with (spec §5)
+    bool entering = true;                           // the ray met the outward side
+    Vec2 uv{0.0};
+    bool textured = false;
+    Vec3 texel{1.0};
+    // The terms (spec §7.1): emissive, ambient, every light, reflected and refracted.
+    Vec3 emissive{0.0};
+    Vec3 k_a{0.0}, k_d{0.0}, k_s{0.0};  // with the texel applied
+    double exponent = 0.0;
+    Vec3 scene_ambient{0.0}, ambient{0.0};
+    std::vector<InspectLight> lights;
+    Vec3 k_reflect{0.0}, reflected{0.0};  // K_S and K_S x the reflected ray's colour
+    Vec3 k_transmit{0.0}, refracted{0.0};
+    std::vector<int> children;  // indices into PixelTree::rays
+    std::vector<InspectStop> stops;
+    Vec3 color{0.0};  // the sum (the background on a miss)
+};
+
+/// The tree of one sample of a pixel.
+struct PixelTree {
+    int x = 0, y = 0;     // column, row from the top
+    uint32_t sample = 0;  // of `samples` per pixel
+    uint32_t samples = 1;
+    Vec2 position{0.5};            // where in the pixel, [0,1)^2 from its top left corner
+    bool random = false;           // the sample drew random numbers (jitter, lens, light points)
+    Vec3 lens{0.0};                // the camera ray's origin (moved over the lens with an aperture)
+    std::vector<InspectRay> rays;  // rays[0] is the camera ray
+    Vec3 color{0.0};               // the sample's colour (rays[0].color)
+    Vec3 pixel{0.0};               // the pixel's value over all its samples (what the image holds)
+};
+
+/// The tree of sample `sample` of pixel (x, y) of a render of `spp` samples per pixel with
+/// `settings` (what render_samples(state, scene, plan, settings, spp) traces for it, on a fresh
+/// state, with the plan's shading code). Throws std::invalid_argument when the pixel lies outside
+/// the image or the sample is not below spp.
+PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
+                        const RenderSettings& settings, int x, int y, uint32_t sample = 0,
+                        int spp = 1);
+
+/// What the printed tree names things by: the primitives' directives and the groups above them,
+/// the materials' names (empty when unknown).
+struct InspectNames {
+    const SceneDesc* desc = nullptr;
+    const std::vector<std::vector<SourceLoc>>* prim_locs = nullptr;
+    const std::vector<std::string>* material_names = nullptr;
+};
+
+/// "sphere 3 of instance 0 at scene.ray:12:1 (scene.ray > group at line 10)".
+std::string inspect_prim_name(const InspectPrim& p, const InspectNames& names);
+
+/// The tree as indented text, every term with its formula and inputs, ending with the pixel's
+/// value.
+std::string inspect_text(const PixelTree& tree, const RenderScene& scene,
+                         const InspectNames& names);
+
+/// The tree as JSON (docs/inspect.md gives the schema).
+std::string inspect_json(const PixelTree& tree, const RenderScene& scene,
+                         const InspectNames& names);
+
+}  // namespace rt

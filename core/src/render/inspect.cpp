@@ -1,0 +1,292 @@
+// The ray tree of a pixel sample: the shading code of shading_impl.h compiled once more, with a
+// recorder that writes down each ray, hit and term as the shading computes it.
+#include "rt/render/inspect.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "camera_sample.h"
+#include "shading_impl.h"
+#include "variants.h"
+
+namespace rt {
+
+namespace {
+
+using shading::SecondaryKind;
+using shading::StopReason;
+
+// What the recorders of one tree share.
+struct TreeContext {
+    PixelTree tree;
+    std::vector<int> light_ids;  // plan light -> index into RenderScene::lights
+};
+
+const char* stop_text(StopReason r) {
+    switch (r) {
+        case StopReason::DepthLimit:
+            return "depth limit";
+        case StopReason::Cutoff:
+            return "path weight below the cutoff";
+        case StopReason::Zero:
+            return "weight 0";
+        case StopReason::TotalInternalReflection:
+            return "total internal reflection";
+        case StopReason::LeftOut:
+            return "left out by the plan";
+    }
+    return "";
+}
+
+const char* kind_text(SecondaryKind k) {
+    return k == SecondaryKind::Reflected ? "reflected" : "refracted";
+}
+
+// The recorder: the shading code calls it (behind `if constexpr (Rec::kOn)`) with the values it
+// computes. `node` is the ray being shaded, `light` the light term being evaluated (-1: none).
+struct TreeRecorder {
+    static constexpr bool kOn = true;
+    TreeContext* ctx = nullptr;
+    int node = 0;
+    int light_term = -1;
+
+    InspectRay& ray() const { return ctx->tree.rays[static_cast<size_t>(node)]; }
+    InspectLight& term() const { return ray().lights[static_cast<size_t>(light_term)]; }
+
+    void miss(const Vec3& background) const {
+        ray().hit = false;
+        ray().color = background;
+    }
+
+    void hit(const RenderScene& scene, const Ray& r, const Hit& h, const shading::ShadePoint& sp,
+             bool leaving, const Vec3& texel, const Vec3& emissive, const Vec3& ambient) const {
+        InspectRay& x = ray();
+        x.hit = true;
+        x.t = h.t;
+        x.distance = h.t * glm::length(r.d);
+        x.point = sp.si.p;
+        const Instance& inst = scene.instances[static_cast<size_t>(h.instance)];
+        const Primitive& p = scene.sets[static_cast<size_t>(inst.set)].prims[h.prim];
+        x.prim = {h.instance, inst.set, h.prim, p.kind, p.csg >= 0};
+        x.material = sp.si.material;
+        const Material& m = scene.materials[static_cast<size_t>(sp.si.material)];
+        x.n_geometric = sp.si.n_geometric;
+        x.n_shading = sp.si.n_shading;
+        x.n = sp.n;
+        x.entering = !leaving;
+        x.uv = sp.si.uv;
+        x.textured = m.texture >= 0;
+        x.texel = texel;
+        x.emissive = emissive;
+        x.k_a = sp.ka;
+        x.k_d = sp.kd;
+        x.k_s = sp.ks;
+        x.exponent = sp.exponent;
+        x.scene_ambient = scene.ambient;
+        x.ambient = ambient;
+        x.k_reflect = m.specular;
+        x.k_transmit = m.transparent;
+    }
+
+    TreeRecorder light(int plan_index, const Light& l, bool one_colour) const {
+        InspectLight t;
+        t.light = ctx->light_ids[static_cast<size_t>(plan_index)];
+        t.kind = l.kind;
+        t.one_colour = one_colour;
+        t.position = l.position;
+        t.ambient = l.ambient;
+        t.diffuse = l.diffuse;
+        t.specular = l.specular;
+        t.constant = l.constant_atten;
+        t.linear = l.linear_atten;
+        t.quadratic = l.quadratic_atten;
+        t.cutoff_deg = l.cutoff_rad * 180.0 / kPi;
+        t.spot_exponent = l.spot_exponent;
+        ray().lights.push_back(std::move(t));
+        TreeRecorder r = *this;
+        r.light_term = static_cast<int>(ray().lights.size()) - 1;
+        return r;
+    }
+
+    void attenuation(double dist, double denom, const Vec3& l) const {
+        InspectLight& t = term();
+        t.attenuated = true;
+        t.distance = dist;
+        t.denominator = denom;
+        t.to_light = l;
+        if (!(denom > 0.0) || !std::isfinite(denom))
+            t.note = "the attenuation's denominator is not positive and finite";
+    }
+
+    void spot(double cos_a, double factor) const {
+        InspectLight& t = term();
+        t.spot = true;
+        t.cos_angle = cos_a;
+        t.spot_factor = factor;
+        if (factor == 0.0 && t.note.empty()) t.note = "outside the spot's cone";
+    }
+
+    void factor(double f) const {
+        InspectLight& t = term();
+        t.factor = f;
+        if (!(f > 0.0) && t.note.empty())
+            t.note = t.attenuated ? "the light factor is 0" : "the point is at the light";
+    }
+
+    void facing(const Vec3& l, double n_dot_l) const {
+        InspectLight& t = term();
+        t.facing_known = true;
+        t.to_light = l;
+        t.n_dot_l = n_dot_l;
+        if (!(n_dot_l > 0.0) && t.note.empty()) t.note = "the surface faces away (N.L <= 0)";
+    }
+
+    void skip(const char* why) const { term().note = why; }
+
+    void light_ambient(const Vec3& a) const { term().ambient_term = a; }
+
+    void shadow_ray(const RenderScene& scene, const GeometryQueries& geometry, const Ray& r,
+                    double t_max, const Vec3& s) const {
+        InspectLight& t = term();
+        ++t.shadow_ray_count;
+        if (t.shadow_rays.size() >= InspectLight::kMaxShadowRays) return;
+        InspectShadowRay sr{r, t_max, s, {}};
+        // The surfaces on the segment, nearest first, by the renderer's own nearest-hit query
+        // (what the transmittance query multiplied, or the first that blocked it).
+        double lo = 0.0;
+        for (int k = 0; k < 64; ++k) {
+            Hit h;
+            if (!geometry.intersect(scene, r, {lo, t_max}, &h)) break;
+            const SurfaceInteraction si = geometry.interaction(scene, r, h, false);
+            const Instance& inst = scene.instances[static_cast<size_t>(h.instance)];
+            const Primitive& p = scene.sets[static_cast<size_t>(inst.set)].prims[h.prim];
+            InspectOccluder o;
+            o.prim = {h.instance, inst.set, h.prim, p.kind, p.csg >= 0};
+            o.t = h.t;
+            o.distance = h.t * glm::length(r.d);
+            o.material = si.material;
+            o.transparent = scene.materials[static_cast<size_t>(si.material)].transparent;
+            sr.occluders.push_back(o);
+            if (o.transparent == Vec3(0.0) || !(h.t > lo)) break;
+            lo = h.t;
+        }
+        t.shadow_rays.push_back(std::move(sr));
+    }
+
+    void shadow(const Vec3& s) const {
+        InspectLight& t = term();
+        t.shadow_tested = true;
+        t.shadow = s;
+        if (s == Vec3(0.0) && t.note.empty()) t.note = "in shadow";
+    }
+
+    void direct(const shading::ShadePoint& sp, const Vec3& l, const Vec3& diffuse,
+                const Vec3& specular, const Vec3& value) const {
+        InspectLight& t = term();
+        t.r_dot_l = std::min(glm::dot(sp.r_v, l), 1.0);
+        t.highlight = shading::highlight(sp, l);
+        t.diffuse_term = diffuse;
+        t.specular_term = specular;
+        t.value = value;
+    }
+
+    TreeRecorder secondary(SecondaryKind kind, const Ray& r, int depth, const Vec3& weight,
+                           double eta = 1.0, double cos_i = 1.0) const {
+        InspectRay child;
+        child.kind = kind == SecondaryKind::Reflected ? InspectRay::Kind::Reflected
+                                                      : InspectRay::Kind::Refracted;
+        child.depth = depth;
+        child.ray = r;
+        child.weight = weight;
+        child.parent = node;
+        child.eta = eta;
+        child.cos_incident = cos_i;
+        ctx->tree.rays.push_back(std::move(child));
+        const int index = static_cast<int>(ctx->tree.rays.size()) - 1;
+        ray().children.push_back(index);
+        return {ctx, index, -1};
+    }
+
+    void secondary_value(SecondaryKind kind, const Vec3& k, const Vec3& v) const {
+        InspectRay& x = ray();
+        (kind == SecondaryKind::Reflected ? x.k_reflect : x.k_transmit) = k;
+        (kind == SecondaryKind::Reflected ? x.reflected : x.refracted) = v;
+    }
+
+    void stop(SecondaryKind kind, StopReason why, const Vec3& weight, double eta = 1.0,
+              double cos_i = 1.0) const {
+        if (weight == Vec3(0.0)) return;  // the material has no such term: nothing to explain
+        std::string text = stop_text(why);
+        if (why == StopReason::TotalInternalReflection) {
+            const double sin_t = eta * std::sqrt(std::max(0.0, 1.0 - cos_i * cos_i));
+            text += " (eta " + std::to_string(eta) + ", sin of the refracted angle would be " +
+                    std::to_string(sin_t) + ")";
+        }
+        ray().stops.push_back({kind_text(kind), text, weight});
+    }
+
+    void depth_limit(const Vec3& w_reflect, const Vec3& w_refract) const {
+        stop(SecondaryKind::Reflected, StopReason::DepthLimit, w_reflect);
+        stop(SecondaryKind::Refracted, StopReason::DepthLimit, w_refract);
+    }
+
+    void result(const Vec3& c) const { ray().color = c; }
+};
+
+}  // namespace
+
+PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
+                        const RenderSettings& settings, int x, int y, uint32_t sample, int spp) {
+    if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
+        throw std::invalid_argument("pixel " + std::to_string(x) + "," + std::to_string(y) +
+                                    " is outside the image (columns 0.." +
+                                    std::to_string(settings.width - 1) + ", rows 0.." +
+                                    std::to_string(settings.height - 1) + ")");
+    if (spp < 1 || sample >= static_cast<uint32_t>(spp))
+        throw std::invalid_argument("sample " + std::to_string(sample) + " is not one of the " +
+                                    std::to_string(spp) + " samples per pixel (0.." +
+                                    std::to_string(spp - 1) + ")");
+    check_depth(settings.max_depth);
+    TreeContext ctx;
+    for (const Light& l : plan.lights) {
+        int id = -1;
+        for (size_t k = 0; k < scene.lights.size() && id < 0; ++k)
+            if (scene.lights[k] == l) id = static_cast<int>(k);
+        ctx.light_ids.push_back(id);
+    }
+    PixelTree& tree = ctx.tree;
+    tree.x = x;
+    tree.y = y;
+    tree.sample = sample;
+    tree.samples = static_cast<uint32_t>(spp);
+    // The sample as render_samples() places it (render.cpp, render_pixel): the same random
+    // numbers, drawn in the same order.
+    const size_t pixel = static_cast<size_t>(y) * static_cast<size_t>(settings.width) + x;
+    Rng rng(settings.seed, pixel, sample);
+    const bool stochastic = settings.stochastic();
+    const int stratum = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(spp))));
+    tree.position = sample_position(settings, stochastic, static_cast<int>(sample), spp, 0, stratum,
+                                    progressive_shifts(settings, pixel), rng);
+    const Ray ray = camera_ray(plan, settings, x, y, tree.position, rng);
+    tree.random = stochastic || spp > 1 || !settings.centre_first_sample;
+    tree.lens = ray.o;
+    InspectRay root;
+    root.kind = InspectRay::Kind::Camera;
+    root.depth = settings.max_depth;
+    root.ray = ray;
+    tree.rays.push_back(std::move(root));
+    RayCounters counters;
+    // The generic shading code (every feature tested per ray), which gives whatever plan's
+    // image bit for bit: one recording instance instead of one per variant (test_inspect.cpp
+    // compares the trees with both plans' images).
+    tree.color = shading::trace<kShadeAll, TreeRecorder>(
+        scene, plan, settings, ray, settings.max_depth, Vec3(1.0), counters,
+        tree.random ? &rng : nullptr, {&ctx, 0, -1});
+    tree.pixel = render_pixel_value(scene, plan, settings, x, y, spp);
+    return std::move(ctx.tree);
+}
+
+}  // namespace rt
