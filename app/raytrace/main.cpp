@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "frames.h"
+#include "inspect.h"
 #include "options.h"
 #include "output.h"
 #include "reference_cache.h"
@@ -132,12 +133,15 @@ int render_progressive(const Options& opt, const rt::SceneDesc& desc, const rt::
 
 int run(const Options& opt) {
     const bool sequence = opt.animation.frames > 0;
-    const std::string first = sequence ? rtapp::frame_path(opt.output, 0) : opt.output;
+    const std::string first = opt.inspect.enabled ? opt.inspect.json
+                              : sequence          ? rtapp::frame_path(opt.output, 0)
+                                                  : opt.output;
     if (!probe_outputs({first, opt.progressive.report, opt.progressive.plot, opt.animation.video}))
         return 1;
     for (const std::string& w : opt.warnings) std::cerr << "raytrace: warning: " << w << "\n";
     rt::SceneDesc desc;
     rt::CompileReport report;
+    report.record_locations = opt.inspect.enabled;  // the tree names each primitive's directive
     Timings t;
     std::optional<rt::RenderScene> scene = load_scene(opt, &desc, &report, &t);
     if (!scene) return 1;
@@ -145,6 +149,10 @@ int run(const Options& opt) {
     if (desc.tracks.empty() && (opt.animation.at || sequence))
         std::cerr << opt.scene << ": warning: the scene has no joints bound to key files; "
                   << (sequence ? "every frame is the same" : "--at changes nothing") << "\n";
+    if (opt.inspect.enabled) {
+        if (opt.explain) print_explain(rt::make_render_plan(*scene, opt));
+        return run_inspect(opt, desc, *scene, report);
+    }
     if (sequence) {
         if (opt.explain) print_explain(rt::make_render_plan(*scene, opt));
         return render_sequence(opt, desc, *scene, t);

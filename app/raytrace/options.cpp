@@ -207,6 +207,32 @@ void add_split_options(CLI::App& app, Options& o) {
         ->group(group);
 }
 
+// "X,Y" into the inspect options; validate_inspect() checks the ranges against the image.
+void add_inspect_options(CLI::App& app, Options& o) {
+    const std::string group = "the ray tree of a pixel (docs/inspect.md)";
+    InspectOptions& in = o.inspect;
+    app.add_option_function<std::string>(
+           "--inspect",
+           [&in](const std::string& v) {
+               char comma = 0;
+               std::istringstream s(v);
+               if (!(s >> in.x >> comma >> in.y) || comma != ',' || !s.eof())
+                   throw CLI::ValidationError("--inspect", "'" + v + "' is not X,Y");
+               in.enabled = true;
+           },
+           "print every ray traced for pixel X,Y (column, row from the top, in\n"
+           "the output's size) with every term of its colour, then the pixel's\n"
+           "value; renders that pixel only and writes no image")
+        ->type_name("X,Y")
+        ->group(group);
+    app.add_option("--inspect-sample", in.sample, "which of the pixel's --spp samples (from 0)")
+        ->type_name("K")
+        ->group(group);
+    app.add_option("--inspect-json", in.json, "also write the tree as JSON (docs/inspect.md)")
+        ->type_name("FILE")
+        ->group(group);
+}
+
 void make_app(CLI::App& app, Options& o) {
     app.description(kDescription);
     app.footer(kFooter);
@@ -221,6 +247,7 @@ void make_app(CLI::App& app, Options& o) {
     rtapp::add_feature_options(app, o);
     add_animation_options(app, o);
     add_split_options(app, o);
+    add_inspect_options(app, o);
     app.add_flag("-q,--quiet", o.quiet, "print errors and warnings only");
 }
 
@@ -268,8 +295,31 @@ void validate_animation(const Options& o) {
     }
 }
 
+void validate_inspect(const Options& o, bool output_given) {
+    const InspectOptions& in = o.inspect;
+    if (!in.enabled) {
+        if (in.sample != 0 || !in.json.empty())
+            throw UsageError("--inspect-sample and --inspect-json need --inspect X,Y");
+        return;
+    }
+    if (in.x < 0 || in.y < 0 || in.x >= o.width || in.y >= o.height)
+        throw UsageError(
+            "--inspect " + std::to_string(in.x) + "," + std::to_string(in.y) + " is outside the " +
+            std::to_string(o.width) + "x" + std::to_string(o.height) + " image (X in 0.." +
+            std::to_string(o.width - 1) + ", Y in 0.." + std::to_string(o.height - 1) + ")");
+    if (in.sample < 0 || in.sample >= o.spp)
+        throw UsageError("--inspect-sample " + std::to_string(in.sample) +
+                         " is not one of the pixel's --spp " + std::to_string(o.spp) +
+                         " samples (0.." + std::to_string(o.spp - 1) + ")");
+    if (output_given) throw UsageError("--inspect writes no image: drop -o (or --inspect)");
+    if (o.progressive.enabled || o.animation.frames > 0 || o.split.tile || o.split.count > 0)
+        throw UsageError(
+            "--inspect explains one pixel of one image: not with --progressive, --frames, "
+            "--tile or --samples");
+}
+
 // The checks across options and of ranges, after CLI11 has converted every value.
-void validate(const Options& o, bool spp_given) {
+void validate(const Options& o, bool spp_given, bool output_given) {
     rtapp::validate_render_options(o);
     const ProgressiveOptions& p = o.progressive;
     for (const auto& [name, v] : {std::pair<const char*, double>{"--time", p.time_limit_s},
@@ -298,6 +348,7 @@ void validate(const Options& o, bool spp_given) {
         throw UsageError("--aov and --exr-float need an OpenEXR output (-o FILE.exr), not '" +
                          o.output + "'");
     validate_animation(o);
+    validate_inspect(o, output_given);
 }
 
 }  // namespace
@@ -333,7 +384,7 @@ Options parse_options(const std::vector<std::string>& args) {
     }
     const bool spp_given = app.count("--spp") > 0;
     o.split.part = o.output.size() > 5 && o.output.compare(o.output.size() - 5, 5, ".part") == 0;
-    validate(o, spp_given);
+    validate(o, spp_given, app.count("--output") > 0);
     rtapp::apply_budgets(o);
     if (o.split.part) {  // the defaults: the whole image, every sample
         if (!o.split.tile) o.split.x1 = o.width, o.split.y1 = o.height;

@@ -60,6 +60,14 @@ struct ExrOptions {
     rt::AovSet aovs;          // --aov
 };
 
+/// --inspect: the ray tree of one pixel sample instead of an image (rt/render/inspect.h).
+struct InspectOptions {
+    bool enabled = false;  // --inspect given
+    int x = 0, y = 0;      // column, row from the top
+    int sample = 0;        // --inspect-sample, of --spp's
+    std::string json;      // --inspect-json FILE
+};
+
 /// The render options rayview takes too (rtapp::RenderOptions: the renderer's settings, --spp,
 /// --dialect, --missing-textures), and raytrace's own.
 struct Options : rtapp::RenderOptions {
@@ -72,6 +80,7 @@ struct Options : rtapp::RenderOptions {
     AnimationOptions animation;
     SplitOptions split;
     ExrOptions exr;
+    InspectOptions inspect;
     std::vector<std::string> warnings;  // options that are accepted but have no effect
     bool help = false;
     bool version = false;  // --version

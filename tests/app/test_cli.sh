@@ -154,6 +154,48 @@ check "--explain: lines have the form" bash -c "! grep -E '^(left out|kept)' '$t
 "$rt" "$tmp/ok.ray" -o "$tmp/generic.pfm" --width 32 --height 24 --no-specialize -q
 check "--no-specialize: same image" cmp -s "$tmp/spec.pfm" "$tmp/generic.pfm"
 
+# The ray tree of a pixel: the text, the JSON, its colour the PFM's value there, usage errors.
+(cd "$tmp" && "$rt" ok.ray --width 32 --height 24 --inspect 16,12 --inspect-json tree.json) \
+    >"$tmp/tree.txt" 2>&1
+check "--inspect exits 0" test $? -eq 0
+check "--inspect: the camera ray" grep -q "^camera ray, depth 5: from (0 0 5)" "$tmp/tree.txt"
+check "--inspect: the hit, named by its directive" grep -q "hits sphere 0 of instance 0 at ok.ray:4:1" "$tmp/tree.txt"
+check "--inspect: the diffuse term" grep -qE "^  +diffuse  = I_l \(.*\) x K_D \(0.8 0.2 0.2\) x N.L [0-9.]+ = " "$tmp/tree.txt"
+check "--inspect: the pixel's value" grep -q "^pixel value (" "$tmp/tree.txt"
+check "--inspect writes no image" test ! -e "$tmp/out.png"
+check "--inspect-json: the top level" grep -q '^{"pixel":\[16,12\],"sample":0,' "$tmp/tree.json"
+if command -v python3 >/dev/null; then
+    # The JSON's colour is the PFM's pixel (a float: to 1e-6 relative).
+    python3 - "$tmp/tree.json" "$tmp/spec.pfm" >"$tmp/json_check.txt" 2>&1 <<'PY'
+import json, struct, sys
+tree = json.load(open(sys.argv[1]))
+data = open(sys.argv[2], "rb").read()
+parts = data.split(b"\n", 3)
+w, h = map(int, parts[1].split())
+scale = float(parts[2])
+fmt = "<" if scale < 0 else ">"
+x, y = tree["pixel"]
+row = h - 1 - y  # PFM rows go from the bottom
+off = (row * w + x) * 12
+pix = struct.unpack(fmt + "3f", parts[3][off:off + 12])
+assert tree["rays"][0]["kind"] == "camera", tree["rays"][0]["kind"]
+assert tree["rays"][0]["hit"]["primitive"]["location"].endswith("ok.ray:4:1")
+assert all(abs(a - b) <= 1e-6 * max(1.0, abs(b)) for a, b in zip(tree["color"], pix)), (tree["color"], pix)
+print("ok")
+PY
+    check "--inspect-json: colour = the PFM's pixel" grep -qx ok "$tmp/json_check.txt"
+fi
+"$rt" "$tmp/ok.ray" --width 32 --height 24 --inspect 32,0 >/dev/null 2>"$tmp/usage.txt"
+check "--inspect outside the image exits 2" test $? -eq 2
+check "and says the range" grep -q "outside the 32x24 image (X in 0..31, Y in 0..23)" "$tmp/usage.txt"
+"$rt" "$tmp/ok.ray" --spp 4 --inspect 1,1 --inspect-sample 4 >/dev/null 2>"$tmp/usage.txt"
+check "--inspect-sample beyond --spp exits 2" test $? -eq 2
+check "and says the range" grep -q "not one of the pixel's --spp 4 samples (0..3)" "$tmp/usage.txt"
+"$rt" "$tmp/ok.ray" --inspect 1,x >/dev/null 2>&1
+check "--inspect X,Y malformed exits 2" test $? -eq 2
+"$rt" "$tmp/ok.ray" --inspect 1,1 -o "$tmp/i.png" >/dev/null 2>&1
+check "--inspect with -o exits 2" test $? -eq 2
+
 echo "$passes passed, $fails failed"
 test "$fails" -eq 0
 
