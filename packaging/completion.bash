@@ -6,7 +6,8 @@ _raytracer_complete() {
     local cmd=${COMP_WORDS[0]}
     COMPREPLY=()
     case $prev in
-    -o | --output | --reference | --report | --plot | --video | --screenshot | --script | --config)
+    -o | --output | --reference | --report | --plot | --video | --screenshot | --script | --config \
+        | --inspect-json)
         compopt -o filenames 2>/dev/null
         mapfile -t COMPREPLY < <(compgen -f -- "$cur")
         return ;;
