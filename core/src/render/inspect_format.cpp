@@ -93,6 +93,14 @@ public:
         line(in,
              material_name(r.material, m_names) + "; the ray " +
                  (r.entering ? "enters (meets the outward side)" : "leaves (meets the inside)"));
+        if (r.material >= 0 && static_cast<size_t>(r.material) < m_scene.materials.size()) {
+            const Material& m = m_scene.materials[static_cast<size_t>(r.material)];
+            line(in + "  ", "K_E " + vec(m.emissive) + ", K_A " + vec(m.ambient) + ", K_D " +
+                                vec(m.diffuse) + ", K_S " + vec(m.specular) + ", n " +
+                                num(m.specular_exponent) + ", T " + vec(m.transparent) +
+                                ", index " + num(m.refractive_index) +
+                                (m.texture >= 0 ? ", textured" : ""));
+        }
         line(in, "n_g " + vec(r.n_geometric) + ", n_s " + vec(r.n_shading) + ", N " + vec(r.n) +
                      (r.entering ? "" : " (n_s flipped: two-sided rule)"));
         if (r.textured)
