@@ -15,7 +15,9 @@
 #include <variant>
 
 #include "gl_util.h"
+#include "overlay.h"
 #include "preview.h"
+#include "rt/render/inspect.h"
 #include "rt/util/file_io.h"
 #include "test_util.h"
 
@@ -374,6 +376,81 @@ TEST(GlPreview, OverlayLinesMarkLightsAndBoxes) {
     preview.draw_lines(view::overlay_lines(framed, small, 2), framed, cam);
     glFinish();
     EXPECT_NE(plain, gl.rgba);
+}
+
+// Where camera `c` sees world point p, in pixels from the top left (as Camera::generate maps
+// them).
+Vec2 project(const Camera& c, const Vec3& p) {
+    const Vec3 d = p - c.position;
+    const double z = glm::dot(d, c.forward);
+    const double x = glm::dot(d, c.right) / z / c.tan_w, y = glm::dot(d, c.up) / z / c.tan_h;
+    return {(x + 1.0) * 0.5 * c.width, (1.0 - y) * 0.5 * c.height};
+}
+
+// Whether a pixel within `r` of (x, y) has colour c (0..1) to within 12/255.
+bool colour_near(const auto& gl, Vec2 at, const float* c, int r = 2) {
+    for (int y = static_cast<int>(at.y) - r; y <= static_cast<int>(at.y) + r; ++y)
+        for (int x = static_cast<int>(at.x) - r; x <= static_cast<int>(at.x) + r; ++x) {
+            if (x < 0 || y < 0 || x >= kW || y >= kH) continue;
+            const Vec3 d = gl.at(x, y) - 255.0 * Vec3(double{c[0]}, double{c[1]}, double{c[2]});
+            if (std::abs(d.x) <= 12 && std::abs(d.y) <= 12 && std::abs(d.z) <= 12) return true;
+        }
+    return false;
+}
+
+// A pixel's ray tree drawn in the preview from another camera (the user orbited after the
+// click): the camera ray runs from the trace's eye to the trace's hit, the shadow ray from the
+// hit to the light, the reflected ray leaves the hit; each lands where the preview's projection
+// puts those points.
+TEST(GlPreview, ARayTreeIsDrawnWhereTheTraceHit) {
+    const RenderScene scene = test::compile(
+        "#camera 0 0 5  0 0 -1  0 1 0  0.5\n#background 0 0 0\n"
+        "#light_point 1 1 1  3 3 3  1 0 0\n"
+        "#material 0 0 0  0 0 0  .5 .5 .5  .5 .5 .5  10  0 0 0  1  -1 !!\n"
+        "#shape_sphere 0  0 0 0  1\n");
+    RenderSettings rs;
+    rs.width = kW;
+    rs.height = kH;
+    const int px = 90, py = 50;
+    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, rs), rs, px, py);
+    ASSERT_TRUE(tree.rays.at(0).hit);
+    const Vec3 hit = tree.rays[0].point;
+    Offscreen gl;
+    ASSERT_NE(gl.ctx, nullptr);
+    view::Preview preview(std::string(RT_SOURCE_DIR) + "/shaders");
+    preview.load(scene, 32);
+    CameraPose side;  // from the right and above, looking at the sphere
+    side.position = Vec3(7, 2, 4);
+    side.direction = -side.position;
+    const Camera cam = make_camera(side, kW, kH);
+    preview.draw(scene, plan_for(scene), cam, kW, kH);
+    preview.draw_lines(view::inspect_lines(tree, 0.3, 10.0), scene, cam, true);
+    glFinish();
+    const Vec2 h = project(cam, hit);
+    const Vec3 eye = tree.rays[0].ray.o;
+    const Vec3 light(3, 3, 3);
+    // Along the camera ray (a third of the way from the hit to the eye), along the shadow ray
+    // (half way to the light), and where the reflected ray leaves (a little way along it).
+    EXPECT_TRUE(
+        colour_near(gl, project(cam, hit + (eye - hit) / 3.0), view::InspectColours::camera));
+    EXPECT_TRUE(
+        colour_near(gl, project(cam, 0.5 * (hit + light)), view::InspectColours::shadow_lit));
+    ASSERT_EQ(tree.rays.size(), 2u);
+    const InspectRay& refl = tree.rays[1];
+    EXPECT_TRUE(colour_near(gl, project(cam, refl.ray.o + 0.6 * glm::normalize(refl.ray.d)),
+                            view::InspectColours::reflected));
+    // Not a line everywhere: a point off every segment keeps the scene's colours.
+    EXPECT_FALSE(colour_near(gl, Vec2(h.x, h.y + 25), view::InspectColours::shadow_lit, 1));
+    // Drawn from the trace's own camera, the camera ray is the pixel itself: the lines leave the
+    // very pixel inspected.
+    const Camera own = make_camera(scene, kW, kH);
+    preview.draw(scene, plan_for(scene), own, kW, kH);
+    preview.draw_lines(view::inspect_lines(tree, 0.3, 10.0), scene, own, true);
+    glFinish();
+    const Vec2 at = project(own, hit);
+    EXPECT_NEAR(at.x, px + 0.5, 0.01);
+    EXPECT_NEAR(at.y, py + 0.5, 0.01);
+    EXPECT_TRUE(colour_near(gl, at, view::InspectColours::reflected, 1));  // the last drawn there
 }
 
 // Group boxes come from the scene graph, not the BVH: one box per group and per included file

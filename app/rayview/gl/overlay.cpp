@@ -267,4 +267,45 @@ std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth) {
     return std::move(lines.out);
 }
 
+std::vector<LineVertex> inspect_lines(const PixelTree& tree, double tick, double miss_length,
+                                      int hovered) {
+    LineBuilder b;
+    auto colour = [](const float* c) { return Vec3(c[0], c[1], c[2]); };
+    for (size_t i = 0; i < tree.rays.size(); ++i) {
+        const InspectRay& r = tree.rays[i];
+        const bool hot = static_cast<int>(i) == hovered;
+        const float* c = hot                                     ? InspectColours::hovered
+                         : r.kind == InspectRay::Kind::Camera    ? InspectColours::camera
+                         : r.kind == InspectRay::Kind::Reflected ? InspectColours::reflected
+                                                                 : InspectColours::refracted;
+        const double len = glm::length(r.ray.d);
+        if (!(len > 0.0)) continue;
+        b.segment(r.ray.o, r.hit ? r.point : r.ray.o + (miss_length / len) * r.ray.d, colour(c));
+        if (!r.hit) continue;
+        b.segment(r.point, r.point + tick * r.n,
+                  colour(hot ? InspectColours::hovered : InspectColours::normal));
+        for (const InspectLight& light : r.lights)
+            for (const InspectShadowRay& s : light.shadow_rays) {
+                const bool blocked = s.transmittance == Vec3(0.0);
+                const Vec3 sc = colour(hot       ? InspectColours::hovered
+                                       : blocked ? InspectColours::shadow_blocked
+                                                 : InspectColours::shadow_lit);
+                // Toward a point t runs in (0, 1); toward a direction as far as a miss goes.
+                const double sl = glm::length(s.ray.d);
+                if (!(sl > 0.0)) continue;
+                double t_end = std::isfinite(s.t_max) ? s.t_max : miss_length / sl;
+                if (blocked && !s.occluders.empty()) t_end = s.occluders.back().t;
+                const Vec3 e = s.ray.o + t_end * s.ray.d;
+                b.segment(s.ray.o, e, sc);
+                if (!blocked) continue;
+                for (int axis = 0; axis < 3; ++axis) {
+                    Vec3 d(0.0);
+                    d[axis] = 0.5 * tick;
+                    b.segment(e - d, e + d, sc);
+                }
+            }
+    }
+    return std::move(b.out);
+}
+
 }  // namespace rt::view

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "rt/compile/render_scene.h"
+#include "rt/render/inspect.h"
 #include "rt/scene/scene_desc.h"
 
 namespace rt::view {
@@ -44,5 +45,23 @@ std::vector<LineVertex> box_lines(const Bounds3& box, const Vec3& colour);
 /// level `depth` (1: the top-level groups), in colours that fade with depth. Not the BVH: the
 /// structure the file describes.
 std::vector<LineVertex> group_box_lines(const SceneDesc& desc, int depth);
+
+/// The colours of a ray tree's lines (also the panel's legend).
+struct InspectColours {
+    static constexpr float camera[3] = {1.0f, 1.0f, 1.0f};
+    static constexpr float reflected[3] = {0.3f, 0.8f, 1.0f};
+    static constexpr float refracted[3] = {0.3f, 1.0f, 0.5f};
+    static constexpr float shadow_lit[3] = {1.0f, 0.9f, 0.2f};      // reaches the light
+    static constexpr float shadow_blocked[3] = {1.0f, 0.2f, 0.2f};  // up to the blocker
+    static constexpr float normal[3] = {0.7f, 0.4f, 1.0f};
+    static constexpr float hovered[3] = {1.0f, 0.5f, 0.0f};
+};
+
+/// A pixel's ray tree (rt/render/inspect.h) as world-space segments: each ray from its origin to
+/// its hit (a miss: `miss_length` along it), each shadow ray to its light (when blocked, to its
+/// blocker, with a cross there), and at each hit the normal N as a tick `tick` long. The
+/// `hovered` ray (index into tree.rays) and its shadow rays in the hovered colour.
+std::vector<LineVertex> inspect_lines(const PixelTree& tree, double tick, double miss_length,
+                                      int hovered = -1);
 
 }  // namespace rt::view

@@ -729,7 +729,7 @@ void Preview::draw(const RenderScene& scene, const RenderPlan& plan, const Camer
 }
 
 void Preview::draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
-                         const Camera& camera) const {
+                         const Camera& camera, bool on_top) const {
     if (lines.empty()) return;
     glUseProgram(m_line_program.id());
     const GlMatrices mats = camera_matrices(camera, view_bounds(scene));
@@ -744,7 +744,9 @@ void Preview::draw_lines(const std::vector<LineVertex>& lines, const RenderScene
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(LineVertex),
                           reinterpret_cast<const void*>(3 * sizeof(float)));
+    if (on_top) glDisable(GL_DEPTH_TEST);
     glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(lines.size()));
+    if (on_top) glEnable(GL_DEPTH_TEST);
     glBindVertexArray(0);
 }
 

@@ -66,9 +66,10 @@ public:
     /// coordinates: load() again (with prepare_preview(scene, detail())).
     bool needs_upload(const RenderScene& scene) const;
     int detail() const { return m_detail; }
-    /// Draws line segments (pairs of vertices) over what draw() left, depth-tested.
+    /// Draws line segments (pairs of vertices) over what draw() left, depth-tested, or over
+    /// everything with `on_top` (a ray tree, whose rays run inside solids too).
     void draw_lines(const std::vector<LineVertex>& lines, const RenderScene& scene,
-                    const Camera& camera) const;
+                    const Camera& camera, bool on_top = false) const;
 
     static constexpr int kMaxShadowLights = 4;
     static constexpr int kShadowResolution = 1024;
