@@ -821,6 +821,42 @@ TEST(Viewer, PickNamesTheShapeItsMaterialAndItsDirective) {
     EXPECT_VEC_NEAR(v.edits.camera.target, Vec3(0, 3, 3), 1e-12);
 }
 
+// The inspect mode: the tree of the trace's pixel under a click, with the trace's settings;
+// its text names the directive; clearing drops it; a new scene drops it too.
+TEST(Viewer, InspectExplainsTheTracesPixel) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_inspect.ray";
+    write_file_atomic(path,
+                      "#camera 0 0 5  0 0 -1  0 1 0  0.5\n"
+                      "#light_point 1 1 1  0 3 3  1 0 0\n"
+                      "#material 0 0 0  0 0 0  .8 .8 .8  0 0 0  1  0 0 0  1  -1 !chalk!\n"
+                      "#shape_sphere 0  0 0 0  1\n");
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    v.set_trace_size(64, 48);
+    v.settings.render.max_depth = 3;
+    v.restart_if_due();
+    const int version = v.ui.inspect.version;
+    ASSERT_TRUE(v.inspect(0.5, 0.5));
+    ASSERT_TRUE(v.ui.inspect.tree);
+    const PixelTree& t = *v.ui.inspect.tree;
+    EXPECT_EQ(t.x, 32);
+    EXPECT_EQ(t.y, 24);
+    EXPECT_TRUE(t.random);  // the trace's progressive samples are jittered
+    ASSERT_TRUE(t.rays.at(0).hit);
+    EXPECT_EQ(t.rays[0].depth, 3);  // the trace's settings
+    EXPECT_NEAR(glm::length(t.rays[0].point), 1.0, 1e-9);
+    EXPECT_NE(v.ui.inspect.text.find("rt_viewer_inspect.ray:4:1"), std::string::npos)
+        << v.ui.inspect.text;
+    EXPECT_NE(v.ui.inspect.text.find("!chalk!"), std::string::npos);
+    EXPECT_GT(v.ui.inspect.version, version);
+    EXPECT_FALSE(v.inspect(0.5, 0.02) && v.ui.inspect.tree->rays[0].hit);  // the background
+    v.clear_inspect();
+    EXPECT_FALSE(v.ui.inspect.tree);
+    ASSERT_TRUE(v.inspect(0.5, 0.5));
+    ASSERT_TRUE(v.open(path, false));
+    EXPECT_FALSE(v.ui.inspect.tree);
+}
+
 // "Render and save image": the scene as edited at the chosen size and samples, in the
 // background, written when done; a cancelled job writes nothing.
 TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {

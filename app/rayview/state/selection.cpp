@@ -10,23 +10,19 @@
 
 namespace rt::view {
 
-Selection pick_at(const LoadedScene& scene, const OrbitCamera& camera, int w, int h, double x,
-                  double y) {
+Selection selection_of(const LoadedScene& scene, int instance, uint32_t prim_index,
+                       const Vec3& point) {
     const RenderScene& rs = scene.scene;
-    w = std::max(1, w);
-    h = std::max(1, h);
-    const Camera cam = make_camera(compile_camera(camera.desc()), w, h);
-    const Ray ray = cam.generate(0, 0, x * w, y * h);
-    Hit hit;
-    if (!intersect(rs, ray, {0, kInf}, &hit)) return {};
-    const Instance& inst = rs.instances[static_cast<size_t>(hit.instance)];
+    if (instance < 0 || static_cast<size_t>(instance) >= rs.instances.size()) return {};
+    const Instance& inst = rs.instances[static_cast<size_t>(instance)];
     const GeometrySet& set = rs.sets[static_cast<size_t>(inst.set)];
-    const Primitive& prim = set.prims[hit.prim];
+    if (prim_index >= set.prims.size()) return {};
+    const Primitive& prim = set.prims[prim_index];
     Selection s;
-    s.instance = hit.instance;
-    s.prim = hit.prim;
-    s.point = ray.o + hit.t * ray.d;
-    const Bounds3 b = set.prim_bounds(hit.prim);
+    s.instance = instance;
+    s.prim = prim_index;
+    s.point = point;
+    const Bounds3 b = set.prim_bounds(prim_index);
     s.bounds = inst.identity ? b : inst.world_from_set.apply(b);
     s.shape = prim.csg >= 0 ? "CSG node" : shape_kind_name(prim.kind);
     const size_t m = static_cast<size_t>(prim.material);
@@ -34,12 +30,23 @@ Selection pick_at(const LoadedScene& scene, const OrbitCamera& camera, int w, in
     const std::string name = m < scene.material_names.size() ? scene.material_names[m] : "";
     s.material = (name.empty() ? "" : "!" + name + "! ") + "(material " + std::to_string(m) + ")";
     const auto& locs = scene.prim_locs;
-    if (static_cast<size_t>(inst.set) < locs.size() && hit.prim < locs[inst.set].size()) {
-        const SourceLoc& loc = locs[inst.set][hit.prim];
+    if (static_cast<size_t>(inst.set) < locs.size() && prim_index < locs[inst.set].size()) {
+        const SourceLoc& loc = locs[inst.set][prim_index];
         s.where = loc.str();
         s.groups = group_path(loc.file ? scene.desc : SceneDesc{}, loc);
     }
     return s;
+}
+
+Selection pick_at(const LoadedScene& scene, const OrbitCamera& camera, int w, int h, double x,
+                  double y) {
+    w = std::max(1, w);
+    h = std::max(1, h);
+    const Camera cam = make_camera(compile_camera(camera.desc()), w, h);
+    const Ray ray = cam.generate(0, 0, x * w, y * h);
+    Hit hit;
+    if (!intersect(scene.scene, ray, {0, kInf}, &hit)) return {};
+    return selection_of(scene, hit.instance, hit.prim, ray.o + hit.t * ray.d);
 }
 
 }  // namespace rt::view

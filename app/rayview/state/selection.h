@@ -21,6 +21,10 @@ struct Selection {
     std::string groups;                  // its file and groups: "pawn.ray > group at line 3 > ..."
 };
 
+/// The selection of primitive `prim` of instance `instance` of the open scene, met at `point`
+/// (nothing, instance -1, when there is no such primitive).
+Selection selection_of(const LoadedScene& scene, int instance, uint32_t prim, const Vec3& point);
+
 /// What `camera` sees of `scene` at (x, y) of a `w` x `h` image, each in [0, 1) from the top
 /// left corner; nothing (instance -1) where the ray leaves the scene.
 Selection pick_at(const LoadedScene& scene, const OrbitCamera& camera, int w, int h, double x,

@@ -1,4 +1,5 @@
-// The viewer's own state of the window, not the scene's: what is selected, the bookmarked
+// The viewer's own state of the window, not the scene's: what is selected, the pixel inspected,
+// the bookmarked
 // views, the help overlay, the files dropped, whether the preview has an edit to draw, and the
 // web page's hooks. No GL.
 #pragma once
@@ -8,12 +9,14 @@
 #include <vector>
 
 #include "camera_controller.h"
+#include "inspect_view.h"
 #include "selection.h"
 
 namespace rt::view {
 
 struct ViewUi {
     Selection selection;
+    InspectView inspect;  // the inspect mode and the pixel's ray tree
     /// The light last edited in the panel, framed or dragged (-1: none): the preview draws its
     /// direction (a spot's cone, a directional light's arrows), the others' small markers only.
     int selected_light = -1;

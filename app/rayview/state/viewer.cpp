@@ -8,6 +8,7 @@
 #include "frames.h"
 #include "rt/compile/compile.h"
 #include "rt/format/writer.h"
+#include "rt/render/inspect.h"
 #include "rt/util/file_io.h"
 
 namespace rt::view {
@@ -154,6 +155,7 @@ bool ViewerState::finish_open(LoadResult next, const std::string& file, bool kee
     messages.clear();
     session.reload_conflict.clear();
     ui.selection = {};
+    clear_inspect();
     timeline.time = 0;  // a new scene's animation starts at its beginning, paused
     timeline.playing = false;
     on_loaded();
@@ -374,6 +376,38 @@ bool ViewerState::pick(double x, double y) {
     if (!session.loaded) return false;
     ui.selection = pick_at(*session.loaded, edits.camera, trace.width(), trace.height(), x, y);
     return ui.selection.instance >= 0;
+}
+
+bool ViewerState::inspect(double x, double y) {
+    if (!session.loaded) return false;
+    const int w = trace.width(), h = trace.height();
+    if (w <= 0 || h <= 0) return false;
+    const int px = std::clamp(static_cast<int>(x * w), 0, w - 1);
+    const int py = std::clamp(static_cast<int>(y * h), 0, h - 1);
+    const LoadedScene& s = *session.loaded;
+    // The trace's settings as its passes use them (tracer.cpp: every sample jittered).
+    RenderSettings r = settings.render;
+    r.width = w;
+    r.height = h;
+    r.centre_first_sample = false;
+    InspectView& in = ui.inspect;
+    in.tree = inspect_pixel(s.scene, make_render_plan(s.scene, r), r, px, py);
+    in.text = inspect_text(*in.tree, s.scene, {&s.desc, &s.prim_locs, &s.material_names});
+    const Image& shown = trace.last_trace;
+    in.traced = shown.width == w && shown.height == h ? shown.at(px, py) : Vec3(0.0);
+    in.traced_spp = shown.width == w && shown.height == h ? trace.tracer.status().spp : 0;
+    in.hovered = -1;
+    ++in.version;
+    ui.preview_stale = true;
+    return true;
+}
+
+void ViewerState::clear_inspect() {
+    ui.inspect.tree.reset();
+    ui.inspect.text.clear();
+    ui.inspect.hovered = -1;
+    ++ui.inspect.version;
+    ui.preview_stale = true;
 }
 
 void ViewerState::frame_light(size_t i) {

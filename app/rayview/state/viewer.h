@@ -126,6 +126,12 @@ struct ViewerState {
     /// corner into ui.selection; nothing (selection.instance -1) where the ray leaves the
     /// scene. Returns whether something was picked.
     bool pick(double x, double y);
+    /// The ray tree of the trace's pixel at (x, y) of the image (fractions as pick()): the
+    /// sample the trace traced first there, with the trace's settings and plan, into
+    /// ui.inspect (its text too). False where the scene is not open.
+    bool inspect(double x, double y);
+    /// Drops the tree (its lines and the panel's list).
+    void clear_inspect();
     /// Turns the view to light i: a point, spot or sphere light at the centre of the view, a
     /// directional light's direction as the view direction.
     void frame_light(size_t i);
