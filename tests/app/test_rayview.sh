@@ -143,6 +143,7 @@ cat >"$tmp/all.txt" <<SCRIPT
 11 add-light spot
 12 frame-light 1
 13 pick 0.5 0.6
+13 inspect 0.5 0.6
 14 exposure 1
 15 tonemap aces
 16 depth 3
@@ -161,6 +162,9 @@ for cmd in pan dolly look fly light add-light frame-light depth; do
     check "$cmd restarts the trace" grep -q "$cmd: trace restarted" "$tmp/allout.txt"
 done
 check "pick names the shape and its directive" grep -q "picked .* lights.ray:[0-9]" "$tmp/allout.txt"
+check "inspect prints the pixel's ray tree" grep -q "^camera ray, depth 5: from" "$tmp/allout.txt"
+check "inspect names the hit's directive" grep -qE "^  hits .* at lights.ray:[0-9]+:[0-9]+" "$tmp/allout.txt"
+check "inspect ends with the pixel's value" grep -q "^pixel value (" "$tmp/allout.txt"
 check "save-scene writes the edits" grep -q "#light_directional\|#light_dir" "$tmp/saved.ray"
 # "Revert to the file" (script: revert): the file's lights again after an edit and an added
 # light, whatever was kept.

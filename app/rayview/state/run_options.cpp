@@ -23,6 +23,8 @@ constexpr const char* kScriptCommands =
     "frame is drawn):\n"
     "  camera:   orbit DYAW DPITCH | look DYAW DPITCH | pan RIGHT UP | dolly FACTOR |\n"
     "            fly DX DY DZ | pick X Y (image fractions from the top left)\n"
+    "  inspect:  inspect X Y (the trace's pixel there: its ray tree, printed and drawn) |\n"
+    "            inspect on|off (clicks inspect) | inspect clear\n"
     "  lights:   light I colour|ambient|diffuse|specular R G B | light I radius R |\n"
     "            light I position X Y Z | add-light point|spot|directional|sphere |\n"
     "            frame-light I | headlight on|off\n"

@@ -100,7 +100,8 @@ bool fly_camera(OrbitCamera& orbit, const Bounds3& world, double frame_s) {
 
 }  // namespace
 
-// A click (released without dragging) in either pane picks what is under it.
+// A click (released without dragging) in either pane picks what is under it, or in the inspect
+// mode explains that pixel of the trace (its ray tree).
 void click_to_pick(ViewerState& v, const ImGuiIO& io, const PaneLayout& p, const PaneHover& hover,
                    const InputState& input) {
     if (!(hover.preview || hover.trace) || input.dragged_light >= 0) return;
@@ -110,7 +111,11 @@ void click_to_pick(ViewerState& v, const ImGuiIO& io, const PaneLayout& p, const
     const int pane = hover.preview ? 0 : p.panes - 1;
     const double x = (io.MousePos.x - p.image_x(pane)) / p.image_w;
     const double y = (io.MousePos.y - p.image_y()) / p.image_h;
-    if (x >= 0 && x < 1 && y >= 0 && y < 1) v.pick(x, y);
+    if (x < 0 || x >= 1 || y < 0 || y >= 1) return;
+    if (v.ui.inspect.mode)
+        v.inspect(x, y);
+    else
+        v.pick(x, y);
 }
 
 bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const PaneLayout& layout,
@@ -130,6 +135,12 @@ bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const Pa
         for (int i = keys.presses(GLFW_KEY_Z, true, false); i > 0; --i)
             keys.shifted(GLFW_KEY_Z) ? v.redo() : v.undo();
         for (int i = keys.presses(GLFW_KEY_Y, true, false); i > 0; --i) v.redo();
+    }
+    // The inspect mode: I turns it on and off, C clears the tree.
+    if (!io.WantCaptureKeyboard) {
+        const KeyQueue& keys = key_queue();
+        if (keys.presses(GLFW_KEY_I, false, false) % 2 == 1) v.ui.inspect.mode = !v.ui.inspect.mode;
+        if (keys.presses(GLFW_KEY_C, false, false) > 0 && v.ui.inspect.tree) v.clear_inspect();
     }
     return edited;
 }

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "inspect_panel.h"
 #include "key_queue.h"
 #include "run_options.h"
 
@@ -663,7 +664,9 @@ void help_overlay(bool* open) {
         {"right drag", "look around (the eye stays)"},
         {"wheel", "dolly towards the target"},
         {"W A S D, Q E", "fly forward, left, back, right, down, up"},
-        {"F", "frame the scene"},
+        {"F", "frame the selection, or the scene"},
+        {"I", "inspect mode: a click explains a pixel (its ray tree)"},
+        {"C", "clear the ray tree"},
         {"Home", "back to the scene's camera"},
         {"click a light's marker, drag", "move the light (preview pane)"},
         {"Space", "play or pause the animation"},
@@ -769,6 +772,7 @@ void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
     file_panel(v, ui);                                 // opening a file marks its own edit
     if (v.session.loaded) {
         bool edited = camera_panel(v, layout);
+        inspect_panel(v);
         edited |= settings_panel(v);
         edited |= lights_panel(v);
         edited |= materials_panel(v, ui);

@@ -78,6 +78,17 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
             ImGui::Dummy(size);
         hover.trace = ImGui::IsItemHovered();
     }
+    // The pane's toolbar: the inspect mode's toggle (I), lit while it is on.
+    ImGui::SetCursorScreenPos(ImVec2(p.image_x(p.panes - 1) + 6, origin.y + p.image_y() + 6));
+    const bool inspecting = v.ui.inspect.mode;
+    if (inspecting) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.9f, 0.45f, 0.1f, 0.9f));
+    if (ImGui::SmallButton(inspecting ? "Inspect: on (I)" : "Inspect (I)"))
+        v.ui.inspect.mode = !inspecting;
+    if (inspecting) ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "A click in either pane explains that pixel of the trace:\n"
+            "its ray tree, drawn in the preview and listed in the panel");
     // Say why a pane is blank: nothing to draw, or nothing that lights it.
     const char* blank = nullptr;
     if (v.session.loaded->scene.instances.empty() || v.session.loaded->scene.world_bounds.empty())
@@ -125,11 +136,12 @@ void Panes::draw(ViewerState& v) {
         v.ui.preview_stale = true;
     }
     const ViewSettings& s = v.settings;
-    const bool overlay_changed = s.show_lights != m_drawn_lights || s.box_depth != m_drawn_depth ||
-                                 s.light_directions != m_drawn_directions ||
-                                 v.ui.selected_light != m_drawn_selected ||
-                                 s.exposure != m_drawn_exposure || s.tonemap != m_drawn_tonemap ||
-                                 s.group_depth != m_drawn_group_depth;
+    const bool overlay_changed =
+        s.show_lights != m_drawn_lights || s.box_depth != m_drawn_depth ||
+        s.light_directions != m_drawn_directions || v.ui.selected_light != m_drawn_selected ||
+        s.exposure != m_drawn_exposure || s.tonemap != m_drawn_tonemap ||
+        s.group_depth != m_drawn_group_depth || v.ui.inspect.version != m_drawn_inspect ||
+        v.ui.inspect.hovered != m_drawn_hovered;
     if (!v.ui.preview_stale && !overlay_changed && m_target.w == m_drawn_w &&
         m_target.h == m_drawn_h)
         return;
@@ -161,11 +173,20 @@ void Panes::draw(ViewerState& v) {
         lines.insert(lines.end(), sel.begin(), sel.end());
     }
     m_preview.draw_lines(lines, shown, cam);
+    if (v.ui.inspect.tree) {  // the pixel's ray tree, over everything
+        const Bounds3& wb = shown.world_bounds;
+        const double size = wb.empty() ? 1.0 : glm::length(wb.diagonal());
+        m_preview.draw_lines(
+            inspect_lines(*v.ui.inspect.tree, 0.04 * size, size, v.ui.inspect.hovered), shown, cam,
+            true);
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     v.ui.preview_stale = m_preview.environment_pending();  // drawn again until the maps are done
     m_drawn_lights = s.show_lights;
     m_drawn_directions = s.light_directions;
     m_drawn_selected = v.ui.selected_light;
+    m_drawn_inspect = v.ui.inspect.version;
+    m_drawn_hovered = v.ui.inspect.hovered;
     m_drawn_exposure = s.exposure;
     m_drawn_tonemap = s.tonemap;
     m_drawn_depth = s.box_depth;

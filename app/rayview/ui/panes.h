@@ -60,6 +60,7 @@ private:
     // What m_target holds, so it is redrawn only when that changes.
     bool m_drawn_lights = true, m_drawn_directions = false;
     int m_drawn_selected = -1;
+    int m_drawn_inspect = -1, m_drawn_hovered = -1;  // InspectView::version and hovered drawn
     std::vector<Material> m_drawn_materials;  // the materials the preview's maps were made for
     float m_drawn_exposure = 0;               // the display transform the preview was drawn with
     Tonemap m_drawn_tonemap = Tonemap::Clamp;

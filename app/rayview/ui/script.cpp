@@ -259,6 +259,16 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
                     v.ui.selection.instance < 0 ? "nothing" : v.ui.selection.shape.c_str(),
                     v.ui.selection.material.c_str(), v.ui.selection.where.c_str(),
                     v.ui.selection.groups.c_str());
+    } else if (c == "inspect" && (path == "on" || path == "off")) {
+        v.ui.inspect.mode = path == "on";
+    } else if (c == "inspect" && path == "clear") {
+        v.clear_inspect();
+    } else if (c == "inspect") {
+        // The ray tree of the trace's pixel there, printed as raytrace --inspect prints it.
+        v.inspect(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
+        if (v.ui.inspect.tree)
+            std::printf("rayview: frame %d: inspected pixel %d,%d\n%s", m_frame,
+                        v.ui.inspect.tree->x, v.ui.inspect.tree->y, v.ui.inspect.text.c_str());
     } else if (c == "boxes") {
         s.group_depth = whole(l, 0, 0, 8);
         s.box_depth = whole(l, 1, 0, 8);
