@@ -10,7 +10,7 @@
 namespace rt {
 
 const GeometryQueries& geometry_queries(uint32_t variant) {
-#if defined(__x86_64__) && !defined(__wasm__)
+#if defined(__x86_64__) && !defined(__wasm__) && !defined(RT_SSE2_ONLY)
     switch (active_isa()) {
         case Isa::Avx512:
             return avx512::geometry_queries(variant);

@@ -10,7 +10,7 @@ namespace rt {
 namespace {
 
 bool cpu_runs(Isa isa) {
-#if defined(__x86_64__) && !defined(__wasm__)
+#if defined(__x86_64__) && !defined(__wasm__) && !defined(RT_SSE2_ONLY)
     __builtin_cpu_init();
     switch (isa) {
         case Isa::Sse2:
@@ -27,7 +27,9 @@ bool cpu_runs(Isa isa) {
     }
     return false;
 #else
-    return isa == Isa::Sse2;  // the web build: WebAssembly SIMD behind the SSE intrinsics
+    // The web build (WebAssembly SIMD behind the SSE intrinsics), or one without the wide
+    // kernels (RT_WIDE_KERNELS off).
+    return isa == Isa::Sse2;
 #endif
 }
 
