@@ -248,7 +248,9 @@ def main():
         shutil.rmtree(downloads, ignore_errors=True)
         os.makedirs(downloads)
         browser = Browser(driver, downloads)
-        panes = ('--size 1280x480 --panel off --frames 60', '5 resolution 1;6 wait-spp {spp}')
+        # The pixel's ray tree is printed (inspect) and cleared before the screenshot.
+        panes = ('--size 1280x480 --panel off --frames 60',
+                 '5 resolution 1;6 wait-spp {spp};7 inspect 0.45 0.62;8 inspect clear')
 
         def open_showpiece(port, tag, spp):
             browser.go(f'http://127.0.0.1:{port}/index.html?scene=showpiece&args={panes[0]}'
@@ -267,6 +269,12 @@ def main():
         for line in browser.js('return window.rvLog'):  # the run's frame times, for the record
             if re.search(r'frames after start-up|Mray/s', line):
                 print('     ' + line, flush=True)
+        log = browser.js('return window.rvLog')
+        tree = [line for line in log if line.startswith(('camera ray, depth', '  hits ',
+                                                            'pixel value'))]
+        check(len(tree) == 3 and 'showpiece.ray' in ''.join(log) and
+              re.search(r'  hits .* at .*\.ray:\d+:\d+', tree[1]),
+              'inspect prints the pixel\'s ray tree in the page: ' + ' | '.join(tree)[:160])
         check(browser.js('return window.rvThreads') is True and st['threaded'],
               f'the isolated page runs the threads build ({st["threads"]} threads)')
         check(st['scene'].endswith('/showpiece.ray') and st['spp'] >= 8,
