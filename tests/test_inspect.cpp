@@ -205,6 +205,33 @@ TEST(Inspect, ShadowRaysListTheirOccluders) {
     EXPECT_EQ(l.note, "in shadow");
 }
 
+// Inside glass of index 1.5, a ray meeting the surface at sin i = 0.9 cannot leave: the tree
+// says so (and traces the mirror ray alone), and N is n_s flipped to face the ray.
+TEST(Inspect, TotalInternalReflectionIsNamed) {
+    const RenderScene scene = test::compile(R"(
+#camera 0.9 0 0  0 0 -1  0 1 0  0.5
+#light_point 1 1 1  0 5 0  1 0 0
+#material 0 0 0  0 0 0  0 0 0  0.1 0.1 0.1  10  1 1 1  1.5  -1 !glass!
+#shape_sphere 0  0 0 0  1
+)");
+    RenderSettings s;
+    s.width = 41;
+    s.height = 41;
+    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 20, 20);
+    const InspectRay& r = tree.rays.at(0);
+    ASSERT_TRUE(r.hit);
+    EXPECT_FALSE(r.entering);
+    EXPECT_VEC_NEAR(r.n, -r.n_shading, 0);
+    ASSERT_EQ(r.stops.size(), 1u);
+    EXPECT_EQ(r.stops[0].kind, "refracted");
+    EXPECT_NE(r.stops[0].why.find("total internal reflection (eta 1.5: sin of the refracted "
+                                  "angle would be 1.35"),
+              std::string::npos)
+        << r.stops[0].why;
+    ASSERT_EQ(r.children.size(), 1u);
+    EXPECT_EQ(tree.rays[static_cast<size_t>(r.children[0])].kind, InspectRay::Kind::Reflected);
+}
+
 // Supersampled and soft-shadowed: each sample's tree draws the random numbers the render draws,
 // so the samples' colours, summed as the render sums them, give the pixel.
 TEST(Inspect, SamplesOfAJitteredPixelSumToIt) {

@@ -3,6 +3,7 @@
 #include "rt/render/inspect.h"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -221,9 +222,12 @@ struct TreeRecorder {
         if (weight == Vec3(0.0)) return;  // the material has no such term: nothing to explain
         std::string text = stop_text(why);
         if (why == StopReason::TotalInternalReflection) {
+            // Snell: sin t = eta sin i, past 1 here.
             const double sin_t = eta * std::sqrt(std::max(0.0, 1.0 - cos_i * cos_i));
-            text += " (eta " + std::to_string(eta) + ", sin of the refracted angle would be " +
-                    std::to_string(sin_t) + ")";
+            char buf[96];
+            std::snprintf(buf, sizeof buf, " (eta %.6g: sin of the refracted angle would be %.6g)",
+                          eta, sin_t);
+            text += buf;
         }
         ray().stops.push_back({kind_text(kind), text, weight});
     }

@@ -1,10 +1,10 @@
-// The shading code (private to the core): the templates of spec §7, §8 and §13.9 that
-// shading.cpp compiles once per ShadeFeature combination for rendering and inspect.cpp once more,
+// The shading code (private to the core): the templates of spec §7, §8 and §13.9, which
+// shading.cpp compiles once per ShadeFeature combination to render, and inspect.cpp once more,
 // the generic combination, with a recorder that writes down every ray and term
-// (rt/render/inspect.h). A recorder is the
-// template parameter Rec: NoRecord, which renders, has kOn = false, and every recording call sits
-// behind `if constexpr (Rec::kOn)`, so the render instances hold no trace of it. The recorder
-// only reads values the shading computed; it never computes a term of its own.
+// (rt/render/inspect.h). The recorder is the template parameter Rec: NoRecord, which renders, has
+// kOn = false, and every recording call sits behind `if constexpr (Rec::kOn)`, so the render
+// instances hold no trace of it. The recorder only reads values the shading computed; it never
+// computes a term of its own.
 #pragma once
 
 #include <algorithm>
