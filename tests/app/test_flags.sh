@@ -75,6 +75,9 @@ declare -A rt=(
     [--tile]="--tile 0,0,12,8 -o $tmp/t.part" [--samples]="--spp 2 --samples 0:1 -o $tmp/s.part"
     [--exr-float]="-o $tmp/e.exr --exr-float" [--aov]="-o $tmp/e.exr --aov albedo,depth"
     [--max-pixels]="--max-pixels 1000"
+    [--inspect]="alone:$scene --width 24 --height 16 --inspect 3,4"
+    [--inspect-sample]="alone:$scene --width 24 --height 16 --spp 2 --inspect 3,4 --inspect-sample 1"
+    [--inspect-json]="alone:$scene --width 24 --height 16 --inspect 3,4 --inspect-json $tmp/i.json"
 )
 check_flags "$bin/raytrace" "$scene --width 24 --height 16 -q -o $tmp/o.png" rt
 
