@@ -1,0 +1,47 @@
+// An image compared with the reference render of its scene (raycompare; rayview's comparison):
+// the mean absolute difference, the share of pixels off by more than a tolerance, the largest
+// difference and where, and each pixel's difference for a heat map. 8-bit images are compared
+// with the reference as an 8-bit file of it holds it (spec §9's rounding), linear ones (PFM, EXR)
+// with its linear values; differences are on the 0-255 scale of one 8-bit step either way.
+#pragma once
+
+#include <vector>
+
+#include "rt/image/image.h"
+
+namespace rt {
+
+struct CompareSettings {
+    /// A pixel is off when one of its channels differs by more than this, in 8-bit steps.
+    double tolerance = 8.0;
+    /// Each pixel's difference is the smallest over the reference's 3x3 neighbourhood of it,
+    /// so that an edge shifted by up to a pixel is not an error (what graders allow).
+    bool neighbourhood = false;
+    /// The image holds linear values (PFM, EXR): compared unclamped, else through to_byte().
+    bool linear = false;
+};
+
+struct ImageComparison {
+    int width = 0, height = 0;
+    Vec3 mean_abs{0.0};        // per channel, in 8-bit steps
+    double share_off = 0;      // of the pixels, off by more than the tolerance in some channel
+    double max_diff = 0;       // the largest difference of one channel, in 8-bit steps
+    int max_x = 0, max_y = 0;  // where it is (the first such pixel, row by row)
+    /// Per pixel, row-major from the top: its largest channel difference, in 8-bit steps.
+    std::vector<float> error;
+    double mean() const { return (mean_abs.x + mean_abs.y + mean_abs.z) / 3.0; }
+};
+
+/// Compares `image` with `reference` (the same size, else std::invalid_argument naming both).
+ImageComparison compare_images(const Image& image, const Image& reference,
+                               const CompareSettings& settings);
+
+/// A false-colour heat map of a comparison's differences: black for none, through blue, green
+/// and yellow, to red at `scale` 8-bit steps and beyond (0: the comparison's largest, at least
+/// 1). Linear values in [0, 1], for save_image.
+Image heat_map(const ImageComparison& c, double scale = 0);
+
+/// The colour of the heat map at t in [0, 1] (its scale bar).
+Vec3 heat_colour(double t);
+
+}  // namespace rt
