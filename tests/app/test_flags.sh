@@ -124,9 +124,25 @@ declare -A diff=(
 )
 check_flags "$bin/imgdiff" "$tmp/d1.png $tmp/d2.png" diff
 
+# raycompare: d1.png against the scene's reference (--max-bad 1: every setting passes).
+echo "tolerance = 16" >"$tmp/cmp.toml"
+declare -A cmp=(
+    [--help]="alone:--help" [--version]="alone:--version" [--config]="--config $tmp/cmp.toml"
+    [--tolerance]="--tolerance 16" [--max-bad]="--max-bad 0.5" [--neighbourhood]="--neighbourhood"
+    [--csv]="--csv $tmp/c.csv" [--html]="--html $tmp/report" [--quiet]="--quiet"
+    [--depth]="--depth 2" [--cutoff]="--cutoff 0.01" [--spp]="--spp 2"
+    [--light-samples]="--light-samples 4" [--seed]="--seed 3" [--threads]="--threads 1"
+    [--no-shadows]="--no-shadows" [--no-specialize]="--no-specialize" [--dialect]="--dialect v1"
+    [--missing-textures]="--missing-textures checker" [--max-pixels]="--max-pixels 1000"
+    [--light-radius]="--light-radius 0.1" [--aperture]="--aperture 0.05"
+    [--focus-distance]="--focus-distance 3" [--roughness]="--roughness 0.1"
+)
+check_flags "$bin/raycompare" "$scene $tmp/d1.png --max-bad 1" cmp
+
 # What each program requires, so the flag tested is the one error.
 declare -A needs=([raytrace]="$scene" [rayview]="$scene" [raygen]="-o $tmp/g3.ray"
-    [raymerge]="-o $tmp/m3.png $tmp/a.part $tmp/b.part" [imgdiff]="$tmp/d1.png $tmp/d2.png")
+    [raymerge]="-o $tmp/m3.png $tmp/a.part $tmp/b.part" [imgdiff]="$tmp/d1.png $tmp/d2.png"
+    [raycompare]="$scene $tmp/d1.png")
 
 # --config: the options of a file are those of the command line.
 printf 'width = 32\nheight = 20\nspp = 4\nno-shadows = true\nlight-radius = 0.2\n' >"$tmp/render.toml"
@@ -147,7 +163,7 @@ check "no image after a usage error" test ! -e "$tmp/c4.png" -a ! -e "$tmp/c5.pn
 # the check, it is no measurement) and /dev/zero never ends.
 mkfifo "$tmp/fifo.toml"
 for config in "$tmp/fifo.toml" /dev/zero "$tmp"; do
-    for prog in raytrace rayview raygen raymerge imgdiff; do
+    for prog in raytrace rayview raygen raymerge imgdiff raycompare; do
         [ -x "$bin/$prog" ] || continue
         eval "DISPLAY= timeout 60 '$bin/$prog' ${needs[$prog]} --config $config" \
             >/dev/null 2>"$tmp/err.txt"
@@ -171,7 +187,7 @@ if [ -x "$bin/rayview" ]; then
         "$bin/rayview" "$scene" --width 20000 --height 20000 --max-pixels 400000000
 fi
 
-for prog in raytrace rayview raygen raymerge imgdiff; do
+for prog in raytrace rayview raygen raymerge imgdiff raycompare; do
     [ -x "$bin/$prog" ] || continue
     # With what it requires, so the unknown flag is the one error.
     eval "DISPLAY= '$bin/$prog' ${needs[$prog]} --no-such-flag" >/dev/null 2>"$tmp/err.txt"
