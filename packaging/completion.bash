@@ -1,4 +1,4 @@
-# bash completion for raytrace, raytrace-mpi, rayview, raymerge and raygen: options from the
+# bash completion for raytrace, raytrace-mpi, rayview, raymerge, raygen and raycompare: options from the
 # program's own --help (so they never go out of date), the names an option accepts, and files:
 # .ray scenes for the scene, .part files for raymerge, any file after an option that takes one.
 _raytracer_complete() {
@@ -7,7 +7,7 @@ _raytracer_complete() {
     COMPREPLY=()
     case $prev in
     -o | --output | --reference | --report | --plot | --video | --screenshot | --script | --config \
-        | --inspect-json)
+        | --inspect-json | --csv | --html)
         compopt -o filenames 2>/dev/null
         mapfile -t COMPREPLY < <(compgen -f -- "$cur")
         return ;;
@@ -43,4 +43,4 @@ _raytracer_complete() {
     compopt -o filenames 2>/dev/null
     mapfile -t COMPREPLY < <(compgen -f -X "!$glob" -- "$cur"; compgen -d -- "$cur")
 }
-complete -F _raytracer_complete raytrace raytrace-mpi rayview raymerge raygen
+complete -F _raytracer_complete raytrace raytrace-mpi rayview raymerge raygen raycompare

@@ -16,13 +16,13 @@ deb=$(ls "$tmp"/out/raytracer_*_*.deb 2>/dev/null | head -n 1)
 check "the package raytracer_VERSION-1_ARCH.deb is built" test -n "$deb" -a -s "$deb"
 [ -n "$deb" ] || { summary "Debian package"; exit 1; }
 dpkg-deb -c "$deb" | awk '{print $6}' | sed 's|^\./|/|' >"$tmp/files.txt"
-for f in /usr/bin/raytrace /usr/bin/rayview /usr/bin/raygen /usr/bin/raymerge \
+for f in /usr/bin/raytrace /usr/bin/rayview /usr/bin/raygen /usr/bin/raymerge /usr/bin/raycompare \
     /usr/share/raytracer/shaders/preview.vert /usr/share/raytracer/shaders/preview.frag \
     /usr/share/raytracer/scenes/showpiece.ray \
     /usr/share/applications/rayview.desktop /usr/share/mime/packages/raytracer.xml \
     /usr/share/icons/hicolor/256x256/apps/rayview.png \
     /usr/share/man/man1/raytrace.1.gz /usr/share/man/man1/rayview.1.gz \
-    /usr/share/man/man1/raygen.1.gz /usr/share/man/man1/raymerge.1.gz \
+    /usr/share/man/man1/raygen.1.gz /usr/share/man/man1/raymerge.1.gz /usr/share/man/man1/raycompare.1.gz \
     /usr/share/bash-completion/completions/raytrace /usr/share/doc/raytracer/README.md; do
     check "the package holds $f" grep -qx "$f" "$tmp/files.txt"
 done

@@ -21,7 +21,7 @@ p="$tmp/moved"
 mkdir "$tmp/cwd"
 cd "$tmp/cwd" || exit 1
 
-programs="raytrace rayview raygen raymerge"
+programs="raytrace rayview raygen raymerge raycompare"
 for prog in $programs; do
     check "$prog installed" test -x "$p/bin/$prog"
     out=$("$p/bin/$prog" --version 2>&1)
