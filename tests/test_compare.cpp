@@ -59,6 +59,16 @@ TEST(Compare, EightBitAndLinearImages) {
     linear.tolerance = 200;
     EXPECT_EQ(compare_images(a, b, linear).share_off, 0.0);
     EXPECT_THROW(compare_images(Image(2, 1), Image(1, 2), {}), std::invalid_argument);
+    // Brighter than white, the difference is relative to the reference: 21 against 20 is off
+    // by 1/20 of white, 12.75 steps, where 1.5 against a reference of 0.5 (not brighter than
+    // white) is the full 255.
+    Image hi(1, 1), ref(1, 1);
+    hi.set(0, 0, Vec3(21.0, 1.5, 0.0));
+    ref.set(0, 0, Vec3(20.0, 0.5, 0.0));
+    linear.tolerance = 8;
+    const ImageComparison r = compare_images(hi, ref, linear);
+    EXPECT_NEAR(r.mean_abs.x, 12.75, 1e-9);
+    EXPECT_NEAR(r.mean_abs.y, 255.0, 1e-9);
 }
 
 TEST(Compare, TheHeatMapRunsFromBlackToRed) {
@@ -70,6 +80,23 @@ TEST(Compare, TheHeatMapRunsFromBlackToRed) {
     const Image h = heat_map(c);
     EXPECT_EQ(h.at(c.max_x, c.max_y), Vec3(1.0, 0.0, 0.0));  // the largest: red
     EXPECT_EQ(h.at(0, 0), Vec3(0.0));                        // equal: black
+}
+
+TEST(Compare, TheThresholdViewMarksThePixelsOff) {
+    const Image a = disc(32, 24, 16), b = disc(32, 24, 17);
+    const ImageComparison c = compare_images(b, a, {});
+    const Image t = threshold_map(c, a, 8);
+    int red = 0;
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const bool off = c.error[static_cast<size_t>(y) * 32 + x] > 8;
+            red += off;
+            EXPECT_EQ(t.at(x, y).x == 1.0, off) << x << "," << y;
+        }
+    EXPECT_EQ(red, static_cast<int>(std::lround(c.share_off * 32 * 24)));
+    EXPECT_GT(red, 0);
+    // Elsewhere the reference, dimmed to grey: the disc brighter than the ground.
+    EXPECT_GT(t.at(16, 12).y, t.at(1, 1).y);
 }
 
 }  // namespace

@@ -55,7 +55,9 @@ ImageComparison compare_images(const Image& image, const Image& reference,
                     if (qx < 0 || qy < 0 || qx >= c.width || qy >= c.height) continue;
                     const size_t q = static_cast<size_t>(qy) * c.width + qx;
                     std::array<double, 3> d;
-                    for (size_t k = 0; k < 3; ++k) d[k] = std::abs(a[p * 3 + k] - b[q * 3 + k]);
+                    for (size_t k = 0; k < 3; ++k)
+                        d[k] = std::abs(a[p * 3 + k] - b[q * 3 + k]) /
+                               std::max(1.0, b[q * 3 + k] / 255.0);  // relative above white
                     const double m = std::max({d[0], d[1], d[2]});
                     if (m < best_d) best_d = m, best = d;
                 }
@@ -95,6 +97,20 @@ Image heat_map(const ImageComparison& c, double scale) {
         for (int x = 0; x < c.width; ++x)
             out.set(x, y,
                     heat_colour(double{c.error[static_cast<size_t>(y) * c.width + x]} / scale));
+    return out;
+}
+
+Image threshold_map(const ImageComparison& c, const Image& reference, double tolerance) {
+    Image out(c.width, c.height);
+    if (reference.width != c.width || reference.height != c.height) return out;
+    for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) {
+            const Vec3 v = glm::clamp(reference.at(x, y), Vec3(0.0), Vec3(1.0));
+            const double grey = 0.35 * (0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z);
+            const bool off =
+                static_cast<double>(c.error[static_cast<size_t>(y) * c.width + x]) > tolerance;
+            out.set(x, y, off ? Vec3(1.0, 0.1, 0.1) : Vec3(grey));
+        }
     return out;
 }
 

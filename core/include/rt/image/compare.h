@@ -2,7 +2,9 @@
 // the mean absolute difference, the share of pixels off by more than a tolerance, the largest
 // difference and where, and each pixel's difference for a heat map. 8-bit images are compared
 // with the reference as an 8-bit file of it holds it (spec §9's rounding), linear ones (PFM, EXR)
-// with its linear values; differences are on the 0-255 scale of one 8-bit step either way.
+// with its linear values; differences are on the 0-255 scale of one 8-bit step either way, and
+// relative to the reference's value where it is brighter than white (linear images only: a
+// highlight of 20 off by 1 is 12.75 steps off, not 255).
 #pragma once
 
 #include <vector>
@@ -40,6 +42,10 @@ ImageComparison compare_images(const Image& image, const Image& reference,
 /// and yellow, to red at `scale` 8-bit steps and beyond (0: the comparison's largest, at least
 /// 1). Linear values in [0, 1], for save_image.
 Image heat_map(const ImageComparison& c, double scale = 0);
+
+/// The threshold view: pixels off by more than `tolerance` 8-bit steps in red over the
+/// reference dimmed to grey (so that the scene stays recognisable). Linear values in [0, 1].
+Image threshold_map(const ImageComparison& c, const Image& reference, double tolerance);
 
 /// The colour of the heat map at t in [0, 1] (its scale bar).
 Vec3 heat_colour(double t);
