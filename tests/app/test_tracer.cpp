@@ -8,6 +8,7 @@
 
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
+#include "rt/render/render.h"
 #include "tracer.h"
 
 namespace rt::view {
@@ -72,6 +73,35 @@ TEST(Tracer, APumpReturnsAfterItsTimeAndAStopEndsTheTrace) {
     t.pump(1.0);  // stopped: nothing more
     EXPECT_EQ(t.status().spp, 0);
     EXPECT_FALSE(t.take_image(&image));
+}
+
+// The reference mode (the comparison pane's): raytrace's image, with threads and pumped alike,
+// bit for bit: the pixel centre first, then the jittered samples, in one pass of `spp`.
+TEST(Tracer, TheReferenceIsRaytracesImage) {
+    const RenderScene scene = lights_scene();
+    const int spp = 2;
+    RenderSettings settings = small(70, 45);
+    settings.centre_first_sample = true;  // raytrace's
+    RenderState state;
+    ASSERT_TRUE(render_samples(state, scene, make_render_plan(scene, settings), settings, spp));
+    const Image raytrace = state.image();
+    for (bool threaded : {true, false}) {
+        Tracer t(threaded);
+        RenderSettings jittered = settings;
+        jittered.centre_first_sample = false;  // what the viewer passes: the mode decides
+        t.restart(scene, jittered, spp, 1e-3, true);
+        Image image;
+        int got_spp = -1;
+        for (int i = 0; i < 10000 && got_spp < spp; ++i) {
+            threaded ? std::this_thread::sleep_for(std::chrono::milliseconds(2)) : t.pump(0.0);
+            if (!t.take_image(&image, &got_spp)) continue;
+            EXPECT_TRUE(got_spp == 0 || got_spp == spp) << "one pass of every sample";
+        }
+        ASSERT_EQ(got_spp, spp) << (threaded ? "threaded" : "pumped");
+        EXPECT_EQ(image.rgb, raytrace.rgb) << (threaded ? "threaded" : "pumped");
+        if (!threaded) t.pump(0.0);  // done: no second pass
+        EXPECT_EQ(t.status().spp, spp);
+    }
 }
 
 }  // namespace

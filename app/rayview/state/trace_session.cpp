@@ -26,8 +26,8 @@ bool TraceSession::due(int scene_id) {
 }
 
 void TraceSession::restart(const RenderScene& scene, const RenderSettings& render, int target_spp,
-                           float target_error, int scene_id) {
-    tracer.restart(scene, render, target_spp, target_error);
+                           float target_error, int scene_id, bool reference) {
+    tracer.restart(scene, render, target_spp, target_error, reference);
     m_traced_id = scene_id;
     explained.clear();
     for (const PlanReason& r : tracer.plan().reasons) explained.push_back(reason_line(r));
@@ -44,7 +44,7 @@ void TraceSession::restart(const RenderScene& scene, const RenderSettings& rende
 }
 
 bool TraceSession::take_image() {
-    if (!tracer.take_image(&last_trace)) return false;
+    if (!tracer.take_image(&last_trace, &last_spp)) return false;
     // From the edit, not the (possibly deferred) restart.
     const double ms =
         std::chrono::duration<double, std::milli>(Clock::now() - m_served_input_time).count();
@@ -52,7 +52,7 @@ bool TraceSession::take_image() {
         first_pass_ms = ms;
         first_pass_samples.push_back(first_pass_ms);
     }
-    if (first_full_ms < 0 && tracer.status().spp >= 1) {
+    if (first_full_ms < 0 && last_spp >= 1) {
         first_full_ms = ms;
         first_full_samples.push_back(first_full_ms);
     }

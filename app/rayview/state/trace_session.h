@@ -24,6 +24,7 @@ struct TraceSession {
 
     Tracer tracer;
     Image last_trace;
+    int last_spp = 0;                    // its samples per pixel (0: the coarse pass)
     std::vector<std::string> explained;  // the running trace's plan.reasons
     double first_pass_ms =
         -1;  // edit -> first traced image (the coarse pass) on screen; -1: waiting
@@ -48,10 +49,11 @@ struct TraceSession {
     /// LoadedScene::id to trace).
     bool due(int scene_id);
     /// Restarts the tracer on `scene` (stopped, and edited since, by the caller) and starts the
-    /// edit's timings.
+    /// edit's timings; `reference`: raytrace's image (Tracer::restart).
     void restart(const RenderScene& scene, const RenderSettings& render, int target_spp,
-                 float target_error, int scene_id);
-    /// Takes the trace's latest image into `last_trace`; false when there is none new.
+                 float target_error, int scene_id, bool reference = false);
+    /// Takes the trace's latest image into `last_trace` (and its samples per pixel into
+    /// `last_spp`); false when there is none new.
     bool take_image();
     /// Less than a quarter second since the last restart or edit: the view is moving.
     bool moving() const;

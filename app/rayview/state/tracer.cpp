@@ -1,5 +1,7 @@
 #include "tracer.h"
 
+#include <algorithm>
+
 #ifdef __linux__
 #include <sched.h>
 #include <sys/resource.h>
@@ -19,7 +21,7 @@ void Tracer::stop() {
 }
 
 void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, int target_spp,
-                     double target_error) {
+                     double target_error, bool reference) {
     stop();  // nothing to do when the caller stopped it (it must, before changing the scene)
     {
         std::lock_guard lock(m_mutex);
@@ -37,11 +39,12 @@ void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, i
         m_coop.target_error = target_error;
         m_coop.t0 = std::chrono::steady_clock::now();
         m_coop.done = false;
-        m_coop.settings.centre_first_sample = false;  // as run()'s passes
+        m_coop.reference = reference;
+        m_coop.settings.centre_first_sample = reference;  // as run()'s passes
         return;
     }
-    m_thread = std::thread([this, &scene, settings, target_spp, target_error] {
-        run(&scene, settings, target_spp, target_error);
+    m_thread = std::thread([this, &scene, settings, target_spp, target_error, reference] {
+        run(&scene, settings, target_spp, target_error, reference);
     });
 }
 
@@ -72,8 +75,11 @@ void Tracer::pump(double seconds) {
                 return;
             }
             const uint32_t first = c.state.samples.empty() ? 0 : c.state.samples[0];
-            c.tiles = tile_parts(c.settings.width, c.settings.height, kTileW, kTileH, first, 1,
-                                 first + 1);
+            const auto spp = static_cast<uint32_t>(std::max(1, c.target_spp));
+            c.tiles = c.reference ? tile_parts(c.settings.width, c.settings.height, kTileW, kTileH,
+                                               0, spp, spp)
+                                  : tile_parts(c.settings.width, c.settings.height, kTileW, kTileH,
+                                               first, 1, first + 1);
         }
         render_part(c.tiles[c.next_tile++], *c.scene, m_plan, c.settings);
         if (c.next_tile == c.tiles.size()) {  // the pass is complete
@@ -81,13 +87,13 @@ void Tracer::pump(double seconds) {
             ++c.state.passes;
             c.next_tile = 0;
             const double s = std::chrono::duration<double>(Clock::now() - c.t0).count();
-            if (publish(c.state, s, c.target_error)) c.done = true;
+            if (publish(c.state, s, c.target_error) || c.reference) c.done = true;
         }
     } while (!c.done && Clock::now() < until);
 }
 
 void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_spp,
-                 double target_error) {
+                 double target_error, bool reference) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     // The tracer yields to the interface: this thread and the workers it starts (Linux keeps
@@ -107,8 +113,15 @@ void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_s
         m_image = std::move(coarse);
         m_updated = true;
     }
-    settings.centre_first_sample = false;  // progressive: every sample jittered
     RenderState state;
+    if (reference) {  // raytrace's image: its sampling, every sample in one pass
+        settings.centre_first_sample = true;
+        if (!render_samples(state, *scene, m_plan, settings, std::max(1, target_spp), {}, &m_stop))
+            return;
+        publish(state, std::chrono::duration<double>(Clock::now() - t0).count(), 0);
+        return;
+    }
+    settings.centre_first_sample = false;  // progressive: every sample jittered
     while (!m_stop && more_passes(state, target_spp)) {
         if (!render_samples(state, *scene, m_plan, settings, 1, {}, &m_stop)) return;
         const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -140,10 +153,11 @@ bool Tracer::publish(const RenderState& state, double seconds, double target_err
     return false;
 }
 
-bool Tracer::take_image(Image* out) {
+bool Tracer::take_image(Image* out, int* spp) {
     std::lock_guard lock(m_mutex);
     if (!m_updated) return false;
     *out = m_image;
+    if (spp) *spp = m_status.spp;  // published with the image, under the same lock
     m_updated = false;
     return true;
 }

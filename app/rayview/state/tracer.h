@@ -36,10 +36,12 @@ public:
     void stop();
     /// Starts tracing `scene` (which must outlive the trace and stay unchanged until stop()):
     /// a coarse pass first, then passes of one sample per pixel up to `target_spp`, or until the
-    /// estimated relMSE reaches `target_error` (from 8 spp; 0: no target). The trace must be
+    /// estimated relMSE reaches `target_error` (from 8 spp; 0: no target). `reference`: after
+    /// the coarse pass, one pass of `target_spp` samples with the spec's sampling (§6.2: the
+    /// pixel centre at 1 spp), the image raytrace writes, for comparisons. The trace must be
     /// stopped (the caller stops it before it edits the scene).
     void restart(const RenderScene& scene, const RenderSettings& settings, int target_spp,
-                 double target_error = 0);
+                 double target_error = 0, bool reference = false);
     /// The plan of the trace started last (made by restart(), once per restart).
     const RenderPlan& plan() const { return m_plan; }
 
@@ -54,15 +56,16 @@ public:
         /// (TargetForecast); negative while it cannot be told.
         double target_seconds = -1;
     };
-    /// The latest image if it changed since the last call (returns false otherwise).
-    bool take_image(Image* out);
+    /// The latest image if it changed since the last call (returns false otherwise), and its
+    /// samples per pixel (0: the coarse pass).
+    bool take_image(Image* out, int* spp = nullptr);
     Status status() const;
     /// (seconds, estimated relMSE) after each pass since the restart.
     std::vector<std::pair<float, float>> history() const;
 
 private:
-    void run(const RenderScene* scene, RenderSettings settings, int target_spp,
-             double target_error);
+    void run(const RenderScene* scene, RenderSettings settings, int target_spp, double target_error,
+             bool reference);
     /// After each pass: the image, the status and the history; true when the trace is done
     /// (the target reached).
     bool publish(const RenderState& state, double seconds, double target_error);
@@ -75,6 +78,7 @@ private:
         RenderSettings settings;
         int target_spp = 0;
         double target_error = 0;
+        bool reference = false;  // one pass of target_spp samples, as raytrace renders
         std::chrono::steady_clock::time_point t0;
         bool coarse_done = false, done = true;
         RenderState state;
