@@ -14,6 +14,7 @@
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
+#include "rt/render/render.h"
 #include "rt/shapes/shapes.h"
 #include "rt/util/file_io.h"
 #include "test_util.h"
@@ -855,6 +856,93 @@ TEST(Viewer, InspectExplainsTheTracesPixel) {
     ASSERT_TRUE(v.inspect(0.5, 0.5));
     ASSERT_TRUE(v.open(path, false));
     EXPECT_FALSE(v.ui.inspect.tree);
+}
+
+// Waits until the comparison has the running trace's reference (take_trace(), as the panes do
+// every frame).
+bool wait_compared(ViewerState& v) {
+    for (int i = 0; i < 5000; ++i) {
+        v.restart_if_due();
+        v.take_trace();
+        if (!v.edit_pending() && v.ui.compare.current && v.ui.compare.result) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return false;
+}
+
+// The comparison pane: an image raytrace rendered compares equal; one with a changed patch is
+// off there, and only there; a file that cannot be read says so and keeps the comparison.
+TEST(Viewer, ComparesAnImageWithTheReferenceAtItsSizeAndCamera) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_compare.ray";
+    write_file_atomic(path,
+                      "#camera 0 0 5  0 0 -1  0 1 0  0.5\n"
+                      "#light_point 1 1 1  0 3 3  1 0 0\n"
+                      "#material .1 .1 .1  0 0 0  .8 .5 .2  .5 .5 .5  20  0 0 0  1  -1 !!\n"
+                      "#shape_sphere 0  0 0 0  1\n");
+    // raytrace's image at 48x36 (its defaults: 1 spp, the pixel centre).
+    Diagnostics diag;
+    const RenderScene scene = compile_scene(parse_scene_file(path, diag));
+    RenderSettings rs;
+    rs.width = 48;
+    rs.height = 36;
+    RenderState state;
+    ASSERT_TRUE(render_samples(state, scene, make_render_plan(scene, rs), rs, 1));
+    const std::string theirs = ::testing::TempDir() + "rt_viewer_theirs.png";
+    save_image(state.image(), theirs);
+
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    v.set_trace_size(200, 100);
+    v.edits.camera.orbit(0.5, 0.2);  // a view away from the file's camera
+    v.mark_edited();
+    restart(v);
+    ASSERT_TRUE(v.compare_with(theirs));
+    EXPECT_NE(v.messages.text.find("(48x36)"), std::string::npos) << v.messages.text;
+    v.set_trace_size(200, 100);  // the pane's size no longer counts
+    EXPECT_EQ(v.trace.width(), 48);
+    EXPECT_EQ(v.trace.height(), 36);
+    EXPECT_EQ(v.settings.image_w, 48);  // the panes take the image's aspect
+    ASSERT_TRUE(wait_compared(v));
+    const ImageComparison& r = *v.ui.compare.result;
+    EXPECT_EQ(r.mean(), 0.0) << compare_status(v.ui.compare);
+    EXPECT_EQ(r.share_off, 0.0);
+    EXPECT_NE(status_text(v).find("mean |diff| 0.00"), std::string::npos) << status_text(v);
+
+    // A patch of their image changed: off there only, the largest difference in it.
+    Image changed = load_image(theirs);
+    for (int y = 10; y < 14; ++y)
+        for (int x = 20; x < 24; ++x) changed.set(x, y, changed.at(x, y) + Vec3(0.2, 0.0, 0.0));
+    const std::string patched = ::testing::TempDir() + "rt_viewer_patched.png";
+    save_image(changed, patched);
+    ASSERT_TRUE(v.compare_with(patched));
+    ASSERT_TRUE(wait_compared(v));
+    const ImageComparison& p = *v.ui.compare.result;
+    EXPECT_NEAR(p.share_off, 16.0 / (48 * 36), 1e-9);
+    EXPECT_GE(p.max_x, 20);
+    EXPECT_LT(p.max_x, 24);
+    EXPECT_GE(p.max_y, 10);
+    EXPECT_LT(p.max_y, 14);
+    EXPECT_NEAR(p.max_diff, 51, 1.01);  // 0.2 x 255, to the byte
+    const Image heat = compare_pane_image(v.ui.compare, 0, Tonemap::Clamp);
+    EXPECT_GT(heat.at(21, 11).x, heat.at(5, 5).x);  // hot where it differs
+    EXPECT_NE(compare_probe_text(v.ui.compare, 21, 11).find("off by 5"), std::string::npos)
+        << compare_probe_text(v.ui.compare, 21, 11);
+    // The reference's ray tree there: the pixel centre (raytrace's sample 0).
+    ASSERT_TRUE(v.inspect(21.5 / 48, 11.5 / 36));
+    EXPECT_FALSE(v.ui.inspect.tree->random);
+
+    // Not an image: said, and the comparison stays.
+    EXPECT_FALSE(v.compare_with(path));
+    EXPECT_TRUE(v.messages.is_error);
+    EXPECT_NE(v.messages.text.find("cannot compare with " + path), std::string::npos)
+        << v.messages.text;
+    EXPECT_FALSE(v.compare_with(::testing::TempDir() + "rt_no_such_image.png"));
+    EXPECT_EQ(v.ui.compare.path, patched);
+
+    v.stop_compare();
+    EXPECT_FALSE(v.ui.compare.active());
+    v.set_trace_size(200, 100);
+    EXPECT_EQ(v.trace.width(), 200);
 }
 
 // "Render and save image": the scene as edited at the chosen size and samples, in the

@@ -1,7 +1,6 @@
 // The viewer's own state of the window, not the scene's: what is selected, the pixel inspected,
-// the bookmarked
-// views, the help overlay, the files dropped, whether the preview has an edit to draw, and the
-// web page's hooks. No GL.
+// the image compared, the bookmarked views, the help overlay, the files dropped, whether the
+// preview has an edit to draw, and the web page's hooks. No GL.
 #pragma once
 
 #include <functional>
@@ -9,6 +8,7 @@
 #include <vector>
 
 #include "camera_controller.h"
+#include "compare_view.h"
 #include "inspect_view.h"
 #include "selection.h"
 
@@ -17,6 +17,7 @@ namespace rt::view {
 struct ViewUi {
     Selection selection;
     InspectView inspect;  // the inspect mode and the pixel's ray tree
+    CompareView compare;  // the image compared with the trace (the comparison pane)
     /// The light last edited in the panel, framed or dragged (-1: none): the preview draws its
     /// direction (a spot's cone, a directional light's arrows), the others' small markers only.
     int selected_light = -1;

@@ -229,8 +229,13 @@ void ViewerState::poll_files() {
         jobs.reloading = false;
     }
     if (!ui.dropped.empty()) {  // the window stays interactive while it loads
-        open_in_background(ui.dropped.back());
+        // An image dropped is compared with the trace; a scene opens.
+        const std::string file = ui.dropped.back();
         ui.dropped.clear();
+        if (is_image_path(file))
+            compare_with(file);
+        else
+            open_in_background(file);
     }
     if (!session.check_due()) return;
     LoadedScene* s = session.loaded.get();
@@ -385,11 +390,12 @@ bool ViewerState::inspect(double x, double y) {
     const int px = std::clamp(static_cast<int>(x * w), 0, w - 1);
     const int py = std::clamp(static_cast<int>(y * h), 0, h - 1);
     const LoadedScene& s = *session.loaded;
-    // The trace's settings as its passes use them (tracer.cpp: every sample jittered).
+    // The trace's settings as its passes use them (tracer.cpp: every sample jittered; the
+    // reference of a comparison samples as raytrace does, the pixel centre first).
     RenderSettings r = settings.render;
     r.width = w;
     r.height = h;
-    r.centre_first_sample = false;
+    r.centre_first_sample = ui.compare.active();
     InspectView& in = ui.inspect;
     in.tree = inspect_pixel(s.scene, make_render_plan(s.scene, r), r, px, py);
     in.text = inspect_text(*in.tree, s.scene, {&s.desc, &s.prim_locs, &s.material_names});
@@ -456,7 +462,69 @@ void ViewerState::restart() {
     s.shown.camera = s.scene.camera;  // the preview's overlays show the same lights
     s.shown.lights = s.scene.lights;
     s.shown.materials = s.scene.materials;
-    trace.restart(s.scene, settings.render, settings.target_spp, settings.target_error, s.id);
+    CompareView& c = ui.compare;
+    c.current = false;
+    if (c.active())  // the reference: raytrace's image at the compared image's size
+        trace.restart(s.scene, settings.render, c.spp, 0, s.id, true);
+    else
+        trace.restart(s.scene, settings.render, settings.target_spp, settings.target_error, s.id);
+}
+
+void ViewerState::set_trace_size(int w, int h) {
+    const CompareView& c = ui.compare;
+    if (c.active())
+        trace.set_size(c.theirs.width, c.theirs.height);
+    else
+        trace.set_size(w, h);
+}
+
+bool ViewerState::compare_with(const std::string& path) {
+    Image theirs;
+    try {
+        if (!std::filesystem::is_regular_file(path)) throw std::runtime_error("no such file");
+        theirs = load_image(path);
+    } catch (const std::exception& e) {
+        messages.fail("cannot compare with " + path + ": " + e.what());
+        return false;  // the previous comparison, if any, stays
+    }
+    CompareView& c = ui.compare;
+    c.path = path;
+    c.theirs = std::move(theirs);
+    c.settings.linear = holds_linear(image_format_from_path(path));
+    c.reference = Image();
+    c.current = false;
+    c.probe_x = c.probe_y = -1;
+    c.recompare();
+    settings.image_w = c.theirs.width;  // both panes keep its aspect
+    settings.image_h = c.theirs.height;
+    if (session.loaded)
+        edits.camera.set_from(session.loaded->file_camera, session.loaded->scene.world_bounds);
+    trace.set_size(c.theirs.width, c.theirs.height);
+    mark_edited();
+    messages.note("comparing with " + std::filesystem::path(path).filename().string() + " (" +
+                  std::to_string(c.theirs.width) + "x" + std::to_string(c.theirs.height) +
+                  "): the trace renders the reference at its size from the file's camera, " +
+                  std::to_string(c.spp) + " spp as raytrace renders it");
+    return true;
+}
+
+void ViewerState::stop_compare() {
+    if (!ui.compare.active()) return;
+    ui.compare = CompareView();
+    mark_edited();  // the progressive trace again, of the pane's size
+}
+
+bool ViewerState::take_trace() {
+    if (!trace.take_image()) return false;
+    CompareView& c = ui.compare;
+    const Image& t = trace.last_trace;
+    if (c.active() && !edit_pending() && t.width == c.theirs.width && t.height == c.theirs.height &&
+        trace.last_spp >= c.spp) {
+        c.reference = t;
+        c.current = true;
+        c.recompare();
+    }
+    return true;
 }
 
 double ViewerState::animation_length() const {
@@ -549,6 +617,7 @@ std::string status_text(const ViewerState& v) {
     s += " | first pass " + ms(v.trace.first_pass_ms) + ", full resolution " +
          ms(v.trace.first_full_ms);
     if (v.headlight_on()) s += " | headlight: the scene has no lights";
+    if (v.ui.compare.active()) s += " | " + compare_status(v.ui.compare);
     return s;
 }
 

@@ -111,8 +111,9 @@ struct ViewerState {
     /// Something the trace shows changed: restart_if_due() restarts the trace.
     void mark_edited() { trace.mark_edited(); }
     bool edit_pending() const { return trace.edit_pending(); }
-    /// The trace's size in pixels (from the pane's size and the resolution scale).
-    void set_trace_size(int w, int h) { trace.set_size(w, h); }
+    /// The trace's size in pixels (from the pane's size and the resolution scale); the
+    /// compared image's size while comparing (compare_with()).
+    void set_trace_size(int w, int h);
     /// A new light of `kind` at the eye, along the view (a spot's cone 0.5 rad).
     void add_light(LightKind kind);
     /// The scene has no lights and the headlight is on: the trace and the preview are lit by
@@ -142,6 +143,19 @@ struct ViewerState {
     /// scene. Returns whether it restarted. The trace's plan (trace.tracer.plan()) is then that
     /// of the scene shown.
     bool restart_if_due();
+
+    // ---- comparison with an image (ui.compare) ----
+    /// Compares the trace with the image at `path` (a student's render): the trace switches to
+    /// the image's size and the file's camera and renders the reference there as raytrace does
+    /// (ui.compare.spp samples, the spec's sampling); take_trace() compares once it is done. On
+    /// an error (a file that cannot be read) the message is shown and the previous comparison
+    /// stays.
+    bool compare_with(const std::string& path);
+    /// Back to the progressive trace of the pane's size.
+    void stop_compare();
+    /// Takes the trace's latest image (TraceSession::take_image) and, while comparing, compares
+    /// the reference with the image once it is done. False when there is no new image.
+    bool take_trace();
 
     // ---- undo and redo ----
     /// Once a frame: an edit made since the last step becomes an undo step once no gesture is

@@ -100,19 +100,26 @@ bool fly_camera(OrbitCamera& orbit, const Bounds3& world, double frame_s) {
 
 }  // namespace
 
-// A click (released without dragging) in either pane picks what is under it, or in the inspect
-// mode explains that pixel of the trace (its ray tree).
+// A click (released without dragging) in the preview or the trace picks what is under it, or in
+// the inspect mode explains that pixel of the trace (its ray tree); in the comparison pane it
+// marks the pixel (both values in the panel) and explains the reference's pixel there.
 void click_to_pick(ViewerState& v, const ImGuiIO& io, const PaneLayout& p, const PaneHover& hover,
                    const InputState& input) {
-    if (!(hover.preview || hover.trace) || input.dragged_light >= 0) return;
+    if (!hover.any() || input.dragged_light >= 0) return;
     if (!ImGui::IsMouseReleased(ImGuiMouseButton_Left) || io.KeyShift) return;
     const ImVec2 drag = ImGui::GetMouseDragDelta(ImGuiMouseButton_Left, 0.0f);
     if (drag.x * drag.x + drag.y * drag.y > 9.0f) return;  // that was an orbit
-    const int pane = hover.preview ? 0 : p.panes - 1;
+    const int pane = hover.preview ? p.preview : hover.trace ? p.trace : p.compare;
     const double x = (io.MousePos.x - p.image_x(pane)) / p.image_w;
     const double y = (io.MousePos.y - p.image_y()) / p.image_h;
     if (x < 0 || x >= 1 || y < 0 || y >= 1) return;
-    if (v.ui.inspect.mode)
+    if (hover.compare) {
+        CompareView& c = v.ui.compare;
+        c.probe_x = static_cast<int>(x * c.theirs.width);
+        c.probe_y = static_cast<int>(y * c.theirs.height);
+        v.ui.inspect.mode = true;  // the tree is why the reference's pixel is what it is
+        v.inspect(x, y);
+    } else if (v.ui.inspect.mode)
         v.inspect(x, y);
     else
         v.pick(x, y);
@@ -122,7 +129,8 @@ bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const Pa
                   const PaneHover& hover, double frame_s) {
     click_to_pick(v, io, layout, hover, input);
     bool edited = drag_lights(v, input, io, layout, hover.preview);
-    // Camera input only over the panes (never what ImGui's controls want).
+    // Camera input only over the preview and the trace (never what ImGui's controls want; the
+    // comparison pane takes clicks only).
     if ((hover.preview || hover.trace) && input.dragged_light < 0)
         edited |= mouse_camera(v.edits.camera, io, layout);
     if (!io.WantCaptureKeyboard)
@@ -141,6 +149,13 @@ bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const Pa
         const KeyQueue& keys = key_queue();
         if (keys.presses(GLFW_KEY_I, false, false) % 2 == 1) v.ui.inspect.mode = !v.ui.inspect.mode;
         if (keys.presses(GLFW_KEY_C, false, false) > 0 && v.ui.inspect.tree) v.clear_inspect();
+        // Comparing: B flips theirs and ours, V cycles the views.
+        CompareView& c = v.ui.compare;
+        if (c.active() && keys.presses(GLFW_KEY_B, false, false) % 2 == 1)
+            c.show = c.show == CompareShow::Theirs ? CompareShow::Ours : CompareShow::Theirs;
+        if (c.active())
+            for (int i = keys.presses(GLFW_KEY_V, false, false); i > 0; --i)
+                c.show = static_cast<CompareShow>((static_cast<int>(c.show) + 1) % 4);
     }
     return edited;
 }

@@ -675,6 +675,10 @@ void help_overlay(bool* open) {
         {"Ctrl+Shift+Z, Ctrl+Y", "redo"},
         {"F1, ?", "this help; Esc closes it"},
         {"drop a .ray file", "open it"},
+        {"drop an image (PNG, PFM, ...)", "compare it with the reference (comparison pane)"},
+        {"B", "comparing: flip between theirs and ours"},
+        {"V", "comparing: the next view (theirs, ours, difference, threshold)"},
+        {"click in the comparison pane", "both values there and the reference's ray tree"},
     };
     if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
         for (const auto& row : kRows) {
@@ -773,6 +777,7 @@ void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
     if (v.session.loaded) {
         bool edited = camera_panel(v, layout);
         inspect_panel(v);
+        compare_panel(v, ui.compare);
         edited |= settings_panel(v);
         edited |= lights_panel(v);
         edited |= materials_panel(v, ui);

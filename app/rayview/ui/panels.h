@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "compare_panel.h"
 #include "panes.h"
 #include "viewer.h"
 
@@ -33,6 +34,7 @@ struct PanelState {
     std::vector<std::string> completion_list;  // completions(completed_for)
     std::string samples_dir;                   // the sample scenes' folder ("": no list)
     std::vector<std::string> samples;          // sample_scenes(samples_dir), listed once
+    ComparePanelState compare;                 // "Compare with image"
 };
 
 /// The .ray files in `dir` (not its subfolders), sorted.

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <filesystem>
 
 #include "rt/scene/scene_time.h"
 
@@ -21,10 +23,13 @@ ImTextureID texture_id(unsigned id) {
 
 }  // namespace
 
-PaneLayout pane_layout(int layout, int fb_w, int fb_h, float panel_w, double aspect) {
+PaneLayout pane_layout(int layout, int fb_w, int fb_h, float panel_w, double aspect, bool compare) {
     PaneLayout p;
     p.panel_w = panel_w;
     p.panes = layout == 0 ? 2 : 1;
+    p.preview = layout == 2 ? -1 : 0;
+    p.trace = layout == 1 ? -1 : p.panes - 1;
+    if (compare) p.compare = p.panes++;
     p.pane_w =
         std::max(64.0f, (static_cast<float>(fb_w) - p.panel_w) / static_cast<float>(p.panes));
     p.pane_h = std::max(64.0f, static_cast<float>(fb_h));
@@ -65,21 +70,31 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     PaneHover hover;
     const ImVec2 size(p.image_w, p.image_h);
     const ImVec2 origin = ImGui::GetWindowPos();
-    if (s.layout != 2) {
-        ImGui::SetCursorScreenPos(ImVec2(p.image_x(0), origin.y + p.image_y()));
+    if (p.preview >= 0) {
+        ImGui::SetCursorScreenPos(ImVec2(p.image_x(p.preview), origin.y + p.image_y()));
         ImGui::Image(texture_id(m_target.color.id()), size, ImVec2(0, 1), ImVec2(1, 0));
         hover.preview = ImGui::IsItemHovered();
     }
-    if (s.layout != 1) {
-        ImGui::SetCursorScreenPos(ImVec2(p.image_x(p.panes - 1), origin.y + p.image_y()));
+    if (p.trace >= 0) {
+        ImGui::SetCursorScreenPos(ImVec2(p.image_x(p.trace), origin.y + p.image_y()));
         if (m_trace.texture)
             ImGui::Image(texture_id(m_trace.texture.id()), size);
         else
             ImGui::Dummy(size);
         hover.trace = ImGui::IsItemHovered();
     }
+    if (p.compare >= 0) {
+        ImGui::SetCursorScreenPos(ImVec2(p.image_x(p.compare), origin.y + p.image_y()));
+        if (m_compare.texture)
+            ImGui::Image(texture_id(m_compare.texture.id()), size);
+        else
+            ImGui::Dummy(size);
+        hover.compare = ImGui::IsItemHovered();
+        show_compare(v, p, hover.compare);
+    }
     // The pane's toolbar: the inspect mode's toggle (I), lit while it is on.
-    ImGui::SetCursorScreenPos(ImVec2(p.image_x(p.panes - 1) + 6, origin.y + p.image_y() + 6));
+    const int tool_pane = p.trace >= 0 ? p.trace : p.preview;
+    ImGui::SetCursorScreenPos(ImVec2(p.image_x(tool_pane) + 6, origin.y + p.image_y() + 6));
     const bool inspecting = v.ui.inspect.mode;
     if (inspecting) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.9f, 0.45f, 0.1f, 0.9f));
     if (ImGui::SmallButton(inspecting ? "Inspect: on (I)" : "Inspect (I)"))
@@ -87,7 +102,7 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     if (inspecting) ImGui::PopStyleColor();
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip(
-            "A click in either pane explains that pixel of the trace:\n"
+            "A click in any pane explains that pixel of the trace:\n"
             "its ray tree, drawn in the preview and listed in the panel");
     // Say why a pane is blank: nothing to draw, or nothing that lights it.
     const char* blank = nullptr;
@@ -96,7 +111,8 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     else if (v.edits.lights.empty() && !v.settings.headlight)
         blank = "the scene has no lights (turn the headlight on in the panel)";
     if (blank)
-        for (int i = 0; i < p.panes; ++i) {
+        for (int i : {p.preview, p.trace}) {
+            if (i < 0) continue;
             const ImVec2 text = ImGui::CalcTextSize(blank);
             ImGui::SetCursorScreenPos(
                 ImVec2(p.image_x(i) + 0.5f * (p.image_w - text.x), origin.y + 0.5f * p.pane_h));
@@ -107,9 +123,90 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     return hover;
 }
 
+void Panes::show_compare(ViewerState& v, const PaneLayout& p, bool hovered) {
+    CompareView& c = v.ui.compare;
+    const ImVec2 origin = ImGui::GetWindowPos();
+    const float x0 = p.image_x(p.compare), y0 = origin.y + p.image_y();
+    // The toolbar: the views (B flips theirs and ours, V cycles), and the end of the comparison.
+    ImGui::SetCursorScreenPos(ImVec2(x0 + 6, y0 + 6));
+    for (CompareShow s : {CompareShow::Theirs, CompareShow::Ours, CompareShow::Difference,
+                          CompareShow::Threshold}) {
+        const bool on = c.show == s;
+        if (on) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.9f, 0.45f, 0.1f, 0.9f));
+        if (ImGui::SmallButton(compare_show_name(s))) c.show = s;
+        if (on) ImGui::PopStyleColor();
+        ImGui::SameLine();
+    }
+    if (ImGui::SmallButton("x")) {
+        v.stop_compare();
+        return;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Stop comparing");
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const std::string name = std::filesystem::path(c.path).filename().string();
+    const char* what = c.show == CompareShow::Theirs       ? "theirs (B: ours)"
+                       : c.show == CompareShow::Ours       ? "ours: the reference (B: theirs)"
+                       : c.show == CompareShow::Difference ? "difference, 8-bit steps"
+                                                           : "off by more than the tolerance (red)";
+    const std::string label = name + ": " + what;
+    draw->AddText(ImVec2(x0 + 8, y0 + 30), IM_COL32(255, 255, 255, 230), label.c_str());
+    if (!c.result) {
+        const char* wait = "rendering the reference...";
+        const ImVec2 t = ImGui::CalcTextSize(wait);
+        draw->AddText(ImVec2(x0 + 0.5f * (p.image_w - t.x), y0 + 0.5f * p.image_h),
+                      IM_COL32(255, 255, 255, 255), wait);
+    } else if (c.show == CompareShow::Difference) {  // the scale bar, 0 to the largest
+        const float bw = std::min(220.0f, p.image_w - 90), bh = 12;
+        const float bx = x0 + 10, by = y0 + p.image_h - bh - 10;
+        constexpr int kSteps = 32;
+        for (int i = 0; i < kSteps; ++i) {
+            const Vec3 col = heat_colour((i + 0.5) / kSteps);
+            auto u8 = [](double x) { return static_cast<int>(std::clamp(x, 0.0, 1.0) * 255); };
+            draw->AddRectFilled(ImVec2(bx + bw * static_cast<float>(i) / kSteps, by),
+                                ImVec2(bx + bw * static_cast<float>(i + 1) / kSteps, by + bh),
+                                IM_COL32(u8(col.x), u8(col.y), u8(col.z), 255));
+        }
+        char hi[32];
+        std::snprintf(hi, sizeof hi, "%.0f", std::max(1.0, c.result->max_diff));
+        draw->AddText(ImVec2(bx, by - 16), IM_COL32(255, 255, 255, 230), "0");
+        draw->AddText(ImVec2(bx + bw - ImGui::CalcTextSize(hi).x, by - 16),
+                      IM_COL32(255, 255, 255, 230), hi);
+    }
+    if (c.probe_x >= 0) {  // the pixel clicked, marked
+        const float px = x0 + (static_cast<float>(c.probe_x) + 0.5f) * p.image_w /
+                                  static_cast<float>(c.theirs.width);
+        const float py = y0 + (static_cast<float>(c.probe_y) + 0.5f) * p.image_h /
+                                  static_cast<float>(c.theirs.height);
+        draw->AddCircle(ImVec2(px, py), 6, IM_COL32(0, 255, 255, 255), 12, 2);
+    }
+    if (hovered && c.result) {  // both values under the mouse
+        const ImVec2 m = ImGui::GetIO().MousePos;
+        const int x = static_cast<int>((m.x - x0) / p.image_w * static_cast<float>(c.theirs.width));
+        const int y =
+            static_cast<int>((m.y - y0) / p.image_h * static_cast<float>(c.theirs.height));
+        const std::string text = compare_probe_text(c, x, y);
+        if (!text.empty()) ImGui::SetTooltip("%s\nclick: its ray tree", text.c_str());
+    }
+}
+
 void Panes::draw(ViewerState& v) {
+    // The comparison pane's view: a new comparison, another view or display transform.
+    const CompareView& c = v.ui.compare;
+    if (c.active() &&
+        (c.version != m_compare_version || c.show != m_compare_show ||
+         v.settings.exposure != m_compare_exposure || v.settings.tonemap != m_compare_tonemap)) {
+        const Image shown = compare_pane_image(c, v.settings.exposure, v.settings.tonemap);
+        if (shown.width > 0)
+            m_compare.upload(shown);
+        else
+            m_compare = ImageTexture();  // blank until the reference is done
+        m_compare_version = c.version;
+        m_compare_show = c.show;
+        m_compare_exposure = v.settings.exposure;
+        m_compare_tonemap = v.settings.tonemap;
+    }
     // A new trace, or another exposure or tonemap of the last one (display only).
-    const bool new_trace = v.trace.take_image();
+    const bool new_trace = v.take_trace();
     if (new_trace || v.settings.exposure != m_shown_exposure ||
         v.settings.tonemap != m_shown_tonemap) {
         const bool as_is = v.settings.exposure == 0 && v.settings.tonemap == Tonemap::Clamp;

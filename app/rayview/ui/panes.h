@@ -1,7 +1,8 @@
-// The two panes right of the control panel: the GL preview (left) and the trace (right), or one
-// of them alone. Owns the viewer's GL objects: the Preview, its framebuffer and the trace's
-// texture. The preview is redrawn only when something it shows changed (software GL spends most
-// of a frame on it).
+// The panes right of the control panel: the GL preview (left) and the trace (right), or one of
+// them alone, and while comparing with an image the comparison pane right of them. Owns the
+// viewer's GL objects: the Preview, its framebuffer and the trace's and comparison's textures. The
+// preview is redrawn only when something it shows changed (software GL spends most of a frame on
+// it).
 #pragma once
 
 #include <optional>
@@ -20,6 +21,8 @@ namespace rt::view {
 struct PaneLayout {
     float panel_w = 330;
     int panes = 2;  // shown side by side
+    /// Which pane shows what, from the left (-1: not shown).
+    int preview = 0, trace = 1, compare = -1;
     float pane_w = 0, pane_h = 0;
     float image_w = 0, image_h = 0;  // the image in each pane
     /// The image's top left corner in pane `i` (0 the left one), in window pixels.
@@ -29,12 +32,15 @@ struct PaneLayout {
     float image_y() const { return 0.5f * (pane_h - image_h); }
 };
 /// Both panes side by side, or one of them alone at full size (`layout`: ViewSettings::layout),
-/// right of a panel `panel_w` wide, with images of aspect `aspect` (width / height).
-PaneLayout pane_layout(int layout, int fb_w, int fb_h, float panel_w, double aspect);
+/// right of a panel `panel_w` wide, with images of aspect `aspect` (width / height); `compare`:
+/// the comparison pane too, rightmost.
+PaneLayout pane_layout(int layout, int fb_w, int fb_h, float panel_w, double aspect,
+                       bool compare = false);
 
 /// Which pane the mouse is over (never true while it is over the control panel).
 struct PaneHover {
-    bool preview = false, trace = false;
+    bool preview = false, trace = false, compare = false;
+    bool any() const { return preview || trace || compare; }
 };
 
 class Panes {
@@ -50,8 +56,15 @@ public:
     const std::vector<std::string>& preview_defines() const { return m_preview.active_defines(); }
 
 private:
+    /// The comparison pane's toolbar, scale bar and the pixel under the mouse.
+    void show_compare(ViewerState& v, const PaneLayout& p, bool hovered);
     Preview m_preview;
     ImageTexture m_trace;
+    ImageTexture m_compare;      // the comparison pane's view (CompareView::show)
+    int m_compare_version = -1;  // what m_compare holds: CompareView::version, show, display
+    CompareShow m_compare_show = CompareShow::Difference;
+    float m_compare_exposure = 0;
+    Tonemap m_compare_tonemap = Tonemap::Clamp;
     RenderTarget m_target;       // the preview is drawn here, shown as an image
     double m_moving_div = 2.0;   // the preview's resolution divisor while the view moves
     float m_shown_exposure = 0;  // what m_trace was uploaded with

@@ -1,0 +1,54 @@
+// The comparison pane: an image (a student's render) beside the trace, which renders the
+// reference at the image's size from the file's camera as raytrace renders it (the spec's
+// sampling, `spp` samples per pixel); its views (theirs, ours, a heat map of the difference,
+// the pixels off by more than the tolerance), its figures and the pixel probed. The comparison
+// is rt/image/compare.h's, raycompare's. No GL.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "rt/image/compare.h"
+#include "rt/image/image.h"
+
+namespace rt::view {
+
+/// What the comparison pane shows.
+enum class CompareShow { Theirs, Ours, Difference, Threshold };
+const char* compare_show_name(CompareShow s);
+
+struct CompareView {
+    std::string path;  // the image compared ("": no comparison)
+    Image theirs;      // as read
+    /// The tolerance and the neighbourhood; `linear` from the file's format (PFM, EXR).
+    CompareSettings settings;
+    int spp = 1;  // the reference's samples per pixel (raytrace --spp)
+    CompareShow show = CompareShow::Difference;
+    Image reference;       // the trace compared (linear), once it is done
+    bool current = false;  // `reference` is the running trace's (false: one is rendering)
+    std::optional<ImageComparison> result;  // of theirs against `reference`
+    int probe_x = -1, probe_y = -1;         // the pixel clicked in the pane (-1: none)
+    int version = 0;  // counts changes of what the pane shows, so it uploads again
+
+    bool active() const { return !path.empty(); }
+    /// Compares again (a new reference, or another tolerance or neighbourhood).
+    void recompare();
+};
+
+/// The image the pane shows (`c.show`): theirs as read (a linear file and ours through the
+/// display's exposure and tonemap), the heat map, or the threshold view. Empty before the
+/// reference is done (except theirs).
+Image compare_pane_image(const CompareView& c, float exposure, Tonemap tonemap);
+
+/// The status bar's figures: the mean absolute difference, the share of pixels off by more than
+/// the tolerance, the largest difference and where; what is awaited before that.
+std::string compare_status(const CompareView& c);
+
+/// Theirs and ours at pixel (x, y), in 8-bit steps as compared (linear files: 255 x the value),
+/// and the difference counted there: "theirs (r g b), ours (r g b), off by d".
+std::string compare_probe_text(const CompareView& c, int x, int y);
+
+/// An image file rayview compares with (by its extension), not a scene to open.
+bool is_image_path(const std::string& path);
+
+}  // namespace rt::view
