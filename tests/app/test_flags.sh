@@ -83,6 +83,7 @@ check_flags "$bin/raytrace" "$scene --width 24 --height 16 -q -o $tmp/o.png" rt
 
 # rayview without a display renders headless (to simple.png here): every flag parses the same.
 : >"$tmp/empty_script.txt"
+{ printf 'P6\n24 16\n255\n'; head -c $((24 * 16 * 3)) /dev/zero; } >"$tmp/black.ppm"
 declare -A rv=(
     [--help]="alone:--help" [--version]="alone:--version" [--config]="--config $tmp/cfg.toml"
     [--frames]="--frames 1" [--screenshot]="--frames 1 --screenshot $tmp/shot.png"
@@ -94,9 +95,17 @@ declare -A rv=(
     [--target-error]="--target-error 0.01" [--missing-textures]="--missing-textures checker"
     [--light-radius]="--light-radius 0.1" [--aperture]="--aperture 0.05"
     [--focus-distance]="--focus-distance 3" [--roughness]="--roughness 0.1"
-    [--max-pixels]="--max-pixels 1000"
+    [--max-pixels]="--max-pixels 1000" [--compare]="--compare $tmp/black.ppm"
 )
 DISPLAY= WAYLAND_DISPLAY= check_flags "$bin/rayview" "$scene --width 24 --height 16 --spp 1" rv
+if [ -x "$bin/rayview" ]; then  # headless, --compare prints the comparison's figures
+    DISPLAY= WAYLAND_DISPLAY= "$bin/rayview" "$scene" --compare "$tmp/black.ppm" >"$tmp/rv_cmp.txt"
+    check "rayview --compare headless prints the figures" \
+        grep -qE "^rayview: vs black.ppm: mean \|diff\| [0-9.]+ .* off by > 8/255" "$tmp/rv_cmp.txt"
+    DISPLAY= WAYLAND_DISPLAY= "$bin/rayview" "$scene" --compare "$tmp/none.png" 2>"$tmp/rv_cmp.txt"
+    check "rayview --compare of a missing file exits 1" test $? -eq 1
+    check "and says why" grep -q "cannot compare with $tmp/none.png" "$tmp/rv_cmp.txt"
+fi
 
 declare -A gen=(
     [--help]="alone:--help" [--version]="alone:--version" [--config]="--config $tmp/gen.toml"

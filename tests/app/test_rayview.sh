@@ -259,5 +259,71 @@ check "SIGTERM keeps the settings" test -s "$conf"
 "$rv" --missing-textures bogus "$src/scenes/lights.ray" >"$tmp/bad.txt" 2>&1
 check "--missing-textures takes error or checker only" test $? -eq 2
 check "--help lists --missing-textures, as raytrace's" bash -c "'$rv' --help | grep -q -- '--missing-textures M:{error,checker}'"
+# The comparison pane: a render with the wrong specular exponent against the reference, its
+# difference (a heat map), the threshold view (red) and theirs, each in the pane right of the
+# trace (--layout trace --panel off: the window's right half); a probe prints both values and
+# the reference's ray tree; a file that cannot be read fails the run.
+cat >"$tmp/cmp.ray" <<'SCENE'
+#camera 0 0 5  0 0 -1  0 1 0  0.5
+#light_point 1 1 1  2 2 4  1 0 0
+#material 0.1 0.1 0.1  0 0 0  0.4 0.4 0.4  0.8 0.8 0.8  40  0 0 0  1  -1 !!
+#shape_sphere 0  0 0 0  1.2
+SCENE
+sed 's/  40  /  4  /' "$tmp/cmp.ray" >"$tmp/cmp_wrong.ray"
+"$(dirname "$rv")/raytrace" "$tmp/cmp_wrong.ray" -o "$tmp/wrong.png" --width 160 --height 120 \
+    >/dev/null 2>&1
+check "raytrace renders their image" test -s "$tmp/wrong.png"
+cat >"$tmp/cmp.txt" <<SCRIPT
+1 wait-compare 60
+2 compare view difference
+4 screenshot $tmp/cmp_diff.ppm
+5 compare view threshold
+7 screenshot $tmp/cmp_thr.ppm
+8 compare flip
+10 screenshot $tmp/cmp_theirs.ppm
+11 compare probe 95 45
+12 status
+SCRIPT
+xrun "$rv" --compare "$tmp/wrong.png" --layout trace --panel off --size 1200x500 \
+    --script "$tmp/cmp.txt" "$tmp/cmp.ray" >"$tmp/cmp_out.txt" 2>&1
+check "rayview --compare exits 0" test $? -eq 0
+check "it says the trace takes the image's size" grep -q "comparing with wrong.png (160x120)" \
+    "$tmp/cmp_out.txt"
+check "the figures are printed" grep -qE "vs wrong.png: mean \|diff\| [0-9.]+ .* [0-9.]+% off by > 8/255" \
+    "$tmp/cmp_out.txt"
+check "a probe prints both values" grep -qE "compare pixel 95,45: theirs \([0-9 ]+\), ours \([0-9 ]+\), off by" \
+    "$tmp/cmp_out.txt"
+check "and the reference's ray tree there" grep -q "^camera ray, depth" "$tmp/cmp_out.txt"
+python3 - "$tmp/cmp_diff.ppm" "$tmp/cmp_thr.ppm" "$tmp/cmp_theirs.ppm" >"$tmp/cmp_px.txt" 2>&1 <<'PY'
+import sys
+def load(p):
+    data = open(p, 'rb').read()
+    parts = data.split(maxsplit=4)
+    w, h = int(parts[1]), int(parts[2])
+    return w, h, parts[4][-w * h * 3:]
+def count(p, test, x0, x1):  # pixels of the central box of a half passing `test`
+    w, h, px = load(p)
+    n = 0
+    for y in range(h // 4, 3 * h // 4):
+        for x in range(x0 + w // 8, x1 - w // 8):
+            i = 3 * (y * w + x)
+            n += test(px[i], px[i + 1], px[i + 2])
+    return n, w
+hue = lambda r, g, b: max(r, g, b) - min(r, g, b) > 100  # a heat map's colours, not grey
+red = lambda r, g, b: r >= 240 and g <= 40 and b <= 40
+w = load(sys.argv[1])[0]
+print('heat', count(sys.argv[1], hue, w // 2, w)[0], 'trace', count(sys.argv[1], hue, 0, w // 2)[0])
+print('red', count(sys.argv[2], red, w // 2, w)[0])
+print('theirs', count(sys.argv[3], hue, w // 2, w)[0])
+PY
+read -r _ heat _ trace_hue <<<"$(grep '^heat' "$tmp/cmp_px.txt")"
+check "the difference view is a heat map (${heat:-?} coloured pixels)" test "${heat:-0}" -gt 500
+check "beside a grey trace (${trace_hue:-?})" test "${trace_hue:-1}" -eq 0
+check "the threshold view marks pixels red" test "$(awk '/^red/ {print $2}' "$tmp/cmp_px.txt")" -gt 100
+check "theirs is shown as it is (grey)" test "$(awk '/^theirs/ {print $2}' "$tmp/cmp_px.txt")" -eq 0
+xrun "$rv" --compare "$tmp/missing.png" --frames 3 "$tmp/cmp.ray" >/dev/null 2>"$tmp/cmp_err.txt"
+check "a missing image fails the run" test $? -eq 1
+check "and says why" grep -q "cannot compare with $tmp/missing.png" "$tmp/cmp_err.txt"
+cat "$tmp/cmp_out.txt"
 cat "$tmp/out.txt"
 summary

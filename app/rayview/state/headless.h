@@ -10,9 +10,11 @@
 namespace rt::view {
 
 /// Without a display: the same renderer, headless (`spp` samples per pixel, `settings`' size),
-/// to SCENE.png in the working directory. Returns the exit code.
+/// to SCENE.png in the working directory. With `compare` (--compare), the reference is rendered
+/// at that image's size instead and the comparison's figures printed, as the pane's status
+/// line says them. Returns the exit code.
 int render_headless(const std::string& path, MissingTextures missing = MissingTextures::Error,
                     const RenderSettings& settings = {}, int spp = 16,
-                    std::optional<Dialect> dialect = std::nullopt);
+                    std::optional<Dialect> dialect = std::nullopt, const std::string& compare = "");
 
 }  // namespace rt::view

@@ -124,6 +124,11 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
     app.add_option("--panel", out->panel, "the control panel: on (default) or off")
         ->type_name("on|off")
         ->transform(CLI::CheckedTransformer(on_off, CLI::ignore_case).description(""));
+    app.add_option("--compare", out->compare,
+                   "compare the trace with an image (PNG, BMP, PPM, JPEG, PFM, EXR): the reference "
+                   "is rendered at its size from the file's camera, with --spp samples (default 1, "
+                   "as raytrace)")
+        ->type_name("IMAGE");
     app.get_formatter()->column_width(30);
     // raytrace's render flags, as the initial settings (the panel edits them afterwards).
     const std::string render_group = "render settings (raytrace's flags: the initial settings)";

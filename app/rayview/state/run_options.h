@@ -1,6 +1,6 @@
 // rayview's command line: its own options (--frames, --screenshot, --script, --layout, --size,
-// --panel) and raytrace's render flags, which become the viewer's initial settings. No GL here
-// (the tests parse command lines without a display).
+// --panel, --compare) and raytrace's render flags, which become the viewer's initial settings. No
+// GL here (the tests parse command lines without a display).
 #pragma once
 
 #include <string>
@@ -43,6 +43,9 @@ struct RunOptions {
     int layout = 0;                  // --layout: ViewSettings::layout
     int window_w = 0, window_h = 0;  // --size, 0: the last run's
     bool panel = true;               // --panel on|off
+    /// --compare: an image compared with the reference, rendered at its size from the file's
+    /// camera with --spp samples (1 when not given, as raytrace).
+    std::string compare;
 };
 
 /// The settings the command line asks for (render flags, --layout, --panel), over `settings`

@@ -223,8 +223,8 @@ bool frame(Session& s) {
     int fb_w = 0, fb_h = 0;
     glfwGetFramebufferSize(s.window, &fb_w, &fb_h);
     const ViewSettings& vs = viewer.settings;
-    const PaneLayout layout =
-        pane_layout(vs.layout, fb_w, fb_h, vs.show_panel ? vs.panel_w : 0, vs.aspect());
+    const PaneLayout layout = pane_layout(vs.layout, fb_w, fb_h, vs.show_panel ? vs.panel_w : 0,
+                                          vs.aspect(), viewer.ui.compare.active());
     if (vs.show_panel) control_panel(viewer, s.ui, layout, s.panes.preview_defines(), frame_s);
     if (vs.show_panel && viewer.session.loaded) status_bar(viewer, layout);
     if (vs.show_panel && viewer.session.loaded) timeline_bar(viewer, layout);
@@ -297,10 +297,11 @@ int main(int argc, char** argv) {
     std::signal(SIGTERM, on_signal);
     glfwSetErrorCallback(glfw_error);
     GLFWwindow* window = open_window(opt.window_w, opt.window_h);
-    if (!window) {  // raytrace's settings, 16 samples per pixel unless --spp says
+    if (!window) {  // raytrace's settings, 16 samples per pixel unless --spp says (1 comparing)
         const rt::RenderSettings& settings = opt.render;
-        return render_headless(opt.scene, opt.render.missing_textures, settings,
-                               opt.spp_given ? opt.render.spp : 16, opt.render.dialect);
+        const int spp = opt.spp_given ? opt.render.spp : opt.compare.empty() ? 16 : 1;
+        return render_headless(opt.scene, opt.render.missing_textures, settings, spp,
+                               opt.render.dialect, opt.compare);
     }
     if (data_dir.empty()) {
         std::fprintf(stderr, "rayview: %s\n", data_error.c_str());
@@ -320,6 +321,11 @@ int main(int argc, char** argv) {
         initial.ui_scale = config.ui_scale;
         viewer.start_with(initial);
         viewer.session.remember_recent(config.recent);
+        if (!opt.compare.empty() && viewer.session.loaded) {  // an error fails a scripted run
+            viewer.ui.compare.spp = opt.spp_given ? opt.render.spp : 1;
+            if (viewer.compare_with(opt.compare))
+                std::printf("rayview: %s\n", viewer.messages.text.c_str());
+        }
         glfwSetWindowUserPointer(window, &viewer);
         glfwSetDropCallback(window, on_drop);
         const std::unique_ptr<Panes> panes = make_panes(data_dir + "/shaders");

@@ -200,10 +200,62 @@ bool run_animation(const ScriptLine& l, ViewerState& v, int frame) {
     return true;
 }
 
+// The comparison with an image, as the comparison pane and its panel section do. False for
+// another command.
+bool run_compare(const ScriptLine& l, ViewerState& v, int frame) {
+    if (l.command != "compare") return false;
+    CompareView& c = v.ui.compare;
+    const std::string what = l.args.empty() ? "" : l.args[0];
+    if (what.empty()) throw std::runtime_error("compare: PATH, or off, view, flip, tolerance, ...");
+    const bool setting = what == "off" || what == "view" || what == "flip" || what == "tolerance" ||
+                         what == "neighbourhood" || what == "spp" || what == "probe";
+    if (!setting) {
+        if (!v.compare_with(what)) throw std::runtime_error("compare: " + v.messages.text);
+        return true;
+    }
+    if (what == "off") {
+        v.stop_compare();
+        return true;
+    }
+    if (what == "spp") {  // the reference's samples: rendered again
+        c.spp = static_cast<int>(whole(l, 1, 1, 1 << 16));
+        v.mark_edited();
+        return true;
+    }
+    if (!c.active()) throw std::runtime_error("compare " + what + ": nothing compared");
+    if (what == "view") {
+        const std::string name = l.args.size() > 1 ? l.args[1] : "";
+        bool found = false;
+        for (CompareShow s : {CompareShow::Theirs, CompareShow::Ours, CompareShow::Difference,
+                              CompareShow::Threshold})
+            if (name == compare_show_name(s)) c.show = s, found = true;
+        if (!found) throw std::runtime_error("compare view: theirs|ours|difference|threshold");
+    } else if (what == "flip") {
+        c.show = c.show == CompareShow::Theirs ? CompareShow::Ours : CompareShow::Theirs;
+    } else if (what == "tolerance") {
+        c.settings.tolerance = number(l, 1, 0, 255);
+        c.recompare();
+    } else if (what == "neighbourhood") {
+        ScriptLine rest = l;
+        rest.args.erase(rest.args.begin());
+        c.settings.neighbourhood = on(rest);
+        c.recompare();
+    } else {  // probe X Y: both values there and the reference's ray tree
+        c.probe_x = static_cast<int>(whole(l, 1, 0, std::max(0, c.theirs.width - 1)));
+        c.probe_y = static_cast<int>(whole(l, 2, 0, std::max(0, c.theirs.height - 1)));
+        v.inspect((c.probe_x + 0.5) / c.theirs.width, (c.probe_y + 0.5) / c.theirs.height);
+        std::printf("rayview: frame %d: compare %s\n%s", frame,
+                    compare_probe_text(c, c.probe_x, c.probe_y).c_str(),
+                    v.ui.inspect.tree ? v.ui.inspect.text.c_str() : "");
+    }
+    if (c.result) std::printf("rayview: frame %d: %s\n", frame, compare_status(c).c_str());
+    return true;
+}
+
 }  // namespace
 
 void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
-    if (run_edit(l, v) || run_animation(l, v, m_frame)) return;
+    if (run_edit(l, v) || run_animation(l, v, m_frame) || run_compare(l, v, m_frame)) return;
     ViewSettings& s = v.settings;
     const std::string& c = l.command;
     const std::string path = l.args.empty() ? "" : l.args[0];
@@ -297,6 +349,11 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         s.resolution_scale = static_cast<float>(number(l, 0, 0.1, 1));
     } else if (c == "status") {
         std::printf("rayview: frame %d: status: %s\n", m_frame, status_text(v).c_str());
+    } else if (c == "wait-compare") {
+        if (!v.ui.compare.active()) throw std::runtime_error("wait-compare: nothing compared");
+        m_wait = Wait::Compare;
+        m_wait_limit_s = l.args.empty() ? 120 : number(l, 0, 0.1, 3600);
+        m_wait_start = std::chrono::steady_clock::now();
     } else if (c == "wait-spp" || c == "wait-jobs") {
         const bool spp = c == "wait-spp";
         m_wait = spp ? Wait::Spp : Wait::Jobs;
@@ -317,15 +374,22 @@ bool ScriptRun::end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code) {
     if (m_wait != Wait::None) {  // this frame again until what the script waits for is there
         const double waited =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - m_wait_start).count();
+        const CompareView& cv = v.ui.compare;
         const bool done =
-            m_wait == Wait::Spp
-                ? !v.edit_pending() && v.trace.tracer.status().spp >= m_wait_spp
+            m_wait == Wait::Spp ? !v.edit_pending() && v.trace.tracer.status().spp >= m_wait_spp
+            : m_wait == Wait::Compare
+                ? !cv.active() || (!v.edit_pending() && cv.current && cv.result)
                 : !v.jobs.loader.busy() && !v.jobs.image.running() && !v.ui.preview_stale;
+        if (done && m_wait == Wait::Compare && cv.active())
+            std::printf("rayview: frame %d: %s\n", m_frame, compare_status(cv).c_str());
         if (done) {
             m_wait = Wait::None;  // shown from the next frame on, which runs the next commands
         } else if (waited > m_wait_limit_s) {
             std::fprintf(stderr, "rayview: frame %d: error: %s not done in %g s\n", m_frame,
-                         m_wait == Wait::Spp ? "wait-spp" : "wait-jobs", m_wait_limit_s);
+                         m_wait == Wait::Spp       ? "wait-spp"
+                         : m_wait == Wait::Compare ? "wait-compare"
+                                                   : "wait-jobs",
+                         m_wait_limit_s);
             m_failed = true;
             m_wait = Wait::None;
         }

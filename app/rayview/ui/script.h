@@ -56,9 +56,10 @@ private:
     int m_frames_left;
     std::string m_screenshot;
     int m_frame = 0;
-    std::vector<std::string> m_causes;    // commands whose edits await a restart
-    bool m_failed = false;                // a command failed (reported): the run exits 1
-    enum class Wait { None, Spp, Jobs };  // what a wait-spp or wait-jobs holds the script for
+    std::vector<std::string> m_causes;  // commands whose edits await a restart
+    bool m_failed = false;              // a command failed (reported): the run exits 1
+    /// What a wait-spp, wait-jobs or wait-compare holds the script for.
+    enum class Wait { None, Spp, Jobs, Compare };
     Wait m_wait = Wait::None;
     int m_wait_spp = 0;
     double m_wait_limit_s = 0;
