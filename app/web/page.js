@@ -119,7 +119,11 @@ async function openFiles(entries) {
     files.push({path: full, text: /\.ray$/i.test(path) ? new TextDecoder().decode(bytes) : ''});
   }
   const scene = sceneAmong(files);
+  // Images alone are compared with the open scene's reference (the viewer takes an image's
+  // path as a comparison, the comparison pane).
+  const image = files.find((f) => /\.(png|bmp|ppm|jpe?g|pfm|exr)$/i.test(f.path));
   if (scene) rvOpen(scene.path);
+  else if (image) rvOpen(image.path);
   else note.textContent = 'No .ray file among the ' + files.length + ' files given.';
 }
 
@@ -130,6 +134,9 @@ function picked(input) {
 }
 const filesInput = document.getElementById('files');
 const folderInput = document.getElementById('folder');
+const compareInput = document.getElementById('compare-file');
+document.getElementById('compare').onclick = () => compareInput.click();
+compareInput.onchange = () => picked(compareInput);
 document.getElementById('open-files').onclick = () => filesInput.click();
 document.getElementById('open-folder').onclick = () => folderInput.click();
 filesInput.onchange = () => picked(filesInput);

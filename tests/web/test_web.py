@@ -13,6 +13,8 @@ single-thread build), and checks from screenshots of the page:
     raytrace's of its size, the scene holds the edit and renders;
   - a bad scene picked with the page's file input shows its file:line:col error in red in the
     panel, and the showpiece stays open;
+  - files dropped onto the page open; an image picked with "Compare with image" is compared
+    with the open scene's reference (raytrace's image of it compares equal);
   - without isolation the page says it traces on one thread, and still traces the showpiece;
   - the frame times (median, p95) and the trace's rays per second of the first run, printed
     for the record.
@@ -368,6 +370,23 @@ def main():
                           '!s.loading ? s : null', 'the dropped scene')
         check(not st['error'], 'files dropped onto the page open, the included one with them '
                                f'({st["scene"]} {st["message"]})')
+        # "Compare with image…": raytrace's image of that scene is the reference's (WebAssembly's
+        # libm may round a few pixels to the next 8-bit step; none is off by more than 8).
+        folder = os.path.join(a.out, 'compare')
+        os.makedirs(folder, exist_ok=True)
+        for name, text in (('dropped.ray', DROPPED_SCENE), ('part.ray', DROPPED_PART)):
+            with open(os.path.join(folder, name), 'w') as f:
+                f.write(text)
+        theirs = os.path.join(folder, 'theirs.png')
+        subprocess.run([raytrace, '-q', os.path.join(folder, 'dropped.ray'), '--width', '80',
+                        '--height', '60', '-o', theirs], check=True)
+        field = browser.s('POST', '/element', {'using': 'css selector', 'value': '#compare-file'})
+        browser.s('POST', f'/element/{next(iter(field.values()))}/value', {'text': theirs})
+        st = browser.wait('const s = rvStatus(); return s.compare.includes("mean |diff|") && '
+                          '!s.compare.includes("rendering") ? s : null', 'the comparison')
+        m = re.search(r'mean \|diff\| ([0-9.]+) .*, ([0-9.]+)% off', st['compare'])
+        check(m and float(m.group(1)) < 0.5 and float(m.group(2)) == 0,
+              f'an image picked with "Compare with image" is compared ({st["compare"]})')
 
         # 4. Not isolated: the single-thread build, with a note, traces the showpiece too.
         st = open_showpiece(plain, 'single', 4)

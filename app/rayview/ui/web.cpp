@@ -81,7 +81,8 @@ EMSCRIPTEN_KEEPALIVE void rv_open(const char* path) {
     if (rt::view::g_viewer) rt::view::g_viewer->ui.dropped.emplace_back(path);
 }
 
-/// The viewer's state as JSON: the open scene, the message line, the trace's progress.
+/// The viewer's state as JSON: the open scene, the message line, the comparison's figures,
+/// the trace's progress.
 EMSCRIPTEN_KEEPALIVE const char* rv_status() {
     using rt::view::quoted;
     static std::string json;
@@ -98,7 +99,9 @@ EMSCRIPTEN_KEEPALIVE const char* rv_status() {
         v->trace.tracer.threaded() ? "true" : "false", v->jobs.loader.busy() ? "true" : "false");
     json = "{\"scene\":" + quoted(v->session.loaded ? v->session.loaded->path : "") +
            ",\"message\":" + quoted(v->messages.text) +
-           ",\"error\":" + (v->messages.is_error ? "true" : "false") + "," + numbers + "}";
+           ",\"error\":" + (v->messages.is_error ? "true" : "false") + ",\"compare\":" +
+           quoted(v->ui.compare.active() ? rt::view::compare_status(v->ui.compare) : "") + "," +
+           numbers + "}";
     return json.c_str();
 }
 
