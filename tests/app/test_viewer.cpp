@@ -939,8 +939,10 @@ TEST(Viewer, ComparesAnImageWithTheReferenceAtItsSizeAndCamera) {
     EXPECT_FALSE(v.compare_with(::testing::TempDir() + "rt_no_such_image.png"));
     EXPECT_EQ(v.ui.compare.path, patched);
 
+    const int version = v.ui.compare.version;
     v.stop_compare();
     EXPECT_FALSE(v.ui.compare.active());
+    EXPECT_GT(v.ui.compare.version, version) << "the pane would keep the old image";
     v.set_trace_size(200, 100);
     EXPECT_EQ(v.trace.width(), 200);
 }

@@ -510,7 +510,9 @@ bool ViewerState::compare_with(const std::string& path) {
 
 void ViewerState::stop_compare() {
     if (!ui.compare.active()) return;
+    const int version = ui.compare.version;  // counts on: the pane uploads the next one
     ui.compare = CompareView();
+    ui.compare.version = version + 1;
     mark_edited();  // the progressive trace again, of the pane's size
 }
 
