@@ -205,6 +205,26 @@ TEST(Inspect, ShadowRaysListTheirOccluders) {
     EXPECT_EQ(l.note, "in shadow");
 }
 
+// Two equal lights (a public scene has them: dcalvo's chess_room.ray) keep their own numbers,
+// and a dark one left out of the plan keeps the numbering of the file.
+TEST(Inspect, EqualLightsKeepTheirNumbers) {
+    const RenderScene scene = test::compile(R"(
+#camera 0 0 5  0 0 -1  0 1 0  0.5
+#light_point 1 1 1  0 0 5  1 0 0
+#light_point 0 0 0  0 5 5  1 0 0
+#light_point 1 1 1  0 0 5  1 0 0
+#material 0 0 0  0 0 0  1 1 1  0 0 0  1  0 0 0  1  -1 !white!
+#shape_sphere 0  0 0 0  1
+)");
+    RenderSettings s;
+    s.width = 21;
+    s.height = 21;
+    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 10, 10);
+    ASSERT_EQ(tree.rays.at(0).lights.size(), 2u);
+    EXPECT_EQ(tree.rays[0].lights[0].light, 0);
+    EXPECT_EQ(tree.rays[0].lights[1].light, 2);
+}
+
 // Inside glass of index 1.5, a ray meeting the surface at sin i = 0.9 cannot leave: the tree
 // says so (and traces the mirror ray alone), and N is n_s flipped to face the ray.
 TEST(Inspect, TotalInternalReflectionIsNamed) {

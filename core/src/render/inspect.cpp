@@ -255,10 +255,13 @@ PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
                                     std::to_string(spp - 1) + ")");
     check_depth(settings.max_depth);
     TreeContext ctx;
+    // The plan keeps the scene's lights in order, less the ones that light nothing: each plan
+    // light is the next scene light equal to it (two equal lights keep their own numbers).
+    size_t next = 0;
     for (const Light& l : plan.lights) {
         int id = -1;
-        for (size_t k = 0; k < scene.lights.size() && id < 0; ++k)
-            if (scene.lights[k] == l) id = static_cast<int>(k);
+        for (size_t k = next; k < scene.lights.size() && id < 0; ++k)
+            if (scene.lights[k] == l) id = static_cast<int>(k), next = k + 1;
         ctx.light_ids.push_back(id);
     }
     PixelTree& tree = ctx.tree;
