@@ -53,7 +53,7 @@ else
     cmake -S . -B build-san -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON \
         -DRT_SANITIZE="address;undefined;float-cast-overflow" -DRT_BUILD_BENCH=OFF \
-        -DRT_GL_TESTS=OFF >/dev/null
+        -DRT_GL_TESTS=OFF -DCMAKE_UNITY_BUILD=ON >/dev/null
     cmake --build build-san -j"$jobs" --target rt_tests rt_app_tests rt_viewer_tests raytrace \
         raymerge imgdiff rayview raycompare fuzz_replay
     fuzz=0
@@ -80,13 +80,15 @@ else
     tests/fuzz/run.sh check || true  # prints why it is skipped
 fi
 
-# ThreadSanitizer: the viewer's state and its trace threads (no GL; Mesa is not loaded).
+# ThreadSanitizer: the viewer's state and its trace threads (no GL; Mesa is not loaded). The
+# sanitizer trees are unity builds (CMAKE_UNITY_BUILD: a few files compiled as one), which build
+# in about half the time (TSan 149 -> 84 s, ASan ~490 -> 373 s on 2 cores).
 echo "test: ThreadSanitizer (build-tsan/)" >&2
 # The SSE2 kernels alone (RT_WIDE_KERNELS=OFF): these tests do not reach the kernels, and the
 # AVX2 and AVX-512 ones take 96 s of the core's 274 s of compile time (build/, GCC -O3).
 cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON -DRT_SANITIZE=thread \
-    -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF -DRT_WIDE_KERNELS=OFF >/dev/null
+    -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF -DRT_WIDE_KERNELS=OFF -DCMAKE_UNITY_BUILD=ON >/dev/null
 cmake --build build-tsan -j"$jobs" --target rt_viewer_tests
 took "building build-tsan/"
 if [ -n "$fuzz_pid" ]; then

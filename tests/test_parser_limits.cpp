@@ -15,7 +15,7 @@ namespace {
 using test::parse;
 using test::parse_error;
 
-const char* kMat = "#material 0 0 0  .1 .1 .1  .5 .5 .5  .2 .2 .2  10  0 0 0  1  -1 !m!\n";
+const char* kLimitsMat = "#material 0 0 0  .1 .1 .1  .5 .5 .5  .2 .2 .2  10  0 0 0  1  -1 !m!\n";
 const char* kIdentityGroup = "#group_begin 1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\n";
 
 // Parses and compiles; returns the error text ("" when the scene is fine).
@@ -50,18 +50,19 @@ TEST(BadInput, HugeCounts) {
 
 TEST(BadInput, HugeIndices) {
     const std::string verts = "#vertex 0 0 0 0 0 1 0 0\n#vertex 1 0 0 0 0 1 0 0\n";
-    EXPECT_EQ(parse_error(std::string(kMat) + verts + "#shape_triangle 0 0 1 1000000000000\n"),
-              "test.ray:4:23: error: integer '1000000000000' out of range");
-    EXPECT_EQ(parse_error(std::string(kMat) + verts + "#shape_triangle 0 0 1 2147483647\n"),
+    EXPECT_EQ(
+        parse_error(std::string(kLimitsMat) + verts + "#shape_triangle 0 0 1 1000000000000\n"),
+        "test.ray:4:23: error: integer '1000000000000' out of range");
+    EXPECT_EQ(parse_error(std::string(kLimitsMat) + verts + "#shape_triangle 0 0 1 2147483647\n"),
               "test.ray:4:23: error: vertex index 2147483647 out of range [0,2)");
-    EXPECT_EQ(parse_error(std::string(kMat) + verts + "#shape_triangle 0 -2147483648 0 1\n"),
+    EXPECT_EQ(parse_error(std::string(kLimitsMat) + verts + "#shape_triangle 0 -2147483648 0 1\n"),
               "test.ray:4:19: error: vertex index -2147483648 out of range [0,2)");
     EXPECT_EQ(parse_error("#shape_sphere 4294967296 0 0 0 1\n"),
               "test.ray:1:15: error: integer '4294967296' out of range");
     EXPECT_EQ(parse_error("#ray_file_instance 99999999999\n"),
               "test.ray:1:20: error: integer '99999999999' out of range");
-    EXPECT_EQ(parse_error(std::string(kMat) + "#material 0 0 0 0 0 0 0 0 0 0 0 0 1 0 0 0 1 "
-                                              "1000000000000 !m!\n"),
+    EXPECT_EQ(parse_error(std::string(kLimitsMat) + "#material 0 0 0 0 0 0 0 0 0 0 0 0 1 0 0 0 1 "
+                                                    "1000000000000 !m!\n"),
               "test.ray:2:45: error: expected an integer (texture index), got '1000000000000'");
 }
 
@@ -81,23 +82,23 @@ TEST(BadInput, GiganticNumbers) {
     EXPECT_EQ(s.ambient.x, 1e20);
     EXPECT_EQ(s.ambient.y, 0.0);
     // Finite but enormous geometry: up to +-1e300 it compiles; beyond, an error at the shape.
-    EXPECT_EQ(
-        parse_compile_error(std::string(kMat) + "#shape_sphere 0 1e299 -1e299 1e299 1e299\n"
-                                                "#shape_box 0 0 0 0 1e300 1e300 1e300\n"
-                                                "#shape_cylinder 0 1e-308 0 0 1e299 1e-308\n"),
-        "");
-    EXPECT_EQ(parse_compile_error(std::string(kMat) + "#shape_sphere 0 0 0 0 1\n" +
+    EXPECT_EQ(parse_compile_error(std::string(kLimitsMat) +
+                                  "#shape_sphere 0 1e299 -1e299 1e299 1e299\n"
+                                  "#shape_box 0 0 0 0 1e300 1e300 1e300\n"
+                                  "#shape_cylinder 0 1e-308 0 0 1e299 1e-308\n"),
+              "");
+    EXPECT_EQ(parse_compile_error(std::string(kLimitsMat) + "#shape_sphere 0 0 0 0 1\n" +
                                   "#shape_cylinder 0 0 6 1e308 3 .2\n"),
               "test.ray:3:1: error: shape reaches beyond +-1e300 in its file's frame "
               "(coordinates too large for the renderer)");
     // Large group matrices work while their determinant is finite; past that, an error.
-    EXPECT_EQ(parse_compile_error(std::string(kMat) +
+    EXPECT_EQ(parse_compile_error(std::string(kLimitsMat) +
                                   "#group_begin 1e100 0 0 0  0 1e100 0 0  0 0 1e100 0  0 0 0 1\n" +
                                   kIdentityGroup + "#shape_sphere 0 0 1e100 0 1e100\n" +
                                   "#group_end\n#group_end\n"),
               "");
     // Nested matrices whose product overflows: the shape is out of range, not a NaN.
-    EXPECT_EQ(parse_compile_error(std::string(kMat) +
+    EXPECT_EQ(parse_compile_error(std::string(kLimitsMat) +
                                   "#group_begin 1e200 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\n" +
                                   "#group_begin 1e200 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\n" +
                                   "#shape_sphere 0 0 0 0 1\n#group_end\n#group_end\n"),
@@ -116,9 +117,9 @@ TEST(BadInput, DeepNestingHasALimit) {
     EXPECT_EQ(parse_error(joints),
               "test.ray:10001:1: error: #joint_begin nests groups deeper than 10000 levels");
     // At the limit the scene parses, compiles and renders (the walks are iterative).
-    const std::string ok2 = "#camera 0 0 0 0 0 -1 0 1 0 0.5\n#ambient 1 1 1\n" + std::string(kMat) +
-                            repeat(kIdentityGroup, 10000) + "#shape_sphere 0 0 0 -3 1\n" +
-                            repeat("#group_end\n", 10000);
+    const std::string ok2 = "#camera 0 0 0 0 0 -1 0 1 0 0.5\n#ambient 1 1 1\n" +
+                            std::string(kLimitsMat) + repeat(kIdentityGroup, 10000) +
+                            "#shape_sphere 0 0 0 -3 1\n" + repeat("#group_end\n", 10000);
     CompileReport report;
     const RenderScene scene = compile_scene(test::parse(ok2), &report);
     EXPECT_EQ(report.unique_prims, 1u);
@@ -201,7 +202,7 @@ TEST(BadInput, PathTooLongForTheFilesystem) {
 }
 
 TEST(BadInput, UnterminatedString) {
-    EXPECT_EQ(parse_error(std::string(kMat).substr(0, 60) + "!abc"),
+    EXPECT_EQ(parse_error(std::string(kLimitsMat).substr(0, 60) + "!abc"),
               "test.ray:1:61: error: unterminated !…! string (it must close on the same line)");
 }
 
@@ -280,7 +281,7 @@ TEST_F(BadFiles, IncludeChainHasALimit) {
 
 TEST_F(BadFiles, InstancingThatMultipliesHasALimit) {
     // Each level instances the next 100 times: 100^5 = 10^10 placements of leaf.ray.
-    write("leaf.ray", std::string(kMat) + "#shape_sphere 0 0 0 0 1\n");
+    write("leaf.ray", std::string(kLimitsMat) + "#shape_sphere 0 0 0 0 1\n");
     std::string prev = "leaf.ray";
     for (int level = 0; level < 5; ++level) {
         std::string name = "l", text = "#ray_file ";
@@ -316,7 +317,7 @@ TEST_F(BadFiles, HugeTextureHeader) {
 // lexer keeps its columns and lines and the memory stays a small multiple of the text.
 TEST_F(BadFiles, HundredMegabytes) {
     std::string text = "#camera 0 0 0 0 0 -1 0 1 0 0.5\n";
-    text += kMat;
+    text += kLimitsMat;
     text += "// " + std::string(50u << 20, 'c') + "\n";
     text += std::string(50u << 20, ' ');
     text += "#shape_sphere 0 0 0 -3 1 #oops\n";

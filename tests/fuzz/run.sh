@@ -37,11 +37,12 @@ if ! command -v clang++ >/dev/null ||
 fi
 [ "$secs" = check ] && exit 0
 
-# -O1 -g1: the tree is also the sanitizer tree of scripts/test.sh, built from scratch there.
+# -O1 -g1: the tree is also the sanitizer tree of scripts/test.sh, built from scratch there; a
+# unity build (a few files compiled as one), which builds in about three quarters of the time.
 cmake -S . -B "$dir" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_FUZZ=ON \
     -DRT_SANITIZE="address;undefined;float-cast-overflow" \
-    -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF >/dev/null
+    -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF -DCMAKE_UNITY_BUILD=ON >/dev/null
 # shellcheck disable=SC2086
 cmake --build "$dir" --target "${all[@]/#/fuzz_}" ${RT_FUZZ_TARGETS:-} -j"$jobs"
 [ "$secs" = build ] && exit 0

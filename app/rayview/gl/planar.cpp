@@ -37,7 +37,7 @@ constexpr size_t kFacesPerRange = 8;
 // or more.
 constexpr double kMinFaceShare = 0.05;
 
-bool reflects(const Material& m) { return m.specular != Vec3(0.0); }
+bool mirrors(const Material& m) { return m.specular != Vec3(0.0); }
 
 // The reflection about the plane n.p + d = 0 (n unit), as a 4x4 matrix: p - 2 (n.p + d) n.
 Mat4 reflection(const glm::dvec4& plane) {
@@ -156,7 +156,7 @@ std::vector<Preview::PlanarView> Preview::choose_planes(const RenderScene& scene
         const Transform& xf = inst.world_from_set;
         const double scale = std::cbrt(std::abs(glm::determinant(Mat3(xf.m))));
         for (const Range& r : buf.ranges) {
-            if (!reflects(scene.materials[static_cast<size_t>(r.material)])) continue;
+            if (!mirrors(scene.materials[static_cast<size_t>(r.material)])) continue;
             for (const FlatFace& f : r.faces) {
                 const Vec3 centre = xf.point(f.centroid);
                 Vec3 n = glm::normalize(xf.normal_dir(f.n));

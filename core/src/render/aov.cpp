@@ -24,7 +24,7 @@ bool* member(AovSet* set, size_t k) {
     return m[k];
 }
 
-constexpr int kTile = 16;
+constexpr int kAovTile = 16;
 
 // The camera ray of sample `index` of a pixel with `n` samples, as render_samples() traced it
 // (camera_sample.h: the same positions from the same random numbers): one call of n samples
@@ -100,15 +100,15 @@ FirstHitAovs render_first_hit_aovs(const RenderScene& scene, const RenderPlan& p
     out.normal.assign(3 * pixels, 0.0);
     out.depth.assign(pixels, kInf);
     const PixelSampler sampler{plan, settings, settings.stochastic()};
-    const int tiles_x = (settings.width + kTile - 1) / kTile;
-    const int tiles = tiles_x * ((settings.height + kTile - 1) / kTile);
+    const int tiles_x = (settings.width + kAovTile - 1) / kAovTile;
+    const int tiles = tiles_x * ((settings.height + kAovTile - 1) / kAovTile);
     RayCounters rays;
     const bool done = parallel_tiles(
         resolve_thread_count(settings.threads), tiles, stop, rays, [&](int tile, RayCounters&) {
-            const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-            for (int y = y0; y < std::min(y0 + kTile, settings.height); ++y) {
+            const int x0 = (tile % tiles_x) * kAovTile, y0 = (tile / tiles_x) * kAovTile;
+            for (int y = y0; y < std::min(y0 + kAovTile, settings.height); ++y) {
                 if (stop && stop->load(std::memory_order_relaxed)) return false;
-                for (int x = x0; x < std::min(x0 + kTile, settings.width); ++x) {
+                for (int x = x0; x < std::min(x0 + kAovTile, settings.width); ++x) {
                     const size_t p = static_cast<size_t>(y) * settings.width + x;
                     const uint32_t n = std::max(samples[p], 1u);
                     Vec3 albedo(0.0), normal(0.0);

@@ -7,7 +7,7 @@
 namespace rt {
 
 namespace {
-enum Part { kSide = 0, kBase = 2 };
+enum ConePart { kConeSide = 0, kConeBase = 2 };
 }
 
 Bounds3 bounds(const Cone& c) {
@@ -67,7 +67,7 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
             const double q = -(b + std::copysign(std::sqrt(disc), b));
             const double roots[2] = {q != 0.0 ? cc / q : -s, q / a};
             for (double tr : roots)
-                if (side_ok(tr)) cand[n] = tr, part[n++] = kSide;
+                if (side_ok(tr)) cand[n] = tr, part[n++] = kConeSide;
         }
     } else if (a != 0.0 || b != 0.0) {
         // Nearly parallel to a generating line: a t^2 + 2 b t + cc with a tiny a. The root that
@@ -75,13 +75,13 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
         const double disc = b * b - a * cc;
         if (disc >= 0.0) {
             const double q = -(b + std::copysign(std::sqrt(disc), b));
-            if (q != 0.0 && side_ok(cc / q)) cand[n] = cc / q, part[n++] = kSide;
-            if (a != 0.0 && side_ok(q / a)) cand[n] = q / a, part[n++] = kSide;
+            if (q != 0.0 && side_ok(cc / q)) cand[n] = cc / q, part[n++] = kConeSide;
+            if (a != 0.0 && side_ok(q / a)) cand[n] = q / a, part[n++] = kConeSide;
         }
     } else if (cc == 0.0 && d.y != 0.0) {
         // The line lies on the cone (a = b = cc = 0): it touches from the apex down to the base.
         const double ta = -f.y / d.y;
-        cand[n] = ta, part[n++] = kSide;
+        cand[n] = ta, part[n++] = kConeSide;
     }
     // The apex is a point of the solid that the side roots find only as an ill-conditioned double
     // root (its error is the square root of the rounding). A ray passing the apex within the
@@ -92,14 +92,14 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
         const Vec3 miss = f + ta * d;
         auto l1 = [](const Vec3& v) { return std::abs(v.x) + std::abs(v.y) + std::abs(v.z); };
         const double err = gamma(7) * (l1(f) + std::abs(ta) * l1(d) + l1(apex));
-        if (glm::dot(miss, miss) <= err * err) cand[n] = ta, part[n++] = kSide;
+        if (glm::dot(miss, miss) <= err * err) cand[n] = ta, part[n++] = kConeSide;
     }
     if (d.y != 0.0) {
         const double tb = (-c.height - f.y) / d.y;
         const double x = f.x + tb * d.x, z = f.z + tb * d.z;
         const double ex = gamma(5) * (std::abs(f.x) + std::abs(tb * d.x) + std::abs(apex.x));
         const double ez = gamma(5) * (std::abs(f.z) + std::abs(tb * d.z) + std::abs(apex.z));
-        if (within_disc(x, z, ex, ez, c.radius)) cand[n] = tb, part[n++] = kBase;
+        if (within_disc(x, z, ex, ez, c.radius)) cand[n] = tb, part[n++] = kConeBase;
     }
     return convex_hits(cand, part, n, t);
 }
@@ -108,7 +108,7 @@ SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part, bool 
     SurfacePoint sp;
     Vec3 q = ray.at(t) - c.centre;
     const double h2 = 0.5 * c.height, r = c.radius, h = c.height;
-    if (part == kSide) {
+    if (part == kConeSide) {
         q.y = std::clamp(q.y, -h2, h2);
         const double rho = std::sqrt(q.x * q.x + q.z * q.z);
         const double rho_surface = r * (h2 - q.y) / h;
