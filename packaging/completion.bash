@@ -7,7 +7,7 @@ _raytracer_complete() {
     COMPREPLY=()
     case $prev in
     -o | --output | --reference | --report | --plot | --video | --screenshot | --script | --config \
-        | --inspect-json | --csv | --html)
+        | --inspect-json | --csv | --html | --compare)
         compopt -o filenames 2>/dev/null
         mapfile -t COMPREPLY < <(compgen -f -- "$cur")
         return ;;
