@@ -41,6 +41,9 @@ add_library(imgui STATIC
     ${RT_IMGUI_SOURCE_DIR}/backends/imgui_impl_opengl3.cpp)
 # As Debian's libimgui-dev installs them: <imgui.h> and <backends/imgui_impl_glfw.h>.
 target_include_directories(imgui SYSTEM PUBLIC ${RT_IMGUI_SOURCE_DIR})
+# Never one unity-build file: the OpenGL back end decides which GL it has from the macros the
+# files before it would leave defined (it then calls glPolygonMode, which WebGL lacks).
+set_target_properties(imgui PROPERTIES UNITY_BUILD OFF)
 target_compile_options(imgui PRIVATE -sUSE_GLFW=3)
 target_link_options(imgui PUBLIC -sUSE_GLFW=3 -sMIN_WEBGL_VERSION=2 -sMAX_WEBGL_VERSION=2)
 
