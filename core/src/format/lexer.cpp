@@ -1,5 +1,6 @@
 #include "format/lexer.h"
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -9,9 +10,15 @@
 
 namespace rt {
 
-static bool is_space(char c) {
-    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
-}
+// The bytes that end a word: whitespace, and '/' (which starts a comment when doubled). One
+// table look-up per byte in the loops that cross most of a file.
+constexpr std::array<bool, 256> kWordEnd = [] {
+    std::array<bool, 256> t{};
+    for (const char c : {' ', '\t', '\r', '\n', '\v', '\f', '/'})
+        t[static_cast<unsigned char>(c)] = true;
+    return t;
+}();
+static bool is_space(char c) { return c != '/' && kWordEnd[static_cast<unsigned char>(c)]; }
 static bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
 Lexer::Lexer(std::string_view text, const std::string* file) : m_text(text), m_file(file) {
@@ -70,9 +77,15 @@ Token Lexer::scan() {
     }
     // A word ends at whitespace or where a // comment starts (spec §2: comments may follow a
     // token directly).
-    while (m_pos < m_text.size() && !is_space(m_text[m_pos]) &&
-           !(m_text[m_pos] == '/' && m_pos + 1 < m_text.size() && m_text[m_pos + 1] == '/'))
+    const size_t size = m_text.size();
+    const char* text = m_text.data();
+    while (m_pos < size) {
+        const char c = text[m_pos];
+        if (kWordEnd[static_cast<unsigned char>(c)] &&
+            (c != '/' || (m_pos + 1 < size && text[m_pos + 1] == '/')))
+            break;
         ++m_pos;
+    }
     t.text = m_text.substr(start, m_pos - start);
     m_col += static_cast<int>(m_pos - start);
     t.kind = (t.text.size() > 1 && t.text[0] == '#') ? TokenKind::Directive : TokenKind::Word;
