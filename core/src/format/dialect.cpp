@@ -219,8 +219,10 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
         }
     } else if (t.text.substr(0, 7) == "#shape_") {
         if (lex.peek().text == "-1") m_default_use = true;
-        if (t.text == "#shape_triangle" && count_words(lex, &reals, &ints) == 4 && ints &&
-            wants_marker(false, scan))
+        // Once the first V0/V1 marker is known a triangle tells nothing more: its words are
+        // skipped by the loop without being classified (most of a mesh's text).
+        if (t.text == "#shape_triangle" && wants_marker(false, scan) &&
+            count_words(lex, &reals, &ints) == 4 && ints)
             prescan_marker(loc(), "'#shape_triangle' with 4 integers", false, scan);
     } else if (t.text == "#ray_file") {
         scan.includes = true;
@@ -257,8 +259,24 @@ void ParserBase::prescan(const std::string& text, const std::string& name,
              "this is an SBT-raytracer scene (U. Washington CSE 457 / UT Austin CS 354 format), "
              "not a Kazhdan .ray file");
     Lexer lex(text, file);
-    for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next())
-        if (t.kind == TokenKind::Directive) prescan_directive(lex, t, dir, scan);
+    // What the parse reserves room for: the file's vertices and the shapes outside its groups
+    // (most of a mesh), so its arrays are allocated once rather than doubled and copied.
+    size_t vertices = 0, top_shapes = 0;
+    int depth = 0;
+    for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next()) {
+        if (t.kind != TokenKind::Directive) continue;
+        const std::string_view d = t.text;
+        if (d == "#vertex")
+            ++vertices;
+        else if (d.substr(0, 7) == "#shape_" && depth == 0)
+            ++top_shapes;
+        else if (d == "#group_begin" || d == "#joint_begin")
+            ++depth;
+        else if ((d == "#group_end" || d == "#joint_end") && depth > 0)
+            --depth;
+        prescan_directive(lex, t, dir, scan);
+    }
+    m_sizes[canonical] = {vertices, top_shapes};
 }
 
 void ParserBase::run_prescan(const std::string& text, const std::string& name,

@@ -364,6 +364,10 @@ private:
 
         const bool v3 = m_dialect == Dialect::V3;
         if (v3) f.v3.push_back({});  // the root list
+        if (auto it = m_sizes.find(canonical); it != m_sizes.end()) {
+            f.desc.vertices.reserve(it->second.vertices);
+            if (!v3) f.desc.root.shapes.reserve(it->second.top_shapes);
+        }
         for (Token t = f.lex.next(); t.kind != TokenKind::End; t = f.lex.next()) {
             if (t.kind != TokenKind::Directive)
                 fail(f, t, "expected a directive, got " + quote(t.text));

@@ -196,6 +196,12 @@ protected:
     std::string m_top_dir = ".";  // directory of the top-level file (V3 paths, spec §13.2)
     // First marker of each kind (spec §10 step 1), for messages: "V3 '#static_affine' at F:L:C".
     std::string m_v3_marker;
+    // What the pre-scan counted in each file (by canonical path), for the parse's reservations.
+    struct FileSizes {
+        size_t vertices = 0;
+        size_t top_shapes = 0;  // #shape_* directives outside any group (V0/V1)
+    };
+    std::map<std::string, FileSizes> m_sizes;
 
 private:
     struct Scan;
