@@ -47,6 +47,27 @@ TEST(FileIo, ReadRefusesAFifoWithTheReason) {
     EXPECT_EQ(rt::regular_file_error(fifo), why);
 }
 
+// The parser's buffer (not zero-filled, in huge pages when large) holds the file's bytes
+// exactly, whatever their values, at both sizes; what it held before is gone.
+TEST(FileIo, FileBytesHoldTheFileExactly) {
+    const fs::path dir = fresh_dir("rt_io_bytes");
+    for (const size_t size : {size_t{0}, size_t{1000}, size_t{5} << 20}) {
+        std::string data(size, '\0');
+        for (size_t i = 0; i < size; ++i) data[i] = static_cast<char>((i * 7919) >> 3);
+        const std::string path = (dir / ("f" + std::to_string(size))).string();
+        write_file_atomic(path, data);
+        rt::FileBytes bytes(123, 'x');
+        std::string why;
+        ASSERT_TRUE(read_file(path, &bytes, &why)) << why;
+        EXPECT_EQ(rt::text_of(bytes), data) << size;
+    }
+    rt::FileBytes bytes(10, 'x');
+    std::string why;
+    EXPECT_FALSE(read_file((dir / "missing").string(), &bytes, &why));
+    EXPECT_TRUE(bytes.empty());
+    EXPECT_NE(why.find("No such file"), std::string::npos) << why;
+}
+
 TEST(FileIo, WriteLeavesAFileNamedLikeItsScratchFileAlone) {
     // NAME.part was the scratch name: an input of that name was truncated, then renamed away.
     const fs::path dir = fresh_dir("rt_io_part");

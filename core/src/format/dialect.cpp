@@ -237,23 +237,22 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
             return;
         // Too deep: the parse reports it at this directive.
         if (m_include_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) return;
-        const std::string* sub = cached_text(*resolved, canon);
+        const FileBytes* sub = cached_text(*resolved, canon);
         if (!sub) return;
         const std::string sub_dir = fs::path(*resolved).parent_path().string();
         m_include_locs.push_back(loc());
-        prescan(*sub, *resolved, canon, sub_dir.empty() ? "." : sub_dir, scan);
+        prescan(text_of(*sub), *resolved, canon, sub_dir.empty() ? "." : sub_dir, scan);
         m_include_locs.pop_back();
     }
 }
 
 // Follows the #ray_file paths it can resolve; the parse reports the others.
-void ParserBase::prescan(const std::string& text, const std::string& name,
+void ParserBase::prescan(std::string_view text, const std::string& name,
                          const std::string& canonical, const std::string& dir, Scan& scan) {
     scan.visited.push_back(canonical);
     const std::string* file = intern_file_name(name);
     // Spec §10 step 0: other formats named .ray.
-    const std::string_view body =
-        std::string_view(text).substr(text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0);
+    const std::string_view body = text.substr(text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0);
     if (body.substr(0, 13) == "SBT-raytracer")
         fail({file, 1, 1},
              "this is an SBT-raytracer scene (U. Washington CSE 457 / UT Austin CS 354 format), "
@@ -279,7 +278,7 @@ void ParserBase::prescan(const std::string& text, const std::string& name,
     m_sizes[canonical] = {vertices, top_shapes};
 }
 
-void ParserBase::run_prescan(const std::string& text, const std::string& name,
+void ParserBase::run_prescan(std::string_view text, const std::string& name,
                              const std::string& canonical, const std::string& dir, bool v3,
                              Scan& scan) {
     m_first_v0 = m_first_v1 = SourceLoc{};
@@ -289,16 +288,16 @@ void ParserBase::run_prescan(const std::string& text, const std::string& name,
 }
 
 // Included files' texts by canonical path, read by the pre-scan and handed to the parse.
-const std::string* ParserBase::cached_text(const std::string& path, const std::string& canonical,
-                                           std::string* why) {
+const FileBytes* ParserBase::cached_text(const std::string& path, const std::string& canonical,
+                                         std::string* why) {
     auto it = m_texts.find(canonical);
     if (it != m_texts.end()) return &it->second;
-    std::string text;
+    FileBytes text;
     if (!read_file(path, &text, why)) return nullptr;
     return &m_texts.emplace(canonical, std::move(text)).first->second;
 }
 
-void ParserBase::detect_dialect(const std::string& text, const std::string& name,
+void ParserBase::detect_dialect(std::string_view text, const std::string& name,
                                 const std::string& canonical, const std::string& dir) {
     m_top_dir = dir;
     const bool forced_v3 = m_options.dialect == Dialect::V3;

@@ -328,7 +328,7 @@ class Parser final : public ParserV3 {
 public:
     Parser(Diagnostics& diag, const ParseOptions& options) : ParserV3(diag, options) {}
 
-    SceneDesc run(const std::string& text, const std::string& name, const std::string& dir) {
+    SceneDesc run(std::string_view text, const std::string& name, const std::string& dir) {
         const std::string canonical = canonical_path(name);
         detect_dialect(text, name, canonical, dir);
         m_scene.files.emplace_back();
@@ -338,18 +338,19 @@ public:
     }
 
     SceneDesc run_file(const std::string& path) {
-        std::string text, why;
+        FileBytes text;
+        std::string why;
         if (!read_file(path, &text, &why)) {
             SourceLoc loc{intern_file_name(path), 0, 0};
             throw SceneError(loc, read_failure("cannot open scene file", path, why));
         }
         const std::string dir = fs::path(path).parent_path().string();
-        return run(text, path, dir.empty() ? "." : dir);
+        return run(text_of(text), path, dir.empty() ? "." : dir);
     }
 
 private:
     // ---- the file loop -------------------------------------------------------------------
-    void parse_file(const std::string& text, const std::string& name, const std::string& canonical,
+    void parse_file(std::string_view text, const std::string& name, const std::string& canonical,
                     const std::string& dir, int index) {
         const std::string* file_name = intern_file_name(name);
         m_open.push_back({canonical, name});
@@ -710,14 +711,14 @@ private:
             std::string why;
             if (!cached_text(resolved, canonical, &why))
                 fail(f, pt, read_failure("cannot read ray file", resolved, why));
-            const std::string text = std::move(m_texts[canonical]);
+            const FileBytes text = std::move(m_texts[canonical]);
             m_texts.erase(canonical);
             index = static_cast<int>(m_scene.files.size());
             m_scene.files.emplace_back();
             m_scene.files.back().canonical_path = canonical;  // reserve the identity
             m_include_locs.push_back(f.lex.loc(d));
             const std::string sub_dir = fs::path(resolved).parent_path().string();
-            parse_file(text, resolved, canonical, sub_dir.empty() ? "." : sub_dir, index);
+            parse_file(text_of(text), resolved, canonical, sub_dir.empty() ? "." : sub_dir, index);
             m_include_locs.pop_back();
         }
         f.desc.ray_files.push_back(index);

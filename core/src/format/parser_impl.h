@@ -18,6 +18,7 @@
 #include "rt/format/parser.h"
 #include "rt/scene/scene_desc.h"
 #include "rt/util/error.h"
+#include "rt/util/file_io.h"
 
 namespace rt::parser_impl {
 
@@ -175,11 +176,11 @@ protected:
     void check_matrix(const Mat4& m, const SourceLoc& loc, const std::string& what);
 
     // ---- dialect detection (dialect.cpp) -------------------------------------------------
-    void detect_dialect(const std::string& text, const std::string& name,
+    void detect_dialect(std::string_view text, const std::string& name,
                         const std::string& canonical, const std::string& dir);
     /// The file's text (read once); nullptr, with the reason in *why, when it cannot be read.
-    const std::string* cached_text(const std::string& path, const std::string& canonical,
-                                   std::string* why = nullptr);
+    const FileBytes* cached_text(const std::string& path, const std::string& canonical,
+                                 std::string* why = nullptr);
 
     // ---- key files (key_file.cpp) --------------------------------------------------------
     KeyFile parse_key_file(const std::string& text, const std::string& path);
@@ -189,8 +190,8 @@ protected:
     Diagnostics& m_diag;
     bool v3_all_zero_camera = false;  // the top-level file's camera is the dummy (dummy_camera)
     ParseOptions m_options;
-    std::vector<SourceLoc> m_include_locs;       // #ray_file directives, outermost first
-    std::map<std::string, std::string> m_texts;  // included files read, not yet parsed
+    std::vector<SourceLoc> m_include_locs;     // #ray_file directives, outermost first
+    std::map<std::string, FileBytes> m_texts;  // included files read, not yet parsed
     Dialect m_dialect = Dialect::V1;
     SceneDesc m_scene;
     std::string m_top_dir = ".";  // directory of the top-level file (V3 paths, spec §13.2)
@@ -207,12 +208,12 @@ private:
     struct Scan;
     std::optional<std::string> find_file(const std::string& dir, const std::string& path,
                                          bool v3) const;
-    void prescan(const std::string& text, const std::string& name, const std::string& canonical,
+    void prescan(std::string_view text, const std::string& name, const std::string& canonical,
                  const std::string& dir, Scan& scan);
     void prescan_directive(Lexer& lex, const Token& t, const std::string& dir, Scan& scan);
     void prescan_marker(const SourceLoc& loc, std::string_view what, bool v3, Scan& scan);
     bool wants_marker(bool v3, const Scan& scan) const;
-    void run_prescan(const std::string& text, const std::string& name, const std::string& canonical,
+    void run_prescan(std::string_view text, const std::string& name, const std::string& canonical,
                      const std::string& dir, bool v3, Scan& scan);
 
     SourceLoc m_first_v0, m_first_v1;  // first material of each dialect (pre-scan)

@@ -54,7 +54,10 @@ std::string regular_file_error(const std::string& path) {
     return why;
 }
 
-bool read_file(const std::string& path, std::string* out, std::string* why) {
+namespace {
+
+template <class Buffer>
+bool read_whole(const std::string& path, Buffer* out, std::string* why) {
     std::string reason;
     struct stat st {};
     const int fd = open_regular(path, &st, &reason);
@@ -71,7 +74,7 @@ bool read_file(const std::string& path, std::string* out, std::string* why) {
             const ssize_t n = in_place ? ::read(fd, out->data() + done, out->size() - done)
                                        : ::read(fd, extra, sizeof extra);
             if (n > 0) {
-                if (!in_place) out->append(extra, static_cast<size_t>(n));
+                if (!in_place) out->insert(out->end(), extra, extra + n);
                 done += static_cast<size_t>(n);
             } else if (n == 0) {
                 break;
@@ -85,6 +88,16 @@ bool read_file(const std::string& path, std::string* out, std::string* why) {
     }
     if (why) *why = reason;
     return reason.empty();
+}
+
+}  // namespace
+
+bool read_file(const std::string& path, std::string* out, std::string* why) {
+    return read_whole(path, out, why);
+}
+
+bool read_file(const std::string& path, FileBytes* out, std::string* why) {
+    return read_whole(path, out, why);
 }
 
 std::string create_scratch_file(const std::string& path, int* fd, const std::string& suffix) {

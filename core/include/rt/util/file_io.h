@@ -4,6 +4,11 @@
 #pragma once
 
 #include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "rt/util/huge_pages.h"
 
 namespace rt {
 
@@ -11,6 +16,33 @@ namespace rt {
 /// read, with the reason in *why when given (see regular_file_error). A FIFO, a device or a
 /// directory is never opened for reading (a FIFO would block, /dev/zero never ends): it is refused.
 bool read_file(const std::string& path, std::string* out, std::string* why = nullptr);
+
+/// HugePageAllocator whose elements are default-initialised: a buffer that is about to be read
+/// into is not zero-filled first.
+template <class T>
+struct UninitialisedHugePageAllocator : HugePageAllocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitialisedHugePageAllocator<U>;
+    };
+    UninitialisedHugePageAllocator() = default;
+    template <class U>
+    UninitialisedHugePageAllocator(const UninitialisedHugePageAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... A>
+    void construct(U* p, A&&... a) {
+        ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+    }
+};
+
+/// A whole file's bytes, as the scene parser reads them: a large file lands in huge pages, and is
+/// copied once (from the page cache), never zero-filled before (a million-triangle scene is 80 MB).
+using FileBytes = std::vector<char, UninitialisedHugePageAllocator<char>>;
+bool read_file(const std::string& path, FileBytes* out, std::string* why = nullptr);
+inline std::string_view text_of(const FileBytes& bytes) { return {bytes.data(), bytes.size()}; }
 
 /// Empty when `path` names a regular file that can be opened for reading, else why not:
 /// "cannot open 'x': No such file or directory", "'x' is a FIFO, not a regular file". Opens
