@@ -250,7 +250,7 @@ ShapeDesc shape(int material, const G& geometry) {
 ShapeDesc sphere(double x) { return shape(0, Sphere{Vec3(x, 0, 0), 1.0}); }
 ShapeDesc triangle(int m, int a, int b, int c) { return shape(m, TriangleDesc{{a, b, c}}); }
 
-GroupDesc group_of(std::vector<ShapeDesc> shapes) {
+GroupDesc group_of(HugePageVector<ShapeDesc> shapes) {
     GroupDesc g;
     g.shapes = std::move(shapes);
     return g;

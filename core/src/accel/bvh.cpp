@@ -75,7 +75,7 @@ constexpr int kSahDepth = 40;
 // place (each pass reads memory in order: no index indirection).
 struct Builder {
     PrimRef* refs = nullptr;
-    std::vector<Node2> nodes;
+    HugePageVector<Node2> nodes;
     BvhBuildSettings settings;
     int spawn_depth = 0;  // subtrees above this depth are built on their own thread
 
@@ -231,7 +231,7 @@ struct Builder {
 // largest interior children until it has W.
 template <class WideNode, int W>
 struct Collapser {
-    const std::vector<Node2>& in;
+    const HugePageVector<Node2>& in;
     HugePageVector<WideNode>& out;
 
     uint32_t encode(uint32_t n2) {
@@ -300,7 +300,7 @@ PrimRef make_prim_ref(const Bounds3& b, uint32_t id) {
 }
 
 Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& settings) {
-    std::vector<PrimRef> refs;
+    HugePageVector<PrimRef> refs;
     refs.reserve(prim_bounds.size());
     Bounds3 exact;
     for (size_t i = 0; i < prim_bounds.size(); ++i) {
@@ -310,7 +310,7 @@ Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& sett
     return build_bvh(std::move(refs), exact, settings);
 }
 
-Bvh build_bvh(std::vector<PrimRef> refs, const Bounds3& exact_bounds,
+Bvh build_bvh(HugePageVector<PrimRef> refs, const Bounds3& exact_bounds,
               const BvhBuildSettings& settings) {
     Bvh bvh;
     if (refs.empty()) return bvh;
@@ -340,11 +340,11 @@ Bvh build_bvh(std::vector<PrimRef> refs, const Bounds3& exact_bounds,
         if (bvh.nodes8.capacity() > bvh.nodes8.size() + bvh.nodes8.size() / 8)
             bvh.nodes8.shrink_to_fit();
     }
-    std::vector<Node2>().swap(b.nodes);
+    HugePageVector<Node2>().swap(b.nodes);
     if (bvh.nodes.capacity() > bvh.nodes.size() + bvh.nodes.size() / 8) bvh.nodes.shrink_to_fit();
     bvh.indices.resize(n);
     for (uint32_t i = 0; i < n; ++i) bvh.indices[i] = refs[i].id;
-    std::vector<PrimRef>().swap(refs);
+    HugePageVector<PrimRef>().swap(refs);
     return bvh;
 }
 

@@ -185,7 +185,7 @@ private:
         GeometrySet set;
         set.name = m_desc.files[fi].path;
         m_vertex_of.assign(m_desc.files[fi].vertices.size(), ~0u);
-        std::vector<Pending> pending;
+        HugePageVector<Pending> pending;
         pending.reserve(count_shapes(*item.root));
         collect(set, item, pending);
         if (pending.empty()) {
@@ -193,7 +193,7 @@ private:
             return -1;
         }
         // The build's input: each primitive's bounds in float (32 bytes), and their union.
-        std::vector<PrimRef> refs;
+        HugePageVector<PrimRef> refs;
         refs.reserve(pending.size());
         Bounds3 set_bounds;
         for (const Pending& p : pending) {
@@ -233,7 +233,7 @@ private:
             if (locs) locs->push_back(pending[old].loc ? *pending[old].loc : SourceLoc{});
         }
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
-        std::vector<Pending>().swap(pending);  // freed before the packed copy is made
+        HugePageVector<Pending>().swap(pending);  // freed before the packed copy is made
         std::vector<uint32_t>().swap(m_vertex_of);
         pack_triangles(set);
         const int index = static_cast<int>(m_scene.sets.size());
@@ -262,7 +262,7 @@ private:
     }
 
     // The one kind a set holds gets a walk of its own; triangles-only sets get packed leaves.
-    static SetLayout layout_of(const std::vector<Pending>& pending) {
+    static SetLayout layout_of(const HugePageVector<Pending>& pending) {
         std::array<size_t, kShapeKinds> count{};  // geometry.index() is the kind (ShapeDesc)
         for (const Pending& p : pending) {
             if (p.csg >= 0) return SetLayout::Mixed;  // CSG primitives: the Mixed walk only
@@ -328,7 +328,7 @@ private:
         } else {
             leaves(set.bvh.nodes, pack);
         }
-        std::vector<uint32_t>().swap(set.bvh.indices);  // the leaves name blocks now
+        HugePageVector<uint32_t>().swap(set.bvh.indices);  // the leaves name blocks now
     }
 
     static size_t count_shapes(const GroupDesc& root) {
@@ -345,7 +345,7 @@ private:
 
     // Flattens the group tree of item's root: one cached transform per group with shapes (none
     // when identity). The joints inside it are sets of their own (push_roots).
-    void collect(GeometrySet& set, const PlaceItem& item, std::vector<Pending>& pending) {
+    void collect(GeometrySet& set, const PlaceItem& item, HugePageVector<Pending>& pending) {
         const size_t fi = item.file;
         std::vector<GroupVisit> todo = {{item.root, Mat4(1.0)}};
         while (!todo.empty()) {

@@ -57,7 +57,7 @@ struct Bvh {
     HugePageVector<Bvh8Node> nodes8;
     /// Leaves cover ranges of this primitive order. A user may renumber the leaves' ranges
     /// afterwards (the triangle sets point them at their packed blocks) and drop it.
-    std::vector<uint32_t> indices;
+    HugePageVector<uint32_t> indices;
     Bounds3 root_bounds;
 
     bool empty() const { return nodes.empty(); }
@@ -104,7 +104,7 @@ PrimRef make_prim_ref(const Bounds3& b, uint32_t id);
 Bvh build_bvh(std::span<const Bounds3> prim_bounds, const BvhBuildSettings& settings = {});
 /// The same from references made by make_prim_ref (ids 0 .. n - 1, any order); exact_bounds,
 /// the union of the primitives' bounds in double, becomes root_bounds.
-Bvh build_bvh(std::vector<PrimRef> refs, const Bounds3& exact_bounds,
+Bvh build_bvh(HugePageVector<PrimRef> refs, const Bounds3& exact_bounds,
               const BvhBuildSettings& settings = {});
 
 }  // namespace rt

@@ -111,24 +111,24 @@ inline constexpr int kSetLayouts = 7;
 /// The compiled geometry of one .ray file, in that file's frame.
 struct GeometrySet {
     std::string name;  // the file it came from
-    std::vector<Primitive> prims;
+    HugePageVector<Primitive> prims;
     ShapeArrays shapes;  // the analytic shapes, one array per kind (shapes.h)
     /// The triangles in float, four per block: what rays test, relative to tri_origin. Mixed
     /// sets pack triangle i in lane i % 4 of block i / 4. Triangles sets pack each BVH leaf in
     /// blocks of its own (its leaves name their first block) and tri4_prim names each lane's
     /// triangle: a leaf of up to four triangles is one test.
     HugePageVector<Tri4> tri4;
-    std::vector<std::array<uint32_t, 4>> tri4_prim;  // Triangles sets only
-    Vec3 tri_origin{0.0};                            // of the set's frame
+    HugePageVector<std::array<uint32_t, 4>> tri4_prim;  // Triangles sets only
+    Vec3 tri_origin{0.0};                               // of the set's frame
     /// Per triangle: its three vertices, as indices into the vertex arrays (flattened into the
     /// set's frame). A vertex of a mesh in the set's own frame is kept once for all the
     /// triangles that share it (transformed meshes keep one per triangle corner).
-    std::vector<std::array<uint32_t, 3>> triangle_vertices;
-    std::vector<Vec3> vertex_positions;
+    HugePageVector<std::array<uint32_t, 3>> triangle_vertices;
+    HugePageVector<Vec3> vertex_positions;
     // The file's normals (not renormalised: spec §5 normalises the interpolated sum), mapped by
     // a transform's (A^-1)^T when the set's frame is not the file's; zero for none.
-    std::vector<Vec3> vertex_normals;
-    std::vector<Vec2> vertex_uvs;
+    HugePageVector<Vec3> vertex_normals;
+    HugePageVector<Vec2> vertex_uvs;
     size_t triangle_count() const { return triangle_vertices.size(); }
     /// Triangle i's corners (in double; tri4 holds them in float for the walk).
     Triangle triangle(size_t i) const {

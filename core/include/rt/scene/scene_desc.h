@@ -13,6 +13,7 @@
 #include "rt/scene/animation.h"
 #include "rt/shapes/shapes.h"
 #include "rt/util/error.h"
+#include "rt/util/huge_pages.h"
 #include "rt/util/light_kind.h"
 #include "rt/util/math.h"
 
@@ -149,7 +150,7 @@ struct GroupDesc {
     /// A joint bound to a DOF: its index into SceneDesc::tracks (-1: a plain group, or a joint
     /// without key files, which is the identity). `matrix` is then the track's key 0 as read.
     int track = -1;
-    std::vector<ShapeDesc> shapes;
+    HugePageVector<ShapeDesc> shapes;  // a mesh's (80 bytes each) faulted in 2 MB at a time
     std::vector<GroupDesc> groups;
     std::vector<InstanceDesc> instances;
     std::vector<CsgDesc> csgs;  // V3 only
@@ -171,7 +172,7 @@ struct FileDesc {
     std::string canonical_path;  // identity: parsed once per canonical path
     std::vector<TextureDesc> textures;
     std::vector<MaterialDesc> materials;
-    std::vector<VertexDesc> vertices;
+    HugePageVector<VertexDesc> vertices;
     std::vector<int> ray_files;          // #ray_file index -> index into SceneDesc::files
     std::vector<std::string> key_files;  // as resolved (the DOFs joints use are SceneDesc::tracks)
     GroupDesc root;                      // implicit identity group (V3: the root list)
