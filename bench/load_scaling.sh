@@ -1,42 +1,73 @@
 #!/usr/bin/env bash
 # How loading grows with the scene: raygen meshes of 10k, 100k, 1M and 4M triangles (or the
-# counts given), each rendered once at 640x480 by raytrace --stats. Prints one table row per
-# mesh: the text's size, parse time and rate, compile and BVH build time, render time, peak
-# memory (the process's maximum resident set) and bytes per triangle, and the compile's growth
-# against the previous row. Asserts nothing. Needs about 400 MB of disk and 2.5 GB of memory for
-# 4M triangles.
-# usage: bench/load_scaling.sh [BUILD_DIR] [TRIANGLES...]
+# counts given), each loaded and rendered at 64x48 by raytrace --stats, RUNS times (3 unless
+# set) in fresh processes, the run with the least parse + compile kept. Prints one table row per
+# mesh: the text's size, parse time and rate, compile and BVH build time, parse + compile, peak
+# memory (the process's maximum resident set) and bytes per triangle, and the load's growth
+# against the previous row. With BASELINE=DIR (another build tree, say of an older commit), each
+# mesh gets a row of that tree's raytrace too, measured in the same loop, and ours says how much
+# faster it loads. Asserts nothing. Needs about 400 MB of disk and 2.5 GB of memory for 4M
+# triangles.
+# usage: [BASELINE=DIR] [RUNS=N] bench/load_scaling.sh [BUILD_DIR] [TRIANGLES...]
 set -euo pipefail
 build=${1:-build}
 shift || true
 counts=("$@")
 if ((${#counts[@]} == 0)); then counts=(10000 100000 1000000 4000000); fi
+runs=${RUNS:-3}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-printf '%-10s %9s %8s %9s %9s %8s %8s %9s %8s %s\n' triangles "text MB" "parse s" "parse MB/s" \
-    "compile s" "build s" "render s" "peak MB" "B/tri" "compile growth"
-prev_n=0
-prev_c=0
+trees=("$build")
+if [[ -n ${BASELINE:-} ]]; then trees=("$BASELINE" "$build"); fi
+
+# One run: "parse compile bvh peak_kb triangles" of tree $1 on $tmp/mesh.ray.
+run() {
+    /usr/bin/time -f "peak %M" -o "$tmp/time.txt" "$1/app/raytrace" "$tmp/mesh.ray" --stats \
+        --width 64 --height 48 -o "$tmp/mesh.png" >"$tmp/stats.txt" 2>&1
+    awk '$1 == "parse" && NF == 2 { p = $2 } $1 == "compile" { c = $2 }
+         /of which BVH build/ { sub(/.*of which BVH build /, ""); b = $1 + 0 }
+         /^triangles / { t = $2 + 0 }
+         END { printf "%s %s %s ", p, c, b; printf "%d ", t }' "$tmp/stats.txt"
+    sed -n 's/^peak \([0-9]*\)/\1/p' "$tmp/time.txt"
+}
+
+printf '%-10s %-10s %8s %8s %10s %9s %8s %8s %8s %6s %s\n' triangles tree "text MB" "parse s" \
+    "parse MB/s" "compile s" "build s" "load s" "peak MB" "B/tri" "growth / speed-up"
+declare -A prev_load=() prev_n=() base_load=()
 for n in "${counts[@]}"; do
     "$build/app/raygen" --triangles "$n" -o "$tmp/mesh.ray" >/dev/null
     bytes=$(stat -c %s "$tmp/mesh.ray")
-    /usr/bin/time -f "peak %M" -o "$tmp/time.txt" "$build/app/raytrace" "$tmp/mesh.ray" --stats \
-        -o "$tmp/mesh.png" >"$tmp/stats.txt" 2>&1
-    tris=$(sed -n 's/^triangles \([0-9]*\),.*/\1/p' "$tmp/stats.txt")
-    parse=$(awk '$1 == "parse" { print $2 }' "$tmp/stats.txt")
-    compile=$(awk '$1 == "compile" { print $2 }' "$tmp/stats.txt")
-    bvh=$(sed -n 's/.*of which BVH build \([0-9.]*\).*/\1/p' "$tmp/stats.txt")
-    render=$(awk '$1 == "render" && NF == 2 { print $2 }' "$tmp/stats.txt")
-    peak_kb=$(sed -n 's/^peak \([0-9]*\)/\1/p' "$tmp/time.txt")
-    growth=""
-    if ((prev_n > 0)); then
-        growth=$(awk -v c="$compile" -v pc="$prev_c" -v n="$tris" -v pn="$prev_n" \
-            'BEGIN { printf "%.1fx for %.1fx the triangles", c / pc, n / pn }')
-    fi
-    awk -v n="$tris" -v b="$bytes" -v p="$parse" -v c="$compile" -v bv="$bvh" -v r="$render" \
-        -v k="$peak_kb" -v g="$growth" 'BEGIN {
-            printf "%-10d %9.1f %8.3f %9.0f %9.3f %8.3f %8.3f %9.0f %8.0f %s\n",
-                n, b / 1e6, p, b / 1e6 / p, c, bv, r, k / 1024, k * 1024 / n, g }'
-    prev_n=$tris
-    prev_c=$compile
+    declare -A best=()
+    for ((r = 0; r < runs; ++r)); do
+        for tree in "${trees[@]}"; do  # side by side: the trees take turns
+            line=$(run "$tree")
+            load=$(awk '{ print $1 + $2 }' <<<"$line")
+            if [[ -z ${best[$tree]:-} ]] ||
+                awk -v a="$load" -v b="${best[$tree]%% *}" 'BEGIN { exit !(a < b) }'; then
+                best[$tree]="$load $line"
+            fi
+        done
+    done
+    for tree in "${trees[@]}"; do
+        read -r load parse compile bvh tris peak_kb <<<"${best[$tree]}"
+        note=""
+        if [[ -n ${prev_n[$tree]:-} ]]; then
+            note=$(awk -v l="$load" -v pl="${prev_load[$tree]}" -v t="$tris" -v pt="${prev_n[$tree]}" \
+                'BEGIN { printf "%.1fx for %.1fx the triangles", l / pl, t / pt }')
+        fi
+        if [[ $tree == "$build" && -n ${BASELINE:-} ]]; then
+            note+="${note:+; }$(awk -v b="${base_load[$n]}" -v l="$load" \
+                'BEGIN { printf "%.2fx faster than the baseline", b / l }')"
+        elif [[ -n ${BASELINE:-} ]]; then
+            base_load[$n]=$load
+        fi
+        label=$([[ $tree == "$build" ]] && echo ours || echo baseline)
+        awk -v n="$tris" -v tr="$label" -v b="$bytes" -v p="$parse" -v c="$compile" -v bv="$bvh" \
+            -v l="$load" -v k="$peak_kb" -v g="$note" 'BEGIN {
+                printf "%-10d %-10s %8.1f %8.3f %10.0f %9.3f %8.3f %8.3f %8.0f %6.0f %s\n",
+                    n, tr, b / 1e6, p, b / 1e6 / p, c, bv, l, k / 1024, k * 1024 / n, g }'
+        prev_n[$tree]=$tris
+        prev_load[$tree]=$load
+    done
+    unset best
 done
