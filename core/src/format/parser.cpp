@@ -366,8 +366,11 @@ private:
         const bool v3 = m_dialect == Dialect::V3;
         if (v3) f.v3.push_back({});  // the root list
         if (auto it = m_sizes.find(canonical); it != m_sizes.end()) {
-            f.desc.vertices.reserve(it->second.vertices);
-            if (!v3) f.desc.root.shapes.reserve(it->second.top_shapes);
+            // No more than the text can hold when every one is well formed (a #vertex or a
+            // shape takes >= 24 bytes), whatever a hostile file's directives count.
+            const size_t fit = text.size() / 24;
+            f.desc.vertices.reserve(std::min(it->second.vertices, fit));
+            if (!v3) f.desc.root.shapes.reserve(std::min(it->second.top_shapes, fit));
         }
         for (Token t = f.lex.next(); t.kind != TokenKind::End; t = f.lex.next()) {
             if (t.kind != TokenKind::Directive)
