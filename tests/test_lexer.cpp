@@ -75,6 +75,39 @@ TEST(Lexer, UnterminatedStringIsAnError) {
     }
 }
 
+// skip_words() drops the words next() would return, and leaves the lexer where next() would:
+// the directives, strings and the End that follow have the same text, line and column, on
+// text with comments after words, '/' inside words, a lone '#', every line end and a BOM.
+TEST(Lexer, SkippingWordsLeavesTheSameTokens) {
+    const std::string text =
+        "\xEF\xBB\xBF#vertex 1 2/3 4// c #no\r\n  5 # 6\t!s 7! 8\r#shape_x a//b\n"
+        "9 #/ 10 //\n\n #end 1\n2";
+    std::vector<Token> all, kept;
+    {
+        Lexer lex(text, intern_file_name("t.ray"));
+        for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next())
+            if (t.kind != TokenKind::Word || t.text == "#") all.push_back(t);
+        all.push_back(lex.next());
+    }
+    {
+        Lexer lex(text, intern_file_name("t.ray"));
+        for (;;) {
+            lex.skip_words();
+            const Token t = lex.next();
+            if (t.kind != TokenKind::Word || t.text == "#") kept.push_back(t);
+            if (t.kind == TokenKind::End) break;
+        }
+    }
+    ASSERT_EQ(all.size(), kept.size());
+    ASSERT_GE(all.size(), 7u);  // 4 directives, a string, the lone '#', End
+    for (size_t i = 0; i < all.size(); ++i) {
+        EXPECT_EQ(all[i].kind, kept[i].kind) << i;
+        EXPECT_EQ(all[i].text, kept[i].text) << i;
+        EXPECT_EQ(all[i].line, kept[i].line) << i;
+        EXPECT_EQ(all[i].col, kept[i].col) << i;
+    }
+}
+
 TEST(Lexer, RealGrammar) {
     double v = 0;
     bool nf = false;

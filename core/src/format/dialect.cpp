@@ -262,7 +262,10 @@ void ParserBase::prescan(std::string_view text, const std::string& name,
     // (most of a mesh), so its arrays are allocated once rather than doubled and copied.
     size_t vertices = 0, top_shapes = 0;
     int depth = 0;
-    for (Token t = lex.next(); t.kind != TokenKind::End; t = lex.next()) {
+    for (;;) {
+        lex.skip_words();  // what the loop would read and drop, most of a mesh's text
+        const Token t = lex.next();
+        if (t.kind == TokenKind::End) break;
         if (t.kind != TokenKind::Directive) continue;
         const std::string_view d = t.text;
         if (d == "#vertex")

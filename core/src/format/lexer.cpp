@@ -92,6 +92,26 @@ Token Lexer::scan() {
     return t;
 }
 
+void Lexer::skip_words() {
+    if (m_has_peek) return;
+    const size_t size = m_text.size();
+    const char* text = m_text.data();
+    for (;;) {
+        skip_space_and_comments();
+        if (m_pos >= size || text[m_pos] == '!' || text[m_pos] == '#') return;
+        // The word loop of scan().
+        const size_t start = m_pos;
+        while (m_pos < size) {
+            const char c = text[m_pos];
+            if (kWordEnd[static_cast<unsigned char>(c)] &&
+                (c != '/' || (m_pos + 1 < size && text[m_pos + 1] == '/')))
+                break;
+            ++m_pos;
+        }
+        m_col += static_cast<int>(m_pos - start);
+    }
+}
+
 Token Lexer::next() {
     if (m_has_peek) {
         m_has_peek = false;

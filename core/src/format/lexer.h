@@ -27,6 +27,10 @@ public:
     Token next();
     /// The next token without consuming it.
     Token peek();
+    /// Consumes the words that come next, up to a directive, a string or the end, as next()
+    /// would one by one, without making their tokens (the dialect pre-scan's pass over a mesh).
+    /// Nothing when a token is peeked; a word that is a lone '#' stops it too.
+    void skip_words();
 
     SourceLoc loc(const Token& t) const { return {m_file, t.line, t.col}; }
     const std::string* file() const { return m_file; }
