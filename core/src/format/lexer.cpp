@@ -75,9 +75,16 @@ Token Lexer::scan() {
         m_pos = end;
         return t;
     }
-    // A word ends at whitespace or where a // comment starts (spec §2: comments may follow a
-    // token directly).
-    const size_t size = m_text.size();
+    scan_word();
+    t.text = m_text.substr(start, m_pos - start);
+    t.kind = (t.text.size() > 1 && t.text[0] == '#') ? TokenKind::Directive : TokenKind::Word;
+    return t;
+}
+
+// A word ends at whitespace or where a // comment starts (spec §2: comments may follow a token
+// directly).
+void Lexer::scan_word() {
+    const size_t start = m_pos, size = m_text.size();
     const char* text = m_text.data();
     while (m_pos < size) {
         const char c = text[m_pos];
@@ -86,29 +93,15 @@ Token Lexer::scan() {
             break;
         ++m_pos;
     }
-    t.text = m_text.substr(start, m_pos - start);
     m_col += static_cast<int>(m_pos - start);
-    t.kind = (t.text.size() > 1 && t.text[0] == '#') ? TokenKind::Directive : TokenKind::Word;
-    return t;
 }
 
 void Lexer::skip_words() {
     if (m_has_peek) return;
-    const size_t size = m_text.size();
-    const char* text = m_text.data();
     for (;;) {
         skip_space_and_comments();
-        if (m_pos >= size || text[m_pos] == '!' || text[m_pos] == '#') return;
-        // The word loop of scan().
-        const size_t start = m_pos;
-        while (m_pos < size) {
-            const char c = text[m_pos];
-            if (kWordEnd[static_cast<unsigned char>(c)] &&
-                (c != '/' || (m_pos + 1 < size && text[m_pos + 1] == '/')))
-                break;
-            ++m_pos;
-        }
-        m_col += static_cast<int>(m_pos - start);
+        if (m_pos >= m_text.size() || m_text[m_pos] == '!' || m_text[m_pos] == '#') return;
+        scan_word();
     }
 }
 

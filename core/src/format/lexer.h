@@ -39,6 +39,7 @@ public:
 
 private:
     void skip_space_and_comments();
+    void scan_word();  // past the word at m_pos, counting its columns
     Token scan();
 
     std::string_view m_text;
