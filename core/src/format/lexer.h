@@ -34,8 +34,22 @@ public:
 
     SourceLoc loc(const Token& t) const { return {m_file, t.line, t.col}; }
     const std::string* file() const { return m_file; }
+    std::string_view text() const { return m_text; }
     /// Bytes not yet scanned (for bounding reservations by what the text can still hold).
     size_t remaining() const { return m_text.size() - m_pos; }
+    /// Where a token of this lexer's text starts, in bytes (the end of the text for End).
+    size_t offset(const Token& t) const {
+        return t.kind == TokenKind::End ? m_text.size()
+                                        : static_cast<size_t>(t.text.data() - m_text.data());
+    }
+    /// Continues at byte `pos`, which is at line `line`, column `col`: where another lexer of
+    /// the same text met a token (a piece of a mesh that a second thread parses).
+    void seek(size_t pos, int line, int col) {
+        m_pos = pos;
+        m_line = line;
+        m_col = col;
+        m_has_peek = false;
+    }
 
 private:
     void skip_space_and_comments();
