@@ -7,7 +7,9 @@
 // (forced_dialect), so any text goes through each parser, the V3 one among them (the seeds of
 // tests/fuzz/corpus/scene hold some of each). Built as `fuzz_scene` (clang, -fsanitize=fuzzer) and
 // as `fuzz_replay` (any compiler, replays files: the crasher regression corpus in
-// tests/fuzz/crashers).
+// tests/fuzz/crashers). The parse with its mesh runs cut into pieces of one directive on three
+// threads must give what the serial parse gives, field for field, warnings and errors alike
+// (tests/parse_both_ways.h); a difference aborts.
 //
 // Includes, textures and key files cannot escape: the harness works in a private temporary
 // directory holding a few fixture files (inc.ray, inc0.ray, the V3 inc3.ray, loop.ray, tex.ppm,
@@ -15,12 +17,14 @@
 // names in that directory resolve. A texture that does not resolve (such as tex.bmp, the course's
 // name) stands in as a checker (--missing-textures checker), so such scenes get past loading.
 #include <cstdint>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
+#include "../parse_both_ways.h"
 #include "fuzz_util.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
@@ -91,11 +95,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         text.resize(split);
     }
     write_file("fuzz.key", key);
+    rt::ParseOptions options;
+    options.missing_textures = rt::MissingTextures::Checker;
+    options.dialect = forced_dialect(&text);
+    const auto parse = [&](rt::Diagnostics& diag, const rt::ParseOptions& o) {
+        return rt::parse_scene_string(text, "fuzz.ray", diag, o, rt_fuzz::work_dir());
+    };
+    if (rt::both_ways::outcome(parse, rt::both_ways::serial(options)) !=
+        rt::both_ways::outcome(parse, rt::both_ways::in_pieces(options)))
+        std::abort();  // the parse in pieces differs from the serial parse
     try {
         rt::Diagnostics diag;
-        rt::ParseOptions options;
-        options.missing_textures = rt::MissingTextures::Checker;
-        options.dialect = forced_dialect(&text);
         const rt::SceneDesc desc =
             rt::parse_scene_string(text, "fuzz.ray", diag, options, rt_fuzz::work_dir());
         rt::RenderScene scene = rt::compile_scene(desc);

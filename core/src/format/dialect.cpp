@@ -262,12 +262,37 @@ void ParserBase::prescan(std::string_view text, const std::string& name,
     // (most of a mesh), so its arrays are allocated once rather than doubled and copied.
     size_t vertices = 0, top_shapes = 0;
     int depth = 0;
+    // The runs of one mesh directive, marked every `piece` directives (mesh_runs.cpp).
+    std::vector<MeshRun> runs;
+    MeshRun run;
+    std::string_view run_name;
+    const size_t piece = std::max<size_t>(1, m_options.piece);
+    const auto end_run = [&](size_t end) {
+        if (run.marks.size() >= 2) {
+            run.end = end;
+            runs.push_back(std::move(run));
+        }
+        run = MeshRun{};
+    };
     for (;;) {
         lex.skip_words();  // what the loop would read and drop, most of a mesh's text
         const Token t = lex.next();
         if (t.kind == TokenKind::End) break;
         if (t.kind != TokenKind::Directive) continue;
         const std::string_view d = t.text;
+        const size_t at = lex.offset(t);
+        if (d == run_name) {
+            if (run.count % piece == 0) run.marks.push_back({at, t.line, t.col, run.count});
+            ++run.count;
+        } else {
+            end_run(at);
+            run_name = d == "#vertex" || d == "#shape_triangle" ? d : std::string_view();
+            if (!run_name.empty()) {
+                run.vertices = d == "#vertex";
+                run.marks.push_back({at, t.line, t.col, 0});
+                run.count = 1;
+            }
+        }
         if (d == "#vertex")
             ++vertices;
         else if (d.substr(0, 7) == "#shape_" && depth == 0)
@@ -278,7 +303,8 @@ void ParserBase::prescan(std::string_view text, const std::string& name,
             --depth;
         prescan_directive(lex, t, dir, scan);
     }
-    m_sizes[canonical] = {vertices, top_shapes};
+    end_run(SIZE_MAX);
+    m_sizes[canonical] = {vertices, top_shapes, std::move(runs)};
 }
 
 void ParserBase::run_prescan(std::string_view text, const std::string& name,

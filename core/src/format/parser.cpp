@@ -288,7 +288,7 @@ void ParserBase::validate_camera(FileState& f, const Token& d, const CameraDesc&
 // Three vertex indices of this file (spec §3.3; V3 §13.5), each checked against its vertices.
 TriangleDesc ParserBase::triangle_indices(FileState& f, const Token& d) {
     TriangleDesc g;
-    const int nv = static_cast<int>(f.desc.vertices.size());
+    const int nv = static_cast<int>(f.defs().vertices.size());
     for (int i = 0; i < 3; ++i) {
         SourceLoc loc;
         g.v[i] = integer(f, d, "vertex index", &loc);
@@ -372,14 +372,7 @@ private:
             f.desc.vertices.reserve(std::min(it->second.vertices, fit));
             if (!v3) f.desc.root.shapes.reserve(std::min(it->second.top_shapes, fit));
         }
-        for (Token t = f.lex.next(); t.kind != TokenKind::End; t = f.lex.next()) {
-            if (t.kind != TokenKind::Directive)
-                fail(f, t, "expected a directive, got " + quote(t.text));
-            if (v3)
-                v3_directive(f, t);
-            else
-                directive(f, t);
-        }
+        walk_file(f);
         end_of_file(f);
         m_open.pop_back();
         m_scene.files[static_cast<size_t>(index)] = std::move(f.desc);
@@ -406,6 +399,13 @@ private:
                               c.loc.str() + " declares " + std::to_string(c.declared_n) +
                               ", found " + std::to_string(c.found));
         }
+    }
+
+    void dispatch(FileState& f, const Token& d) override {
+        if (m_dialect == Dialect::V3)
+            v3_directive(f, d);
+        else
+            directive(f, d);
     }
 
     void definition(FileState& f, const Token& dir) {
@@ -818,7 +818,7 @@ private:
     int material_index(FileState& f, const Token& d) override {
         SourceLoc loc;
         const int m = integer(f, d, "material index", &loc);
-        const int n = static_cast<int>(f.desc.materials.size());
+        const int n = static_cast<int>(f.defs().materials.size());
         const bool v0_default = (m == -1 && m_dialect == Dialect::V0);
         if (!v0_default && (m < 0 || m >= n)) {
             std::string msg = "material index " + std::to_string(m) + " out of range [" +
@@ -895,14 +895,11 @@ private:
             s.geometry = g;
         } else {
             const TriangleDesc g = triangle_indices(f, d);
-            keep = !degenerate_triangle(f.desc, g);
+            keep = !degenerate_triangle(f.defs(), g);
             kind = "degenerate triangle";
             s.geometry = g;
         }
-        if (!keep) {
-            ++m_scene.skipped_shapes;
-            warn(s.loc, std::string("skip:") + kind, std::string(kind) + " skipped");
-        }
+        if (!keep) skip_shape(s.loc, kind);
         return keep;
     }
 

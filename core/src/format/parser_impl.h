@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -102,6 +103,33 @@ struct V3Node {
     CsgDesc csg;
 };
 
+// A run of one mesh directive (#vertex or #shape_triangle, one after another) in a file, as the
+// pre-scan found it, with a mark every ParseOptions::piece directives where the parse may cut it
+// between threads (mesh_runs.cpp). Only runs of at least two pieces are kept.
+struct MeshRun {
+    struct Mark {
+        size_t offset = 0;  // of the directive, in bytes
+        int line = 0, col = 0;
+        size_t index = 0;  // in the run
+    };
+    bool vertices = false;    // #vertex, else #shape_triangle
+    std::vector<Mark> marks;  // marks[0] is the run's first directive
+    size_t count = 0;         // directives in the run
+    size_t end = 0;           // offset of the directive after the run (SIZE_MAX: the end)
+};
+
+// What a piece of a run parsed on another thread reports besides its shapes and vertices: its
+// warnings and skipped shapes, handed on in file order once the pieces before it are merged.
+struct PieceOutput {
+    struct Pending {
+        SourceLoc loc;
+        std::string kind, message;
+        std::vector<SourceLoc> chain;
+    };
+    std::vector<Pending> warnings;
+    size_t skipped = 0;
+};
+
 // Per-file parse state.
 struct FileState {
     Lexer lex;
@@ -127,12 +155,18 @@ struct FileState {
     int v3_csg_depth = 0;
     bool warned_included_light = false, warned_dynamic_identity = false;
 
+    // A piece of a run parsed on another thread: the file's state it started from, whose
+    // definitions (materials, vertices) its shapes refer to.
+    const FileState* parent = nullptr;
+    const FileDesc& defs() const { return parent ? parent->desc : desc; }
+
     FileState(std::string_view text, const std::string* name) : lex(text, name) {}
 };
 
 class ParserBase {
 protected:
     ParserBase(Diagnostics& diag, const ParseOptions& options) : m_diag(diag), m_options(options) {}
+    virtual ~ParserBase() = default;
 
     // ---- errors: every parse error goes through here, with the include chain as notes ----
     [[noreturn]] void fail(const SourceLoc& loc, const std::string& message) const {
@@ -142,11 +176,34 @@ protected:
     [[noreturn]] void fail(const FileState& fs_, const Token& t, const std::string& message) const {
         fail(fs_.lex.loc(t), message);
     }
-    // Warnings carry the include chain too (spec §2).
+    // Warnings carry the include chain too (spec §2). On a thread parsing a piece of a run they
+    // wait in its PieceOutput, so they reach m_diag in file order.
     void warn(const SourceLoc& loc, std::string kind, std::string message) const {
-        m_diag.warn(loc, std::move(kind), std::move(message),
-                    std::vector<SourceLoc>(m_include_locs.rbegin(), m_include_locs.rend()));
+        std::vector<SourceLoc> chain(m_include_locs.rbegin(), m_include_locs.rend());
+        if (t_piece)
+            t_piece->warnings.push_back(
+                {loc, std::move(kind), std::move(message), std::move(chain)});
+        else
+            m_diag.warn(loc, std::move(kind), std::move(message), std::move(chain));
     }
+    /// A degenerate shape left out, with its warning ("degenerate triangle skipped").
+    void skip_shape(const SourceLoc& loc, const char* kind) {
+        if (t_piece)
+            ++t_piece->skipped;
+        else
+            ++m_scene.skipped_shapes;
+        warn(loc, std::string("skip:") + kind, std::string(kind) + " skipped");
+    }
+    static inline thread_local PieceOutput* t_piece = nullptr;
+
+    // ---- the walk over a file's directives (mesh_runs.cpp) -----------------------------------
+    /// One directive, by the file's dialect.
+    virtual void dispatch(FileState& f, const Token& d) = 0;
+    /// Parses from token `t` to the first directive at or after byte `bound` (or the end of the
+    /// file, or until *stop is set), which it returns unparsed.
+    Token walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop = nullptr);
+    /// The directives of a file, the long runs of mesh directives in pieces on several threads.
+    void walk_file(FileState& f);
 
     // ---- token helpers (parser.cpp) ------------------------------------------------------
     SourceLoc arg_loc(FileState& f, const Token& dir, const Token& bad) const;
@@ -201,10 +258,12 @@ protected:
     struct FileSizes {
         size_t vertices = 0;
         size_t top_shapes = 0;  // #shape_* directives outside any group (V0/V1)
+        std::vector<MeshRun> runs;
     };
     std::map<std::string, FileSizes> m_sizes;
 
 private:
+    Token parse_run(FileState& f, const Token& first, const MeshRun& run);
     struct Scan;
     std::optional<std::string> find_file(const std::string& dir, const std::string& path,
                                          bool v3) const;
@@ -226,7 +285,6 @@ private:
 class ParserV3 : public ParserBase {
 protected:
     using ParserBase::ParserBase;
-    virtual ~ParserV3() = default;
 
     virtual void texture(FileState& f, const Token& d) = 0;
     virtual void material(FileState& f, const Token& d) = 0;
@@ -256,7 +314,6 @@ private:
     void v3_dynamic(FileState& f, const Token& d);
     void v3_triangle(FileState& f, const Token& d);
     void v3_instance(FileState& f, const Token& d);
-    void v3_skip(ShapeDesc& s, const char* kind);
 };
 
 }  // namespace rt::parser_impl

@@ -405,7 +405,7 @@ void ParserV3::v3_triangle(FileState& f, const Token& d) {
     s.material = f.v3.back().material;
     const TriangleDesc g = triangle_indices(f, d);
     s.geometry = g;
-    if (degenerate_triangle(f.desc, g)) return v3_skip(s, "degenerate triangle");
+    if (degenerate_triangle(f.defs(), g)) return skip_shape(s.loc, "degenerate triangle");
     f.v3.back().group.shapes.push_back(std::move(s));
 }
 
@@ -421,11 +421,6 @@ void ParserV3::v3_instance(FileState& f, const Token& d) {
     node.loc = f.lex.loc(d);
     node.instance = {node.loc, i};
     v3_deliver(f, std::move(node));
-}
-
-void ParserV3::v3_skip(ShapeDesc& s, const char* kind) {
-    ++m_scene.skipped_shapes;
-    warn(s.loc, std::string("skip:") + kind, std::string(kind) + " skipped");
 }
 
 void ParserV3::v3_end_of_file(FileState& f, const SourceLoc& eof) {

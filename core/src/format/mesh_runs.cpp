@@ -1,0 +1,174 @@
+// The walk over a file's directives, and the one place the parse uses more than one thread: a
+// long run of one mesh directive (#vertex, or #shape_triangle in one group or triangle list),
+// which the pre-scan found and marked (MeshRun), is cut at its marks into one piece per thread.
+// The calling thread parses the first piece into the file itself; each other piece is parsed by
+// the same directive code into a FileState of its own that starts from the file's state (its
+// counts, its part, its triangle list) and refers to the file's materials and vertices. The
+// pieces are then joined in file order: their warnings are handed on, and the first error in
+// file order is the one thrown, so the description, the warnings and the errors are those of the
+// serial parse (ParseOptions::threads = 1), which the tests and the scene fuzz target compare.
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <iterator>
+#include <memory>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include "format/parser_impl.h"
+#include "rt/util/threads.h"
+
+namespace rt::parser_impl {
+
+namespace {
+
+template <class To, class From>
+void append(To& to, From& from) {
+    to.insert(to.end(), std::make_move_iterator(from.begin()), std::make_move_iterator(from.end()));
+}
+
+// A piece of a run on another thread: its state, what it reports, and where it stopped.
+struct Piece {
+    FileState state;
+    PieceOutput out;
+    size_t bound = 0;  // the offset of the next piece's first directive, or the run's end
+    Token stop;        // the first directive at or after `bound`, or the end
+    std::exception_ptr error;
+
+    Piece(std::string_view text, const std::string* file) : state(text, file) {}
+};
+
+// Waits for the pieces' threads however the calling thread leaves; when it leaves with an error
+// (the first in file order) they stop at their next directive.
+struct Joiner {
+    std::atomic<bool>& stop;
+    std::vector<std::thread>& threads;
+    const int errors = std::uncaught_exceptions();
+    ~Joiner() {
+        if (std::uncaught_exceptions() > errors) stop = true;
+        for (std::thread& t : threads)
+            if (t.joinable()) t.join();
+    }
+};
+
+}  // namespace
+
+Token ParserBase::walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop) {
+    while (t.kind != TokenKind::End) {
+        if (t.kind == TokenKind::Directive && f.lex.offset(t) >= bound) break;
+        if (stop && stop->load(std::memory_order_relaxed)) break;
+        if (t.kind != TokenKind::Directive)
+            fail(f, t, "expected a directive, got " + quote(t.text));
+        dispatch(f, t);
+        t = f.lex.next();
+    }
+    return t;
+}
+
+void ParserBase::walk_file(FileState& f) {
+    const auto sizes = m_sizes.find(f.desc.canonical_path);
+    const std::vector<MeshRun>* runs = sizes != m_sizes.end() ? &sizes->second.runs : nullptr;
+    size_t next = 0;
+    const unsigned threads = m_options.threads ? m_options.threads : hardware_threads();
+    if (threads < 2 || !have_threads()) runs = nullptr;
+    Token t = f.lex.next();
+    while (t.kind != TokenKind::End) {
+        const size_t bound = runs && next < runs->size() ? (*runs)[next].marks[0].offset : SIZE_MAX;
+        t = walk(f, t, bound);
+        if (t.kind == TokenKind::End) break;
+        // A run the parse did not meet where the pre-scan saw it is parsed as any directive.
+        if (f.lex.offset(t) == bound) t = parse_run(f, t, (*runs)[next]);
+        ++next;
+    }
+}
+
+Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run) {
+    // The first directive on its own settles the file's state the pieces start from (the graph
+    // started, the part of a V3 file); an error there is the run's first.
+    dispatch(f, first);
+    const unsigned threads = m_options.threads ? m_options.threads : hardware_threads();
+    const size_t marks = run.marks.size();
+    const size_t parts = std::min<size_t>(threads, marks);
+    const auto start = [&](size_t p) -> const MeshRun::Mark& {
+        return run.marks[p * marks / parts];
+    };
+
+    std::vector<std::unique_ptr<Piece>> pieces;
+    for (size_t p = 1; p < parts; ++p) {
+        const MeshRun::Mark& m = start(p);
+        auto piece = std::make_unique<Piece>(f.lex.text(), f.lex.file());
+        FileState& s = piece->state;
+        s.lex.seek(m.offset, m.line, m.col);
+        s.parent = &f;
+        s.top = f.top;
+        s.dir = f.dir;
+        s.graph_started = f.graph_started;
+        s.counts = f.counts;
+        if (run.vertices) s.counts[kVertices].found += m.index - 1;  // the first is counted
+        s.v3_part = f.v3_part;
+        s.stack.push_back(&s.desc.root);
+        s.stack_is_joint.push_back(0);
+        const size_t next_index = p + 1 < parts ? start(p + 1).index : run.count;
+        if (!f.v3.empty()) {
+            s.v3.emplace_back();
+            if (f.v3.back().kind == V3Frame::Triangles) {
+                s.v3.back().kind = V3Frame::Triangles;
+                s.v3.back().material = f.v3.back().material;
+                s.v3.back().group.shapes.reserve(next_index - m.index);
+            }
+        }
+        if (run.vertices)
+            s.desc.vertices.reserve(next_index - m.index);
+        else if (f.v3.empty())
+            s.desc.root.shapes.reserve(next_index - m.index);
+        piece->bound = p + 1 < parts ? start(p + 1).offset : run.end;
+        pieces.push_back(std::move(piece));
+    }
+
+    std::atomic<bool> stop{false};
+    std::vector<std::thread> workers;
+    Token t;
+    {
+        Joiner joiner{stop, workers};
+        for (const std::unique_ptr<Piece>& p : pieces) {
+            const auto parse = [this, &stop, piece = p.get()] {
+                t_piece = &piece->out;
+                try {
+                    FileState& s = piece->state;
+                    piece->stop = walk(s, s.lex.next(), piece->bound, &stop);
+                } catch (...) {
+                    piece->error = std::current_exception();
+                }
+                t_piece = nullptr;
+            };
+            try {
+                workers.emplace_back(parse);
+            } catch (const std::system_error&) {
+                parse();  // no thread to be had: this one parses the piece
+            }
+        }
+        t = walk(f, f.lex.next(), parts > 1 ? start(1).offset : run.end);
+    }
+    // The first piece ends where the second starts, unless the text was read differently from
+    // the pre-scan's marks: then the pieces are dropped and the parse goes on from here.
+    if (pieces.empty() || t.kind == TokenKind::End || f.lex.offset(t) != start(1).offset) return t;
+
+    for (const std::unique_ptr<Piece>& p : pieces) {
+        for (PieceOutput::Pending& w : p->out.warnings)
+            m_diag.warn(w.loc, std::move(w.kind), std::move(w.message), std::move(w.chain));
+        m_scene.skipped_shapes += p->out.skipped;
+        if (p->error) std::rethrow_exception(p->error);
+        FileState& s = p->state;
+        append(f.desc.vertices, s.desc.vertices);
+        append(f.stack.back()->shapes, s.desc.root.shapes);
+        if (!s.v3.empty()) append(f.v3.back().group.shapes, s.v3.back().group.shapes);
+        f.graph_started = f.graph_started || s.graph_started;
+    }
+    Piece& last = *pieces.back();
+    f.counts = last.state.counts;
+    f.lex = last.state.lex;
+    return last.stop;
+}
+
+}  // namespace rt::parser_impl
