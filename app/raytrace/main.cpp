@@ -41,6 +41,7 @@ std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* des
         rt::ParseOptions parse_options;
         parse_options.dialect = opt.dialect;
         parse_options.missing_textures = opt.missing_textures;
+        parse_options.threads = static_cast<unsigned>(opt.threads);
         *desc = rt::parse_scene_file(opt.scene, diag, parse_options);
         t->parse_s = rt::seconds_since(t_parse);
         print_warnings();

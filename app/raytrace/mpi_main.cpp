@@ -396,6 +396,7 @@ bool load(Job& job, int rank) {
         rt::ParseOptions po;
         po.dialect = opt.dialect;
         po.missing_textures = opt.missing_textures;
+        po.threads = static_cast<unsigned>(opt.threads);
         job.desc = rt::parse_scene_file(opt.scene, diag, po);
         job.scene = rt::compile_scene(job.desc, nullptr, opt.animation.time(), &diag);
     } catch (const std::exception& e) {  // a SceneError, or out of memory
