@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "parse_both_ways.h"
 #include "rt/format/parser.h"
@@ -153,6 +154,67 @@ TEST(MeshRuns, V3TriangleListsAndVerticesInPieces) {
     // A directive inside the list that only #shape_triangle may be in: the serial message.
     EXPECT_NE(same_both_ways(v3_scene(true), 3, 5).find("inside the list of #shape_triangles"),
               std::string::npos);
+}
+
+TEST(MeshRuns, ProgressCountsEveryByteOnce) {
+    const fs::path dir = fs::temp_directory_path() / "rt_mesh_runs_progress";
+    fs::create_directories(dir);
+    const std::string part = strip(3000, [](int line, std::string s) {
+        return line == 1 ? "#camera 0 0 0 0 0 0 0 0 0 0" : s;  // a sub-file's dummy camera
+    });
+    const std::string top = strip(2000, [](int line, std::string s) {
+        return line == 1 ? s + "\n#ray_file_num 1\n"
+                               "#ray_file part.ray"
+                         : s;
+    });
+    std::ofstream(dir / "part.ray") << part;
+    std::ofstream(dir / "top.ray") << top;
+    for (unsigned threads : {1u, 3u}) {
+        SCOPED_TRACE(threads);
+        ParseProgress progress;
+        ParseOptions options;
+        options.threads = threads;
+        options.piece = 100;
+        options.progress = &progress;
+        Diagnostics diag;
+        const SceneDesc desc = parse_scene_file((dir / "top.ray").string(), diag, options);
+        ASSERT_EQ(desc.files.size(), 2u);
+        EXPECT_EQ(progress.total.load(), top.size() + part.size());
+        EXPECT_EQ(progress.done.load(), progress.total.load());
+    }
+    fs::remove_all(dir);
+}
+
+TEST(MeshRuns, CancellingStopsTheParse) {
+    const std::string text = strip(200000);
+    for (unsigned threads : {1u, 2u}) {
+        SCOPED_TRACE(threads);
+        ParseProgress progress;
+        ParseOptions options;
+        options.threads = threads;
+        options.piece = 1000;
+        options.progress = &progress;
+        std::string error;
+        std::thread parse([&] {
+            try {
+                Diagnostics diag;
+                parse_scene_string(text, "mesh.ray", diag, options);
+            } catch (const SceneError& e) {
+                error = e.what();
+            }
+        });
+        while (progress.done.load() == 0) std::this_thread::yield();
+        progress.cancel = true;
+        parse.join();
+        EXPECT_NE(error.find(": error: loading cancelled"), std::string::npos) << error;
+        EXPECT_LT(progress.done.load(), text.size());
+    }
+    // Cancelled before it starts: in the pre-scan.
+    ParseProgress progress;
+    progress.cancel = true;
+    ParseOptions options;
+    options.progress = &progress;
+    EXPECT_NE(string_outcome(text, options).find("error: loading cancelled"), std::string::npos);
 }
 
 // Every scene of scenes/, ../shared/public-scenes and the scene fuzz corpus and crashers, with

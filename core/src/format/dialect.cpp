@@ -267,6 +267,7 @@ void ParserBase::prescan(std::string_view text, const std::string& name,
     MeshRun run;
     std::string_view run_name;
     const size_t piece = std::max<size_t>(1, m_options.piece);
+    size_t directives = 0;
     const auto end_run = [&](size_t end) {
         if (run.marks.size() >= 2) {
             run.end = end;
@@ -281,6 +282,7 @@ void ParserBase::prescan(std::string_view text, const std::string& name,
         if (t.kind != TokenKind::Directive) continue;
         const std::string_view d = t.text;
         const size_t at = lex.offset(t);
+        if (m_options.progress && ++directives % 1024 == 0) check_cancel(lex.loc(t));
         if (d == run_name) {
             if (run.count % piece == 0) run.marks.push_back({at, t.line, t.col, run.count});
             ++run.count;
@@ -323,6 +325,7 @@ const FileBytes* ParserBase::cached_text(const std::string& path, const std::str
     if (it != m_texts.end()) return &it->second;
     FileBytes text;
     if (!read_file(path, &text, why)) return nullptr;
+    count_text(text.size());
     return &m_texts.emplace(canonical, std::move(text)).first->second;
 }
 

@@ -54,15 +54,35 @@ struct Joiner {
 
 }  // namespace
 
+void ParserBase::count_progress(FileState& f, size_t offset) const {
+    if (!m_options.progress || offset <= f.counted) return;
+    m_options.progress->done.fetch_add(offset - f.counted, std::memory_order_relaxed);
+    f.counted = offset;
+}
+
+void ParserBase::check_cancel(const SourceLoc& loc) const {
+    if (m_options.progress && m_options.progress->cancel.load(std::memory_order_relaxed))
+        fail(loc, "loading cancelled");
+}
+
+void ParserBase::count_text(size_t bytes) const {
+    if (m_options.progress) m_options.progress->total.fetch_add(bytes, std::memory_order_relaxed);
+}
+
 Token ParserBase::walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop) {
-    while (t.kind != TokenKind::End) {
+    for (unsigned n = 1; t.kind != TokenKind::End; ++n) {
         if (t.kind == TokenKind::Directive && f.lex.offset(t) >= bound) break;
         if (stop && stop->load(std::memory_order_relaxed)) break;
         if (t.kind != TokenKind::Directive)
             fail(f, t, "expected a directive, got " + quote(t.text));
+        if (m_options.progress && n % 1024 == 0) {
+            check_cancel(f.lex.loc(t));
+            count_progress(f, f.lex.offset(t));
+        }
         dispatch(f, t);
         t = f.lex.next();
     }
+    count_progress(f, f.lex.offset(t));
     return t;
 }
 
@@ -81,6 +101,7 @@ void ParserBase::walk_file(FileState& f) {
         if (f.lex.offset(t) == bound) t = parse_run(f, t, (*runs)[next]);
         ++next;
     }
+    count_progress(f, f.lex.text().size());
 }
 
 Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run) {
@@ -100,6 +121,7 @@ Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run
         auto piece = std::make_unique<Piece>(f.lex.text(), f.lex.file());
         FileState& s = piece->state;
         s.lex.seek(m.offset, m.line, m.col);
+        s.counted = m.offset;
         s.parent = &f;
         s.top = f.top;
         s.dir = f.dir;
@@ -168,6 +190,7 @@ Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run
     Piece& last = *pieces.back();
     f.counts = last.state.counts;
     f.lex = last.state.lex;
+    f.counted = last.state.counted;
     return last.stop;
 }
 

@@ -330,6 +330,7 @@ public:
 
     SceneDesc run(std::string_view text, const std::string& name, const std::string& dir) {
         const std::string canonical = canonical_path(name);
+        count_text(text.size());
         detect_dialect(text, name, canonical, dir);
         m_scene.files.emplace_back();
         parse_file(text, name, canonical, dir, 0);

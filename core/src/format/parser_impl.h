@@ -159,6 +159,7 @@ struct FileState {
     // definitions (materials, vertices) its shapes refer to.
     const FileState* parent = nullptr;
     const FileDesc& defs() const { return parent ? parent->desc : desc; }
+    size_t counted = 0;  // bytes of the text up to here added to ParseProgress::done
 
     FileState(std::string_view text, const std::string* name) : lex(text, name) {}
 };
@@ -204,6 +205,12 @@ protected:
     Token walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop = nullptr);
     /// The directives of a file, the long runs of mesh directives in pieces on several threads.
     void walk_file(FileState& f);
+    /// ParseProgress: the bytes of f's text up to `offset` are parsed (counted once each).
+    void count_progress(FileState& f, size_t offset) const;
+    /// ParseProgress::cancel set: throws "loading cancelled" at `loc`.
+    void check_cancel(const SourceLoc& loc) const;
+    /// ParseProgress::total grows by a text read.
+    void count_text(size_t bytes) const;
 
     // ---- token helpers (parser.cpp) ------------------------------------------------------
     SourceLoc arg_loc(FileState& f, const Token& dir, const Token& bad) const;

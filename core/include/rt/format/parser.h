@@ -2,6 +2,8 @@
 // the first error as a SceneError with file:line:col and warnings through Diagnostics.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -15,6 +17,14 @@ namespace rt {
 /// SceneDesc::missing_textures (--missing-textures checker).
 enum class MissingTextures { Error, Checker };
 
+/// How far a parse has come, for a loader's progress bar, and a way to stop it; read and set from
+/// any thread while the parse runs.
+struct ParseProgress {
+    std::atomic<uint64_t> total{0};   ///< bytes of scene text read so far (the file, its includes)
+    std::atomic<uint64_t> done{0};    ///< bytes of it parsed (the dialect pre-scan not counted)
+    std::atomic<bool> cancel{false};  ///< set: the parse throws "loading cancelled" promptly
+};
+
 struct ParseOptions {
     std::optional<Dialect> dialect;  ///< --dialect: overrides detection (spec §10 step 5)
     MissingTextures missing_textures = MissingTextures::Error;
@@ -25,6 +35,7 @@ struct ParseOptions {
     /// Directives per piece: a run is split only where it is at least two pieces long (the tests
     /// make pieces of one directive, so every scene's runs are split).
     size_t piece = 16384;
+    ParseProgress* progress = nullptr;  ///< updated as the parse goes, when given
 };
 
 /// Parses a scene file and its includes. Throws SceneError.
