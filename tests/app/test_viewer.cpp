@@ -1017,6 +1017,54 @@ TEST(Viewer, FilesOpenInTheBackgroundAndCanBeCancelled) {
     EXPECT_NE(v.messages.text.find("no_such_file.ray"), std::string::npos) << v.messages.text;
 }
 
+// A mesh of n triangles written to a temporary file; its path.
+std::string write_mesh(const std::string& name, int n) {
+    std::string text =
+        "#camera 0 0 5 0 0 -1 0 1 0 0.5\n"
+        "#material 0 0 0 0.1 0.1 0.1 0.5 0.5 0.5 0 0 0 1 0 0 0 1 -1 !m!\n";
+    for (int k = 0; k < n + 2; ++k)
+        text += "#vertex " + std::to_string(k / 2) + " " + std::to_string(k % 2) + " 0 0 0 1 0 0\n";
+    for (int k = 0; k < n; ++k)
+        text += "#shape_triangle 0 " + std::to_string(k) + " " + std::to_string(k + 1) + " " +
+                std::to_string(k + 2) + "\n";
+    const std::string path = ::testing::TempDir() + name;
+    write_file_atomic(path, text);
+    return path;
+}
+
+// A load shows the bytes it has parsed of those it read, and a cancelled one stops parsing.
+TEST(Viewer, ALoadCountsItsBytesAndACancelledOneStops) {
+    const std::string path = write_mesh("rt_viewer_progress.ray", 100000);
+    const uint64_t size = std::filesystem::file_size(path);
+    SceneLoader loader;
+    LoadRequest request;
+    request.path = path;
+    request.for_preview = false;
+    loader.start(request);
+    std::pair<uint64_t, uint64_t> seen{0, 0};
+    LoadResult result;
+    std::string taken;
+    for (int i = 0; i < 20000 && !loader.take(&result, &taken); ++i) {
+        const auto b = loader.bytes();
+        EXPECT_LE(b.first, b.second);
+        if (b.second > 0) seen = b;
+        std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    ASSERT_TRUE(result.scene) << result.error;
+    EXPECT_EQ(seen.second, size);  // the total is known from the start
+
+    // Cancelled while parsing: load_scene's parse stops with "loading cancelled".
+    ParseProgress progress;
+    std::thread load([&] { result = load_scene(request, &progress); });
+    while (progress.done.load() == 0) std::this_thread::yield();
+    progress.cancel = true;
+    load.join();
+    EXPECT_FALSE(result.scene);
+    EXPECT_NE(result.error.find("loading cancelled"), std::string::npos) << result.error;
+    EXPECT_LT(progress.done.load(), size);
+    std::filesystem::remove(path);
+}
+
 // The one restart path under load: the trace restarted 1000 times with an edit each time while
 // it runs (the ThreadSanitizer run of scripts/test.sh checks this for races).
 TEST(Viewer, ATraceRestartedAThousandTimesWithEdits) {

@@ -14,7 +14,7 @@ std::string stand_in_text(const SceneDesc& desc) {
     return text;
 }
 
-LoadResult load_scene(const LoadRequest& request) {
+LoadResult load_scene(const LoadRequest& request, ParseProgress* progress) {
     LoadResult result;
     const std::string& path = request.path;
     try {
@@ -26,10 +26,13 @@ LoadResult load_scene(const LoadRequest& request) {
         options.missing_textures = request.missing;
         options.dialect = request.dialect;
         try {
+            options.progress = progress;
             s->desc = parse_scene_file(path, diag, options);
+            options.progress = nullptr;
         } catch (const SceneError&) {
             // Would checker stand-ins open it? Then the textures were all that failed.
-            if (request.missing == MissingTextures::Error) {
+            options.progress = nullptr;
+            if (request.missing == MissingTextures::Error && !(progress && progress->cancel)) {
                 Diagnostics quiet;
                 options.missing_textures = MissingTextures::Checker;
                 try {
@@ -70,6 +73,7 @@ struct SceneLoader::Job {
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
     std::thread thread;
     std::atomic<bool> done{false};
+    ParseProgress progress;
     LoadResult result;  // written by the thread before done
     ~Job() {
         if (thread.joinable()) thread.join();
@@ -86,7 +90,7 @@ void SceneLoader::start(const LoadRequest& request) {
     Job* job = m_job.get();
     auto work = [job, request] {
         try {
-            job->result = load_scene(request);
+            job->result = load_scene(request, &job->progress);
         } catch (const std::exception& e) {
             job->result.error = e.what();
         }
@@ -99,7 +103,10 @@ void SceneLoader::start(const LoadRequest& request) {
 }
 
 void SceneLoader::cancel() {
-    if (m_job) m_abandoned.push_back(std::move(m_job));
+    if (m_job) {
+        m_job->progress.cancel = true;
+        m_abandoned.push_back(std::move(m_job));
+    }
     reap();
 }
 
@@ -115,6 +122,11 @@ const std::string& SceneLoader::path() const {
 double SceneLoader::seconds() const {
     if (!m_job) return 0;
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_job->start).count();
+}
+
+std::pair<uint64_t, uint64_t> SceneLoader::bytes() const {
+    if (!m_job) return {0, 0};
+    return {m_job->progress.done.load(), m_job->progress.total.load()};
 }
 
 bool SceneLoader::take(LoadResult* result, std::string* path) {

@@ -1,7 +1,8 @@
 // Opening a scene: load_scene() reads and compiles a file in one call that returns a result,
 // and SceneLoader runs it without freezing the window (on a thread of its own while the open
-// scene stays interactive). A cancelled load is abandoned (its thread finishes in the
-// background and its result is dropped), so cancel never waits for a parser.
+// scene stays interactive), with the bytes parsed of those read for a progress bar. A cancelled
+// load is abandoned: its parse stops at its next check (ParseProgress::cancel), its thread
+// finishes in the background and its result is dropped, so cancel never waits for a parser.
 #pragma once
 
 #include <atomic>
@@ -11,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "edits.h"
@@ -67,8 +69,8 @@ struct LoadResult {
     bool textures_missing = false;
 };
 
-/// Reads and compiles a scene.
-LoadResult load_scene(const LoadRequest& request);
+/// Reads and compiles a scene; the parse reports to `progress` and stops when it is cancelled.
+LoadResult load_scene(const LoadRequest& request, ParseProgress* progress = nullptr);
 
 /// The panel's note on the textures that stand in as checkers ("" when none).
 std::string stand_in_text(const SceneDesc& desc);
@@ -87,6 +89,8 @@ public:
     bool busy() const { return m_job != nullptr; }
     const std::string& path() const;
     double seconds() const;  // since the load started
+    /// Bytes of scene text parsed and read so far by the load under way (0, 0 when none).
+    std::pair<uint64_t, uint64_t> bytes() const;
     /// Once the load under way has ended: its result and the path it read; false while it runs
     /// or when none runs.
     bool take(LoadResult* result, std::string* path);
