@@ -82,16 +82,17 @@ else
     tests/fuzz/run.sh check || true  # prints why it is skipped
 fi
 
-# ThreadSanitizer: the viewer's state and its trace threads (no GL; Mesa is not loaded). The
-# sanitizer trees are unity builds (CMAKE_UNITY_BUILD: a few files compiled as one), which build
-# in about half the time (TSan 149 -> 84 s, ASan ~490 -> 373 s on 2 cores).
+# ThreadSanitizer: the viewer's state and its trace threads (no GL; Mesa is not loaded), and the
+# parse of mesh runs on several threads. The sanitizer trees are unity builds (CMAKE_UNITY_BUILD:
+# a few files compiled as one), which build in about half the time (TSan 149 -> 84 s, ASan ~490
+# -> 373 s on 2 cores).
 echo "test: ThreadSanitizer (build-tsan/)" >&2
 # The SSE2 kernels alone (RT_WIDE_KERNELS=OFF): these tests do not reach the kernels, and the
 # AVX2 and AVX-512 ones take 96 s of the core's 274 s of compile time (build/, GCC -O3).
 cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON -DRT_SANITIZE=thread \
     -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF -DRT_WIDE_KERNELS=OFF -DCMAKE_UNITY_BUILD=ON >/dev/null
-cmake --build build-tsan -j"$jobs" --target rt_viewer_tests
+cmake --build build-tsan -j"$jobs" --target rt_viewer_tests rt_parse_thread_tests
 took "building build-tsan/"
 if [ -n "$fuzz_pid" ]; then
     status=0
@@ -107,5 +108,5 @@ if [ -n "$fuzz_pid" ]; then
     took "waiting for the fuzzing"
 fi
 TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1" \
-    ctest --test-dir build-tsan --output-on-failure -j"$jobs" -R "^(Viewer|Tracer)\."
+    ctest --test-dir build-tsan --output-on-failure -j"$jobs" -R "^(Viewer|Tracer|MeshRuns)\."
 took "the tests in build-tsan/"
