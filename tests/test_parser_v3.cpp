@@ -340,7 +340,7 @@ TEST(ParserV3Shapes, TorusArgumentOrder) {
     EXPECT_HAS(v3_error(kMat + "#shape_torus 0 0 0 0 1 -2\n"),
                "test.ray:2:24: error: negative torus radius -2");
     EXPECT_HAS(v3_error(kMat + "#shape_torus 0 0 0 0 1\n#shape_sphere 0 0 0 0 1\n"),
-               "test.ray:2:1: error: expected 6 numbers after #shape_torus, got '#shape_sphere'");
+               "test.ray:2:1: error: expected 5 numbers after #shape_torus, got '#shape_sphere'");
     EXPECT_HAS(v3_error(kMat + "#shape_torus 0 0 0 0 1 nan\n"),
                "test.ray:2:24: error: non-finite number 'nan'");
     EXPECT_HAS(v3_error(kMat + "#shape_torus 3 0 0 0 1 2\n"),

@@ -1,7 +1,6 @@
 #include "csg_preview.h"
 
 #include <cmath>
-#include <type_traits>
 
 namespace rt::view {
 
@@ -14,23 +13,23 @@ struct LeafShape {
     float a = 0, b = 0, c = 0;
 };
 
+// Its numbers in the order its directive lists them (shapes.h): the centre, then its sizes.
 LeafShape leaf_shape(const GeometrySet& set, const Primitive& p) {
     LeafShape s;
-    visit_shape(set, p, [&](const auto& shape) {
-        using T = std::decay_t<decltype(shape)>;
+    visit_shape(set, p, [&](auto shape) {
+        using T = decltype(shape);
         s.kind = static_cast<float>(T::kKind);
-        if constexpr (std::is_same_v<T, Sphere>) {
-            s.centre = shape.centre, s.a = static_cast<float>(shape.radius);
-        } else if constexpr (std::is_same_v<T, Box>) {
-            s.centre = shape.centre;
-            s.a = static_cast<float>(shape.half.x), s.b = static_cast<float>(shape.half.y),
-            s.c = static_cast<float>(shape.half.z);
-        } else if constexpr (std::is_same_v<T, Cylinder> || std::is_same_v<T, Cone>) {
-            s.centre = shape.centre, s.a = static_cast<float>(shape.radius),
-            s.b = static_cast<float>(shape.height);
-        } else if constexpr (std::is_same_v<T, Torus>) {
-            s.centre = shape.centre, s.a = static_cast<float>(shape.tube),
-            s.b = static_cast<float>(shape.ring);
+        if constexpr (requires(T t, LeafShape & l) { t.params(l); }) {
+            struct Take {
+                LeafShape& s;
+                int sizes = 0;
+                void point(const Vec3& v) { s.centre = v; }
+                void size(double x, const char*) {
+                    (sizes == 0 ? s.a : sizes == 1 ? s.b : s.c) = static_cast<float>(x);
+                    ++sizes;
+                }
+            } take{s};
+            shape.params(take);
         }
     });
     return s;

@@ -62,7 +62,7 @@ bool is_v3_directive(std::string_view d) {
         "#light_sphere",    "#shader"};
     for (std::string_view n : names)
         if (n == d) return true;
-    // And #shape_<kind> for the shape kinds that exist in V3 only (the torus).
+    // And #shape_<kind> for the shape kinds that exist in V3 only (kV3Only, shapes.h).
     const std::optional<ShapeKind> kind = shape_directive_kind(d);
     return kind &&
            visit_kind(*kind, [](auto tag) { return kV3OnlyShape<typename decltype(tag)::type>; });

@@ -839,69 +839,57 @@ private:
     }
 
     bool primitive(FileState& f, const Token& d, ShapeDesc& s) override {
-        const std::string_view n = d.text;
-        auto positive = [&](double x, const Token& t, const char* what) {
-            if (x < 0) fail(f, t, std::string("negative ") + what + " " + fmt(x));
-            return x > 0;
-        };
-        bool keep = true;
-        const char* kind = "";
-        if (n == "#shape_sphere") {
-            Sphere g;
-            g.centre = vec3(f, d, 4);
-            const Token rt = f.lex.peek();
-            g.radius = real(f, d, 4);
-            keep = positive(g.radius, rt, "sphere radius");
-            kind = "sphere of radius 0";
-            s.geometry = g;
-        } else if (n == "#shape_box") {
-            BoxDesc g;
-            g.centre = vec3(f, d, 6);
-            for (int i = 0; i < 3; ++i) {
-                const Token st = f.lex.peek();
-                g.size[i] = real(f, d, 6);
-                keep = positive(g.size[i], st, "box size") && keep;
-            }
-            kind = "box with a zero side";
-            s.geometry = g;
-        } else if (n == "#shape_cylinder" || n == "#shape_cone") {
-            const bool cyl = n == "#shape_cylinder";
-            const Vec3 c = vec3(f, d, 5);
-            const Token rt = f.lex.peek();
-            const double r = real(f, d, 5);
-            const Token ht = f.lex.peek();
-            const double h = real(f, d, 5);
-            keep = positive(r, rt, cyl ? "cylinder radius" : "cone radius");
-            keep = positive(h, ht, cyl ? "cylinder height" : "cone height") && keep;
-            kind = cyl ? "cylinder with zero radius or height" : "cone with zero radius or height";
-            if (cyl)
-                s.geometry = Cylinder{c, r, h};
-            else
-                s.geometry = Cone{c, r, h};
-        } else if (n == "#shape_torus") {  // V3 only (the pre-scan refuses it elsewhere)
-            Torus g;                       // spec §13.7: m cx cy cz iRadius (tube) oRadius (ring)
-            g.centre = vec3(f, d, 6);
-            const Token tt = f.lex.peek();
-            g.tube = real(f, d, 6);
-            const Token rt = f.lex.peek();
-            g.ring = real(f, d, 6);
-            if (g.tube < 0) fail(f, tt, "negative torus radius " + fmt(g.tube));
-            if (g.ring < 0) fail(f, rt, "negative torus radius " + fmt(g.ring));
-            keep = g.tube > 0 && g.ring > 0;
-            kind = "torus with a zero radius";
-            if (g.tube > g.ring)
-                warn(s.loc, "torus-spindle",
-                     "spindle torus (iRadius " + fmt(g.tube) + " > oRadius " + fmt(g.ring) +
-                         "): only its outer surface exists");
-            s.geometry = g;
-        } else {
+        if (d.text == "#shape_triangle") {
             const TriangleDesc g = triangle_indices(f, d);
-            keep = !degenerate_triangle(f.defs(), g);
-            kind = "degenerate triangle";
             s.geometry = g;
+            if (!degenerate_triangle(f.defs(), g)) return true;
+            skip_shape(s.loc, "degenerate triangle");
+            return false;
         }
-        if (!keep) skip_shape(s.loc, kind);
-        return keep;
+        // #shape_<kind> of an analytic kind: its numbers as the kind lists them (shapes.h).
+        return visit_kind(*shape_directive_kind(d.text), [&](auto tag) {
+            return analytic_shape<typename decltype(tag)::type>(f, d, s);
+        });
+    }
+
+    // The numbers of one analytic shape: a negative size is an error at its number, a size of 0
+    // leaves the shape out with a warning (spec §3.3).
+    template <class T>
+    bool analytic_shape(FileState& f, const Token& d, ShapeDesc& s) {
+        using Desc = typename DescOf<T>::type;
+        if constexpr (std::is_same_v<Desc, TriangleDesc>) {
+            return false;  // primitive() reads triangles
+        } else {
+            struct Count {
+                int n = 0;
+                void point(Vec3&) { n += 3; }
+                void size(double&, const char*) { ++n; }
+            } count;
+            Desc g;
+            g.params(count);
+            struct Read {
+                Parser& p;
+                FileState& f;
+                const Token& d;
+                int count;
+                bool keep = true;
+                void point(Vec3& v) { v = p.vec3(f, d, count); }
+                void size(double& x, const char* what) {
+                    const Token t = f.lex.peek();
+                    x = p.real(f, d, count);
+                    if (x < 0) p.fail(f, t, std::string("negative ") + what + " " + fmt(x));
+                    keep = keep && x > 0;
+                }
+            } read{*this, f, d, count.n};
+            g.params(read);
+            if constexpr (requires { g.file_warning(); }) {
+                auto [kind, message] = g.file_warning();
+                if (!message.empty()) warn(s.loc, std::move(kind), std::move(message));
+            }
+            s.geometry = g;
+            if (!read.keep) skip_shape(s.loc, T::kEmpty);
+            return read.keep;
+        }
     }
 
     // ---- whole tree ----------------------------------------------------------------------

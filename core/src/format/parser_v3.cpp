@@ -1,8 +1,9 @@
 // The V3 directives (spec §13): the three-part file order, the camera, the three-colour and
 // sphere lights, #shader, and the shapes part: lists, #static_affine and #dynamic_affine,
-// #shape_triangles, the torus and the CSG nodes. The shapes part is read with an explicit stack
-// of open constructs (V3Frame), so its nesting costs no recursion; each finished construct is
-// handed to the one below it (v3_deliver). The definitions V3 shares with V1 are parser.cpp's.
+// #shape_triangles, the V3-only shape kinds and the CSG nodes. The shapes part is read with an
+// explicit stack of open constructs (V3Frame), so its nesting costs no recursion; each finished
+// construct is handed to the one below it (v3_deliver). The definitions V3 shares with V1 are
+// parser.cpp's.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -30,7 +31,7 @@ bool in(const std::array<std::string_view, N>& names, std::string_view n) {
     return std::find(names.begin(), names.end(), n) != names.end();
 }
 
-// #shape_<kind> of the analytic kinds (sphere, box, cylinder, cone, torus): the directives
+// #shape_<kind> of the analytic kinds (every kind but the triangle): the directives
 // primitive() reads.
 bool is_analytic_shape(std::string_view n) {
     const std::optional<ShapeKind> kind = shape_directive_kind(n);

@@ -93,8 +93,8 @@ private:
                     using T = std::decay_t<decltype(geo)>;
                     if constexpr (kV3OnlyShape<T>)
                         throw SceneError(s.loc, std::string("a ") + T::kName +
-                                                    " cannot be written in V0 or V1 (" +
-                                                    directive_of(geo) + " is V3 only)");
+                                                    " cannot be written in V0 or V1 (#shape_" +
+                                                    T::kName + " is V3 only)");
                 },
                 s.geometry);
             shape(s);
@@ -378,28 +378,25 @@ private:
 
     // One shape directive with its material (V3 triangles: triangles()).
     void shape(const ShapeDesc& s) {
-        std::visit(
-            [&](const auto& geo) {
-                directive(directive_of(geo)), integer(s.material), params(geo);
-            },
-            s.geometry);
+        const std::string name =
+            std::string("#shape_") + shape_kind_name(static_cast<ShapeKind>(s.geometry.index()));
+        directive(name.c_str()), integer(s.material);
+        std::visit([&](const auto& geo) { params(geo); }, s.geometry);
         end();
     }
 
-    // One directive name and one parameter list per kind (spec §5, §13.7), in the file's order.
-    static const char* directive_of(const Sphere&) { return "#shape_sphere"; }
-    static const char* directive_of(const BoxDesc&) { return "#shape_box"; }
-    static const char* directive_of(const Cylinder&) { return "#shape_cylinder"; }
-    static const char* directive_of(const Cone&) { return "#shape_cone"; }
-    static const char* directive_of(const Torus&) { return "#shape_torus"; }
-    static const char* directive_of(const TriangleDesc&) { return "#shape_triangle"; }
-    void params(const Sphere& g) { vec(g.centre), num(g.radius); }
-    void params(const BoxDesc& g) { vec(g.centre), vec(g.size); }
-    void params(const Cylinder& g) { vec(g.centre), num(g.radius), num(g.height); }
-    void params(const Cone& g) { vec(g.centre), num(g.radius), num(g.height); }
-    void params(const Torus& g) { vec(g.centre), num(g.tube), num(g.ring); }
+    // The numbers of #shape_<kind> in the order the kind lists them (shapes.h).
     void params(const TriangleDesc& g) {
         for (int v : g.v) integer(v);
+    }
+    template <class Desc>
+    void params(Desc g) {
+        struct Put {
+            Writer& w;
+            void point(const Vec3& v) { w.vec(v); }
+            void size(double x, const char*) { w.num(x); }
+        } put{*this};
+        g.params(put);
     }
 
     const SceneDesc& m_desc;

@@ -4,6 +4,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <variant>
 
 #include "rt/render/render.h"
 #include "rt/render/sampler.h"
@@ -52,10 +56,20 @@ void explain_geometry(const GeometryFeatures& g, std::vector<PlanReason>& out) {
          std::to_string(g.csg_nodes) +
              " CSG node(s): a hit counts where every node above it keeps it (spec §13.8)",
          "no CSG node: every hit counts, no inside tests");
-    const size_t n_tori = g.prims[static_cast<int>(ShapeKind::Torus)];
-    line(n_tori > 0, "torus test",
-         std::to_string(n_tori) + " torus primitive(s): quartics solved (spec §13.7)",
-         "no torus: no quartic is solved");
+    // A kind with a test of its own per ray says so (kPlanNote, shapes.h).
+    [&]<size_t... I>(std::index_sequence<I...>) {
+        const auto note = [&](auto tag) {
+            using T = typename decltype(tag)::type;
+            if constexpr (requires { T::kPlanNote; }) {
+                const size_t n = g.prims[static_cast<int>(T::kKind)];
+                line(n > 0, (std::string(T::kName) + " test").c_str(),
+                     std::to_string(n) + " " + T::kName + " primitive(s): " + T::kPlanNote[0],
+                     std::string("no ") + T::kName + ": " + T::kPlanNote[1]);
+            }
+        };
+        (note(std::type_identity<std::variant_alternative_t<I, Shape>>{}), ...);
+    }
+    (std::make_index_sequence<kShapeKinds>{});
     const size_t n_triangles = g.prims[static_cast<int>(ShapeKind::Triangle)];
     line(n_triangles > 0, "triangle tests", std::to_string(n_triangles) + " triangle(s)",
          "no triangles: no triangle set-up per ray");

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <sstream>
 
 #include "common.h"
 
@@ -591,6 +592,14 @@ double csg_sign(const Torus& t, const Vec3& p_object) {
 
 double csg_epsilon(const Torus& t) {
     return kCsgTolerance * (glm::length(t.centre) + t.ring + t.tube);
+}
+
+std::pair<std::string, std::string> Torus::file_warning() const {
+    if (!(tube > ring)) return {};
+    std::ostringstream m;
+    m << "spindle torus (iRadius " << tube << " > oRadius " << ring
+      << "): only its outer surface exists";
+    return {"torus-spindle", m.str()};
 }
 
 }  // namespace rt

@@ -14,11 +14,11 @@ namespace rt {
 
 /// The top-level file of `desc` as .ray text in its dialect. Paths of textures and included files
 /// are written as resolved (absolute when `absolute_paths`), so the text can be saved anywhere.
-/// V0/V1: joints are written as groups with their frame-0 matrices; a V3-only feature (torus,
-/// CSG node, sphere light, a light with an ambient colour or diffuse != specular, #shader) is a
-/// SceneError naming it. V3 (spec §13): the global, local and shapes parts, key files and
-/// #dynamic_affine NAME for joints; every list the parser folds (scene_desc.h) is written so that
-/// it folds back the same way, an empty CSG operand as an empty #shape_list_begin/_end.
+/// V0/V1: joints are written as groups with their frame-0 matrices; a V3-only feature (a V3-only
+/// shape kind, CSG node, sphere light, a light with an ambient colour or diffuse != specular,
+/// #shader) is a SceneError naming it. V3 (spec §13): the global, local and shapes parts, key files
+/// and #dynamic_affine NAME for joints; every list the parser folds (scene_desc.h) is written so
+/// that it folds back the same way, an empty CSG operand as an empty #shape_list_begin/_end.
 std::string write_scene(const SceneDesc& desc, bool absolute_paths = true);
 /// The same text for saving at `saved_path`: texture and included file paths relative to its
 /// directory (where the parser looks first), so the saved scene and its files can move together.

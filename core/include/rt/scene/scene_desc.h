@@ -86,6 +86,11 @@ struct BoxDesc {
     Vec3 centre{0.0};
     Vec3 size{1.0};  // full side lengths
     bool operator==(const BoxDesc&) const = default;
+    template <class P>
+    void params(P& p) {  // as #shape_box lists them (shapes.h)
+        p.point(centre);
+        for (int i = 0; i < 3; ++i) p.size(size[i], "box size");
+    }
 };
 inline Box to_shape(const BoxDesc& b) { return {b.centre, 0.5 * b.size}; }
 template <class T>

@@ -5,16 +5,23 @@
 // tessellate (the viewer's preview mesh). One dispatch, visit_shape(), calls a function with the
 // concrete shape of a primitive; no call site switches on the kind.
 //
-// Adding a kind: its struct here (with kKind and kName), its enumerator in ShapeKind, its place
-// in Shape, the declarations of its functions, then its file, its parser directive and its
-// writer overload.
+// Each struct also says how its directive #shape_<kName> lists it (spec §3.3, §13.7): params()
+// visits its numbers in that order (p.point(v) for three, p.size(x, what) for one that is never
+// negative), which the format's reader and writer and the viewer's CSG preview follow, and
+// kEmpty names it when a size of 0 leaves it out.
+//
+// Adding a kind: its struct here (with kKind, kName, params and kEmpty), its enumerator in
+// ShapeKind, its place in Shape, the declarations of its functions, then its file and its line
+// in core/CMakeLists.txt.
 #pragma once
 
 #include <bit>
 #include <cassert>
 #include <cstdint>
+#include <string>
 #include <tuple>
 #include <type_traits>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -28,32 +35,53 @@ const char* shape_kind_name(ShapeKind k);
 struct Sphere {
     static constexpr ShapeKind kKind = ShapeKind::Sphere;
     static constexpr const char* kName = "sphere";
+    static constexpr const char* kEmpty = "sphere of radius 0";
     Vec3 centre{0.0};
     double radius = 1.0;
     bool operator==(const Sphere&) const = default;
+    template <class P>
+    void params(P& p) {
+        p.point(centre), p.size(radius, "sphere radius");
+    }
 };
 struct Box {
     static constexpr ShapeKind kKind = ShapeKind::Box;
     static constexpr const char* kName = "box";
+    static constexpr const char* kEmpty = "box with a zero side";
     Vec3 centre{0.0};
     Vec3 half{0.5};  // half side lengths (the file gives full lengths: BoxDesc)
     bool operator==(const Box&) const = default;
+    template <class P>
+    void params(P& p) {
+        p.point(centre);
+        for (int i = 0; i < 3; ++i) p.size(half[i], "box half side");
+    }
 };
 /// Axis along +y, from centre.y - height/2 to centre.y + height/2, closed by two caps.
 struct Cylinder {
     static constexpr ShapeKind kKind = ShapeKind::Cylinder;
     static constexpr const char* kName = "cylinder";
+    static constexpr const char* kEmpty = "cylinder with zero radius or height";
     Vec3 centre{0.0};
     double radius = 1.0, height = 1.0;
     bool operator==(const Cylinder&) const = default;
+    template <class P>
+    void params(P& p) {
+        p.point(centre), p.size(radius, "cylinder radius"), p.size(height, "cylinder height");
+    }
 };
 /// Axis along +y: base disc (closed) at centre.y - height/2, apex at centre.y + height/2.
 struct Cone {
     static constexpr ShapeKind kKind = ShapeKind::Cone;
     static constexpr const char* kName = "cone";
+    static constexpr const char* kEmpty = "cone with zero radius or height";
     Vec3 centre{0.0};
     double radius = 1.0, height = 1.0;
     bool operator==(const Cone&) const = default;
+    template <class P>
+    void params(P& p) {
+        p.point(centre), p.size(radius, "cone radius"), p.size(height, "cone height");
+    }
 };
 struct Triangle {
     static constexpr ShapeKind kKind = ShapeKind::Triangle;
@@ -67,9 +95,20 @@ struct Torus {
     static constexpr ShapeKind kKind = ShapeKind::Torus;
     static constexpr const char* kName = "torus";
     static constexpr bool kV3Only = true;  // #shape_torus exists in V3 only (spec §13.5)
+    static constexpr const char* kEmpty = "torus with a zero radius";
+    /// What the render plan says of a scene with and without tori (its own test per ray).
+    static constexpr const char* kPlanNote[2] = {"quartics solved (spec §13.7)",
+                                                 "no quartic is solved"};
     Vec3 centre{0.0};
     double tube = 0.25, ring = 1.0;  // r (iRadius, minor) and R (oRadius, major)
     bool operator==(const Torus&) const = default;
+    template <class P>
+    void params(P& p) {  // m cx cy cz iRadius (tube) oRadius (ring)
+        p.point(centre), p.size(tube, "torus radius"), p.size(ring, "torus radius");
+    }
+    /// The reader's warning for a torus that is read as written but may not be what was meant
+    /// (a spindle torus): its kind and text, or two empty strings.
+    std::pair<std::string, std::string> file_warning() const;
 };
 
 /// The closed set of shapes, in ShapeKind order: the one list the dispatch, the per-kind arrays
