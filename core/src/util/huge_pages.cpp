@@ -52,7 +52,7 @@ void huge_page_free(void* p, std::size_t bytes, std::size_t align) noexcept {
         return;
     }
 #endif
-    ::operator delete (p, std::align_val_t{align});
+    ::operator delete (p, bytes, std::align_val_t{align});
 }
 
 }  // namespace rt
