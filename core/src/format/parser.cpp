@@ -415,33 +415,52 @@ private:
 
     void graph(FileState& f) { f.graph_started = true; }
 
+    // The V0/V1 directives (spec §3, §4), each with what reads it, the mesh directives first;
+    // then #shape_<kind> of every kind that is not V3 only (shapes.h).
     void directive(FileState& f, const Token& d) {
-        const std::string_view n = d.text;
-        // The directives of large meshes first.
-        if (n == "#vertex") return vertex(f, d);
-        if (n == "#shape_triangle") return shape(f, d);
-        if (n == "#camera") return camera(f, d);
-        if (n == "#background" || n == "#ambient") return global_colour(f, d);
-        if (n == "#light_num") return definition(f, d), declare_count(f, d, kLights);
-        if (n == "#light_dir" || n == "#light_point" || n == "#light_spot") return light(f, d);
-        if (n == "#texture_num") return definition(f, d), declare_count(f, d, kTextures);
-        if (n == "#texture") return texture(f, d);
-        if (n == "#material_num") return definition(f, d), declare_count(f, d, kMaterials);
-        if (n == "#material") return material(f, d);
-        if (n == "#vertex_num") return definition(f, d), declare_count(f, d, kVertices);
-        if (n == "#ray_file_num") return definition(f, d), declare_count(f, d, kRayFiles);
-        if (n == "#ray_file") return ray_file(f, d);
-        if (n == "#key_file_num") return definition(f, d), declare_count(f, d, kKeyFiles);
-        if (n == "#key_file") return key_file(f, d);
-        if (n == "#group_begin") return group_begin(f, d);
-        if (n == "#group_end") return group_end(f, d, false);
-        if (n == "#joint_begin") return joint_begin(f, d);
-        if (n == "#joint_end") return group_end(f, d, true);
-        if (n == "#ray_file_instance") return instance(f, d);
-        if (n == "#shape_sphere" || n == "#shape_box" || n == "#shape_cylinder" ||
-            n == "#shape_cone" || n == "#shape_triangle")
+        using Read = void (Parser::*)(FileState&, const Token&);
+        struct V1Directive {
+            std::string_view name;
+            Read read;
+        };
+        static constexpr std::array<V1Directive, 23> kV1Directives = {{
+            {"#vertex", &Parser::vertex},
+            {"#shape_triangle", &Parser::shape},
+            {"#camera", &Parser::camera},
+            {"#background", &Parser::global_colour},
+            {"#ambient", &Parser::global_colour},
+            {"#light_num", &Parser::count<kLights>},
+            {"#light_dir", &Parser::light},
+            {"#light_point", &Parser::light},
+            {"#light_spot", &Parser::light},
+            {"#texture_num", &Parser::count<kTextures>},
+            {"#texture", &Parser::texture},
+            {"#material_num", &Parser::count<kMaterials>},
+            {"#material", &Parser::material},
+            {"#vertex_num", &Parser::count<kVertices>},
+            {"#ray_file_num", &Parser::count<kRayFiles>},
+            {"#ray_file", &Parser::ray_file},
+            {"#key_file_num", &Parser::count<kKeyFiles>},
+            {"#key_file", &Parser::key_file},
+            {"#group_begin", &Parser::group_begin},
+            {"#group_end", &Parser::group_end},
+            {"#joint_begin", &Parser::joint_begin},
+            {"#joint_end", &Parser::joint_end},
+            {"#ray_file_instance", &Parser::instance},
+        }};
+        for (const V1Directive& e : kV1Directives)
+            if (e.name == d.text) return (this->*e.read)(f, d);
+        const std::optional<ShapeKind> kind = shape_directive_kind(d.text);
+        if (kind &&
+            !visit_kind(*kind, [](auto tag) { return kV3OnlyShape<typename decltype(tag)::type>; }))
             return shape(f, d);
-        fail(f, d, "unknown directive " + quote(n));
+        fail(f, d, "unknown directive " + quote(d.text));
+    }
+
+    template <CountKind K>
+    void count(FileState& f, const Token& d) {
+        definition(f, d);
+        declare_count(f, d, K);
     }
 
     // ---- definitions ---------------------------------------------------------------------
@@ -790,7 +809,10 @@ private:
         f.stack_is_joint.push_back(1);
     }
 
-    void group_end(FileState& f, const Token& d, bool joint) {
+    void group_end(FileState& f, const Token& d) { end_group(f, d, false); }
+    void joint_end(FileState& f, const Token& d) { end_group(f, d, true); }
+
+    void end_group(FileState& f, const Token& d, bool joint) {
         graph(f);
         if (f.stack.size() <= 1 || (f.stack_is_joint.back() != 0) != joint) {
             if (f.stack.size() > 1)
