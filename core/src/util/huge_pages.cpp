@@ -44,7 +44,7 @@ void* huge_page_allocate(std::size_t bytes, std::size_t align) {
     return ::operator new (bytes, std::align_val_t{align});
 }
 
-void huge_page_free(void* p, std::size_t bytes, std::size_t align) noexcept {
+void huge_page_free(void* p, [[maybe_unused]] std::size_t bytes, std::size_t align) noexcept {
     if (!p) return;
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     if (bytes >= kHugePage) {
@@ -52,7 +52,7 @@ void huge_page_free(void* p, std::size_t bytes, std::size_t align) noexcept {
         return;
     }
 #endif
-    ::operator delete (p, bytes, std::align_val_t{align});
+    ::operator delete (p, std::align_val_t{align});
 }
 
 }  // namespace rt
