@@ -601,10 +601,20 @@ private:
     void material(FileState& f, const Token& d) override {
         definition(f, d);
         count_item(f, d, kMaterials);
-        // Numbers up to the !…! string; their count decides the dialect (spec §10).
+        const MaterialWords w = material_words(f, d);
+        f.desc.materials.push_back(material_of(f, d, w));
+    }
+
+    // The syntax of #material (spec §3.1, §10): numbers up to the !…! string, whose count is
+    // 16 (V0) or 18 (V1, V3).
+    struct MaterialWords {
         std::array<double, 18> v{};
         std::array<Token, 18> tok{};
         int n = 0;
+        Token name;  // the !…! string
+    };
+    MaterialWords material_words(FileState& f, const Token& d) {
+        MaterialWords w;
         Token t = f.lex.next();
         for (; t.kind == TokenKind::Word; t = f.lex.next()) {
             double x = 0.0;
@@ -613,29 +623,37 @@ private:
                 if (non_finite) fail(f, t, "non-finite number " + quote(t.text));
                 fail(f, t, "expected a number in #material, got " + quote(t.text));
             }
-            if (n < 18) {
-                v[static_cast<size_t>(n)] = x;
-                tok[static_cast<size_t>(n)] = t;
+            if (w.n < 18) {
+                w.v[static_cast<size_t>(w.n)] = x;
+                w.tok[static_cast<size_t>(w.n)] = t;
             }
-            ++n;
+            ++w.n;
         }
-        if (t.kind != TokenKind::String || (n != 16 && n != 18)) {
-            if (t.kind != TokenKind::String && (n == 16 || n == 18))
+        if (t.kind != TokenKind::String || (w.n != 16 && w.n != 18)) {
+            if (t.kind != TokenKind::String && (w.n == 16 || w.n == 18))
                 fail(arg_loc(f, d, t),
                      "#material needs its !…! string after the numbers, got " + describe(t));
             fail(f, d,
                  "#material needs 16 (V0) or 18 (V1) numbers before its !…! string, got " +
-                     std::to_string(n));
+                     std::to_string(w.n));
         }
-        const Dialect dialect = n == 16 ? Dialect::V0 : Dialect::V1;
+        w.name = t;
+        return w;
+    }
+
+    // What the numbers mean in the tree's dialect: the colours and terms by position, each
+    // checked, and the texture index, whose range is checked at the end of the file.
+    MaterialDesc material_of(FileState& f, const Token& d, const MaterialWords& w) {
+        const Dialect dialect = w.n == 16 ? Dialect::V0 : Dialect::V1;
         if (dialect != (m_dialect == Dialect::V3 ? Dialect::V1 : m_dialect))  // pre-scan first
             fail(f, d,
-                 "#material has " + std::to_string(n) + " numbers in a " + dialect_name(m_dialect) +
-                     " scene");
-
+                 "#material has " + std::to_string(w.n) + " numbers in a " +
+                     dialect_name(m_dialect) + " scene");
         MaterialDesc m;
         m.loc = f.lex.loc(d);
-        m.name = std::string(t.text.substr(1, t.text.size() - 2));
+        m.name = std::string(w.name.text.substr(1, w.name.text.size() - 2));
+        const auto& v = w.v;
+        const auto& tok = w.tok;
         auto rgb = [&](int i, const char* what) {
             const Vec3 c(v[static_cast<size_t>(i)], v[static_cast<size_t>(i) + 1],
                          v[static_cast<size_t>(i) + 2]);
@@ -688,7 +706,7 @@ private:
         // Definitions may come in any order: the range is checked at the end of the file.
         m.texture = ti;
         f.texture_refs.push_back({f.lex.loc(tt), ti});
-        f.desc.materials.push_back(std::move(m));
+        return m;
     }
 
     void vertex(FileState& f, const Token& d) override {
