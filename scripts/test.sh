@@ -47,8 +47,8 @@ export ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 if tests/fuzz/run.sh check 2>/dev/null; then
     RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" \
-        RT_FUZZ_TARGETS="rt_tests rt_app_tests rt_viewer_tests raytrace raymerge imgdiff rayview
-            raycompare" \
+        RT_FUZZ_TARGETS="rt_tests rt_parse_thread_tests rt_app_tests rt_viewer_tests raytrace
+            raymerge imgdiff rayview raycompare" \
         tests/fuzz/run.sh build
     fuzz=1
 else
@@ -56,8 +56,8 @@ else
         -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON \
         -DRT_SANITIZE="address;undefined;float-cast-overflow" -DRT_BUILD_BENCH=OFF \
         -DRT_GL_TESTS=OFF -DCMAKE_UNITY_BUILD=ON >/dev/null
-    cmake --build build-san -j"$jobs" --target rt_tests rt_app_tests rt_viewer_tests raytrace \
-        raymerge imgdiff rayview raycompare fuzz_replay
+    cmake --build build-san -j"$jobs" --target rt_tests rt_parse_thread_tests rt_app_tests \
+        rt_viewer_tests raytrace raymerge imgdiff rayview raycompare fuzz_replay
     fuzz=0
 fi
 took "building build-san/"
