@@ -252,11 +252,41 @@ bool run_compare(const ScriptLine& l, ViewerState& v, int frame) {
     return true;
 }
 
-}  // namespace
+// material I emissive|ambient|diffuse|specular|transparent R G B | material I exponent E |
+// material I index N | material I texture T: the panel's material edits.
+void set_material(const ScriptLine& l, ViewerState& v) {
+    const size_t i = static_cast<size_t>(whole(l, 0, 0, 1 << 20));
+    if (i >= v.edits.materials.size() || l.args.size() < 3)
+        throw std::runtime_error("material: I WHAT VALUES... (the scene has " +
+                                 std::to_string(v.edits.materials.size()) + " materials)");
+    Material& m = v.edits.materials[i];
+    const std::string& what = l.args[1];
+    auto arg = [&](size_t k) { return number(l, k, -1e30, 1e30); };
+    Vec3* colour = what == "emissive"      ? &m.emissive
+                   : what == "ambient"     ? &m.ambient
+                   : what == "diffuse"     ? &m.diffuse
+                   : what == "specular"    ? &m.specular
+                   : what == "transparent" ? &m.transparent
+                                           : nullptr;
+    if (colour)
+        *colour = Vec3(arg(2), arg(3), arg(4));
+    else if (what == "exponent")
+        m.specular_exponent = arg(2);
+    else if (what == "index")
+        m.refractive_index = arg(2);
+    else if (what == "texture") {
+        // The file's texture index, as in its #material line; -1 for none.
+        const MaterialOrigin o = v.session.loaded->origin(i);
+        const int t = static_cast<int>(whole(l, 2, -1, o.textures - 1));
+        m.texture = t < 0 ? -1 : o.first_texture + t;
+    } else
+        throw std::runtime_error("material: cannot set " + what);
+    v.mark_edited();
+}
 
-void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
-    if (run_edit(l, v) || run_animation(l, v, m_frame) || run_compare(l, v, m_frame)) return;
-    ViewSettings& s = v.settings;
+// Files: open, open-background, reload, revert, save-scene, save-scene-all, save-image,
+// render-image, material.
+bool run_file(const ScriptLine& l, ViewerState& v) {
     const std::string& c = l.command;
     const std::string path = l.args.empty() ? "" : l.args[0];
     if (c == "open" && !path.empty()) {
@@ -264,35 +294,7 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
     } else if (c == "open-background" && !path.empty()) {
         v.open_in_background(path);
     } else if (c == "material") {
-        // material I emissive|ambient|diffuse|specular|transparent R G B | material I
-        // exponent E | material I index N | material I texture T: the panel's material edits.
-        const size_t i = static_cast<size_t>(whole(l, 0, 0, 1 << 20));
-        if (i >= v.edits.materials.size() || l.args.size() < 3)
-            throw std::runtime_error("material: I WHAT VALUES... (the scene has " +
-                                     std::to_string(v.edits.materials.size()) + " materials)");
-        Material& m = v.edits.materials[i];
-        const std::string& what = l.args[1];
-        auto arg = [&](size_t k) { return number(l, k, -1e30, 1e30); };
-        Vec3* colour = what == "emissive"      ? &m.emissive
-                       : what == "ambient"     ? &m.ambient
-                       : what == "diffuse"     ? &m.diffuse
-                       : what == "specular"    ? &m.specular
-                       : what == "transparent" ? &m.transparent
-                                               : nullptr;
-        if (colour)
-            *colour = Vec3(arg(2), arg(3), arg(4));
-        else if (what == "exponent")
-            m.specular_exponent = arg(2);
-        else if (what == "index")
-            m.refractive_index = arg(2);
-        else if (what == "texture") {
-            // The file's texture index, as in its #material line; -1 for none.
-            const MaterialOrigin o = v.session.loaded->origin(i);
-            const int t = static_cast<int>(whole(l, 2, -1, o.textures - 1));
-            m.texture = t < 0 ? -1 : o.first_texture + t;
-        } else
-            throw std::runtime_error("material: cannot set " + what);
-        v.mark_edited();
+        set_material(l, v);
     } else if (c == "reload") {
         v.reload();
     } else if (c == "revert") {
@@ -305,9 +307,21 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         v.save_trace(path);
     } else if (c == "render-image" && l.args.size() >= 4) {
         v.render_image(path, whole(l, 1, 1, 32768), whole(l, 2, 1, 32768), whole(l, 3, 1, 1 << 16));
-    } else if (c == "pick") {
+    } else {
+        return false;
+    }
+    return true;
+}
+
+// What the panes show and what was picked or inspected: pick, inspect, boxes, layout,
+// exposure, tonemap, help, markers, undo, redo, resolution, status.
+bool run_view(const ScriptLine& l, ViewerState& v, int frame) {
+    ViewSettings& s = v.settings;
+    const std::string& c = l.command;
+    const std::string path = l.args.empty() ? "" : l.args[0];
+    if (c == "pick") {
         v.pick(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
-        std::printf("rayview: frame %d: picked %s %s %s in %s\n", m_frame,
+        std::printf("rayview: frame %d: picked %s %s %s in %s\n", frame,
                     v.ui.selection.instance < 0 ? "nothing" : v.ui.selection.shape.c_str(),
                     v.ui.selection.material.c_str(), v.ui.selection.where.c_str(),
                     v.ui.selection.groups.c_str());
@@ -319,8 +333,8 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
         // The ray tree of the trace's pixel there, printed as raytrace --inspect prints it.
         v.inspect(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
         if (v.ui.inspect.tree)
-            std::printf("rayview: frame %d: inspected pixel %d,%d\n%s", m_frame,
-                        v.ui.inspect.tree->x, v.ui.inspect.tree->y, v.ui.inspect.text.c_str());
+            std::printf("rayview: frame %d: inspected pixel %d,%d\n%s", frame, v.ui.inspect.tree->x,
+                        v.ui.inspect.tree->y, v.ui.inspect.text.c_str());
     } else if (c == "boxes") {
         s.group_depth = whole(l, 0, 0, 8);
         s.box_depth = whole(l, 1, 0, 8);
@@ -348,8 +362,22 @@ void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
     } else if (c == "resolution") {
         s.resolution_scale = static_cast<float>(number(l, 0, 0.1, 1));
     } else if (c == "status") {
-        std::printf("rayview: frame %d: status: %s\n", m_frame, status_text(v).c_str());
-    } else if (c == "wait-compare") {
+        std::printf("rayview: frame %d: status: %s\n", frame, status_text(v).c_str());
+    } else {
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+void ScriptRun::run(const ScriptLine& l, ViewerState& v, int fb_w, int fb_h) {
+    if (run_edit(l, v) || run_animation(l, v, m_frame) || run_compare(l, v, m_frame) ||
+        run_file(l, v) || run_view(l, v, m_frame))
+        return;
+    const std::string& c = l.command;
+    const std::string path = l.args.empty() ? "" : l.args[0];
+    if (c == "wait-compare") {
         if (!v.ui.compare.active()) throw std::runtime_error("wait-compare: nothing compared");
         m_wait = Wait::Compare;
         m_wait_limit_s = l.args.empty() ? 120 : number(l, 0, 0.1, 3600);
