@@ -190,7 +190,15 @@ void Panes::show_compare(ViewerState& v, const PaneLayout& p, bool hovered) {
 }
 
 void Panes::draw(ViewerState& v) {
-    // The comparison pane's view: a new comparison, another view or display transform.
+    upload_compare(v);
+    upload_trace(v);
+    LoadedScene& loaded = *v.session.loaded;
+    upload_scene(v, loaded);
+    draw_preview(v, loaded);
+}
+
+// The comparison pane's view: a new comparison, another view or display transform.
+void Panes::upload_compare(const ViewerState& v) {
     const CompareView& c = v.ui.compare;
     if (c.active() &&
         (c.version != m_compare_version || c.show != m_compare_show ||
@@ -205,7 +213,10 @@ void Panes::draw(ViewerState& v) {
         m_compare_exposure = v.settings.exposure;
         m_compare_tonemap = v.settings.tonemap;
     }
-    // A new trace, or another exposure or tonemap of the last one (display only).
+}
+
+// A new trace, or another exposure or tonemap of the last one (display only).
+void Panes::upload_trace(ViewerState& v) {
     const bool new_trace = v.take_trace();
     if (new_trace || v.settings.exposure != m_shown_exposure ||
         v.settings.tonemap != m_shown_tonemap) {
@@ -217,7 +228,10 @@ void Panes::draw(ViewerState& v) {
         m_shown_exposure = v.settings.exposure;
         m_shown_tonemap = v.settings.tonemap;
     }
-    LoadedScene& loaded = *v.session.loaded;
+}
+
+// A scene opened (tessellated with it, off this thread), or its materials edited in the panel.
+void Panes::upload_scene(ViewerState& v, LoadedScene& loaded) {
     if (loaded.id != m_loaded_id) {  // tessellated with the scene, off this thread
         m_preview.load(loaded.scene, loaded.preview);
         loaded.preview = {};
@@ -232,6 +246,10 @@ void Panes::draw(ViewerState& v) {
         m_drawn_materials = loaded.shown.materials;
         v.ui.preview_stale = true;
     }
+}
+
+// The preview, its overlay lines and the inspected ray tree, redrawn when what they show changed.
+void Panes::draw_preview(ViewerState& v, const LoadedScene& loaded) {
     const ViewSettings& s = v.settings;
     const bool overlay_changed =
         s.show_lights != m_drawn_lights || s.box_depth != m_drawn_depth ||

@@ -56,6 +56,12 @@ public:
     const std::vector<std::string>& preview_defines() const { return m_preview.active_defines(); }
 
 private:
+    // The steps of draw().
+    void upload_compare(const ViewerState& v);
+    void upload_trace(ViewerState& v);
+    void upload_scene(ViewerState& v, LoadedScene& loaded);
+    void draw_preview(ViewerState& v, const LoadedScene& loaded);
+
     /// The comparison pane's toolbar, scale bar and the pixel under the mouse.
     void show_compare(ViewerState& v, const PaneLayout& p, bool hovered);
     Preview m_preview;
