@@ -5,19 +5,20 @@
 // test_mesh_runs.cpp and the scene fuzz target.
 #pragma once
 
-#include <cstdio>
 #include <functional>
 #include <string>
 
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
+#include "rt/util/charconv.h"
 
 namespace rt::both_ways {
 
+// A number as text that reads back the same (rt/util/charconv.h), then a space.
 inline std::string num(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.17g ", v);
-    return b;
+    char b[40];
+    const auto r = to_chars_shortest(b, b + sizeof b, v);
+    return std::string(b, r.ptr) + " ";
 }
 
 inline void dump_group(const GroupDesc& g, std::string& out) {

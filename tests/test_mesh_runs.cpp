@@ -156,6 +156,16 @@ TEST(MeshRuns, V3TriangleListsAndVerticesInPieces) {
               std::string::npos);
 }
 
+// Options that cut runs into pieces of `size` directives on `threads` threads and report to
+// `progress`.
+ParseOptions with_progress(unsigned threads, size_t size, ParseProgress* progress) {
+    ParseOptions options;
+    options.threads = threads;
+    options.piece = size;
+    options.progress = progress;
+    return options;
+}
+
 TEST(MeshRuns, ProgressCountsEveryByteOnce) {
     const fs::path dir = fs::temp_directory_path() / "rt_mesh_runs_progress";
     fs::create_directories(dir);
@@ -172,10 +182,7 @@ TEST(MeshRuns, ProgressCountsEveryByteOnce) {
     for (unsigned threads : {1u, 3u}) {
         SCOPED_TRACE(threads);
         ParseProgress progress;
-        ParseOptions options;
-        options.threads = threads;
-        options.piece = 100;
-        options.progress = &progress;
+        const ParseOptions options = with_progress(threads, 100, &progress);
         Diagnostics diag;
         const SceneDesc desc = parse_scene_file((dir / "top.ray").string(), diag, options);
         ASSERT_EQ(desc.files.size(), 2u);
@@ -190,10 +197,7 @@ TEST(MeshRuns, CancellingStopsTheParse) {
     for (unsigned threads : {1u, 2u}) {
         SCOPED_TRACE(threads);
         ParseProgress progress;
-        ParseOptions options;
-        options.threads = threads;
-        options.piece = 1000;
-        options.progress = &progress;
+        const ParseOptions options = with_progress(threads, 1000, &progress);
         std::string error;
         std::thread parse([&] {
             try {
@@ -212,9 +216,9 @@ TEST(MeshRuns, CancellingStopsTheParse) {
     // Cancelled before it starts: in the pre-scan.
     ParseProgress progress;
     progress.cancel = true;
-    ParseOptions options;
-    options.progress = &progress;
-    EXPECT_NE(string_outcome(text, options).find("error: loading cancelled"), std::string::npos);
+    EXPECT_NE(
+        string_outcome(text, with_progress(0, 16384, &progress)).find("error: loading cancelled"),
+        std::string::npos);
 }
 
 // Every scene of scenes/, ../shared/public-scenes and the scene fuzz corpus and crashers, with
