@@ -69,6 +69,11 @@ void ParserBase::count_text(size_t bytes) const {
     if (m_options.progress) m_options.progress->total.fetch_add(bytes, std::memory_order_relaxed);
 }
 
+unsigned ParserBase::parse_threads() const {
+    if (!have_threads()) return 1;
+    return m_options.threads ? m_options.threads : hardware_threads();
+}
+
 Token ParserBase::walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop) {
     for (unsigned n = 1; t.kind != TokenKind::End; ++n) {
         if (t.kind == TokenKind::Directive && f.lex.offset(t) >= bound) break;
@@ -90,8 +95,7 @@ void ParserBase::walk_file(FileState& f) {
     const auto sizes = m_sizes.find(f.desc.canonical_path);
     const std::vector<MeshRun>* runs = sizes != m_sizes.end() ? &sizes->second.runs : nullptr;
     size_t next = 0;
-    const unsigned threads = m_options.threads ? m_options.threads : hardware_threads();
-    if (threads < 2 || !have_threads()) runs = nullptr;
+    if (parse_threads() < 2) runs = nullptr;
     Token t = f.lex.next();
     while (t.kind != TokenKind::End) {
         const size_t bound = runs && next < runs->size() ? (*runs)[next].marks[0].offset : SIZE_MAX;
@@ -108,9 +112,8 @@ Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run
     // The first directive on its own settles the file's state the pieces start from (the graph
     // started, the part of a V3 file); an error there is the run's first.
     dispatch(f, first);
-    const unsigned threads = m_options.threads ? m_options.threads : hardware_threads();
     const size_t marks = run.marks.size();
-    const size_t parts = std::min<size_t>(threads, marks);
+    const size_t parts = std::min<size_t>(parse_threads(), marks);
     const auto start = [&](size_t p) -> const MeshRun::Mark& {
         return run.marks[p * marks / parts];
     };
