@@ -25,12 +25,12 @@ LoadResult load_scene(const LoadRequest& request, ParseProgress* progress) {
         ParseOptions options;
         options.missing_textures = request.missing;
         options.dialect = request.dialect;
+        options.progress = progress;
         try {
-            options.progress = progress;
             s->desc = parse_scene_file(path, diag, options);
-            options.progress = nullptr;
         } catch (const SceneError&) {
-            // Would checker stand-ins open it? Then the textures were all that failed.
+            // Would checker stand-ins open it? Then the textures were all that failed (a parse
+            // the progress bar does not count).
             options.progress = nullptr;
             if (request.missing == MissingTextures::Error && !(progress && progress->cancel)) {
                 Diagnostics quiet;

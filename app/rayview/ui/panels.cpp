@@ -202,6 +202,29 @@ std::vector<std::string> sample_scenes(const std::string& dir) {
     return out;
 }
 
+namespace {
+
+// The load under way: its file and time, a bar of the megabytes parsed of those read (then the
+// compile, which has no count), and Cancel.
+void loading_line(ViewerState& v) {
+    const char spinner[] = "|/-\\";
+    const auto [done, total] = v.jobs.loader.bytes();
+    ImGui::Text("%c loading %s (%.1f s)",
+                spinner[static_cast<int>(v.jobs.loader.seconds() * 8) % 4],
+                v.jobs.loader.path().c_str(), v.jobs.loader.seconds());
+    char label[64];
+    if (total > 0 && done >= total)
+        std::snprintf(label, sizeof label, "compiling");
+    else
+        std::snprintf(label, sizeof label, "%.1f of %.1f MB parsed", done / 1e6, total / 1e6);
+    ImGui::ProgressBar(total > 0 ? static_cast<float>(static_cast<double>(done) / total) : 0.f,
+                       ImVec2(ImGui::GetFontSize() * 16, 0), label);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Cancel")) v.cancel_loading();
+}
+
+}  // namespace
+
 bool file_panel(ViewerState& v, PanelState& ui) {
     if (v.session.loaded && v.session.loaded->id != ui.path_for) {  // a file opened: show its path
         std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
@@ -239,23 +262,7 @@ bool file_panel(ViewerState& v, PanelState& ui) {
     if (ImGui::Button("Reload") && v.session.loaded) opened |= v.reload();
     ImGui::SameLine();
     ImGui::TextDisabled("(or drop a .ray file)");
-    if (v.jobs.loader.busy()) {
-        const char spinner[] = "|/-\\";
-        const auto [done, total] = v.jobs.loader.bytes();
-        ImGui::Text("%c loading %s (%.1f s)",
-                    spinner[static_cast<int>(v.jobs.loader.seconds() * 8) % 4],
-                    v.jobs.loader.path().c_str(), v.jobs.loader.seconds());
-        // The bytes parsed of those read; then the compile, which has no count.
-        char label[64];
-        if (total > 0 && done >= total)
-            std::snprintf(label, sizeof label, "compiling");
-        else
-            std::snprintf(label, sizeof label, "%.1f of %.1f MB parsed", done / 1e6, total / 1e6);
-        ImGui::ProgressBar(total > 0 ? static_cast<float>(static_cast<double>(done) / total) : 0.f,
-                           ImVec2(ImGui::GetFontSize() * 16, 0), label);
-        ImGui::SameLine();
-        if (ImGui::SmallButton("Cancel")) v.cancel_loading();
-    }
+    if (v.jobs.loader.busy()) loading_line(v);
     const size_t first = v.session.loaded ? 1 : 0;  // the open file is recent[0]
     if (v.session.recent.size() > first && ImGui::CollapsingHeader("recent files")) {
         for (size_t i = first; i < v.session.recent.size(); ++i)
