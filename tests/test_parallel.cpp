@@ -1,13 +1,18 @@
 // The render loop's tiles over threads (src/render/parallel.h): every tile once, and the
-// helper pool of the web page's threads build, which never waits for a helper to start.
+// helper pool of the web page's threads build, which never waits for a helper to start. The
+// compile's ranges over threads (rt/util/threads.h).
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
+#include <mutex>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "render/parallel.h"
+#include "rt/util/threads.h"
 
 namespace rt {
 namespace {
@@ -62,6 +67,49 @@ TEST(Parallel, TheHelperPoolSharesTilesBetweenConcurrentCalls) {
     other.join();
     EXPECT_EQ(a, 200);
     EXPECT_EQ(b, 200);
+}
+
+// Consecutive ranges that cover [0, n) once, none shorter than the grain, no more than the
+// threads asked for.
+TEST(Parallel, RangesCoverEveryIndexOnce) {
+    for (const size_t n : {0, 1, 99, 100, 1001}) {
+        for (const unsigned threads : {1u, 2u, 7u}) {
+            std::mutex mutex;
+            std::vector<std::pair<size_t, size_t>> ranges;
+            std::vector<std::atomic<int>> done(n);
+            parallel_ranges(
+                n, 100,
+                [&](size_t begin, size_t end) {
+                    for (size_t i = begin; i < end; ++i) ++done[i];
+                    const std::lock_guard lock(mutex);
+                    ranges.emplace_back(begin, end);
+                },
+                threads);
+            for (const auto& d : done) EXPECT_EQ(d.load(), 1) << n << " items, " << threads;
+            EXPECT_LE(ranges.size(), std::max<size_t>(1, std::min<size_t>(threads, n / 100)));
+            if (ranges.size() > 1) {
+                for (const auto& [begin, end] : ranges) EXPECT_GE(end - begin, 100u);
+            }
+        }
+    }
+}
+
+// When several ranges throw, the error is the one of the lowest range: the first a loop in order
+// would meet.
+TEST(Parallel, RangesRethrowTheFirstErrorInOrder) {
+    for (int run = 0; run < 20; ++run) {
+        try {
+            parallel_ranges(
+                4000, 1000,
+                [](size_t begin, size_t) {
+                    if (begin > 0) throw std::runtime_error("range at " + std::to_string(begin));
+                },
+                4);
+            FAIL() << "nothing thrown";
+        } catch (const std::runtime_error& e) {
+            EXPECT_STREQ(e.what(), "range at 1000");
+        }
+    }
 }
 
 }  // namespace
