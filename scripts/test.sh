@@ -6,7 +6,8 @@
 # scripted events) again under AddressSanitizer and UndefinedBehaviorSanitizer (build-san/, any
 # finding fails, no GL tests), then 30 s of fuzzing each fuzz target (the parser and compiler,
 # the image decoders, key files, part files; tests/fuzz/run.sh) in that same tree, then the
-# viewer's tests (the trace restarted 1000 times with edits) under ThreadSanitizer (build-tsan/).
+# viewer's tests (the trace restarted 1000 times with edits) and the load's threads under
+# ThreadSanitizer (build-tsan/).
 # With clang and libFuzzer the sanitizer tree is clang's (it also builds the fuzz targets);
 # without them it is GCC's and fuzzing is skipped with a message. RT_QUICK=1 stops after the
 # first part.
@@ -47,7 +48,7 @@ export ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 if tests/fuzz/run.sh check 2>/dev/null; then
     RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" \
-        RT_FUZZ_TARGETS="rt_tests rt_parse_thread_tests rt_app_tests rt_viewer_tests raytrace
+        RT_FUZZ_TARGETS="rt_tests rt_load_thread_tests rt_app_tests rt_viewer_tests raytrace
             raymerge imgdiff rayview raycompare" \
         tests/fuzz/run.sh build
     fuzz=1
@@ -56,7 +57,7 @@ else
         -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON \
         -DRT_SANITIZE="address;undefined;float-cast-overflow" -DRT_BUILD_BENCH=OFF \
         -DRT_GL_TESTS=OFF -DCMAKE_UNITY_BUILD=ON >/dev/null
-    cmake --build build-san -j"$jobs" --target rt_tests rt_parse_thread_tests rt_app_tests \
+    cmake --build build-san -j"$jobs" --target rt_tests rt_load_thread_tests rt_app_tests \
         rt_viewer_tests raytrace raymerge imgdiff rayview raycompare fuzz_replay
     fuzz=0
 fi
@@ -83,7 +84,7 @@ else
 fi
 
 # ThreadSanitizer: the viewer's state and its trace threads (no GL; Mesa is not loaded), and the
-# parse of mesh runs on several threads. The sanitizer trees are unity builds (CMAKE_UNITY_BUILD:
+# load on several threads (the parse of mesh runs, the compile's loops). The sanitizer trees are unity builds (CMAKE_UNITY_BUILD:
 # a few files compiled as one), which build in about half the time (TSan 149 -> 84 s, ASan ~490
 # -> 373 s on 2 cores).
 echo "test: ThreadSanitizer (build-tsan/)" >&2
@@ -92,7 +93,7 @@ echo "test: ThreadSanitizer (build-tsan/)" >&2
 cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRT_WERROR=ON -DRT_SANITIZE=thread \
     -DRT_BUILD_BENCH=OFF -DRT_GL_TESTS=OFF -DRT_WIDE_KERNELS=OFF -DCMAKE_UNITY_BUILD=ON >/dev/null
-cmake --build build-tsan -j"$jobs" --target rt_viewer_tests rt_parse_thread_tests
+cmake --build build-tsan -j"$jobs" --target rt_viewer_tests rt_load_thread_tests
 took "building build-tsan/"
 if [ -n "$fuzz_pid" ]; then
     status=0
@@ -108,5 +109,5 @@ if [ -n "$fuzz_pid" ]; then
     took "waiting for the fuzzing"
 fi
 TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1" \
-    ctest --test-dir build-tsan --output-on-failure -j"$jobs" -R "^(Viewer|Tracer|MeshRuns)\."
+    ctest --test-dir build-tsan --output-on-failure -j"$jobs" -R "^(Viewer|Tracer|MeshRuns|CompileThreads)\."
 took "the tests in build-tsan/"

@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 #include <tuple>
 #include <type_traits>
@@ -16,12 +17,17 @@
 
 #include "compile/placement.h"
 #include "rt/util/isa.h"
+#include "rt/util/threads.h"
 
 namespace rt {
 
 namespace {
 
 using compile_detail::combine_csg_bounds;
+
+// The fewest primitives (or vertices, or blocks) a thread of the compile takes: below this the
+// start of a thread costs more than it saves.
+constexpr size_t kGrain = 16384;
 using compile_detail::within_limits;
 
 class Compiler {
@@ -193,22 +199,8 @@ private:
             return -1;
         }
         // The build's input: each primitive's bounds in float (32 bytes), and their union.
-        HugePageVector<PrimRef> refs;
-        refs.reserve(pending.size());
-        Bounds3 set_bounds;
-        for (const Pending& p : pending) {
-            const uint32_t id = static_cast<uint32_t>(refs.size());
-            const Bounds3 b =
-                p.csg >= 0  // its leaves were checked when it was compiled
-                    ? set.csg.nodes[set.csg.roots[static_cast<size_t>(p.csg)].node].bounds
-                    : shape_bounds(set, fi, p);
-            if (p.csg < 0 && !within_limits(b))
-                throw SceneError(p.shape->loc,
-                                 "shape reaches beyond +-1e300 in its file's frame "
-                                 "(coordinates too large for the renderer)");
-            refs.push_back(make_prim_ref(b, id));
-            set_bounds.extend(b);
-        }
+        HugePageVector<PrimRef> refs(pending.size());
+        const Bounds3 set_bounds = prim_refs(set, fi, pending, refs);
 
         set.layout = layout_of(pending);
         const auto t0 = std::chrono::steady_clock::now();
@@ -228,18 +220,50 @@ private:
             locs = &m_report.prim_locs.back();
             locs->reserve(pending.size());
         }
+        // In the BVH's order, the vertices' data copied afterwards on all cores (the set's
+        // vertices are numbered in the order the triangles meet them).
+        m_defer_vertices = true;
         for (uint32_t old : set.bvh.indices) {
             add_shape(set, fi, pending[old]);
             if (locs) locs->push_back(pending[old].loc ? *pending[old].loc : SourceLoc{});
         }
+        m_defer_vertices = false;
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
         HugePageVector<Pending>().swap(pending);  // freed before the packed copy is made
         std::vector<uint32_t>().swap(m_vertex_of);
+        copy_deferred_vertices(set);
         pack_triangles(set);
         const int index = static_cast<int>(m_scene.sets.size());
         m_set_of_root[item.root] = index;
         m_scene.sets.push_back(std::move(set));
         return index;
+    }
+
+    // Each pending shape's reference for the build (refs[i] for pending[i]) and their union, on
+    // all cores; the first shape in order that reaches too far is the error.
+    Bounds3 prim_refs(const GeometrySet& set, size_t fi, const HugePageVector<Pending>& pending,
+                      HugePageVector<PrimRef>& refs) const {
+        Bounds3 all;
+        std::mutex mutex;
+        parallel_ranges(pending.size(), kGrain, [&](size_t begin, size_t end) {
+            Bounds3 part;
+            for (size_t i = begin; i < end; ++i) {
+                const Pending& p = pending[i];
+                const Bounds3 b =
+                    p.csg >= 0  // its leaves were checked when it was compiled
+                        ? set.csg.nodes[set.csg.roots[static_cast<size_t>(p.csg)].node].bounds
+                        : shape_bounds(set, fi, p);
+                if (p.csg < 0 && !within_limits(b))
+                    throw SceneError(p.shape->loc,
+                                     "shape reaches beyond +-1e300 in its file's frame "
+                                     "(coordinates too large for the renderer)");
+                refs[i] = make_prim_ref(b, static_cast<uint32_t>(i));
+                part.extend(b);
+            }
+            const std::lock_guard lock(mutex);
+            all.extend(part);
+        });
+        return all;
     }
 
     // The walk of a set that holds only shapes of kind k; a kind without a walk of its own
@@ -278,18 +302,17 @@ private:
     // the centre of their bounds: float then resolves a mesh to its own size, not to its
     // distance from the origin (a mesh at 1e4 would otherwise snap to a grid of 1e-3).
     static void pack_triangles(GeometrySet& set) {
-        Bounds3 b;
-        for (const std::array<uint32_t, 3>& t : set.triangle_vertices)  // not a dropped tree's
-            for (const uint32_t v : t) b.extend(set.vertex_positions[v]);
-        set.tri_origin = b.empty() ? Vec3(0.0) : b.centre();
+        set.tri_origin = triangle_bounds_centre(set);
         auto put = [&](size_t i, Tri4& block, int lane) {
             const Triangle t = set.triangle(i);
             put_triangle(block, lane, t.p0, t.p1, t.p2, set.tri_origin);
         };
         if (set.layout != SetLayout::Triangles) {
             set.tri4.assign((set.triangle_count() + 3) / 4, Tri4{});
-            for (size_t i = 0; i < set.triangle_count(); ++i)
-                put(i, set.tri4[i / 4], static_cast<int>(i % 4));
+            parallel_ranges(set.tri4.size(), kGrain / 4, [&](size_t begin, size_t end) {
+                for (size_t i = begin * 4; i < std::min(end * 4, set.triangle_count()); ++i)
+                    put(i, set.tri4[i / 4], static_cast<int>(i % 4));
+            });
             return;
         }
         // Each leaf in blocks of its own, in the order of the nodes the closest-hit walk reads
@@ -299,36 +322,61 @@ private:
                 for (uint32_t c = 0; c < node.num_children; ++c)
                     if (node.child[c] & Bvh4Node::kLeaf) f(node.child[c]);
         };
-        size_t blocks = 0;
-        leaves(set.bvh.nodes,
-               [&](uint32_t& child) { blocks += (Bvh4Node::leaf_count(child) + 3) / 4; });
+        // The leaves in that order, each with its first block, then packed on all cores.
+        struct Leaf {
+            uint32_t* child;
+            uint32_t block;
+        };
+        std::vector<Leaf> order;
+        uint32_t blocks = 0;
+        const bool wide = !set.bvh.nodes8.empty();
+        auto number = [&](uint32_t& child) {
+            order.push_back({&child, blocks});
+            blocks += (Bvh4Node::leaf_count(child) + 3) / 4;
+        };
+        if (wide)
+            leaves(set.bvh.nodes8, number);
+        else
+            leaves(set.bvh.nodes, number);
         set.tri4.assign(blocks, Tri4{});
         set.tri4_prim.assign(blocks, {~0u, ~0u, ~0u, ~0u});
-        uint32_t next = 0;
-        const bool wide = !set.bvh.nodes8.empty();
         // A leaf's first block, by its first primitive.
         std::vector<uint32_t> block_of(wide ? set.triangle_count() : 0);
-        auto pack = [&](uint32_t& child) {
-            const uint32_t first = Bvh4Node::leaf_first(child);
-            const uint32_t count = Bvh4Node::leaf_count(child);
-            for (uint32_t k = 0; k < count; ++k) {
-                put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
-                set.tri4_prim[next + k / 4][k % 4] = first + k;
+        parallel_ranges(order.size(), kGrain / 4, [&](size_t begin, size_t end) {
+            for (size_t l = begin; l < end; ++l) {
+                uint32_t& child = *order[l].child;
+                const uint32_t first = Bvh4Node::leaf_first(child);
+                const uint32_t count = Bvh4Node::leaf_count(child);
+                const uint32_t next = order[l].block;
+                for (uint32_t k = 0; k < count; ++k) {
+                    put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
+                    set.tri4_prim[next + k / 4][k % 4] = first + k;
+                }
+                if (wide) block_of[first] = next;
+                child = Bvh4Node::leaf(next, count);
             }
-            if (wide) block_of[first] = next;
-            child = Bvh4Node::leaf(next, count);
-            next += (count + 3) / 4;
-        };
-        if (wide) {
-            leaves(set.bvh.nodes8, pack);
+        });
+        if (wide)
             leaves(set.bvh.nodes, [&](uint32_t& child) {
                 child = Bvh4Node::leaf(block_of[Bvh4Node::leaf_first(child)],
                                        Bvh4Node::leaf_count(child));
             });
-        } else {
-            leaves(set.bvh.nodes, pack);
-        }
         HugePageVector<uint32_t>().swap(set.bvh.indices);  // the leaves name blocks now
+    }
+
+    // The centre of the bounds of the set's triangles (not of a dropped CSG tree's), or 0.
+    static Vec3 triangle_bounds_centre(const GeometrySet& set) {
+        Bounds3 b;
+        std::mutex mutex;
+        parallel_ranges(set.triangle_count(), kGrain, [&](size_t begin, size_t end) {
+            Bounds3 part;
+            for (size_t i = begin; i < end; ++i)
+                for (const uint32_t v : set.triangle_vertices[i])
+                    part.extend(set.vertex_positions[v]);
+            const std::lock_guard lock(mutex);
+            b.extend(part);
+        });
+        return b.empty() ? Vec3(0.0) : b.centre();
     }
 
     static size_t count_shapes(const GroupDesc& root) {
@@ -606,19 +654,48 @@ private:
     // The index of a triangle corner in the set's vertex arrays (its position and normal in the
     // set's frame, its uv): a vertex of the file in the set's own frame once for all its
     // triangles (m_vertex_of), a transformed one for each corner.
+    // While m_defer_vertices is set only the vertex's number is given; its data waits in
+    // m_deferred for copy_deferred_vertices().
     uint32_t set_vertex(GeometrySet& set, const VertexDesc& v, size_t file_vertex,
                         const Transform* xf) {
         constexpr uint32_t kNone = ~0u;
         if (!xf && file_vertex < m_vertex_of.size() && m_vertex_of[file_vertex] != kNone)
             return m_vertex_of[file_vertex];
-        const uint32_t id = static_cast<uint32_t>(set.vertex_positions.size());
-        set.vertex_positions.push_back(xf ? xf->point(v.position) : v.position);
-        // Not renormalised: spec §5 normalises the interpolated sum
-        // (Transform::interpolable_normal).
-        set.vertex_normals.push_back(!xf ? v.normal : xf->interpolable_normal(v.normal));
-        set.vertex_uvs.push_back(v.uv);
+        const uint32_t id = static_cast<uint32_t>(set.vertex_positions.size() + m_deferred.size());
+        if (m_defer_vertices)
+            m_deferred.push_back({&v, xf});
+        else
+            put_vertex(set, id, v, xf);
         if (!xf && file_vertex < m_vertex_of.size()) m_vertex_of[file_vertex] = id;
         return id;
+    }
+
+    static void put_vertex(GeometrySet& set, uint32_t id, const VertexDesc& v,
+                           const Transform* xf) {
+        if (id == set.vertex_positions.size()) {
+            set.vertex_positions.emplace_back();
+            set.vertex_normals.emplace_back();
+            set.vertex_uvs.emplace_back();
+        }
+        set.vertex_positions[id] = xf ? xf->point(v.position) : v.position;
+        // Not renormalised: spec §5 normalises the interpolated sum
+        // (Transform::interpolable_normal).
+        set.vertex_normals[id] = !xf ? v.normal : xf->interpolable_normal(v.normal);
+        set.vertex_uvs[id] = v.uv;
+    }
+
+    // The deferred vertices' data, on all cores: the arrays grow once to their final size.
+    void copy_deferred_vertices(GeometrySet& set) {
+        const size_t first = set.vertex_positions.size(), n = m_deferred.size();
+        set.vertex_positions.resize(first + n);
+        set.vertex_normals.resize(first + n);
+        set.vertex_uvs.resize(first + n);
+        parallel_ranges(n, kGrain, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i)
+                put_vertex(set, static_cast<uint32_t>(first + i), *m_deferred[i].vertex,
+                           m_deferred[i].transform);
+        });
+        HugePageVector<DeferredVertex>().swap(m_deferred);
     }
 
     void fill_report() {
@@ -654,6 +731,12 @@ private:
     JointValues m_values;
     std::unordered_map<const GroupDesc*, int> m_set_of_root;  // -1: the root has no shapes
     std::vector<uint32_t> m_vertex_of;  // the set being compiled: file vertex -> set vertex
+    struct DeferredVertex {
+        const VertexDesc* vertex;
+        const Transform* transform;  // into the set's transforms, which no longer grow
+    };
+    bool m_defer_vertices = false;
+    HugePageVector<DeferredVertex> m_deferred;  // the set's vertices from number size() on
     std::vector<int> m_texture_offset, m_material_offset;
     int m_default_material = 0;
 };
