@@ -407,6 +407,34 @@ TEST(Csg, EmptyOperands) {
     EXPECT_TRUE(compile_scene(scene_of(none)).instances.empty());
 }
 
+// A CSG tree's triangles from two files, each numbering its own vertices from 0: the instanced
+// file's triangle has its own corners, not the top file's vertices of the same numbers.
+TEST(Csg, TrianglesOfAnInstancedFileKeepTheirOwnVertices) {
+    auto triangle_file = [](double z) {
+        FileDesc f;
+        f.vertices = {VertexDesc{{-1, -1, z}}, VertexDesc{{1, -1, z}}, VertexDesc{{0, 1, z}}};
+        f.root.shapes = {ShapeDesc{{}, 0, TriangleDesc{{0, 1, 2}}}};
+        return f;
+    };
+    SceneDesc d = scene_of(GroupDesc{});
+    FileDesc part = triangle_file(-5);
+    part.path = "part.ray";
+    part.materials = {material({0, 0, 1})};
+    d.files.push_back(part);
+    FileDesc& top = d.files[0];
+    top.vertices = triangle_file(0).vertices;
+    top.ray_files = {1};
+    GroupDesc inst;
+    inst.instances = {InstanceDesc{{}, 0}};
+    top.root.csgs = {csg(CsgOp::Union, {of(ShapeDesc{{}, 0, TriangleDesc{{0, 1, 2}}}), inst})};
+    const RenderScene s = compile_scene(d);
+    for (const double z : {0.0, -5.0}) {
+        const Probe p = probe(s, {0, 0, z - 0.5}, {0, 0, 1});
+        ASSERT_TRUE(p.hit) << "nothing at z = " << z;
+        EXPECT_NEAR(p.t, 0.5, 1e-12) << "the triangle at z = " << z;
+    }
+}
+
 // A tree dropped for having no surface takes its leaves' shapes back: here its triangle would
 // sit in front of the floor's in a triangles-only set, where prims[i] is triangles[i].
 TEST(Csg, ADroppedTreeLeavesNoShapesBehind) {

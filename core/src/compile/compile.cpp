@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <mutex>
 #include <numeric>
 #include <tuple>
@@ -190,6 +191,7 @@ private:
         if (auto it = m_set_of_root.find(item.root); it != m_set_of_root.end()) return it->second;
         GeometrySet set;
         set.name = m_desc.files[fi].path;
+        m_vertex_file = fi;
         m_vertex_of.assign(m_desc.files[fi].vertices.size(), ~0u);
         HugePageVector<Pending> pending;
         pending.reserve(count_shapes(*item.root));
@@ -646,14 +648,18 @@ private:
         std::array<uint32_t, 3> ids{};
         for (size_t i = 0; i < 3; ++i) {
             const size_t k = i == 0 || !pend.mirror ? i : 3 - i;  // as triangle_vertices orders
-            ids[i] = set_vertex(set, *v[i], static_cast<size_t>(td.v[k]), xf);
+            // Only the set's own file shares its vertices: a CSG operand's instance numbers
+            // another file's vertices from 0 too.
+            const size_t shared = fi == m_vertex_file ? static_cast<size_t>(td.v[k]) : SIZE_MAX;
+            ids[i] = set_vertex(set, *v[i], shared, xf);
         }
         set.triangle_vertices.push_back(ids);
     }
 
     // The index of a triangle corner in the set's vertex arrays (its position and normal in the
-    // set's frame, its uv): a vertex of the file in the set's own frame once for all its
-    // triangles (m_vertex_of), a transformed one for each corner.
+    // set's frame, its uv): a vertex of the set's file (file_vertex, or SIZE_MAX for another
+    // file's) in the set's own frame once for all its triangles (m_vertex_of), a transformed one
+    // for each corner.
     // While m_defer_vertices is set only the vertex's number is given; its data waits in
     // m_deferred for copy_deferred_vertices().
     uint32_t set_vertex(GeometrySet& set, const VertexDesc& v, size_t file_vertex,
@@ -730,7 +736,8 @@ private:
     Diagnostics* m_diag;
     JointValues m_values;
     std::unordered_map<const GroupDesc*, int> m_set_of_root;  // -1: the root has no shapes
-    std::vector<uint32_t> m_vertex_of;  // the set being compiled: file vertex -> set vertex
+    size_t m_vertex_file = 0;                                 // the file of the set being compiled
+    std::vector<uint32_t> m_vertex_of;                        // its vertex -> the set's vertex
     struct DeferredVertex {
         const VertexDesc* vertex;
         const Transform* transform;  // into the set's transforms, which no longer grow
