@@ -1,19 +1,20 @@
 // The walk over a file's directives, and the one place the parse uses more than one thread: a
 // long run of one mesh directive (#vertex, or #shape_triangle in one group or triangle list),
 // which the pre-scan found and marked (MeshRun), is cut at its marks into one piece per thread.
-// The calling thread parses the first piece into the file itself; each other piece is parsed by
-// the same directive code into a FileState of its own that starts from the file's state (its
-// counts, its part, its triangle list) and refers to the file's materials and vertices. The
-// pieces are then joined in file order: their warnings are handed on, and the first error in
-// file order is the one thrown, so the description, the warnings and the errors are those of the
+// The calling thread parses the first piece itself; each other piece is parsed by the same
+// directive code with a FileState of its own that starts from the file's state (its counts, its
+// part, its triangle list) and refers to the file's materials and vertices. Every piece writes
+// its vertices or shapes straight into its own range of the file's array. The pieces are then
+// joined in file order: their ranges closed up, their warnings handed on, and the first error in
+// file order thrown, so the description, the warnings and the errors are those of the
 // serial parse (ParseOptions::threads = 1), which the tests and the scene fuzz target compare.
 #include <algorithm>
 #include <atomic>
 #include <exception>
-#include <iterator>
 #include <memory>
 #include <system_error>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "format/parser_impl.h"
@@ -21,18 +22,15 @@
 
 namespace rt::parser_impl {
 
-namespace {
-
-template <class To, class From>
-void append(To& to, From& from) {
-    to.insert(to.end(), std::make_move_iterator(from.begin()), std::make_move_iterator(from.end()));
-}
+// Not an anonymous namespace: parse_pieces(), a member template, uses them.
+namespace run_pieces {
 
 // A piece of a run on another thread: its state, what it reports, and where it stopped.
 struct Piece {
     FileState state;
     PieceOutput out;
     size_t bound = 0;  // the offset of the next piece's first directive, or the run's end
+    size_t slot = 0;   // the place in the run's array of its first vertex or shape
     Token stop;        // the first directive at or after `bound`, or the end
     std::exception_ptr error;
 
@@ -52,7 +50,10 @@ struct Joiner {
     }
 };
 
-}  // namespace
+}  // namespace run_pieces
+
+using run_pieces::Joiner;
+using run_pieces::Piece;
 
 void ParserBase::count_progress(FileState& f, size_t offset) const {
     if (!m_options.progress || offset <= f.counted) return;
@@ -108,14 +109,49 @@ void ParserBase::walk_file(FileState& f) {
     count_progress(f, f.lex.text().size());
 }
 
+// The array a run adds to: the file's vertices, or the open group's (or triangle list's) shapes.
+HugePageVector<VertexDesc>& run_array(FileState& f, std::true_type) { return f.desc.vertices; }
+HugePageVector<ShapeDesc>& run_array(FileState& f, std::false_type) {
+    return f.v3.empty() ? f.stack.back()->shapes : f.v3.back().group.shapes;
+}
+FileState::Slots<VertexDesc>& run_slots(FileState& f, std::true_type) { return f.vertex_slots; }
+FileState::Slots<ShapeDesc>& run_slots(FileState& f, std::false_type) { return f.shape_slots; }
+
 Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run) {
     // The first directive on its own settles the file's state the pieces start from (the graph
     // started, the part of a V3 file); an error there is the run's first.
     dispatch(f, first);
+    return run.vertices ? parse_pieces(f, run, std::true_type{})
+                        : parse_pieces(f, run, std::false_type{});
+}
+
+// The run after its first directive, cut into pieces. Each piece writes into its own range of
+// the array (one place per directive), and the ranges are closed up afterwards where a piece
+// wrote fewer (a degenerate triangle skipped): no copy of the pieces' output is made.
+template <class IsVertices>
+Token ParserBase::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind) {
     const size_t marks = run.marks.size();
     const size_t parts = std::min<size_t>(parse_threads(), marks);
     const auto start = [&](size_t p) -> const MeshRun::Mark& {
         return run.marks[p * marks / parts];
+    };
+    auto& array = run_array(f, kind);
+    const size_t base = array.size();
+    // Room for directives 1 .. count - 1, its pages first touched on every thread: the kernel
+    // zeroes a fresh page when it is first written, which resize() would do on this one alone.
+    array.reserve(base + run.count - 1);
+    const size_t page = 4096, bytes = (run.count - 1) * sizeof(array[0]);
+    unsigned char* const room = reinterpret_cast<unsigned char*>(array.data() + base);
+    parallel_ranges(
+        bytes / page, 256,
+        [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) room[i * page] = 0;
+        },
+        static_cast<unsigned>(parts));
+    array.resize(base + run.count - 1);
+    const auto slots_of = [&](size_t from, size_t to) {
+        return std::remove_reference_t<decltype(run_slots(f, kind))>{array.data() + base + from - 1,
+                                                                     array.data() + base + to - 1};
     };
 
     std::vector<std::unique_ptr<Piece>> pieces;
@@ -134,22 +170,19 @@ Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run
         s.v3_part = f.v3_part;
         s.stack.push_back(&s.desc.root);
         s.stack_is_joint.push_back(0);
-        const size_t next_index = p + 1 < parts ? start(p + 1).index : run.count;
         if (!f.v3.empty()) {
             s.v3.emplace_back();
-            if (f.v3.back().kind == V3Frame::Triangles) {
-                s.v3.back().kind = V3Frame::Triangles;
-                s.v3.back().material = f.v3.back().material;
-                s.v3.back().group.shapes.reserve(next_index - m.index);
-            }
+            s.v3.back().kind = f.v3.back().kind;
+            s.v3.back().material = f.v3.back().material;
         }
-        if (run.vertices)
-            s.desc.vertices.reserve(next_index - m.index);
-        else if (f.v3.empty())
-            s.desc.root.shapes.reserve(next_index - m.index);
+        run_slots(s, kind) = slots_of(m.index, p + 1 < parts ? start(p + 1).index : run.count);
+        piece->slot = base + m.index - 1;
         piece->bound = p + 1 < parts ? start(p + 1).offset : run.end;
         pieces.push_back(std::move(piece));
     }
+    auto& own = run_slots(f, kind);
+    own = slots_of(1, parts > 1 ? start(1).index : run.count);
+    auto* const own_first = own.next;
 
     std::atomic<bool> stop{false};
     std::vector<std::thread> workers;
@@ -173,23 +206,42 @@ Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run
                 parse();  // no thread to be had: this one parses the piece
             }
         }
-        t = walk(f, f.lex.next(), parts > 1 ? start(1).offset : run.end);
+        try {
+            t = walk(f, f.lex.next(), parts > 1 ? start(1).offset : run.end);
+        } catch (...) {
+            own = {};
+            throw;
+        }
     }
+    // What the file's own walk wrote is kept; the rest of the room goes unless the pieces are
+    // joined.
+    const size_t kept = base + static_cast<size_t>(own.next - own_first);
+    own = {};
     // The first piece ends where the second starts, unless the text was read differently from
     // the pre-scan's marks: then the pieces are dropped and the parse goes on from here.
-    if (pieces.empty() || t.kind == TokenKind::End || f.lex.offset(t) != start(1).offset) return t;
+    if (pieces.empty() || t.kind == TokenKind::End || f.lex.offset(t) != start(1).offset) {
+        array.resize(kept);
+        return t;
+    }
 
+    size_t end = kept;
     for (const std::unique_ptr<Piece>& p : pieces) {
         for (PieceOutput::Pending& w : p->out.warnings)
             m_diag.warn(w.loc, std::move(w.kind), std::move(w.message), std::move(w.chain));
         m_scene.skipped_shapes += p->out.skipped;
         if (p->error) std::rethrow_exception(p->error);
         FileState& s = p->state;
-        append(f.desc.vertices, s.desc.vertices);
-        append(f.stack.back()->shapes, s.desc.root.shapes);
-        if (!s.v3.empty()) append(f.v3.back().group.shapes, s.v3.back().group.shapes);
+        const size_t written =
+            static_cast<size_t>(run_slots(s, kind).next - (array.data() + p->slot));
+        if (p->slot != end)
+            std::move(array.begin() + static_cast<std::ptrdiff_t>(p->slot),
+                      array.begin() + static_cast<std::ptrdiff_t>(p->slot + written),
+                      array.begin() + static_cast<std::ptrdiff_t>(end));
+        end += written;
+        run_slots(s, kind) = {};
         f.graph_started = f.graph_started || s.graph_started;
     }
+    array.resize(end);
     Piece& last = *pieces.back();
     f.counts = last.state.counts;
     f.lex = last.state.lex;

@@ -719,7 +719,7 @@ private:
         v.uv.y = real(f, d, 8);
         const double len = glm::length(v.normal);
         if (len > 0) v.normal /= len;
-        f.desc.vertices.push_back(v);
+        add_vertex(f, d, v);
     }
 
     void ray_file(FileState& f, const Token& d) override {
@@ -875,7 +875,7 @@ private:
         ShapeDesc s;
         s.loc = f.lex.loc(d);
         s.material = material_index(f, d);
-        if (primitive(f, d, s)) f.stack.back()->shapes.push_back(std::move(s));
+        if (primitive(f, d, s)) add_shape(f, d, f.stack.back()->shapes, std::move(s));
     }
 
     bool primitive(FileState& f, const Token& d, ShapeDesc& s) override {

@@ -160,6 +160,16 @@ struct FileState {
     const FileState* parent = nullptr;
     const FileDesc& defs() const { return parent ? parent->desc : desc; }
     size_t counted = 0;  // bytes of the text up to here added to ParseProgress::done
+    // While a run is parsed in pieces, each piece (the file's own walk the first) writes the
+    // run's vertices or shapes into its own range of the file's array, made room for before the
+    // pieces start: where the next one goes and the range's end.
+    template <class T>
+    struct Slots {
+        T* next = nullptr;
+        T* end = nullptr;
+    };
+    Slots<VertexDesc> vertex_slots;
+    Slots<ShapeDesc> shape_slots;
 
     FileState(std::string_view text, const std::string* name) : lex(text, name) {}
 };
@@ -187,6 +197,21 @@ protected:
         else
             m_diag.warn(loc, std::move(kind), std::move(message), std::move(chain));
     }
+    // A vertex, or a shape of group list `to`, into the description, or into the slots of a
+    // piece of a run (mesh_runs.cpp).
+    void add_vertex(FileState& f, const Token& d, const VertexDesc& v) const {
+        if (!f.vertex_slots.next) return f.desc.vertices.push_back(v);
+        if (f.vertex_slots.next == f.vertex_slots.end) fail(f, d, kRunOverflow);
+        *f.vertex_slots.next++ = v;
+    }
+    void add_shape(FileState& f, const Token& d, HugePageVector<ShapeDesc>& to,
+                   ShapeDesc&& s) const {
+        if (!f.shape_slots.next) return to.push_back(std::move(s));
+        if (f.shape_slots.next == f.shape_slots.end) fail(f, d, kRunOverflow);
+        *f.shape_slots.next++ = std::move(s);
+    }
+    static constexpr const char* kRunOverflow =
+        "internal error: a mesh run longer than the pre-scan found";
     /// A degenerate shape left out, with its warning ("degenerate triangle skipped").
     void skip_shape(const SourceLoc& loc, const char* kind) {
         if (t_piece)
@@ -273,6 +298,8 @@ protected:
 
 private:
     Token parse_run(FileState& f, const Token& first, const MeshRun& run);
+    template <class IsVertices>
+    Token parse_pieces(FileState& f, const MeshRun& run, IsVertices kind);
     struct Scan;
     std::optional<std::string> find_file(const std::string& dir, const std::string& path,
                                          bool v3) const;

@@ -407,7 +407,7 @@ void ParserV3::v3_triangle(FileState& f, const Token& d) {
     const TriangleDesc g = triangle_indices(f, d);
     s.geometry = g;
     if (degenerate_triangle(f.defs(), g)) return skip_shape(s.loc, "degenerate triangle");
-    f.v3.back().group.shapes.push_back(std::move(s));
+    add_shape(f, d, f.v3.back().group.shapes, std::move(s));
 }
 
 void ParserV3::v3_instance(FileState& f, const Token& d) {
