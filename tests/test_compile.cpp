@@ -1,7 +1,9 @@
 // compile_scene(): resolved materials and textures, flattened groups, one set per included file,
 // nested instancing composed, statistics after instancing.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "rt/accel/intersect.h"
 #include "test_util.h"
@@ -105,6 +107,88 @@ TEST(Compile, IncludedFileCompiledOnceAndNestedInstancesCompose) {
     ASSERT_TRUE(intersect(s, {{5, 0, 110}, {0, 0, -1}}, {0, kInf}, &h));
     EXPECT_NEAR(h.t, 9, 1e-12);
     std::filesystem::remove_all(dir);
+}
+
+// compile_scene_releasing() frees the meshes it compiled (groups of triangles only, and every
+// file's vertices) and makes the same scene; a group that mixes kinds keeps its shapes.
+TEST(Compile, AReleasingCompileFreesTheMeshesAndRendersTheSame) {
+    const auto dir = std::filesystem::temp_directory_path() / "rt_compile_release";
+    std::filesystem::create_directories(dir);
+    const std::string material =
+        "#material 0 0 0  .1 .1 .1  .8 .6 .4  .5 .5 .5  20  0 0 0  1 -1 !!\n";
+    const std::string corners =
+        "#vertex -1 -1 0  0 0 1  0 0\n#vertex 1 -1 0  0 0 1  1 0\n#vertex 0 1 0  0 0 1  0 1\n";
+    std::ofstream(dir / "part.ray") << material << corners << "#shape_triangle 0 0 1 2\n";
+    std::ofstream(dir / "top.ray")
+        << "#camera 0 0 8  0 0 -1  0 1 0  0.6\n#light_point 1 1 1  0 3 5  1 0 0\n"
+        << material << corners
+        << "#ray_file part.ray\n#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 1\n"
+        << "#group_begin 1 0 0 2  0 1 0 0  0 0 1 0  0 0 0 1\n#shape_triangle 0 0 1 2\n"
+        << "#shape_sphere 0 0 0 -1 0.5\n#group_end\n"
+        << "#group_begin 1 0 0 -2  0 1 0 0  0 0 1 0  0 0 0 1\n#ray_file_instance 0\n#group_end\n";
+    Diagnostics diag;
+    const std::string top = (dir / "top.ray").string();
+    const SceneDesc kept = parse_scene_file(top, diag);
+    SceneDesc freed = parse_scene_file(top, diag);
+    const Image expected = test::render(compile_scene(kept), 40, 30);
+    const Image image = test::render(compile_scene_releasing(freed), 40, 30);
+    EXPECT_EQ(image.rgb, expected.rgb);
+    EXPECT_TRUE(std::any_of(image.rgb.begin(), image.rgb.end(),  // the triangles are in view
+                            [&](const auto& v) { return v != image.rgb[0]; }));
+    ASSERT_EQ(freed.files.size(), 2u);
+    EXPECT_TRUE(freed.files[0].root.shapes.empty());
+    EXPECT_TRUE(freed.files[0].vertices.empty());
+    EXPECT_EQ(freed.files[0].root.groups[0].shapes.size(), 2u);  // a triangle and a sphere
+    EXPECT_TRUE(freed.files[1].root.shapes.empty());
+    EXPECT_TRUE(freed.files[1].vertices.empty());
+    EXPECT_EQ(freed.lights.size(), kept.lights.size());
+    std::filesystem::remove_all(dir);
+}
+
+// What a later compile reads is kept: a file instanced inside a CSG tree (and placed on its own
+// too), and everything when the scene has animation tracks or locations are recorded.
+TEST(Compile, AReleasingCompileKeepsWhatIsReadAgain) {
+    SceneDesc d;
+    d.dialect = Dialect::V3;
+    for (const double z : {0.0, -4.0}) {
+        FileDesc f;
+        f.path = z == 0 ? "top.ray" : "part.ray";
+        f.materials.emplace_back();
+        f.vertices = {VertexDesc{{-1, -1, z}}, VertexDesc{{1, -1, z}}, VertexDesc{{0, 1, z}}};
+        f.root.shapes = {ShapeDesc{{}, 0, TriangleDesc{{0, 1, 2}}}};
+        d.files.push_back(f);
+    }
+    d.files[0].ray_files = {1};
+    GroupDesc operand, moved;
+    operand.instances = {InstanceDesc{{}, 0}};
+    moved.matrix = glm::translate(Mat4(1.0), Vec3(5, 0, 0));
+    moved.instances = {InstanceDesc{{}, 0}};
+    CsgDesc u;
+    u.op = CsgOp::Union;
+    u.operands = {operand};
+    d.files[0].root.csgs = {u};
+    d.files[0].root.groups = {moved};
+    SceneDesc freed = d;
+    const RenderScene s = compile_scene_releasing(freed);
+    EXPECT_TRUE(freed.files[0].root.shapes.empty());
+    EXPECT_EQ(freed.files[1].root.shapes.size(), 1u);  // read by the CSG tree's set
+    EXPECT_EQ(freed.files[1].vertices.size(), 3u);
+    Hit h;
+    ASSERT_TRUE(intersect(s, {{0, 0, -4.5}, {0, 0, 1}}, {0, kInf}, &h));  // the CSG's triangle
+    EXPECT_NEAR(h.t, 0.5, 1e-12);
+    ASSERT_TRUE(intersect(s, {{5, 0, -4.5}, {0, 0, 1}}, {0, kInf}, &h));  // the one placed
+    EXPECT_NEAR(h.t, 0.5, 1e-12);
+
+    SceneDesc animated = d;
+    animated.tracks.emplace_back();
+    compile_scene_releasing(animated);
+    EXPECT_EQ(animated.files[0].root.shapes.size(), 1u);
+    SceneDesc located = d;
+    CompileReport report;
+    report.record_locations = true;
+    compile_scene_releasing(located, &report);
+    EXPECT_EQ(located.files[0].root.shapes.size(), 1u);
+    EXPECT_EQ(located.files[0].vertices.size(), 3u);
 }
 
 TEST(Compile, WorldBoundsCoverEveryInstance) {

@@ -13,6 +13,7 @@
 #include <tuple>
 #include <type_traits>
 #include <unordered_map>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -36,6 +37,15 @@ public:
     Compiler(const SceneDesc& desc, CompileReport& report, const std::optional<SceneTime>& time,
              Diagnostics* diag)
         : m_desc(desc), m_report(report), m_time(time), m_diag(diag) {}
+    // The same, freeing desc's triangles and vertices once compiled where nothing reads them
+    // again (compile_scene_releasing).
+    Compiler(SceneDesc& desc, CompileReport& report, const std::optional<SceneTime>& time,
+             Diagnostics* diag, bool release)
+        : Compiler(std::as_const(desc), report, time, diag) {
+        if (!release || !desc.tracks.empty() || report.record_locations) return;
+        m_release = &desc;
+        m_kept = files_inside_csg();
+    }
 
     RenderScene run() {
         if (m_desc.camera) m_scene.camera = compile_camera(*m_desc.camera);
@@ -173,15 +183,36 @@ private:
         return m_values.singular[k] ? nullptr : &m_values.matrix[k];
     }
 
-    // One shape waiting for its place in the set: its description and its group's transform,
-    // or a compiled CSG tree (shape null).
+    // One shape waiting for its place in the set with its group's transform: a triangle's
+    // corners and material (copied: its description may be freed before it is placed, see
+    // release_triangles()), another shape's description, or a compiled CSG tree.
     struct Pending {
-        const ShapeDesc* shape;
-        int transform;                   // index into the set's transforms, -1: identity
-        bool mirror;                     // the transform flips orientation
-        int csg = -1;                    // index into the set's csg.roots
-        const SourceLoc* loc = nullptr;  // the directive (CompileReport::prim_locs)
+        const ShapeDesc* shape = nullptr;  // null for a CSG tree and a freed triangle
+        TriangleDesc tri;
+        int material = 0;     // a triangle's
+        int transform = -1;   // index into the set's transforms, -1: identity
+        int csg = -1;         // index into the set's csg.roots
+        bool mirror = false;  // the transform flips orientation
+        bool triangle = false;
     };
+    static Pending pending_shape(const ShapeDesc& s, int transform, bool mirror) {
+        Pending p;
+        p.shape = &s;
+        p.transform = transform;
+        p.mirror = mirror;
+        if (const TriangleDesc* t = std::get_if<TriangleDesc>(&s.geometry)) {
+            p.triangle = true;
+            p.tri = *t;
+            p.material = s.material;
+        }
+        return p;
+    }
+    // The directive a pending shape was read from (CompileReport::prim_locs).
+    SourceLoc pending_loc(const Pending& p) const {
+        return p.csg >= 0 ? *m_csg_locs[static_cast<size_t>(p.csg)]
+               : p.shape  ? p.shape->loc
+                          : SourceLoc{};
+    }
 
     // Compiles file `fi` into a set in two passes: the shapes' bounds first, then the BVH over
     // them, then the primitives written straight in the BVH's leaf order, so a leaf reads its
@@ -193,6 +224,7 @@ private:
         set.name = m_desc.files[fi].path;
         m_vertex_file = fi;
         m_vertex_of.assign(m_desc.files[fi].vertices.size(), ~0u);
+        m_csg_locs.clear();
         HugePageVector<Pending> pending;
         pending.reserve(count_shapes(*item.root));
         collect(set, item, pending);
@@ -203,6 +235,8 @@ private:
         // The build's input: each primitive's bounds in float (32 bytes), and their union.
         HugePageVector<PrimRef> refs(pending.size());
         const Bounds3 set_bounds = prim_refs(set, fi, pending, refs);
+        const bool release = releasable(item);
+        if (release) release_triangles(fi, pending);
 
         set.layout = layout_of(pending);
         const auto t0 = std::chrono::steady_clock::now();
@@ -212,9 +246,8 @@ private:
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
         set.prims.reserve(pending.size());
-        const auto triangles = std::count_if(pending.begin(), pending.end(), [](const Pending& p) {
-            return p.csg < 0 && std::holds_alternative<TriangleDesc>(p.shape->geometry);
-        });
+        const auto triangles = std::count_if(pending.begin(), pending.end(),
+                                             [](const Pending& p) { return p.triangle; });
         set.triangle_vertices.reserve(static_cast<size_t>(triangles));  // no copy as they grow
         std::vector<SourceLoc>* locs = nullptr;
         if (m_report.record_locations) {
@@ -227,18 +260,88 @@ private:
         m_defer_vertices = true;
         for (uint32_t old : set.bvh.indices) {
             add_shape(set, fi, pending[old]);
-            if (locs) locs->push_back(pending[old].loc ? *pending[old].loc : SourceLoc{});
+            if (locs) locs->push_back(pending_loc(pending[old]));
         }
         m_defer_vertices = false;
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
         HugePageVector<Pending>().swap(pending);  // freed before the packed copy is made
         std::vector<uint32_t>().swap(m_vertex_of);
         copy_deferred_vertices(set);
+        if (release) HugePageVector<VertexDesc>().swap(m_release->files[fi].vertices);
         pack_triangles(set);
         const int index = static_cast<int>(m_scene.sets.size());
         m_set_of_root[item.root] = index;
         m_scene.sets.push_back(std::move(set));
         return index;
+    }
+
+    // Whether item's file is read by no set compiled after item's: a file's root (not a joint's
+    // subtree, none without tracks), not instanced inside a CSG tree (whose set reads its shapes).
+    bool releasable(const PlaceItem& item) const {
+        return m_release && !item.joint_root && !m_kept[item.file] &&
+               item.root == &m_desc.files[item.file].root;
+    }
+
+    // The files instanced inside a CSG tree, and the files they instance.
+    std::vector<char> files_inside_csg() const {
+        std::vector<char> inside(m_desc.files.size(), 0);
+        std::vector<size_t> todo;
+        // Every group of every file, and the instances in the lists under its CSG trees.
+        std::vector<std::pair<const GroupDesc*, size_t>> groups;
+        for (size_t fi = 0; fi < m_desc.files.size(); ++fi)
+            groups.push_back({&m_desc.files[fi].root, fi});
+        std::vector<std::pair<const GroupDesc*, size_t>> lists;
+        while (!groups.empty()) {
+            const auto [g, fi] = groups.back();
+            groups.pop_back();
+            for (const GroupDesc& c : g->groups) groups.push_back({&c, fi});
+            for (const CsgDesc& c : g->csgs)
+                for (const GroupDesc& o : c.operands) lists.push_back({&o, fi});
+        }
+        while (!lists.empty()) {
+            const auto [g, fi] = lists.back();
+            lists.pop_back();
+            for (const InstanceDesc& in : g->instances)
+                todo.push_back(static_cast<size_t>(
+                    m_desc.files[fi].ray_files[static_cast<size_t>(in.ray_file)]));
+            for (const GroupDesc& c : g->groups) lists.push_back({&c, fi});
+            for (const CsgDesc& c : g->csgs)
+                for (const GroupDesc& o : c.operands) lists.push_back({&o, fi});
+        }
+        // What they instance is read with them.
+        while (!todo.empty()) {
+            const size_t fj = todo.back();
+            todo.pop_back();
+            if (std::exchange(inside[fj], 1)) continue;
+            groups.push_back({&m_desc.files[fj].root, fj});
+            while (!groups.empty()) {
+                const auto [g, fi] = groups.back();
+                groups.pop_back();
+                for (const InstanceDesc& in : g->instances)
+                    todo.push_back(static_cast<size_t>(
+                        m_desc.files[fi].ray_files[static_cast<size_t>(in.ray_file)]));
+                for (const GroupDesc& c : g->groups) groups.push_back({&c, fi});
+            }
+        }
+        return inside;
+    }
+
+    // Frees the shapes of file fi's groups that hold only triangles: their pending entries keep
+    // what the set needs of them (corners, material).
+    void release_triangles(size_t fi, HugePageVector<Pending>& pending) {
+        for (Pending& p : pending)
+            if (p.triangle) p.shape = nullptr;
+        std::vector<GroupDesc*> todo = {&m_release->files[fi].root};
+        while (!todo.empty()) {
+            GroupDesc* g = todo.back();
+            todo.pop_back();
+            const bool triangles =
+                std::all_of(g->shapes.begin(), g->shapes.end(), [](const ShapeDesc& s) {
+                    return std::holds_alternative<TriangleDesc>(s.geometry);
+                });
+            if (triangles) HugePageVector<ShapeDesc>().swap(g->shapes);
+            for (GroupDesc& c : g->groups) todo.push_back(&c);
+        }
     }
 
     // Each pending shape's reference for the build (refs[i] for pending[i]) and their union, on
@@ -292,7 +395,8 @@ private:
         std::array<size_t, kShapeKinds> count{};  // geometry.index() is the kind (ShapeDesc)
         for (const Pending& p : pending) {
             if (p.csg >= 0) return SetLayout::Mixed;  // CSG primitives: the Mixed walk only
-            ++count[p.shape->geometry.index()];
+            ++count[p.triangle ? static_cast<size_t>(ShapeKind::Triangle)
+                               : p.shape->geometry.index()];
         }
         for (size_t k = 0; k < count.size(); ++k)
             if (count[k] == pending.size()) return one_kind_layout(static_cast<ShapeKind>(k));
@@ -412,11 +516,17 @@ private:
                     set.transforms.push_back(Transform::from_matrix(m));
                 }
                 const bool mirror = glm::determinant(Mat3(m)) < 0;
-                for (const ShapeDesc& s : g.shapes) pending.push_back({&s, xf, mirror, -1, &s.loc});
+                for (const ShapeDesc& s : g.shapes) pending.push_back(pending_shape(s, xf, mirror));
             }
             for (const CsgDesc& c : g.csgs) {
                 const int root = compile_csg(set, fi, c, m);
-                if (root >= 0) pending.push_back({nullptr, -1, false, root, &c.loc});
+                if (root >= 0) {
+                    Pending p;
+                    p.csg = root;
+                    pending.push_back(p);
+                    m_csg_locs.resize(static_cast<size_t>(root) + 1);
+                    m_csg_locs[static_cast<size_t>(root)] = &c.loc;
+                }
             }
             push_children(todo, g, m);
         }
@@ -469,7 +579,7 @@ private:
         }
         const bool mirror = glm::determinant(Mat3(m)) < 0;
         for (const ShapeDesc& s : g.shapes) {
-            const Pending pend{&s, xf, mirror};
+            const Pending pend = pending_shape(s, xf, mirror);
             CsgNode n;
             n.kind = CsgNodeKind::Leaf;
             n.bounds = shape_bounds(set, fi, pend);
@@ -583,13 +693,15 @@ private:
     Bounds3 shape_bounds(const GeometrySet& set, size_t fi, const Pending& p) const {
         const Transform* xf =
             p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)];
+        Bounds3 b;
+        if (p.triangle) {
+            for (const VertexDesc* v : triangle_vertices(m_desc.files[fi], p.tri, p.mirror))
+                b.extend(xf ? xf->point(v->position) : v->position);
+            return b;
+        }
         return std::visit(
             [&](const auto& geo) {
-                Bounds3 b;
-                if constexpr (std::is_same_v<std::decay_t<decltype(geo)>, TriangleDesc>) {
-                    for (const VertexDesc* v : triangle_vertices(m_desc.files[fi], geo, p.mirror))
-                        b.extend(xf ? xf->point(v->position) : v->position);
-                } else {
+                if constexpr (!std::is_same_v<std::decay_t<decltype(geo)>, TriangleDesc>) {
                     // Exact bounds under the group's transform, widened by its rounding.
                     const auto& shape = to_shape(geo);
                     b = xf ? bounds(shape, xf->m).widened() : bounds(shape);
@@ -617,18 +729,20 @@ private:
 
     // The primitive of a shape, its shape appended to the set's arrays.
     Primitive make_primitive(GeometrySet& set, size_t fi, const Pending& pend) {
-        const ShapeDesc& s = *pend.shape;
+        const int material = pend.triangle ? pend.material : pend.shape->material;
         Primitive p;
-        p.material = s.material < 0 ? m_default_material : m_material_offset[fi] + s.material;
+        p.material = material < 0 ? m_default_material : m_material_offset[fi] + material;
         p.transform = pend.transform;
+        if (pend.triangle) {
+            p.kind = ShapeKind::Triangle;
+            p.index = static_cast<uint32_t>(set.triangle_count());
+            p.transform = -1;  // flattened into the set's frame
+            add_triangle(set, fi, pend);
+            return p;
+        }
         std::visit(
             [&](const auto& geo) {
-                if constexpr (std::is_same_v<std::decay_t<decltype(geo)>, TriangleDesc>) {
-                    p.kind = ShapeKind::Triangle;
-                    p.index = static_cast<uint32_t>(set.triangle_count());
-                    p.transform = -1;  // flattened into the set's frame
-                    add_triangle(set, fi, geo, pend);
-                } else {
+                if constexpr (!std::is_same_v<std::decay_t<decltype(geo)>, TriangleDesc>) {
                     using T = std::decay_t<decltype(to_shape(geo))>;
                     std::vector<T>& shapes = set.shapes.of<T>();
                     p.kind = T::kKind;
@@ -636,14 +750,15 @@ private:
                     shapes.push_back(to_shape(geo));
                 }
             },
-            s.geometry);
+            pend.shape->geometry);
         return p;
     }
 
     // Triangles are flattened into the set's frame: no per-primitive transform.
-    void add_triangle(GeometrySet& set, size_t fi, const TriangleDesc& td, const Pending& pend) {
+    void add_triangle(GeometrySet& set, size_t fi, const Pending& pend) {
         const Transform* xf =
             pend.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(pend.transform)];
+        const TriangleDesc& td = pend.tri;
         const auto v = triangle_vertices(m_desc.files[fi], td, pend.mirror);
         std::array<uint32_t, 3> ids{};
         for (size_t i = 0; i < 3; ++i) {
@@ -736,8 +851,11 @@ private:
     Diagnostics* m_diag;
     JointValues m_values;
     std::unordered_map<const GroupDesc*, int> m_set_of_root;  // -1: the root has no shapes
-    size_t m_vertex_file = 0;                                 // the file of the set being compiled
-    std::vector<uint32_t> m_vertex_of;                        // its vertex -> the set's vertex
+    SceneDesc* m_release = nullptr;            // compile_scene_releasing()'s description
+    std::vector<char> m_kept;                  // [file]: its triangles and vertices are kept
+    std::vector<const SourceLoc*> m_csg_locs;  // the set being compiled: its CSG trees' directives
+    size_t m_vertex_file = 0;                  // the file of the set being compiled
+    std::vector<uint32_t> m_vertex_of;         // its vertex -> the set's vertex
     struct DeferredVertex {
         const VertexDesc* vertex;
         const Transform* transform;  // into the set's transforms, which no longer grow
@@ -831,6 +949,16 @@ RenderScene compile_scene(const SceneDesc& desc, CompileReport* report,
     r = {};
     r.record_locations = locations;
     return Compiler(desc, r, time, diag).run();
+}
+
+RenderScene compile_scene_releasing(SceneDesc& desc, CompileReport* report,
+                                    const std::optional<SceneTime>& time, Diagnostics* diag) {
+    CompileReport local;
+    CompileReport& r = report ? *report : local;
+    const bool locations = r.record_locations;
+    r = {};
+    r.record_locations = locations;
+    return Compiler(desc, r, time, diag, true).run();
 }
 
 }  // namespace rt

@@ -38,6 +38,17 @@ RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr
                           const std::optional<SceneTime>& time = std::nullopt,
                           Diagnostics* diag = nullptr);
 
+/// compile_scene() for a caller that needs only the description's files, settings, lights and
+/// tracks afterwards (raytrace's still images): the shapes of each group that holds only
+/// triangles, and each file's vertices, are freed from `desc` as soon as their set has what it
+/// needs of them, so a large mesh is not held twice. Nothing is freed that a later set reads (a
+/// file instanced inside a CSG tree and what it instances), nor anything when `desc` has
+/// animation tracks (animate() may compile again) or `report` records locations. The scene is
+/// the one compile_scene() makes.
+RenderScene compile_scene_releasing(SceneDesc& desc, CompileReport* report = nullptr,
+                                    const std::optional<SceneTime>& time = std::nullopt,
+                                    Diagnostics* diag = nullptr);
+
 /// Moves the joints of `scene`, compiled from `desc`, to `time`: the instances under joints get
 /// their new transforms, the world bounds and the top-level BVH are made again, and nothing else
 /// is touched (unless a joint lies under a CSG node: then the scene is compiled again). The
