@@ -46,10 +46,12 @@ std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* des
         t->parse_s = rt::seconds_since(t_parse);
         print_warnings();
         const auto t_compile = rt::Clock::now();
-        // Errors: file:line:col too. At --at's time, or frame 0's of --frames.
+        // Errors: file:line:col too. At --at's time, or frame 0's of --frames. What follows
+        // reads the description's files, lights and tracks, not its meshes: they are freed as
+        // soon as they are compiled.
         rt::Diagnostics compile_diag;
         rt::RenderScene scene =
-            rt::compile_scene(*desc, report, opt.animation.time(0), &compile_diag);
+            rt::compile_scene_releasing(*desc, report, opt.animation.time(0), &compile_diag);
         for (const rt::Warning& w : compile_diag.warnings()) std::cerr << w.str() << "\n";
         t->compile_s = rt::seconds_since(t_compile);
         return scene;
