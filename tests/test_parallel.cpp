@@ -1,6 +1,6 @@
 // The render loop's tiles over threads (src/render/parallel.h): every tile once, and the
 // helper pool of the web page's threads build, which never waits for a helper to start. The
-// compile's ranges over threads (rt/util/threads.h).
+// compile's ranges over threads (rt/util/parallel_ranges.h).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "render/parallel.h"
-#include "rt/util/threads.h"
+#include "rt/util/parallel_ranges.h"
 
 namespace rt {
 namespace {

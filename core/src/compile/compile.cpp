@@ -19,7 +19,7 @@
 
 #include "compile/placement.h"
 #include "rt/util/isa.h"
-#include "rt/util/threads.h"
+#include "rt/util/parallel_ranges.h"
 
 namespace rt {
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "format/parser_impl.h"
-#include "rt/util/threads.h"
+#include "rt/util/parallel_ranges.h"
 
 namespace rt::parser_impl {
 
