@@ -121,6 +121,8 @@ struct Builder {
             sub.refs = refs;
             sub.settings = settings;
             sub.spawn_depth = spawn_depth;
+            // Room for its half as build_bvh() makes it for the whole, so it does not double.
+            sub.nodes.reserve(nodes.capacity() * (mid - begin) / (end - begin) + 16);
             std::thread t([&] { sub.build(begin, mid, depth + 1, lb, lc); });
             r = build(mid, end, depth + 1, rb, rc);
             t.join();
@@ -330,6 +332,10 @@ Bvh build_bvh(HugePageVector<PrimRef> refs, const Bounds3& exact_bounds,
     b.measure(0, n, &box, &cbox);
     const uint32_t root = b.build(0, n, 0, box, cbox);
     bvh.root_bounds = exact_bounds;
+    // The order the leaves read is all the collapse needs of the references: freed first.
+    bvh.indices.resize(n);
+    for (uint32_t i = 0; i < n; ++i) bvh.indices[i] = refs[i].id;
+    HugePageVector<PrimRef>().swap(refs);
     // Each 4-wide node takes up to three binary nodes (with their children); the exact count
     // is known only after the collapse, so the estimate is trimmed if it was well over.
     bvh.nodes.reserve(b.nodes.size() / 5 + 16);
@@ -342,9 +348,6 @@ Bvh build_bvh(HugePageVector<PrimRef> refs, const Bounds3& exact_bounds,
     }
     HugePageVector<Node2>().swap(b.nodes);
     if (bvh.nodes.capacity() > bvh.nodes.size() + bvh.nodes.size() / 8) bvh.nodes.shrink_to_fit();
-    bvh.indices.resize(n);
-    for (uint32_t i = 0; i < n; ++i) bvh.indices[i] = refs[i].id;
-    HugePageVector<PrimRef>().swap(refs);
     return bvh;
 }
 
