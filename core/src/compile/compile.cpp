@@ -26,11 +26,11 @@ namespace rt {
 namespace {
 
 using compile_detail::combine_csg_bounds;
+using compile_detail::within_limits;
 
 // The fewest primitives (or vertices, or blocks) a thread of the compile takes: below this the
 // start of a thread costs more than it saves.
 constexpr size_t kGrain = 16384;
-using compile_detail::within_limits;
 
 class Compiler {
 public:
@@ -774,9 +774,8 @@ private:
     // The index of a triangle corner in the set's vertex arrays (its position and normal in the
     // set's frame, its uv): a vertex of the set's file (file_vertex, or SIZE_MAX for another
     // file's) in the set's own frame once for all its triangles (m_vertex_of), a transformed one
-    // for each corner.
-    // While m_defer_vertices is set only the vertex's number is given; its data waits in
-    // m_deferred for copy_deferred_vertices().
+    // for each corner. While m_defer_vertices is set, only the number is given out and the data
+    // waits in m_deferred for copy_deferred_vertices().
     uint32_t set_vertex(GeometrySet& set, const VertexDesc& v, size_t file_vertex,
                         const Transform* xf) {
         constexpr uint32_t kNone = ~0u;
@@ -941,24 +940,29 @@ BvhBuildSettings set_bvh_settings(SetLayout layout) {
     }
 }
 
-RenderScene compile_scene(const SceneDesc& desc, CompileReport* report,
-                          const std::optional<SceneTime>& time, Diagnostics* diag) {
-    CompileReport local;
+namespace {
+
+// The report a compile fills: the caller's, emptied but for what it asks for, or `local`.
+CompileReport& fresh_report(CompileReport* report, CompileReport& local) {
     CompileReport& r = report ? *report : local;
     const bool locations = r.record_locations;
     r = {};
     r.record_locations = locations;
-    return Compiler(desc, r, time, diag).run();
+    return r;
+}
+
+}  // namespace
+
+RenderScene compile_scene(const SceneDesc& desc, CompileReport* report,
+                          const std::optional<SceneTime>& time, Diagnostics* diag) {
+    CompileReport local;
+    return Compiler(desc, fresh_report(report, local), time, diag).run();
 }
 
 RenderScene compile_scene_releasing(SceneDesc& desc, CompileReport* report,
                                     const std::optional<SceneTime>& time, Diagnostics* diag) {
     CompileReport local;
-    CompileReport& r = report ? *report : local;
-    const bool locations = r.record_locations;
-    r = {};
-    r.record_locations = locations;
-    return Compiler(desc, r, time, diag, true).run();
+    return Compiler(desc, fresh_report(report, local), time, diag, true).run();
 }
 
 }  // namespace rt
