@@ -1,5 +1,5 @@
 // compile_scene(): resolved materials and textures, flattened groups, one set per included file,
-// nested instancing composed, statistics after instancing.
+// nested instancing composed, statistics after instancing; what compile_scene_releasing frees.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>

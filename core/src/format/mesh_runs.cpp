@@ -50,10 +50,20 @@ struct Joiner {
     }
 };
 
+// The array a run adds to: the file's vertices, or the open group's (or triangle list's) shapes.
+HugePageVector<VertexDesc>& run_array(FileState& f, std::true_type) { return f.desc.vertices; }
+HugePageVector<ShapeDesc>& run_array(FileState& f, std::false_type) {
+    return f.v3.empty() ? f.stack.back()->shapes : f.v3.back().group.shapes;
+}
+FileState::Slots<VertexDesc>& run_slots(FileState& f, std::true_type) { return f.vertex_slots; }
+FileState::Slots<ShapeDesc>& run_slots(FileState& f, std::false_type) { return f.shape_slots; }
+
 }  // namespace run_pieces
 
 using run_pieces::Joiner;
 using run_pieces::Piece;
+using run_pieces::run_array;
+using run_pieces::run_slots;
 
 void ParserBase::count_progress(FileState& f, size_t offset) const {
     if (!m_options.progress || offset <= f.counted) return;
@@ -109,14 +119,6 @@ void ParserBase::walk_file(FileState& f) {
     count_progress(f, f.lex.text().size());
 }
 
-// The array a run adds to: the file's vertices, or the open group's (or triangle list's) shapes.
-HugePageVector<VertexDesc>& run_array(FileState& f, std::true_type) { return f.desc.vertices; }
-HugePageVector<ShapeDesc>& run_array(FileState& f, std::false_type) {
-    return f.v3.empty() ? f.stack.back()->shapes : f.v3.back().group.shapes;
-}
-FileState::Slots<VertexDesc>& run_slots(FileState& f, std::true_type) { return f.vertex_slots; }
-FileState::Slots<ShapeDesc>& run_slots(FileState& f, std::false_type) { return f.shape_slots; }
-
 Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run) {
     // The first directive on its own settles the file's state the pieces start from (the graph
     // started, the part of a V3 file); an error there is the run's first.
@@ -137,8 +139,9 @@ Token ParserBase::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind
     };
     auto& array = run_array(f, kind);
     const size_t base = array.size();
-    // Room for directives 1 .. count - 1, its pages first touched on every thread: the kernel
-    // zeroes a fresh page when it is first written, which resize() would do on this one alone.
+    // Room for directives 1 .. count - 1. Its pages are first touched on every thread (a byte of
+    // the reserved storage each, before any element lives there): the kernel zeroes a fresh page
+    // when it is first written, which resize() would do on this thread alone.
     array.reserve(base + run.count - 1);
     const size_t page = 4096, bytes = (run.count - 1) * sizeof(array[0]);
     unsigned char* const room = reinterpret_cast<unsigned char*>(array.data() + base);
