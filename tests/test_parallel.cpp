@@ -3,6 +3,10 @@
 // compile's ranges over threads (rt/util/parallel_ranges.h).
 #include <gtest/gtest.h>
 
+#if defined(__linux__)
+#include <sched.h>
+#endif
+
 #include <atomic>
 #include <chrono>
 #include <mutex>
@@ -13,6 +17,7 @@
 
 #include "render/parallel.h"
 #include "rt/util/parallel_ranges.h"
+#include "rt/util/threads.h"
 
 namespace rt {
 namespace {
@@ -93,6 +98,29 @@ TEST(Parallel, RangesCoverEveryIndexOnce) {
         }
     }
 }
+
+#if defined(__linux__)
+// A thread bound to one CPU may run one thread at a time: hardware_threads() counts the CPUs it
+// is bound to (as a cluster's scheduler or mpirun binds a rank), not the machine's.
+TEST(Parallel, HardwareThreadsAreTheCpusThisThreadIsBoundTo) {
+    cpu_set_t all;
+    ASSERT_EQ(sched_getaffinity(0, sizeof all, &all), 0);
+    EXPECT_EQ(hardware_threads(), static_cast<unsigned>(CPU_COUNT(&all)));
+    unsigned bound = 0;
+    std::thread t([&] {  // its own affinity, so the test's other threads keep theirs
+        cpu_set_t one;
+        CPU_ZERO(&one);
+        for (int c = 0; c < CPU_SETSIZE; ++c)
+            if (CPU_ISSET(c, &all)) {
+                CPU_SET(c, &one);
+                break;
+            }
+        if (sched_setaffinity(0, sizeof one, &one) == 0) bound = hardware_threads();
+    });
+    t.join();
+    EXPECT_EQ(bound, 1u);
+}
+#endif
 
 // When several ranges throw, the error is the one of the lowest range: the first a loop in order
 // would meet.

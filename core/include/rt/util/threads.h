@@ -7,6 +7,10 @@
 #include <algorithm>
 #include <thread>
 
+#if defined(__linux__) && !defined(__EMSCRIPTEN__)
+#include <sched.h>
+#endif
+
 #ifdef __EMSCRIPTEN__
 #include <emscripten/threading.h>
 #endif
@@ -21,9 +25,18 @@ inline bool have_threads() {
 #endif
 }
 
-/// The threads the machine runs at once (at least 1; 1 without threads).
+/// The threads this process may run at once (at least 1; 1 without threads): the CPUs it is bound
+/// to where it is bound (a cluster's scheduler or `mpirun` binds each rank to its cores), else the
+/// machine's.
 inline unsigned hardware_threads() {
-    return have_threads() ? std::max(1u, std::thread::hardware_concurrency()) : 1u;
+    if (!have_threads()) return 1u;
+#if defined(__linux__) && !defined(__EMSCRIPTEN__)
+    cpu_set_t cpus;
+    CPU_ZERO(&cpus);
+    if (sched_getaffinity(0, sizeof cpus, &cpus) == 0 && CPU_COUNT(&cpus) > 0)
+        return static_cast<unsigned>(CPU_COUNT(&cpus));
+#endif
+    return std::max(1u, std::thread::hardware_concurrency());
 }
 
 }  // namespace rt
