@@ -3,6 +3,7 @@
 // ranges, checked against the description, and the first error in order where two ranges fail.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <string>
@@ -121,6 +122,29 @@ TEST(CompileThreads, AMeshOfTrianglesOnlyIsPackedAsDescribed) {
 TEST(CompileThreads, AMovedMeshBesideASphereIsPackedAsDescribed) {
     const Mat4 m = glm::scale(glm::translate(Mat4(1.0), Vec3(1, 2, 3)), Vec3(2, 1, 0.5));
     expect_compiled_as_described(mesh_scene(100000, m, true), m);
+}
+
+// One thread and every thread compile the same set, array for array (the walk in the BVH's
+// order numbers the vertices; the threads only copy and pack).
+TEST(CompileThreads, OneThreadAndAllMakeTheSameSet) {
+    const Mat4 m = glm::rotate(Mat4(1.0), 0.3, Vec3(1, 2, 3));
+    for (const bool sphere : {false, true}) {
+        const SceneDesc d = mesh_scene(100000, m, sphere);
+        const RenderScene one = compile_scene(d, nullptr, std::nullopt, nullptr, 1);
+        const RenderScene all = compile_scene(d, nullptr, std::nullopt, nullptr, 4);
+        ASSERT_EQ(one.sets.size(), 1u);
+        const GeometrySet& a = one.sets[0];
+        const GeometrySet& b = all.sets[0];
+        EXPECT_TRUE(a.vertex_positions == b.vertex_positions);
+        EXPECT_TRUE(a.vertex_normals == b.vertex_normals);
+        EXPECT_TRUE(a.vertex_uvs == b.vertex_uvs);
+        EXPECT_TRUE(a.triangle_vertices == b.triangle_vertices);
+        ASSERT_EQ(a.tri4.size(), b.tri4.size());
+        EXPECT_EQ(std::memcmp(a.tri4.data(), b.tri4.data(), a.tri4.size() * sizeof(Tri4)), 0);
+        EXPECT_TRUE(a.tri4_prim == b.tri4_prim);
+        EXPECT_EQ(a.bvh.nodes.size(), b.bvh.nodes.size());
+        EXPECT_EQ(a.tri_origin, b.tri_origin);
+    }
 }
 
 // Two shapes too large for the renderer, in different threads' ranges: the first is named.

@@ -43,8 +43,9 @@ void add_render_options(CLI::App& app, RenderOptions& o, const std::string& spp_
         ->check(kNoMinus)
         ->group(group);
     app.add_option("--threads", o.threads,
-                   "worker threads, up to 256, for the render and for parsing long\n"
-                   "meshes; 0 = all cores (the image is the same for any count)")
+                   "worker threads, up to 256, for the render and for loading\n"
+                   "(parse and compile); 0 = all cores this process may use (the\n"
+                   "image is the same for any count)")
         ->type_name("N")
         ->group(group);
     app.add_flag_callback(

@@ -51,7 +51,8 @@ std::optional<rt::RenderScene> load_scene(const Options& opt, rt::SceneDesc* des
         // soon as they are compiled.
         rt::Diagnostics compile_diag;
         rt::RenderScene scene =
-            rt::compile_scene_releasing(*desc, report, opt.animation.time(0), &compile_diag);
+            rt::compile_scene_releasing(*desc, report, opt.animation.time(0), &compile_diag,
+                                        static_cast<unsigned>(opt.threads));
         for (const rt::Warning& w : compile_diag.warnings()) std::cerr << w.str() << "\n";
         t->compile_s = rt::seconds_since(t_compile);
         return scene;

@@ -398,7 +398,8 @@ bool load(Job& job, int rank) {
         po.missing_textures = opt.missing_textures;
         po.threads = static_cast<unsigned>(opt.threads);
         job.desc = rt::parse_scene_file(opt.scene, diag, po);
-        job.scene = rt::compile_scene_releasing(job.desc, nullptr, opt.animation.time(), &diag);
+        job.scene = rt::compile_scene_releasing(job.desc, nullptr, opt.animation.time(), &diag,
+                                                static_cast<unsigned>(opt.threads));
     } catch (const std::exception& e) {  // a SceneError, or out of memory
         if (rank == 0) {
             std::cerr << e.what() << "\n";

@@ -320,7 +320,9 @@ Bvh build_bvh(HugePageVector<PrimRef> refs, const Bounds3& exact_bounds,
     b.refs = refs.data();
     b.settings = settings;
     // Subtrees near the root go to other threads: log2 of the cores, at most 3 levels.
-    const unsigned cores = hardware_threads();
+    const unsigned cores = !have_threads()    ? 1u
+                           : settings.threads ? settings.threads
+                                              : hardware_threads();
     b.spawn_depth = cores >= 8 ? 3 : cores >= 4 ? 2 : cores >= 2 ? 1 : 0;
     // A binary tree over n primitives in leaves of about max_leaf_size / 1.2 (what the SAH
     // makes of meshes) has twice as many nodes as leaves: reserved once, so the array does not

@@ -35,13 +35,19 @@ constexpr size_t kGrain = 16384;
 class Compiler {
 public:
     Compiler(const SceneDesc& desc, CompileReport& report, const std::optional<SceneTime>& time,
-             Diagnostics* diag)
-        : m_desc(desc), m_report(report), m_time(time), m_diag(diag) {}
+             Diagnostics* diag, unsigned threads)
+        : m_desc(desc),
+          m_report(report),
+          m_time(time),
+          m_diag(diag),
+          m_threads(!have_threads() ? 1u
+                    : threads       ? threads
+                                    : hardware_threads()) {}
     // The same, freeing desc's triangles and vertices once compiled where nothing reads them
     // again (compile_scene_releasing).
     Compiler(SceneDesc& desc, CompileReport& report, const std::optional<SceneTime>& time,
-             Diagnostics* diag, bool release)
-        : Compiler(std::as_const(desc), report, time, diag) {
+             Diagnostics* diag, unsigned threads, bool release)
+        : Compiler(std::as_const(desc), report, time, diag, threads) {
         if (!release || !desc.tracks.empty() || report.record_locations) return;
         m_release = &desc;
         m_kept = files_inside_csg();
@@ -241,7 +247,9 @@ private:
         set.layout = layout_of(pending);
         const auto t0 = std::chrono::steady_clock::now();
         // The references move into the build, which frees them before the set grows.
-        set.bvh = build_bvh(std::move(refs), set_bounds, set_bvh_settings(set.layout));
+        BvhBuildSettings build = set_bvh_settings(set.layout);
+        build.threads = m_threads;
+        set.bvh = build_bvh(std::move(refs), set_bounds, build);
         m_report.build_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -350,24 +358,27 @@ private:
                       HugePageVector<PrimRef>& refs) const {
         Bounds3 all;
         std::mutex mutex;
-        parallel_ranges(pending.size(), kGrain, [&](size_t begin, size_t end) {
-            Bounds3 part;
-            for (size_t i = begin; i < end; ++i) {
-                const Pending& p = pending[i];
-                const Bounds3 b =
-                    p.csg >= 0  // its leaves were checked when it was compiled
-                        ? set.csg.nodes[set.csg.roots[static_cast<size_t>(p.csg)].node].bounds
-                        : shape_bounds(set, fi, p);
-                if (p.csg < 0 && !within_limits(b))
-                    throw SceneError(p.shape->loc,
-                                     "shape reaches beyond +-1e300 in its file's frame "
-                                     "(coordinates too large for the renderer)");
-                refs[i] = make_prim_ref(b, static_cast<uint32_t>(i));
-                part.extend(b);
-            }
-            const std::lock_guard lock(mutex);
-            all.extend(part);
-        });
+        parallel_ranges(
+            pending.size(), kGrain,
+            [&](size_t begin, size_t end) {
+                Bounds3 part;
+                for (size_t i = begin; i < end; ++i) {
+                    const Pending& p = pending[i];
+                    const Bounds3 b =
+                        p.csg >= 0  // its leaves were checked when it was compiled
+                            ? set.csg.nodes[set.csg.roots[static_cast<size_t>(p.csg)].node].bounds
+                            : shape_bounds(set, fi, p);
+                    if (p.csg < 0 && !within_limits(b))
+                        throw SceneError(p.shape->loc,
+                                         "shape reaches beyond +-1e300 in its file's frame "
+                                         "(coordinates too large for the renderer)");
+                    refs[i] = make_prim_ref(b, static_cast<uint32_t>(i));
+                    part.extend(b);
+                }
+                const std::lock_guard lock(mutex);
+                all.extend(part);
+            },
+            m_threads);
         return all;
     }
 
@@ -407,7 +418,7 @@ private:
     // Single-precision copies of the triangles, four per block (unused lanes zero), relative to
     // the centre of their bounds: float then resolves a mesh to its own size, not to its
     // distance from the origin (a mesh at 1e4 would otherwise snap to a grid of 1e-3).
-    static void pack_triangles(GeometrySet& set) {
+    void pack_triangles(GeometrySet& set) const {
         set.tri_origin = triangle_bounds_centre(set);
         auto put = [&](size_t i, Tri4& block, int lane) {
             const Triangle t = set.triangle(i);
@@ -415,10 +426,13 @@ private:
         };
         if (set.layout != SetLayout::Triangles) {
             set.tri4.assign((set.triangle_count() + 3) / 4, Tri4{});
-            parallel_ranges(set.tri4.size(), kGrain / 4, [&](size_t begin, size_t end) {
-                for (size_t i = begin * 4; i < std::min(end * 4, set.triangle_count()); ++i)
-                    put(i, set.tri4[i / 4], static_cast<int>(i % 4));
-            });
+            parallel_ranges(
+                set.tri4.size(), kGrain / 4,
+                [&](size_t begin, size_t end) {
+                    for (size_t i = begin * 4; i < std::min(end * 4, set.triangle_count()); ++i)
+                        put(i, set.tri4[i / 4], static_cast<int>(i % 4));
+                },
+                m_threads);
             return;
         }
         // Each leaf in blocks of its own, in the order of the nodes the closest-hit walk reads
@@ -448,20 +462,23 @@ private:
         set.tri4_prim.assign(blocks, {~0u, ~0u, ~0u, ~0u});
         // A leaf's first block, by its first primitive.
         std::vector<uint32_t> block_of(wide ? set.triangle_count() : 0);
-        parallel_ranges(order.size(), kGrain / 4, [&](size_t begin, size_t end) {
-            for (size_t l = begin; l < end; ++l) {
-                uint32_t& child = *order[l].child;
-                const uint32_t first = Bvh4Node::leaf_first(child);
-                const uint32_t count = Bvh4Node::leaf_count(child);
-                const uint32_t next = order[l].block;
-                for (uint32_t k = 0; k < count; ++k) {
-                    put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
-                    set.tri4_prim[next + k / 4][k % 4] = first + k;
+        parallel_ranges(
+            order.size(), kGrain / 4,
+            [&](size_t begin, size_t end) {
+                for (size_t l = begin; l < end; ++l) {
+                    uint32_t& child = *order[l].child;
+                    const uint32_t first = Bvh4Node::leaf_first(child);
+                    const uint32_t count = Bvh4Node::leaf_count(child);
+                    const uint32_t next = order[l].block;
+                    for (uint32_t k = 0; k < count; ++k) {
+                        put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
+                        set.tri4_prim[next + k / 4][k % 4] = first + k;
+                    }
+                    if (wide) block_of[first] = next;
+                    child = Bvh4Node::leaf(next, count);
                 }
-                if (wide) block_of[first] = next;
-                child = Bvh4Node::leaf(next, count);
-            }
-        });
+            },
+            m_threads);
         if (wide)
             leaves(set.bvh.nodes, [&](uint32_t& child) {
                 child = Bvh4Node::leaf(block_of[Bvh4Node::leaf_first(child)],
@@ -471,17 +488,20 @@ private:
     }
 
     // The centre of the bounds of the set's triangles (not of a dropped CSG tree's), or 0.
-    static Vec3 triangle_bounds_centre(const GeometrySet& set) {
+    Vec3 triangle_bounds_centre(const GeometrySet& set) const {
         Bounds3 b;
         std::mutex mutex;
-        parallel_ranges(set.triangle_count(), kGrain, [&](size_t begin, size_t end) {
-            Bounds3 part;
-            for (size_t i = begin; i < end; ++i)
-                for (const uint32_t v : set.triangle_vertices[i])
-                    part.extend(set.vertex_positions[v]);
-            const std::lock_guard lock(mutex);
-            b.extend(part);
-        });
+        parallel_ranges(
+            set.triangle_count(), kGrain,
+            [&](size_t begin, size_t end) {
+                Bounds3 part;
+                for (size_t i = begin; i < end; ++i)
+                    for (const uint32_t v : set.triangle_vertices[i])
+                        part.extend(set.vertex_positions[v]);
+                const std::lock_guard lock(mutex);
+                b.extend(part);
+            },
+            m_threads);
         return b.empty() ? Vec3(0.0) : b.centre();
     }
 
@@ -810,11 +830,14 @@ private:
         set.vertex_positions.resize(first + n);
         set.vertex_normals.resize(first + n);
         set.vertex_uvs.resize(first + n);
-        parallel_ranges(n, kGrain, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i)
-                put_vertex(set, static_cast<uint32_t>(first + i), *m_deferred[i].vertex,
-                           m_deferred[i].transform);
-        });
+        parallel_ranges(
+            n, kGrain,
+            [&](size_t begin, size_t end) {
+                for (size_t i = begin; i < end; ++i)
+                    put_vertex(set, static_cast<uint32_t>(first + i), *m_deferred[i].vertex,
+                               m_deferred[i].transform);
+            },
+            m_threads);
         HugePageVector<DeferredVertex>().swap(m_deferred);
     }
 
@@ -848,6 +871,7 @@ private:
     RenderScene m_scene;
     const std::optional<SceneTime>& m_time;
     Diagnostics* m_diag;
+    unsigned m_threads;  // for the loops over primitives and the BVH builds
     JointValues m_values;
     std::unordered_map<const GroupDesc*, int> m_set_of_root;  // -1: the root has no shapes
     SceneDesc* m_release = nullptr;            // compile_scene_releasing()'s description
@@ -954,15 +978,17 @@ CompileReport& fresh_report(CompileReport* report, CompileReport& local) {
 }  // namespace
 
 RenderScene compile_scene(const SceneDesc& desc, CompileReport* report,
-                          const std::optional<SceneTime>& time, Diagnostics* diag) {
+                          const std::optional<SceneTime>& time, Diagnostics* diag,
+                          unsigned threads) {
     CompileReport local;
-    return Compiler(desc, fresh_report(report, local), time, diag).run();
+    return Compiler(desc, fresh_report(report, local), time, diag, threads).run();
 }
 
 RenderScene compile_scene_releasing(SceneDesc& desc, CompileReport* report,
-                                    const std::optional<SceneTime>& time, Diagnostics* diag) {
+                                    const std::optional<SceneTime>& time, Diagnostics* diag,
+                                    unsigned threads) {
     CompileReport local;
-    return Compiler(desc, fresh_report(report, local), time, diag, true).run();
+    return Compiler(desc, fresh_report(report, local), time, diag, threads, true).run();
 }
 
 }  // namespace rt

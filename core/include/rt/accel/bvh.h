@@ -87,6 +87,8 @@ struct BvhBuildSettings {
     int leaf_block = 1;
     /// Also collapse the tree into 8-wide nodes (Bvh::nodes8).
     bool wide = false;
+    /// The threads the build may use (0: hardware_threads()).
+    unsigned threads = 0;
 };
 
 /// What the builder sorts: a primitive's bounds rounded outward to float, and its index (32

@@ -33,10 +33,11 @@ struct CompileReport {
 /// SceneDesc -> RenderScene; `report`, when given, receives the counts and the BVH build time
 /// (and with record_locations the primitives' locations). The joints hold their values at
 /// `time` (spec §14.7; none: key 0 as read); a joint singular there is left out with a warning
-/// into `diag`.
+/// into `diag`. The loops over primitives and the BVH builds use up to `threads` threads (0:
+/// hardware_threads()); the scene does not depend on it.
 RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr,
                           const std::optional<SceneTime>& time = std::nullopt,
-                          Diagnostics* diag = nullptr);
+                          Diagnostics* diag = nullptr, unsigned threads = 0);
 
 /// compile_scene() for a caller that needs only the description's files, settings, lights and
 /// tracks afterwards (raytrace's still images): the shapes of each group that holds only
@@ -47,7 +48,7 @@ RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr
 /// the one compile_scene() makes.
 RenderScene compile_scene_releasing(SceneDesc& desc, CompileReport* report = nullptr,
                                     const std::optional<SceneTime>& time = std::nullopt,
-                                    Diagnostics* diag = nullptr);
+                                    Diagnostics* diag = nullptr, unsigned threads = 0);
 
 /// Moves the joints of `scene`, compiled from `desc`, to `time`: the instances under joints get
 /// their new transforms, the world bounds and the top-level BVH are made again, and nothing else
