@@ -53,6 +53,12 @@ public:
         m_kept = files_inside_csg();
     }
 
+    // fn(begin, end) over [0, n) in ranges on the compile's threads (parallel_ranges).
+    template <class F>
+    void in_ranges(size_t n, size_t grain, F&& fn) const {
+        parallel_ranges(n, grain, std::forward<F>(fn), m_threads);
+    }
+
     RenderScene run() {
         if (m_desc.camera) m_scene.camera = compile_camera(*m_desc.camera);
         m_scene.background = m_desc.background;
@@ -358,27 +364,24 @@ private:
                       HugePageVector<PrimRef>& refs) const {
         Bounds3 all;
         std::mutex mutex;
-        parallel_ranges(
-            pending.size(), kGrain,
-            [&](size_t begin, size_t end) {
-                Bounds3 part;
-                for (size_t i = begin; i < end; ++i) {
-                    const Pending& p = pending[i];
-                    const Bounds3 b =
-                        p.csg >= 0  // its leaves were checked when it was compiled
-                            ? set.csg.nodes[set.csg.roots[static_cast<size_t>(p.csg)].node].bounds
-                            : shape_bounds(set, fi, p);
-                    if (p.csg < 0 && !within_limits(b))
-                        throw SceneError(p.shape->loc,
-                                         "shape reaches beyond +-1e300 in its file's frame "
-                                         "(coordinates too large for the renderer)");
-                    refs[i] = make_prim_ref(b, static_cast<uint32_t>(i));
-                    part.extend(b);
-                }
-                const std::lock_guard lock(mutex);
-                all.extend(part);
-            },
-            m_threads);
+        in_ranges(pending.size(), kGrain, [&](size_t begin, size_t end) {
+            Bounds3 part;
+            for (size_t i = begin; i < end; ++i) {
+                const Pending& p = pending[i];
+                const Bounds3 b =
+                    p.csg >= 0  // its leaves were checked when it was compiled
+                        ? set.csg.nodes[set.csg.roots[static_cast<size_t>(p.csg)].node].bounds
+                        : shape_bounds(set, fi, p);
+                if (p.csg < 0 && !within_limits(b))
+                    throw SceneError(p.shape->loc,
+                                     "shape reaches beyond +-1e300 in its file's frame "
+                                     "(coordinates too large for the renderer)");
+                refs[i] = make_prim_ref(b, static_cast<uint32_t>(i));
+                part.extend(b);
+            }
+            const std::lock_guard lock(mutex);
+            all.extend(part);
+        });
         return all;
     }
 
@@ -426,13 +429,10 @@ private:
         };
         if (set.layout != SetLayout::Triangles) {
             set.tri4.assign((set.triangle_count() + 3) / 4, Tri4{});
-            parallel_ranges(
-                set.tri4.size(), kGrain / 4,
-                [&](size_t begin, size_t end) {
-                    for (size_t i = begin * 4; i < std::min(end * 4, set.triangle_count()); ++i)
-                        put(i, set.tri4[i / 4], static_cast<int>(i % 4));
-                },
-                m_threads);
+            in_ranges(set.tri4.size(), kGrain / 4, [&](size_t begin, size_t end) {
+                for (size_t i = begin * 4; i < std::min(end * 4, set.triangle_count()); ++i)
+                    put(i, set.tri4[i / 4], static_cast<int>(i % 4));
+            });
             return;
         }
         // Each leaf in blocks of its own, in the order of the nodes the closest-hit walk reads
@@ -462,23 +462,20 @@ private:
         set.tri4_prim.assign(blocks, {~0u, ~0u, ~0u, ~0u});
         // A leaf's first block, by its first primitive.
         std::vector<uint32_t> block_of(wide ? set.triangle_count() : 0);
-        parallel_ranges(
-            order.size(), kGrain / 4,
-            [&](size_t begin, size_t end) {
-                for (size_t l = begin; l < end; ++l) {
-                    uint32_t& child = *order[l].child;
-                    const uint32_t first = Bvh4Node::leaf_first(child);
-                    const uint32_t count = Bvh4Node::leaf_count(child);
-                    const uint32_t next = order[l].block;
-                    for (uint32_t k = 0; k < count; ++k) {
-                        put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
-                        set.tri4_prim[next + k / 4][k % 4] = first + k;
-                    }
-                    if (wide) block_of[first] = next;
-                    child = Bvh4Node::leaf(next, count);
+        in_ranges(order.size(), kGrain / 4, [&](size_t begin, size_t end) {
+            for (size_t l = begin; l < end; ++l) {
+                uint32_t& child = *order[l].child;
+                const uint32_t first = Bvh4Node::leaf_first(child);
+                const uint32_t count = Bvh4Node::leaf_count(child);
+                const uint32_t next = order[l].block;
+                for (uint32_t k = 0; k < count; ++k) {
+                    put(first + k, set.tri4[next + k / 4], static_cast<int>(k % 4));
+                    set.tri4_prim[next + k / 4][k % 4] = first + k;
                 }
-            },
-            m_threads);
+                if (wide) block_of[first] = next;
+                child = Bvh4Node::leaf(next, count);
+            }
+        });
         if (wide)
             leaves(set.bvh.nodes, [&](uint32_t& child) {
                 child = Bvh4Node::leaf(block_of[Bvh4Node::leaf_first(child)],
@@ -491,17 +488,14 @@ private:
     Vec3 triangle_bounds_centre(const GeometrySet& set) const {
         Bounds3 b;
         std::mutex mutex;
-        parallel_ranges(
-            set.triangle_count(), kGrain,
-            [&](size_t begin, size_t end) {
-                Bounds3 part;
-                for (size_t i = begin; i < end; ++i)
-                    for (const uint32_t v : set.triangle_vertices[i])
-                        part.extend(set.vertex_positions[v]);
-                const std::lock_guard lock(mutex);
-                b.extend(part);
-            },
-            m_threads);
+        in_ranges(set.triangle_count(), kGrain, [&](size_t begin, size_t end) {
+            Bounds3 part;
+            for (size_t i = begin; i < end; ++i)
+                for (const uint32_t v : set.triangle_vertices[i])
+                    part.extend(set.vertex_positions[v]);
+            const std::lock_guard lock(mutex);
+            b.extend(part);
+        });
         return b.empty() ? Vec3(0.0) : b.centre();
     }
 
@@ -830,14 +824,11 @@ private:
         set.vertex_positions.resize(first + n);
         set.vertex_normals.resize(first + n);
         set.vertex_uvs.resize(first + n);
-        parallel_ranges(
-            n, kGrain,
-            [&](size_t begin, size_t end) {
-                for (size_t i = begin; i < end; ++i)
-                    put_vertex(set, static_cast<uint32_t>(first + i), *m_deferred[i].vertex,
-                               m_deferred[i].transform);
-            },
-            m_threads);
+        in_ranges(n, kGrain, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i)
+                put_vertex(set, static_cast<uint32_t>(first + i), *m_deferred[i].vertex,
+                           m_deferred[i].transform);
+        });
         HugePageVector<DeferredVertex>().swap(m_deferred);
     }
 
