@@ -146,7 +146,6 @@ private:
     // The files instanced and the joints held by item's root, not inside its joints (those
     // are roots of their own), in the order of a recursive pre-order walk.
     void push_roots(const PlaceItem& item, std::vector<PlaceItem>& todo) {
-        const FileDesc& f = m_desc.files[item.file];
         std::vector<GroupVisit> walk = {{item.root, Mat4(1.0)}};
         std::vector<PlaceItem> found;
         while (!walk.empty()) {
@@ -166,8 +165,7 @@ private:
             }
             const Mat4 m = is_root && item.joint_root ? v.parent : v.parent * g.matrix;
             for (const InstanceDesc& in : g.instances) {
-                const size_t fj =
-                    static_cast<size_t>(f.ray_files[static_cast<size_t>(in.ray_file)]);
+                const size_t fj = instanced_file(item.file, in);
                 found.push_back(
                     {fj, &m_desc.files[fj].root, false, item.joint, item.after * m, in.loc});
             }
@@ -296,48 +294,37 @@ private:
                item.root == &m_desc.files[item.file].root;
     }
 
-    // The files instanced inside a CSG tree, and the files they instance.
+    // The files instanced inside a CSG tree, and the files they instance: one walk over every
+    // file's groups that knows whether it is under a CSG node's operand.
     std::vector<char> files_inside_csg() const {
         std::vector<char> inside(m_desc.files.size(), 0);
-        std::vector<size_t> todo;
-        // Every group of every file, and the instances in the lists under its CSG trees.
-        std::vector<std::pair<const GroupDesc*, size_t>> groups;
+        struct Visit {
+            const GroupDesc* group;
+            size_t file;
+            bool in_csg;
+        };
+        std::vector<Visit> todo;
         for (size_t fi = 0; fi < m_desc.files.size(); ++fi)
-            groups.push_back({&m_desc.files[fi].root, fi});
-        std::vector<std::pair<const GroupDesc*, size_t>> lists;
-        while (!groups.empty()) {
-            const auto [g, fi] = groups.back();
-            groups.pop_back();
-            for (const GroupDesc& c : g->groups) groups.push_back({&c, fi});
-            for (const CsgDesc& c : g->csgs)
-                for (const GroupDesc& o : c.operands) lists.push_back({&o, fi});
-        }
-        while (!lists.empty()) {
-            const auto [g, fi] = lists.back();
-            lists.pop_back();
-            for (const InstanceDesc& in : g->instances)
-                todo.push_back(static_cast<size_t>(
-                    m_desc.files[fi].ray_files[static_cast<size_t>(in.ray_file)]));
-            for (const GroupDesc& c : g->groups) lists.push_back({&c, fi});
-            for (const CsgDesc& c : g->csgs)
-                for (const GroupDesc& o : c.operands) lists.push_back({&o, fi});
-        }
-        // What they instance is read with them.
+            todo.push_back({&m_desc.files[fi].root, fi, false});
         while (!todo.empty()) {
-            const size_t fj = todo.back();
+            const Visit v = todo.back();
             todo.pop_back();
-            if (std::exchange(inside[fj], 1)) continue;
-            groups.push_back({&m_desc.files[fj].root, fj});
-            while (!groups.empty()) {
-                const auto [g, fi] = groups.back();
-                groups.pop_back();
-                for (const InstanceDesc& in : g->instances)
-                    todo.push_back(static_cast<size_t>(
-                        m_desc.files[fi].ray_files[static_cast<size_t>(in.ray_file)]));
-                for (const GroupDesc& c : g->groups) groups.push_back({&c, fi});
+            for (const GroupDesc& c : v.group->groups) todo.push_back({&c, v.file, v.in_csg});
+            for (const CsgDesc& c : v.group->csgs)
+                for (const GroupDesc& o : c.operands) todo.push_back({&o, v.file, true});
+            if (!v.in_csg) continue;
+            for (const InstanceDesc& in : v.group->instances) {
+                const size_t fj = instanced_file(v.file, in);
+                if (!std::exchange(inside[fj], 1))
+                    todo.push_back({&m_desc.files[fj].root, fj, true});
             }
         }
         return inside;
+    }
+
+    // The file an instance in file fi places.
+    size_t instanced_file(size_t fi, const InstanceDesc& in) const {
+        return static_cast<size_t>(m_desc.files[fi].ray_files[static_cast<size_t>(in.ray_file)]);
     }
 
     // Frees the shapes of file fi's groups that hold only triangles: their pending entries keep
@@ -635,13 +622,12 @@ private:
         const Mat4* gm = csg_group_matrix(g);
         if (!gm) return;  // a joint singular at this time: an empty operand
         const Mat4 m = v.parent * *gm;
-        const FileDesc& f = m_desc.files[v.file];
         add_csg_leaves(set, v.file, g, m, v.flip, results);
         // Pushed in reverse so that they close in the list's order: groups, instances, CSGs.
         for (auto it = g.csgs.rbegin(); it != g.csgs.rend(); ++it)
             todo.push_back({&*it, nullptr, m, v.file, v.flip});
         for (auto it = g.instances.rbegin(); it != g.instances.rend(); ++it) {
-            const size_t fj = static_cast<size_t>(f.ray_files[static_cast<size_t>(it->ray_file)]);
+            const size_t fj = instanced_file(v.file, *it);
             todo.push_back({nullptr, &m_desc.files[fj].root, m, fj, v.flip});
         }
         for (auto it = g.groups.rbegin(); it != g.groups.rend(); ++it)
