@@ -34,7 +34,27 @@ struct Piece {
     Token stop;        // the first directive at or after `bound`, or the end
     std::exception_ptr error;
 
-    Piece(std::string_view text, const std::string* file) : state(text, file) {}
+    // Its state at mark m of a run of file f: the file's as the run's first directive left it.
+    Piece(const FileState& f, const MeshRun& run, const MeshRun::Mark& m)
+        : state(f.lex.text(), f.lex.file()) {
+        FileState& s = state;
+        s.lex.seek(m.offset, m.line, m.col);
+        s.counted = m.offset;
+        s.parent = &f;
+        s.top = f.top;
+        s.dir = f.dir;
+        s.graph_started = f.graph_started;
+        s.counts = f.counts;
+        if (run.vertices) s.counts[kVertices].found += m.index - 1;  // the first is counted
+        s.v3_part = f.v3_part;
+        s.stack.push_back(&s.desc.root);
+        s.stack_is_joint.push_back(0);
+        if (!f.v3.empty()) {
+            s.v3.emplace_back();
+            s.v3.back().kind = f.v3.back().kind;
+            s.v3.back().material = f.v3.back().material;
+        }
+    }
 };
 
 // Waits for the pieces' threads however the calling thread leaves; when it leaves with an error
@@ -58,9 +78,27 @@ HugePageVector<ShapeDesc>& run_array(FileState& f, std::false_type) {
 FileState::Slots<VertexDesc>& run_slots(FileState& f, std::true_type) { return f.vertex_slots; }
 FileState::Slots<ShapeDesc>& run_slots(FileState& f, std::false_type) { return f.shape_slots; }
 
+// Room for n more elements at the end of the array. Its pages are first touched on `threads`
+// threads (a byte of the reserved storage each, before any element lives there): the kernel
+// zeroes a fresh page when it is first written, which resize() would do on this thread alone.
+template <class T>
+void make_room(HugePageVector<T>& array, size_t n, unsigned threads) {
+    const size_t base = array.size(), page = 4096;
+    array.reserve(base + n);
+    unsigned char* const room = reinterpret_cast<unsigned char*>(array.data() + base);
+    parallel_ranges(
+        n * sizeof(T) / page, 256,
+        [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) room[i * page] = 0;
+        },
+        threads);
+    array.resize(base + n);
+}
+
 }  // namespace run_pieces
 
 using run_pieces::Joiner;
+using run_pieces::make_room;
 using run_pieces::Piece;
 using run_pieces::run_array;
 using run_pieces::run_slots;
@@ -139,19 +177,7 @@ Token ParserBase::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind
     };
     auto& array = run_array(f, kind);
     const size_t base = array.size();
-    // Room for directives 1 .. count - 1. Its pages are first touched on every thread (a byte of
-    // the reserved storage each, before any element lives there): the kernel zeroes a fresh page
-    // when it is first written, which resize() would do on this thread alone.
-    array.reserve(base + run.count - 1);
-    const size_t page = 4096, bytes = (run.count - 1) * sizeof(array[0]);
-    unsigned char* const room = reinterpret_cast<unsigned char*>(array.data() + base);
-    parallel_ranges(
-        bytes / page, 256,
-        [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) room[i * page] = 0;
-        },
-        static_cast<unsigned>(parts));
-    array.resize(base + run.count - 1);
+    make_room(array, run.count - 1, static_cast<unsigned>(parts));  // directives 1 .. count - 1
     const auto slots_of = [&](size_t from, size_t to) {
         return std::remove_reference_t<decltype(run_slots(f, kind))>{array.data() + base + from - 1,
                                                                      array.data() + base + to - 1};
@@ -160,25 +186,9 @@ Token ParserBase::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind
     std::vector<std::unique_ptr<Piece>> pieces;
     for (size_t p = 1; p < parts; ++p) {
         const MeshRun::Mark& m = start(p);
-        auto piece = std::make_unique<Piece>(f.lex.text(), f.lex.file());
-        FileState& s = piece->state;
-        s.lex.seek(m.offset, m.line, m.col);
-        s.counted = m.offset;
-        s.parent = &f;
-        s.top = f.top;
-        s.dir = f.dir;
-        s.graph_started = f.graph_started;
-        s.counts = f.counts;
-        if (run.vertices) s.counts[kVertices].found += m.index - 1;  // the first is counted
-        s.v3_part = f.v3_part;
-        s.stack.push_back(&s.desc.root);
-        s.stack_is_joint.push_back(0);
-        if (!f.v3.empty()) {
-            s.v3.emplace_back();
-            s.v3.back().kind = f.v3.back().kind;
-            s.v3.back().material = f.v3.back().material;
-        }
-        run_slots(s, kind) = slots_of(m.index, p + 1 < parts ? start(p + 1).index : run.count);
+        auto piece = std::make_unique<Piece>(f, run, m);
+        run_slots(piece->state, kind) =
+            slots_of(m.index, p + 1 < parts ? start(p + 1).index : run.count);
         piece->slot = base + m.index - 1;
         piece->bound = p + 1 < parts ? start(p + 1).offset : run.end;
         pieces.push_back(std::move(piece));
