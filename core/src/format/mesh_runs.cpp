@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "format/parser_impl.h"
-#include "rt/util/parallel_ranges.h"
+#include "rt/util/threads.h"
 
 namespace rt::parser_impl {
 
@@ -78,27 +78,9 @@ HugePageVector<ShapeDesc>& run_array(FileState& f, std::false_type) {
 FileState::Slots<VertexDesc>& run_slots(FileState& f, std::true_type) { return f.vertex_slots; }
 FileState::Slots<ShapeDesc>& run_slots(FileState& f, std::false_type) { return f.shape_slots; }
 
-// Room for n more elements at the end of the array. Its pages are first touched on `threads`
-// threads (a byte of the reserved storage each, before any element lives there): the kernel
-// zeroes a fresh page when it is first written, which resize() would do on this thread alone.
-template <class T>
-void make_room(HugePageVector<T>& array, size_t n, unsigned threads) {
-    const size_t base = array.size(), page = 4096;
-    array.reserve(base + n);
-    unsigned char* const room = reinterpret_cast<unsigned char*>(array.data() + base);
-    parallel_ranges(
-        n * sizeof(T) / page, 256,
-        [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) room[i * page] = 0;
-        },
-        threads);
-    array.resize(base + n);
-}
-
 }  // namespace run_pieces
 
 using run_pieces::Joiner;
-using run_pieces::make_room;
 using run_pieces::Piece;
 using run_pieces::run_array;
 using run_pieces::run_slots;
@@ -177,7 +159,7 @@ Token ParserBase::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind
     };
     auto& array = run_array(f, kind);
     const size_t base = array.size();
-    make_room(array, run.count - 1, static_cast<unsigned>(parts));  // directives 1 .. count - 1
+    array.resize(base + run.count - 1);  // directives 1 .. count - 1
     const auto slots_of = [&](size_t from, size_t to) {
         return std::remove_reference_t<decltype(run_slots(f, kind))>{array.data() + base + from - 1,
                                                                      array.data() + base + to - 1};
