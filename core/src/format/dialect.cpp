@@ -8,7 +8,7 @@
 #include <utility>
 #include <variant>
 
-#include "format/parser_impl.h"
+#include "format/driver.h"
 #include "rt/util/file_io.h"
 
 namespace fs = std::filesystem;
@@ -56,6 +56,7 @@ namespace {
 
 // Directives that exist only in the V3 dialect (spec §10 step 1).
 bool is_v3_directive(std::string_view d) {
+    if (d == "#vertex" || d == "#shape_triangle") return false;  // the mesh directives, first
     static constexpr std::array<std::string_view, 10> names = {
         "#static_affine",   "#dynamic_affine", "#shape_list_begin",   "#shape_list_end",
         "#shape_triangles", "#shape_union",    "#shape_intersection", "#shape_difference",
@@ -116,7 +117,7 @@ const char* forced_name(Dialect d) {
 
 }  // namespace
 
-struct ParserBase::Scan {
+struct Parser::Scan {
     bool v3_paths = false;  // locate #ray_file paths by spec §13.2 rather than §4.2
     bool follow = true;     // follow #ray_file
     bool includes = false;  // the scan met a #ray_file (followed or not)
@@ -128,8 +129,8 @@ struct ParserBase::Scan {
     int v3_order = 0, v01_order = 0, order = 0;
 };
 
-std::optional<std::string> ParserBase::find_file(const std::string& dir, const std::string& path,
-                                                 bool v3) const {
+std::optional<std::string> Parser::find_file(const std::string& dir, const std::string& path,
+                                             bool v3) const {
     const fs::path p(path);
     if (p.is_absolute()) return is_file(p) ? std::optional<std::string>(path) : std::nullopt;
     std::vector<fs::path> candidates;
@@ -143,40 +144,40 @@ std::optional<std::string> ParserBase::find_file(const std::string& dir, const s
 
 // Whether prescan_marker has anything to do with a marker of this kind: the first of its kind, or
 // any under --dialect (so the location and the text are made only then).
-bool ParserBase::wants_marker(bool v3, const Scan& scan) const {
+bool Parser::wants_marker(bool v3, const Scan& scan) const {
     return m_options.dialect || !(v3 ? scan.v3_loc : scan.v01_loc).file;
 }
 
 // Spec §10 step 1 and step 5: records the first marker of each kind, or refuses it under
 // --dialect of the other kind.
-void ParserBase::prescan_marker(const SourceLoc& loc, std::string_view what, bool v3, Scan& scan) {
+void Parser::prescan_marker(const SourceLoc& loc, std::string_view what, bool v3, Scan& scan) {
     if (m_options.dialect) {
         const Dialect forced = *m_options.dialect;
         const std::string by =
             std::string(dialect_name(forced)) + " by --dialect " + forced_name(forced);
         if (v3 && forced != Dialect::V3)
-            fail(loc, std::string(what) + " is V3 syntax; the tree was forced to " + by);
+            scan_fail(loc, std::string(what) + " is V3 syntax; the tree was forced to " + by);
         if (!v3 && forced == Dialect::V3)
-            fail(loc, std::string(what) + " is V0/V1 syntax; the tree was forced to " + by);
+            scan_fail(loc, std::string(what) + " is V0/V1 syntax; the tree was forced to " + by);
         return;
     }
     SourceLoc& first = v3 ? scan.v3_loc : scan.v01_loc;
     if (first.file) return;
     first = loc;
-    (v3 ? scan.v3_chain : scan.v01_chain).assign(m_include_locs.rbegin(), m_include_locs.rend());
+    (v3 ? scan.v3_chain : scan.v01_chain).assign(m_scan_locs.rbegin(), m_scan_locs.rend());
     (v3 ? scan.v3_what : scan.v01_what) = std::string(what);
     (v3 ? scan.v3_order : scan.v01_order) = ++scan.order;
 }
 
 // Runs for every directive of the tree: its location and quoted name are made only where a
 // marker or an error needs them.
-void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string& dir, Scan& scan) {
+void Parser::prescan_directive(Lexer& lex, const Token& t, const std::string& dir, Scan& scan) {
     const auto loc = [&] { return lex.loc(t); };
     const auto marker = [&](bool v3, const std::string& suffix = {}) {
         if (wants_marker(v3, scan)) prescan_marker(loc(), quote(t.text) + suffix, v3, scan);
     };
     if (t.text == "#version")
-        fail(loc(), "'#version' belongs to the HMC CS155 ray format, not a Kazhdan .ray file");
+        scan_fail(loc(), "'#version' belongs to the HMC CS155 ray format, not a Kazhdan .ray file");
     if (is_v3_directive(t.text)) return marker(true);
     if (is_v01_directive(t.text)) return marker(false);
     bool reals = false, ints = false;
@@ -186,8 +187,9 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
         const int n = count_words(lex, &reals, &ints);
         if (!reals) return;  // the parse reports the bad token at its place
         if (n != v01 && n != v3)
-            fail(loc(), std::string(t.text) + " needs " + std::to_string(v01) + " (V0/V1) or " +
-                            std::to_string(v3) + " (V3) numbers, got " + std::to_string(n));
+            scan_fail(loc(), std::string(t.text) + " needs " + std::to_string(v01) +
+                                 " (V0/V1) or " + std::to_string(v3) + " (V3) numbers, got " +
+                                 std::to_string(n));
         return marker(n == v3, " with " + std::to_string(n) + " numbers");
     }
     if (t.text == "#material") {
@@ -197,25 +199,25 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
         // A bad token or a missing string is reported by the parse at its place.
         if (!numbers || (lex.peek().kind != TokenKind::String && (n == 16 || n == 18))) return;
         if (n != 16 && n != 18)
-            fail(mloc,
-                 "#material needs 16 (V0) or 18 (V1) numbers before its "
-                 "!…! string, got " +
-                     std::to_string(n));
+            scan_fail(mloc,
+                      "#material needs 16 (V0) or 18 (V1) numbers before its "
+                      "!…! string, got " +
+                          std::to_string(n));
         const Dialect d = n == 16 ? Dialect::V0 : Dialect::V1;
         if (m_options.dialect && *m_options.dialect != d &&
             !(*m_options.dialect == Dialect::V3 && d == Dialect::V1))
-            fail(mloc, "#material has " + std::to_string(n) + " numbers, but --dialect " +
-                           (*m_options.dialect == Dialect::V0   ? "v0 needs 16"
-                            : *m_options.dialect == Dialect::V1 ? "v1 needs 18"
-                                                                : "v3 needs 18"));
+            scan_fail(mloc, "#material has " + std::to_string(n) + " numbers, but --dialect " +
+                                (*m_options.dialect == Dialect::V0   ? "v0 needs 16"
+                                 : *m_options.dialect == Dialect::V1 ? "v1 needs 18"
+                                                                     : "v3 needs 18"));
         if (d == Dialect::V0) prescan_marker(mloc, "'#material' with 16 numbers", false, scan);
         SourceLoc& first = d == Dialect::V0 ? m_first_v0 : m_first_v1;
         if (!first.file) {
             first = mloc;
             const SourceLoc& other = d == Dialect::V0 ? m_first_v1 : m_first_v0;
             if (other.file && !scan.v3_loc.file)
-                fail(first, "mixed dialects: V0 material at " + m_first_v0.str() +
-                                ", V1 material at " + m_first_v1.str());
+                scan_fail(first, "mixed dialects: V0 material at " + m_first_v0.str() +
+                                     ", V1 material at " + m_first_v1.str());
         }
     } else if (t.text.substr(0, 7) == "#shape_") {
         if (lex.peek().text == "-1") m_default_use = true;
@@ -236,27 +238,28 @@ void ParserBase::prescan_directive(Lexer& lex, const Token& t, const std::string
         if (std::find(scan.visited.begin(), scan.visited.end(), canon) != scan.visited.end())
             return;
         // Too deep: the parse reports it at this directive.
-        if (m_include_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) return;
+        if (m_scan_locs.size() + 1 >= static_cast<size_t>(kMaxIncludeDepth)) return;
         const FileBytes* sub = cached_text(*resolved, canon);
         if (!sub) return;
         const std::string sub_dir = fs::path(*resolved).parent_path().string();
-        m_include_locs.push_back(loc());
+        m_scan_locs.push_back(loc());
         prescan(text_of(*sub), *resolved, canon, sub_dir.empty() ? "." : sub_dir, scan);
-        m_include_locs.pop_back();
+        m_scan_locs.pop_back();
     }
 }
 
 // Follows the #ray_file paths it can resolve; the parse reports the others.
-void ParserBase::prescan(std::string_view text, const std::string& name,
-                         const std::string& canonical, const std::string& dir, Scan& scan) {
+void Parser::prescan(std::string_view text, const std::string& name, const std::string& canonical,
+                     const std::string& dir, Scan& scan) {
     scan.visited.push_back(canonical);
     const std::string* file = intern_file_name(name);
     // Spec §10 step 0: other formats named .ray.
     const std::string_view body = text.substr(text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0);
     if (body.substr(0, 13) == "SBT-raytracer")
-        fail({file, 1, 1},
-             "this is an SBT-raytracer scene (U. Washington CSE 457 / UT Austin CS 354 format), "
-             "not a Kazhdan .ray file");
+        scan_fail(
+            {file, 1, 1},
+            "this is an SBT-raytracer scene (U. Washington CSE 457 / UT Austin CS 354 format), "
+            "not a Kazhdan .ray file");
     Lexer lex(text, file);
     // What the parse reserves room for: the file's vertices and the shapes outside its groups
     // (most of a mesh), so its arrays are allocated once rather than doubled and copied.
@@ -309,18 +312,23 @@ void ParserBase::prescan(std::string_view text, const std::string& name,
     m_sizes[canonical] = {vertices, top_shapes, std::move(runs)};
 }
 
-void ParserBase::run_prescan(std::string_view text, const std::string& name,
-                             const std::string& canonical, const std::string& dir, bool v3,
-                             Scan& scan) {
+void Parser::run_prescan(std::string_view text, const std::string& name,
+                         const std::string& canonical, const std::string& dir, bool v3,
+                         Scan& scan) {
     m_first_v0 = m_first_v1 = SourceLoc{};
     m_default_use = false;
     scan.v3_paths = v3;
     prescan(text, name, canonical, dir, scan);
 }
 
+void Parser::scan_fail(const SourceLoc& loc, const std::string& message) const {
+    std::vector<SourceLoc> chain(m_scan_locs.rbegin(), m_scan_locs.rend());
+    throw SceneError(loc, message, std::move(chain));
+}
+
 // Included files' texts by canonical path, read by the pre-scan and handed to the parse.
-const FileBytes* ParserBase::cached_text(const std::string& path, const std::string& canonical,
-                                         std::string* why) {
+const FileBytes* Parser::cached_text(const std::string& path, const std::string& canonical,
+                                     std::string* why) {
     auto it = m_texts.find(canonical);
     if (it != m_texts.end()) return &it->second;
     FileBytes text;
@@ -329,8 +337,8 @@ const FileBytes* ParserBase::cached_text(const std::string& path, const std::str
     return &m_texts.emplace(canonical, std::move(text)).first->second;
 }
 
-void ParserBase::detect_dialect(std::string_view text, const std::string& name,
-                                const std::string& canonical, const std::string& dir) {
+void Parser::detect_dialect(std::string_view text, const std::string& name,
+                            const std::string& canonical, const std::string& dir) {
     m_top_dir = dir;
     const bool forced_v3 = m_options.dialect == Dialect::V3;
     // Spec §10 step 6: §13.2 paths once the top-level file itself is V3.
@@ -355,8 +363,8 @@ void ParserBase::detect_dialect(std::string_view text, const std::string& name,
             ++i;
         if (i < scan.found.size() || i < again.found.size()) {
             if (!again.v3_loc.file)
-                fail(i < again.found.size() ? again.found[i].second : scan.found[i].second,
-                     "the dialect of this tree depends on path resolution");
+                scan_fail(i < again.found.size() ? again.found[i].second : scan.found[i].second,
+                          "the dialect of this tree depends on path resolution");
             scan = std::move(again);
         }
     }
@@ -371,9 +379,9 @@ void ParserBase::detect_dialect(std::string_view text, const std::string& name,
                 scan.v3_loc.str() + ", " + (v0 ? "V0 " : "V1 ") + v01 + " at " + scan.v01_loc.str(),
             v3_later ? scan.v3_chain : scan.v01_chain);
     }
+    std::string marker;
     if (scan.v3_loc.file)
-        m_v3_marker =
-            scan.v3_what.substr(0, scan.v3_what.find(" with ")) + " at " + scan.v3_loc.str();
+        marker = scan.v3_what.substr(0, scan.v3_what.find(" with ")) + " at " + scan.v3_loc.str();
     if (m_options.dialect)
         m_dialect = *m_options.dialect;
     else if (scan.v3_loc.file)
@@ -384,6 +392,7 @@ void ParserBase::detect_dialect(std::string_view text, const std::string& name,
         m_dialect = Dialect::V1;
     else
         m_dialect = m_default_use ? Dialect::V0 : Dialect::V1;
+    m_build.set_dialect(m_dialect, std::move(marker), m_top_dir);
 }
 
 }  // namespace parser_impl

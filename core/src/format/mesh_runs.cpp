@@ -17,7 +17,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "format/parser_impl.h"
+#include "format/driver.h"
 #include "rt/util/threads.h"
 
 namespace rt::parser_impl {
@@ -85,32 +85,32 @@ using run_pieces::Piece;
 using run_pieces::run_array;
 using run_pieces::run_slots;
 
-void ParserBase::count_progress(FileState& f, size_t offset) const {
+void Parser::count_progress(FileState& f, size_t offset) const {
     if (!m_options.progress || offset <= f.counted) return;
     m_options.progress->done.fetch_add(offset - f.counted, std::memory_order_relaxed);
     f.counted = offset;
 }
 
-void ParserBase::check_cancel(const SourceLoc& loc) const {
+void Parser::check_cancel(const SourceLoc& loc) const {
     if (m_options.progress && m_options.progress->cancel.load(std::memory_order_relaxed))
-        fail(loc, "loading cancelled");
+        m_build.fail(loc, "loading cancelled");
 }
 
-void ParserBase::count_text(size_t bytes) const {
+void Parser::count_text(size_t bytes) const {
     if (m_options.progress) m_options.progress->total.fetch_add(bytes, std::memory_order_relaxed);
 }
 
-unsigned ParserBase::parse_threads() const {
+unsigned Parser::parse_threads() const {
     if (!have_threads()) return 1;
     return m_options.threads ? m_options.threads : hardware_threads();
 }
 
-Token ParserBase::walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop) {
+Token Parser::walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop) {
     for (unsigned n = 1; t.kind != TokenKind::End; ++n) {
         if (t.kind == TokenKind::Directive && f.lex.offset(t) >= bound) break;
         if (stop && stop->load(std::memory_order_relaxed)) break;
         if (t.kind != TokenKind::Directive)
-            fail(f, t, "expected a directive, got " + quote(t.text));
+            m_build.fail(f.lex.loc(t), "expected a directive, got " + quote(t.text));
         if (m_options.progress && n % 1024 == 0) {
             check_cancel(f.lex.loc(t));
             count_progress(f, f.lex.offset(t));
@@ -122,7 +122,7 @@ Token ParserBase::walk(FileState& f, Token t, size_t bound, const std::atomic<bo
     return t;
 }
 
-void ParserBase::walk_file(FileState& f) {
+void Parser::walk_file(FileState& f) {
     const auto sizes = m_sizes.find(f.desc.canonical_path);
     const std::vector<MeshRun>* runs = sizes != m_sizes.end() ? &sizes->second.runs : nullptr;
     size_t next = 0;
@@ -139,7 +139,7 @@ void ParserBase::walk_file(FileState& f) {
     count_progress(f, f.lex.text().size());
 }
 
-Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run) {
+Token Parser::parse_run(FileState& f, const Token& first, const MeshRun& run) {
     // The first directive on its own settles the file's state the pieces start from (the graph
     // started, the part of a V3 file); an error there is the run's first.
     dispatch(f, first);
@@ -151,7 +151,7 @@ Token ParserBase::parse_run(FileState& f, const Token& first, const MeshRun& run
 // the array (one place per directive), and the ranges are closed up afterwards where a piece
 // wrote fewer (a degenerate triangle skipped): no copy of the pieces' output is made.
 template <class IsVertices>
-Token ParserBase::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind) {
+Token Parser::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind) {
     const size_t marks = run.marks.size();
     const size_t parts = std::min<size_t>(parse_threads(), marks);
     const auto start = [&](size_t p) -> const MeshRun::Mark& {
@@ -186,14 +186,14 @@ Token ParserBase::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind
         Joiner joiner{stop, workers};
         for (const std::unique_ptr<Piece>& p : pieces) {
             const auto parse = [this, &stop, piece = p.get()] {
-                t_piece = &piece->out;
+                SceneBuilder::t_piece = &piece->out;
                 try {
                     FileState& s = piece->state;
                     piece->stop = walk(s, s.lex.next(), piece->bound, &stop);
                 } catch (...) {
                     piece->error = std::current_exception();
                 }
-                t_piece = nullptr;
+                SceneBuilder::t_piece = nullptr;
             };
             try {
                 workers.emplace_back(parse);
@@ -222,8 +222,9 @@ Token ParserBase::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind
     size_t end = kept;
     for (const std::unique_ptr<Piece>& p : pieces) {
         for (PieceOutput::Pending& w : p->out.warnings)
-            m_diag.warn(w.loc, std::move(w.kind), std::move(w.message), std::move(w.chain));
-        m_scene.skipped_shapes += p->out.skipped;
+            m_build.diagnostics().warn(w.loc, std::move(w.kind), std::move(w.message),
+                                       std::move(w.chain));
+        m_build.scene().skipped_shapes += p->out.skipped;
         if (p->error) std::rethrow_exception(p->error);
         FileState& s = p->state;
         const size_t written =

@@ -1,0 +1,95 @@
+// The driver of a parse, private to core/src/format.
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "format/grammar.h"
+#include "format/parser_impl.h"
+#include "format/scene_builder.h"
+
+namespace rt::parser_impl {
+
+/// The driver of a parse: the dialect pre-scan of the file tree (dialect.cpp), the file loop
+/// (parser.cpp) and the walk over a file's directives, its long runs of mesh directives in
+/// pieces on several threads (mesh_runs.cpp). Each directive goes to the grammar walk of the
+/// tree's dialect (grammar.h); what they build, and what it means, is the SceneBuilder's.
+class Parser final : private SceneBuilder::FileLoop {
+public:
+    Parser(Diagnostics& diag, const ParseOptions& options);
+    SceneDesc run(std::string_view text, const std::string& name, const std::string& dir);
+    SceneDesc run_file(const std::string& path);
+
+private:
+    // ---- the file loop (parser.cpp) ----------------------------------------------------------
+    void parse_file(std::string_view text, const std::string& name, const std::string& canonical,
+                    const std::string& dir, int index);
+    void end_of_file(FileState& f);
+    /// One directive, by the tree's dialect.
+    void dispatch(FileState& f, const Token& d);
+    // SceneBuilder::FileLoop: an included file.
+    bool readable(const std::string& resolved, const std::string& canonical,
+                  std::string* why) override;
+    void parse(const std::string& resolved, const std::string& canonical, int index) override;
+
+    // ---- the walk over a file's directives (mesh_runs.cpp) -----------------------------------
+    /// Parses from token `t` to the first directive at or after byte `bound` (or the end of the
+    /// file, or until *stop is set), which it returns unparsed.
+    Token walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop = nullptr);
+    /// The directives of a file, the long runs of mesh directives in pieces on several threads.
+    void walk_file(FileState& f);
+    /// The threads a run is cut for (ParseOptions::threads; 1 where none can start).
+    unsigned parse_threads() const;
+    /// ParseProgress: the bytes of f's text up to `offset` are parsed (counted once each).
+    void count_progress(FileState& f, size_t offset) const;
+    /// ParseProgress::cancel set: throws "loading cancelled" at `loc`.
+    void check_cancel(const SourceLoc& loc) const;
+    /// ParseProgress::total grows by a text read.
+    void count_text(size_t bytes) const;
+    Token parse_run(FileState& f, const Token& first, const MeshRun& run);
+    template <class IsVertices>
+    Token parse_pieces(FileState& f, const MeshRun& run, IsVertices kind);
+
+    // ---- dialect detection (dialect.cpp) -------------------------------------------------
+    void detect_dialect(std::string_view text, const std::string& name,
+                        const std::string& canonical, const std::string& dir);
+    /// The file's text (read once); nullptr, with the reason in *why, when it cannot be read.
+    const FileBytes* cached_text(const std::string& path, const std::string& canonical,
+                                 std::string* why = nullptr);
+    /// An error of the pre-scan, with the includes that led to it.
+    [[noreturn]] void scan_fail(const SourceLoc& loc, const std::string& message) const;
+    struct Scan;
+    std::optional<std::string> find_file(const std::string& dir, const std::string& path,
+                                         bool v3) const;
+    void prescan(std::string_view text, const std::string& name, const std::string& canonical,
+                 const std::string& dir, Scan& scan);
+    void prescan_directive(Lexer& lex, const Token& t, const std::string& dir, Scan& scan);
+    void prescan_marker(const SourceLoc& loc, std::string_view what, bool v3, Scan& scan);
+    bool wants_marker(bool v3, const Scan& scan) const;
+    void run_prescan(std::string_view text, const std::string& name, const std::string& canonical,
+                     const std::string& dir, bool v3, Scan& scan);
+
+    ParseOptions m_options;
+    SceneBuilder m_build;
+    V1Grammar m_v1;
+    V3Grammar m_v3;
+    Dialect m_dialect = Dialect::V1;
+    std::map<std::string, FileBytes> m_texts;  // included files read, not yet parsed
+    std::string m_top_dir = ".";               // directory of the top-level file
+    std::vector<SourceLoc> m_scan_locs;        // the pre-scan's #ray_file chain, outermost first
+    // What the pre-scan counted in each file (by canonical path), for the parse's reservations.
+    struct FileSizes {
+        size_t vertices = 0;
+        size_t top_shapes = 0;  // #shape_* directives outside any group (V0/V1)
+        std::vector<MeshRun> runs;
+    };
+    std::map<std::string, FileSizes> m_sizes;
+    SourceLoc m_first_v0, m_first_v1;  // first material of each dialect (pre-scan)
+    bool m_default_use = false;        // some shape uses material index -1
+};
+
+}  // namespace rt::parser_impl

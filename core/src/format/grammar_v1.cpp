@@ -1,0 +1,391 @@
+// The V0/V1 grammar (spec §3, §4): a table of directives, each read into values for the
+// SceneBuilder; and the argument readers and the directives V3 shares with it.
+#include <array>
+#include <variant>
+
+#include "format/grammar.h"
+
+namespace rt::parser_impl {
+
+// ---- arguments
+// -----------------------------------------------------------------------------------
+SourceLoc Directive::arg_loc(const Token& bad) const {
+    return (bad.kind == TokenKind::End || bad.kind == TokenKind::Directive) ? loc() : loc(bad);
+}
+
+double Directive::real(int count) {
+    const Token t = f.lex.next();
+    double v = 0.0;
+    bool non_finite = false;
+    if (t.kind == TokenKind::Word && parse_real(t.text, &v, &non_finite)) return v;
+    if (non_finite) fail(t, "non-finite number " + quote(t.text));
+    b.fail(arg_loc(t), "expected " + std::to_string(count) + (count == 1 ? " number" : " numbers") +
+                           " after " + std::string(name()) + ", got " + describe(t));
+}
+
+Vec3 Directive::vec3(int count) {
+    Vec3 v;
+    for (int i = 0; i < 3; ++i) v[i] = real(count);
+    return v;
+}
+
+Vec3 Directive::colour(int count, std::string_view what) {
+    Vec3 c;
+    for (int i = 0; i < 3; ++i) {
+        const Token t = f.lex.peek();
+        c[i] = real(count);
+        if (c[i] < 0) fail(t, "negative " + std::string(what) + " " + SceneBuilder::fmt(c[i]));
+    }
+    return c;
+}
+
+int Directive::integer(std::string_view what, SourceLoc* at) {
+    const Token t = f.lex.next();
+    int v = 0;
+    bool out_of_range = false;
+    if (at) *at = loc(t);
+    if (t.kind == TokenKind::Word && parse_int(t.text, &v, &out_of_range)) return v;
+    if (out_of_range) fail(t, "integer " + quote(t.text) + " out of range");
+    b.fail(arg_loc(t), "expected an integer (" + std::string(what) + "), got " + describe(t));
+}
+
+std::string Directive::word(std::string_view what, bool ascii) {
+    const Token t = f.lex.next();
+    if (t.kind == TokenKind::Word) {
+        // Spec §2: non-ASCII bytes only in comments, strings and paths.
+        if (ascii)
+            for (char c : t.text)
+                if (static_cast<unsigned char>(c) >= 0x80)
+                    fail(t, "non-ASCII byte in " + std::string(what) + " " + quote(t.text));
+        return std::string(t.text);
+    }
+    b.fail(arg_loc(t), "expected " + std::string(what) + " after " + std::string(name()) +
+                           ", got " + describe(t));
+}
+
+// ---- the directives both dialects share
+// ----------------------------------------------------------
+namespace shared {
+
+CameraDesc camera(Directive& d) {
+    CameraDesc c;
+    c.loc = d.loc();
+    c.position = d.vec3(10);
+    c.direction = d.vec3(10);
+    c.up = d.vec3(10);
+    c.half_height_angle_rad = d.real(10);
+    return c;
+}
+
+void texture(Directive& d) {
+    const SourceLoc at = d.next_loc();
+    const std::string path = d.word("a texture file name");
+    d.b.count_item(d.f, d.loc(), kTextures);
+    d.b.texture(d.f, d.loc(), at, path);
+}
+
+// Spec §3.1, §10: numbers up to the !…! string, 16 (V0) or 18 (V1, V3) of them, the last the
+// texture index.
+void material(Directive& d) {
+    d.b.count_item(d.f, d.loc(), kMaterials);
+    MaterialNumbers m;
+    m.loc = d.loc();
+    Token t = d.f.lex.next();
+    Token last;
+    for (; t.kind == TokenKind::Word; t = d.f.lex.next()) {
+        double x = 0.0;
+        bool non_finite = false;
+        if (!parse_real(t.text, &x, &non_finite)) {
+            if (non_finite) d.fail(t, "non-finite number " + quote(t.text));
+            d.fail(t, "expected a number in #material, got " + quote(t.text));
+        }
+        if (m.n < 18) {
+            m.v[static_cast<size_t>(m.n)] = x;
+            m.at[static_cast<size_t>(m.n)] = d.loc(t);
+        }
+        ++m.n;
+        last = t;
+    }
+    if (t.kind != TokenKind::String || (m.n != 16 && m.n != 18)) {
+        if (t.kind != TokenKind::String && (m.n == 16 || m.n == 18))
+            d.b.fail(d.arg_loc(t),
+                     "#material needs its !…! string after the numbers, got " + describe(t));
+        d.fail("#material needs 16 (V0) or 18 (V1) numbers before its !…! string, got " +
+               std::to_string(m.n));
+    }
+    m.name = std::string(t.text.substr(1, t.text.size() - 2));
+    MaterialDesc desc = d.b.material(m);
+    bool out_of_range = false;
+    if (!parse_int(last.text, &desc.texture, &out_of_range))
+        d.fail(last, "expected an integer (texture index), got " + quote(last.text));
+    d.b.add_material(d.f, std::move(desc), d.loc(last));
+}
+
+void vertex(Directive& d) {
+    d.b.count_item(d.f, d.loc(), kVertices);
+    VertexDesc v;
+    v.position = d.vec3(8);
+    v.normal = d.vec3(8);
+    v.uv.x = d.real(8);
+    v.uv.y = d.real(8);
+    d.b.vertex(d.f, d.loc(), v);
+}
+
+void ray_file(Directive& d) {
+    const SourceLoc at = d.next_loc();
+    const std::string path = d.word("a .ray file name");
+    d.b.count_item(d.f, d.loc(), kRayFiles);
+    d.b.ray_file(d.f, d.loc(), at, path);
+}
+
+void key_file(Directive& d) {
+    const SourceLoc at = d.next_loc();
+    const std::string path = d.word("a .key file name");
+    d.b.count_item(d.f, d.loc(), kKeyFiles);
+    d.b.key_file(d.f, d.loc(), at, path);
+}
+
+int material_index(Directive& d) {
+    SourceLoc at;
+    const int m = d.integer("material index", &at);
+    return d.b.material_index(d.f, at, m);
+}
+
+TriangleDesc triangle(Directive& d) {
+    TriangleDesc g;
+    for (int i = 0; i < 3; ++i) {
+        SourceLoc at;
+        g.v[i] = d.integer("vertex index", &at);
+        d.b.vertex_index(d.f, at, g.v[i]);
+    }
+    return g;
+}
+
+namespace {
+
+// The numbers of one analytic shape: a negative size is an error at its number, a size of 0
+// leaves the shape out with a warning (spec §3.3).
+template <class T>
+bool analytic_shape(Directive& d, ShapeDesc& s) {
+    using Desc = typename DescOf<T>::type;
+    struct Count {
+        int n = 0;
+        void point(Vec3&) { n += 3; }
+        void size(double&, const char*) { ++n; }
+    } count;
+    Desc g;
+    g.params(count);
+    struct Read {
+        Directive& d;
+        int count;
+        bool keep = true;
+        void point(Vec3& v) { v = d.vec3(count); }
+        void size(double& x, const char* what) {
+            const Token t = d.f.lex.peek();
+            x = d.real(count);
+            if (x < 0) d.fail(t, std::string("negative ") + what + " " + SceneBuilder::fmt(x));
+            keep = keep && x > 0;
+        }
+    } read{d, count.n};
+    g.params(read);
+    if constexpr (requires { g.file_warning(); }) {
+        auto [kind, message] = g.file_warning();
+        if (!message.empty()) d.b.warn(s.loc, std::move(kind), std::move(message));
+    }
+    s.geometry = g;
+    return d.b.keep_shape(d.f, s, read.keep ? nullptr : T::kEmpty);
+}
+
+}  // namespace
+
+bool shape(Directive& d, ShapeDesc& s) {
+    if (d.name() == "#shape_triangle") {  // the mesh directive first: no look-up of the kind
+        s.geometry = triangle(d);
+        return d.b.keep_shape(d.f, s);
+    }
+    return visit_kind(*shape_directive_kind(d.name()), [&](auto tag) {
+        using T = typename decltype(tag)::type;
+        if constexpr (std::is_same_v<typename DescOf<T>::type, TriangleDesc>)
+            return false;  // read above
+        else
+            return analytic_shape<T>(d, s);
+    });
+}
+
+}  // namespace shared
+
+// ---- V0/V1
+// ---------------------------------------------------------------------------------------
+namespace v1 {
+namespace {
+
+void definition(Directive& d) { d.b.definition(d.f, d.loc()); }
+
+template <CountKind K>
+void count(Directive& d) {
+    definition(d);
+    SourceLoc at;
+    const int n = d.integer("count", &at);
+    // No more than the rest of the text can hold (a #vertex takes >= 24 bytes).
+    d.b.declare_count(d.f, d.loc(), K, n, at, d.f.lex.remaining() / 24);
+}
+
+void camera(Directive& d) {
+    definition(d);
+    d.b.camera(d.f, shared::camera(d));
+}
+
+void global_colour(Directive& d) {
+    definition(d);
+    const bool background = d.name() == "#background";
+    // Included files: syntax only (any three numbers).
+    const Vec3 c =
+        d.f.top ? d.colour(3, background ? "background colour" : "ambient colour") : d.vec3(3);
+    d.b.global_colour(d.f, background, d.loc(), c);
+}
+
+void light(Directive& d) {
+    definition(d);
+    LightDesc l;
+    l.loc = d.loc();
+    if (d.name() == "#light_dir") {
+        l.kind = LightKind::Directional;
+        l.set_colour(d.colour(6, "light colour"));
+        l.direction = d.vec3(6);
+        if (glm::length(l.direction) == 0.0) d.fail("light direction is zero");
+    } else if (d.name() == "#light_point") {
+        l.kind = LightKind::Point;
+        l.set_colour(d.vec3(9));  // spec §3.1: point and spot colours need only be finite
+        l.position = d.vec3(9);
+        l.constant_atten = d.real(9);
+        l.linear_atten = d.real(9);
+        l.quadratic_atten = d.real(9);
+    } else {
+        l.kind = LightKind::Spot;
+        l.set_colour(d.vec3(14));
+        l.position = d.vec3(14);
+        l.direction = d.vec3(14);
+        l.constant_atten = d.real(14);
+        l.linear_atten = d.real(14);
+        l.quadratic_atten = d.real(14);
+        const Token cut_tok = d.f.lex.peek();
+        l.cutoff_rad = d.real(14);
+        const Token dor_tok = d.f.lex.peek();
+        l.spot_exponent = d.real(14);  // p = 128 dor (V0) or dor (V1)
+        if (glm::length(l.direction) == 0.0) d.fail("spot light direction is zero");
+        if (l.cutoff_rad < 0)
+            d.fail(cut_tok, "negative spot cutoff " + SceneBuilder::fmt(l.cutoff_rad));
+        if (l.spot_exponent < 0)
+            d.fail(dor_tok, "negative spot drop-off " + SceneBuilder::fmt(l.spot_exponent));
+        if (d.b.dialect() == Dialect::V0) l.spot_exponent *= kV0ExponentScale;
+        d.b.spot_cutoff(l);
+    }
+    d.b.attenuation(l);
+    d.b.light(d.f, l);
+}
+
+void texture(Directive& d) {
+    definition(d);
+    shared::texture(d);
+}
+
+void material(Directive& d) {
+    definition(d);
+    shared::material(d);
+}
+
+void vertex(Directive& d) {
+    definition(d);
+    shared::vertex(d);
+}
+
+void ray_file(Directive& d) {
+    definition(d);
+    shared::ray_file(d);
+}
+
+void key_file(Directive& d) {
+    definition(d);
+    shared::key_file(d);
+}
+
+void group_begin(Directive& d) {
+    Mat4 m(1.0);
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) m[c][r] = d.real(16);  // rows in the file
+    d.b.group_begin(d.f, d.loc(), std::string(d.name()), m);
+}
+
+void joint_begin(Directive& d) {
+    const SourceLoc at = d.next_loc();
+    const std::string name = d.word("a joint name", true);
+    d.b.joint_begin(d.f, d.loc(), std::string(d.name()), at, name);
+}
+
+void group_end(Directive& d) { d.b.group_end(d.f, d.loc(), std::string(d.name()), false); }
+void joint_end(Directive& d) { d.b.group_end(d.f, d.loc(), std::string(d.name()), true); }
+
+void instance(Directive& d) {
+    SourceLoc at;
+    const int i = d.integer("ray file index", &at);
+    d.b.instance(d.f, d.loc(), at, i);
+}
+
+void shape(Directive& d) {
+    d.b.graph(d.f);
+    ShapeDesc s;
+    s.loc = d.loc();
+    s.material = shared::material_index(d);
+    if (shared::shape(d, s)) d.b.group_shape(d.f, std::move(s));
+}
+
+// The V0/V1 directives, the mesh directives first; then #shape_<kind> of every kind that is not
+// V3 only (shapes.h).
+struct Entry {
+    std::string_view name;
+    void (*read)(Directive&);
+};
+constexpr std::array<Entry, 23> kDirectives = {{
+    {"#vertex", vertex},
+    {"#shape_triangle", shape},
+    {"#camera", camera},
+    {"#background", global_colour},
+    {"#ambient", global_colour},
+    {"#light_num", count<kLights>},
+    {"#light_dir", light},
+    {"#light_point", light},
+    {"#light_spot", light},
+    {"#texture_num", count<kTextures>},
+    {"#texture", texture},
+    {"#material_num", count<kMaterials>},
+    {"#material", material},
+    {"#vertex_num", count<kVertices>},
+    {"#ray_file_num", count<kRayFiles>},
+    {"#ray_file", ray_file},
+    {"#key_file_num", count<kKeyFiles>},
+    {"#key_file", key_file},
+    {"#group_begin", group_begin},
+    {"#group_end", group_end},
+    {"#joint_begin", joint_begin},
+    {"#joint_end", joint_end},
+    {"#ray_file_instance", instance},
+}};
+
+}  // namespace
+}  // namespace v1
+
+void V1Grammar::directive(FileState& f, const Token& t) {
+    using namespace v1;
+    Directive d{m_b, f, t};
+    for (const Entry& e : kDirectives)
+        if (e.name == t.text) return e.read(d);
+    const std::optional<ShapeKind> kind = shape_directive_kind(t.text);
+    if (kind &&
+        !visit_kind(*kind, [](auto tag) { return kV3OnlyShape<typename decltype(tag)::type>; }))
+        return shape(d);
+    d.fail("unknown directive " + quote(t.text));
+}
+
+void V1Grammar::end_of_file(FileState& f, const SourceLoc& eof) { m_b.end_of_v1_file(f, eof); }
+
+}  // namespace rt::parser_impl
