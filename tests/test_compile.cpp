@@ -1,6 +1,7 @@
 // compile_scene(): resolved materials and textures, flattened groups, one set per included file,
 // nested instancing composed, statistics after instancing; what compile_scene_releasing frees.
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
@@ -107,6 +108,33 @@ TEST(Compile, IncludedFileCompiledOnceAndNestedInstancesCompose) {
     ASSERT_TRUE(intersect(s, {{5, 0, 110}, {0, 0, -1}}, {0, kInf}, &h));
     EXPECT_NEAR(h.t, 9, 1e-12);
     std::filesystem::remove_all(dir);
+}
+
+// CompileProgress: three units per shape, all done at the end; a cancelled compile stops at its
+// first check with an error at the file.
+TEST(Compile, ReportsItsProgressAndStopsWhenCancelled) {
+    const SceneDesc desc = test::parse(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
+        "#shape_sphere 0 0 0 0 1\n#shape_box 0 0 0 0 1 1 1\n"
+        "#group_begin 1 0 0 5  0 1 0 0  0 0 1 0  0 0 0 1\n#shape_sphere 0 0 0 0 1\n#group_end\n");
+    CompileProgress progress;
+    std::atomic<bool> cancel{false};
+    progress.cancel = &cancel;
+    const RenderScene s = compile_scene(desc, nullptr, std::nullopt, nullptr, 0, &progress);
+    EXPECT_EQ(s.sets.size(), 1u);
+    EXPECT_EQ(progress.total.load(), 9u);
+    EXPECT_EQ(progress.done.load(), 9u);
+
+    CompileProgress stopped;
+    cancel = true;
+    stopped.cancel = &cancel;
+    try {
+        compile_scene(desc, nullptr, std::nullopt, nullptr, 0, &stopped);
+        ADD_FAILURE() << "a cancelled compile finished";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("loading cancelled"), std::string::npos) << e.what();
+    }
+    EXPECT_LT(stopped.done.load(), stopped.total.load());
 }
 
 // compile_scene_releasing() frees the meshes it compiled (groups of triangles only, and every

@@ -35,14 +35,15 @@ constexpr size_t kGrain = 16384;
 class Compiler {
 public:
     Compiler(const SceneDesc& desc, CompileReport& report, const std::optional<SceneTime>& time,
-             Diagnostics* diag, unsigned threads)
+             Diagnostics* diag, unsigned threads, CompileProgress* progress = nullptr)
         : m_desc(desc),
           m_report(report),
           m_time(time),
           m_diag(diag),
           m_threads(!have_threads() ? 1u
                     : threads       ? threads
-                                    : hardware_threads()) {}
+                                    : hardware_threads()),
+          m_progress(progress) {}
     // The same, freeing desc's triangles and vertices once compiled where nothing reads them
     // again (compile_scene_releasing).
     Compiler(SceneDesc& desc, CompileReport& report, const std::optional<SceneTime>& time,
@@ -60,6 +61,11 @@ public:
     }
 
     RenderScene run() {
+        if (m_progress) {
+            uint64_t shapes = 0;
+            for (const FileDesc& f : m_desc.files) shapes += count_shapes(f.root);
+            m_progress->total.store(3 * shapes, std::memory_order_relaxed);
+        }
         if (m_desc.camera) m_scene.camera = compile_camera(*m_desc.camera);
         m_scene.background = m_desc.background;
         m_scene.ambient = m_desc.ambient;
@@ -72,6 +78,7 @@ public:
         if (!m_desc.files.empty()) place_all();
         m_report.build_seconds += compile_detail::place_instances(m_scene, m_values);
         fill_report();
+        if (m_progress) m_progress->done.store(m_progress->total.load());
         return std::move(m_scene);
     }
 
@@ -245,6 +252,7 @@ private:
         // The build's input: each primitive's bounds in float (32 bytes), and their union.
         HugePageVector<PrimRef> refs(pending.size());
         const Bounds3 set_bounds = prim_refs(set, fi, pending, refs);
+        step(fi, pending.size());
         const bool release = releasable(item);
         if (release) release_triangles(fi, pending);
 
@@ -256,6 +264,7 @@ private:
         set.bvh = build_bvh(std::move(refs), set_bounds, build);
         m_report.build_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        step(fi, pending.size());
 
         set.prims.reserve(pending.size());
         const auto triangles = std::count_if(pending.begin(), pending.end(),
@@ -276,15 +285,26 @@ private:
         }
         m_defer_vertices = false;
         std::iota(set.bvh.indices.begin(), set.bvh.indices.end(), 0u);
+        const size_t shapes = pending.size();
         HugePageVector<Pending>().swap(pending);  // freed before the packed copy is made
         std::vector<uint32_t>().swap(m_vertex_of);
         copy_deferred_vertices(set);
         if (release) HugePageVector<VertexDesc>().swap(m_release->files[fi].vertices);
         pack_triangles(set);
+        step(fi, shapes);
         const int index = static_cast<int>(m_scene.sets.size());
         m_set_of_root[item.root] = index;
         m_scene.sets.push_back(std::move(set));
         return index;
+    }
+
+    // CompileProgress: `n` units more are done; a cancelled compile stops here, with an error at
+    // file fi.
+    void step(size_t fi, size_t n) const {
+        if (!m_progress) return;
+        m_progress->done.fetch_add(n, std::memory_order_relaxed);
+        if (m_progress->cancel && m_progress->cancel->load(std::memory_order_relaxed))
+            throw SceneError({intern_file_name(m_desc.files[fi].path), 0, 0}, "loading cancelled");
     }
 
     // Whether item's file is read by no set compiled after item's: a file's root (not a joint's
@@ -849,6 +869,7 @@ private:
     const std::optional<SceneTime>& m_time;
     Diagnostics* m_diag;
     unsigned m_threads;  // for the loops over primitives and the BVH builds
+    CompileProgress* m_progress;
     JointValues m_values;
     std::unordered_map<const GroupDesc*, int> m_set_of_root;  // -1: the root has no shapes
     SceneDesc* m_release = nullptr;            // compile_scene_releasing()'s description
@@ -955,10 +976,10 @@ CompileReport& fresh_report(CompileReport* report, CompileReport& local) {
 }  // namespace
 
 RenderScene compile_scene(const SceneDesc& desc, CompileReport* report,
-                          const std::optional<SceneTime>& time, Diagnostics* diag,
-                          unsigned threads) {
+                          const std::optional<SceneTime>& time, Diagnostics* diag, unsigned threads,
+                          CompileProgress* progress) {
     CompileReport local;
-    return Compiler(desc, fresh_report(report, local), time, diag, threads).run();
+    return Compiler(desc, fresh_report(report, local), time, diag, threads, progress).run();
 }
 
 RenderScene compile_scene_releasing(SceneDesc& desc, CompileReport* report,

@@ -3,7 +3,9 @@
 // the scene, not inside it.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,14 +32,26 @@ struct CompileReport {
     std::vector<std::string> material_names;  // [material]: its !name!, "" for none
 };
 
+/// A compile's progress, for a thread that shows it: units of work done of the total (three per
+/// shape of the description: its bounds, its place in its set's BVH, its packing), and a flag
+/// that stops the compile at its next check between those steps with a SceneError ("loading
+/// cancelled").
+struct CompileProgress {
+    std::atomic<uint64_t> total{0};
+    std::atomic<uint64_t> done{0};
+    const std::atomic<bool>* cancel = nullptr;
+};
+
 /// SceneDesc -> RenderScene; `report`, when given, receives the counts and the BVH build time
 /// (and with record_locations the primitives' locations). The joints hold their values at
 /// `time` (spec §14.7; none: key 0 as read); a joint singular there is left out with a warning
 /// into `diag`. The loops over primitives and the BVH builds use up to `threads` threads (0:
-/// hardware_threads()); the scene does not depend on it.
+/// hardware_threads()); the scene does not depend on it. `progress`, when given, is updated as
+/// the compile goes (and may cancel it).
 RenderScene compile_scene(const SceneDesc& desc, CompileReport* report = nullptr,
                           const std::optional<SceneTime>& time = std::nullopt,
-                          Diagnostics* diag = nullptr, unsigned threads = 0);
+                          Diagnostics* diag = nullptr, unsigned threads = 0,
+                          CompileProgress* progress = nullptr);
 
 /// compile_scene() for a caller that needs only the description's files, settings, lights and
 /// tracks afterwards (raytrace's still images): the shapes of each group that holds only
