@@ -59,6 +59,14 @@ void append_primitive(const GeometrySet& set, const Primitive& p, int detail, in
 
 PreviewMesh tessellate_set(const GeometrySet& set, int detail) {
     PreviewMesh out;
+    // A mesh's arrays made room for at once: three vertices per triangle, not copied as they
+    // grow (the other kinds add theirs as they come).
+    const size_t triangles = set.triangle_count();
+    out.positions.reserve(3 * triangles);
+    out.normals.reserve(3 * triangles);
+    out.uvs.reserve(3 * triangles);
+    out.indices.reserve(3 * triangles);
+    out.materials.reserve(triangles);
     for (const Primitive& p : set.prims) {
         if (p.csg < 0) {
             append_primitive(set, p, detail, -1, out);
