@@ -3,8 +3,10 @@
 // described.
 #include <sys/stat.h>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <stdexcept>
 #include <thread>
 #include <variant>
 
@@ -671,6 +673,33 @@ TEST(Viewer, BigMeshesGetACoarseVersionNearTheirShape) {
     EXPECT_EQ(decimate(cube, 20000).triangle_count(), cube.triangle_count());
 }
 
+// A load cancelled while its preview is made stops there (its thread is not kept for seconds
+// by a big mesh's tessellation and clustering).
+TEST(Viewer, MakingThePreviewStopsWhenCancelled) {
+    Sphere ball;
+    ball.radius = 2;
+    PreviewMesh mesh = tessellate(ball, 500);
+    mesh.materials.assign(mesh.triangle_count(), 0);
+    std::atomic<bool> cancel{true};
+    EXPECT_THROW(decimate(mesh, 20000, &cancel), std::runtime_error);
+    cancel = false;
+    EXPECT_LE(decimate(mesh, 20000, &cancel).triangle_count(), 20000u);
+
+    const RenderScene scene =
+        compile_scene(test::parse("#camera 0 0 5 0 0 -1 0 1 0 0.5\n"
+                                  "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 "
+                                  "0 1 -1 !!\n#shape_sphere 0 0 0 0 1\n"));
+    cancel = true;
+    try {
+        prepare_preview(scene, 48, &cancel);
+        ADD_FAILURE() << "a cancelled preview was made";
+    } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(), "loading cancelled");
+    }
+    cancel = false;
+    EXPECT_GT(prepare_preview(scene, 48, &cancel).sets.at(0).mesh.triangle_count(), 0u);
+}
+
 // Clustering a bumpy mesh folds some triangles over; each is wound back so that it faces along
 // its normals where its source did (else the two-sided rule draws it dark: black specks).
 TEST(Viewer, CoarseTrianglesFaceAlongTheirNormals) {
@@ -1045,23 +1074,33 @@ TEST(Viewer, ALoadCountsItsBytesAndACancelledOneStops) {
     LoadResult result;
     std::string taken;
     for (int i = 0; i < 20000 && !loader.take(&result, &taken); ++i) {
-        const auto b = loader.bytes();
-        EXPECT_LE(b.first, b.second);
-        if (b.second > 0) seen = b;
+        const LoadStatus st = loader.status();
+        EXPECT_LE(st.parsed, st.read);
+        EXPECT_LE(st.compiled, st.to_compile);
+        if (st.read > 0) seen = {st.parsed, st.read};
         std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
     ASSERT_TRUE(result.scene) << result.error;
     EXPECT_EQ(seen.second, size);  // the total is known from the start
 
     // Cancelled while parsing: load_scene's parse stops with "loading cancelled".
-    ParseProgress progress;
+    LoadProgress progress;
     std::thread load([&] { result = load_scene(request, &progress); });
-    while (progress.done.load() == 0) std::this_thread::yield();
-    progress.cancel = true;
+    while (progress.parse.done.load() == 0) std::this_thread::yield();
+    progress.cancel();
     load.join();
     EXPECT_FALSE(result.scene);
     EXPECT_NE(result.error.find("loading cancelled"), std::string::npos) << result.error;
-    EXPECT_LT(progress.done.load(), size);
+    EXPECT_LT(progress.parse.done.load(), size);
+    EXPECT_EQ(progress.compile.total.load(), 0u);  // no compile started
+
+    // Loaded to the end: the compile's share is all done.
+    LoadProgress whole;
+    result = load_scene(request, &whole);
+    ASSERT_TRUE(result.scene) << result.error;
+    EXPECT_EQ(whole.parse.done.load(), size);
+    EXPECT_GE(whole.compile.total.load(), 3u * 100000);
+    EXPECT_EQ(whole.compile.done.load(), whole.compile.total.load());
     std::filesystem::remove(path);
 }
 

@@ -14,7 +14,7 @@ std::string stand_in_text(const SceneDesc& desc) {
     return text;
 }
 
-LoadResult load_scene(const LoadRequest& request, ParseProgress* progress) {
+LoadResult load_scene(const LoadRequest& request, LoadProgress* progress) {
     LoadResult result;
     const std::string& path = request.path;
     try {
@@ -25,14 +25,15 @@ LoadResult load_scene(const LoadRequest& request, ParseProgress* progress) {
         ParseOptions options;
         options.missing_textures = request.missing;
         options.dialect = request.dialect;
-        options.progress = progress;
+        options.progress = progress ? &progress->parse : nullptr;
         try {
             s->desc = parse_scene_file(path, diag, options);
         } catch (const SceneError&) {
             // Would checker stand-ins open it? Then the textures were all that failed (a parse
             // the progress bar does not count).
             options.progress = nullptr;
-            if (request.missing == MissingTextures::Error && !(progress && progress->cancel)) {
+            if (request.missing == MissingTextures::Error &&
+                !(progress && progress->parse.cancel)) {
                 Diagnostics quiet;
                 options.missing_textures = MissingTextures::Checker;
                 try {
@@ -45,12 +46,17 @@ LoadResult load_scene(const LoadRequest& request, ParseProgress* progress) {
         }
         CompileReport report;
         report.record_locations = true;  // for picking
-        s->scene = compile_scene(s->desc, &report);
+        s->scene = compile_scene(s->desc, &report, std::nullopt, nullptr, 0,
+                                 progress ? &progress->compile : nullptr);
         s->prim_locs = std::move(report.prim_locs);
         s->material_names = std::move(report.material_names);
         s->file_materials = s->scene.materials;
         s->material_origins = material_origins(s->desc);
-        if (request.for_preview) s->preview = prepare_preview(s->scene);
+        if (request.for_preview) {
+            if (progress) progress->previewing = true;
+            s->preview =
+                prepare_preview(s->scene, 48, progress ? &progress->parse.cancel : nullptr);
+        }
         s->shown = s->scene;
         if (s->desc.camera) {
             s->file_camera = *s->desc.camera;
@@ -73,7 +79,7 @@ struct SceneLoader::Job {
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
     std::thread thread;
     std::atomic<bool> done{false};
-    ParseProgress progress;
+    LoadProgress progress;
     LoadResult result;  // written by the thread before done
     ~Job() {
         if (thread.joinable()) thread.join();
@@ -104,7 +110,7 @@ void SceneLoader::start(const LoadRequest& request) {
 
 void SceneLoader::cancel() {
     if (m_job) {
-        m_job->progress.cancel = true;
+        m_job->progress.cancel();
         m_abandoned.push_back(std::move(m_job));
     }
     reap();
@@ -124,9 +130,11 @@ double SceneLoader::seconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_job->start).count();
 }
 
-std::pair<uint64_t, uint64_t> SceneLoader::bytes() const {
-    if (!m_job) return {0, 0};
-    return {m_job->progress.done.load(), m_job->progress.total.load()};
+LoadStatus SceneLoader::status() const {
+    if (!m_job) return {};
+    const LoadProgress& p = m_job->progress;
+    return {p.parse.done.load(), p.parse.total.load(), p.compile.done.load(),
+            p.compile.total.load(), p.previewing.load()};
 }
 
 bool SceneLoader::take(LoadResult* result, std::string* path) {

@@ -1,8 +1,9 @@
 // Opening a scene: load_scene() reads and compiles a file in one call that returns a result,
 // and SceneLoader runs it without freezing the window (on a thread of its own while the open
-// scene stays interactive), with the bytes parsed of those read for a progress bar. A cancelled
-// load is abandoned: its parse stops at its next check (ParseProgress::cancel), its thread
-// finishes in the background and its result is dropped, so cancel never waits for a parser.
+// scene stays interactive), with the bytes parsed of those read, then the compile's share done,
+// for a progress bar. A cancelled load is abandoned: its parse or its compile stops at its next
+// check (LoadProgress::cancel), its thread finishes in the background and its result is
+// dropped, so cancel never waits for a parser.
 #pragma once
 
 #include <atomic>
@@ -17,6 +18,7 @@
 
 #include "edits.h"
 #include "preview_geometry.h"
+#include "rt/compile/compile.h"
 #include "rt/compile/render_scene.h"
 #include "rt/format/parser.h"
 #include "rt/scene/scene_desc.h"
@@ -69,8 +71,27 @@ struct LoadResult {
     bool textures_missing = false;
 };
 
-/// Reads and compiles a scene; the parse reports to `progress` and stops when it is cancelled.
-LoadResult load_scene(const LoadRequest& request, ParseProgress* progress = nullptr);
+/// How far a load is: the parse's bytes, then the compile's units of work, then the preview's
+/// tessellation; one cancel for all three.
+struct LoadProgress {
+    ParseProgress parse;
+    CompileProgress compile;
+    std::atomic<bool> previewing{false};  // the scene is compiled: its preview is being made
+    LoadProgress() { compile.cancel = &parse.cancel; }
+    void cancel() { parse.cancel = true; }
+    bool cancelled() const { return parse.cancel.load(std::memory_order_relaxed); }
+};
+
+/// What SceneLoader::status() shows of the load under way (all 0 when none).
+struct LoadStatus {
+    uint64_t parsed = 0, read = 0;          // bytes of scene text
+    uint64_t compiled = 0, to_compile = 0;  // the compile's units (0, 0 until it starts)
+    bool previewing = false;
+};
+
+/// Reads and compiles a scene; the parse and the compile report to `progress` and stop when it
+/// is cancelled.
+LoadResult load_scene(const LoadRequest& request, LoadProgress* progress = nullptr);
 
 /// The panel's note on the textures that stand in as checkers ("" when none).
 std::string stand_in_text(const SceneDesc& desc);
@@ -89,8 +110,8 @@ public:
     bool busy() const { return m_job != nullptr; }
     const std::string& path() const;
     double seconds() const;  // since the load started
-    /// Bytes of scene text parsed and read so far by the load under way (0, 0 when none).
-    std::pair<uint64_t, uint64_t> bytes() const;
+    /// How far the load under way is.
+    LoadStatus status() const;
     /// Once the load under way has ended: its result and the path it read; false while it runs
     /// or when none runs.
     bool take(LoadResult* result, std::string* path);

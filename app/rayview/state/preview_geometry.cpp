@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -84,9 +85,14 @@ PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
     return out;
 }
 
+void check_cancel(const std::atomic<bool>* cancel) {
+    if (cancel && cancel->load(std::memory_order_relaxed))
+        throw std::runtime_error("loading cancelled");
+}
+
 }  // namespace
 
-PreviewMesh decimate(const PreviewMesh& mesh, size_t target) {
+PreviewMesh decimate(const PreviewMesh& mesh, size_t target, const std::atomic<bool>* cancel) {
     if (mesh.triangle_count() <= target) return mesh;
     Bounds3 box;
     for (const Vec3& p : mesh.positions) box.extend(p);
@@ -96,6 +102,7 @@ PreviewMesh decimate(const PreviewMesh& mesh, size_t target) {
     double cells = std::max(4.0, std::sqrt(static_cast<double>(target)));
     PreviewMesh out;
     for (int tries = 0; tries < 5; ++tries) {
+        check_cancel(cancel);
         out = cluster(mesh, box, cells);
         const double ratio = static_cast<double>(target) /
                              static_cast<double>(std::max<size_t>(out.triangle_count(), 1));
@@ -106,7 +113,8 @@ PreviewMesh decimate(const PreviewMesh& mesh, size_t target) {
     return out;
 }
 
-PreviewGeometry prepare_preview(const RenderScene& scene, int detail) {
+PreviewGeometry prepare_preview(const RenderScene& scene, int detail,
+                                const std::atomic<bool>* cancel) {
     // Sets no instance places are not tessellated.
     PreviewGeometry g;
     g.detail = detail;
@@ -116,10 +124,11 @@ PreviewGeometry prepare_preview(const RenderScene& scene, int detail) {
     for (size_t si = 0; si < scene.sets.size(); ++si) {
         PreviewGeometry::Set& s = g.sets[si];
         if (!s.placed) continue;
+        check_cancel(cancel);
         s.mesh = tessellate_set(scene.sets[si], detail);
         add_csg_leaves(scene.sets[si], &s.mesh, &s.csg);
         if (s.mesh.triangle_count() > kCoarseAbove && s.csg.leaf_of_vertex.empty())
-            s.coarse = decimate(s.mesh, kCoarseTriangles);
+            s.coarse = decimate(s.mesh, kCoarseTriangles, cancel);
     }
     return g;
 }

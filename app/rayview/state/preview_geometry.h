@@ -4,6 +4,7 @@
 // scene in only uploads it. No GL here.
 #pragma once
 
+#include <atomic>
 #include <vector>
 
 #include "csg_preview.h"
@@ -24,7 +25,9 @@ struct PreviewGeometry {
     std::vector<Set> sets;
     int detail = 0;
 };
-PreviewGeometry prepare_preview(const RenderScene& scene, int detail = 48);
+/// Throws std::runtime_error("loading cancelled") at its next check once *cancel is set.
+PreviewGeometry prepare_preview(const RenderScene& scene, int detail = 48,
+                                const std::atomic<bool>* cancel = nullptr);
 
 /// Meshes above this many triangles get a coarse version of about kCoarseTriangles.
 constexpr size_t kCoarseAbove = 250000;
@@ -37,6 +40,7 @@ constexpr size_t kCoarseTriangles = 80000;
 /// where its source did not) is wound back. The grid is refined until the count is near the
 /// target. Each triangle keeps its material; CSG leaves are not kept (the caller does not ask
 /// for meshes that have them). A mesh already at or below `target` comes back as it is.
-PreviewMesh decimate(const PreviewMesh& mesh, size_t target);
+PreviewMesh decimate(const PreviewMesh& mesh, size_t target,
+                     const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace rt::view

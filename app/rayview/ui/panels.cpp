@@ -204,21 +204,33 @@ std::vector<std::string> sample_scenes(const std::string& dir) {
 
 namespace {
 
-// The load under way: its file and time, a bar of the megabytes parsed of those read (then the
-// compile, which has no count), and Cancel.
+// The load under way: its file and time, a bar of the megabytes parsed of those read, then of
+// the compile's share done, then the preview's tessellation; and Cancel.
 void loading_line(ViewerState& v) {
     const char spinner[] = "|/-\\";
-    const auto [done, total] = v.jobs.loader.bytes();
+    const LoadStatus st = v.jobs.loader.status();
     ImGui::Text("%c loading %s (%.1f s)",
                 spinner[static_cast<int>(v.jobs.loader.seconds() * 8) % 4],
                 v.jobs.loader.path().c_str(), v.jobs.loader.seconds());
     char label[64];
-    if (total > 0 && done >= total)
+    const auto share = [](uint64_t done, uint64_t total) {
+        return total > 0 ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total))
+                         : 0.0;
+    };
+    double fraction = share(st.parsed, st.read);
+    if (st.previewing) {
+        fraction = 1;
+        std::snprintf(label, sizeof label, "making the preview");
+    } else if (st.to_compile > 0) {
+        fraction = share(st.compiled, st.to_compile);
+        std::snprintf(label, sizeof label, "compiling: %.0f%%", 100 * fraction);
+    } else if (st.read > 0 && st.parsed >= st.read) {
         std::snprintf(label, sizeof label, "compiling");
-    else
-        std::snprintf(label, sizeof label, "%.1f of %.1f MB parsed", done / 1e6, total / 1e6);
-    ImGui::ProgressBar(total > 0 ? static_cast<float>(static_cast<double>(done) / total) : 0.f,
-                       ImVec2(ImGui::GetFontSize() * 16, 0), label);
+    } else {
+        std::snprintf(label, sizeof label, "%.1f of %.1f MB parsed", st.parsed / 1e6,
+                      st.read / 1e6);
+    }
+    ImGui::ProgressBar(static_cast<float>(fraction), ImVec2(ImGui::GetFontSize() * 16, 0), label);
     ImGui::SameLine();
     if (ImGui::SmallButton("Cancel")) v.cancel_loading();
 }
