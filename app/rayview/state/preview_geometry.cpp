@@ -2,16 +2,63 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
-#include <unordered_map>
-#include <unordered_set>
+#include <tuple>
 
 #include "rt/shapes/tessellate.h"
 
 namespace rt::view {
 
 namespace {
+
+// An open-addressing table from 64-bit keys to 32-bit values (~0u marks a free slot), at most
+// half full: the clustering looks up every corner of a million-triangle mesh several times,
+// which std::unordered_map's node per key makes several times slower.
+class FlatMap {
+public:
+    explicit FlatMap(size_t expected) { rehash(std::max<size_t>(16, std::bit_ceil(2 * expected))); }
+    // The value of `key`, set to `value` first when the key is new; whether it was new.
+    std::pair<uint32_t, bool> try_emplace(uint64_t key, uint32_t value) {
+        if (2 * (m_size + 1) > m_values.size()) rehash(2 * m_values.size());
+        const size_t mask = m_values.size() - 1;
+        for (size_t i = mix(key) & mask;; i = (i + 1) & mask) {
+            if (m_values[i] == kFree) {
+                m_keys[i] = key;
+                m_values[i] = value;
+                ++m_size;
+                return {value, true};
+            }
+            if (m_keys[i] == key) return {m_values[i], false};
+        }
+    }
+
+private:
+    static constexpr uint32_t kFree = ~0u;
+    static uint64_t mix(uint64_t k) {  // splitmix64's finaliser
+        k = (k ^ (k >> 30)) * 0xBF58476D1CE4E5B9ull;
+        k = (k ^ (k >> 27)) * 0x94D049BB133111EBull;
+        return k ^ (k >> 31);
+    }
+    void rehash(size_t capacity) {
+        std::vector<uint64_t> keys(capacity);
+        std::vector<uint32_t> values(capacity, kFree);
+        for (size_t j = 0; j < m_values.size(); ++j) {
+            if (m_values[j] == kFree) continue;
+            size_t i = mix(m_keys[j]) & (capacity - 1);
+            while (values[i] != kFree) i = (i + 1) & (capacity - 1);
+            keys[i] = m_keys[j];
+            values[i] = m_values[j];
+        }
+        m_keys = std::move(keys);
+        m_values = std::move(values);
+    }
+    std::vector<uint64_t> m_keys;
+    std::vector<uint32_t> m_values;
+    size_t m_size = 0;
+};
 
 // One clustering of `mesh` on a grid of `cells` cells along its longest side.
 PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
@@ -25,29 +72,41 @@ PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
         Vec2 uv{0.0};
         double count = 0;
     };
-    std::unordered_map<uint64_t, uint32_t> id_of;  // (cell, material) -> cluster
+    // (cell, material) -> cluster. A mesh whose triangles share vertices, of one material,
+    // finds each vertex's cluster once (they are numbered in the order the corners meet them
+    // either way).
+    const bool one_material = std::adjacent_find(mesh.materials.begin(), mesh.materials.end(),
+                                                 std::not_equal_to<>()) == mesh.materials.end();
+    const bool shared = one_material && mesh.positions.size() < mesh.indices.size();
+    std::vector<uint32_t> cluster_of(shared ? mesh.positions.size() : 0, ~0u);
+    FlatMap id_of(1 << 14);  // the clusters are few: about the cells the surface crosses
     std::vector<Cluster> clusters;
     const bool uvs = mesh.uvs.size() == mesh.positions.size();
     const auto corner = [&](size_t t, int k) {
         const uint32_t v = mesh.indices[t * 3 + static_cast<size_t>(k)];
         const Vec3& p = mesh.positions[v];
-        const uint64_t key =
-            (index(p.x, box.lo.x) | index(p.y, box.lo.y) << 21 | index(p.z, box.lo.z) << 42) ^
-            static_cast<uint64_t>(mesh.materials[t]) * 0x9E3779B97F4A7C15ull;
-        auto [it, fresh] = id_of.try_emplace(key, static_cast<uint32_t>(clusters.size()));
-        if (fresh) {
-            clusters.emplace_back();
-            clusters.back().uv = uvs ? mesh.uvs[v] : Vec2(0.0);
+        uint32_t id = shared ? cluster_of[v] : ~0u;
+        if (id == ~0u) {
+            const uint64_t key =
+                (index(p.x, box.lo.x) | index(p.y, box.lo.y) << 21 | index(p.z, box.lo.z) << 42) ^
+                static_cast<uint64_t>(mesh.materials[t]) * 0x9E3779B97F4A7C15ull;
+            bool fresh = false;
+            std::tie(id, fresh) = id_of.try_emplace(key, static_cast<uint32_t>(clusters.size()));
+            if (fresh) {
+                clusters.emplace_back();
+                clusters.back().uv = uvs ? mesh.uvs[v] : Vec2(0.0);
+            }
+            if (shared) cluster_of[v] = id;
         }
-        Cluster& c = clusters[it->second];
+        Cluster& c = clusters[id];
         c.position += p;
         c.normal += mesh.normals[v];
         c.count += 1;
-        return it->second;
+        return id;
     };
     PreviewMesh out;
-    std::vector<size_t> source;         // the mesh's triangle each kept one comes from
-    std::unordered_set<uint64_t> seen;  // the sorted corners of each triangle kept
+    std::vector<size_t> source;  // the mesh's triangle each kept one comes from
+    FlatMap seen(1 << 16);       // the sorted corners of each triangle kept
     for (size_t t = 0; t < mesh.triangle_count(); ++t) {
         std::array<uint32_t, 3> c{corner(t, 0), corner(t, 1), corner(t, 2)};
         if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
@@ -56,7 +115,7 @@ PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
         const uint64_t key =
             (static_cast<uint64_t>(sorted[0]) * 0x100000001B3ull ^ sorted[1]) * 0x100000001B3ull ^
             sorted[2];
-        if (!seen.insert(key).second) continue;
+        if (!seen.try_emplace(key, 0).second) continue;
         out.indices.insert(out.indices.end(), c.begin(), c.end());
         out.materials.push_back(mesh.materials[t]);
         source.push_back(t);
