@@ -221,6 +221,76 @@ TEST(MeshRuns, CancellingStopsTheParse) {
         std::string::npos);
 }
 
+// Included files parsed ahead, each on a thread of its own, and replayed where the walk of the
+// tree meets them: the files numbered, the key tracks made, the missing textures warned about
+// once, the warnings and the first error (with their include chains) all in the serial order.
+TEST(MeshRuns, IncludedFilesParsedAheadGiveTheSerialTree) {
+    const fs::path dir = fs::temp_directory_path() / "rt_mesh_runs_ahead";
+    fs::create_directories(dir);
+    const auto write = [&](const char* name, const std::string& text) {
+        std::ofstream(dir / name) << text;
+    };
+    const std::string identity = "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n";
+    write("k.key", "#DOFS 2 arm leg #DURATION 1 #FRAMES 1\n" + identity + identity);
+    const std::string material = "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 0 !t!\n";
+    const std::string c_text = "#key_file k.key\n#texture missing.png\n" + material +
+                               "#vertex 0 0 0 0 0 1 0 0\n#vertex 1 0 0 0 0 1 0 0\n"
+                               "#vertex 2 0 0 0 0 1 0 0\n#shape_triangle 0 0 1 2\n"
+                               "#joint_begin leg\n#shape_sphere 0 0 0 0 1\n#joint_end\n";
+    write("c.ray", c_text);
+    write("a.ray", "#ray_file c.ray\n#key_file k.key\n#texture missing.png\n" + material +
+                       "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 -2 -1 !refind!\n"
+                       "#joint_begin arm\n#ray_file_instance 0\n#joint_end\n");
+    write("b.ray",
+          "#ray_file a.ray\n#ray_file c.ray\n#ray_file_instance 0\n"
+          "#ray_file_instance 1\n");
+    write("top.ray",
+          "#camera 0 0 5 0 0 -1 0 1 0 0.5\n#ray_file b.ray\n#ray_file a.ray\n"
+          "#ray_file_instance 0\n#ray_file_instance 1\n");
+    const auto both = [&](const char* what) {
+        SCOPED_TRACE(what);
+        ParseOptions options;
+        options.missing_textures = MissingTextures::Checker;
+        const auto parse = [&](Diagnostics& diag, const ParseOptions& o) {
+            return parse_scene_file((dir / "top.ray").string(), diag, o);
+        };
+        ParseOptions ahead = options;
+        ahead.threads = 3;
+        const std::string serial = both_ways::outcome(parse, both_ways::serial(options));
+        EXPECT_EQ(serial, both_ways::outcome(parse, ahead));
+        EXPECT_EQ(serial, both_ways::outcome(parse, both_ways::in_pieces(options)));
+        return serial;
+    };
+    const std::string tree = both("a tree");
+    EXPECT_EQ(tree.find("error"), std::string::npos) << tree;
+    EXPECT_NE(tree.find("refractive index -2"), std::string::npos) << tree;
+    EXPECT_NE(tree.find("included from"), std::string::npos) << tree;
+    {
+        ParseOptions ahead;
+        ahead.threads = 3;
+        ahead.missing_textures = MissingTextures::Checker;
+        Diagnostics diag;
+        const SceneDesc desc = parse_scene_file((dir / "top.ray").string(), diag, ahead);
+        ASSERT_EQ(desc.files.size(), 4u);  // top, b, a, c: in the order the walk meets them
+        EXPECT_EQ(fs::path(desc.files[2].path).filename(), "a.ray");
+        EXPECT_EQ(fs::path(desc.files[3].path).filename(), "c.ray");
+        ASSERT_EQ(desc.tracks.size(), 2u);  // c's leg is bound first, then a's arm
+        EXPECT_EQ(desc.tracks[0].name, "leg");
+        EXPECT_EQ(desc.files[2].root.groups.at(0).track, 1);
+        EXPECT_EQ(desc.missing_textures.size(), 1u);
+        int missing = 0;
+        for (const Warning& w : diag.warnings()) missing += w.kind == "missing-texture:missing.png";
+        EXPECT_EQ(missing, 1);
+    }
+    // An error in the innermost file, then an include cycle: the serial messages.
+    write("c.ray", c_text + "#shape_sphere 0 0 0 0 -1\n");
+    EXPECT_NE(both("an error").find("error: negative sphere radius -1"), std::string::npos);
+    write("c.ray", "#ray_file b.ray\n" + c_text);
+    EXPECT_NE(both("a cycle").find("include cycle: b.ray -> a.ray -> c.ray -> b.ray"),
+              std::string::npos);
+    fs::remove_all(dir);
+}
+
 // Every scene of scenes/, ../shared/public-scenes and the scene fuzz corpus and crashers, with
 // every run cut into pieces of one directive on three threads.
 TEST(MeshRuns, EveryScenePartsTheSameWayInPieces) {

@@ -334,6 +334,7 @@ const FileBytes* Parser::cached_text(const std::string& path, const std::string&
     FileBytes text;
     if (!read_file(path, &text, why)) return nullptr;
     count_text(text.size());
+    m_text_names.emplace(canonical, path);
     return &m_texts.emplace(canonical, std::move(text)).first->second;
 }
 

@@ -2,10 +2,13 @@
 #pragma once
 
 #include <atomic>
+#include <future>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "format/grammar.h"
@@ -21,6 +24,9 @@ namespace rt::parser_impl {
 class Parser final : private SceneBuilder::FileLoop {
 public:
     Parser(Diagnostics& diag, const ParseOptions& options);
+    ~Parser();
+    Parser(const Parser&) = delete;
+    Parser& operator=(const Parser&) = delete;
     SceneDesc run(std::string_view text, const std::string& name, const std::string& dir);
     SceneDesc run_file(const std::string& path);
 
@@ -28,7 +34,30 @@ private:
     // ---- the file loop (parser.cpp) ----------------------------------------------------------
     void parse_file(std::string_view text, const std::string& name, const std::string& canonical,
                     const std::string& dir, int index);
+    /// One file's directives into its description (top: the tree's top-level file).
+    FileDesc parse_text(std::string_view text, const std::string& name,
+                        const std::string& canonical, const std::string& dir, bool top);
     void end_of_file(FileState& f);
+
+    // ---- included files parsed ahead (parser.cpp) --------------------------------------------
+    // Every file the pre-scan read is parsed on a thread of its own (its own Parser, its
+    // builder recording what the tree's order decides) while the top-level file is; the walk
+    // replays each where its first #ray_file is met, so the description, the warnings and the
+    // errors are those of the serial parse.
+    struct AheadJob {
+        std::string canonical, name, dir;
+        FileBytes text;
+        Ahead result;
+        std::atomic<bool> claimed{false};  // a thread parses it (a worker, or the walk's)
+        std::promise<void> done;
+        std::future<void> ready = done.get_future();
+    };
+    /// The builder of a file parsed ahead for `tree`.
+    Parser(const Parser& tree, Ahead* out);
+    void start_ahead();
+    void parse_ahead(AheadJob& job) const;
+    void stop_ahead();
+    bool halted() const { return m_halt && m_halt->load(std::memory_order_relaxed); }
     /// One directive, by the tree's dialect.
     void dispatch(FileState& f, const Token& d);
     // SceneBuilder::FileLoop: an included file.
@@ -75,12 +104,20 @@ private:
 
     ParseOptions m_options;
     SceneBuilder m_build;
+    // Files parsed ahead, by canonical path; the threads that parse them; their stop.
+    std::map<std::string, std::unique_ptr<AheadJob>> m_ahead;
+    std::vector<std::thread> m_ahead_threads;
+    std::atomic<size_t> m_next_ahead{0};
+    std::vector<AheadJob*> m_ahead_order;
+    std::atomic<bool> m_stop_ahead{false};
+    const std::atomic<bool>* m_halt = nullptr;  // a file parsed ahead: the tree's stop
     V1Grammar m_v1;
     V3Grammar m_v3;
     Dialect m_dialect = Dialect::V1;
-    std::map<std::string, FileBytes> m_texts;  // included files read, not yet parsed
-    std::string m_top_dir = ".";               // directory of the top-level file
-    std::vector<SourceLoc> m_scan_locs;        // the pre-scan's #ray_file chain, outermost first
+    std::map<std::string, FileBytes> m_texts;         // included files read, not yet parsed
+    std::map<std::string, std::string> m_text_names;  // and the paths they were read as
+    std::string m_top_dir = ".";                      // directory of the top-level file
+    std::vector<SourceLoc> m_scan_locs;  // the pre-scan's #ray_file chain, outermost first
     // What the pre-scan counted in each file (by canonical path), for the parse's reservations.
     struct FileSizes {
         size_t vertices = 0;

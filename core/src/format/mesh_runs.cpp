@@ -111,9 +111,13 @@ Token Parser::walk(FileState& f, Token t, size_t bound, const std::atomic<bool>*
         if (stop && stop->load(std::memory_order_relaxed)) break;
         if (t.kind != TokenKind::Directive)
             m_build.fail(f.lex.loc(t), "expected a directive, got " + quote(t.text));
-        if (m_options.progress && n % 1024 == 0) {
-            check_cancel(f.lex.loc(t));
-            count_progress(f, f.lex.offset(t));
+        if (n % 1024 == 0 && (m_options.progress || m_halt)) {
+            // A file parsed ahead that the tree no longer needs (its parse failed) stops.
+            if (halted()) m_build.fail(f.lex.loc(t), "parse stopped");
+            if (m_options.progress) {
+                check_cancel(f.lex.loc(t));
+                count_progress(f, f.lex.offset(t));
+            }
         }
         dispatch(f, t);
         t = f.lex.next();
@@ -221,9 +225,7 @@ Token Parser::parse_pieces(FileState& f, const MeshRun& run, IsVertices kind) {
 
     size_t end = kept;
     for (const std::unique_ptr<Piece>& p : pieces) {
-        for (PieceOutput::Pending& w : p->out.warnings)
-            m_build.diagnostics().warn(w.loc, std::move(w.kind), std::move(w.message),
-                                       std::move(w.chain));
+        for (PieceOutput::Pending& w : p->out.warnings) m_build.warn(std::move(w));
         m_build.scene().skipped_shapes += p->out.skipped;
         if (p->error) std::rethrow_exception(p->error);
         FileState& s = p->state;

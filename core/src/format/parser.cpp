@@ -124,12 +124,23 @@ Parser::Parser(Diagnostics& diag, const ParseOptions& options)
     m_build.set_file_loop(this);
 }
 
+Parser::Parser(const Parser& tree, Ahead* out)
+    : m_options(tree.m_options), m_build(tree.m_build, out), m_v1(m_build), m_v3(m_build) {
+    m_dialect = tree.m_dialect;
+    m_top_dir = tree.m_top_dir;
+    m_halt = &tree.m_stop_ahead;
+}
+
+Parser::~Parser() { stop_ahead(); }
+
 SceneDesc Parser::run(std::string_view text, const std::string& name, const std::string& dir) {
     const std::string canonical = canonical_path(name);
     count_text(text.size());
     detect_dialect(text, name, canonical, dir);
+    start_ahead();
     m_build.scene().files.emplace_back();
     parse_file(text, name, canonical, dir, 0);
+    stop_ahead();
     return m_build.finish();
 }
 
@@ -146,11 +157,16 @@ SceneDesc Parser::run_file(const std::string& path) {
 
 void Parser::parse_file(std::string_view text, const std::string& name,
                         const std::string& canonical, const std::string& dir, int index) {
-    const std::string* file_name = intern_file_name(name);
     m_build.open_file(canonical, name);
+    FileDesc desc = parse_text(text, name, canonical, dir, index == 0);
+    m_build.close_file();
+    m_build.scene().files[static_cast<size_t>(index)] = std::move(desc);
+}
 
-    FileState f(text, file_name);
-    f.top = (index == 0);
+FileDesc Parser::parse_text(std::string_view text, const std::string& name,
+                            const std::string& canonical, const std::string& dir, bool top) {
+    FileState f(text, intern_file_name(name));
+    f.top = top;
     f.dir = dir;
     f.desc.path = name;
     f.desc.canonical_path = canonical;
@@ -168,8 +184,64 @@ void Parser::parse_file(std::string_view text, const std::string& name,
     }
     walk_file(f);
     end_of_file(f);
-    m_build.close_file();
-    m_build.scene().files[static_cast<size_t>(index)] = std::move(f.desc);
+    return std::move(f.desc);
+}
+
+// ---- included files parsed ahead ----------------------------------------------------------------
+void Parser::start_ahead() {
+    if (parse_threads() < 2 || m_texts.empty()) return;
+    for (auto& [canonical, text] : m_texts) {
+        auto job = std::make_unique<AheadJob>();
+        job->canonical = canonical;
+        job->name = m_text_names.at(canonical);
+        const std::string dir = fs::path(job->name).parent_path().string();
+        job->dir = dir.empty() ? "." : dir;
+        job->text = std::move(text);
+        m_ahead_order.push_back(job.get());
+        m_ahead.emplace(canonical, std::move(job));
+    }
+    m_texts.clear();
+    // Largest first: the longest parse starts soonest.
+    std::stable_sort(
+        m_ahead_order.begin(), m_ahead_order.end(),
+        [](const AheadJob* a, const AheadJob* b) { return a->text.size() > b->text.size(); });
+    const size_t threads = std::min<size_t>(parse_threads(), m_ahead_order.size());
+    for (size_t t = 0; t < threads; ++t) {
+        const auto work = [this] {
+            for (size_t i = m_next_ahead++; i < m_ahead_order.size(); i = m_next_ahead++)
+                if (!m_ahead_order[i]->claimed.exchange(true)) parse_ahead(*m_ahead_order[i]);
+        };
+        try {
+            m_ahead_threads.emplace_back(work);
+        } catch (const std::system_error&) {
+            break;  // no thread to be had: the jobs left are parsed when the walk meets them
+        }
+    }
+}
+
+void Parser::parse_ahead(AheadJob& job) const {
+    Ahead& a = job.result;
+    a.name = job.name;
+    a.canonical = job.canonical;
+    if (!m_stop_ahead) {
+        Parser file(*this, &a);
+        if (auto it = m_sizes.find(job.canonical); it != m_sizes.end()) file.m_sizes.emplace(*it);
+        try {
+            a.desc = file.parse_text(text_of(job.text), job.name, job.canonical, job.dir, false);
+        } catch (...) {
+            a.error = std::current_exception();
+        }
+        a.tracks = std::move(file.m_build.scene().tracks);
+        a.skipped = file.m_build.scene().skipped_shapes;
+    }
+    FileBytes().swap(job.text);
+    job.done.set_value();
+}
+
+void Parser::stop_ahead() {
+    m_stop_ahead = true;
+    for (std::thread& t : m_ahead_threads) t.join();
+    m_ahead_threads.clear();
 }
 
 void Parser::end_of_file(FileState& f) {
@@ -189,13 +261,23 @@ void Parser::dispatch(FileState& f, const Token& d) {
         m_v1.directive(f, d);
 }
 
-// An included file is read once: the dialect pre-scan kept its text.
+// An included file is read once: the dialect pre-scan kept its text (or parsed it ahead).
 bool Parser::readable(const std::string& resolved, const std::string& canonical, std::string* why) {
-    return cached_text(resolved, canonical, why) != nullptr;
+    return m_ahead.count(canonical) || cached_text(resolved, canonical, why) != nullptr;
 }
 
 void Parser::parse(const std::string& resolved, const std::string& canonical, int index) {
-    const FileBytes text = std::move(m_texts[canonical]);
+    if (auto it = m_ahead.find(canonical); it != m_ahead.end()) {
+        AheadJob& job = *it->second;
+        if (!job.claimed.exchange(true)) parse_ahead(job);  // no thread has started it
+        job.ready.wait();
+        // Its parse is this one's when the walk names it as the pre-scan did.
+        if (job.result.name == resolved) return m_build.replay(job.result, index);
+    }
+    std::string why;  // read again when parsed ahead under another name (readable() held)
+    if (!cached_text(resolved, canonical, &why))
+        throw SceneError({intern_file_name(resolved), 0, 0}, why);
+    const FileBytes text = std::move(m_texts.at(canonical));
     m_texts.erase(canonical);
     const std::string sub_dir = fs::path(resolved).parent_path().string();
     parse_file(text_of(text), resolved, canonical, sub_dir.empty() ? "." : sub_dir, index);

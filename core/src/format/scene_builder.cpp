@@ -24,10 +24,23 @@ void SceneBuilder::fail(const SourceLoc& loc, const std::string& message) const 
 
 void SceneBuilder::warn(const SourceLoc& loc, std::string kind, std::string message) const {
     std::vector<SourceLoc> chain(m_include_locs.rbegin(), m_include_locs.rend());
-    if (t_piece)
-        t_piece->warnings.push_back({loc, std::move(kind), std::move(message), std::move(chain)});
-    else
-        m_diag.warn(loc, std::move(kind), std::move(message), std::move(chain));
+    warn({loc, std::move(kind), std::move(message), std::move(chain)});
+}
+
+void SceneBuilder::warn(PieceOutput::Pending&& w) const {
+    if (t_piece) {
+        t_piece->warnings.push_back(std::move(w));
+    } else if (m_ahead) {
+        Ahead::Event e;
+        e.what = Ahead::Event::Warning;
+        e.loc = w.loc;
+        e.kind = std::move(w.kind);
+        e.message = std::move(w.message);
+        e.chain = std::move(w.chain);
+        m_ahead->events.push_back(std::move(e));
+    } else {
+        m_diag.warn(w.loc, std::move(w.kind), std::move(w.message), std::move(w.chain));
+    }
 }
 
 void SceneBuilder::skip_shape(const SourceLoc& loc, const char* kind) {
@@ -284,8 +297,9 @@ void SceneBuilder::shader(const FileState& f, std::string vertex, std::string fr
 
 // ---- definitions
 // ---------------------------------------------------------------------------------
-const SceneBuilder::DecodedTexture& SceneBuilder::decode_once(const std::string& path) {
-    const auto [it, added] = m_decoded.try_emplace(canonical_path(path));
+TextureCache::Decoded SceneBuilder::decode_once(const std::string& path) {
+    const std::lock_guard<std::mutex> lock(m_textures->mutex);
+    const auto [it, added] = m_textures->decoded.try_emplace(canonical_path(path));
     if (added) {
         auto image = std::make_shared<TextureImage>();
         if (load_texture_image(path, image.get(), &it->second.error))
@@ -302,7 +316,7 @@ void SceneBuilder::texture(FileState& f, const SourceLoc& loc, const SourceLoc& 
     const std::optional<std::string> found = try_resolve(f, path_loc, path, &tried);
     if (found) {
         t.path = *found;
-        const DecodedTexture& decoded = decode_once(t.path);
+        const TextureCache::Decoded decoded = decode_once(t.path);
         t.image = decoded.image;
         if (!t.image) problem = "cannot decode texture " + quote(t.path) + ": " + decoded.error;
     } else {
@@ -312,15 +326,29 @@ void SceneBuilder::texture(FileState& f, const SourceLoc& loc, const SourceLoc& 
     }
     if (!problem.empty()) {
         if (m_options.missing_textures != MissingTextures::Checker) fail(path_loc, problem);
-        // --missing-textures checker: a loud stand-in, one warning per missing file.
         t.image = std::make_shared<const TextureImage>(checker_texture());
-        const auto& missing = m_scene.missing_textures;
-        if (std::find(missing.begin(), missing.end(), path) == missing.end()) {
-            m_scene.missing_textures.push_back(path);
-            warn(path_loc, "missing-texture:" + path, problem + "; a checker stands in");
-        }
+        missing_texture(path_loc, path, problem + "; a checker stands in");
     }
     f.desc.textures.push_back(std::move(t));
+}
+
+// --missing-textures checker: a loud stand-in, one warning per missing file (in the tree's
+// order: a file parsed ahead leaves it to its replay).
+void SceneBuilder::missing_texture(const SourceLoc& loc, const std::string& path,
+                                   std::string message) {
+    if (m_ahead) {
+        Ahead::Event e;
+        e.what = Ahead::Event::MissingTexture;
+        e.loc = loc;
+        e.path = path;
+        e.message = std::move(message);
+        m_ahead->events.push_back(std::move(e));
+        return;
+    }
+    const auto& missing = m_scene.missing_textures;
+    if (std::find(missing.begin(), missing.end(), path) != missing.end()) return;
+    m_scene.missing_textures.push_back(path);
+    warn(loc, "missing-texture:" + path, std::move(message));
 }
 
 // The colours and terms by position in the tree's dialect.
@@ -392,6 +420,23 @@ void SceneBuilder::vertex(FileState& f, const SourceLoc& loc, VertexDesc v) cons
 void SceneBuilder::ray_file(FileState& f, const SourceLoc& loc, const SourceLoc& path_loc,
                             const std::string& path) {
     const std::string resolved = resolve(f, path_loc, path, "ray file");
+    if (m_ahead) {  // numbered and parsed when the replay reaches it
+        Ahead::Event e;
+        e.what = Ahead::Event::Include;
+        e.loc = loc;
+        e.path_loc = path_loc;
+        e.path = path;
+        e.resolved = resolved;
+        e.index = f.desc.ray_files.size();
+        m_ahead->events.push_back(std::move(e));
+        f.desc.ray_files.push_back(-1);
+        return;
+    }
+    f.desc.ray_files.push_back(include(loc, path_loc, resolved));
+}
+
+int SceneBuilder::include(const SourceLoc& loc, const SourceLoc& path_loc,
+                          const std::string& resolved) {
     const std::string canonical = canonical_path(resolved);
     // A file that (transitively) includes itself is an error naming the chain.
     for (size_t i = 0; i < m_open.size(); ++i) {
@@ -406,21 +451,67 @@ void SceneBuilder::ray_file(FileState& f, const SourceLoc& loc, const SourceLoc&
     if (m_open.size() >= static_cast<size_t>(kMaxIncludeDepth))
         fail(loc, "#ray_file includes nested deeper than " + std::to_string(kMaxIncludeDepth) +
                       " files");
-    int index = -1;
     for (size_t i = 0; i < m_scene.files.size(); ++i)
-        if (m_scene.files[i].canonical_path == canonical) index = static_cast<int>(i);
-    if (index < 0) {
-        std::string why;
-        if (!m_files->readable(resolved, canonical, &why))
-            fail(path_loc, read_failure("cannot read ray file", resolved, why));
-        index = static_cast<int>(m_scene.files.size());
-        m_scene.files.emplace_back();
-        m_scene.files.back().canonical_path = canonical;  // reserve the identity
-        m_include_locs.push_back(loc);
-        m_files->parse(resolved, canonical, index);
-        m_include_locs.pop_back();
+        if (m_scene.files[i].canonical_path == canonical) return static_cast<int>(i);
+    std::string why;
+    if (!m_files->readable(resolved, canonical, &why))
+        fail(path_loc, read_failure("cannot read ray file", resolved, why));
+    const int index = static_cast<int>(m_scene.files.size());
+    m_scene.files.emplace_back();
+    m_scene.files.back().canonical_path = canonical;  // reserve the identity
+    m_include_locs.push_back(loc);
+    m_files->parse(resolved, canonical, index);
+    m_include_locs.pop_back();
+    return index;
+}
+
+void SceneBuilder::replay(Ahead& a, int index) {
+    open_file(a.canonical, a.name);
+    std::vector<SourceLoc> outer(m_include_locs.rbegin(), m_include_locs.rend());
+    const auto chained = [&](std::vector<SourceLoc> chain) {
+        chain.insert(chain.end(), outer.begin(), outer.end());
+        return chain;
+    };
+    std::vector<int> track_of(a.tracks.size(), -1);
+    for (Ahead::Event& e : a.events) {
+        switch (e.what) {
+            case Ahead::Event::Warning:
+                m_diag.warn(e.loc, std::move(e.kind), std::move(e.message), chained(e.chain));
+                break;
+            case Ahead::Event::Include: {
+                const int sub = include(e.loc, e.path_loc, e.resolved);
+                if (e.index < a.desc.ray_files.size()) a.desc.ray_files[e.index] = sub;
+                break;
+            }
+            case Ahead::Event::Track:
+                track_of[e.index] = static_cast<int>(m_scene.tracks.size());
+                m_scene.tracks.push_back(a.tracks[e.index]);
+                break;
+            case Ahead::Event::MissingTexture:
+                missing_texture(e.loc, e.path, std::move(e.message));
+                break;
+        }
     }
-    f.desc.ray_files.push_back(index);
+    if (a.error) {
+        try {
+            std::rethrow_exception(a.error);
+        } catch (const SceneError& e) {
+            throw SceneError(e.loc(), e.message(), chained(e.included_from()));
+        }
+    }
+    m_scene.skipped_shapes += a.skipped;
+    // The joints' tracks, numbered in the tree's order.
+    std::vector<GroupDesc*> todo = {&a.desc.root};
+    while (!todo.empty()) {
+        GroupDesc* g = todo.back();
+        todo.pop_back();
+        if (g->track >= 0) g->track = track_of[static_cast<size_t>(g->track)];
+        for (GroupDesc& c : g->groups) todo.push_back(&c);
+        for (CsgDesc& c : g->csgs)
+            for (GroupDesc& o : c.operands) todo.push_back(&o);
+    }
+    close_file();
+    m_scene.files[static_cast<size_t>(index)] = std::move(a.desc);
 }
 
 void SceneBuilder::key_file(FileState& f, const SourceLoc& loc, const SourceLoc& path_loc,
@@ -486,6 +577,12 @@ int SceneBuilder::bind_dof(FileState& f, const SourceLoc& name_loc, const std::s
         t.keys = hit->keys[dof];
         t.loc = name_loc;
         m_scene.tracks.push_back(std::move(t));
+        if (m_ahead) {
+            Ahead::Event e;
+            e.what = Ahead::Event::Track;
+            e.index = static_cast<size_t>(track);
+            m_ahead->events.push_back(std::move(e));
+        }
     }
     return track;
 }

@@ -8,8 +8,10 @@
 #pragma once
 
 #include <array>
+#include <exception>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,16 +30,61 @@ struct MaterialNumbers {
     std::string name;  // between the !…!
 };
 
+/// An included file parsed ahead, on a thread of its own, before the walk of the tree reaches
+/// its #ray_file (Parser::parse_ahead): its description, and what it did whose place in the
+/// tree's order only that walk knows, in the order it did it, to be replayed there
+/// (SceneBuilder::replay): its warnings, its own #ray_file directives (whose files are numbered
+/// and parsed then), the key tracks it made, the missing textures it stood checkers in for.
+struct Ahead {
+    struct Event {
+        enum Kind { Warning, Include, Track, MissingTexture } what = Warning;
+        SourceLoc loc;  // Warning, MissingTexture: the warning's; Include: the directive's
+        std::string kind, message;     // Warning, MissingTexture (the warning's)
+        std::vector<SourceLoc> chain;  // Warning: the key file it was in, if any
+        SourceLoc path_loc;            // Include
+        std::string path, resolved;    // Include: as written and found; MissingTexture: path
+        size_t index = 0;              // Include: its slot in desc.ray_files; Track: the track
+    };
+    std::string name;  // the path the pre-scan found it as (the walk must name it the same)
+    std::string canonical;
+    std::vector<Event> events;
+    std::exception_ptr error;  // what stopped its parse, after the events
+    FileDesc desc;
+    std::vector<KeyTrack> tracks;  // Track events index these
+    size_t skipped = 0;
+};
+
+/// Textures decoded once per scene, shared by the builders of files parsed ahead.
+struct TextureCache {
+    struct Decoded {
+        std::shared_ptr<const TextureImage> image;  // null when it does not decode
+        std::string error;
+    };
+    std::mutex mutex;
+    std::map<std::string, Decoded> decoded;  // by canonical path
+};
+
 class SceneBuilder {
 public:
     SceneBuilder(Diagnostics& diag, const ParseOptions& options)
-        : m_diag(diag), m_options(options) {}
+        : m_diag(diag), m_options(options), m_textures(std::make_shared<TextureCache>()) {}
+    /// The builder of a file parsed ahead for `tree`'s (its events and description into *out).
+    SceneBuilder(const SceneBuilder& tree, Ahead* out)
+        : m_diag(tree.m_diag),
+          m_options(tree.m_options),
+          m_dialect(tree.m_dialect),
+          m_v3_marker(tree.m_v3_marker),
+          m_top_dir(tree.m_top_dir),
+          m_textures(tree.m_textures),
+          m_ahead(out) {}
 
     // ---- errors and warnings: with the include chain as notes ----------------------------
     [[noreturn]] void fail(const SourceLoc& loc, const std::string& message) const;
     /// On a thread parsing a piece of a run, warnings wait in its PieceOutput, so they reach
     /// the diagnostics in file order.
     void warn(const SourceLoc& loc, std::string kind, std::string message) const;
+    /// A warning a piece of a run kept, handed on in file order.
+    void warn(PieceOutput::Pending&& w) const;
     /// A degenerate shape left out, with its warning ("degenerate triangle skipped").
     void skip_shape(const SourceLoc& loc, const char* kind);
     /// Where the warnings and skipped shapes of this thread go (a piece of a run), or null.
@@ -110,9 +157,14 @@ public:
     MaterialDesc material(const MaterialNumbers& m) const;
     void add_material(FileState& f, MaterialDesc m, const SourceLoc& texture_loc) const;
     void vertex(FileState& f, const SourceLoc& loc, VertexDesc v) const;  // normal made unit
-    /// #ray_file: the file's index in the scene, parsed now when it is new.
+    /// #ray_file: the file's index in the scene, parsed now when it is new (parsed ahead: a
+    /// slot in f's ray files that the replay fills).
     void ray_file(FileState& f, const SourceLoc& loc, const SourceLoc& path_loc,
                   const std::string& path);
+    /// A file parsed ahead, where the walk of the tree reaches it as file `index` (whose
+    /// #ray_file pushed the include chain): its events in order, its files included, its tracks
+    /// numbered in the tree's, its error (with the chain); then its description in its place.
+    void replay(Ahead& a, int index);
     void key_file(FileState& f, const SourceLoc& loc, const SourceLoc& path_loc,
                   const std::string& path);
     /// The track (index into the scene's tracks) of DOF `name` of f's key files (spec §14.2).
@@ -180,11 +232,12 @@ private:
 
     // A texture file is decoded once per scene, however many #texture lines (in however many
     // files) name it: every naming shares the image, or the error.
-    struct DecodedTexture {
-        std::shared_ptr<const TextureImage> image;  // null when it does not decode
-        std::string error;
-    };
-    const DecodedTexture& decode_once(const std::string& path);
+    TextureCache::Decoded decode_once(const std::string& path);
+    /// The include of a file found as `resolved`: its cycle, the depth, its index (parsed now
+    /// when it is new).
+    int include(const SourceLoc& loc, const SourceLoc& path_loc, const std::string& resolved);
+    /// A texture missing (a checker stands in): one warning per file named.
+    void missing_texture(const SourceLoc& loc, const std::string& path, std::string message);
 
     struct Open {
         std::string canonical;
@@ -198,9 +251,10 @@ private:
     std::string m_v3_marker;      // "'#static_affine' at F:L:C", for messages
     std::string m_top_dir = ".";  // directory of the top-level file (V3 paths, spec §13.2)
     FileLoop* m_files = nullptr;
-    std::vector<SourceLoc> m_include_locs;            // #ray_file/#key_file, outermost first
-    std::vector<Open> m_open;                         // the files being parsed, outermost first
-    std::map<std::string, DecodedTexture> m_decoded;  // by canonical path
+    std::vector<SourceLoc> m_include_locs;  // #ray_file/#key_file, outermost first
+    std::vector<Open> m_open;               // the files being parsed, outermost first
+    std::shared_ptr<TextureCache> m_textures;
+    Ahead* m_ahead = nullptr;  // this builder's file is parsed ahead: its events go here
     bool m_seen_background = false, m_seen_ambient = false;
     SourceLoc m_camera_loc;          // V3: the last top-level #camera
     bool m_all_zero_camera = false;  // the top-level file's camera is the dummy

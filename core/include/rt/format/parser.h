@@ -29,8 +29,9 @@ struct ParseOptions {
     std::optional<Dialect> dialect;  ///< --dialect: overrides detection (spec §10 step 5)
     MissingTextures missing_textures = MissingTextures::Error;
     /// Threads that parse a file's long runs of #vertex or #shape_triangle directives, each its
-    /// own piece of the run (0: one per core; 1: the serial parse). The description, the
-    /// warnings and the errors are the same, in the same order, for every count.
+    /// own piece of the run, and the included files, each ahead of the walk that meets it (0:
+    /// one per core; 1: the serial parse). The description, the warnings and the errors are the
+    /// same, in the same order, for every count.
     unsigned threads = 0;
     /// Directives per piece: a run is split only where it is at least two pieces long (the tests
     /// make pieces of one directive, so every scene's runs are split).
