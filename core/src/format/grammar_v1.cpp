@@ -7,8 +7,7 @@
 
 namespace rt::parser_impl {
 
-// ---- arguments
-// -----------------------------------------------------------------------------------
+// ---- arguments ----------------------------------------------------------------------------------
 SourceLoc Directive::arg_loc(const Token& bad) const {
     return (bad.kind == TokenKind::End || bad.kind == TokenKind::Directive) ? loc() : loc(bad);
 }
@@ -63,8 +62,7 @@ std::string Directive::word(std::string_view what, bool ascii) {
                            ", got " + describe(t));
 }
 
-// ---- the directives both dialects share
-// ----------------------------------------------------------
+// ---- the directives both dialects share ---------------------------------------------------------
 namespace shared {
 
 CameraDesc camera(Directive& d) {
@@ -214,8 +212,7 @@ bool shape(Directive& d, ShapeDesc& s) {
 
 }  // namespace shared
 
-// ---- V0/V1
-// ---------------------------------------------------------------------------------------
+// ---- V0/V1 --------------------------------------------------------------------------------------
 namespace v1 {
 namespace {
 

@@ -4,7 +4,7 @@
 // and the shapes part: lists, #static_affine and #dynamic_affine, #shape_triangles, the V3-only
 // shape kinds and the CSG nodes. The shapes part is read with an explicit stack of open
 // constructs (V3Frame), so its nesting costs no recursion; each finished construct is handed to
-// the one below it (deliver).
+// the one below it (SceneBuilder::v3_deliver).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -18,142 +18,8 @@ namespace rt::parser_impl {
 namespace v3 {
 namespace {
 
-// What an unfinished construct still needs, for the error at `what` (a directive or the end of
-// the file).
-std::string open_message(const V3Frame& fr, const std::string& what) {
-    const std::string at = fr.name + " at " + fr.loc.str();
-    switch (fr.kind) {
-        case V3Frame::Affine:
-            return at + " has no shape before " + what;
-        case V3Frame::Difference:
-            return at + " needs two shapes, got " + std::to_string(fr.csg.operands.size()) +
-                   " before " + what;
-        case V3Frame::CsgHead:
-        case V3Frame::TrianglesHead:
-            return at + " expects #shape_list_begin, got " + what;
-        case V3Frame::List:
-            return at + " is never closed";
-        default:
-            break;
-    }
-    return "the #shape_list_begin of " + at + " is never closed";
-}
-
-// Adds a finished shape to a list.
-void add(GroupDesc& g, V3Node& node) {
-    switch (node.kind) {
-        case V3Node::Shape:
-            g.shapes.push_back(std::move(node.shape));
-            break;
-        case V3Node::Instance:
-            g.instances.push_back(node.instance);
-            break;
-        case V3Node::Group:
-        case V3Node::List:
-            g.groups.push_back(std::move(node.group));
-            break;
-        case V3Node::Csg:
-            g.csgs.push_back(std::move(node.csg));
-            break;
-        case V3Node::Empty:
-            break;
-    }
-}
-
-// ---- the constructs of the shapes part
-// ----------------------------------------------------------- The folding of scene_desc.h: a
-// transform or CSG operand whose child is a #shape_list_begin list is that list.
-void receive(V3Frame& to, V3Node& node) {
-    if (to.kind == V3Frame::Affine) {
-        to.has_child = true;
-        if (node.kind != V3Node::List) return add(to.group, node);
-        const Mat4 m = to.group.matrix;
-        std::string joint = std::move(to.group.joint);
-        const int track = to.group.track;
-        const SourceLoc loc = to.group.loc;
-        to.group = std::move(node.group);
-        to.group.matrix = m;
-        to.group.joint = std::move(joint);
-        to.group.track = track;
-        to.group.loc = loc;
-        return;
-    }
-    if (to.kind == V3Frame::CsgList || to.kind == V3Frame::Difference) {
-        GroupDesc operand;
-        operand.loc = node.loc;
-        if (node.kind == V3Node::List)
-            operand = std::move(node.group);
-        else
-            add(operand, node);
-        to.csg.operands.push_back(std::move(operand));
-        return;
-    }
-    add(to.group, node);  // Root, List
-}
-
-V3Node finish(const SceneBuilder& b, FileState& f, V3Frame& fr) {
-    V3Node node;
-    node.loc = fr.loc;
-    switch (fr.kind) {
-        case V3Frame::List:
-            node.kind = V3Node::List;
-            node.group = std::move(fr.group);
-            break;
-        case V3Frame::CsgList:
-        case V3Frame::Difference:
-            if (fr.csg.operands.empty())
-                b.warn(fr.loc, "csg-empty", fr.name + " with an empty list: the node is empty");
-            --f.v3_csg_depth;
-            node.kind = V3Node::Csg;
-            node.csg = std::move(fr.csg);
-            break;
-        default:  // Affine, Triangles
-            node.kind = V3Node::Group;
-            node.group = std::move(fr.group);
-            break;
-    }
-    return node;
-}
-
-// Hands a finished shape to the innermost open construct, closing every construct it completes
-// (a transform after its one shape, a difference after its second).
-void deliver(const SceneBuilder& b, FileState& f, V3Node node) {
-    for (;;) {
-        V3Frame& to = f.v3.back();
-        receive(to, node);
-        const bool done = (to.kind == V3Frame::Affine && to.has_child) ||
-                          (to.kind == V3Frame::Difference && to.csg.operands.size() == 2);
-        if (!done) return;
-        V3Frame fr = std::move(f.v3.back());
-        f.v3.pop_back();
-        node = finish(b, f, fr);
-    }
-}
-
-// Opens a construct, within the nesting limits (no consumer recurses deeper than them).
-V3Frame& push(Directive& d, V3Frame::Kind kind) {
-    FileState& f = d.f;
-    if (f.v3.size() > static_cast<size_t>(kMaxV3Depth))
-        d.fail(quote(d.name()) + " nests V3 shapes deeper than " + std::to_string(kMaxV3Depth) +
-               " levels");
-    const bool csg = kind == V3Frame::CsgHead || kind == V3Frame::Difference;
-    if (csg && f.v3_csg_depth >= kMaxCsgDepth)
-        d.fail(quote(d.name()) + " nests CSG nodes deeper than " + std::to_string(kMaxCsgDepth) +
-               " levels");
-    if (csg) ++f.v3_csg_depth;
-    V3Frame fr;
-    fr.kind = kind;
-    fr.loc = d.loc();
-    fr.name = std::string(d.name());
-    fr.group.loc = fr.loc;
-    fr.csg.loc = fr.loc;
-    f.v3.push_back(std::move(fr));
-    return f.v3.back();
-}
-
-// ---- the directives
-// ------------------------------------------------------------------------------ Spec §13.3: the
-// last #camera wins (SceneBuilder::camera). Included files: any 10 reals.
+// ---- the directives -----------------------------------------------------------------------------
+// Spec §13.3: the last #camera wins (SceneBuilder::camera). Included files: any 10 reals.
 void camera(Directive& d) { d.b.camera(d.f, shared::camera(d)); }
 
 // Spec §13.3: ambient, diffuse and specular colours, then the V1 arguments; #light_sphere:
@@ -220,17 +86,15 @@ void shader(Directive& d) {
     d.b.shader(d.f, std::move(vs), std::move(fs));
 }
 
-void list_begin(Directive& d) { push(d, V3Frame::List); }
+void list_begin(Directive& d) { d.b.v3_open(d.f, d.loc(), d.name(), V3Frame::List); }
 
 void list_end(Directive& d) {
     FileState& f = d.f;
     const V3Frame& top = f.v3.back();
     if (top.kind == V3Frame::Root) d.fail("#shape_list_end without #shape_list_begin");
     if (top.kind == V3Frame::Affine || top.kind == V3Frame::Difference)
-        d.fail(open_message(top, "#shape_list_end"));
-    V3Frame fr = std::move(f.v3.back());
-    f.v3.pop_back();
-    deliver(d.b, f, finish(d.b, f, fr));
+        d.fail(SceneBuilder::v3_open_message(top, "#shape_list_end"));
+    d.b.v3_close(f);
 }
 
 // Spec §13.6: 16 reals, column by column; then one shape.
@@ -238,7 +102,7 @@ void static_affine(Directive& d) {
     Mat4 m(1.0);
     for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = d.real(16);  // GLM's m[column][row]
     d.b.check_matrix(m, d.loc(), "#static_affine matrix");
-    push(d, V3Frame::Affine).group.matrix = m;
+    d.b.v3_open(d.f, d.loc(), d.name(), V3Frame::Affine).group.matrix = m;
 }
 
 // Spec §14.2: the DOF NAME of this file's key files; its matrix is key 0 as read (§14.7).
@@ -246,7 +110,7 @@ void dynamic_affine(Directive& d) {
     const SourceLoc at = d.next_loc();
     const std::string name = d.word("a DOF name", true);
     const int track = d.b.dynamic_dof(d.f, d.loc(), at, name);
-    GroupDesc& g = push(d, V3Frame::Affine).group;
+    GroupDesc& g = d.b.v3_open(d.f, d.loc(), d.name(), V3Frame::Affine).group;
     g.joint = name;
     g.track = track;
     if (track >= 0) g.matrix = d.b.scene().tracks[static_cast<size_t>(track)].keys[0];
@@ -254,7 +118,7 @@ void dynamic_affine(Directive& d) {
 
 void triangles(Directive& d) {
     const int m = shared::material_index(d);
-    push(d, V3Frame::TrianglesHead).material = m;
+    d.b.v3_open(d.f, d.loc(), d.name(), V3Frame::TrianglesHead).material = m;
 }
 
 // Spec §13.5: v1 v2 v3 of this file, with the list's material.
@@ -271,10 +135,11 @@ void triangle(Directive& d) {
 void csg(Directive& d) {
     const std::string_view n = d.name();
     if (n == "#shape_difference") {
-        push(d, V3Frame::Difference).csg.op = CsgOp::Difference;
+        d.b.v3_open(d.f, d.loc(), d.name(), V3Frame::Difference).csg.op = CsgOp::Difference;
         return;
     }
-    push(d, V3Frame::CsgHead).csg.op = n == "#shape_union" ? CsgOp::Union : CsgOp::Intersection;
+    d.b.v3_open(d.f, d.loc(), d.name(), V3Frame::CsgHead).csg.op =
+        n == "#shape_union" ? CsgOp::Union : CsgOp::Intersection;
 }
 
 void instance(Directive& d) {
@@ -285,7 +150,7 @@ void instance(Directive& d) {
     node.kind = V3Node::Instance;
     node.loc = d.loc();
     node.instance = {node.loc, i};
-    deliver(d.b, d.f, std::move(node));
+    d.b.v3_deliver(d.f, std::move(node));
 }
 
 // #shape_<kind> of an analytic kind.
@@ -295,7 +160,7 @@ void shape(Directive& d) {
     node.shape.loc = node.loc;
     node.shape.material = shared::material_index(d);
     node.kind = shared::shape(d, node.shape) ? V3Node::Shape : V3Node::Empty;
-    deliver(d.b, d.f, std::move(node));
+    d.b.v3_deliver(d.f, std::move(node));
 }
 
 void texture(Directive& d) { shared::texture(d); }
@@ -358,7 +223,7 @@ bool list_rules(Directive& d) {
     V3Frame& top = d.f.v3.back();
     const std::string_view n = d.name();
     if (top.kind == V3Frame::TrianglesHead || top.kind == V3Frame::CsgHead) {
-        if (n != "#shape_list_begin") d.fail(open_message(top, quote(n)));
+        if (n != "#shape_list_begin") d.fail(SceneBuilder::v3_open_message(top, quote(n)));
         top.kind = top.kind == V3Frame::TrianglesHead ? V3Frame::Triangles : V3Frame::CsgList;
         return true;
     }
@@ -394,11 +259,6 @@ void V3Grammar::directive(FileState& f, const Token& t) {
     entry->read(d);
 }
 
-void V3Grammar::end_of_file(FileState& f, const SourceLoc& eof) {
-    if (f.v3.size() > 1) m_b.fail(eof, v3::open_message(f.v3.back(), "end of file"));
-    f.desc.root = std::move(f.v3.back().group);
-    f.desc.root.loc = {};
-    f.v3.clear();
-}
+void V3Grammar::end_of_file(FileState& f, const SourceLoc& eof) { m_b.v3_end_of_file(f, eof); }
 
 }  // namespace rt::parser_impl

@@ -117,8 +117,7 @@ std::string lower(std::string_view s) {
     return r;
 }
 
-// ---- the file loop
-// -------------------------------------------------------------------------------
+// ---- the file loop ------------------------------------------------------------------------------
 Parser::Parser(Diagnostics& diag, const ParseOptions& options)
     : m_options(options), m_build(diag, options), m_v1(m_build), m_v3(m_build) {
     m_build.set_file_loop(this);

@@ -15,8 +15,7 @@ namespace fs = std::filesystem;
 
 namespace rt::parser_impl {
 
-// ---- errors and warnings
-// -------------------------------------------------------------------------
+// ---- errors and warnings ------------------------------------------------------------------------
 void SceneBuilder::fail(const SourceLoc& loc, const std::string& message) const {
     std::vector<SourceLoc> chain(m_include_locs.rbegin(), m_include_locs.rend());
     throw SceneError(loc, message, std::move(chain));
@@ -57,8 +56,7 @@ std::string SceneBuilder::fmt(double v) {
     return ss.str();
 }
 
-// ---- the tree
-// ------------------------------------------------------------------------------------
+// ---- the tree -----------------------------------------------------------------------------------
 void SceneBuilder::set_dialect(Dialect d, std::string v3_marker, std::string top_dir) {
     m_dialect = d;
     m_v3_marker = std::move(v3_marker);
@@ -128,8 +126,7 @@ long long SceneBuilder::placements(size_t fi, std::vector<long long>& memo) cons
     return memo[fi] = total;
 }
 
-// ---- counts
-// --------------------------------------------------------------------------------------
+// ---- counts -------------------------------------------------------------------------------------
 void SceneBuilder::declare_count(FileState& f, const SourceLoc& loc, CountKind k, int n,
                                  const SourceLoc& n_loc, size_t room) {
     Count& c = f.counts[k];
@@ -151,10 +148,9 @@ void SceneBuilder::too_many(const SourceLoc& loc, CountKind k, const Count& c) c
                   " than declared by " + kCountDirective[k] + " at " + c.loc.str());
 }
 
-// ---- paths
-// --------------------------------------------------------------------------------------- Spec
-// §4.2: relative to the naming file's directory, then the working directory. V3 (spec §13.2): the
-// top-level file's directory first, then those two with a warning.
+// ---- paths --------------------------------------------------------------------------------------
+// Spec §4.2: relative to the naming file's directory, then the working directory. V3 (spec
+// §13.2): the top-level file's directory first, then those two with a warning.
 std::optional<std::string> SceneBuilder::try_resolve(const FileState& f, const SourceLoc& at,
                                                      const std::string& path,
                                                      std::string* tried) const {
@@ -198,8 +194,7 @@ std::string SceneBuilder::resolve(const FileState& f, const SourceLoc& at, const
     fail(at, "cannot open " + what + " " + quote(path) + " (tried " + tried + ")");
 }
 
-// ---- camera, lights, the global settings
-// ---------------------------------------------------------
+// ---- camera, lights, the global settings --------------------------------------------------------
 bool SceneBuilder::dummy_camera(const CameraDesc& c) {
     if (c.position != Vec3(0.0) || c.direction != Vec3(0.0) || c.up != Vec3(0.0) ||
         c.half_height_angle_rad != 0.0)
@@ -295,8 +290,7 @@ void SceneBuilder::shader(const FileState& f, std::string vertex, std::string fr
     m_scene.shader_fragment = std::move(fragment);
 }
 
-// ---- definitions
-// ---------------------------------------------------------------------------------
+// ---- definitions --------------------------------------------------------------------------------
 TextureCache::Decoded SceneBuilder::decode_once(const std::string& path) {
     const std::lock_guard<std::mutex> lock(m_textures->mutex);
     const auto [it, added] = m_textures->decoded.try_emplace(canonical_path(path));
@@ -587,8 +581,7 @@ int SceneBuilder::bind_dof(FileState& f, const SourceLoc& name_loc, const std::s
     return track;
 }
 
-// ---- the scene graph
-// -----------------------------------------------------------------------------
+// ---- the scene graph ----------------------------------------------------------------------------
 int SceneBuilder::material_index(const FileState& f, const SourceLoc& loc, int m) const {
     const int n = static_cast<int>(f.defs().materials.size());
     const bool v0_default = (m == -1 && m_dialect == Dialect::V0);
@@ -714,6 +707,157 @@ int SceneBuilder::dynamic_dof(FileState& f, const SourceLoc& loc, const SourceLo
         warn(loc, "joint-no-key", "no #key_file: #dynamic_affine uses the identity");
     f.warned_dynamic_identity = true;
     return -1;
+}
+
+// ---- the constructs of a V3 shapes part ---------------------------------------------------------
+std::string SceneBuilder::v3_open_message(const V3Frame& fr, const std::string& what) {
+    const std::string at = fr.name + " at " + fr.loc.str();
+    switch (fr.kind) {
+        case V3Frame::Affine:
+            return at + " has no shape before " + what;
+        case V3Frame::Difference:
+            return at + " needs two shapes, got " + std::to_string(fr.csg.operands.size()) +
+                   " before " + what;
+        case V3Frame::CsgHead:
+        case V3Frame::TrianglesHead:
+            return at + " expects #shape_list_begin, got " + what;
+        case V3Frame::List:
+            return at + " is never closed";
+        default:
+            break;
+    }
+    return "the #shape_list_begin of " + at + " is never closed";
+}
+
+namespace v3_constructs {
+namespace {
+
+// Adds a finished shape to a list.
+void add(GroupDesc& g, V3Node& node) {
+    switch (node.kind) {
+        case V3Node::Shape:
+            g.shapes.push_back(std::move(node.shape));
+            break;
+        case V3Node::Instance:
+            g.instances.push_back(node.instance);
+            break;
+        case V3Node::Group:
+        case V3Node::List:
+            g.groups.push_back(std::move(node.group));
+            break;
+        case V3Node::Csg:
+            g.csgs.push_back(std::move(node.csg));
+            break;
+        case V3Node::Empty:
+            break;
+    }
+}
+
+// The folding of scene_desc.h: a transform or CSG operand whose child is a #shape_list_begin
+// list is that list.
+void receive(V3Frame& to, V3Node& node) {
+    if (to.kind == V3Frame::Affine) {
+        to.has_child = true;
+        if (node.kind != V3Node::List) return add(to.group, node);
+        const Mat4 m = to.group.matrix;
+        std::string joint = std::move(to.group.joint);
+        const int track = to.group.track;
+        const SourceLoc loc = to.group.loc;
+        to.group = std::move(node.group);
+        to.group.matrix = m;
+        to.group.joint = std::move(joint);
+        to.group.track = track;
+        to.group.loc = loc;
+        return;
+    }
+    if (to.kind == V3Frame::CsgList || to.kind == V3Frame::Difference) {
+        GroupDesc operand;
+        operand.loc = node.loc;
+        if (node.kind == V3Node::List)
+            operand = std::move(node.group);
+        else
+            add(operand, node);
+        to.csg.operands.push_back(std::move(operand));
+        return;
+    }
+    add(to.group, node);  // Root, List
+}
+
+V3Node finished(const SceneBuilder& b, FileState& f, V3Frame& fr) {
+    V3Node node;
+    node.loc = fr.loc;
+    switch (fr.kind) {
+        case V3Frame::List:
+            node.kind = V3Node::List;
+            node.group = std::move(fr.group);
+            break;
+        case V3Frame::CsgList:
+        case V3Frame::Difference:
+            if (fr.csg.operands.empty())
+                b.warn(fr.loc, "csg-empty", fr.name + " with an empty list: the node is empty");
+            --f.v3_csg_depth;
+            node.kind = V3Node::Csg;
+            node.csg = std::move(fr.csg);
+            break;
+        default:  // Affine, Triangles
+            node.kind = V3Node::Group;
+            node.group = std::move(fr.group);
+            break;
+    }
+    return node;
+}
+
+// Hands a finished shape to the innermost open construct, closing every construct it completes
+// (a transform after its one shape, a difference after its second).
+
+}  // namespace
+}  // namespace v3_constructs
+
+void SceneBuilder::v3_deliver(FileState& f, V3Node node) const {
+    for (;;) {
+        V3Frame& to = f.v3.back();
+        v3_constructs::receive(to, node);
+        const bool done = (to.kind == V3Frame::Affine && to.has_child) ||
+                          (to.kind == V3Frame::Difference && to.csg.operands.size() == 2);
+        if (!done) return;
+        V3Frame fr = std::move(f.v3.back());
+        f.v3.pop_back();
+        node = v3_constructs::finished(*this, f, fr);
+    }
+}
+
+// Opens a construct, within the nesting limits (no consumer recurses deeper than them).
+V3Frame& SceneBuilder::v3_open(FileState& f, const SourceLoc& loc, std::string_view directive,
+                               V3Frame::Kind kind) const {
+    if (f.v3.size() > static_cast<size_t>(kMaxV3Depth))
+        fail(loc, quote(directive) + " nests V3 shapes deeper than " + std::to_string(kMaxV3Depth) +
+                      " levels");
+    const bool csg = kind == V3Frame::CsgHead || kind == V3Frame::Difference;
+    if (csg && f.v3_csg_depth >= kMaxCsgDepth)
+        fail(loc, quote(directive) + " nests CSG nodes deeper than " +
+                      std::to_string(kMaxCsgDepth) + " levels");
+    if (csg) ++f.v3_csg_depth;
+    V3Frame fr;
+    fr.kind = kind;
+    fr.loc = loc;
+    fr.name = std::string(directive);
+    fr.group.loc = fr.loc;
+    fr.csg.loc = fr.loc;
+    f.v3.push_back(std::move(fr));
+    return f.v3.back();
+}
+
+void SceneBuilder::v3_close(FileState& f) const {
+    V3Frame fr = std::move(f.v3.back());
+    f.v3.pop_back();
+    v3_deliver(f, v3_constructs::finished(*this, f, fr));
+}
+
+void SceneBuilder::v3_end_of_file(FileState& f, const SourceLoc& eof) const {
+    if (f.v3.size() > 1) fail(eof, v3_open_message(f.v3.back(), "end of file"));
+    f.desc.root = std::move(f.v3.back().group);
+    f.desc.root.loc = {};
+    f.v3.clear();
 }
 
 }  // namespace rt::parser_impl

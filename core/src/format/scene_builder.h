@@ -213,6 +213,21 @@ public:
     /// files; the matrix key 0.
     int dynamic_dof(FileState& f, const SourceLoc& loc, const SourceLoc& name_loc,
                     const std::string& name);
+    // The V3 shapes part (spec §13.5): its open constructs (FileState::v3), on an explicit
+    // stack so that deep nesting never recurses; a finished shape goes to the innermost one,
+    // and every construct it completes (a transform after its one shape, a difference after its
+    // second) goes to the one below, folded as scene_desc.h says.
+    /// Opens a construct at a directive, within the nesting limits.
+    V3Frame& v3_open(FileState& f, const SourceLoc& loc, std::string_view directive,
+                     V3Frame::Kind kind) const;
+    void v3_deliver(FileState& f, V3Node node) const;
+    /// #shape_list_end: the innermost construct is finished.
+    void v3_close(FileState& f) const;
+    /// The end of a V3 file: a construct left open is an error; the root list is the file's.
+    void v3_end_of_file(FileState& f, const SourceLoc& eof) const;
+    /// What an unfinished construct still needs, for the error at `what` (a directive or the
+    /// end of the file).
+    static std::string v3_open_message(const V3Frame& fr, const std::string& what);
     /// Affine, non-singular (spec §3.3, §4.1).
     void check_matrix(const Mat4& m, const SourceLoc& loc, const std::string& what) const;
 
