@@ -18,9 +18,10 @@
 namespace rt::parser_impl {
 
 /// The driver of a parse: the dialect pre-scan of the file tree (dialect.cpp), the file loop
-/// (parser.cpp) and the walk over a file's directives, its long runs of mesh directives in
-/// pieces on several threads (mesh_runs.cpp). Each directive goes to the grammar walk of the
-/// tree's dialect (grammar.h); what they build, and what it means, is the SceneBuilder's.
+/// with the included files parsed ahead (parser.cpp) and the walk over a file's directives, its
+/// long runs of mesh directives in pieces on several threads (mesh_runs.cpp). Each directive goes
+/// to the grammar walk of the tree's dialect (grammar.h); what they build, and what it means, is
+/// the SceneBuilder's.
 class Parser final : private SceneBuilder::FileLoop {
 public:
     Parser(Diagnostics& diag, const ParseOptions& options);
@@ -57,6 +58,7 @@ private:
     void start_ahead();
     void parse_ahead(AheadJob& job) const;
     void stop_ahead();
+    /// A file parsed ahead whose tree's parse has ended (its walk stops, "parse stopped").
     bool halted() const { return m_halt && m_halt->load(std::memory_order_relaxed); }
     /// One directive, by the tree's dialect.
     void dispatch(FileState& f, const Token& d);
