@@ -73,7 +73,8 @@ private:
     Token walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop = nullptr);
     /// The directives of a file, the long runs of mesh directives in pieces on several threads.
     void walk_file(FileState& f);
-    /// The threads a run is cut for (ParseOptions::threads; 1 where none can start).
+    /// The threads a run is cut for, and that parse included files ahead (ParseOptions::threads;
+    /// 1 where none can start, and on the web page's main thread).
     unsigned parse_threads() const;
     /// ParseProgress: the bytes of f's text up to `offset` are parsed (counted once each).
     void count_progress(FileState& f, size_t offset) const;

@@ -101,7 +101,7 @@ void Parser::count_text(size_t bytes) const {
 }
 
 unsigned Parser::parse_threads() const {
-    if (!have_threads()) return 1;
+    if (!have_threads() || on_browser_main_thread()) return 1;
     return m_options.threads ? m_options.threads : hardware_threads();
 }
 

@@ -25,6 +25,17 @@ inline bool have_threads() {
 #endif
 }
 
+/// Whether this is the web page's main browser thread. Threads started from it make progress only
+/// while it lets them (their file access is proxied to it), so work that would fan out to
+/// threads and wait for them stays on it (a scene the page opens at start-up is parsed there).
+inline bool on_browser_main_thread() {
+#ifdef __EMSCRIPTEN__
+    return emscripten_is_main_browser_thread();
+#else
+    return false;
+#endif
+}
+
 /// The threads this process may run at once (at least 1; 1 without threads): the CPUs it is bound
 /// to where it is bound (a cluster's scheduler or `mpirun` binds each rank to its cores), else the
 /// machine's.
