@@ -69,7 +69,8 @@ inline std::string outcome(const std::function<SceneDesc(Diagnostics&, const Par
     return out;
 }
 
-/// The options of the serial parse and of one cut into the smallest pieces on three threads.
+/// The options of the serial parse and of one cut into the smallest pieces on three threads, every
+/// included file parsed ahead.
 inline ParseOptions serial(ParseOptions o) {
     o.threads = 1;
     return o;
@@ -77,6 +78,7 @@ inline ParseOptions serial(ParseOptions o) {
 inline ParseOptions in_pieces(ParseOptions o) {
     o.threads = 3;
     o.piece = 1;
+    o.ahead = 0;  // every included file parsed ahead
     return o;
 }
 

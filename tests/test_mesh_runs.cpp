@@ -256,6 +256,7 @@ TEST(MeshRuns, IncludedFilesParsedAheadGiveTheSerialTree) {
         };
         ParseOptions ahead = options;
         ahead.threads = 3;
+        ahead.ahead = 0;
         const std::string serial = both_ways::outcome(parse, both_ways::serial(options));
         EXPECT_EQ(serial, both_ways::outcome(parse, ahead));
         EXPECT_EQ(serial, both_ways::outcome(parse, both_ways::in_pieces(options)));
@@ -268,6 +269,7 @@ TEST(MeshRuns, IncludedFilesParsedAheadGiveTheSerialTree) {
     {
         ParseOptions ahead;
         ahead.threads = 3;
+        ahead.ahead = 0;
         ahead.missing_textures = MissingTextures::Checker;
         Diagnostics diag;
         const SceneDesc desc = parse_scene_file((dir / "top.ray").string(), diag, ahead);

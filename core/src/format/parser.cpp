@@ -189,6 +189,9 @@ FileDesc Parser::parse_text(std::string_view text, const std::string& name,
 // ---- included files parsed ahead ----------------------------------------------------------------
 void Parser::start_ahead() {
     if (parse_threads() < 2 || m_texts.empty()) return;
+    size_t bytes = 0;
+    for (const auto& [canonical, text] : m_texts) bytes += text.size();
+    if (bytes < m_options.ahead) return;
     for (auto& [canonical, text] : m_texts) {
         auto job = std::make_unique<AheadJob>();
         job->canonical = canonical;

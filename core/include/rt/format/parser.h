@@ -36,6 +36,9 @@ struct ParseOptions {
     /// Directives per piece: a run is split only where it is at least two pieces long (the tests
     /// make pieces of one directive, so every scene's runs are split).
     size_t piece = 16384;
+    /// Bytes of included text from which the included files are parsed ahead on other threads
+    /// (below it the threads cost more than they save; the tests use 0, so every tree is).
+    size_t ahead = 256 * 1024;
     ParseProgress* progress = nullptr;  ///< updated as the parse goes, when given
 };
 
