@@ -281,29 +281,11 @@ void light(Directive& d) {
     d.b.light(d.f, l);
 }
 
-void texture(Directive& d) {
+// A definition both dialects read alike, after V0/V1's rule that none follows the scene graph.
+template <void (*Read)(Directive&)>
+void defined(Directive& d) {
     definition(d);
-    shared::texture(d);
-}
-
-void material(Directive& d) {
-    definition(d);
-    shared::material(d);
-}
-
-void vertex(Directive& d) {
-    definition(d);
-    shared::vertex(d);
-}
-
-void ray_file(Directive& d) {
-    definition(d);
-    shared::ray_file(d);
-}
-
-void key_file(Directive& d) {
-    definition(d);
-    shared::key_file(d);
+    Read(d);
 }
 
 void group_begin(Directive& d) {
@@ -343,7 +325,7 @@ struct Entry {
     void (*read)(Directive&);
 };
 constexpr std::array<Entry, 23> kDirectives = {{
-    {"#vertex", vertex},
+    {"#vertex", defined<shared::vertex>},
     {"#shape_triangle", shape},
     {"#camera", camera},
     {"#background", global_colour},
@@ -353,14 +335,14 @@ constexpr std::array<Entry, 23> kDirectives = {{
     {"#light_point", light},
     {"#light_spot", light},
     {"#texture_num", count<kTextures>},
-    {"#texture", texture},
+    {"#texture", defined<shared::texture>},
     {"#material_num", count<kMaterials>},
-    {"#material", material},
+    {"#material", defined<shared::material>},
     {"#vertex_num", count<kVertices>},
     {"#ray_file_num", count<kRayFiles>},
-    {"#ray_file", ray_file},
+    {"#ray_file", defined<shared::ray_file>},
     {"#key_file_num", count<kKeyFiles>},
-    {"#key_file", key_file},
+    {"#key_file", defined<shared::key_file>},
     {"#group_begin", group_begin},
     {"#group_end", group_end},
     {"#joint_begin", joint_begin},

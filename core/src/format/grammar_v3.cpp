@@ -163,12 +163,6 @@ void shape(Directive& d) {
     d.b.v3_deliver(d.f, std::move(node));
 }
 
-void texture(Directive& d) { shared::texture(d); }
-void material(Directive& d) { shared::material(d); }
-void vertex(Directive& d) { shared::vertex(d); }
-void ray_file(Directive& d) { shared::ray_file(d); }
-void key_file(Directive& d) { shared::key_file(d); }
-
 enum Part { kGlobalPart, kLocalPart, kShapesPart };
 
 struct Entry {
@@ -184,11 +178,11 @@ constexpr std::array<Entry, 21> kDirectives = {{
     {"#light_spot", kGlobalPart, light},
     {"#light_sphere", kGlobalPart, light},
     {"#shader", kGlobalPart, shader},
-    {"#texture", kLocalPart, texture},
-    {"#material", kLocalPart, material},
-    {"#vertex", kLocalPart, vertex},
-    {"#ray_file", kLocalPart, ray_file},
-    {"#key_file", kLocalPart, key_file},
+    {"#texture", kLocalPart, shared::texture},
+    {"#material", kLocalPart, shared::material},
+    {"#vertex", kLocalPart, shared::vertex},
+    {"#ray_file", kLocalPart, shared::ray_file},
+    {"#key_file", kLocalPart, shared::key_file},
     {"#shape_triangles", kShapesPart, triangles},
     {"#shape_triangle", kShapesPart, triangle},
     {"#shape_list_begin", kShapesPart, list_begin},
