@@ -1,12 +1,17 @@
 // Images: byte conversion of spec §9, PFM and EXR round trips, formats by extension, no partial
 // file; the decoders (rt/image/decode.h) on real files and on damaged or lying ones.
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iostream>
 
 #include "rt/image/decode.h"
 #include "rt/image/exr.h"
@@ -565,12 +570,236 @@ TEST(ImageDecode, ExrFromMemoryEqualsTheFile) {
     // ffmpeg's grid (no compression, and ZIP with alpha): the grid's values, but for ffmpeg's
     // conversion to linear floats.
     const std::vector<uint8_t> ref = reference_grid();
-    for (const char* name : {"grid.exr", "grid_zip.exr"}) {
+    // And ours, written with OpenEXR (float): tiled in one level, mipmaps and ripmaps, PIZ from
+    // the bottom, two parts (the first is read).
+    for (const char* name : {"grid.exr", "grid_zip.exr", "grid_tiled.exr", "grid_mipmap.exr",
+                             "grid_ripmap.exr", "grid_piz_decreasing.exr", "grid_multipart.exr"}) {
         const Image rgb = decode_exr(fixture(name)).rgb();
-        ASSERT_EQ(rgb.rgb.size(), ref.size());
+        ASSERT_EQ(rgb.rgb.size(), ref.size()) << name;
         for (size_t i = 0; i < ref.size(); ++i)
             EXPECT_NEAR(rgb.rgb[i] * 255, ref[i], 2.0) << name << " " << i;
+        // R, G and B alone read the same values.
+        EXPECT_EQ(decode_exr_rgb(fixture(name)).rgb, rgb.rgb) << name;
     }
+}
+
+// ---- what a hostile file costs ------------------------------------------------------------------
+
+// What a run of `f` in a child process answered, and how far its resident memory rose above
+// what it had at its start, in KB (-1 where Linux cannot tell).
+struct ChildRun {
+    std::string message;
+    long grown_kb = -1;
+};
+
+long status_kb(const char* field) {  // a field of /proc/self/status (VmRSS, VmHWM), in KB
+    std::ifstream status("/proc/self/status");
+    for (std::string key; status >> key;) {
+        long kb = 0;
+        if (key == std::string(field) + ":" && status >> kb) return kb;
+    }
+    return -1;
+}
+
+// Runs `f` in a child process whose address space is capped at 256 MB more than it maps (not
+// under the sanitizers, whose shadow memory needs room), so that a decoder allocating what a
+// header claims fails there (std::bad_alloc) instead of filling the machine's memory. The peak
+// is reset at the child's start (clear_refs 5), so VmHWM is what the run itself touched.
+ChildRun in_child(const std::function<std::string()>& f) {
+    int fds[2];
+    if (pipe(fds) != 0) return {"no pipe"};
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+#if !defined(RT_ASAN) && !defined(RT_TSAN)
+        uint64_t pages = 0;
+        std::ifstream("/proc/self/statm") >> pages;
+        const uint64_t limit =
+            pages * static_cast<uint64_t>(sysconf(_SC_PAGESIZE)) + (uint64_t{256} << 20);
+        const rlimit cap{limit, limit};
+        setrlimit(RLIMIT_AS, &cap);
+#endif
+        const bool reset = static_cast<bool>(std::ofstream("/proc/self/clear_refs") << "5");
+        const long start = status_kb("VmRSS");
+        std::string message;
+        try {
+            message = f();
+        } catch (const std::bad_alloc&) {
+            message = "std::bad_alloc";
+        } catch (const std::exception& e) {
+            message = e.what();
+        }
+        const std::string out =
+            std::to_string(reset && start >= 0 ? status_kb("VmHWM") - start : -1) + "\n" + message;
+        if (write(fds[1], out.data(), out.size()) < 0) _exit(1);
+        _exit(0);
+    }
+    close(fds[1]);
+    std::string out;
+    char buf[4096];
+    for (ssize_t n; (n = read(fds[0], buf, sizeof buf)) > 0;)
+        out.append(buf, static_cast<size_t>(n));
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    const size_t nl = out.find('\n');
+    if (nl == std::string::npos) return {"no answer from the child"};
+    return {out.substr(nl + 1), std::stol(out.substr(0, nl))};
+}
+
+// The message of decoding `data` as EXR, through both readers (all channels, and R, G and B),
+// which must agree.
+std::string exr_error(const std::string& data) {
+    std::string all, rgb;
+    try {
+        (void)decode_exr(data);
+        all = "no error";
+    } catch (const std::exception& e) {
+        all = e.what();
+    }
+    try {
+        (void)decode_exr_rgb(data);
+        rgb = "no error";
+    } catch (const std::exception& e) {
+        rgb = e.what();
+    }
+    EXPECT_EQ(all, rgb);
+    return all;
+}
+
+// An EXR of `w`x`h` pixels in R, G, B and 13 more channels (16, as the issue's file), all 0.
+std::string sixteen_channels(int w, int h) {
+    std::vector<ExrChannel> extra;
+    for (int i = 0; i < 13; ++i)
+        extra.push_back({"X" + std::to_string(i), ExrPixel::Half,
+                         std::vector<double>(static_cast<size_t>(w) * h, 0.0)});
+    const std::string path = ::testing::TempDir() + "/rt_sixteen.exr";
+    save_exr(Image(w, h), extra, false, path);
+    std::string data;
+    EXPECT_TRUE(read_file(path, &data));
+    std::filesystem::remove(path);
+    return data;
+}
+
+uint32_t le32(std::string_view d, size_t at) {
+    uint32_t v = 0;
+    for (size_t i = 0; i < 4; ++i) v |= uint32_t{static_cast<uint8_t>(d[at + i])} << (8 * i);
+    return v;
+}
+
+void put_le(std::string& d, size_t at, uint64_t v, size_t bytes) {
+    for (size_t i = 0; i < bytes; ++i) d[at + i] = static_cast<char>((v >> (8 * i)) & 0xff);
+}
+
+// The header's data window made 0..w-1 x 0..h-1 (its box2i after "dataWindow\0box2i\0" and
+// the size).
+void set_data_window(std::string& exr, int w, int h) {
+    const std::string key("dataWindow\0box2i\0", 17);
+    const size_t at = exr.find(key);
+    ASSERT_NE(at, std::string::npos);
+    put_le(exr, at + key.size() + 4 + 8, static_cast<uint32_t>(w - 1), 4);
+    put_le(exr, at + key.size() + 4 + 12, static_cast<uint32_t>(h - 1), 4);
+}
+
+// Where a single-part scan-line file's offset table starts: the first entry holds the offset
+// just past a one-chunk table.
+size_t offset_table(std::string_view exr) {
+    for (size_t p = 8; p + 8 <= exr.size(); ++p)
+        if (le32(exr, p) == p + 8 && le32(exr, p + 4) == 0) return p;
+    ADD_FAILURE() << "no one-chunk offset table";
+    return 0;
+}
+
+// Issue 49: an 835-byte EXR claiming 8192x8192 in 16 channels zero-filled 4.3 GB before
+// reading a pixel. Here DWAB's 256 rows a chunk make its table 32 entries, which fit; they
+// point into the header, and the chunks are not there. Refused from the table.
+TEST(ImageDecode, AnExrClaimingMoreThanItHoldsIsRefusedWithoutAllocating) {
+    const std::string real = sixteen_channels(16, 16);
+    const size_t table = offset_table(real);
+    std::string exr = real.substr(0, table);
+    set_data_window(exr, 8192, 8192);
+    const std::string key("compression\0compression\0", 24);
+    ASSERT_NE(exr.find(key), std::string::npos);
+    exr[exr.find(key) + key.size() + 4] = 9;  // DWAB
+    exr.resize(table + 32 * 8);
+    for (size_t i = 0; i < 32; ++i) put_le(exr, table + i * 8, 8 + i, 8);
+    exr += real.substr(table + 8);  // the one real chunk
+    const ChildRun run = in_child([&] { return exr_error(exr); });
+    EXPECT_EQ(run.message, "EXR chunk 0 points at byte 8, outside the chunks' bytes " +
+                               std::to_string(table + 32 * 8) + " to " +
+                               std::to_string(exr.size()) +
+                               " (a damaged offset table or a truncated file)");
+    EXPECT_LT(run.grown_kb, 16 * 1024);
+    std::cout << "[ measured ] " << exr.size() << "-byte EXR of 8192x8192x16: the decode grew "
+              << run.grown_kb << " KB\n";
+}
+
+// An image of 8192x8192 with every chunk in its place, the first real and the other 511
+// damaged: the image grows as its bands decode, so the 0.8 GB (1.6 GB as doubles) the header
+// claims are never allocated; the first damaged chunk ends the read.
+TEST(ImageDecode, AnExrWhoseChunksAreDamagedCostsWhatDecoded) {
+    std::string real;  // one ZIP chunk of 16 rows
+    {
+        const std::string path = ::testing::TempDir() + "/rt_wide.exr";
+        save_exr(Image(8192, 16), {}, false, path);
+        ASSERT_TRUE(read_file(path, &real));
+        std::filesystem::remove(path);
+    }
+    const size_t table = offset_table(real);
+    const std::string_view chunk = std::string_view(real).substr(table + 8);
+    std::string exr = real.substr(0, table);
+    set_data_window(exr, 8192, 8192);
+    const size_t first = exr.size() + 512 * 8;
+    std::string chunks(chunk);
+    exr.resize(first);
+    put_le(exr, table, first, 8);
+    for (uint64_t i = 1; i < 512; ++i) {
+        put_le(exr, table + i * 8, first + chunks.size(), 8);
+        std::string junk(8 + 64, '\x5a');
+        put_le(junk, 0, i * 16, 4);  // its rows
+        put_le(junk, 4, 64, 4);      // 64 bytes that are no zlib stream
+        chunks += junk;
+    }
+    exr += chunks;
+    const ChildRun run = in_child([&] { return exr_error(exr); });
+    EXPECT_NE(run.message.find("zlib"), std::string::npos) << run.message;
+    EXPECT_LT(run.grown_kb, 64 * 1024);
+    std::cout << "[ measured ] " << exr.size() << "-byte EXR, 8192x8192 with 511 damaged "
+              << "chunks: the decode grew " << run.grown_kb << " KB: " << run.message << "\n";
+}
+
+// The offset table is checked against the file: an entry beyond the end, or two chunks at the
+// same place, are named before OpenEXR reads the table.
+TEST(ImageDecode, AnExrOffsetTableIsCheckedAgainstTheFile) {
+    const std::string real = sixteen_channels(4, 64);  // four ZIP chunks of 16 rows
+    size_t table = 0;
+    for (size_t p = 8; p + 32 <= real.size() && table == 0; ++p)
+        if (le32(real, p) == p + 32 && le32(real, p + 4) == 0) table = p;
+    ASSERT_NE(table, 0u);
+    ASSERT_EQ(exr_error(real), "no error");
+    std::string beyond = real;
+    put_le(beyond, table + 24, real.size() + 100, 8);
+    EXPECT_EQ(exr_error(beyond), "EXR chunk 3 points at byte " + std::to_string(real.size() + 100) +
+                                     ", outside the chunks' bytes " + std::to_string(table + 32) +
+                                     " to " + std::to_string(real.size()) +
+                                     " (a damaged offset table or a truncated file)");
+    std::string twice = real;
+    put_le(twice, table + 16, le32(real, table + 8), 8);
+    EXPECT_EQ(exr_error(twice), "EXR chunks overlap at byte " +
+                                    std::to_string(le32(real, table + 8)) +
+                                    " (a damaged offset table)");
+    // The header's data window made 8192x8192: its 512 chunks' offsets alone would be 4 KB.
+    std::string claims = real;
+    set_data_window(claims, 8192, 8192);
+    EXPECT_EQ(exr_error(claims),
+              "the EXR header's 8192x8192 pixels are 512 chunks, whose offset "
+              "table alone is larger than the " +
+                  std::to_string(real.size()) + "-byte file (truncated or damaged)");
+    // A table cut short (the file truncated after its header).
+    EXPECT_EQ(exr_error(real.substr(0, table + 8)),
+              "the EXR header's 4x64 pixels are 4 chunks, whose offset table alone is larger "
+              "than the " +
+                  std::to_string(table + 8) + "-byte file (truncated or damaged)");
 }
 
 // Found by fuzz_image: OpenEXR allocated the 1.8 GB a string attribute declared before reading it.

@@ -8,14 +8,18 @@
 #include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfTileDescription.h>
+#include <OpenEXR/ImfVersion.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <list>
 #include <set>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include "rt/util/file_io.h"
 #include "rt/util/limits.h"
@@ -44,10 +48,12 @@ private:
     size_t m_pos = 0;
 };
 
-// A file's bytes in memory, for OpenEXR to read (decode_exr).
+// A file's bytes in memory, for OpenEXR to read (decode_exr); `name` is the one its messages
+// give.
 class MemoryInStream : public Imf::IStream {
 public:
-    explicit MemoryInStream(std::string_view data) : Imf::IStream("memory"), m_data(data) {}
+    explicit MemoryInStream(std::string_view data, const char* name = "memory")
+        : Imf::IStream(name), m_data(data) {}
     bool read(char c[], int n) override {
         if (n < 0 || static_cast<size_t>(n) > m_data.size() - m_pos)
             throw std::runtime_error("the file ends early (truncated EXR)");
@@ -178,8 +184,9 @@ namespace {
 
 // OpenEXR 3.1 allocates an attribute's declared size before reading it (fuzz_image: a 300-byte
 // file declaring a 1.8 GB string): every header's attributes are walked first, and each size
-// checked against the bytes that follow. Throws std::runtime_error.
-void check_headers(std::string_view d) {
+// checked against the bytes that follow. Returns where the headers end: the chunk offset tables
+// follow. Throws std::runtime_error.
+size_t check_headers(std::string_view d) {
     static constexpr char kMagic[4] = {0x76, 0x2f, 0x31, 0x01};
     if (d.size() < 8 || d.substr(0, 4) != std::string_view(kMagic, 4))
         throw std::runtime_error("not an OpenEXR file");
@@ -207,87 +214,357 @@ void check_headers(std::string_view d) {
                                          std::to_string(size) + " bytes beyond the file's end");
             pos += size;
         }
+        if (!multipart) return pos;
         // A multi-part file's headers end with an empty one.
-        if (!multipart || pos >= d.size() || d[pos] == '\0') return;
+        if (pos >= d.size()) throw std::runtime_error("truncated EXR header");
+        if (d[pos] == '\0') return pos + 1;
     }
 }
 
-// The pixels of an open file: every channel, the data window's size. The size is checked
-// against the image budget, and the channels' values against kMaxChannelsAtBudget times it,
-// before the planes are allocated.
-ExrImage read_exr(Imf::InputFile& file) {
-    const Imath::Box2i dw = file.header().dataWindow();
-    const int64_t w = int64_t{dw.max.x} - dw.min.x + 1, h = int64_t{dw.max.y} - dw.min.y + 1;
-    if (w <= 0 || h <= 0) throw std::runtime_error("the data window is empty");
-    const auto uw = static_cast<uint64_t>(w), uh = static_cast<uint64_t>(h);
+// Little-endian integers at `pos` (the caller checks that they are inside `d`).
+uint64_t read_le(std::string_view d, size_t pos, size_t bytes) {
+    uint64_t v = 0;
+    for (size_t i = 0; i < bytes; ++i) v |= uint64_t{static_cast<uint8_t>(d[pos + i])} << (8 * i);
+    return v;
+}
+
+// Scan lines per chunk of each compression (OpenEXR's numLinesInBuffer, not in its headers).
+int64_t lines_per_chunk(Imf::Compression c) {
+    switch (c) {
+        case Imf::NO_COMPRESSION:
+        case Imf::RLE_COMPRESSION:
+        case Imf::ZIPS_COMPRESSION:
+            return 1;
+        case Imf::ZIP_COMPRESSION:
+        case Imf::PXR24_COMPRESSION:
+            return 16;
+        case Imf::PIZ_COMPRESSION:
+        case Imf::B44_COMPRESSION:
+        case Imf::B44A_COMPRESSION:
+        case Imf::DWAA_COMPRESSION:
+            return 32;
+        case Imf::DWAB_COMPRESSION:
+            return 256;
+        default:
+            break;
+    }
+    throw std::runtime_error("unknown EXR compression " + std::to_string(static_cast<int>(c)));
+}
+
+uint64_t product(uint64_t a, uint64_t b) {  // saturates: a count beyond any file
+    return a != 0 && b > UINT64_MAX / a ? UINT64_MAX : a * b;
+}
+
+uint64_t sum(uint64_t a, uint64_t b) { return b > UINT64_MAX - a ? UINT64_MAX : a + b; }
+
+// Tiles along one axis of a tiled part, over its levels (OpenEXR's precalculateTileInfo).
+std::vector<uint64_t> tiles_per_level(int64_t size, int64_t tile, int levels,
+                                      Imf::LevelRoundingMode round) {
+    std::vector<uint64_t> n;
+    for (int l = 0; l < levels; ++l) {
+        int64_t s = size >> l;
+        if (round == Imf::ROUND_UP && (s << l) < size) ++s;
+        s = std::max<int64_t>(s, 1);
+        n.push_back(static_cast<uint64_t>((s + tile - 1) / tile));
+    }
+    return n;
+}
+
+int level_count(int64_t size, Imf::LevelRoundingMode round) {
+    int floor_log = 0;
+    bool exact = true;
+    for (int64_t s = size; s > 1; s >>= 1) {
+        exact = exact && (s & 1) == 0;
+        ++floor_log;
+    }
+    return floor_log + (round == Imf::ROUND_UP && !exact ? 1 : 0) + 1;
+}
+
+// A part's chunks as its header declares them: scan-line blocks or tiles over every level.
+uint64_t chunk_count(const Imf::Header& h, bool tiled) {
+    const Imath::Box2i dw = h.dataWindow();
+    const int64_t w = int64_t{dw.max.x} - dw.min.x + 1, ht = int64_t{dw.max.y} - dw.min.y + 1;
+    if (!tiled) {
+        const int64_t n = lines_per_chunk(h.compression());
+        return static_cast<uint64_t>((ht + n - 1) / n);
+    }
+    const Imf::TileDescription& t = h.tileDescription();
+    const int64_t tx = std::max<int64_t>(t.xSize, 1), ty = std::max<int64_t>(t.ySize, 1);
+    switch (t.mode) {
+        case Imf::ONE_LEVEL:
+            return product(tiles_per_level(w, tx, 1, t.roundingMode)[0],
+                           tiles_per_level(ht, ty, 1, t.roundingMode)[0]);
+        case Imf::MIPMAP_LEVELS: {
+            const int levels = level_count(std::max(w, ht), t.roundingMode);
+            const auto xs = tiles_per_level(w, tx, levels, t.roundingMode);
+            const auto ys = tiles_per_level(ht, ty, levels, t.roundingMode);
+            uint64_t n = 0;
+            for (int l = 0; l < levels; ++l) n = sum(n, product(xs[l], ys[l]));
+            return n;
+        }
+        case Imf::RIPMAP_LEVELS: {
+            uint64_t nx = 0, ny = 0;
+            for (uint64_t v :
+                 tiles_per_level(w, tx, level_count(w, t.roundingMode), t.roundingMode))
+                nx = sum(nx, v);
+            for (uint64_t v :
+                 tiles_per_level(ht, ty, level_count(ht, t.roundingMode), t.roundingMode))
+                ny = sum(ny, v);
+            return product(nx, ny);
+        }
+        default:
+            break;
+    }
+    throw std::runtime_error("unknown EXR tile level mode");
+}
+
+// OpenEXR trusts a file's chunk offset tables: it allocates them at the size its headers imply
+// (8 bytes a chunk), and a chunk missing from the file is found only when its pixels are read,
+// after the caller has allocated the image. So before OpenEXR opens the file, every part's table
+// is checked against the file's bytes: the tables fit in the file, every chunk (its offset, its
+// own header and the data size it declares) lies inside the file after the tables, and no two
+// chunks overlap. A file that passes holds every chunk its headers declare.
+void check_chunks(std::string_view d, size_t tables) {
+    MemoryInStream stream(d);
+    stream.seekg(4);
+    const int version = static_cast<int>(read_le(d, 4, 4));
+    stream.seekg(8);
+    const bool multipart = Imf::isMultiPart(version);
+    struct Part {
+        uint64_t chunks;
+        size_t prefix;  // the bytes of a chunk's own header
+        bool deep;
+    };
+    std::vector<Part> parts;
+    uint64_t total = 0;
+    for (;;) {
+        Imf::Header h;
+        int read_version = version;  // readFrom may change it
+        h.readFrom(stream, read_version);
+        const std::string type = h.hasType()             ? h.type()
+                                 : Imf::isTiled(version) ? Imf::TILEDIMAGE
+                                                         : Imf::SCANLINEIMAGE;
+        const bool tiled = Imf::isTiled(type), deep = Imf::isDeepData(type);
+        if (!tiled && type != Imf::SCANLINEIMAGE && type != Imf::DEEPSCANLINE)
+            throw std::runtime_error("unknown EXR part type '" + type + "'");
+        h.sanityCheck(tiled);
+        const uint64_t n = chunk_count(h, tiled);
+        const uint64_t room = (d.size() - tables) / 8;
+        if (h.hasChunkCount() && static_cast<uint64_t>(h.chunkCount()) != n)
+            throw std::runtime_error("the EXR header's chunk count " +
+                                     std::to_string(h.chunkCount()) + " is not the " +
+                                     std::to_string(n) + " chunks of its data window");
+        // Part number, coordinates (y, or 4 for a tile), then the sizes: the packed data's, or
+        // a deep chunk's sample table, packed and unpacked data (8 bytes each).
+        parts.push_back({n, (multipart ? 4u : 0u) + (tiled ? 16u : 4u) + (deep ? 24u : 4u), deep});
+        if (n > room || total + n > room) {
+            const Imath::Box2i dw = h.dataWindow();
+            throw std::runtime_error(
+                "the EXR header's " + std::to_string(int64_t{dw.max.x} - dw.min.x + 1) + "x" +
+                std::to_string(int64_t{dw.max.y} - dw.min.y + 1) + " pixels are " +
+                std::to_string(n) + " chunks, whose offset table alone is larger than the " +
+                std::to_string(d.size()) + "-byte file (truncated or damaged)");
+        }
+        total += n;
+        const uint64_t next = stream.tellg();
+        if (!multipart || next >= d.size() || d[static_cast<size_t>(next)] == '\0') break;
+    }
+    const size_t chunks_start = tables + static_cast<size_t>(total) * 8;
+    std::vector<std::pair<uint64_t, uint64_t>> spans;  // [start, end) of every chunk
+    spans.reserve(static_cast<size_t>(total));
+    size_t entry = tables;
+    for (size_t p = 0; p < parts.size(); ++p) {
+        for (uint64_t i = 0; i < parts[p].chunks; ++i, entry += 8) {
+            const uint64_t at = read_le(d, entry, 8);
+            auto beyond = [&]() {
+                return std::runtime_error(
+                    "EXR chunk " + std::to_string(i) +
+                    (parts.size() > 1 ? " of part " + std::to_string(p) : "") + " points at byte " +
+                    std::to_string(at) + ", outside the chunks' bytes " +
+                    std::to_string(chunks_start) + " to " + std::to_string(d.size()) +
+                    " (a damaged offset table or a truncated file)");
+            };
+            if (at < chunks_start || at > d.size() || d.size() - at < parts[p].prefix)
+                throw beyond();
+            if (multipart && read_le(d, at, 4) != p)
+                throw std::runtime_error("EXR chunk " + std::to_string(i) + " of part " +
+                                         std::to_string(p) + " names another part");
+            const size_t sizes = at + parts[p].prefix - (parts[p].deep ? 24 : 4);
+            uint64_t data = 0;
+            if (parts[p].deep) {
+                const uint64_t table = read_le(d, sizes, 8), packed = read_le(d, sizes + 8, 8);
+                data = table > d.size() || packed > d.size() ? d.size() : table + packed;
+            } else {
+                data = static_cast<uint32_t>(read_le(d, sizes, 4));
+                if (data > 0x7fffffff) throw beyond();  // a negative size
+            }
+            if (data > d.size() - at - parts[p].prefix) throw beyond();
+            spans.emplace_back(at, at + parts[p].prefix + data);
+        }
+    }
+    std::sort(spans.begin(), spans.end());
+    for (size_t i = 1; i < spans.size(); ++i)
+        if (spans[i].first < spans[i - 1].second)
+            throw std::runtime_error("EXR chunks overlap at byte " +
+                                     std::to_string(spans[i].first) + " (a damaged offset table)");
+}
+
+// Pixels are read in bands of whole chunks of about this many values: the buffers follow the
+// chunks that decode, not the size the header claims.
+constexpr uint64_t kBandValues = uint64_t{1} << 20;
+
+// Reads the channels `names` of an open file, band by band from the top, and hands each band to
+// `store(channel, first pixel, words, count)` (4 bytes a value: float, or uint for Uint
+// channels). The caller's image grows as the bands arrive (see grow()).
+template <class Store>
+void read_bands(Imf::InputFile& file, const std::vector<std::string>& names,
+                const std::vector<Imf::PixelType>& types, Store store) {
+    const Imf::Header& h = file.header();
+    const Imath::Box2i dw = h.dataWindow();
+    const int64_t w = int64_t{dw.max.x} - dw.min.x + 1, ht = int64_t{dw.max.y} - dw.min.y + 1;
+    const bool tiled = h.hasType() ? Imf::isTiled(h.type()) : Imf::isTiled(file.version());
+    // Whole chunks, at most the image (checked against the budget): no product overflows.
+    const int64_t block = std::min(ht, tiled && h.hasTileDescription()
+                                           ? std::max<int64_t>(h.tileDescription().ySize, 1)
+                                           : lines_per_chunk(h.compression()));
+    const auto nch = static_cast<int64_t>(std::max<size_t>(names.size(), 1));
+    const int64_t rows =
+        block * std::max<int64_t>(1, static_cast<int64_t>(kBandValues) / (w * block * nch));
+    std::vector<uint32_t> band;
+    for (int64_t y = 0; y < ht; y += rows) {
+        const int64_t n = std::min(rows, ht - y);
+        const auto count = static_cast<size_t>(w * n);
+        band.assign(count * names.size(), 0);
+        const Imath::Box2i box(Imath::V2i(dw.min.x, static_cast<int>(dw.min.y + y)),
+                               Imath::V2i(dw.max.x, static_cast<int>(dw.min.y + y + n - 1)));
+        Imf::FrameBuffer frame;
+        for (size_t c = 0; c < names.size(); ++c)
+            frame.insert(names[c], Imf::Slice::Make(types[c], band.data() + c * count, box,
+                                                    sizeof(uint32_t)));
+        file.setFrameBuffer(frame);
+        file.readPixels(box.min.y, box.max.y);
+        for (size_t c = 0; c < names.size(); ++c)
+            store(c, static_cast<size_t>(y * w), band.data() + c * count, count);
+    }
+}
+
+// Makes room for `size` values in `v`, at least doubling its capacity up to `total`: an image
+// grows with the bands that decode (a file whose chunks after the first are damaged costs
+// twice what was read, never the size its header claims), and is allocated about once and a
+// half in all.
+void grow(std::vector<double>& v, size_t size, size_t total) {
+    if (v.capacity() < size) v.reserve(std::min(total, std::max(size, 2 * v.capacity())));
+    v.resize(size);
+}
+
+double value(uint32_t word, Imf::PixelType type) {
+    if (type == Imf::UINT) return word;
+    float f;
+    std::memcpy(&f, &word, sizeof f);
+    return static_cast<double>(f);
+}
+
+// The file's header checked, its data window's size against the image budget and `channels`
+// values a pixel against kMaxChannelsAtBudget times it. Returns the width and height.
+std::pair<int, int> checked_size(const Imf::Header& h, uint64_t channels) {
+    const Imath::Box2i dw = h.dataWindow();
+    const int64_t w = int64_t{dw.max.x} - dw.min.x + 1, ht = int64_t{dw.max.y} - dw.min.y + 1;
+    if (w <= 0 || ht <= 0) throw std::runtime_error("the data window is empty");
+    const auto uw = static_cast<uint64_t>(w), uh = static_cast<uint64_t>(ht);
     if (std::string e = image_size_error(uw, uh, "EXR image"); !e.empty())
         throw std::runtime_error(e);
-    const Imf::ChannelList& list = file.header().channels();
-    uint64_t channels = 0;
-    for (auto it = list.begin(); it != list.end(); ++it) ++channels;
     if (channels * uw * uh > kMaxChannelsAtBudget * max_image_pixels())
         throw std::runtime_error("EXR image of " + std::to_string(uw) + "x" + std::to_string(uh) +
                                  " pixels in " + std::to_string(channels) +
                                  " channels holds more than " +
                                  std::to_string(kMaxChannelsAtBudget) +
                                  " channels of the image budget (--max-pixels raises it)");
+    return {static_cast<int>(w), static_cast<int>(ht)};
+}
+
+void check_sampling(const char* name, const Imf::Channel& c) {
+    if (c.xSampling != 1 || c.ySampling != 1)
+        throw std::runtime_error(std::string("channel '") + name + "' is subsampled");
+}
+
+// Opens the file's bytes in OpenEXR once its headers and chunk tables are checked.
+template <class Read>
+auto with_file(std::string_view data, const std::string& name, Read read) {
+    check_chunks(data, check_headers(data));
+    MemoryInStream stream(data, name.c_str());
+    Imf::InputFile file(stream);
+    return read(file);
+}
+
+// Every channel of an open file.
+ExrImage read_exr(Imf::InputFile& file) {
+    const Imf::ChannelList& list = file.header().channels();
+    std::vector<std::string> names;
+    std::vector<Imf::PixelType> types;
     ExrImage out;
-    out.width = static_cast<int>(w);
-    out.height = static_cast<int>(h);
-    const size_t pixels = static_cast<size_t>(w * h);
-    // A list, not a vector: the slices point into the planes' words as they are added.
-    std::list<Plane> planes;
-    Imf::FrameBuffer frame;
     for (auto it = list.begin(); it != list.end(); ++it) {
-        if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
-            throw std::runtime_error(std::string("channel '") + it.name() + "' is subsampled");
+        check_sampling(it.name(), it.channel());
+        names.emplace_back(it.name());
         // Half and float read as float (exact), uint as uint.
-        const Imf::PixelType type = it.channel().type == Imf::UINT ? Imf::UINT : Imf::FLOAT;
-        planes.push_back({it.name(), it.channel().type, std::vector<uint32_t>(pixels, 0)});
-        frame.insert(it.name(),
-                     Imf::Slice::Make(type, planes.back().words.data(), dw, sizeof(uint32_t)));
-    }
-    file.setFrameBuffer(frame);
-    file.readPixels(dw.min.y, dw.max.y);
-    for (Plane& p : planes) {
+        types.push_back(it.channel().type == Imf::UINT ? Imf::UINT : Imf::FLOAT);
         ExrChannel c;
-        c.name = p.name;
-        c.type = p.type == Imf::UINT    ? ExrPixel::Uint
-                 : p.type == Imf::FLOAT ? ExrPixel::Float
-                                        : ExrPixel::Half;
-        c.values.resize(pixels);
-        for (size_t i = 0; i < pixels; ++i) {
-            if (p.type == Imf::UINT) {
-                c.values[i] = p.words[i];
-            } else {
-                float f;
-                std::memcpy(&f, &p.words[i], sizeof f);
-                c.values[i] = static_cast<double>(f);
-            }
-        }
-        p.words = {};  // freed as they are converted
+        c.name = it.name();
+        c.type = it.channel().type == Imf::UINT    ? ExrPixel::Uint
+                 : it.channel().type == Imf::FLOAT ? ExrPixel::Float
+                                                   : ExrPixel::Half;
         out.channels.push_back(std::move(c));
     }
+    std::tie(out.width, out.height) = checked_size(file.header(), names.size());
+    const size_t pixels = static_cast<size_t>(out.width) * static_cast<size_t>(out.height);
+    read_bands(file, names, types,
+               [&](size_t c, size_t first, const uint32_t* words, size_t count) {
+                   std::vector<double>& v = out.channels[c].values;
+                   grow(v, first + count, pixels);
+                   for (size_t i = 0; i < count; ++i) v[first + i] = value(words[i], types[c]);
+               });
     return out;
 }
 
-}  // namespace
+// R, G and B of an open file; its other channels are not read.
+Image read_exr_rgb(Imf::InputFile& file) {
+    const Imf::ChannelList& list = file.header().channels();
+    const std::vector<std::string> names{"R", "G", "B"};
+    for (const std::string& n : names) {
+        const Imf::Channel* c = list.findChannel(n);
+        if (!c) throw std::runtime_error("the EXR image has no channel " + n);
+        check_sampling(n.c_str(), *c);
+    }
+    Image out;
+    std::tie(out.width, out.height) = checked_size(file.header(), names.size());
+    const size_t values = static_cast<size_t>(out.width) * static_cast<size_t>(out.height) * 3;
+    read_bands(file, names, {Imf::FLOAT, Imf::FLOAT, Imf::FLOAT},
+               [&](size_t c, size_t first, const uint32_t* words, size_t count) {
+                   grow(out.rgb, std::max(out.rgb.size(), (first + count) * 3), values);
+                   for (size_t i = 0; i < count; ++i)
+                       out.rgb[(first + i) * 3 + c] = value(words[i], Imf::FLOAT);
+               });
+    return out;
+}
 
-ExrImage load_exr(const std::string& path) {
+template <class Read>
+auto load(const std::string& path, Read read) {
     std::string data, why;
     if (!read_file(path, &data, &why)) throw std::runtime_error(why);  // regular files only
     try {
-        return decode_exr(data);
+        return with_file(data, path, read);
     } catch (const std::exception& e) {
         throw std::runtime_error("cannot read '" + path + "': " + e.what());
     }
 }
 
-ExrImage decode_exr(std::string_view data) {
-    check_headers(data);
-    MemoryInStream stream(data);
-    Imf::InputFile file(stream);
-    return read_exr(file);
-}
+}  // namespace
+
+ExrImage load_exr(const std::string& path) { return load(path, read_exr); }
+
+ExrImage decode_exr(std::string_view data) { return with_file(data, "memory", read_exr); }
+
+Image load_exr_rgb(const std::string& path) { return load(path, read_exr_rgb); }
+
+Image decode_exr_rgb(std::string_view data) { return with_file(data, "memory", read_exr_rgb); }
 
 }  // namespace rt

@@ -50,9 +50,18 @@ struct ExrImage {
 /// Reads an EXR file (scanline or tiled, any compression; the data window's size). Throws
 /// std::runtime_error when it is not a regular file, cannot be decoded, or is larger than the
 /// image budget (max_image_pixels(); its channels' values beyond 16 times the budget), which is
-/// checked before the pixels are allocated.
+/// checked before the pixels are allocated. The file's chunk offset tables are checked against
+/// its bytes before OpenEXR reads them (a table or chunk beyond the file's end, or chunks that
+/// overlap, are refused), and the pixels are read in bands: the image grows as its chunks
+/// decode, so a file that claims more than it holds costs little.
 ExrImage load_exr(const std::string& path);
 /// The same from the file's bytes in memory (the fuzz target's entry).
 ExrImage decode_exr(std::string_view data);
+
+/// R, G and B of an EXR file, as load_exr(path).rgb() but without reading the other channels
+/// (load_image's, hence the comparisons').
+Image load_exr_rgb(const std::string& path);
+/// The same from the file's bytes in memory.
+Image decode_exr_rgb(std::string_view data);
 
 }  // namespace rt
