@@ -802,6 +802,40 @@ TEST(ImageDecode, AnExrOffsetTableIsCheckedAgainstTheFile) {
                   std::to_string(table + 8) + "-byte file (truncated or damaged)");
 }
 
+// Issue 49: a 282-byte JPEG claiming 8192x8192 (grid.jpg, its frame header patched) cost
+// 203 MB: the image was allocated before the data showed it. Its 1.5M blocks need at least
+// 1.5M bits of Huffman-coded data; the file is refused from its headers, as is the progressive
+// one (whose coefficients libjpeg allocated and zeroed for the whole image too).
+TEST(ImageDecode, AJpegClaimingMoreThanItHoldsIsRefusedWithoutAllocating) {
+    for (const char* name : {"jpeg_sof_8192_baseline.jpg", "jpeg_sof_8192_progressive.jpg"}) {
+        std::string jpeg;
+        ASSERT_TRUE(
+            read_file(std::string(RT_SOURCE_DIR) + "/tests/fuzz/crashers/image/" + name, &jpeg));
+        // The bytes after the first scan's header (FF DA, then its length).
+        const size_t sos = jpeg.find("\xff\xda");
+        ASSERT_NE(sos, std::string::npos);
+        const size_t after = jpeg.size() - (sos + 2 +
+                                            (static_cast<uint8_t>(jpeg[sos + 2]) << 8 |
+                                             static_cast<uint8_t>(jpeg[sos + 3])));
+        const ChildRun run = in_child([&] {
+            TextureImage t;
+            std::string error;
+            return decode_texture(jpeg, &t, &error) ? std::string("no error") : error;
+        });
+        EXPECT_EQ(run.message,
+                  "truncated JPEG image: 8192x8192 pixels need at least 196608 "
+                  "bytes of compressed data, the file has " +
+                      std::to_string(after) + " after its headers")
+            << name;
+        EXPECT_LT(run.grown_kb, 16 * 1024) << name;
+        std::cout << "[ measured ] " << name << " (" << jpeg.size() << " bytes): the decode grew "
+                  << run.grown_kb << " KB\n";
+    }
+    // The real files still decode (the check counts their blocks as libjpeg does).
+    for (const char* name : {"grid.jpg", "grid_444.jpg", "grid_grey.jpg", "grid_progressive.jpg"})
+        EXPECT_EQ(decoded(fixture(name)).width, 16) << name;
+}
+
 // Found by fuzz_image: OpenEXR allocated the 1.8 GB a string attribute declared before reading it.
 TEST(ImageDecode, AnExrAttributeLongerThanTheFileIsRefused) {
     std::string exr;

@@ -9,6 +9,7 @@
 #include <cstddef>  // before jpeglib.h, which uses size_t and FILE
 #include <cstdio>
 #include <cstring>
+#include <string>
 
 // jerror.h, after jpeglib.h, declares the message codes (JWRN_* among them).
 // clang-format off
@@ -80,6 +81,26 @@ bool run(jpeg_decompress_struct* cinfo, std::string_view data, JpegJob* job) {
         *job->error = "CMYK JPEG images are not supported (save it as RGB)";
         return false;
     }
+    // Every 8x8 block of every component costs at least one bit of Huffman-coded data (its DC
+    // difference; a baseline block two, with its end of block), so a file shorter than that
+    // cannot hold the image its frame header declares, and is refused before libjpeg allocates
+    // for it (a progressive or multi-scan file's coefficients: 128 bytes a block, all zeroed at
+    // jpeg_start_decompress) and before the image is: a 282-byte file claiming 8192x8192 cost
+    // 203 MB (issue 49). An arithmetic coder can spend far less on a flat block: 1/64 of a bit
+    // is assumed. The bytes left after the first scan's header bound the scans' data.
+    uint64_t blocks = 0;
+    for (int c = 0; c < cinfo->num_components; ++c)
+        blocks +=
+            uint64_t{cinfo->comp_info[c].width_in_blocks} * cinfo->comp_info[c].height_in_blocks;
+    const uint64_t need = cinfo->arith_code ? (blocks + 511) / 512 : (blocks + 7) / 8;
+    const uint64_t have = cinfo->src->bytes_in_buffer;
+    if (have < need) {
+        *job->error = "truncated JPEG image: " + std::to_string(cinfo->image_width) + "x" +
+                      std::to_string(cinfo->image_height) + " pixels need at least " +
+                      std::to_string(need) + " bytes of compressed data, the file has " +
+                      std::to_string(have) + " after its headers";
+        return false;
+    }
     cinfo->out_color_space = JCS_RGB;  // grey replicated (spec §7.3)
     jpeg_start_decompress(cinfo);
     const size_t w = cinfo->output_width, h = cinfo->output_height;
@@ -87,9 +108,20 @@ bool run(jpeg_decompress_struct* cinfo, std::string_view data, JpegJob* job) {
         *job->error = "unexpected JPEG layout after conversion to RGB";
         return false;
     }
-    decode_impl::start_image(job->out, w, h);
+    // The image grows with the rows that decode (its capacity at most doubling), so a file whose
+    // data ends early costs what it held (libjpeg's own buffers are a few rows for a baseline
+    // file).
+    TextureImage* out = job->out;
+    out->width = static_cast<int>(w);
+    out->height = static_cast<int>(h);
+    out->rgb.clear();
+    const size_t total = w * h * 3;
     while (cinfo->output_scanline < h) {
-        JSAMPROW row = &job->out->rgb[size_t{cinfo->output_scanline} * w * 3];
+        const size_t end = (size_t{cinfo->output_scanline} + 1) * w * 3;
+        if (out->rgb.capacity() < end)
+            out->rgb.reserve(std::min(total, std::max(end, 2 * out->rgb.capacity())));
+        out->rgb.resize(end);
+        JSAMPROW row = &out->rgb[size_t{cinfo->output_scanline} * w * 3];
         jpeg_read_scanlines(cinfo, &row, 1);
     }
     jpeg_finish_decompress(cinfo);  // to the EOI: a damaged tail is an error too
