@@ -4,7 +4,9 @@
 // spec §7 give; its text and JSON name what they explain.
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 
+#include "json_check.h"
 #include "rt/render/inspect.h"
 #include "test_util.h"
 
@@ -25,14 +27,23 @@ Vec3 sum_of_terms(const PixelTree& tree, int index) {
         if (l.ambient_term != Vec3(0.0)) c += l.ambient_term;
         c += l.value;
     }
-    for (int k : r.children) {
-        const InspectRay& child = tree.rays[static_cast<size_t>(k)];
-        const Vec3 below = sum_of_terms(tree, k);
-        EXPECT_TRUE(same_bits(below, child.color));
-        const bool refl = child.kind == InspectRay::Kind::Reflected;
-        EXPECT_TRUE(same_bits((refl ? r.k_reflect : r.k_transmit) * below,
-                              refl ? r.reflected : r.refracted));
-        c += refl ? r.reflected : r.refracted;
+    // The reflected term, then the refracted one, each from its ray (recorded or not).
+    for (const auto kind : {InspectRay::Kind::Reflected, InspectRay::Kind::Refracted}) {
+        const bool refl = kind == InspectRay::Kind::Reflected;
+        const auto add = [&](const Vec3& below) {
+            EXPECT_TRUE(same_bits((refl ? r.k_reflect : r.k_transmit) * below,
+                                  refl ? r.reflected : r.refracted));
+            c += refl ? r.reflected : r.refracted;
+        };
+        for (int k : r.children) {
+            const InspectRay& child = tree.rays[static_cast<size_t>(k)];
+            if (child.kind != kind) continue;
+            const Vec3 below = sum_of_terms(tree, k);
+            EXPECT_TRUE(same_bits(below, child.color));
+            add(below);
+        }
+        for (const InspectRay::NotRecorded& n : r.not_recorded)
+            if (n.kind == kind) add(n.color);
     }
     return c;
 }
@@ -331,6 +342,165 @@ TEST(Inspect, TextAndJsonNameTheTerms) {
                              "\"kind\":\"reflected\"", "\"kind\":\"shadow\"",
                              "\"location\":\"test.ray:7:1\"", "\"hit\":null", "\"n_dot_l\":0.6"})
         EXPECT_NE(json.find(want), std::string::npos) << want << "\n" << json;
+}
+
+// A mirror box with two glass spheres in it: each hit on glass sends a reflected and a refracted
+// ray, each of half the path weight, and the mirrors keep it, so the tree doubles at each glass
+// hit until the weights fall below --cutoff: 7,195 rays for the pixel at --depth 256, a JSON of
+// 14 MB nested 470 levels deep and 39 MB of text, whose indentation grew with the depth.
+constexpr const char* kExplodingScene = R"(
+#camera 0 0 0  0.3 0.1 -1  0 1 0  0.5
+#light_point 1 1 1  0 0.9 0  1 0 0
+#material 0 0 0  0 0 0  0 0 0  1 1 1  10  0 0 0  1  -1 !mirror!
+#material 0 0 0  0 0 0  0 0 0  0.5 0.5 0.5  10  0.5 0.5 0.5  1.5  -1 !glass!
+#shape_box 0  0 0 0  4 2 6
+#shape_sphere 1  0.8 0 -1.5  0.5
+#shape_sphere 1  -1 0.3 1.5  0.6
+)";
+
+// The rays not recorded, counted from the tree's lists: each entry is a ray and those below it.
+size_t not_recorded_in_lists(const PixelTree& tree) {
+    size_t n = 0;
+    for (const InspectRay& r : tree.rays)
+        for (const InspectRay::NotRecorded& x : r.not_recorded) n += x.rays;
+    return n;
+}
+
+// The widest indentation of the text's lines.
+size_t widest_indent(const std::string& text) {
+    size_t widest = 0;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+        widest = std::max(widest, line.find_first_not_of(' '));
+    return widest;
+}
+
+TEST(Inspect, AnExplodingTreeRecordsItsLimitOfRays) {
+    const RenderScene scene = test::compile(kExplodingScene);
+    RenderSettings s;
+    s.width = 8;
+    s.height = 8;
+    s.max_depth = 256;
+    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4);
+    EXPECT_EQ(tree.rays.size(), PixelTree::kMaxRays);
+    EXPECT_GT(tree.rays_not_recorded, 1000u);
+    EXPECT_EQ(not_recorded_in_lists(tree), tree.rays_not_recorded);
+    // The rays past the limit are traced all the same: the colour is the pixel's, and the
+    // terms, with the colours of the rays not recorded, still add up to it.
+    EXPECT_TRUE(same_bits(tree.color, tree.pixel));
+    EXPECT_TRUE(same_bits(sum_of_terms(tree, 0), tree.color));
+}
+
+TEST(Inspect, AnExplodingTreesTextIsIndentedSoFarAndSaysWhatIsLeftOut) {
+    const RenderScene scene = test::compile(kExplodingScene);
+    RenderSettings s;
+    s.width = 8;
+    s.height = 8;
+    s.max_depth = 256;
+    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4);
+    const std::string text = inspect_text(tree, scene, {});
+    // A ray's lines are 2 deeper than the ray, a shadow ray's surfaces 6 deeper.
+    EXPECT_LE(widest_indent(text), static_cast<size_t>(kMaxTextIndent) + 8);
+    EXPECT_LT(text.size(), 16u << 20) << "the text of at most " << PixelTree::kMaxRays << " rays";
+    EXPECT_NE(text.find(std::to_string(tree.rays_not_recorded) +
+                        " more rays traced but not recorded: a tree records at most 4096 rays"),
+              std::string::npos);
+    EXPECT_NE(text.find("not recorded (past the tree's limits): "), std::string::npos);
+    // Every recorded ray has its line, in the order of PixelTree::rays (rayview's panel counts
+    // them so), and no other line starts as a ray's does.
+    size_t ray_lines = 0;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        const std::string t = line.substr(std::min(line.size(), line.find_first_not_of(' ')));
+        for (const char* kind : {"camera ray,", "reflected ray,", "refracted ray,"})
+            ray_lines += t.rfind(kind, 0) == 0;
+    }
+    EXPECT_EQ(ray_lines, tree.rays.size());
+}
+
+TEST(Inspect, AnExplodingTreesJsonIsFlatAndCountsItsRays) {
+    const RenderScene scene = test::compile(kExplodingScene);
+    RenderSettings s;
+    s.width = 8;
+    s.height = 8;
+    s.max_depth = 256;
+    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4);
+    const std::string json = inspect_json(tree, scene, {});
+    test::JsonValue v;
+    std::string why;
+    int depth = 0;
+    ASSERT_TRUE(test::parse_strict_json(json, &v, &why, 64, &depth)) << why;
+    EXPECT_LE(depth, 8) << "the nesting does not grow with the tree";
+    const test::JsonValue& rays = v["rays"];
+    EXPECT_EQ(rays.array.size(), PixelTree::kMaxRays);
+    ASSERT_TRUE(v.has("rays_recorded"));
+    EXPECT_EQ(v["rays_recorded"].number, static_cast<double>(PixelTree::kMaxRays));
+    ASSERT_TRUE(v.has("rays_not_recorded"));
+    EXPECT_EQ(v["rays_not_recorded"].number, static_cast<double>(tree.rays_not_recorded));
+    // Each ray names its parent, and its parent lists it among its children.
+    for (size_t i = 1; i < rays.array.size(); i += 97) {
+        const test::JsonValue& r = rays.array[i];
+        ASSERT_TRUE(r.has("parent"));
+        const size_t parent = static_cast<size_t>(r["parent"].number);
+        ASSERT_LT(parent, i);
+        bool listed = false;
+        for (const test::JsonValue& c : rays.array[parent]["children"].array)
+            listed |= static_cast<size_t>(c.number) == i;
+        EXPECT_TRUE(listed) << "ray " << i;
+    }
+}
+
+// Lights are what the tree records most of at each hit: past the budget of records no further
+// ray is recorded, so 200 lights do not multiply the memory of the 4,096 rays.
+TEST(Inspect, ManyLightsEndTheRecordingSooner) {
+    // The lights before the materials and shapes (spec §3): after the exploding scene's light.
+    std::string text = kExplodingScene;
+    std::string lights;
+    for (int k = 0; k < 200; ++k)
+        lights += "#light_point 0.01 0.01 0.01  " + std::to_string(-1.5 + 0.015 * k) + " 0.8 " +
+                  std::to_string(-2.5 + 0.025 * k) + "  1 0 0\n";
+    text.insert(text.find("#material"), lights);
+    const RenderScene scene = test::compile(text);
+    RenderSettings s;
+    s.width = 8;
+    s.height = 8;
+    s.max_depth = 12;
+    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4);
+    EXPECT_GT(tree.rays_not_recorded, 0u);
+    EXPECT_LE(tree.records, PixelTree::kMaxRecords + 201);
+    EXPECT_LE(tree.rays.size(), PixelTree::kMaxRecords / 201 + 2);
+    EXPECT_TRUE(same_bits(sum_of_terms(tree, 0), tree.color));
+}
+
+// Names from the scene reach the text escaped as the parser's messages escape them (a control
+// byte would move the terminal's cursor), and the JSON is strict UTF-8 JSON whatever the bytes.
+TEST(Inspect, NamesAreEscapedInTheTextAndTheJson) {
+    Diagnostics diag;
+    const SceneDesc desc = test::parse(
+        "#camera 0 0 5  0 0 -1  0 1 0  0.5\n"
+        "#light_point 1 1 1  0 4 4  1 0 0\n"
+        "#material 0 0 0  0.1 0.1 0.1  0.5 0.5 0.5  0 0 0  10  0 0 0  1  -1 "
+        "!red\x1b[2J\xff\xc3\xa9!\n"
+        "#shape_sphere 0  0 0 0  1\n",
+        &diag);
+    CompileReport report;
+    report.record_locations = true;
+    const RenderScene scene = compile_scene(desc, &report);
+    RenderSettings s;
+    s.width = 9;
+    s.height = 9;
+    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4);
+    ASSERT_TRUE(tree.rays.at(0).hit);
+    const InspectNames names{&desc, &report.prim_locs, &report.material_names};
+    const std::string text = inspect_text(tree, scene, names);
+    EXPECT_EQ(text.find('\x1b'), std::string::npos);
+    EXPECT_EQ(text.find('\xff'), std::string::npos);
+    EXPECT_NE(text.find("material 0 !'red\\x1b[2J\\xff\xc3\xa9'!"), std::string::npos) << text;
+    const std::string json = inspect_json(tree, scene, names);
+    test::JsonValue v;
+    std::string why;
+    ASSERT_TRUE(test::parse_strict_json(json, &v, &why)) << why;
+    EXPECT_NE(json.find("\"name\":\"red\\u001b[2J\\ufffd\xc3\xa9\""), std::string::npos) << json;
 }
 
 }  // namespace

@@ -48,22 +48,35 @@ const char* kind_text(SecondaryKind k) {
 
 // The recorder: the shading code calls it (behind `if constexpr (Rec::kOn)`) with the values it
 // computes. `node` is the ray being shaded, `light` the light term being evaluated (-1: none).
+// A ray traced past the tree's limits has node -1: it records nothing but its count and, the
+// first of its subtree (`top`), its colour, into the entry `entry` of the not_recorded list of
+// the recorded ray `owner` above it.
 struct TreeRecorder {
     static constexpr bool kOn = true;
     TreeContext* ctx = nullptr;
     int node = 0;
     int light_term = -1;
+    int owner = -1;
+    int entry = -1;
+    bool top = false;
 
+    bool on() const { return node >= 0; }
     InspectRay& ray() const { return ctx->tree.rays[static_cast<size_t>(node)]; }
     InspectLight& term() const { return ray().lights[static_cast<size_t>(light_term)]; }
+    bool budget_left() const { return ctx->tree.records < PixelTree::kMaxRecords; }
+    InspectRay::NotRecorded& skipped() const {
+        return ctx->tree.rays[static_cast<size_t>(owner)].not_recorded[static_cast<size_t>(entry)];
+    }
 
     void miss(const Vec3& background) const {
+        if (!on()) return;
         ray().hit = false;
         ray().color = background;
     }
 
     void hit(const RenderScene& scene, const Ray& r, const Hit& h, const shading::ShadePoint& sp,
              bool leaving, const Vec3& texel, const Vec3& emissive, const Vec3& ambient) const {
+        if (!on()) return;
         InspectRay& x = ray();
         x.hit = true;
         x.t = h.t;
@@ -93,6 +106,8 @@ struct TreeRecorder {
     }
 
     TreeRecorder light(int plan_index, const Light& l, bool one_colour) const {
+        if (!on()) return *this;
+        ++ctx->tree.records;  // a recorded ray keeps every light term (its sum must hold)
         InspectLight t;
         t.light = ctx->light_ids[static_cast<size_t>(plan_index)];
         t.kind = l.kind;
@@ -113,6 +128,7 @@ struct TreeRecorder {
     }
 
     void attenuation(double dist, double denom, const Vec3& l) const {
+        if (!on()) return;
         InspectLight& t = term();
         t.attenuated = true;
         t.distance = dist;
@@ -123,6 +139,7 @@ struct TreeRecorder {
     }
 
     void spot(double cos_a, double factor) const {
+        if (!on()) return;
         InspectLight& t = term();
         t.spot = true;
         t.cos_angle = cos_a;
@@ -131,6 +148,7 @@ struct TreeRecorder {
     }
 
     void factor(double f) const {
+        if (!on()) return;
         InspectLight& t = term();
         t.factor = f;
         if (!(f > 0.0) && t.note.empty())
@@ -138,6 +156,7 @@ struct TreeRecorder {
     }
 
     void facing(const Vec3& l, double n_dot_l) const {
+        if (!on()) return;
         InspectLight& t = term();
         t.facing_known = true;
         t.to_light = l;
@@ -145,20 +164,26 @@ struct TreeRecorder {
         if (!(n_dot_l > 0.0) && t.note.empty()) t.note = "the surface faces away (N.L <= 0)";
     }
 
-    void skip(const char* why) const { term().note = why; }
+    void skip(const char* why) const {
+        if (on()) term().note = why;
+    }
 
-    void light_ambient(const Vec3& a) const { term().ambient_term = a; }
+    void light_ambient(const Vec3& a) const {
+        if (on()) term().ambient_term = a;
+    }
 
     void shadow_ray(const RenderScene& scene, const GeometryQueries& geometry, const Ray& r,
                     double t_max, const Vec3& s) const {
+        if (!on()) return;
         InspectLight& t = term();
         ++t.shadow_ray_count;
-        if (t.shadow_rays.size() >= InspectLight::kMaxShadowRays) return;
+        if (t.shadow_rays.size() >= InspectLight::kMaxShadowRays || !budget_left()) return;
+        ++ctx->tree.records;
         InspectShadowRay sr{r, t_max, s, {}};
         // The surfaces on the segment, nearest first, by the renderer's own nearest-hit query
         // (what the transmittance query multiplied, or the first that blocked it).
         double lo = 0.0;
-        for (int k = 0; k < 64; ++k) {
+        for (int k = 0; k < 64 && budget_left(); ++k) {
             Hit h;
             if (!geometry.intersect(scene, r, {lo, t_max}, &h)) break;
             const SurfaceInteraction si = geometry.interaction(scene, r, h, false);
@@ -171,6 +196,7 @@ struct TreeRecorder {
             o.material = si.material;
             o.transparent = scene.materials[static_cast<size_t>(si.material)].transparent;
             sr.occluders.push_back(o);
+            ++ctx->tree.records;
             if (o.transparent == Vec3(0.0) || !(h.t > lo)) break;
             lo = h.t;
         }
@@ -178,6 +204,7 @@ struct TreeRecorder {
     }
 
     void shadow(const Vec3& s) const {
+        if (!on()) return;
         InspectLight& t = term();
         t.shadow_tested = true;
         t.shadow = s;
@@ -186,6 +213,7 @@ struct TreeRecorder {
 
     void direct(const shading::ShadePoint& sp, const Vec3& l, const Vec3& diffuse,
                 const Vec3& specular, const Vec3& value) const {
+        if (!on()) return;
         InspectLight& t = term();
         t.r_dot_l = std::min(glm::dot(sp.r_v, l), 1.0);
         t.highlight = shading::highlight(sp, l);
@@ -196,22 +224,37 @@ struct TreeRecorder {
 
     TreeRecorder secondary(SecondaryKind kind, const Ray& r, int depth, const Vec3& weight,
                            double eta = 1.0, double cos_i = 1.0) const {
+        const auto kind_of = [&] {
+            return kind == SecondaryKind::Reflected ? InspectRay::Kind::Reflected
+                                                    : InspectRay::Kind::Refracted;
+        };
+        PixelTree& tree = ctx->tree;
+        if (!on()) {  // below a ray not recorded: counted with it
+            ++tree.rays_not_recorded;
+            ++skipped().rays;
+            return {ctx, -1, -1, owner, entry, false};
+        }
+        if (tree.rays.size() >= PixelTree::kMaxRays || !budget_left()) {
+            ++tree.rays_not_recorded;
+            ray().not_recorded.push_back({kind_of(), depth, weight, Vec3(0.0), 1});
+            return {ctx, -1, -1, node, static_cast<int>(ray().not_recorded.size()) - 1, true};
+        }
         InspectRay child;
-        child.kind = kind == SecondaryKind::Reflected ? InspectRay::Kind::Reflected
-                                                      : InspectRay::Kind::Refracted;
+        child.kind = kind_of();
         child.depth = depth;
         child.ray = r;
         child.weight = weight;
         child.parent = node;
         child.eta = eta;
         child.cos_incident = cos_i;
-        ctx->tree.rays.push_back(std::move(child));
-        const int index = static_cast<int>(ctx->tree.rays.size()) - 1;
+        tree.rays.push_back(std::move(child));
+        const int index = static_cast<int>(tree.rays.size()) - 1;
         ray().children.push_back(index);
-        return {ctx, index, -1};
+        return {ctx, index, -1, -1, -1, false};
     }
 
     void secondary_value(SecondaryKind kind, const Vec3& k, const Vec3& v) const {
+        if (!on()) return;
         InspectRay& x = ray();
         (kind == SecondaryKind::Reflected ? x.k_reflect : x.k_transmit) = k;
         (kind == SecondaryKind::Reflected ? x.reflected : x.refracted) = v;
@@ -219,7 +262,8 @@ struct TreeRecorder {
 
     void stop(SecondaryKind kind, StopReason why, const Vec3& weight, double eta = 1.0,
               double cos_i = 1.0) const {
-        if (weight == Vec3(0.0)) return;  // the material has no such term: nothing to explain
+        if (!on() || weight == Vec3(0.0))
+            return;  // the material has no such term: nothing to explain
         std::string text = stop_text(why);
         if (why == StopReason::TotalInternalReflection) {
             // Snell: sin t = eta sin i, past 1 here.
@@ -237,7 +281,12 @@ struct TreeRecorder {
         stop(SecondaryKind::Refracted, StopReason::DepthLimit, w_refract);
     }
 
-    void result(const Vec3& c) const { ray().color = c; }
+    void result(const Vec3& c) const {
+        if (on())
+            ray().color = c;
+        else if (top)
+            skipped().color = c;
+    }
 };
 
 }  // namespace
@@ -291,7 +340,7 @@ PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
     // compares the trees with both plans' images).
     tree.color = shading::trace<kShadeAll, TreeRecorder>(
         scene, plan, settings, ray, settings.max_depth, Vec3(1.0), counters,
-        tree.random ? &rng : nullptr, {&ctx, 0, -1});
+        tree.random ? &rng : nullptr, {&ctx, 0, -1, -1, -1, false});
     tree.pixel = render_pixel_value(scene, plan, settings, x, y, spp);
     return std::move(ctx.tree);
 }

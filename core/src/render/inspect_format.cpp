@@ -4,8 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ostream>
+#include <sstream>
 #include <string>
+#include <string_view>
 
+// quote(): the parser's way of showing a name in a message (control bytes and bytes that are not
+// UTF-8 as \xNN), used here so that the tree shows a hostile name as the errors do.
+#include "format/parser_impl.h"
 #include "rt/render/inspect.h"
 #include "rt/shapes/shapes.h"
 
@@ -47,11 +53,47 @@ const char* ray_kind_text(InspectRay::Kind k) {
     return "";
 }
 
+// The length of the UTF-8 sequence starting at s[i] (a byte >= 0x80), 0 when it is not one:
+// no overlong forms, surrogates or code points above U+10FFFF (RFC 3629).
+size_t utf8_length(std::string_view s, size_t i) {
+    const auto b = [&](size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
+    const unsigned c = b(i);
+    const size_t n = c >= 0xC2 && c <= 0xDF   ? 2
+                     : c >= 0xE0 && c <= 0xEF ? 3
+                     : c >= 0xF0 && c <= 0xF4 ? 4
+                                              : 0;
+    if (n == 0) return 0;
+    for (size_t k = 1; k < n; ++k)
+        if ((b(i + k) & 0xC0) != 0x80) return 0;
+    if ((c == 0xE0 && b(i + 1) < 0xA0) || (c == 0xED && b(i + 1) > 0x9F) ||
+        (c == 0xF0 && b(i + 1) < 0x90) || (c == 0xF4 && b(i + 1) > 0x8F))
+        return 0;
+    return n;
+}
+
+// True when every byte is printable ASCII or part of a valid UTF-8 sequence.
+bool printable(std::string_view s) {
+    for (size_t i = 0; i < s.size();) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        const size_t n = c >= 0x80 ? utf8_length(s, i) : (c < 0x20 || c == 0x7F ? 0 : 1);
+        if (n == 0) return false;
+        i += n;
+    }
+    return true;
+}
+
+// A name from the scene as the text shows it: as it is, or, holding a control byte (which
+// would move a terminal's cursor) or a byte that is not UTF-8, quoted and escaped as the
+// parser's messages show it.
+std::string shown(std::string_view s) {
+    return printable(s) ? std::string(s) : parser_impl::quote(s);
+}
+
 std::string material_name(int m, const InspectNames& names) {
     std::string text = "material " + std::to_string(m);
     if (names.material_names && m >= 0 && static_cast<size_t>(m) < names.material_names->size() &&
         !(*names.material_names)[static_cast<size_t>(m)].empty())
-        text += " !" + (*names.material_names)[static_cast<size_t>(m)] + "!";
+        text += " !" + shown((*names.material_names)[static_cast<size_t>(m)]) + "!";
     return text;
 }
 
@@ -69,25 +111,27 @@ std::string prim_path(const InspectPrim& p, const InspectNames& names) {
     return loc && loc->file && names.desc ? group_path(*names.desc, *loc) : "";
 }
 
-// The text of one ray and its subtree, each line indented by `pad`.
+// The text of one ray and its subtree, written out line by line; each line indented by `pad`
+// spaces (a ray's lines two more than the ray, its children four, up to kMaxTextIndent).
 class TextWriter {
 public:
-    TextWriter(const PixelTree& tree, const RenderScene& scene, const InspectNames& names)
-        : m_tree(tree), m_scene(scene), m_names(names) {}
+    TextWriter(std::ostream& out, const PixelTree& tree, const RenderScene& scene,
+               const InspectNames& names)
+        : m_out(out), m_tree(tree), m_scene(scene), m_names(names) {}
 
-    void ray(int index, const std::string& pad) {
+    void ray(int index, int pad) {
         const InspectRay& r = m_tree.rays[static_cast<size_t>(index)];
         line(pad, std::string(ray_kind_text(r.kind)) + " ray, depth " + std::to_string(r.depth) +
                       (r.kind == InspectRay::Kind::Camera ? "" : ", path weight " + vec(r.weight)) +
                       ": from " + vec(r.ray.o) + " along " + vec(r.ray.d));
+        const int in = pad + 2;
         if (r.kind == InspectRay::Kind::Refracted)
-            line(pad + "  ",
+            line(in,
                  "Snell: eta " + num(r.eta) + ", cos of the incident angle " + num(r.cos_incident));
         if (!r.hit) {
-            line(pad + "  ", "misses everything: background " + vec(r.color));
+            line(in, "misses everything: background " + vec(r.color));
             return;
         }
-        const std::string in = pad + "  ";
         line(in, "hits " + inspect_prim_name(r.prim, m_names) + " at distance " + num(r.distance) +
                      ", point " + vec(r.point));
         line(in,
@@ -95,11 +139,10 @@ public:
                  (r.entering ? "enters (meets the outward side)" : "leaves (meets the inside)"));
         if (r.material >= 0 && static_cast<size_t>(r.material) < m_scene.materials.size()) {
             const Material& m = m_scene.materials[static_cast<size_t>(r.material)];
-            line(in + "  ", "K_E " + vec(m.emissive) + ", K_A " + vec(m.ambient) + ", K_D " +
-                                vec(m.diffuse) + ", K_S " + vec(m.specular) + ", n " +
-                                num(m.specular_exponent) + ", T " + vec(m.transparent) +
-                                ", index " + num(m.refractive_index) +
-                                (m.texture >= 0 ? ", textured" : ""));
+            line(in + 2, "K_E " + vec(m.emissive) + ", K_A " + vec(m.ambient) + ", K_D " +
+                             vec(m.diffuse) + ", K_S " + vec(m.specular) + ", n " +
+                             num(m.specular_exponent) + ", T " + vec(m.transparent) + ", index " +
+                             num(m.refractive_index) + (m.texture >= 0 ? ", textured" : ""));
         }
         line(in, "n_g " + vec(r.n_geometric) + ", n_s " + vec(r.n_shading) + ", N " + vec(r.n) +
                      (r.entering ? "" : " (n_s flipped: two-sided rule)"));
@@ -111,23 +154,25 @@ public:
         line(in, "ambient  = K_A " + vec(r.k_a) + " x I_a " + vec(r.scene_ambient) + " = " +
                      vec(r.ambient));
         for (const InspectLight& l : r.lights) light(r, l, in);
-        secondary(r, in);
+        secondary(r, pad);
         line(in, "sum = " + vec(r.color));
     }
 
-    std::string text() const { return m_out; }
+    void line(int pad, const std::string& s) {
+        static const std::string spaces(kMaxTextIndent + 16, ' ');
+        m_out.write(spaces.data(), std::min<std::streamsize>(pad, spaces.size()));
+        m_out << s << '\n';
+    }
 
 private:
-    void line(const std::string& pad, const std::string& s) { m_out += pad + s + "\n"; }
-
-    void light(const InspectRay& r, const InspectLight& l, const std::string& pad) {
+    void light(const InspectRay& r, const InspectLight& l, int pad) {
         std::string head = "light " + std::to_string(l.light) + " (" + light_kind_text(l.kind);
         if (l.kind != LightKind::Directional) head += " at " + vec(l.position);
         head += l.one_colour ? ", I " + vec(l.diffuse)
                              : ", A_l " + vec(l.ambient) + ", D_l " + vec(l.diffuse) + ", S_l " +
                                    vec(l.specular);
         line(pad, head + ")");
-        const std::string in = pad + "  ";
+        const int in = pad + 2;
         if (l.attenuated)
             line(in, "attenuation = 1 / (c0 " + num(l.constant) + " + c1 " + num(l.linear) +
                          " x d + c2 " + num(l.quadratic) + " x d^2), d " + num(l.distance) +
@@ -149,7 +194,7 @@ private:
                               ? ", the first " + std::to_string(l.shadow_rays.size()) + " shown"
                               : "") +
                          ")");
-            for (const InspectShadowRay& s : l.shadow_rays) shadow(s, in + "  ");
+            for (const InspectShadowRay& s : l.shadow_rays) shadow(s, in + 2);
         }
         if (l.note.empty() || l.value != Vec3(0.0)) {
             if (l.one_colour) {
@@ -172,82 +217,108 @@ private:
         }
     }
 
-    void shadow(const InspectShadowRay& s, const std::string& pad) {
+    void shadow(const InspectShadowRay& s, int pad) {
         std::string to =
             std::isfinite(s.t_max) ? "to " + vec(s.ray.o + s.ray.d) : "along " + vec(s.ray.d);
         line(pad, "shadow ray from " + vec(s.ray.o) + " " + to + ": transmittance " +
                       vec(s.transmittance));
         for (const InspectOccluder& o : s.occluders)
-            line(pad + "  ", "meets " + inspect_prim_name(o.prim, m_names) + " at distance " +
-                                 num(o.distance) + ", " + material_name(o.material, m_names) +
-                                 ", T " + vec(o.transparent) +
-                                 (o.transparent == Vec3(0.0) ? " (opaque: blocked)" : ""));
+            line(pad + 2, "meets " + inspect_prim_name(o.prim, m_names) + " at distance " +
+                              num(o.distance) + ", " + material_name(o.material, m_names) + ", T " +
+                              vec(o.transparent) +
+                              (o.transparent == Vec3(0.0) ? " (opaque: blocked)" : ""));
     }
 
-    void secondary(const InspectRay& r, const std::string& pad) {
-        for (int c : r.children) {
-            const InspectRay& child = m_tree.rays[static_cast<size_t>(c)];
-            const bool refl = child.kind == InspectRay::Kind::Reflected;
-            line(pad, std::string(refl ? "reflected = K_S " + vec(r.k_reflect)
-                                       : "refracted = T " + vec(r.k_transmit)) +
-                          " x the colour of the ray below " + vec(child.color) + " = " +
-                          vec(refl ? r.reflected : r.refracted));
-            ray(c, pad + "  ");
+    // The reflected term, then the refracted one, each with the ray below it (recorded or not);
+    // then the rays that were not traced. `pad` is the ray's own.
+    void secondary(const InspectRay& r, int pad) {
+        const int in = pad + 2;
+        // Past kMaxTextIndent a child is not indented further (not even past its parent's
+        // lines): its depth says where it is.
+        const int below = std::min(pad + 4, kMaxTextIndent);
+        for (const InspectRay::Kind kind :
+             {InspectRay::Kind::Reflected, InspectRay::Kind::Refracted}) {
+            const bool refl = kind == InspectRay::Kind::Reflected;
+            const auto term = [&](const Vec3& colour) {
+                line(in, std::string(refl ? "reflected = K_S " + vec(r.k_reflect)
+                                          : "refracted = T " + vec(r.k_transmit)) +
+                             " x the colour of the ray below " + vec(colour) + " = " +
+                             vec(refl ? r.reflected : r.refracted));
+            };
+            for (int c : r.children) {
+                const InspectRay& child = m_tree.rays[static_cast<size_t>(c)];
+                if (child.kind != kind) continue;
+                term(child.color);
+                ray(c, below);
+            }
+            for (const InspectRay::NotRecorded& n : r.not_recorded) {
+                if (n.kind != kind) continue;
+                term(n.color);
+                line(below, std::string("not recorded (past the tree's limits): ") +
+                                ray_kind_text(kind) + " ray, depth " + std::to_string(n.depth) +
+                                ", path weight " + vec(n.weight) +
+                                (n.rays > 1 ? ", with the " + std::to_string(n.rays - 1) +
+                                                  (n.rays == 2 ? " ray below it" : " rays below it")
+                                            : std::string()));
+            }
         }
         for (const InspectStop& s : r.stops)
-            line(pad,
-                 s.kind + " ray not traced: " + s.why + " (path weight " + vec(s.weight) + ")");
+            line(in, s.kind + " ray not traced: " + s.why + " (path weight " + vec(s.weight) + ")");
     }
 
+    std::ostream& m_out;
     const PixelTree& m_tree;
     const RenderScene& m_scene;
     const InspectNames& m_names;
-    std::string m_out;
 };
 
-// A minimal JSON writer: numbers round-trip, non-finite numbers are null.
+// A minimal JSON writer onto a stream: numbers round-trip, non-finite numbers are null, strings
+// are strict UTF-8 (a byte that is not UTF-8 becomes U+FFFD; control characters and DEL are
+// escaped).
 class Json {
 public:
+    explicit Json(std::ostream& out) : m_out(out) {}
+
     void open(char c) {
         sep();
-        m_out += c;
+        m_out.put(c);
         m_first = true;
     }
     void close(char c) {
-        m_out += c;
+        m_out.put(c);
         m_first = false;
     }
     void key(const char* k) {
         sep();
         str(k);
-        m_out += ':';
+        m_out.put(':');
         m_first = true;
     }
     void number(double v) {
         sep();
         if (!std::isfinite(v)) {
-            m_out += "null";
+            m_out << "null";
             return;
         }
         // The shortest of 15 and 17 digits that reads back as v.
         char buf[32];
         std::snprintf(buf, sizeof buf, "%.15g", v);
         if (std::strtod(buf, nullptr) != v) std::snprintf(buf, sizeof buf, "%.17g", v);
-        m_out += buf;
+        m_out << buf;
     }
     void integer(long long v) {
         sep();
-        m_out += std::to_string(v);
+        m_out << v;
     }
     void boolean(bool b) {
         sep();
-        m_out += b ? "true" : "false";
+        m_out << (b ? "true" : "false");
     }
     void null() {
         sep();
-        m_out += "null";
+        m_out << "null";
     }
-    void string(const std::string& s) {
+    void string(std::string_view s) {
         sep();
         str(s);
     }
@@ -264,43 +335,60 @@ public:
     // key: value shorthands.
     void kv(const char* k, double v) { key(k), number(v); }
     void kv(const char* k, const Vec3& v) { key(k), vec3(v); }
+    void kv(const char* k, std::string_view v) { key(k), string(v); }
     void kv(const char* k, const std::string& v) { key(k), string(v); }
+    void kv(const char* k, const char* v) { key(k), string(v); }
     void kb(const char* k, bool v) { key(k), boolean(v); }
     void ki(const char* k, long long v) { key(k), integer(v); }
-    std::string text() const { return m_out + "\n"; }
+    void end() { m_out.put('\n'); }
 
 private:
     void sep() {
-        if (!m_first && !m_out.empty() && m_out.back() != ':') m_out += ',';
+        if (!m_first) m_out.put(',');
         m_first = false;
     }
-    void str(const std::string& s) {
-        m_out += '"';
-        for (unsigned char ch : s) {
-            if (ch == '"' || ch == '\\') {
-                m_out += '\\';
-                m_out += static_cast<char>(ch);
-            } else if (ch < 0x20) {
-                char buf[8];
-                std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-                m_out += buf;
+    void str(std::string_view s) {
+        static constexpr char kHex[] = "0123456789abcdef";
+        std::string o = "\"";
+        for (size_t i = 0; i < s.size();) {
+            const unsigned char c = static_cast<unsigned char>(s[i]);
+            if (c == '"' || c == '\\') {
+                o += '\\';
+                o += static_cast<char>(c);
+                ++i;
+            } else if (c < 0x20 || c == 0x7F) {
+                o += "\\u00";
+                o += kHex[c >> 4];
+                o += kHex[c & 15];
+                ++i;
+            } else if (c < 0x80) {
+                o += static_cast<char>(c);
+                ++i;
+            } else if (const size_t n = utf8_length(s, i); n > 0) {
+                o.append(s.substr(i, n));
+                i += n;
             } else {
-                m_out += static_cast<char>(ch);
+                o += "\\ufffd";  // not UTF-8: the replacement character, a byte for each
+                ++i;
             }
         }
-        m_out += '"';
+        o += '"';
+        m_out << o;
     }
-    std::string m_out;
+    std::ostream& m_out;
     bool m_first = true;
 };
 
+// The tree as JSON: the rays a flat array (each with its parent's and its children's indices),
+// so that the nesting is the same whatever the depth of the tree.
 class JsonWriter {
 public:
-    JsonWriter(const PixelTree& tree, const InspectNames& names) : m_tree(tree), m_names(names) {}
+    JsonWriter(std::ostream& out, const PixelTree& tree, const InspectNames& names)
+        : m_j(out), m_tree(tree), m_names(names) {}
 
     void prim(const InspectPrim& p) {
         m_j.open('{');
-        m_j.kv("shape", p.csg ? std::string("csg") : std::string(shape_kind_name(p.kind)));
+        m_j.kv("shape", p.csg ? "csg" : shape_kind_name(p.kind));
         m_j.ki("instance", p.instance);
         m_j.ki("set", p.set);
         m_j.ki("index", p.prim);
@@ -326,7 +414,7 @@ public:
 
     void shadow(const InspectShadowRay& s, int light) {
         m_j.open('{');
-        m_j.kv("kind", std::string("shadow"));
+        m_j.kv("kind", "shadow");
         m_j.ki("light", light);
         m_j.kv("origin", s.ray.o);
         m_j.kv("direction", s.ray.d);
@@ -352,7 +440,7 @@ public:
     void light(const InspectLight& l) {
         m_j.open('{');
         m_j.ki("light", l.light);
-        m_j.kv("kind", std::string(light_kind_text(l.kind)));
+        m_j.kv("kind", light_kind_text(l.kind));
         m_j.kb("one_colour", l.one_colour);
         m_j.kv("position", l.position);
         m_j.kv("ambient_colour", l.ambient);
@@ -407,7 +495,13 @@ public:
     void ray(int index) {
         const InspectRay& r = m_tree.rays[static_cast<size_t>(index)];
         m_j.open('{');
-        m_j.kv("kind", std::string(ray_kind_text(r.kind)));
+        m_j.ki("index", index);
+        m_j.key("parent");
+        if (r.parent >= 0)
+            m_j.integer(r.parent);
+        else
+            m_j.null();
+        m_j.kv("kind", ray_kind_text(r.kind));
         m_j.ki("depth", r.depth);
         m_j.kv("origin", r.ray.o);
         m_j.kv("direction", r.ray.d);
@@ -483,16 +577,31 @@ public:
             m_j.close('}');
         }
         m_j.close(']');
-        m_j.key("children");
+        m_j.key("shadow_rays");
         m_j.open('[');
         for (const InspectLight& l : r.lights)
             for (const InspectShadowRay& s : l.shadow_rays) shadow(s, l.light);
-        for (int c : r.children) ray(c);
+        m_j.close(']');
+        m_j.key("children");
+        m_j.open('[');
+        for (int c : r.children) m_j.integer(c);
+        m_j.close(']');
+        m_j.key("not_recorded");
+        m_j.open('[');
+        for (const InspectRay::NotRecorded& n : r.not_recorded) {
+            m_j.open('{');
+            m_j.kv("kind", ray_kind_text(n.kind));
+            m_j.ki("depth", n.depth);
+            m_j.kv("weight", n.weight);
+            m_j.kv("color", n.color);
+            m_j.ki("rays", static_cast<long long>(n.rays));
+            m_j.close('}');
+        }
         m_j.close(']');
         m_j.close('}');
     }
 
-    std::string text() {
+    void write() {
         m_j.open('{');
         m_j.key("pixel");
         m_j.open('[');
@@ -504,18 +613,25 @@ public:
         m_j.vec2(m_tree.position);
         m_j.kv("color", m_tree.pixel);
         m_j.kv("sample_color", m_tree.color);
+        m_j.ki("rays_recorded", static_cast<long long>(m_tree.rays.size()));
+        m_j.ki("rays_not_recorded", static_cast<long long>(m_tree.rays_not_recorded));
+        m_j.key("limits");
+        m_j.open('{');
+        m_j.ki("rays", static_cast<long long>(PixelTree::kMaxRays));
+        m_j.ki("records", static_cast<long long>(PixelTree::kMaxRecords));
+        m_j.close('}');
         m_j.key("rays");
         m_j.open('[');
-        if (!m_tree.rays.empty()) ray(0);
+        for (size_t i = 0; i < m_tree.rays.size(); ++i) ray(static_cast<int>(i));
         m_j.close(']');
         m_j.close('}');
-        return m_j.text();
+        m_j.end();
     }
 
 private:
+    Json m_j;
     const PixelTree& m_tree;
     const InspectNames& m_names;
-    Json m_j;
 };
 
 }  // namespace
@@ -524,28 +640,50 @@ std::string inspect_prim_name(const InspectPrim& p, const InspectNames& names) {
     std::string text = (p.csg ? std::string("CSG node") : std::string(shape_kind_name(p.kind))) +
                        " " + std::to_string(p.prim) + " of instance " + std::to_string(p.instance);
     const SourceLoc* loc = prim_loc(p, names);
-    if (loc && loc->file) text += " at " + loc->str();
+    if (loc && loc->file) text += " at " + shown(loc->str());
     const std::string path = prim_path(p, names);
-    if (!path.empty()) text += " (" + path + ")";
+    if (!path.empty()) text += " (" + shown(path) + ")";
     return text;
 }
 
-std::string inspect_text(const PixelTree& tree, const RenderScene& scene,
-                         const InspectNames& names) {
-    TextWriter w(tree, scene, names);
+void inspect_text(std::ostream& out, const PixelTree& tree, const RenderScene& scene,
+                  const InspectNames& names) {
+    TextWriter w(out, tree, scene, names);
     std::string head = "pixel " + std::to_string(tree.x) + "," + std::to_string(tree.y) +
                        ", sample " + std::to_string(tree.sample) + " of " +
                        std::to_string(tree.samples) + " at (" + num(tree.position.x) + " " +
                        num(tree.position.y) + ") in the pixel";
     if (tree.random) head += " (jittered; random numbers drawn)";
-    w.ray(0, "");
-    return head + "\n" + w.text() + "sample colour " + vec(tree.color) + "\npixel value " +
-           vec(tree.pixel) + " (the mean of " + std::to_string(tree.samples) +
-           (tree.samples == 1 ? " sample" : " samples") + ", linear)\n";
+    w.line(0, head);
+    if (!tree.rays.empty()) w.ray(0, 0);
+    if (tree.rays_not_recorded > 0)
+        w.line(0, std::to_string(tree.rays_not_recorded) +
+                      " more rays traced but not recorded: a tree records at most " +
+                      std::to_string(PixelTree::kMaxRays) + " rays and " +
+                      std::to_string(PixelTree::kMaxRecords) +
+                      " light terms, shadow rays and surfaces on them (their colours count)");
+    w.line(0, "sample colour " + vec(tree.color));
+    w.line(0, "pixel value " + vec(tree.pixel) + " (the mean of " + std::to_string(tree.samples) +
+                  (tree.samples == 1 ? " sample" : " samples") + ", linear)");
 }
 
-std::string inspect_json(const PixelTree& tree, const RenderScene&, const InspectNames& names) {
-    return JsonWriter(tree, names).text();
+std::string inspect_text(const PixelTree& tree, const RenderScene& scene,
+                         const InspectNames& names) {
+    std::ostringstream out;
+    inspect_text(out, tree, scene, names);
+    return std::move(out).str();
+}
+
+void inspect_json(std::ostream& out, const PixelTree& tree, const RenderScene&,
+                  const InspectNames& names) {
+    JsonWriter(out, tree, names).write();
+}
+
+std::string inspect_json(const PixelTree& tree, const RenderScene& scene,
+                         const InspectNames& names) {
+    std::ostringstream out;
+    inspect_json(out, tree, scene, names);
+    return std::move(out).str();
 }
 
 }  // namespace rt
