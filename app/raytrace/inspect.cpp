@@ -1,12 +1,62 @@
 #include "inspect.h"
 
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <iostream>
+#include <new>
+#include <stdexcept>
 
 #include "rt/render/inspect.h"
 #include "rt/render/plan.h"
 #include "rt/util/file_io.h"
 
 namespace raytrace {
+
+namespace {
+
+// The JSON file, written as it is made into a scratch file beside its name, and renamed to it
+// only when the whole run has succeeded: a run that fails leaves no file (and the old one, if
+// any, as it was).
+class JsonOutput {
+public:
+    explicit JsonOutput(const std::string& path) : m_path(path) {
+        if (path.empty()) return;
+        int fd = -1;
+        m_scratch = rt::create_scratch_file(path, &fd);
+        ::close(fd);
+        m_out.open(m_scratch, std::ios::binary | std::ios::trunc);
+        if (!m_out) fail();
+    }
+    JsonOutput(const JsonOutput&) = delete;
+    JsonOutput& operator=(const JsonOutput&) = delete;
+    ~JsonOutput() {
+        if (!m_scratch.empty()) std::remove(m_scratch.c_str());
+    }
+
+    std::ostream* stream() { return m_path.empty() ? nullptr : &m_out; }
+
+    void commit() {
+        if (m_path.empty()) return;
+        m_out.close();
+        if (!m_out) fail();
+        if (std::rename(m_scratch.c_str(), m_path.c_str()) != 0) fail();
+        m_scratch.clear();
+    }
+
+private:
+    [[noreturn]] void fail() const {
+        throw std::runtime_error("cannot write '" + m_path + "': " + std::strerror(errno));
+    }
+
+    std::string m_path, m_scratch;
+    std::ofstream m_out;
+};
+
+}  // namespace
 
 int run_inspect(const Options& opt, const rt::SceneDesc& desc, const rt::RenderScene& scene,
                 const rt::CompileReport& report) {
@@ -15,8 +65,18 @@ int run_inspect(const Options& opt, const rt::SceneDesc& desc, const rt::RenderS
     const rt::PixelTree tree =
         rt::inspect_pixel(scene, plan, opt, in.x, in.y, static_cast<uint32_t>(in.sample), opt.spp);
     const rt::InspectNames names{&desc, &report.prim_locs, &report.material_names};
-    if (!in.json.empty()) rt::write_file_atomic(in.json, rt::inspect_json(tree, scene, names));
-    std::cout << rt::inspect_text(tree, scene, names);
+    try {
+        JsonOutput json(in.json);
+        if (std::ostream* out = json.stream()) rt::inspect_json(*out, tree, scene, names);
+        rt::inspect_text(std::cout, tree, scene, names);
+        std::cout.flush();
+        if (!std::cout) throw std::runtime_error("cannot write the tree to the standard output");
+        json.commit();
+    } catch (const std::bad_alloc&) {
+        throw std::runtime_error("out of memory while formatting the ray tree of pixel " +
+                                 std::to_string(in.x) + "," + std::to_string(in.y) + " of " +
+                                 opt.scene);
+    }
     if (!in.json.empty() && !opt.quiet) std::cout << "wrote     " << in.json << "\n";
     return 0;
 }

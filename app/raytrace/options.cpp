@@ -214,9 +214,11 @@ void add_inspect_options(CLI::App& app, Options& o) {
     app.add_option_function<std::string>(
            "--inspect",
            [&in](const std::string& v) {
+               // Spaces around the numbers are allowed (a quoted "1, 2 " from a script), as
+               // >> skips them before each number; anything else after Y is not.
                char comma = 0;
                std::istringstream s(v);
-               if (!(s >> in.x >> comma >> in.y) || comma != ',' || !s.eof())
+               if (!(s >> in.x >> comma >> in.y) || comma != ',' || !(s >> std::ws).eof())
                    throw CLI::ValidationError("--inspect", "'" + v + "' is not X,Y");
                in.enabled = true;
            },
@@ -228,7 +230,13 @@ void add_inspect_options(CLI::App& app, Options& o) {
     app.add_option("--inspect-sample", in.sample, "which of the pixel's --spp samples (from 0)")
         ->type_name("K")
         ->group(group);
-    app.add_option("--inspect-json", in.json, "also write the tree as JSON (docs/inspect.md)")
+    app.add_option_function<std::string>(
+           "--inspect-json",
+           [&in](const std::string& v) {
+               if (v.empty()) throw CLI::ValidationError("--inspect-json", "needs a file name");
+               in.json = v;
+           },
+           "also write the tree as JSON (docs/inspect.md)")
         ->type_name("FILE")
         ->group(group);
 }

@@ -271,4 +271,70 @@ check_out_of_memory "out of memory" "raytrace: error: out of memory while render
     "$rt" "$tmp/ok.ray" --width 20000 --height 20000 --max-pixels 400000000 -q -o "$tmp/oom.png"
 check "out of memory: no output" test ! -e "$tmp/oom.png"
 
+# The tree's limits (docs/inspect.md): glass in a mirror box doubles the rays at each glass hit;
+# at --depth 256 one pixel traces 7,195 rays. The tree records 4,096 of them and says so; the JSON
+# is flat and strict; its text is indented no deeper than 64 spaces plus a ray's own lines.
+cat >"$tmp/explode.ray" <<'RAY'
+#camera 0 0 0  0.3 0.1 -1  0 1 0  0.5
+#light_point 1 1 1  0 0.9 0  1 0 0
+#material 0 0 0  0 0 0  0 0 0  1 1 1  10  0 0 0  1  -1 !mirror!
+#material 0 0 0  0 0 0  0 0 0  0.5 0.5 0.5  10  0.5 0.5 0.5  1.5  -1 !glass!
+#shape_box 0  0 0 0  4 2 6
+#shape_sphere 1  0.8 0 -1.5  0.5
+#shape_sphere 1  -1 0.3 1.5  0.6
+RAY
+"$rt" "$tmp/explode.ray" --width 8 --height 8 --depth 256 --inspect 4,4 \
+    --inspect-json "$tmp/explode.json" >"$tmp/explode.txt" 2>&1
+check "--inspect of an exploding tree exits 0" test $? -eq 0
+check "and says how many rays it left out" grep -qE "^[0-9]+ more rays traced but not recorded: a tree records at most 4096 rays" "$tmp/explode.txt"
+check "its text is indented 72 spaces at most" bash -c "! grep -qE '^ {73}' '$tmp/explode.txt'"
+check "its JSON is under 16 MB" test "$(stat -c %s "$tmp/explode.json")" -lt 16000000
+if command -v python3 >/dev/null; then
+    python3 - "$tmp/explode.json" >"$tmp/explode_check.txt" 2>&1 <<'PY'
+import json, sys
+tree = json.load(open(sys.argv[1], encoding="utf-8"))
+assert tree["rays_recorded"] == len(tree["rays"]) == 4096, tree["rays_recorded"]
+assert tree["rays_not_recorded"] > 1000, tree["rays_not_recorded"]
+assert all(r["index"] == i for i, r in enumerate(tree["rays"]))
+assert all(tree["rays"][c]["parent"] == r["index"] for r in tree["rays"] for c in r["children"])
+print("ok")
+PY
+    check "its JSON is flat: parents and children by index" grep -qx ok "$tmp/explode_check.txt"
+fi
+
+# Nothing is written when the run fails: the tree cannot be printed (a full disk), so no JSON
+# file, and no scratch file either.
+mkdir "$tmp/full"
+"$rt" "$tmp/ok.ray" --width 8 --height 8 --inspect 4,4 --inspect-json "$tmp/full/t.json" \
+    >/dev/full 2>"$tmp/full.txt"
+check "--inspect to a full disk exits 1" test $? -eq 1
+check "and says so" grep -q "^raytrace: error: cannot write the tree to the standard output" "$tmp/full.txt"
+check "and writes no JSON, nor a scratch file" test -z "$(ls -A "$tmp/full")"
+
+# Names from the scene: control characters are escaped in the text (they would move the
+# terminal's cursor) and the JSON is strict UTF-8 whatever the bytes.
+printf '#camera 0 0 5  0 0 -1  0 1 0  0.5\n#light_point 1 1 1  2 2 2  1 0 0\n#material 0 0 0  .1 .1 .1  .8 .2 .2  .5 .5 .5  20  0 0 0  1  -1 !red\033[2J\377!\n#shape_sphere 0  0 0 0  1\n' >"$tmp/names.ray"
+"$rt" "$tmp/names.ray" --width 9 --height 9 --inspect 4,4 --inspect-json "$tmp/names.json" \
+    >"$tmp/names.txt" 2>&1
+check "--inspect of a scene with control characters in names exits 0" test $? -eq 0
+check "the text shows them escaped" grep -qF "!'red\\x1b[2J\\xff'!" "$tmp/names.txt"
+check "and holds no escape byte" bash -c "! grep -q $'\033' '$tmp/names.txt'"
+if command -v python3 >/dev/null; then
+    python3 -c 'import json, sys; t = json.load(open(sys.argv[1], encoding="utf-8")); print(t["rays"][0]["hit"]["material"]["name"] == "red\x1b[2J\ufffd")' \
+        "$tmp/names.json" >"$tmp/names_check.txt" 2>&1
+    check "the JSON is strict UTF-8, the name escaped" grep -qx True "$tmp/names_check.txt"
+fi
+
+# --inspect's X,Y may have spaces around it; --inspect-json needs a name.
+"$rt" "$tmp/ok.ray" --width 8 --height 8 --inspect '1,2 ' >"$tmp/space.txt" 2>&1
+check "--inspect '1,2 ' exits 0" test $? -eq 0
+check "and inspects pixel 1,2" grep -q "^pixel 1,2, sample 0" "$tmp/space.txt"
+"$rt" "$tmp/ok.ray" --width 8 --height 8 --inspect '1,2x' >/dev/null 2>"$tmp/usage.txt"
+check "--inspect '1,2x' exits 2" test $? -eq 2
+check "and says why" grep -q "'1,2x' is not X,Y" "$tmp/usage.txt"
+(cd "$tmp" && "$rt" ok.ray --width 8 --height 8 --inspect 1,2 --inspect-json "") \
+    >/dev/null 2>"$tmp/usage.txt"
+check "--inspect-json '' exits 2" test $? -eq 2
+check "and says it needs a file name" grep -q "inspect-json.*needs a file name" "$tmp/usage.txt"
+
 summary "with the bad-input checks"
