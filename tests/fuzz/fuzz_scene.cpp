@@ -9,7 +9,9 @@
 // as `fuzz_replay` (any compiler, replays files: the crasher regression corpus in
 // tests/fuzz/crashers). The parse with its mesh runs cut into pieces of one directive on three
 // threads must give what the serial parse gives, field for field, warnings and errors alike
-// (tests/parse_both_ways.h); a difference aborts.
+// (tests/parse_both_ways.h); a difference aborts. Each compiled scene's ray tree of one pixel
+// (--inspect at 4x4, depth 8) must be strict UTF-8 JSON (tests/json_check.h), however the
+// scene's names are spelled, with no more rays than the tree's limit.
 //
 // Includes, textures and key files cannot escape: the harness works in a private temporary
 // directory holding a few fixture files (inc.ray, inc0.ray, the V3 inc3.ray, loop.ray, tex.ppm,
@@ -17,6 +19,7 @@
 // names in that directory resolve. A texture that does not resolve (such as tex.bmp, the course's
 // name) stands in as a checker (--missing-textures checker), so such scenes get past loading.
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <string>
@@ -24,11 +27,13 @@
 #include <utility>
 #include <vector>
 
+#include "../json_check.h"
 #include "../parse_both_ways.h"
 #include "fuzz_util.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
+#include "rt/render/inspect.h"
 #include "rt/scene/scene_time.h"
 
 namespace {
@@ -71,6 +76,31 @@ std::optional<rt::Dialect> forced_dialect(std::string* text) {
     return std::nullopt;
 }
 
+// The tree of the centre pixel of a 4x4 image at depth 8 (at most 2^8 rays, so an input stays
+// fast): its JSON must be strict, and it records no more rays than its limit.
+void check_inspect(const rt::SceneDesc& desc, const rt::RenderScene& scene,
+                   const rt::CompileReport& report) {
+    rt::RenderSettings s;
+    s.width = 4;
+    s.height = 4;
+    s.max_depth = 8;
+    s.threads = 1;
+    const rt::PixelTree tree = rt::inspect_pixel(scene, rt::make_render_plan(scene, s), s, 2, 2);
+    const rt::InspectNames names{&desc, &report.prim_locs, &report.material_names};
+    const std::string json = rt::inspect_json(tree, scene, names);
+    rt::test::JsonValue v;
+    std::string why;
+    if (!rt::test::parse_strict_json(json, &v, &why)) {
+        std::fprintf(stderr, "inspect_json is not strict JSON: %s\n", why.c_str());
+        std::abort();
+    }
+    const rt::test::JsonValue& rays = v["rays"];
+    if (rays.array.empty() || rays.array.size() > rt::PixelTree::kMaxRays ||
+        tree.records > rt::PixelTree::kMaxRecords + scene.lights.size())
+        std::abort();  // the tree's limits did not hold
+    (void)rt::inspect_text(tree, scene, names);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -108,7 +138,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         rt::Diagnostics diag;
         const rt::SceneDesc desc =
             rt::parse_scene_string(text, "fuzz.ray", diag, options, rt_fuzz::work_dir());
-        rt::RenderScene scene = rt::compile_scene(desc);
+        rt::CompileReport report;
+        report.record_locations = true;  // the tree names each primitive's directive
+        rt::RenderScene scene = rt::compile_scene(desc, &report);
+        check_inspect(desc, scene, report);
         // Every interpolation and rotation once, at times inside, before and far past the loop.
         const double times[] = {0.37, -5.1, 1e7, 2.0};
         for (int k = 0; k < 20 && !desc.tracks.empty(); ++k) {
