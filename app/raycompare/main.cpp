@@ -1,19 +1,28 @@
 // raycompare: images of one scene (a class's renders) compared with the reference, rendered once
 // per image size with raytrace's settings flags. Prints a table, writes CSV and an HTML report
-// on request, and exits 0 only when every image passes.
+// on request, and exits 0 only when every image passes. The work on the images is
+// compare_class.h's (one image at a time), the report's folder report_dir.h's.
 // Exit status: 0 every image passes, 1 one fails or cannot be read (or the scene has an error,
-// printed as file:line:col: error: ...), 2 usage error.
+// printed as file:line:col: error: ..., or an output cannot be written), 2 usage error (also a
+// report folder of other files, or an output that is an input).
+#include <sys/stat.h>
+
+// GCC 12 at -O1 sees CLI11's split() move a string it cannot prove non-null (it is never null).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <CLI/CLI.hpp>
+#pragma GCC diagnostic pop
 #include <cstdio>
 #include <iostream>
-#include <map>
+#include <optional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "cli.h"
+#include "compare_class.h"
 #include "render_options.h"
 #include "report.h"
+#include "report_dir.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/render/render.h"
@@ -63,7 +72,8 @@ void make_app(CLI::App& app, Options& o) {
     app.add_option("--csv", o.csv, "also write the table as CSV")->type_name("FILE");
     app.add_option("--html", o.html,
                    "also write a report (DIR/index.html with the images, their heat\n"
-                   "maps and figures, sortable) to open from disk")
+                   "maps and figures, sortable) to open from disk; DIR is new, empty\n"
+                   "or an earlier report of raycompare's (whose files it replaces)")
         ->type_name("DIR");
     rtapp::add_render_options(app, o, "samples per pixel of the reference");
     // The reference takes each image's size.
@@ -91,65 +101,90 @@ std::optional<rt::RenderScene> load_scene(const Options& o) {
     }
 }
 
-bool linear_file(const std::string& path) {
-    return rt::holds_linear(rt::image_format_from_path(path));
+// The file named twice: `a` and `b` are the same file (by device and inode).
+bool same_file(const std::string& a, const std::string& b) {
+    struct stat sa = {};
+    struct stat sb = {};
+    return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
 }
 
 int run(const Options& o) {
+    // The outputs first, so that a long run does not fail at its end: the CSV must be no input
+    // (it would replace a student's image) and writable; the report's folder is taken once the
+    // scene has loaded (a scene with an error leaves an earlier report as it was).
+    std::vector<std::string> inputs = o.images;
+    inputs.push_back(o.scene);
+    if (!o.csv.empty()) {
+        for (const std::string& in : inputs)
+            if (same_file(o.csv, in)) {
+                std::cerr << "raycompare: error: --csv '" << escaped(o.csv) << "' is '"
+                          << escaped(in) << "', a file to compare: give another file\n";
+                return 2;
+            }
+        if (const std::string why = probe_writable(o.csv); !why.empty()) {
+            std::cerr << "raycompare: error: " << escaped(why) << "\n";
+            return 1;
+        }
+    }
     const std::optional<rt::RenderScene> scene = load_scene(o);
     if (!scene) return 1;
-    std::vector<Row> rows;
-    std::map<std::pair<int, int>, rt::Image> references;  // by size, rendered once each
-    for (const std::string& path : o.images) {
-        Row r;
-        r.path = path;
+    std::optional<ReportDir> report;
+    if (!o.html.empty()) {
+        if (!o.csv.empty()) inputs.push_back(o.csv);
         try {
-            r.image = rt::load_image(path);
-            r.width = r.image.width;
-            r.height = r.image.height;
-        } catch (const std::exception& e) {
-            r.error = rtapp::error_text(e, "reading " + path);
-            rows.push_back(std::move(r));
-            continue;
+            report.emplace(o.html, inputs);
+        } catch (const ReportDirError& e) {
+            std::cerr << "raycompare: error: " << e.what() << "\n";
+            return e.refused ? 2 : 1;
         }
-        auto it = references.find({r.width, r.height});
-        if (it == references.end()) {
-            rt::RenderSettings s = o;
-            s.width = r.width;
-            s.height = r.height;
-            rt::RenderState state;
-            rt::render_samples(state, *scene, rt::make_render_plan(*scene, s), s, o.spp);
-            it = references.emplace(std::make_pair(r.width, r.height), state.image()).first;
-            if (!o.quiet)
-                std::fprintf(stderr, "raycompare: rendered the %dx%d reference (%d spp)\n", r.width,
-                             r.height, o.spp);
-        }
-        rt::CompareSettings cs;
-        cs.tolerance = o.limits.tolerance;
-        cs.neighbourhood = o.limits.neighbourhood;
-        cs.linear = linear_file(path);
-        r.c = rt::compare_images(r.image, it->second, cs);
-        r.pass = r.c.share_off <= o.limits.max_bad;
-        rows.push_back(std::move(r));
     }
-    const std::string table = table_text(rows, o.limits);
+
+    const auto render = [&](int width, int height) {
+        rt::RenderSettings s = o;
+        s.width = width;
+        s.height = height;
+        rt::RenderState state;
+        rt::render_samples(state, *scene, rt::make_render_plan(*scene, s), s, o.spp);
+        return state.image();
+    };
+    const auto rendered = [&](int width, int height) {
+        if (!o.quiet)
+            std::fprintf(stderr, "raycompare: rendered the %dx%d reference (%d spp)\n", width,
+                         height, o.spp);
+    };
+    const ClassResult result =
+        compare_class(o.images, render, o.limits, report ? &*report : nullptr, rendered);
+    const std::vector<Row>& rows = result.rows;
+
     if (o.quiet) {
         for (const Row& r : rows)
-            if (!r.pass) std::printf("FAIL %s\n", r.path.c_str());
+            if (!r.pass) std::printf("FAIL %s\n", escaped(r.path).c_str());
     } else {
-        std::fputs(table.c_str(), stdout);
+        std::fputs(table_text(rows, o.limits).c_str(), stdout);
     }
-    if (!o.csv.empty()) rt::write_file_atomic(o.csv, csv_text(rows));
-    if (!o.html.empty()) {
-        std::vector<Reference> refs;
-        for (const auto& [size, image] : references)
-            refs.push_back({size.first, size.second, image});
-        write_html(o.html, o.scene, refs, rows, o.limits);
-        if (!o.quiet) std::printf("wrote %s/index.html\n", o.html.c_str());
-    }
+    int status = 0;
     for (const Row& r : rows)
-        if (!r.pass) return 1;
-    return 0;
+        if (!r.pass) status = 1;
+    if (!o.csv.empty()) {
+        try {
+            rt::write_file_atomic(o.csv, csv_text(rows));
+        } catch (const std::exception& e) {
+            std::cerr << "raycompare: error: " << escaped(e.what()) << "\n";
+            status = 1;
+        }
+    }
+    if (report) {
+        report->write_text(kPageName, page_html(o.scene, result.references, rows, o.limits));
+        if (!report->error().empty()) {
+            std::cerr << "raycompare: error: the report in '" << escaped(o.html)
+                      << "' is not complete: " << escaped(report->error()) << "\n";
+            status = 1;
+        } else if (!o.quiet) {
+            std::printf("wrote %s/index.html\n", escaped(o.html).c_str());
+        }
+    }
+    return status;
 }
 
 }  // namespace
@@ -176,7 +211,8 @@ int main(int argc, char** argv) {
     try {
         return run(o);
     } catch (const std::exception& e) {
-        std::cerr << "raycompare: error: " << rtapp::error_text(e, "comparing " + o.scene) << "\n";
+        std::cerr << "raycompare: error: " << escaped(rtapp::error_text(e, "comparing " + o.scene))
+                  << "\n";
         return 1;
     }
 }

@@ -1,16 +1,18 @@
 #include "report.h"
 
+#include <algorithm>
 #include <cstdio>
-#include <filesystem>
-#include <stdexcept>
 
-#include "rt/util/file_io.h"
+// The scene parser's quoting of tokens and paths in its messages (core/src/format/parser.cpp),
+// which has no public header: declared here, so that the table escapes names as the scene's
+// error messages do, with one function.
+namespace rt::parser_impl {
+std::string quote(std::string_view s);
+}
 
 namespace raycompare {
 
 namespace {
-
-namespace fs = std::filesystem;
 
 // v with `digits` decimals, or in %g's shortest form (digits < 0).
 std::string num(double v, int digits = -1) {
@@ -57,7 +59,32 @@ std::string html_escape(const std::string& s) {
     return o;
 }
 
-// The heat map's scale bar: a horizontal ramp of heat_colour.
+}  // namespace
+
+std::string escaped(std::string_view s) {
+    // quote() cuts its text after 200 bytes: it is given pieces shorter than that, each ending
+    // before a byte that starts a character (so no UTF-8 sequence is split), without its quotes.
+    constexpr size_t kPiece = 128;
+    std::string out;
+    size_t i = 0;
+    while (i < s.size()) {
+        size_t n = std::min(kPiece, s.size() - i);
+        while (i + n < s.size() && n < kPiece + 4 &&
+               (static_cast<unsigned char>(s[i + n]) & 0xC0) == 0x80)
+            ++n;
+        const std::string q = rt::parser_impl::quote(s.substr(i, n));
+        out.append(q, 1, q.size() - 2);
+        i += n;
+    }
+    return out;
+}
+
+std::string image_name(size_t row) { return "image_" + std::to_string(row + 1) + ".png"; }
+std::string heat_name(size_t row) { return "heat_" + std::to_string(row + 1) + ".png"; }
+std::string reference_name(int width, int height) {
+    return "reference_" + std::to_string(width) + "x" + std::to_string(height) + ".png";
+}
+
 rt::Image scale_bar() {
     rt::Image bar(256, 12);
     for (int x = 0; x < 256; ++x)
@@ -65,31 +92,32 @@ rt::Image scale_bar() {
     return bar;
 }
 
-// The image as the page shows it: 8-bit, clamped (a PFM or EXR shown as raytrace's PNG).
-void save_png(const rt::Image& image, const std::string& path) { rt::save_image(image, path); }
-
-}  // namespace
-
 std::string table_text(const std::vector<Row>& rows, const Limits& limits) {
+    std::vector<std::string> names;
     size_t w = 4;
-    for (const Row& r : rows) w = std::max(w, r.path.size());
+    for (const Row& r : rows) {
+        names.push_back(escaped(r.path));
+        w = std::max(w, names.back().size());
+    }
     std::string out;
     char line[512];
     std::snprintf(line, sizeof line, "%-*s  %-9s  %9s  %9s  %9s  %-11s  %s\n", static_cast<int>(w),
                   "file", "size", "mean diff", "off", "max diff", "at", "result");
     out += line;
-    for (const Row& r : rows) {
+    for (size_t i = 0; i < rows.size(); ++i) {
+        const Row& r = rows[i];
+        // The name is padded apart: snprintf's buffer would cut a long one.
+        out += names[i] + std::string(w - names[i].size(), ' ');
         if (!r.error.empty()) {
-            std::snprintf(line, sizeof line, "%-*s  %-9s  ", static_cast<int>(w), r.path.c_str(),
-                          r.width > 0 ? size_text(r).c_str() : "-");
-            out += line + std::string("FAIL: ") + r.error + "\n";
+            std::snprintf(line, sizeof line, "  %-9s  ", r.width > 0 ? size_text(r).c_str() : "-");
+            out += line + std::string("FAIL: ") + escaped(r.error) + "\n";
             continue;
         }
         std::string at = "(";  // (GCC 12 warns of "(" + std::string as a restrict overlap)
         at += std::to_string(r.c.max_x) + "," + std::to_string(r.c.max_y) + ")";
-        std::snprintf(line, sizeof line, "%-*s  %-9s  %9.3f  %8.3f%%  %9.1f  %-11s  %s\n",
-                      static_cast<int>(w), r.path.c_str(), size_text(r).c_str(), r.c.mean(),
-                      100.0 * r.c.share_off, r.c.max_diff, at.c_str(), r.pass ? "PASS" : "FAIL");
+        std::snprintf(line, sizeof line, "  %-9s  %9.3f  %8.3f%%  %9.1f  %-11s  %s\n",
+                      size_text(r).c_str(), r.c.mean(), 100.0 * r.c.share_off, r.c.max_diff,
+                      at.c_str(), r.pass ? "PASS" : "FAIL");
         out += line;
     }
     out += "(differences in 8-bit steps of 255; off: pixels off by more than " +
@@ -103,55 +131,39 @@ std::string csv_text(const std::vector<Row>& rows) {
     std::string out =
         "file,width,height,mean_abs_diff,share_off,max_diff,max_x,max_y,result,error\n";
     for (const Row& r : rows) {
-        out += csv_field(r.path) + "," + std::to_string(r.width) + "," + std::to_string(r.height) +
-               ",";
+        out += csv_field(escaped(r.path)) + "," + std::to_string(r.width) + "," +
+               std::to_string(r.height) + ",";
         if (r.error.empty())
             out += num(r.c.mean()) + "," + num(r.c.share_off) + "," + num(r.c.max_diff) + "," +
                    std::to_string(r.c.max_x) + "," + std::to_string(r.c.max_y) + "," +
                    (r.pass ? "pass" : "fail") + ",\n";
         else
-            out += ",,,,,fail," + csv_field(r.error) + "\n";
+            out += ",,,,,fail," + csv_field(escaped(r.error)) + "\n";
     }
     return out;
 }
 
-void write_html(const std::string& dir, const std::string& scene,
-                const std::vector<Reference>& references, const std::vector<Row>& rows,
-                const Limits& limits) {
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (!fs::is_directory(dir)) throw std::runtime_error("cannot make the directory '" + dir + "'");
-    const fs::path d(dir);
-    save_png(scale_bar(), (d / "scale.png").string());
+std::string page_html(const std::string& scene, const std::vector<Reference>& references,
+                      const std::vector<Row>& rows, const Limits& limits) {
     std::string refs;
     for (const Reference& r : references) {
-        const std::string name =
-            "reference_" + std::to_string(r.width) + "x" + std::to_string(r.height) + ".png";
-        save_png(r.image, (d / name).string());
-        refs += "<figure><img src=\"" + name + "\" alt=\"reference\"><figcaption>reference, " +
-                std::to_string(r.width) + "x" + std::to_string(r.height) +
-                "</figcaption></figure>\n";
+        refs += "<figure><img src=\"" + reference_name(r.width, r.height) +
+                "\" alt=\"reference\"><figcaption>reference, " + std::to_string(r.width) + "x" +
+                std::to_string(r.height) + "</figcaption></figure>\n";
     }
     std::string body;
     for (size_t i = 0; i < rows.size(); ++i) {
         const Row& r = rows[i];
-        const std::string n = std::to_string(i + 1);
         std::string img = "&mdash;", heat = "&mdash;";
-        if (r.image.width > 0) {
-            save_png(r.image, (d / ("image_" + n + ".png")).string());
-            img = "<img src=\"image_" + n + ".png\" alt=\"image\">";
-        }
-        const double scale = std::max(1.0, r.c.max_diff);
-        if (r.error.empty()) {
-            save_png(rt::heat_map(r.c, scale), (d / ("heat_" + n + ".png")).string());
-            heat = "<img src=\"heat_" + n +
-                   ".png\" alt=\"heat map\"><br><img class=\"bar\" "
-                   "src=\"scale.png\" alt=\"scale\"><span class=\"scale\">0 &ndash; " +
-                   num(scale, 0) + "</span>";
-        }
+        if (r.image_written) img = "<img src=\"" + image_name(i) + "\" alt=\"image\">";
+        if (r.heat_written)
+            heat = "<img src=\"" + heat_name(i) +
+                   "\" alt=\"heat map\"><br><img class=\"bar\" src=\"" + kScaleName +
+                   "\" alt=\"scale\"><span class=\"scale\">0 &ndash; " + num(r.heat_scale, 0) +
+                   "</span>";
         const bool ok = r.error.empty();
         body += "<tr class=\"" + std::string(r.pass ? "pass" : "fail") + "\"><td>" +
-                html_escape(r.path) + "</td><td>" + (r.width > 0 ? size_text(r) : "") +
+                html_escape(escaped(r.path)) + "</td><td>" + (r.width > 0 ? size_text(r) : "") +
                 "</td><td>" + img + "</td><td>" + heat + "</td><td data-v=\"" +
                 (ok ? num(r.c.mean()) : "1e9") + "\">" + (ok ? num(r.c.mean(), 3) : "") +
                 "</td><td data-v=\"" + (ok ? num(r.c.share_off) : "1e9") + "\">" +
@@ -160,13 +172,14 @@ void write_html(const std::string& dir, const std::string& scene,
                 (ok ? num(r.c.max_diff, 1) + " at (" + std::to_string(r.c.max_x) + "," +
                           std::to_string(r.c.max_y) + ")"
                     : "") +
-                "</td><td>" + (r.pass ? "PASS" : "FAIL" + (ok ? "" : ": " + html_escape(r.error))) +
+                "</td><td>" +
+                (r.pass ? "PASS" : "FAIL" + (ok ? "" : ": " + html_escape(escaped(r.error)))) +
                 "</td></tr>\n";
     }
     const std::string page =
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
         "<title>raycompare: " +
-        html_escape(scene) +
+        html_escape(escaped(scene)) +
         "</title>\n<style>\n"
         "body{font-family:sans-serif;margin:1em;background:#fafafa}\n"
         "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px;"
@@ -176,7 +189,7 @@ void write_html(const std::string& dir, const std::string& scene,
         "img{max-width:240px;image-rendering:pixelated}img.bar{width:160px;height:8px}\n"
         ".scale{font-size:80%;margin-left:4px}figure{display:inline-block;margin:0 1em 1em 0}\n"
         "</style></head><body>\n<h1>" +
-        html_escape(scene) + "</h1>\n<p>" + std::to_string(rows.size()) +
+        html_escape(escaped(scene)) + "</h1>\n<p>" + std::to_string(rows.size()) +
         " images against the reference render. Differences in "
         "8-bit steps of 255; &ldquo;off&rdquo;: the share of pixels off by more than " +
         num(limits.tolerance) + " in one channel; an image passes with at most " +
@@ -200,7 +213,7 @@ void write_html(const std::string& dir, const std::string& scene,
         "      return (x < y ? -1 : x > y ? 1 : 0) * (up ? 1 : -1); })\n"
         "      .forEach((tr) => tb.appendChild(tr));\n"
         "  });\n});\n</script>\n</body></html>\n";
-    rt::write_file_atomic((d / "index.html").string(), page);
+    return page;
 }
 
 }  // namespace raycompare

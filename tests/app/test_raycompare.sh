@@ -3,7 +3,9 @@
 # pixel it fails, and passes with --neighbourhood; a wrong specular exponent fails and its largest
 # difference is on a highlight; the HTML report's images exist and its table matches the CSV;
 # unreadable and non-image files fail naming the file, an empty list is a usage error; images of
-# two sizes get a reference each; PFM is compared linear.
+# two sizes get a reference each; PFM is compared linear. The report's folder: never one of other
+# files, never replacing an input, no stale file of an earlier report; the outputs probed before
+# rendering; names escaped; a class with a bad file and an out-of-memory reference.
 # usage: test_raycompare.sh BUILD_APP_DIR SOURCE_DIR
 set -u
 bin=$(realpath "$1")
@@ -106,4 +108,103 @@ check "with file:line:col" grep -qE "^bad.ray:1:[0-9]+: error: " out.txt
 "$rc" scene.ray same.png --max-bad 2 >out.txt 2>&1
 check "--max-bad beyond 1 is a usage error" test $? -eq 2
 
+
+# The report's folder never takes a student's file. The issue's case: --html . in the folder of
+# the images, named image_1.png and image_2.png as the report's own: refused before anything is
+# rendered, the folder as it was (given in this order, the inputs were swapped on disk).
+mkdir class && cp scene.ray class/ && cp same.png class/image_1.png && cp small.png class/image_2.png
+(cd class && ls -A >../listing.before && sha256sum image_1.png image_2.png scene.ray >../sums)
+(cd class && "$rc" scene.ray image_2.png image_1.png --html . >../out.txt 2>&1)
+check "--html . among the images: refused (exit 2)" test $? -eq 2
+check "saying why" grep -qF "raycompare: error: --html '.': the folder is not empty and holds no report of raycompare" out.txt
+check "before rendering" bash -c "! grep -q 'rendered the' out.txt"
+check "the images are as they were" bash -c "cd class && sha256sum --quiet -c ../sums"
+check "and nothing was added" bash -c "cd class && ls -A | cmp -s - ../listing.before"
+# A folder of someone else's files (a scale.png of their own): refused, untouched.
+mkdir theirs && echo "their scale" >theirs/scale.png && echo "notes" >theirs/notes.txt
+"$rc" scene.ray same.png --html theirs >out.txt 2>&1
+check "a folder of other files: refused (exit 2)" test $? -eq 2
+check "their file kept" test "$(cat theirs/scale.png)" = "their scale"
+check "nothing added" test "$(ls -A theirs | tr '\n' ' ')" = "notes.txt scale.png "
+# --html naming a file: refused before rendering, the file kept.
+"$rc" scene.ray same.png --html notes.txt >out.txt 2>&1
+check "--html FILE: refused" test $? -eq 2
+check "--html FILE: the file kept" test "$(cat notes.txt)" = "not an image"
+check "--html FILE: before rendering" bash -c "! grep -q 'rendered the' out.txt"
+
+# Our own folder again, with fewer images: the earlier report's files go, no stale row stays.
+"$rc" scene.ray same.png wrong.ppm small.png --html again >/dev/null 2>&1
+check "a first report of three images" test -s again/heat_3.png -a -s again/reference_40x30.png
+echo "a teacher's notes" >again/notes.txt
+"$rc" scene.ray same.png --html again >out.txt 2>&1
+check "a second report into it: exit 0" test $? -eq 0
+check "its files only: the earlier report's are gone, the teacher's note stays" \
+    test "$(ls -A again | tr '\n' ' ')" = ".raycompare-report heat_1.png image_1.png index.html notes.txt reference_64x48.png scale.png "
+check "the page has one row" test "$(grep -c '^<tr class=' again/index.html)" -eq 1
+# An input inside our folder under one of the report's names is never replaced, even under a
+# second name (a hard link): the report is refused.
+cp again/image_1.png kept.png && ln again/image_1.png student.png
+"$rc" scene.ray student.png --html again >out.txt 2>&1
+check "an input that is the report's image_1.png: refused (exit 2)" test $? -eq 2
+check "and it stays" cmp -s student.png kept.png
+check "its name is said" grep -qF "again/image_1.png', which is one of the files given on the command line" out.txt
+rm student.png
+# The CSV must not be an input, and is probed before rendering; so is the report's folder.
+cp same.png same2.png
+"$rc" scene.ray same2.png --csv same2.png >out.txt 2>&1
+check "--csv naming an image: refused (exit 2)" test $? -eq 2
+check "the image stays" cmp -s same.png same2.png
+"$rc" scene.ray same.png --csv nodir/table.csv >out.txt 2>&1
+check "--csv in a missing folder: exit 1" test $? -eq 1
+check "said before rendering" bash -c "grep -q \"cannot write 'nodir/table.csv'\" out.txt && ! grep -q 'rendered the' out.txt"
+"$rc" scene.ray same.png --html notes.txt/report >out.txt 2>&1
+check "--html under a file: fails" test $? -ne 0
+check "said before rendering" bash -c "grep -q \"^raycompare: error: --html 'notes.txt/report'\" out.txt && ! grep -q 'rendered the' out.txt"
+
+# A file's name with control characters: escaped in the table, the CSV and the error, never
+# sent to the terminal (a name can move the cursor and write PASS over FAIL).
+esc=$'evil\r\e[2KPASS.png'
+cp wrong.ppm "$esc"
+"$rc" scene.ray "$esc" "missing$esc" --csv esc.csv >out.txt 2>&1
+check "escaped names: the run fails" test $? -eq 1
+check "no control byte in the table" bash -c "! LC_ALL=C grep -q \$'[\\x01-\\x08\\x0b-\\x1f\\x7f]' out.txt"
+check "no control byte in the CSV" bash -c "! LC_ALL=C grep -q \$'[\\x01-\\x08\\x0b-\\x1f\\x7f]' esc.csv"
+check "the name shown escaped" grep -qF 'evil\x0d\x1b[2KPASS.png ' out.txt
+check "the error too" grep -qF "FAIL: cannot read 'missingevil\x0d\x1b[2KPASS.png'" out.txt
+check "the CSV too" grep -qF 'evil\x0d\x1b[2KPASS.png,64,48' esc.csv
+"$rc" scene.ray "$esc" --html escrep >/dev/null 2>&1
+check "the page escapes it" grep -qF '<td>evil\x0d\x1b[2KPASS.png</td>' escrep/index.html
+rm -f "$esc"
+
+# A class of many images: each is a row; a bad file, and an image whose reference cannot be
+# rendered (out of memory), are FAIL rows of their own, and the table, the CSV and the page come
+# out for everyone. Under a cap of 240 MB, the 2048x2048 image is read in 115 MB, its reference
+# needs 320 MB.
+class=()
+for i in $(seq 2 20); do cp same.png "c$i.png" && class+=("c$i.png"); done
+cp same.png c1.png
+python3 -c '
+import struct, sys, zlib
+def chunk(t, d):
+    return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+w = h = 2048
+ihdr = struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0)
+idat = zlib.compress((b"\0" + b"\x80" * w) * h, 9)
+png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", idat) + chunk(b"IEND", b"")
+open(sys.argv[1], "wb").write(png)
+' big.png
+if grep -q -e __asan_init -e __tsan_init "$rc"; then
+    echo "(the class out of memory: skipped for a sanitizer build, which needs no address cap)"
+else
+    (ulimit -v 240000 && exec "$rc" scene.ray c1.png notes.txt big.png "${class[@]}" \
+        --csv class.csv --html classrep) >out.txt 2>&1
+    check "the class: exit 1 (two images fail)" test $? -eq 1
+    check "the class: every image has its row" test "$(grep -cE '^c[0-9]+\.png +64x48 .*PASS$' out.txt)" -eq 20
+    check "the class: the bad file is a FAIL row" grep -qE '^notes.txt +- +FAIL: .*notes.txt' out.txt
+    check "the class: the reference out of memory is a FAIL row" \
+        grep -qE '^big.png +2048x2048 +FAIL: out of memory while rendering the 2048x2048 reference$' out.txt
+    check "the class: the CSV has every row" test "$(($(wc -l <class.csv) - 1))" -eq 22
+    check "the class: so has the page" test "$(grep -c '^<tr class=' classrep/index.html)" -eq 22
+    check "the class: the last image's heat map" test -s classrep/heat_22.png
+fi
 summary "raycompare"

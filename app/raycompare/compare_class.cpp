@@ -1,0 +1,115 @@
+#include "compare_class.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+#include "cli.h"
+#include "rt/image/compare.h"
+#include "rt/util/file_io.h"
+
+namespace raycompare {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string size_text(int width, int height) {
+    return std::to_string(width) + "x" + std::to_string(height);
+}
+
+// Row `n` (its size known) against the reference of its size: the image read again, compared,
+// written to the report with its heat map, and dropped with its per-pixel differences; the row
+// keeps the numbers. What goes wrong is the row's error.
+void compare_one(Row& r, size_t n, const rt::Image& reference, const Limits& limits,
+                 ReportDir* report) {
+    try {
+        rt::ImageComparison c;
+        {
+            const rt::Image image = rt::load_image(r.path);
+            if (image.width != r.width || image.height != r.height)
+                throw std::runtime_error("'" + r.path + "' changed while it was compared (" +
+                                         size_text(r.width, r.height) + ", then " +
+                                         size_text(image.width, image.height) + ")");
+            rt::CompareSettings cs;
+            cs.tolerance = limits.tolerance;
+            cs.neighbourhood = limits.neighbourhood;
+            cs.linear = rt::holds_linear(rt::image_format_from_path(r.path));
+            c = rt::compare_images(image, reference, cs);
+            if (report) r.image_written = report->write_png(image_name(n), image);
+        }
+        r.heat_scale = std::max(1.0, c.max_diff);
+        if (report) r.heat_written = report->write_png(heat_name(n), rt::heat_map(c, r.heat_scale));
+        std::vector<float>().swap(c.error);  // 4 bytes a pixel: the row keeps the numbers only
+        r.c = std::move(c);
+        r.pass = r.c.share_off <= limits.max_bad;
+    } catch (const std::exception& e) {
+        r.error = rtapp::error_text(e, "comparing " + r.path);
+        r.pass = false;
+    }
+}
+
+}  // namespace
+
+ClassResult compare_class(const std::vector<std::string>& images, const RenderReference& render,
+                          const Limits& limits, ReportDir* report,
+                          const std::function<void(int width, int height)>& rendered) {
+    ClassResult out;
+    out.rows.resize(images.size());
+    // The sizes, in the order they first appear; each image's pixels are dropped once read.
+    std::vector<std::pair<int, int>> sizes;
+    for (size_t i = 0; i < images.size(); ++i) {
+        Row& r = out.rows[i];
+        r.path = images[i];
+        try {
+            const rt::Image image = rt::load_image(r.path);
+            r.width = image.width;
+            r.height = image.height;
+        } catch (const std::exception& e) {
+            r.error = rtapp::error_text(e, "reading " + r.path);
+            continue;
+        }
+        if (std::find(sizes.begin(), sizes.end(), std::make_pair(r.width, r.height)) == sizes.end())
+            sizes.emplace_back(r.width, r.height);
+    }
+    if (report) report->write_png(kScaleName, scale_bar());
+    for (const auto& [width, height] : sizes) {
+        rt::Image reference;
+        std::string failed;
+        try {
+            reference = render(width, height);
+        } catch (const std::exception& e) {
+            failed =
+                rtapp::error_text(e, "rendering the " + size_text(width, height) + " reference");
+        }
+        if (failed.empty()) {
+            if (rendered) rendered(width, height);
+            out.references.push_back({width, height});
+            if (report) report->write_png(reference_name(width, height), reference);
+        }
+        for (size_t i = 0; i < out.rows.size(); ++i) {
+            Row& r = out.rows[i];
+            if (r.width != width || r.height != height || !r.error.empty()) continue;
+            if (failed.empty())
+                compare_one(r, i, reference, limits, report);
+            else
+                r.error = failed;
+        }
+    }
+    return out;
+}
+
+std::string probe_writable(const std::string& path) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) return "cannot write '" + path + "': it is a directory";
+    try {
+        fs::remove(rt::create_scratch_file(path), ec);
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace raycompare

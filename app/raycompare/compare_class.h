@@ -1,0 +1,43 @@
+// raycompare's work on a class's images, one image at a time, so that a class of any size fits
+// in the memory of a few images: each image is read, compared with the reference of its size,
+// its report images written, and only its numbers kept; one reference is held at a time, and
+// what goes wrong with one image (a bad file, out of memory, a reference that cannot be
+// rendered) is that image's FAIL row, never the end of the class. raycompare's main.cpp and the
+// fuzz target (tests/fuzz/fuzz_compare.cpp) call it.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "report.h"
+#include "report_dir.h"
+#include "rt/image/image.h"
+
+namespace raycompare {
+
+/// Renders the reference of a width x height image; throws what it cannot (out of memory).
+using RenderReference = std::function<rt::Image(int width, int height)>;
+
+/// What compare_class() made: one row per image, in the order given, and the references
+/// rendered (those in the report as reference_WxH.png when it was written).
+struct ClassResult {
+    std::vector<Row> rows;
+    std::vector<Reference> references;
+};
+
+/// Compares each image with the reference of its size. First each image is read to learn its
+/// size (its pixels dropped at once); then, size by size in the order they first appear, the
+/// reference is rendered once, the images of that size compared, and the reference dropped.
+/// With `report`, writes the references, each image (image_N.png), its heat map (heat_N.png)
+/// and the scale bar as it goes; not the page (page_html()). `rendered`, when given, is told of
+/// each reference rendered (main.cpp prints it).
+ClassResult compare_class(const std::vector<std::string>& images, const RenderReference& render,
+                          const Limits& limits, ReportDir* report,
+                          const std::function<void(int width, int height)>& rendered = {});
+
+/// Empty when a file can be written at `path` (a scratch file made and removed beside it, as
+/// raytrace probes its outputs: no file of the user's is touched), else why not.
+std::string probe_writable(const std::string& path);
+
+}  // namespace raycompare
