@@ -391,21 +391,31 @@ TEST(Inspect, AnExplodingTreeRecordsItsLimitOfRays) {
     EXPECT_TRUE(same_bits(sum_of_terms(tree, 0), tree.color));
 }
 
+// The tests of the text and the JSON record 300 rays of the tree (the first ones, down its
+// first branches, 20 levels deep), for speed: a limit of 4096 is the same code.
+constexpr InspectLimits kSomeRays{300, PixelTree::kMaxRecords};
+
 TEST(Inspect, AnExplodingTreesTextIsIndentedSoFarAndSaysWhatIsLeftOut) {
     const RenderScene scene = test::compile(kExplodingScene);
     RenderSettings s;
     s.width = 8;
     s.height = 8;
     s.max_depth = 256;
-    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4);
+    const PixelTree tree =
+        inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4, 0, 1, kSomeRays);
+    ASSERT_EQ(tree.rays.size(), 300u);
     const std::string text = inspect_text(tree, scene, {});
     // A ray's lines are 2 deeper than the ray, a shadow ray's surfaces 6 deeper.
     EXPECT_LE(widest_indent(text), static_cast<size_t>(kMaxTextIndent) + 8);
-    EXPECT_LT(text.size(), 16u << 20) << "the text of at most " << PixelTree::kMaxRays << " rays";
+    EXPECT_LT(text.size(), 300u * 3000u) << "about 15 lines a ray, none indented past 72";
     EXPECT_NE(text.find(std::to_string(tree.rays_not_recorded) +
-                        " more rays traced but not recorded: a tree records at most 4096 rays"),
+                        " more rays traced but not recorded: a tree records at most 300 rays"),
               std::string::npos);
     EXPECT_NE(text.find("not recorded (past the tree's limits): "), std::string::npos);
+    // Past the indentation's limit, a ray's sum (after its children, at the same indentation)
+    // names its ray.
+    EXPECT_NE(text.find(std::string(kMaxTextIndent + 2, ' ') + "sum of the depth "),
+              std::string::npos);
     // Every recorded ray has its line, in the order of PixelTree::rays (rayview's panel counts
     // them so), and no other line starts as a ray's does.
     size_t ray_lines = 0;
@@ -424,7 +434,8 @@ TEST(Inspect, AnExplodingTreesJsonIsFlatAndCountsItsRays) {
     s.width = 8;
     s.height = 8;
     s.max_depth = 256;
-    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4);
+    const PixelTree tree =
+        inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4, 0, 1, kSomeRays);
     const std::string json = inspect_json(tree, scene, {});
     test::JsonValue v;
     std::string why;
@@ -432,13 +443,14 @@ TEST(Inspect, AnExplodingTreesJsonIsFlatAndCountsItsRays) {
     ASSERT_TRUE(test::parse_strict_json(json, &v, &why, 64, &depth)) << why;
     EXPECT_LE(depth, 8) << "the nesting does not grow with the tree";
     const test::JsonValue& rays = v["rays"];
-    EXPECT_EQ(rays.array.size(), PixelTree::kMaxRays);
+    EXPECT_EQ(rays.array.size(), 300u);
     ASSERT_TRUE(v.has("rays_recorded"));
-    EXPECT_EQ(v["rays_recorded"].number, static_cast<double>(PixelTree::kMaxRays));
+    EXPECT_EQ(v["rays_recorded"].number, 300.0);
+    EXPECT_EQ(v["limits"]["rays"].number, 300.0);
     ASSERT_TRUE(v.has("rays_not_recorded"));
     EXPECT_EQ(v["rays_not_recorded"].number, static_cast<double>(tree.rays_not_recorded));
     // Each ray names its parent, and its parent lists it among its children.
-    for (size_t i = 1; i < rays.array.size(); i += 97) {
+    for (size_t i = 1; i < rays.array.size(); ++i) {
         const test::JsonValue& r = rays.array[i];
         ASSERT_TRUE(r.has("parent"));
         const size_t parent = static_cast<size_t>(r["parent"].number);

@@ -2,6 +2,7 @@
 // recorder that writes down each ray, hit and term as the shading computes it.
 #include "rt/render/inspect.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -63,7 +64,7 @@ struct TreeRecorder {
     bool on() const { return node >= 0; }
     InspectRay& ray() const { return ctx->tree.rays[static_cast<size_t>(node)]; }
     InspectLight& term() const { return ray().lights[static_cast<size_t>(light_term)]; }
-    bool budget_left() const { return ctx->tree.records < PixelTree::kMaxRecords; }
+    bool budget_left() const { return ctx->tree.records < ctx->tree.max_records; }
     InspectRay::NotRecorded& skipped() const {
         return ctx->tree.rays[static_cast<size_t>(owner)].not_recorded[static_cast<size_t>(entry)];
     }
@@ -234,7 +235,7 @@ struct TreeRecorder {
             ++skipped().rays;
             return {ctx, -1, -1, owner, entry, false};
         }
-        if (tree.rays.size() >= PixelTree::kMaxRays || !budget_left()) {
+        if (tree.rays.size() >= tree.max_rays || !budget_left()) {
             ++tree.rays_not_recorded;
             ray().not_recorded.push_back({kind_of(), depth, weight, Vec3(0.0), 1});
             return {ctx, -1, -1, node, static_cast<int>(ray().not_recorded.size()) - 1, true};
@@ -292,7 +293,8 @@ struct TreeRecorder {
 }  // namespace
 
 PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
-                        const RenderSettings& settings, int x, int y, uint32_t sample, int spp) {
+                        const RenderSettings& settings, int x, int y, uint32_t sample, int spp,
+                        const InspectLimits& limits) {
     if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
         throw std::invalid_argument("pixel " + std::to_string(x) + "," + std::to_string(y) +
                                     " is outside the image (columns 0.." +
@@ -318,6 +320,8 @@ PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
     tree.y = y;
     tree.sample = sample;
     tree.samples = static_cast<uint32_t>(spp);
+    tree.max_rays = std::max<size_t>(limits.rays, 1);  // the camera ray at least
+    tree.max_records = limits.records;
     // The sample as render_samples() places it (render.cpp, render_pixel): the same random
     // numbers, drawn in the same order.
     const size_t pixel = static_cast<size_t>(y) * static_cast<size_t>(settings.width) + x;

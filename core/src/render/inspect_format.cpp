@@ -155,7 +155,12 @@ public:
                      vec(r.ambient));
         for (const InspectLight& l : r.lights) light(r, l, in);
         secondary(r, pad);
-        line(in, "sum = " + vec(r.color));
+        // At kMaxTextIndent the children's lines come at the ray's own indentation, so its sum,
+        // after them, names the ray it closes.
+        line(in,
+             (pad < kMaxTextIndent ? std::string("sum = ")
+                                   : "sum of the depth " + std::to_string(r.depth) + " ray = ") +
+                 vec(r.color));
     }
 
     void line(int pad, const std::string& s) {
@@ -617,8 +622,8 @@ public:
         m_j.ki("rays_not_recorded", static_cast<long long>(m_tree.rays_not_recorded));
         m_j.key("limits");
         m_j.open('{');
-        m_j.ki("rays", static_cast<long long>(PixelTree::kMaxRays));
-        m_j.ki("records", static_cast<long long>(PixelTree::kMaxRecords));
+        m_j.ki("rays", static_cast<long long>(m_tree.max_rays));
+        m_j.ki("records", static_cast<long long>(m_tree.max_records));
         m_j.close('}');
         m_j.key("rays");
         m_j.open('[');
@@ -659,8 +664,8 @@ void inspect_text(std::ostream& out, const PixelTree& tree, const RenderScene& s
     if (tree.rays_not_recorded > 0)
         w.line(0, std::to_string(tree.rays_not_recorded) +
                       " more rays traced but not recorded: a tree records at most " +
-                      std::to_string(PixelTree::kMaxRays) + " rays and " +
-                      std::to_string(PixelTree::kMaxRecords) +
+                      std::to_string(tree.max_rays) + " rays and " +
+                      std::to_string(tree.max_records) +
                       " light terms, shadow rays and surfaces on them (their colours count)");
     w.line(0, "sample colour " + vec(tree.color));
     w.line(0, "pixel value " + vec(tree.pixel) + " (the mean of " + std::to_string(tree.samples) +

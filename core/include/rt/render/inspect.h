@@ -150,15 +150,24 @@ struct PixelTree {
     // recorded while the budget of records lasts.
     static constexpr size_t kMaxRays = 4096;      // camera, reflected and refracted rays
     static constexpr size_t kMaxRecords = 65536;  // light terms, shadow rays and occluders
+    size_t max_rays = kMaxRays;                   // the limits this tree was recorded with
+    size_t max_records = kMaxRecords;
+};
+
+/// The limits inspect_pixel() records a tree within (PixelTree::kMaxRays, kMaxRecords unless a
+/// test asks for less).
+struct InspectLimits {
+    size_t rays = PixelTree::kMaxRays;
+    size_t records = PixelTree::kMaxRecords;
 };
 
 /// The tree of sample `sample` of pixel (x, y) of a render of `spp` samples per pixel with
 /// `settings` (what render_samples(state, scene, plan, settings, spp) traces for it, on a fresh
-/// state, with the plan's shading code). Throws std::invalid_argument when the pixel lies outside
-/// the image or the sample is not below spp.
+/// state, with the plan's shading code), within `limits`. Throws std::invalid_argument when the
+/// pixel lies outside the image or the sample is not below spp.
 PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
                         const RenderSettings& settings, int x, int y, uint32_t sample = 0,
-                        int spp = 1);
+                        int spp = 1, const InspectLimits& limits = {});
 
 /// What the printed tree names things by: the primitives' directives and the groups above them,
 /// the materials' names (empty when unknown).
