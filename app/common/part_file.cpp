@@ -1,7 +1,10 @@
 #include "part_file.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -96,15 +99,18 @@ void write_part(const std::string& path, const PartFile& f) {
     }
 }
 
-PartFile read_part(const std::string& path) {
-    std::string data, why;
-    if (!rt::read_file(path, &data, &why)) throw std::runtime_error(why);
-    if (data.rfind(kMagic, 0) != 0)
-        throw std::runtime_error(path + ": not a part file (raytrace -o NAME.part writes them)");
-    const size_t end = data.find("\ndata\n");
-    if (end == std::string::npos)
-        throw std::runtime_error(path + ": truncated: its header does not end");
-    std::istringstream in(data.substr(std::strlen(kMagic), end + 6 - std::strlen(kMagic)));
+namespace {
+
+// The longest header read_part_header() looks through for its end: the lines are short (64
+// blocks at most, one settings line).
+constexpr size_t kMaxHeaderBytes = size_t{1} << 20;
+
+// A part's header, `head` (the file's first bytes, through "\ndata\n" at `end`), parsed and
+// checked against the file's `size`: its blocks are those of its samples and its data is the
+// size they make. Returns the part without its sums.
+PartFile parse_header(std::string_view head, size_t end, uint64_t size, const std::string& path) {
+    std::istringstream in(
+        std::string(head.substr(std::strlen(kMagic), end + 6 - std::strlen(kMagic))));
     PartFile f;
     rt::RenderPart& p = f.part;
     values(line(in, "scene", path), "scene", path, f.header.scene_hash);
@@ -150,15 +156,49 @@ PartFile read_part(const std::string& path) {
     const size_t body = end + 6, pixel_bytes = 6 * sizeof(double) * blocks;
     const bool fits = p.pixels() <= (SIZE_MAX - body - sizeof(uint64_t)) / pixel_bytes;
     const size_t want = fits ? body + p.pixels() * pixel_bytes + sizeof(uint64_t) : 0;
-    if (!fits || data.size() != want)
-        throw std::runtime_error(path + ": truncated: " + std::to_string(data.size()) + " bytes, " +
+    if (!fits || size != want)
+        throw std::runtime_error(path + ": truncated: " + std::to_string(size) + " bytes, " +
                                  "its header announces " +
                                  (fits ? std::to_string(want) : "more than 2^64"));
+    return f;
+}
+
+size_t header_end(std::string_view data, const std::string& path) {
+    if (data.substr(0, std::strlen(kMagic)) != kMagic)
+        throw std::runtime_error(path + ": not a part file (raytrace -o NAME.part writes them)");
+    const size_t end = data.find("\ndata\n");
+    if (end == std::string::npos)
+        throw std::runtime_error(path + ": truncated: its header does not end");
+    return end;
+}
+
+}  // namespace
+
+PartFile read_part_header(const std::string& path) {
+    if (std::string why = rt::regular_file_error(path); !why.empty()) throw std::runtime_error(why);
+    std::ifstream in(path, std::ios::binary);
+    std::string head;
+    char buf[4096];
+    while (head.find("\ndata\n") == std::string::npos && head.size() < kMaxHeaderBytes &&
+           in.read(buf, sizeof buf).gcount() > 0)
+        head.append(buf, static_cast<size_t>(in.gcount()));
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    if (!in.eof() && (in.fail() || ec)) throw std::runtime_error("cannot read '" + path + "'");
+    return parse_header(head, header_end(head, path), size, path);
+}
+
+PartFile read_part(const std::string& path) {
+    std::string data, why;
+    if (!rt::read_file(path, &data, &why)) throw std::runtime_error(why);
+    const size_t end = header_end(data, path);
+    PartFile f = parse_header(data, end, data.size(), path);
+    rt::RenderPart& p = f.part;
     uint64_t check = 0;
     std::memcpy(&check, data.data() + data.size() - sizeof check, sizeof check);
     if (check != fnv1a(data.substr(0, data.size() - sizeof check)))
         throw std::runtime_error(path + ": corrupt: its checksum does not match its contents");
-    const char* at = data.data() + body;
+    const char* at = data.data() + end + 6;
     for (rt::RenderPart::Block& b : p.blocks) {
         for (std::vector<double>* v : {&b.sum, &b.sum_sq}) {
             v->resize(3 * p.pixels());
@@ -167,6 +207,66 @@ PartFile read_part(const std::string& path) {
         }
     }
     return f;
+}
+
+void check_coverage(const std::vector<PartFile>& parts, const std::vector<std::string>& names) {
+    if (parts.empty()) return;
+    const int width = parts[0].header.width, height = parts[0].header.height;
+    const uint32_t total = parts[0].header.spp;
+    auto name = [&](size_t k) { return k < names.size() ? names[k] : "part " + std::to_string(k); };
+    // The tiles' edges cut the image into cells whose pixels all lie in the same parts: each
+    // cell is checked once, at its top left pixel, as merge_parts checks every pixel.
+    std::vector<int> xs{0, width}, ys{0, height};
+    for (const PartFile& f : parts) {
+        xs.insert(xs.end(), {f.part.x0, f.part.x1});
+        ys.insert(ys.end(), {f.part.y0, f.part.y1});
+    }
+    for (std::vector<int>* v : {&xs, &ys}) {
+        std::sort(v->begin(), v->end());
+        v->erase(std::unique(v->begin(), v->end()), v->end());
+    }
+    struct Piece {
+        uint32_t start;
+        int level;
+        size_t part;
+    };
+    std::vector<Piece> pieces;
+    std::vector<size_t> row;  // the parts over a row of cells
+    for (size_t j = 0; j + 1 < ys.size(); ++j) {
+        const int y = ys[j];
+        row.clear();
+        for (size_t k = 0; k < parts.size(); ++k)
+            if (parts[k].part.y0 <= y && y < parts[k].part.y1) row.push_back(k);
+        for (size_t i = 0; i + 1 < xs.size(); ++i) {
+            const int x = xs[i];
+            pieces.clear();
+            for (size_t k : row)
+                if (parts[k].part.x0 <= x && x < parts[k].part.x1)
+                    for (const rt::RenderPart::Block& b : parts[k].part.blocks)
+                        pieces.push_back({b.start, b.level, k});
+            std::sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) {
+                return a.start < b.start || (a.start == b.start && a.part < b.part);
+            });
+            const std::string at = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): ";
+            uint32_t next = 0;  // the first sample not yet covered
+            for (size_t q = 0; q < pieces.size(); ++q) {
+                const Piece& p = pieces[q];
+                if (p.start > next)
+                    throw std::invalid_argument(at + "samples " + std::to_string(next) + ".." +
+                                                std::to_string(p.start - 1) + " are in no part (" +
+                                                name(p.part) + " starts at sample " +
+                                                std::to_string(p.start) + ")");
+                if (p.start < next)
+                    throw std::invalid_argument(at + "sample " + std::to_string(p.start) +
+                                                " is in two parts (" + name(pieces[q - 1].part) +
+                                                " and " + name(p.part) + ")");
+                next = p.start + static_cast<uint32_t>(uint64_t{1} << p.level);
+            }
+            if (next != total)
+                throw std::invalid_argument(at + "samples " + std::to_string(next) + ".." +
+                                            std::to_string(total - 1) + " are in no part");
+        }
+    }
 }
 
 }  // namespace rtapp

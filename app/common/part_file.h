@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
@@ -48,5 +49,17 @@ void write_part(const std::string& path, const PartFile& part);
 /// Reads a part; std::runtime_error with what is wrong ("not a part file", "truncated: ...",
 /// "corrupt: its checksum does not match", a bad header line) otherwise.
 PartFile read_part(const std::string& path);
+/// Reads a part's header alone and checks it, and the file's size against the data it
+/// announces, as read_part does (but the checksum): its blocks hold no sums. raymerge reads
+/// every part's header first, so that parts that do not cover their image are refused before
+/// any pixel is read or the image allocated.
+PartFile read_part_header(const std::string& path);
+
+/// Checks from the parts' headers alone (their tiles and samples) that they cover every pixel of
+/// their image (the first part's width x height) with exactly the samples 0 .. spp - 1, without
+/// a buffer of the image's size. Throws std::invalid_argument naming the first pixel, row by
+/// row, and the samples in no part or in two (the parts by `names`, or "part K"), as
+/// rt::merge_parts does.
+void check_coverage(const std::vector<PartFile>& parts, const std::vector<std::string>& names);
 
 }  // namespace rtapp

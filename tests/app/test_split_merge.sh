@@ -3,7 +3,8 @@
 # raymerge, equals the one-process render bit for bit (.pfm compared byte for byte) for several
 # split shapes, an instanced scene and an animation frame; every refused part (corrupt,
 # truncated, another scene, other settings, overlapping or missing coverage, an image beyond
-# --max-pixels) gets its message and no output file.
+# --max-pixels) gets its message and no output file, parts that miss pixels of a large image
+# before the image is allocated.
 # usage: test_split_merge.sh RAYTRACE RAYMERGE SOURCE_DIR
 set -u
 rt="$1"
@@ -75,9 +76,33 @@ refused "an image beyond the budget" "huge.part: its image of 32768x32768 pixels
 refused "--max-pixels" "tiles-0.part: its image of 61x45 pixels (2745) is larger than the budget of 2000 pixels" --max-pixels 2000 "$tmp"/tiles-?.part
 "$merge" -o "$tmp/x.png" --max-pixels 0 "$tmp/tiles-0.part" >/dev/null 2>&1
 check "--max-pixels 0 exits 2" test $? -eq 2
-# The budget raised beyond the memory there is: out of memory, said so.
-check_out_of_memory "out of memory" "raymerge: error: out of memory while merging the parts" \
-    "$merge" -o "$tmp/x.png" --max-pixels 1073741824 "$tmp/huge.part"
+# Issue 49: a part of an image within the budget (77 KB, 40x40 pixels of 8192x8192) made
+# raymerge allocate the whole image (5.5 GB) before its coverage error. The parts' headers are
+# read first and the coverage checked from their tiles and samples: refused before a pixel is
+# read or the image allocated, under a cap of 1 GB (not for a sanitizer build, as
+# check_out_of_memory) and in a few MB (GNU time's maximum resident set size).
+"$rt" "$show" --width 8192 --height 8192 --spp 1 --tile 0,0,40,40 -q -o "$tmp/corner.part"
+small_merge() {  # small_merge NAME MESSAGE ARGS...: exit 1, MESSAGE, under 64 MB, no output
+    local name="$1" message="$2" sanitized=0
+    shift 2
+    grep -q -e __asan_init -e __tsan_init "$merge" && sanitized=1
+    (test $sanitized -eq 1 || ulimit -v 1000000
+        exec /usr/bin/time -f "%M" -o "$tmp/rss.txt" "$merge" -o "$tmp/refused.pfm" "$@") \
+        >"$tmp/err.txt" 2>&1
+    check "$name: exit 1" test $? -eq 1
+    check "$name: message" grep -qxF "$message" "$tmp/err.txt"
+    check "$name: no output" test ! -e "$tmp/refused.pfm"
+    local rss
+    rss=$(tail -n 1 "$tmp/rss.txt")  # after "Command exited with non-zero status 1"
+    check "$name: under 64 MB ($rss KB)" test $sanitized -eq 1 -o "$rss" -lt 65536
+}
+small_merge "a small part of a large image" \
+    "raymerge: error: the parts do not cover the image once: pixel (40, 0): samples 0..0 are in no part" \
+    "$tmp/corner.part"
+# And beyond the memory there is (the budget raised to 2^30 pixels): the same.
+small_merge "a one-pixel part of 32768x32768" \
+    "raymerge: error: the parts do not cover the image once: pixel (1, 0): samples 0..0 are in no part" \
+    --max-pixels 1073741824 "$tmp/huge.part"
 
 # raytrace's usage errors for splits.
 "$rt" "$show" --tile 0,0,10,10 -o "$tmp/x.png" >/dev/null 2>"$tmp/u.txt"
