@@ -18,9 +18,8 @@ namespace raytrace {
 
 namespace {
 
-// The JSON file, written as it is made into a scratch file beside its name, and renamed to it
-// only when the whole run has succeeded: a run that fails leaves no file (and the old one, if
-// any, as it was).
+// The JSON file, written as it is made into a scratch file beside its name and renamed to it
+// when complete: a run that fails leaves no file (and the old one, if any, as it was).
 class JsonOutput {
 public:
     explicit JsonOutput(const std::string& path) : m_path(path) {
@@ -29,7 +28,12 @@ public:
         m_scratch = rt::create_scratch_file(path, &fd);
         ::close(fd);
         m_out.open(m_scratch, std::ios::binary | std::ios::trunc);
-        if (!m_out) fail();
+        if (!m_out) {
+            const int e = errno;
+            std::remove(m_scratch.c_str());  // no destructor after a throwing constructor
+            errno = e;
+            fail();
+        }
     }
     JsonOutput(const JsonOutput&) = delete;
     JsonOutput& operator=(const JsonOutput&) = delete;
@@ -65,12 +69,14 @@ int run_inspect(const Options& opt, const rt::SceneDesc& desc, const rt::RenderS
     const rt::PixelTree tree =
         rt::inspect_pixel(scene, plan, opt, in.x, in.y, static_cast<uint32_t>(in.sample), opt.spp);
     const rt::InspectNames names{&desc, &report.prim_locs, &report.material_names};
+    // The text first: when it cannot be written (a full disk, out of memory, a closed pipe's
+    // SIGPIPE), no JSON file has been started.
     try {
-        JsonOutput json(in.json);
-        if (std::ostream* out = json.stream()) rt::inspect_json(*out, tree, scene, names);
         rt::inspect_text(std::cout, tree, scene, names);
         std::cout.flush();
         if (!std::cout) throw std::runtime_error("cannot write the tree to the standard output");
+        JsonOutput json(in.json);
+        if (std::ostream* out = json.stream()) rt::inspect_json(*out, tree, scene, names);
         json.commit();
     } catch (const std::bad_alloc&) {
         throw std::runtime_error("out of memory while formatting the ray tree of pixel " +

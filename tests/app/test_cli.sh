@@ -311,6 +311,13 @@ check "--inspect to a full disk exits 1" test $? -eq 1
 check "and says so" grep -q "^raytrace: error: cannot write the tree to the standard output" "$tmp/full.txt"
 check "and writes no JSON, nor a scratch file" test -z "$(ls -A "$tmp/full")"
 
+# A reader that stops early (head) ends raytrace by SIGPIPE while the text is printed: the text
+# comes first, so no JSON file has been started, and no scratch file is left.
+mkdir "$tmp/pipe"
+"$rt" "$tmp/explode.ray" --width 8 --height 8 --depth 256 --inspect 4,4 \
+    --inspect-json "$tmp/pipe/t.json" 2>/dev/null | head -1 >/dev/null
+check "--inspect | head leaves no JSON, nor a scratch file" test -z "$(ls -A "$tmp/pipe")"
+
 # Names from the scene: control characters are escaped in the text (they would move the
 # terminal's cursor) and the JSON is strict UTF-8 whatever the bytes.
 printf '#camera 0 0 5  0 0 -1  0 1 0  0.5\n#light_point 1 1 1  2 2 2  1 0 0\n#material 0 0 0  .1 .1 .1  .8 .2 .2  .5 .5 .5  20  0 0 0  1  -1 !red\033[2J\377!\n#shape_sphere 0  0 0 0  1\n' >"$tmp/names.ray"
