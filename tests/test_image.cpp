@@ -581,6 +581,11 @@ TEST(ImageDecode, ExrFromMemoryEqualsTheFile) {
         // R, G and B alone read the same values.
         EXPECT_EQ(decode_exr_rgb(fixture(name)).rgb, rgb.rgb) << name;
     }
+    // 32-bit unsigned R, G and B keep every bit (not through float).
+    EXPECT_EQ(decode_exr_rgb(fixture("rgb_uint.exr")).rgb,
+              (std::vector<double>{16777217, 0, 4294967295.0, 1, 2, 3}));
+    EXPECT_EQ(decode_exr(fixture("rgb_uint.exr")).rgb().rgb,
+              decode_exr_rgb(fixture("rgb_uint.exr")).rgb);
 }
 
 // ---- what a hostile file costs ------------------------------------------------------------------

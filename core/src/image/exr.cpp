@@ -529,19 +529,21 @@ ExrImage read_exr(Imf::InputFile& file) {
 Image read_exr_rgb(Imf::InputFile& file) {
     const Imf::ChannelList& list = file.header().channels();
     const std::vector<std::string> names{"R", "G", "B"};
+    std::vector<Imf::PixelType> types;
     for (const std::string& n : names) {
         const Imf::Channel* c = list.findChannel(n);
         if (!c) throw std::runtime_error("the EXR image has no channel " + n);
         check_sampling(n.c_str(), *c);
+        types.push_back(c->type == Imf::UINT ? Imf::UINT : Imf::FLOAT);  // as read_exr
     }
     Image out;
     std::tie(out.width, out.height) = checked_size(file.header(), names.size());
     const size_t values = static_cast<size_t>(out.width) * static_cast<size_t>(out.height) * 3;
-    read_bands(file, names, {Imf::FLOAT, Imf::FLOAT, Imf::FLOAT},
+    read_bands(file, names, types,
                [&](size_t c, size_t first, const uint32_t* words, size_t count) {
                    grow(out.rgb, std::max(out.rgb.size(), (first + count) * 3), values);
                    for (size_t i = 0; i < count; ++i)
-                       out.rgb[(first + i) * 3 + c] = value(words[i], Imf::FLOAT);
+                       out.rgb[(first + i) * 3 + c] = value(words[i], types[c]);
                });
     return out;
 }
