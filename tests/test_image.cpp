@@ -18,6 +18,7 @@
 #include "rt/image/image.h"
 #include "rt/util/file_io.h"
 #include "rt/util/limits.h"
+#include "rt/util/sanitizers.h"
 #include "test_util.h"
 
 namespace rt {
