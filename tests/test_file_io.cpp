@@ -135,3 +135,41 @@ TEST(FileIo, WriteRefusesToReplaceAFifo) {
     EXPECT_TRUE(fs::is_fifo(fifo));
     EXPECT_EQ(entries(dir), 1u);
 }
+
+// The kernel's files look regular but are the process's environment and memory: an error names
+// the file system, never the file's bytes, and /proc/self/pagemap (whose reads would go on until
+// memory runs out) is never read.
+TEST(FileIo, ReadRefusesTheKernelsPseudoFiles) {
+    for (const std::string path :
+         {"/proc/self/environ", "/proc/self/pagemap", "/proc/self/status"}) {
+        if (!fs::exists(path)) continue;
+        std::string text = "before", why;
+        EXPECT_FALSE(read_file(path, &text, &why)) << path;
+        EXPECT_EQ(why, "'" + path + "' is a file of the kernel (in /proc), not a regular file");
+        EXPECT_TRUE(text.empty());
+        EXPECT_EQ(rt::regular_file_error(path), why);
+    }
+    const std::string sys = "/sys/kernel/mm/transparent_hugepage/enabled";
+    if (fs::is_regular_file(sys)) {
+        std::string text, why;
+        EXPECT_FALSE(read_file(sys, &text, &why));
+        EXPECT_EQ(why, "'" + sys + "' is a file of the kernel (in sysfs), not a regular file");
+    }
+}
+
+// A file over the largest size read is refused with its size before a byte is read (a sparse
+// file: no disk is used).
+TEST(FileIo, ReadRefusesAFileOverTheLargestSize) {
+    const fs::path dir = fresh_dir("rt_io_huge");
+    const std::string path = (dir / "huge.ray").string();
+    { std::ofstream(path) << "x"; }
+    fs::resize_file(path, rt::kMaxFileBytes + 1);
+    rt::FileBytes bytes;
+    std::string why;
+    EXPECT_FALSE(read_file(path, &bytes, &why));
+    EXPECT_EQ(why, "'" + path + "' is " + std::to_string(rt::kMaxFileBytes + 1) +
+                       " bytes, larger than the largest file read (" +
+                       std::to_string(rt::kMaxFileBytes) + " bytes)");
+    EXPECT_EQ(bytes.capacity(), 0u);
+    fs::remove(path);
+}

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -23,6 +24,28 @@ const char* kind_of(mode_t mode) {
     return "a special file";
 }
 
+// The kernel's pseudo file systems, by statfs's f_type (linux/magic.h): their "regular" files
+// are windows onto the kernel and the process (/proc/self/environ, /proc/self/pagemap, whose reads
+// go on far past its size of 0), never scene data.
+struct PseudoFileSystem {
+    unsigned long magic;
+    const char* name;
+};
+constexpr PseudoFileSystem kPseudoFileSystems[] = {
+    {0x9fa0, "/proc"},           {0x62656572, "sysfs"},      {0x64626720, "debugfs"},
+    {0x74726163, "tracefs"},     {0x73636673, "securityfs"}, {0x27e0eb, "cgroup"},
+    {0x63677270, "cgroup2"},     {0x62656570, "configfs"},   {0xde5e81e4, "efivarfs"},
+    {0xcafe4a11, "bpf"},         {0x6165676c, "pstore"},     {0x1cd1, "devpts"},
+    {0x42494e4d, "binfmt_misc"},
+};
+
+// Null when `type` is an ordinary file system.
+const char* pseudo_file_system(long type) {
+    for (const PseudoFileSystem& p : kPseudoFileSystems)
+        if (static_cast<unsigned long>(type) == p.magic) return p.name;
+    return nullptr;
+}
+
 // Opens `path` for reading without blocking (O_NONBLOCK: opening a FIFO with no writer would wait
 // forever) and checks that it is a regular file. Returns the descriptor, or -1 with *why set.
 int open_regular(const std::string& path, struct stat* st, std::string* why) {
@@ -38,6 +61,21 @@ int open_regular(const std::string& path, struct stat* st, std::string* why) {
     }
     if (!S_ISREG(st->st_mode)) {
         *why = "'" + path + "' is " + kind_of(st->st_mode) + ", not a regular file";
+        ::close(fd);
+        return -1;
+    }
+    struct statfs fs {};
+    if (::fstatfs(fd, &fs) == 0) {
+        if (const char* name = pseudo_file_system(fs.f_type)) {
+            *why = "'" + path + "' is a file of the kernel (in " + name + "), not a regular file";
+            ::close(fd);
+            return -1;
+        }
+    }
+    if (static_cast<uint64_t>(st->st_size) > kMaxFileBytes) {
+        *why = "'" + path + "' is " + std::to_string(st->st_size) +
+               " bytes, larger than the largest file read (" + std::to_string(kMaxFileBytes) +
+               " bytes)";
         ::close(fd);
         return -1;
     }
@@ -65,7 +103,8 @@ bool read_whole(const std::string& path, Buffer* out, std::string* why) {
     if (fd >= 0) {
         // The size from fstat sizes the buffer, which is filled first; only what a file that
         // grew meanwhile adds goes through a small buffer (growing the whole one to probe for the
-        // end would double the memory of every read).
+        // end would double the memory of every read), and no more than kMaxFileGrowth of it: a
+        // file whose reads do not end at its size is refused, not read until memory runs out.
         out->resize(static_cast<size_t>(st.st_size));
         size_t done = 0;
         char extra[4096];
@@ -74,7 +113,16 @@ bool read_whole(const std::string& path, Buffer* out, std::string* why) {
             const ssize_t n = in_place ? ::read(fd, out->data() + done, out->size() - done)
                                        : ::read(fd, extra, sizeof extra);
             if (n > 0) {
-                if (!in_place) out->insert(out->end(), extra, extra + n);
+                if (!in_place) {
+                    if (done + static_cast<size_t>(n) >
+                        static_cast<size_t>(st.st_size) + kMaxFileGrowth) {
+                        reason =
+                            "'" + path + "' grew by more than " + std::to_string(kMaxFileGrowth) +
+                            " bytes while it was read (from " + std::to_string(st.st_size) + ")";
+                        break;
+                    }
+                    out->insert(out->end(), extra, extra + n);
+                }
                 done += static_cast<size_t>(n);
             } else if (n == 0) {
                 break;
@@ -83,7 +131,7 @@ bool read_whole(const std::string& path, Buffer* out, std::string* why) {
                 break;
             }
         }
-        out->resize(done);
+        out->resize(reason.empty() ? done : 0);
         ::close(fd);
     }
     if (why) *why = reason;

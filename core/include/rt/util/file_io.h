@@ -9,12 +9,16 @@
 #include <vector>
 
 #include "rt/util/huge_pages.h"
+#include "rt/util/limits.h"
 
 namespace rt {
 
 /// Reads a regular file whole (into a buffer of the size the file has). False when it cannot be
 /// read, with the reason in *why when given (see regular_file_error). A FIFO, a device or a
-/// directory is never opened for reading (a FIFO would block, /dev/zero never ends): it is refused.
+/// directory is never opened for reading (a FIFO would block, /dev/zero never ends): it is refused,
+/// and so is a file of the kernel's pseudo file systems (/proc, /sys, debugfs, ...: their files
+/// are the process's environment and memory maps, never scene data), a file over kMaxFileBytes,
+/// and one that grows by more than kMaxFileGrowth while it is read.
 bool read_file(const std::string& path, std::string* out, std::string* why = nullptr);
 
 /// HugePageAllocator whose elements are default-initialised: a buffer that is about to be read

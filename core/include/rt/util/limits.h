@@ -16,6 +16,13 @@ inline constexpr uint64_t kDefaultMaxImagePixels = uint64_t{1} << 26;
 /// the size checks' products (pixels x channels x bytes) cannot overflow 64 bits.
 inline constexpr uint64_t kMaxImagePixelsLimit = uint64_t{1} << 40;
 
+/// The largest file read (scenes, textures, images, parts, configurations): 4 GiB, a text scene of
+/// about 50 million triangles. A larger file is refused with its size before anything is read.
+inline constexpr uint64_t kMaxFileBytes = uint64_t{4} << 30;
+/// How much a file may grow while it is read beyond the size it had when opened (1 MiB): a read
+/// past that is refused, so a file whose reads never end cannot take the machine's memory.
+inline constexpr uint64_t kMaxFileGrowth = uint64_t{1} << 20;
+
 /// The budget in force (process-wide; kDefaultMaxImagePixels until set).
 uint64_t max_image_pixels();
 /// Sets the budget, clamped to [1, kMaxImagePixelsLimit]; the programs call it from --max-pixels
