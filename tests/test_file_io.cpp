@@ -2,8 +2,10 @@
 // own (its scratch file has a name of its own, with a new file's permissions, and goes on failure).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -172,4 +174,53 @@ TEST(FileIo, ReadRefusesAFileOverTheLargestSize) {
                        std::to_string(rt::kMaxFileBytes) + " bytes)");
     EXPECT_EQ(bytes.capacity(), 0u);
     fs::remove(path);
+}
+
+// A SIGINT, SIGTERM or SIGHUP while a scratch file exists (a Ctrl-C during a write) removes it
+// before the signal ends the process; the file already there keeps its bytes.
+TEST(FileIo, ASignalDuringAWriteLeavesNoScratchFile) {
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        const fs::path dir = fresh_dir("rt_io_signal_" + std::to_string(sig));
+        const std::string out = (dir / "out.png").string();
+        write_file_atomic(out, "the old image");
+        const pid_t pid = ::fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            int fd = -1;
+            const std::string scratch = rt::create_scratch_file(out, &fd);
+            if (::write(fd, "half", 4) != 4) ::_exit(3);
+            ::raise(sig);
+            ::_exit(fs::exists(scratch) ? 4 : 5);  // not reached: the signal ends the child
+        }
+        int status = 0;
+        ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+        ASSERT_TRUE(WIFSIGNALED(status)) << "signal " << sig << ": exit " << WEXITSTATUS(status);
+        EXPECT_EQ(WTERMSIG(status), sig);
+        EXPECT_EQ(entries(dir), 1u) << "signal " << sig;
+        EXPECT_EQ(contents(out), "the old image");
+    }
+}
+
+// Committed and discarded scratch files give their places back: after 100 writes (more than the
+// registry's places), a signal still removes the scratch file of the write under way.
+TEST(FileIo, ScratchFilesDoneWithAreForgotten) {
+    const fs::path dir = fresh_dir("rt_io_signal_many");
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        for (int i = 0; i < 50; ++i) {
+            std::string name = "f";  // (GCC 12 warns of "f" + std::to_string as an overflow)
+            name += std::to_string(i);
+            const std::string out = (dir / name).string();
+            rt::commit_scratch_file(rt::write_scratch_file(out, "done"), out);
+            rt::discard_scratch_file(rt::create_scratch_file(out));
+        }
+        rt::create_scratch_file((dir / "last").string());
+        ::raise(SIGTERM);
+        ::_exit(0);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFSIGNALED(status));
+    EXPECT_EQ(entries(dir), 50u);  // f0 .. f49, and no scratch file
 }

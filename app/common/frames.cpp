@@ -110,9 +110,8 @@ bool encode_video(const std::string& pattern, int frames, double fps, const std:
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     pid_t pid = 0;
-    std::error_code ec;
     if (posix_spawn(&pid, ffmpeg.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
-        fs::remove(part, ec);
+        rt::discard_scratch_file(part);
         *error = "cannot run " + ffmpeg;
         return false;
     }
@@ -120,14 +119,14 @@ bool encode_video(const std::string& pattern, int frames, double fps, const std:
     while (waitpid(pid, &status, 0) < 0) {
     }
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        fs::remove(part, ec);
+        rt::discard_scratch_file(part);
         *error = "ffmpeg failed to encode " + video + " (its messages are above)";
         return false;
     }
-    fs::rename(part, out, ec);
-    if (ec) {
-        fs::remove(part, ec);
-        *error = "cannot write " + video;
+    try {
+        rt::commit_scratch_file(part, video);
+    } catch (const std::exception& e) {
+        *error = e.what();
         return false;
     }
     return true;

@@ -17,7 +17,7 @@ std::string probe_writable(const std::string& path) {
     std::error_code ec;
     if (fs::is_directory(path, ec)) return "cannot write '" + path + "': it is a directory";
     try {
-        fs::remove(rt::create_scratch_file(path), ec);
+        rt::discard_scratch_file(rt::create_scratch_file(path));
     } catch (const std::exception& e) {
         return e.what();
     }
@@ -62,10 +62,9 @@ void write_outputs(const rt::Image& image, const std::string& image_path,
             rt::save_exr(image, exr.channels, exr.full_float, image_path);
         else
             rt::save_image(image, image_path);
-        for (const auto& [scratch, path] : staged) fs::rename(scratch, path);
+        for (const auto& [scratch, path] : staged) rt::commit_scratch_file(scratch, path);
     } catch (const std::exception&) {
-        std::error_code ec;
-        for (const auto& [scratch, path] : staged) fs::remove(scratch, ec);
+        for (const auto& [scratch, path] : staged) rt::discard_scratch_file(scratch);
         throw;
     }
 }

@@ -5,9 +5,14 @@
 #include <sys/vfs.h>
 #include <unistd.h>
 
+#include <array>
+#include <atomic>
 #include <cerrno>
+#include <climits>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <random>
 #include <stdexcept>
 
@@ -148,6 +153,83 @@ bool read_file(const std::string& path, FileBytes* out, std::string* why) {
     return read_whole(path, out, why);
 }
 
+// ---- scratch files and the signals that would leave them ---------------------------------------
+namespace {
+
+// The scratch files that exist now, for the handler of SIGINT, SIGTERM and SIGHUP to remove before
+// the signal ends the process (a Ctrl-C during a write, a job killed by its scheduler). Fixed
+// slots of fixed size: the handler may only read memory and call unlink(), which is
+// async-signal-safe; a slot's path is written before the slot is marked live and never freed.
+constexpr size_t kScratchSlots = 64;
+struct ScratchSlot {
+    std::atomic<int> state{0};  // 0 free, 1 being filled, 2 live
+    char path[PATH_MAX];
+};
+std::array<ScratchSlot, kScratchSlots> g_scratch;
+
+void remove_scratch_files_and_reraise(int sig) {
+    for (ScratchSlot& s : g_scratch)
+        if (s.state.load(std::memory_order_acquire) == 2) ::unlink(s.path);
+    // The default action, as if we had never been here: the process ends by the signal.
+    ::signal(sig, SIG_DFL);
+    ::raise(sig);
+}
+
+// Installed once, for each signal whose action is still the default (a program with handlers of
+// its own, such as rayview's clean quit, keeps them; an ignored signal stays ignored).
+void install_scratch_handlers() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+            struct sigaction old {};
+            if (::sigaction(sig, nullptr, &old) != 0) continue;
+            if ((old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL) continue;
+            struct sigaction sa {};
+            sa.sa_handler = remove_scratch_files_and_reraise;
+            sigemptyset(&sa.sa_mask);
+            ::sigaction(sig, &sa, nullptr);
+        }
+    });
+}
+
+// Registers a scratch file (a path too long for a slot, or all slots taken: not registered, so
+// only a signal could leave it, as before).
+void track_scratch(const std::string& name) {
+    if (name.size() >= PATH_MAX) return;
+    install_scratch_handlers();
+    for (ScratchSlot& s : g_scratch) {
+        int expected = 0;
+        if (!s.state.compare_exchange_strong(expected, 1, std::memory_order_acquire)) continue;
+        std::memcpy(s.path, name.c_str(), name.size() + 1);
+        s.state.store(2, std::memory_order_release);
+        return;
+    }
+}
+
+void untrack_scratch(const std::string& name) {
+    for (ScratchSlot& s : g_scratch) {
+        if (s.state.load(std::memory_order_acquire) != 2 || name != s.path) continue;
+        int expected = 2;
+        if (s.state.compare_exchange_strong(expected, 0, std::memory_order_acq_rel)) return;
+    }
+}
+
+}  // namespace
+
+void commit_scratch_file(const std::string& scratch, const std::string& path) {
+    if (::rename(scratch.c_str(), path.c_str()) != 0) {
+        const int error = errno;
+        discard_scratch_file(scratch);
+        throw std::runtime_error("cannot write '" + path + "': " + std::strerror(error));
+    }
+    untrack_scratch(scratch);
+}
+
+void discard_scratch_file(const std::string& scratch) {
+    ::unlink(scratch.c_str());
+    untrack_scratch(scratch);
+}
+
 std::string create_scratch_file(const std::string& path, int* fd, const std::string& suffix) {
     // The rename would replace a FIFO or a device (/dev/null as root) by the file.
     struct stat st {};
@@ -168,7 +250,19 @@ std::string create_scratch_file(const std::string& path, int* fd, const std::str
         for (int i = 0; i < 6; ++i) name += kChars[random() % (sizeof kChars - 1)];
         name += suffix;
         // 0666: the kernel takes the umask off, as for any new file.
-        const int f = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        // Created and registered with the signals held back, so that no moment passes when a
+        // signal would leave it (registered after the open: a name taken by another file, which
+        // O_EXCL refuses, is never registered, so never removed).
+        const int f = [&] {
+            sigset_t hold, old;
+            sigemptyset(&hold);
+            for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&hold, sig);
+            ::pthread_sigmask(SIG_BLOCK, &hold, &old);
+            const int opened = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+            if (opened >= 0) track_scratch(name);
+            ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+            return opened;
+        }();
         if (f >= 0) {
             if (fd)
                 *fd = f;
@@ -195,19 +289,14 @@ std::string write_scratch_file(const std::string& path, const std::string& data)
     // The close reports what a full disk or a quota kept back (NFS writes on close).
     if (::close(fd) != 0 && !error) error = errno;
     if (error) {
-        ::unlink(scratch.c_str());
+        discard_scratch_file(scratch);
         throw std::runtime_error("cannot write '" + path + "': " + std::strerror(error));
     }
     return scratch;
 }
 
 void write_file_atomic(const std::string& path, const std::string& data) {
-    const std::string scratch = write_scratch_file(path, data);
-    if (::rename(scratch.c_str(), path.c_str()) != 0) {
-        const int error = errno;
-        ::unlink(scratch.c_str());
-        throw std::runtime_error("cannot write '" + path + "': " + std::strerror(error));
-    }
+    commit_scratch_file(write_scratch_file(path, data), path);
 }
 
 }  // namespace rt

@@ -62,8 +62,17 @@ std::string regular_file_error(const std::string& path);
 std::string create_scratch_file(const std::string& path, int* fd = nullptr,
                                 const std::string& suffix = ".tmp");
 
+/// Renames a scratch file to `path` (or, when that fails, removes it and throws "cannot write
+/// 'path': why"). A scratch file is registered while it exists: a SIGINT, SIGTERM or SIGHUP
+/// that arrives meanwhile removes it before it ends the process (where the program has no
+/// handler of its own for that signal). Only SIGKILL, a crash or a power cut can leave one,
+/// under its own hidden name (".NAME.XXXXXX.tmp"), never as `path`.
+void commit_scratch_file(const std::string& scratch, const std::string& path);
+/// Removes a scratch file that is not wanted after all.
+void discard_scratch_file(const std::string& scratch);
+
 /// Writes `data` to a new scratch file beside `path` (create_scratch_file) and returns its
-/// name, for the caller to rename to `path` when everything it writes is ready (or to remove).
+/// name, for the caller to commit to `path` when everything it writes is ready (or to discard).
 /// Throws std::runtime_error ("cannot write 'path': why") and leaves nothing behind on failure.
 std::string write_scratch_file(const std::string& path, const std::string& data);
 
