@@ -118,6 +118,11 @@ TEST_F(KeyFiles, BadKeyFilesAreErrorsAtTheirPlace) {
     EXPECT_EQ(error_with_key("#DOFS 2 a a #DURATION 1 #FRAMES 1"),
               "k.key:1:11: error: duplicate DOF name 'a'");
     EXPECT_EQ(error_with_key(""), "k.key:1:1: error: expected #DOFS, got end of file");
+    // A first token that is not printable text is not quoted (a binary file, or a secret).
+    EXPECT_EQ(error_with_key(std::string("KEY=secret\0#DOFS", 17)),
+              "k.key:1:1: error: 'k.key' is not a .key file: its first bytes are not printable "
+              "text");
+    EXPECT_EQ(error_with_key("DOFS 1"), "k.key:1:1: error: expected #DOFS, got 'DOFS'");
     // A joint naming no DOF, a missing file, a #group_end closing a joint.
     EXPECT_EQ(error_with_key("#DOFS 1 b #DURATION 1 #FRAMES 1" + kId),
               "t.ray:2:14: error: no DOF 'a' in key files k.key");

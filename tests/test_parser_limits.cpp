@@ -144,12 +144,21 @@ TEST(BadInput, BinaryGarbage) {
 }
 
 TEST(BadInput, NulBytesAndControlBytesAreEscaped) {
-    EXPECT_EQ(parse_error(std::string("#camera\0 0", 10)),
-              "test.ray:1:1: error: unknown directive '#camera\\x00'");
+    EXPECT_EQ(parse_error(std::string("#ambient 0 0 0\n#camera\0 0", 25)),
+              "test.ray:2:1: error: unknown directive '#camera\\x00'");
     EXPECT_EQ(parse_error(std::string("#ambient 0 0 \0\n", 16)),
               "test.ray:1:14: error: expected 3 numbers after #ambient, got '\\x00'");
-    EXPECT_EQ(parse_error(std::string("\0\0\0", 3)),
-              "test.ray:1:1: error: expected a directive, got '\\x00\\x00\\x00'");
+    EXPECT_EQ(parse_error(std::string("#ambient 0 0 0\n\0\0\0", 18)),
+              "test.ray:2:1: error: expected a directive, got '\\x00\\x00\\x00'");
+    // A file's first token is never quoted when it is not printable text: a binary file or a
+    // secret (/proc/self/environ's NUL-separated variables) never reaches the message.
+    const std::string not_text =
+        "test.ray:1:1: error: 'test.ray' is not a .ray scene: its first bytes are not printable "
+        "text";
+    EXPECT_EQ(parse_error(std::string("\0\0\0", 3)), not_text);
+    EXPECT_EQ(parse_error(std::string("#camera\0 0", 10)), not_text);
+    EXPECT_EQ(parse_error(std::string("SECRET=1\0HOME=/root\0", 21)), not_text);
+    EXPECT_EQ(parse_error("\x89PNG\r\n\x1a\n"), not_text);
     EXPECT_EQ(parse_error("#ambient 0 0 \x1b[31m\n"),
               "test.ray:1:14: error: expected 3 numbers after #ambient, got '\\x1b[31m'");
     // NUL inside comments and strings is just text.
@@ -161,15 +170,21 @@ TEST(BadInput, NulBytesAndControlBytesAreEscaped) {
 }
 
 TEST(BadInput, InvalidUtf8) {
-    // Invalid sequences are escaped in messages; valid UTF-8 is kept as is.
-    EXPECT_EQ(parse_error("#\xff\xfe\n"), "test.ray:1:1: error: unknown directive '#\\xff\\xfe'");
+    // Invalid sequences are escaped in messages; valid UTF-8 is kept as is (after a file's first
+    // token, which is never quoted when it is not text: BadInput.NulBytesAndControlBytesAre...).
+    const std::string a = "#ambient 0 0 0\n";
+    EXPECT_EQ(parse_error(a + "#\xff\xfe\n"),
+              "test.ray:2:1: error: unknown directive '#\\xff\\xfe'");
     EXPECT_EQ(parse_error("#caf\xc3\xa9\n"),
               "test.ray:1:1: error: unknown directive '#caf\xc3\xa9'");
-    EXPECT_EQ(parse_error("#x\xc3\n"), "test.ray:1:1: error: unknown directive '#x\\xc3'");
-    EXPECT_EQ(parse_error("#x\xed\xa0\x80\n"),  // a UTF-16 surrogate
-              "test.ray:1:1: error: unknown directive '#x\\xed\\xa0\\x80'");
-    EXPECT_EQ(parse_error("#x\xc0\xaf\n"),  // overlong '/'
-              "test.ray:1:1: error: unknown directive '#x\\xc0\\xaf'");
+    EXPECT_EQ(parse_error(a + "#x\xc3\n"), "test.ray:2:1: error: unknown directive '#x\\xc3'");
+    EXPECT_EQ(parse_error(a + "#x\xed\xa0\x80\n"),  // a UTF-16 surrogate
+              "test.ray:2:1: error: unknown directive '#x\\xed\\xa0\\x80'");
+    EXPECT_EQ(parse_error(a + "#x\xc0\xaf\n"),  // overlong '/'
+              "test.ray:2:1: error: unknown directive '#x\\xc0\\xaf'");
+    EXPECT_EQ(parse_error("#x\xc0\xaf\n"),
+              "test.ray:1:1: error: 'test.ray' is not a .ray scene: its first bytes are not "
+              "printable text");
     EXPECT_EQ(parse_error("#joint_begin \xff\n"),
               "test.ray:1:14: error: non-ASCII byte in a joint name '\\xff'");
     // In comments and strings it is only text (spec §2).

@@ -30,6 +30,8 @@ KeyFile parse_key_file(SceneBuilder& b, const std::string& text, const std::stri
     key.path = path;
     auto expect = [&](std::string_view name) {
         const Token t = k.lex.next();
+        if (name == "#DOFS" && t.kind != TokenKind::End && !printable_text(t.text))
+            b.fail(k.lex.loc(t), not_text_message(path, "a .key file"));
         if (t.kind != TokenKind::Directive || t.text != name)
             b.fail(k.lex.loc(t), "expected " + std::string(name) + ", got " + describe(t));
         return t;

@@ -132,6 +132,8 @@ void Parser::walk_file(FileState& f) {
     size_t next = 0;
     if (parse_threads() < 2) runs = nullptr;
     Token t = f.lex.next();
+    if (t.kind != TokenKind::End && !printable_text(t.text))
+        m_build.fail(f.lex.loc(t), not_text_message(f.desc.path));
     while (t.kind != TokenKind::End) {
         const size_t bound = runs && next < runs->size() ? (*runs)[next].marks[0].offset : SIZE_MAX;
         t = walk(f, t, bound);

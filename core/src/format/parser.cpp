@@ -86,6 +86,20 @@ std::string quote(std::string_view s) {
     return r;
 }
 
+bool printable_text(std::string_view s) {
+    for (size_t i = 0; i < s.size();) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        const size_t n = c >= 0x80 ? utf8_length(s, i) : (c < 0x20 || c == 0x7F ? 0 : 1);
+        if (n == 0) return false;
+        i += n;
+    }
+    return true;
+}
+
+std::string not_text_message(const std::string& name, const std::string& what) {
+    return quote(name) + " is not " + what + ": its first bytes are not printable text";
+}
+
 std::string read_failure(const std::string& lead, const std::string& path, const std::string& why) {
     // read_file() names the path itself when it cannot open it; it is named once here.
     const std::string opening = "cannot open '" + path + "': ";
