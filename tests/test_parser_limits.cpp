@@ -328,6 +328,24 @@ TEST_F(BadFiles, HugeTextureHeader) {
                   "for at most 3");
 }
 
+// A directory found where a file is named is said to be one (it read as "not found"); a file of
+// the kernel is refused before a byte of it is read, so none reaches the message.
+TEST_F(BadFiles, DirectoriesAndKernelFilesAreNamedAsSuch) {
+    std::filesystem::create_directories(dir / "sub");
+    const std::string scene = write("d.ray", "#ray_file sub\n");
+    EXPECT_EQ(load_error(scene), scene + ":1:11: error: cannot open ray file 'sub' (tried " +
+                                     (dir / "sub").string() + " (a directory), ./sub)");
+    const std::string tex = write("t.ray", "#texture " + (dir / "sub").string() + "\n");
+    EXPECT_EQ(load_error(tex), tex + ":1:10: error: cannot open texture '" +
+                                   (dir / "sub").string() + "' (tried " + (dir / "sub").string() +
+                                   " (a directory))");
+    const std::string env = write("e.ray", "#ray_file /proc/self/environ\n");
+    EXPECT_EQ(load_error(env), env +
+                                   ":1:11: error: cannot read ray file '/proc/self/environ': "
+                                   "'/proc/self/environ' is a file of the kernel (in /proc), "
+                                   "not a regular file");
+}
+
 // 100 MB of text, generated here: a long comment line and 100 MB of vertices-free filler; the
 // lexer keeps its columns and lines and the memory stays a small multiple of the text.
 TEST_F(BadFiles, HundredMegabytes) {

@@ -117,6 +117,11 @@ bool is_file(const fs::path& p) {
     return !ec && fs::exists(st) && !fs::is_directory(st);
 }
 
+bool is_dir(const fs::path& p) {
+    std::error_code ec;
+    return fs::is_directory(p, ec);
+}
+
 std::string canonical_path(const std::string& path) {
     std::error_code ec;
     const fs::path a = fs::absolute(path, ec);

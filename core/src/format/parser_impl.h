@@ -41,6 +41,7 @@ std::string read_failure(const std::string& lead, const std::string& path, const
 /// is_file: anything there but a directory; a FIFO or a device is found, and reading it is
 /// refused with the reason (read_file), rather than "not found".
 bool is_file(const std::filesystem::path& p);
+bool is_dir(const std::filesystem::path& p);
 std::string canonical_path(const std::string& path);
 std::string lower(std::string_view s);
 /// The shape kind whose directive is #shape_<kName> (spec §3.3, §13.5), if any (dialect.cpp).

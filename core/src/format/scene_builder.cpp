@@ -156,7 +156,7 @@ std::optional<std::string> SceneBuilder::try_resolve(const FileState& f, const S
                                                      std::string* tried) const {
     const fs::path p(path);
     if (p.is_absolute()) {
-        if (tried) tried->clear();
+        if (tried) *tried = is_dir(p) ? path + " (a directory)" : "";
         return is_file(p) ? std::optional<std::string>(path) : std::nullopt;
     }
     const bool v3 = m_dialect == Dialect::V3;
@@ -180,8 +180,11 @@ std::optional<std::string> SceneBuilder::try_resolve(const FileState& f, const S
         return found;
     }
     if (tried) {
+        // A directory of that name is found but not taken: said so, not left to look missing.
         tried->clear();
-        for (const fs::path& c : unique) *tried += (tried->empty() ? "" : ", ") + c.string();
+        for (const fs::path& c : unique)
+            *tried +=
+                (tried->empty() ? "" : ", ") + c.string() + (is_dir(c) ? " (a directory)" : "");
     }
     return std::nullopt;
 }
