@@ -346,6 +346,33 @@ TEST_F(BadFiles, DirectoriesAndKernelFilesAreNamedAsSuch) {
                                    "not a regular file");
 }
 
+// The textures of one scene hold at most 4 x --max-pixels texels together: the #texture that
+// would pass that is refused with its place before its pixels are allocated, however small its
+// file. Here the budget is 64x64 per image, so 4 textures of 64x64 fit and a fifth does not.
+TEST_F(BadFiles, TheTexturesOfASceneHaveABudget) {
+    const uint64_t before = max_image_pixels();
+    set_max_image_pixels(64 * 64);
+    std::string scene;
+    for (int i = 0; i < 5; ++i) {
+        // P5 64x64: a file of its own each (a file named twice decodes once and counts once).
+        std::string name = "t";  // (GCC 12 warns of "t" + std::to_string as an overflow)
+        name += std::to_string(i);
+        name += ".pgm";
+        write(name, "P5 64 64 255\n" + std::string(64 * 64, static_cast<char>(i)));
+        scene += "#texture " + name + "\n";
+    }
+    const std::string four =
+        write("four.ray", scene.substr(0, scene.rfind("#texture")) + "#texture t0.pgm\n");
+    EXPECT_EQ(load_error(four), "");
+    const std::string five = write("five.ray", scene);
+    const std::string err = load_error(five);
+    set_max_image_pixels(before);
+    EXPECT_EQ(err, five + ":5:10: error: cannot decode texture '" + (dir / "t4.pgm").string() +
+                       "': PNM image of 64x64 pixels (4096) is larger than what is left of the "
+                       "scene's texture budget (0 of 16384 texels, 4 x --max-pixels); "
+                       "--max-pixels raises it");
+}
+
 // 100 MB of text, generated here: a long comment line and 100 MB of vertices-free filler; the
 // lexer keeps its columns and lines and the memory stays a small multiple of the text.
 TEST_F(BadFiles, HundredMegabytes) {

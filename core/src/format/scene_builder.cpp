@@ -10,6 +10,7 @@
 #include "format/grammar.h"
 #include "rt/image/image.h"
 #include "rt/util/file_io.h"
+#include "rt/util/limits.h"
 
 namespace fs = std::filesystem;
 
@@ -298,9 +299,20 @@ TextureCache::Decoded SceneBuilder::decode_once(const std::string& path) {
     const std::lock_guard<std::mutex> lock(m_textures->mutex);
     const auto [it, added] = m_textures->decoded.try_emplace(canonical_path(path));
     if (added) {
+        // Each texture decodes within what the scene's texel budget has left, so the #texture
+        // that would pass it is refused before its pixels are allocated. (Files parsed ahead
+        // decode their textures as their threads reach them: in a tree over the budget, the
+        // #texture refused may be another than the serial parse's; the total holds either way.)
+        const uint64_t budget = max_scene_texels();
+        const uint64_t left = budget - std::min(budget, m_textures->texels);
+        const DecodeBudget scope(left, "what is left of the scene's texture budget (" +
+                                           std::to_string(left) + " of " + std::to_string(budget) +
+                                           " texels, 4 x --max-pixels)");
         auto image = std::make_shared<TextureImage>();
-        if (load_texture_image(path, image.get(), &it->second.error))
+        if (load_texture_image(path, image.get(), &it->second.error)) {
+            m_textures->texels += static_cast<uint64_t>(image->width) * image->height;
             it->second.image = std::move(image);
+        }
     }
     return it->second;
 }

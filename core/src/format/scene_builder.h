@@ -62,6 +62,7 @@ struct TextureCache {
     };
     std::mutex mutex;
     std::map<std::string, Decoded> decoded;  // by canonical path
+    uint64_t texels = 0;                     // of every texture decoded (max_scene_texels())
 };
 
 class SceneBuilder {

@@ -32,7 +32,7 @@ inline uint32_t be32(std::string_view d, size_t pos) {
 }
 
 /// The budget check of every decoder, before it allocates: false with the message of
-/// image_size_error() ("<what> of WxH pixels ... is larger than the budget ...") when the image
+/// decode_size_error() ("<what> of WxH pixels ... is larger than the budget ...") when the image
 /// does not fit, or "<what> of WxH pixels is empty" when a side is 0.
 inline bool check_size(uint64_t width, uint64_t height, const std::string& what,
                        std::string* error) {
@@ -43,7 +43,7 @@ inline bool check_size(uint64_t width, uint64_t height, const std::string& what,
     if (width > INT32_MAX || height > INT32_MAX)
         return fail(error, what + " of " + std::to_string(width) + "x" + std::to_string(height) +
                                " pixels is too wide or too tall");
-    std::string e = image_size_error(width, height, what);
+    std::string e = decode_size_error(width, height, what);
     return e.empty() || fail(error, std::move(e));
 }
 

@@ -37,4 +37,32 @@ std::string image_size_error(uint64_t width, uint64_t height, const std::string&
 std::string image_size_error(uint64_t width, uint64_t height, const std::string& what,
                              uint64_t budget);
 
+/// The texels that all the textures of one scene may hold together: 4 times the image budget
+/// (2^28 by default, a 16384x16384 texture's worth, 768 MB as 8-bit RGB), so that a scene of many
+/// small files that each decode to the largest image cannot take the machine's memory.
+/// --max-pixels raises both.
+uint64_t max_scene_texels();
+
+/// While it lives, every image decoded on this thread must also fit within `pixels` (the scene's
+/// textures decode within what its texel budget has left), which the message names as `name`
+/// ("what is left of the scene's texture budget (...)"). Scopes nest: the innermost applies.
+class DecodeBudget {
+public:
+    DecodeBudget(uint64_t pixels, std::string name);
+    ~DecodeBudget();
+    DecodeBudget(const DecodeBudget&) = delete;
+    DecodeBudget& operator=(const DecodeBudget&) = delete;
+
+private:
+    friend std::string decode_size_error(uint64_t, uint64_t, const std::string&);
+    uint64_t m_pixels;
+    std::string m_name;
+    const DecodeBudget* m_outer;
+};
+
+/// The decoders' check before they allocate: image_size_error() against the budget in force,
+/// then against this thread's DecodeBudget, if any ("<what> of 8192x8192 pixels (67108864) is
+/// larger than what is left of the scene's texture budget (...); --max-pixels raises it").
+std::string decode_size_error(uint64_t width, uint64_t height, const std::string& what);
+
 }  // namespace rt
