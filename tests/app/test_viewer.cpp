@@ -1009,6 +1009,28 @@ TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {
     EXPECT_FALSE(std::filesystem::exists(big));
 }
 
+// An image over --max-pixels is refused with the budget's message, as raytrace refuses it, before
+// a job starts or a pixel is allocated (32768x32768 ended in a bare std::bad_alloc).
+TEST(Viewer, ImagesOverTheBudgetAreRefused) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    const std::string path = ::testing::TempDir() + "rt_viewer_huge.png";
+    std::filesystem::remove(path);
+    v.render_image(path, 32768, 32768, 1);
+    EXPECT_FALSE(v.jobs.image.running());
+    EXPECT_NE(v.messages.text.find("cannot render " + path +
+                                   ": an image of 32768x32768 pixels (1073741824) is larger than "
+                                   "the budget of 67108864 pixels (8192x8192); --max-pixels "
+                                   "raises it"),
+              std::string::npos)
+        << v.messages.text;
+    v.render_animation(::testing::TempDir() + "rt_viewer_huge_%04d.png", 2, 16384, 16384, 1, "");
+    EXPECT_FALSE(v.jobs.image.running());
+    EXPECT_NE(v.messages.text.find("an image of 16384x16384 pixels"), std::string::npos)
+        << v.messages.text;
+    EXPECT_FALSE(std::filesystem::exists(path));
+}
+
 // Opening in the background: the open scene stays until the new one is read; a cancelled load
 // leaves it; a failed one says why and leaves it too.
 TEST(Viewer, FilesOpenInTheBackgroundAndCanBeCancelled) {

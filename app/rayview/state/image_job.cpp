@@ -67,6 +67,9 @@ void ImageJob::run(ImageJobSpec spec) {
             message = "saved " + spec.path + buf;
             ok = true;
         }
+    } catch (const std::bad_alloc&) {
+        message = "out of memory while rendering " + spec.path + " (" + std::to_string(spec.width) +
+                  "x" + std::to_string(spec.height) + ")";
     } catch (const std::exception& e) {
         message = e.what();
     }

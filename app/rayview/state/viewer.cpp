@@ -10,6 +10,7 @@
 #include "rt/format/writer.h"
 #include "rt/render/inspect.h"
 #include "rt/util/file_io.h"
+#include "rt/util/limits.h"
 
 namespace rt::view {
 
@@ -323,21 +324,28 @@ void ViewerState::render_animation(const std::string& pattern, int frames, int w
     q.interpolation = timeline.interpolation;
     q.rotation = timeline.rotation;
     q.video = video;
-    start_render(pattern, width, height, spp, q);
+    if (!start_render(pattern, width, height, spp, q)) return;
     jobs.image_path.clear();
     messages.note("rendering " + std::to_string(frames) + " frames to " + pattern + " ...");
 }
 
 void ViewerState::render_image(const std::string& path, int width, int height, int spp) {
-    if (!session.loaded) return;
-    start_render(path, width, height, spp, {});
+    if (!session.loaded || !start_render(path, width, height, spp, {})) return;
     jobs.image_path = path;  // one file (an animation's frames are not handed to on_saved)
     messages.note("rendering " + path + " ...");
 }
 
-// The background job on a copy of the scene with the latest edits, at the display's settings.
-void ViewerState::start_render(const std::string& path, int width, int height, int spp,
+// The background job on a copy of the scene with the latest edits, at the display's settings; an
+// image over --max-pixels is refused here, as raytrace refuses it, before anything is allocated.
+bool ViewerState::start_render(const std::string& path, int width, int height, int spp,
                                const SequenceSpec& sequence) {
+    if (const std::string e =
+            image_size_error(static_cast<uint64_t>(std::max(width, 0)),
+                             static_cast<uint64_t>(std::max(height, 0)), "an image");
+        !e.empty()) {
+        messages.fail("cannot render " + path + ": " + e);
+        return false;
+    }
     ImageJobSpec spec;
     spec.path = path;
     spec.width = width;
@@ -350,6 +358,7 @@ void ViewerState::start_render(const std::string& path, int width, int height, i
     RenderScene scene = session.loaded->scene;  // shares its sets: the copy costs the instances
     apply_edits(edits, headlight_on(), width, height, &scene, &spec.settings);
     jobs.image.start(std::move(scene), spec);
+    return true;
 }
 
 Image ViewerState::displayed_trace() const {

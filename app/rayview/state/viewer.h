@@ -179,7 +179,7 @@ private:
     void on_loaded();
     void restart();
     void move_joints();
-    void start_render(const std::string& path, int width, int height, int spp,
+    bool start_render(const std::string& path, int width, int height, int spp,
                       const SequenceSpec& sequence);
     UndoState current_state() const { return {edits, settings}; }
     void restore(const UndoState& s);
