@@ -19,6 +19,7 @@
 #include "rt/render/render.h"
 #include "rt/shapes/shapes.h"
 #include "rt/util/file_io.h"
+#include "rt/util/threads.h"
 #include "test_util.h"
 #include "viewer.h"
 
@@ -1007,6 +1008,45 @@ TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {
     v.jobs.image.cancel();
     EXPECT_FALSE(v.jobs.image.running());
     EXPECT_FALSE(std::filesystem::exists(big));
+}
+
+// The panel and a dropped image read the image to compare with off the interface thread: the
+// call returns before the image is read, and poll_files() starts the comparison once it is. A
+// directory is named as one (it was "no such file").
+TEST(Viewer, ImagesToCompareWithAreReadInTheBackground) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    const std::string theirs = ::testing::TempDir() + "rt_viewer_bg_theirs.png";
+    Image img(40, 30);
+    save_image(img, theirs);
+    v.compare_in_background(theirs);
+    if (have_threads()) {
+        EXPECT_FALSE(v.ui.compare.active());  // not yet: it is being read
+        EXPECT_NE(v.messages.text.find("reading " + theirs), std::string::npos) << v.messages.text;
+    }
+    for (int i = 0; i < 2000 && v.jobs.compare.busy(); ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        v.poll_files();
+    }
+    ASSERT_TRUE(v.ui.compare.active()) << v.messages.text;
+    EXPECT_EQ(v.trace.width(), 40);
+    EXPECT_NE(v.messages.text.find("comparing with rt_viewer_bg_theirs.png (40x30)"),
+              std::string::npos)
+        << v.messages.text;
+
+    const std::string dir = ::testing::TempDir() + "rt_viewer_bg_dir";
+    std::filesystem::create_directories(dir);
+    v.compare_in_background(dir);
+    for (int i = 0; i < 2000 && v.jobs.compare.busy(); ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        v.poll_files();
+    }
+    EXPECT_EQ(v.messages.text,
+              "cannot compare with " + dir + ": '" + dir + "' is a directory, not a regular file");
+    EXPECT_EQ(v.ui.compare.path, theirs);  // the comparison stays
+    EXPECT_FALSE(v.compare_with(dir));
+    EXPECT_EQ(v.messages.text,
+              "cannot compare with " + dir + ": '" + dir + "' is a directory, not a regular file");
 }
 
 // An image over --max-pixels is refused with the budget's message, as raytrace refuses it, before

@@ -5,6 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <new>
+#include <stdexcept>
+
+#include "rt/util/file_io.h"
+#include "rt/util/threads.h"
 
 namespace rt::view {
 
@@ -84,6 +89,64 @@ bool is_image_path(const std::string& path) {
     for (const char* e : {".png", ".bmp", ".ppm", ".pfm", ".exr", ".jpg", ".jpeg"})
         if (ext == e) return true;
     return false;
+}
+
+Image read_compare_image(const std::string& path) {
+    if (const std::string why = regular_file_error(path); !why.empty())
+        throw std::runtime_error(why);
+    try {
+        return load_image(path);
+    } catch (const std::bad_alloc&) {
+        throw std::runtime_error("out of memory while reading '" + path + "'");
+    }
+}
+
+CompareLoader::~CompareLoader() {
+    if (m_job && m_job->thread.joinable()) m_job->thread.join();
+    for (auto& j : m_abandoned)
+        if (j->thread.joinable()) j->thread.join();
+}
+
+void CompareLoader::start(const std::string& path) {
+    reap();
+    if (m_job) m_abandoned.push_back(std::move(m_job));
+    m_job = std::make_unique<Job>();
+    m_job->path = path;
+    Job* job = m_job.get();
+    auto read = [job] {
+        try {
+            job->image = read_compare_image(job->path);
+        } catch (const std::exception& e) {
+            job->error = e.what();
+        }
+        job->done = true;
+    };
+    if (have_threads())
+        job->thread = std::thread(read);
+    else
+        read();
+}
+
+bool CompareLoader::take(std::string* path, Image* image, std::string* error) {
+    reap();
+    if (!m_job || !m_job->done) return false;
+    if (m_job->thread.joinable()) m_job->thread.join();
+    *path = std::move(m_job->path);
+    *image = std::move(m_job->image);
+    *error = std::move(m_job->error);
+    m_job.reset();
+    return true;
+}
+
+void CompareLoader::reap() {
+    for (auto it = m_abandoned.begin(); it != m_abandoned.end();) {
+        if ((*it)->done) {
+            if ((*it)->thread.joinable()) (*it)->thread.join();
+            it = m_abandoned.erase(it);
+        } else {
+            ++it;
+        }
+    }
 }
 
 }  // namespace rt::view

@@ -5,8 +5,12 @@
 // is rt/image/compare.h's, raycompare's. No GL.
 #pragma once
 
+#include <atomic>
+#include <memory>
 #include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "rt/image/compare.h"
 #include "rt/image/image.h"
@@ -50,5 +54,40 @@ std::string compare_probe_text(const CompareView& c, int x, int y);
 
 /// An image file rayview compares with (by its extension), not a scene to open.
 bool is_image_path(const std::string& path);
+
+/// Reads an image to compare with (load_image), or throws std::runtime_error saying why not in
+/// words of the file: "'x' is a directory, not a regular file", "cannot open 'x': No such file
+/// or directory", a decoder's message.
+Image read_compare_image(const std::string& path);
+
+/// Reads the image to compare with off the interface thread (a large EXR takes seconds): the
+/// window stays interactive and the comparison starts when the image is read. A read started
+/// while another is under way abandons that one (its thread ends in the background, its result
+/// is dropped). Without threads (the single-thread web page) the image is read in start().
+class CompareLoader {
+public:
+    CompareLoader() = default;
+    ~CompareLoader();
+    CompareLoader(const CompareLoader&) = delete;
+    CompareLoader& operator=(const CompareLoader&) = delete;
+
+    void start(const std::string& path);
+    bool busy() const { return m_job != nullptr; }
+    /// Once the read under way has ended: the path, and the image or why not (`error` not
+    /// empty); false while it runs or when none runs.
+    bool take(std::string* path, Image* image, std::string* error);
+
+private:
+    struct Job {
+        std::string path;
+        Image image;
+        std::string error;
+        std::atomic<bool> done{false};
+        std::thread thread;
+    };
+    void reap();  // joins abandoned reads that have ended
+    std::unique_ptr<Job> m_job;
+    std::vector<std::unique_ptr<Job>> m_abandoned;
+};
 
 }  // namespace rt::view

@@ -220,6 +220,7 @@ void ViewerState::poll_files() {
         ok ? messages.note(result) : messages.fail(result);
         if (ok && hooks.on_saved && !jobs.image_path.empty()) hooks.on_saved(jobs.image_path);
     }
+    take_compare_image();
     LoadResult next;
     std::string loaded_file;
     if (jobs.loader.take(&next, &loaded_file)) {
@@ -234,7 +235,7 @@ void ViewerState::poll_files() {
         const std::string file = ui.dropped.back();
         ui.dropped.clear();
         if (is_image_path(file))
-            compare_with(file);
+            compare_in_background(file);
         else
             open_in_background(file);
     }
@@ -490,12 +491,32 @@ void ViewerState::set_trace_size(int w, int h) {
 bool ViewerState::compare_with(const std::string& path) {
     Image theirs;
     try {
-        if (!std::filesystem::is_regular_file(path)) throw std::runtime_error("no such file");
-        theirs = load_image(path);
+        theirs = read_compare_image(path);
     } catch (const std::exception& e) {
         messages.fail("cannot compare with " + path + ": " + e.what());
         return false;  // the previous comparison, if any, stays
     }
+    start_compare(path, std::move(theirs));
+    return true;
+}
+
+void ViewerState::compare_in_background(const std::string& path) {
+    jobs.compare.start(path);
+    if (jobs.compare.busy()) messages.note("reading " + path + " to compare with ...");
+    take_compare_image();  // (read at once without threads)
+}
+
+void ViewerState::take_compare_image() {
+    std::string path, error;
+    Image theirs;
+    if (!jobs.compare.take(&path, &theirs, &error)) return;
+    if (!error.empty())
+        messages.fail("cannot compare with " + path + ": " + error);  // the previous one stays
+    else
+        start_compare(path, std::move(theirs));
+}
+
+void ViewerState::start_compare(const std::string& path, Image theirs) {
     CompareView& c = ui.compare;
     c.path = path;
     c.theirs = std::move(theirs);
@@ -514,7 +535,6 @@ bool ViewerState::compare_with(const std::string& path) {
                   std::to_string(c.theirs.width) + "x" + std::to_string(c.theirs.height) +
                   "): the trace renders the reference at its size from the file's camera, " +
                   std::to_string(c.spp) + " spp as raytrace renders it");
-    return true;
 }
 
 void ViewerState::stop_compare() {

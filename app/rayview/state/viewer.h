@@ -151,6 +151,10 @@ struct ViewerState {
     /// an error (a file that cannot be read) the message is shown and the previous comparison
     /// stays.
     bool compare_with(const std::string& path);
+    /// The same with the image read off the interface thread (CompareLoader): the comparison
+    /// starts in poll_files() once it is read, or its error is shown. The panel and a dropped
+    /// image go this way; compare_with() serves the command line and scripts, which wait.
+    void compare_in_background(const std::string& path);
     /// Back to the progressive trace of the pane's size.
     void stop_compare();
     /// Takes the trace's latest image (TraceSession::take_image) and, while comparing, compares
@@ -181,6 +185,8 @@ private:
     void move_joints();
     bool start_render(const std::string& path, int width, int height, int spp,
                       const SequenceSpec& sequence);
+    void start_compare(const std::string& path, Image theirs);
+    void take_compare_image();
     UndoState current_state() const { return {edits, settings}; }
     void restore(const UndoState& s);
     void reset_history() { history.reset(current_state()); }

@@ -19,7 +19,7 @@ void compare_panel(ViewerState& v, ComparePanelState& ui) {
         ImGui::SetTooltip(
             "A render of this scene (PNG, BMP, PPM, JPEG, PFM, EXR), e.g. a student's;\n"
             "or drop the file onto the window");
-    if (ImGui::Button("Compare") || enter) v.compare_with(ui.path);
+    if (ImGui::Button("Compare") || enter) v.compare_in_background(ui.path);
     if (!c.active()) {
         ImGui::TextWrapped(
             "The trace renders the reference at the image's size from the scene's camera, as "
