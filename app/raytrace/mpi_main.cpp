@@ -577,7 +577,7 @@ int main(int argc, char** argv) {
         if (job.opt.exr.aovs.any() && job.opt.animation.frames > 0)
             throw UsageError("raytrace-mpi --frames writes no AOVs: use raytrace --frames --aov");
     } catch (const UsageError& e) {
-        if (rank == 0) std::cerr << "raytrace-mpi: " << e.what() << "\n(see raytrace --help)\n";
+        if (rank == 0) std::cerr << "raytrace-mpi: " << e.what() << "\n(see raytrace-mpi --help)\n";
         code = 2;
     }
     if (code == 0 && job.opt.version) {

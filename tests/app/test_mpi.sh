@@ -118,6 +118,7 @@ check "a worker's load error is printed with its rank" grep -q "raytrace-mpi: er
 check "a worker's load error: no image" test ! -e "$tmp/load.pfm"
 RT_MPI_FAULT= "${run[@]}" "$mpi" "$src/scenes/showpiece.ray" --spp 4 -o "$tmp/p.part" >"$tmp/p.txt" 2>&1
 check "an unsupported mode is a usage error" grep -q "raytrace-mpi renders an image (also --progressive) or --frames" "$tmp/p.txt"
+check "which points at raytrace-mpi's own help" grep -qx "(see raytrace-mpi --help)" "$tmp/p.txt"
 # --tile-timeout: seconds, more than 0 and at most a week; anything else (1e10 and inf were a
 # float-to-int overflow) is a usage error.
 for t in 1e10 inf 5x 604801; do
