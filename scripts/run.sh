@@ -7,7 +7,11 @@ cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 . scripts/build-env.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)"
+# Only what it runs: raytrace, and rayview where its libraries are installed (not the tests and
+# the benchmarks, which the test command builds).
+targets=(raytrace)
+if cmake --build build --target help | grep -q '^rayview:'; then targets+=(rayview); fi
+cmake --build build -j"$(nproc)" --target "${targets[@]}"
 if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ] && [ -x build/app/rayview ]; then
     exec ./build/app/rayview scenes/showpiece.ray
 fi
