@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -19,7 +18,8 @@ namespace raytrace {
 namespace {
 
 // The JSON file, written as it is made into a scratch file beside its name and renamed to it
-// when complete: a run that fails leaves no file (and the old one, if any, as it was).
+// when complete: a run that fails leaves no file (and the old one, if any, as it was), and a
+// SIGINT, SIGTERM or SIGHUP meanwhile removes the scratch file (rt/util/file_io.h).
 class JsonOutput {
 public:
     explicit JsonOutput(const std::string& path) : m_path(path) {
@@ -30,7 +30,7 @@ public:
         m_out.open(m_scratch, std::ios::binary | std::ios::trunc);
         if (!m_out) {
             const int e = errno;
-            std::remove(m_scratch.c_str());  // no destructor after a throwing constructor
+            rt::discard_scratch_file(m_scratch);  // no destructor after a throwing constructor
             errno = e;
             fail();
         }
@@ -38,7 +38,7 @@ public:
     JsonOutput(const JsonOutput&) = delete;
     JsonOutput& operator=(const JsonOutput&) = delete;
     ~JsonOutput() {
-        if (!m_scratch.empty()) std::remove(m_scratch.c_str());
+        if (!m_scratch.empty()) rt::discard_scratch_file(m_scratch);
     }
 
     std::ostream* stream() { return m_path.empty() ? nullptr : &m_out; }
@@ -47,8 +47,9 @@ public:
         if (m_path.empty()) return;
         m_out.close();
         if (!m_out) fail();
-        if (std::rename(m_scratch.c_str(), m_path.c_str()) != 0) fail();
+        const std::string scratch = std::move(m_scratch);
         m_scratch.clear();
+        rt::commit_scratch_file(scratch, m_path);  // or discards it and throws
     }
 
 private:

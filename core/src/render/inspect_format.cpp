@@ -9,8 +9,8 @@
 #include <string>
 #include <string_view>
 
-// quote(): the parser's way of showing a name in a message (control bytes and bytes that are not
-// UTF-8 as \xNN), used here so that the tree shows a hostile name as the errors do.
+// printable_text() and quote(): the parser's way of showing a name in a message (control bytes
+// and bytes that are not UTF-8 as \xNN), used here so that the tree shows a name as errors do.
 #include "format/parser_impl.h"
 #include "rt/render/inspect.h"
 #include "rt/shapes/shapes.h"
@@ -71,22 +71,11 @@ size_t utf8_length(std::string_view s, size_t i) {
     return n;
 }
 
-// True when every byte is printable ASCII or part of a valid UTF-8 sequence.
-bool printable(std::string_view s) {
-    for (size_t i = 0; i < s.size();) {
-        const unsigned char c = static_cast<unsigned char>(s[i]);
-        const size_t n = c >= 0x80 ? utf8_length(s, i) : (c < 0x20 || c == 0x7F ? 0 : 1);
-        if (n == 0) return false;
-        i += n;
-    }
-    return true;
-}
-
 // A name from the scene as the text shows it: as it is, or, holding a control byte (which
 // would move a terminal's cursor) or a byte that is not UTF-8, quoted and escaped as the
 // parser's messages show it.
 std::string shown(std::string_view s) {
-    return printable(s) ? std::string(s) : parser_impl::quote(s);
+    return parser_impl::printable_text(s) ? std::string(s) : parser_impl::quote(s);
 }
 
 std::string material_name(int m, const InspectNames& names) {
