@@ -52,5 +52,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
         (void)rt::decode_exr(data);
     } catch (const std::exception&) {  // OpenEXR's errors, and ours
     }
+    try {
+        const rt::Image rgb = rt::decode_exr_rgb(data);  // what the comparisons read
+        if (rgb.rgb.size() != static_cast<size_t>(rgb.width) * rgb.height * 3) std::abort();
+    } catch (const std::exception&) {
+    }
     return 0;
 }

@@ -22,10 +22,4 @@ Image ExrImage::rgb() const {
     return image;
 }
 
-#ifdef __EMSCRIPTEN__
-// The web build has no OpenEXR: load_exr and decode_exr refuse (exr_unavailable.cpp).
-Image load_exr_rgb(const std::string& path) { return load_exr(path).rgb(); }
-Image decode_exr_rgb(std::string_view data) { return decode_exr(data).rgb(); }
-#endif
-
 }  // namespace rt

@@ -21,4 +21,8 @@ ExrImage load_exr(const std::string& path) { unavailable(path); }
 
 ExrImage decode_exr(std::string_view) { unavailable("memory"); }
 
+Image load_exr_rgb(const std::string& path) { unavailable(path); }
+
+Image decode_exr_rgb(std::string_view) { unavailable("memory"); }
+
 }  // namespace rt

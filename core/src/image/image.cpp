@@ -159,7 +159,7 @@ Image load_pfm(const std::string& path) {
 Image load_image(const std::string& path) {
     const ImageFormat format = image_format_from_path(path);
     if (format == ImageFormat::Pfm) return load_pfm(path);
-    if (format == ImageFormat::Exr) return load_exr(path).rgb();
+    if (format == ImageFormat::Exr) return load_exr_rgb(path);  // R, G and B alone
     TextureImage t;
     std::string error;
     if (!load_texture_image(path, &t, &error))
