@@ -1,5 +1,6 @@
 // libFuzzer target: bytes -> a part file (app/common/part_file.h, read_part: the header lines,
-// the blocks, the data and the checksum). Any input must end in a PartFile or a
+// the blocks, the data and the checksum; read_part_header and check_coverage, raymerge's checks
+// from the header alone). Any input must end in a PartFile or a
 // std::runtime_error: a crash, a sanitizer report, a hang or any other exception is a bug.
 //
 // The checksum (FNV-1a 64 of every byte before its last 8) would turn nearly every mutation away
@@ -34,6 +35,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
         (void)part;
     } catch (const std::runtime_error&) {
         // The expected way for bad input to end.
+    }
+    // raymerge's first step: the header alone, then the coverage from it (an image the header
+    // claims is never allocated).
+    try {
+        const rtapp::PartFile header = rtapp::read_part_header(path);
+        rtapp::check_coverage({header}, {path});
+    } catch (const std::runtime_error&) {
+    } catch (const std::invalid_argument&) {  // the coverage's refusal
     }
     return 0;
 }
