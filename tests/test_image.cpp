@@ -676,9 +676,12 @@ std::string exr_error(const std::string& data) {
 // An EXR of `w`x`h` pixels in R, G, B and 13 more channels (16, as the file), all 0.
 std::string sixteen_channels(int w, int h) {
     std::vector<ExrChannel> extra;
-    for (int i = 0; i < 13; ++i)
-        extra.push_back({"X" + std::to_string(i), ExrPixel::Half,
-                         std::vector<double>(static_cast<size_t>(w) * h, 0.0)});
+    for (int i = 0; i < 13; ++i) {
+        std::string name = "X";  // (GCC 12 -O3 warns of "X" + std::to_string as an overflow)
+        name += std::to_string(i);
+        extra.push_back(
+            {name, ExrPixel::Half, std::vector<double>(static_cast<size_t>(w) * h, 0.0)});
+    }
     const std::string path = ::testing::TempDir() + "/rt_sixteen.exr";
     save_exr(Image(w, h), extra, false, path);
     std::string data;
