@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The fuzz targets under libFuzzer (tests/fuzz/CMakeLists.txt: scene, image, key, part): builds
-# them with clang, ASan and UBSan (in $RT_FUZZ_BUILD, build-fuzz/ by default) and fuzzes each in
-# turn for SECS seconds.
+# The fuzz targets under libFuzzer (tests/fuzz/CMakeLists.txt: scene, image, key, part,
+# compare): builds them with clang, ASan and UBSan (in $RT_FUZZ_BUILD, build-fuzz/ by default)
+# and fuzzes each in turn for SECS seconds.
 #   tests/fuzz/run.sh 30                  # 30 s each (scripts/test.sh does this in build-san/)
 #   tests/fuzz/run.sh 300 image           # only the targets named
 #   tests/fuzz/run.sh - -runs=10000000    # a fixed number of executions instead (every target)
@@ -9,16 +9,17 @@
 #   tests/fuzz/run.sh build               # configure and build only ($RT_FUZZ_TARGETS too)
 # Seeds: tests/fuzz/corpus/TARGET, plus for the scene target every .ray/.key file under 64 KB in
 # scenes/ and ../shared/public-scenes/, for the key target their .key files, for the image target
-# scenes/textures (copied into a temporary directory, which also receives the new inputs, so the
-# repository is never written). Arguments after the targets go to libFuzzer. A crash leaves its
-# input in $RT_FUZZ_BUILD/artifacts/TARGET-...: copy it to tests/fuzz/crashers/TARGET/ (the
-# regression corpus every test run replays) and fix the bug.
+# scenes/textures, for the compare target the image target's seeds (copied into a temporary
+# directory, which also receives the new inputs, so the repository is never written). Arguments
+# after the targets go to libFuzzer. A crash leaves its input in
+# $RT_FUZZ_BUILD/artifacts/TARGET-...: copy it to tests/fuzz/crashers/TARGET/ (the regression
+# corpus every test run replays) and fix the bug.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 . scripts/build-env.sh
 secs=${1:-30}
 shift || true
-all=(scene image key part)
+all=(scene image key part compare)
 targets=()
 while [ $# -gt 0 ] && [[ " ${all[*]} " == *" $1 "* ]]; do
     targets+=("$1")
@@ -61,6 +62,7 @@ seeds() {
         key) dirs+=(scenes ../shared/public-scenes) pattern=(-name '*.key') ;;
         image) dirs+=(scenes/textures) pattern=(-name '*.*') ;;
         part) pattern=(-name '*.part') ;;
+        compare) dirs+=(tests/fuzz/corpus/image) pattern=(-name '*.*') ;;
     esac
     for d in "${dirs[@]}"; do
         [ -d "$d" ] || continue
@@ -70,13 +72,15 @@ seeds() {
 }
 
 # Each target's dictionary and largest input: the .ray/.key vocabulary for the scene and key
-# targets, file magic and chunk names for the images, the header words for the parts.
+# targets, file magic and chunk names for the images (and the compared images), the header
+# words for the parts.
 options() {
     case $1 in
         scene) echo "-dict=$PWD/tests/fuzz/ray.dict -max_len=16384" ;;
         key) echo "-dict=$PWD/tests/fuzz/ray.dict -max_len=8192" ;;
         image) echo "-dict=$PWD/tests/fuzz/image.dict -max_len=8192" ;;
         part) echo "-dict=$PWD/tests/fuzz/part.dict -max_len=4096" ;;
+        compare) echo "-dict=$PWD/tests/fuzz/image.dict -max_len=8192" ;;
     esac
 }
 
