@@ -118,8 +118,8 @@ int run(const Options& o) {
     if (!o.csv.empty()) {
         for (const std::string& in : inputs)
             if (same_file(o.csv, in)) {
-                std::cerr << "raycompare: error: --csv '" << escaped(o.csv) << "' is '"
-                          << escaped(in) << "', a file to compare: give another file\n";
+                std::cerr << "raycompare: error: --csv '" << escaped(o.csv) << "' would replace '"
+                          << escaped(in) << "', a file given to compare: give another file\n";
                 return 2;
             }
         if (const std::string why = probe_writable(o.csv); !why.empty()) {
