@@ -3,12 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
-// The scene parser's quoting of tokens and paths in its messages (core/src/format/parser.cpp),
-// which has no public header: declared here, so that the table escapes names as the scene's
-// error messages do, with one function.
-namespace rt::parser_impl {
-std::string quote(std::string_view s);
-}
+#include "rt/util/text.h"
 
 namespace raycompare {
 
@@ -61,23 +56,8 @@ std::string html_escape(const std::string& s) {
 
 }  // namespace
 
-std::string escaped(std::string_view s) {
-    // quote() cuts its text after 200 bytes: it is given pieces shorter than that, each ending
-    // before a byte that starts a character (so no UTF-8 sequence is split), without its quotes.
-    constexpr size_t kPiece = 128;
-    std::string out;
-    size_t i = 0;
-    while (i < s.size()) {
-        size_t n = std::min(kPiece, s.size() - i);
-        while (i + n < s.size() && n < kPiece + 4 &&
-               (static_cast<unsigned char>(s[i + n]) & 0xC0) == 0x80)
-            ++n;
-        const std::string q = rt::parser_impl::quote(s.substr(i, n));
-        out.append(q, 1, q.size() - 2);
-        i += n;
-    }
-    return out;
-}
+// As the scene's error messages show names (rt/util/text.h), without the quotes.
+std::string escaped(std::string_view s) { return rt::escape(s); }
 
 std::string image_name(size_t row) { return "image_" + std::to_string(row + 1) + ".png"; }
 std::string heat_name(size_t row) { return "heat_" + std::to_string(row + 1) + ".png"; }

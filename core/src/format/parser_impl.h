@@ -20,14 +20,10 @@
 #include "rt/scene/scene_desc.h"
 #include "rt/util/error.h"
 #include "rt/util/file_io.h"
+#include "rt/util/text.h"
 
 namespace rt::parser_impl {
 
-/// A token or path in a message: quoted, control bytes and invalid UTF-8 as \xNN, cut after 200
-/// bytes.
-std::string quote(std::string_view s);
-/// True when `s` is printable UTF-8 text: no control bytes, no invalid UTF-8.
-bool printable_text(std::string_view s);
 /// What a file whose first token is not printable text is told, instead of that token (a
 /// binary file, or a secret that is not a scene: its bytes never reach the message):
 /// "'x' is not a .ray scene: its first bytes are not printable text".

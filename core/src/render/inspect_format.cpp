@@ -9,11 +9,9 @@
 #include <string>
 #include <string_view>
 
-// printable_text() and quote(): the parser's way of showing a name in a message (control bytes
-// and bytes that are not UTF-8 as \xNN), used here so that the tree shows a name as errors do.
-#include "format/parser_impl.h"
 #include "rt/render/inspect.h"
 #include "rt/shapes/shapes.h"
+#include "rt/util/text.h"
 
 namespace rt {
 
@@ -53,30 +51,10 @@ const char* ray_kind_text(InspectRay::Kind k) {
     return "";
 }
 
-// The length of the UTF-8 sequence starting at s[i] (a byte >= 0x80), 0 when it is not one:
-// no overlong forms, surrogates or code points above U+10FFFF (RFC 3629).
-size_t utf8_length(std::string_view s, size_t i) {
-    const auto b = [&](size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
-    const unsigned c = b(i);
-    const size_t n = c >= 0xC2 && c <= 0xDF   ? 2
-                     : c >= 0xE0 && c <= 0xEF ? 3
-                     : c >= 0xF0 && c <= 0xF4 ? 4
-                                              : 0;
-    if (n == 0) return 0;
-    for (size_t k = 1; k < n; ++k)
-        if ((b(i + k) & 0xC0) != 0x80) return 0;
-    if ((c == 0xE0 && b(i + 1) < 0xA0) || (c == 0xED && b(i + 1) > 0x9F) ||
-        (c == 0xF0 && b(i + 1) < 0x90) || (c == 0xF4 && b(i + 1) > 0x8F))
-        return 0;
-    return n;
-}
-
 // A name from the scene as the text shows it: as it is, or, holding a control byte (which
 // would move a terminal's cursor) or a byte that is not UTF-8, quoted and escaped as the
 // parser's messages show it.
-std::string shown(std::string_view s) {
-    return parser_impl::printable_text(s) ? std::string(s) : parser_impl::quote(s);
-}
+std::string shown(std::string_view s) { return printable_text(s) ? std::string(s) : quote(s); }
 
 std::string material_name(int m, const InspectNames& names) {
     std::string text = "material " + std::to_string(m);
