@@ -407,7 +407,10 @@ bool ViewerState::inspect(double x, double y) {
     r.height = h;
     r.centre_first_sample = ui.compare.active();
     InspectView& in = ui.inspect;
-    in.tree = inspect_pixel(s.scene, make_render_plan(s.scene, r), r, px, py);
+    // The panel lays the tree out as nodes every frame: a smaller tree than raytrace's, which
+    // still says how many rays it left out (raytrace --inspect gives the whole 4096).
+    in.tree = inspect_pixel(s.scene, make_render_plan(s.scene, r), r, px, py, 0, 1,
+                            InspectLimits{512, 8192});
     in.text = inspect_text(*in.tree, s.scene, {&s.desc, &s.prim_locs, &s.material_names});
     const Image& shown = trace.last_trace;
     in.traced = shown.width == w && shown.height == h ? shown.at(px, py) : Vec3(0.0);
