@@ -12,6 +12,7 @@ if ! command -v emcmake >/dev/null; then
     exit 1
 fi
 . scripts/build-env.sh
+unset CMAKE_CXX_COMPILER_LAUNCHER  # em++ compiles as it always has (no ccache)
 # Debian's Emscripten finds its node modules (acorn) there.
 export NODE_PATH="${NODE_PATH:+$NODE_PATH:}/usr/share/nodejs"
 emcmake cmake -S . -B build-web-obj -DCMAKE_BUILD_TYPE=Release -DRT_WERROR=ON \

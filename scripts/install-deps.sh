@@ -8,7 +8,8 @@ set -euo pipefail
 # BMP and decodes PNG and JPEG on the web page, help2man writes the man pages from --help).
 required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev libcli11-dev
     libopenexr-dev libpng-dev libjpeg-dev help2man)
-# Optional: Ninja schedules builds better than make (scripts/test.sh uses it when it is there).
+# Optional: Ninja schedules builds better than make (scripts/test.sh uses it when it is there);
+# ccache makes the test command's repeated builds short (scripts/build-env.sh).
 # Embree is the benchmark's yardstick (raybench builds without it); GLFW, ImGui, OSMesa and Xvfb
 # are for the viewer and its headless GL tests.
 # clang and libFuzzer (libclang-rt-14-dev) build the fuzz target of scripts/test.sh, which skips
@@ -18,7 +19,7 @@ required=(build-essential cmake pkg-config libgtest-dev libglm-dev libstb-dev li
 # and shared-mime-info check the desktop entry and the MIME type of the package (tests/install).
 # Emscripten builds the web page (scripts/build-web.sh); Chromium and ChromeDriver load it in its
 # test (tests/web); glslang-tools checks the preview's shaders as GLSL ES 3.00.
-optional=(ninja-build libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang
+optional=(ninja-build ccache libembree-dev libglfw3-dev libimgui-dev libosmesa6-dev xvfb xauth clang
     libclang-rt-14-dev libopenmpi-dev openmpi-bin ffmpeg desktop-file-utils shared-mime-info
     emscripten chromium chromium-driver glslang-tools)
 
