@@ -19,22 +19,32 @@ struct JsonValue {
     double number = 0.0;
     std::string string;
     std::vector<JsonValue> array;
-    std::vector<std::pair<std::string, JsonValue>> object;  // in order, duplicates kept
+    struct Member;  // (a std::pair of an incomplete JsonValue does not compile with clang)
+    std::vector<Member> object;  // in order, duplicates kept
 
     /// The member `key` of an object (the first of that name), else nullptr.
-    const JsonValue* get(std::string_view key) const {
-        for (const auto& [k, v] : object)
-            if (k == key) return &v;
-        return nullptr;
-    }
+    const JsonValue* get(std::string_view key) const;
     /// The member `key`, else a null value (has() tells them apart).
-    const JsonValue& operator[](std::string_view key) const {
-        static const JsonValue none;
-        const JsonValue* v = get(key);
-        return v ? *v : none;
-    }
+    const JsonValue& operator[](std::string_view key) const;
     bool has(std::string_view key) const { return get(key) != nullptr; }
 };
+
+struct JsonValue::Member {
+    std::string key;
+    JsonValue value;
+};
+
+inline const JsonValue* JsonValue::get(std::string_view key) const {
+    for (const Member& m : object)
+        if (m.key == key) return &m.value;
+    return nullptr;
+}
+
+inline const JsonValue& JsonValue::operator[](std::string_view key) const {
+    static const JsonValue none;
+    const JsonValue* v = get(key);
+    return v ? *v : none;
+}
 
 class JsonReader {
 public:
@@ -126,7 +136,7 @@ private:
             ++m_i;
             JsonValue member;
             if (!value(member, level)) return false;
-            v.object.emplace_back(std::move(key), std::move(member));
+            v.object.push_back({std::move(key), std::move(member)});
             ws();
             if (peek() == ',') {
                 ++m_i;
