@@ -105,7 +105,7 @@ std::string probe_writable(const std::string& path) {
     std::error_code ec;
     if (fs::is_directory(path, ec)) return "cannot write '" + path + "': it is a directory";
     try {
-        fs::remove(rt::create_scratch_file(path), ec);
+        rt::discard_scratch_file(rt::create_scratch_file(path));
     } catch (const std::exception& e) {
         return e.what();
     }
