@@ -5,10 +5,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "rt/util/file_io.h"
 
@@ -223,4 +225,31 @@ TEST(FileIo, ScratchFilesDoneWithAreForgotten) {
     ASSERT_EQ(::waitpid(pid, &status, 0), pid);
     EXPECT_TRUE(WIFSIGNALED(status));
     EXPECT_EQ(entries(dir), 50u);  // f0 .. f49, and no scratch file
+}
+
+// A child process that writes a scratch file (ffmpeg encoding a video) is stopped by the signal
+// before the file is removed: left running, it wrote its file again (a SIGTERM to raytrace during
+// --video left the hidden .mp4). Here the child would write the file 0.3 s later.
+TEST(FileIo, ASignalStopsTheChildWritingTheScratchFile) {
+    const fs::path dir = fresh_dir("rt_io_signal_child");
+    const std::string out = (dir / "video.mp4").string();
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        const std::string scratch = rt::create_scratch_file(out);
+        const pid_t writer = ::fork();
+        if (writer == 0) {
+            ::execl("/bin/sh", "sh", "-c", ("sleep 0.3; echo late > '" + scratch + "'").c_str(),
+                    static_cast<char*>(nullptr));
+            ::_exit(127);
+        }
+        rt::set_scratch_writer(writer);
+        ::raise(SIGTERM);
+        ::_exit(0);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFSIGNALED(status));
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));  // past the child's write
+    EXPECT_EQ(entries(dir), 0u);
 }

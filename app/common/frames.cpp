@@ -115,9 +115,11 @@ bool encode_video(const std::string& pattern, int frames, double fps, const std:
         *error = "cannot run " + ffmpeg;
         return false;
     }
+    rt::set_scratch_writer(pid);
     int status = 0;
     while (waitpid(pid, &status, 0) < 0) {
     }
+    rt::set_scratch_writer(0);
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
         rt::discard_scratch_file(part);
         *error = "ffmpeg failed to encode " + video + " (its messages are above)";

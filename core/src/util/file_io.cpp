@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <sys/vfs.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -167,7 +168,17 @@ struct ScratchSlot {
 };
 std::array<ScratchSlot, kScratchSlots> g_scratch;
 
+// The child process writing one of them (ffmpeg encoding a video), or 0.
+std::atomic<pid_t> g_scratch_writer{0};
+
 void remove_scratch_files_and_reraise(int sig) {
+    // The child first (kill and waitpid are async-signal-safe): left running, it would write its
+    // file again after it is removed.
+    if (const pid_t child = g_scratch_writer.load(std::memory_order_acquire); child > 0) {
+        ::kill(child, SIGTERM);
+        while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
+        }
+    }
     for (ScratchSlot& s : g_scratch)
         if (s.state.load(std::memory_order_acquire) == 2) ::unlink(s.path);
     // The default action, as if we had never been here: the process ends by the signal.
@@ -215,6 +226,10 @@ void untrack_scratch(const std::string& name) {
 }
 
 }  // namespace
+
+void set_scratch_writer(int pid) {
+    g_scratch_writer.store(static_cast<pid_t>(pid), std::memory_order_release);
+}
 
 void commit_scratch_file(const std::string& scratch, const std::string& path) {
     if (::rename(scratch.c_str(), path.c_str()) != 0) {

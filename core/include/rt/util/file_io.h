@@ -70,6 +70,10 @@ std::string create_scratch_file(const std::string& path, int* fd = nullptr,
 void commit_scratch_file(const std::string& scratch, const std::string& path);
 /// Removes a scratch file that is not wanted after all.
 void discard_scratch_file(const std::string& scratch);
+/// The child process that writes a scratch file (ffmpeg encoding a video), or 0 once it ended: a
+/// signal that removes the scratch files stops it first (SIGTERM, and waits for it), so that it
+/// cannot write its file again once removed.
+void set_scratch_writer(int pid);
 
 /// Writes `data` to a new scratch file beside `path` (create_scratch_file) and returns its
 /// name, for the caller to commit to `path` when everything it writes is ready (or to discard).
