@@ -1,9 +1,7 @@
 #include "compare_class.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <stdexcept>
-#include <system_error>
 #include <utility>
 
 #include "cli.h"
@@ -13,8 +11,6 @@
 namespace raycompare {
 
 namespace {
-
-namespace fs = std::filesystem;
 
 std::string size_text(int width, int height) {
     return std::to_string(width) + "x" + std::to_string(height);
@@ -99,17 +95,6 @@ ClassResult compare_class(const std::vector<std::string>& images, const RenderRe
         }
     }
     return out;
-}
-
-std::string probe_writable(const std::string& path) {
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) return "cannot write '" + path + "': it is a directory";
-    try {
-        rt::discard_scratch_file(rt::create_scratch_file(path));
-    } catch (const std::exception& e) {
-        return e.what();
-    }
-    return "";
 }
 
 }  // namespace raycompare

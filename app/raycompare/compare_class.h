@@ -36,8 +36,4 @@ ClassResult compare_class(const std::vector<std::string>& images, const RenderRe
                           const Limits& limits, ReportDir* report,
                           const std::function<void(int width, int height)>& rendered = {});
 
-/// Empty when a file can be written at `path` (a scratch file made and removed beside it, as
-/// raytrace probes its outputs: no file of the user's is touched), else why not.
-std::string probe_writable(const std::string& path);
-
 }  // namespace raycompare

@@ -122,7 +122,7 @@ int run(const Options& o) {
                           << escaped(in) << "', a file given to compare: give another file\n";
                 return 2;
             }
-        if (const std::string why = probe_writable(o.csv); !why.empty()) {
+        if (const std::string why = rt::writable_error(o.csv); !why.empty()) {
             std::cerr << "raycompare: error: " << escaped(why) << "\n";
             return 1;
         }

@@ -1,35 +1,15 @@
 #include "output.h"
 
-#include <filesystem>
 #include <iostream>
 
 #include "rt/util/file_io.h"
 
 namespace raytrace {
 
-namespace {
-
-namespace fs = std::filesystem;
-
-// Creates a file beside `path` and removes it: does the result have a place to go? Empty if
-// so, else the message.
-std::string probe_writable(const std::string& path) {
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) return "cannot write '" + path + "': it is a directory";
-    try {
-        rt::discard_scratch_file(rt::create_scratch_file(path));
-    } catch (const std::exception& e) {
-        return e.what();
-    }
-    return "";
-}
-
-}  // namespace
-
 bool probe_outputs(const std::vector<std::string>& paths) {
     for (const std::string& path : paths) {
         if (path.empty()) continue;
-        if (const std::string why = probe_writable(path); !why.empty()) {
+        if (const std::string why = rt::writable_error(path); !why.empty()) {
             std::cerr << "raytrace: error: " << why << "\n";
             return false;
         }

@@ -290,6 +290,18 @@ std::string create_scratch_file(const std::string& path, int* fd, const std::str
     throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
 }
 
+std::string writable_error(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        return "cannot write '" + path + "': it is a directory";
+    try {
+        discard_scratch_file(create_scratch_file(path));
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+
 std::string write_scratch_file(const std::string& path, const std::string& data) {
     int fd = -1;
     const std::string scratch = create_scratch_file(path, &fd);

@@ -54,6 +54,12 @@ inline std::string_view text_of(const FileBytes& bytes) { return {bytes.data(), 
 /// OpenEXR) call it first.
 std::string regular_file_error(const std::string& path);
 
+/// Empty when a file can be written at `path`, else why not: a scratch file is made beside it
+/// and removed (no file of the user's is touched), so a run can refuse an output it could not
+/// write before it works: "cannot write 'x': it is a directory", "cannot write 'x': No such file
+/// or directory".
+std::string writable_error(const std::string& path);
+
 /// Creates a new, empty file beside `path` (in its directory) under a name no other file has:
 /// ".NAME.XXXXXX" plus `suffix` (".tmp" unless given: ffmpeg, say, needs the extension). It is
 /// created exclusively (O_EXCL), so it never truncates or replaces an existing file, with the
