@@ -1,6 +1,6 @@
 // The viewer's camera controller (no GL): a file's camera survives the round trip, and orbit,
 // look, pan, dolly, move and frame do what their names say.
-#include "camera_controller.h"
+#include "state/camera_controller.h"
 #include "test_util.h"
 
 namespace rt::view {

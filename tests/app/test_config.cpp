@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "config.h"
+#include "state/config.h"
 
 namespace rt::view {
 namespace {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "run_options.h"
+#include "state/run_options.h"
 
 namespace rt::view {
 namespace {

@@ -9,7 +9,7 @@
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/render/render.h"
-#include "tracer.h"
+#include "state/tracer.h"
 
 namespace rt::view {
 namespace {

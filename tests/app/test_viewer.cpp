@@ -10,9 +10,6 @@
 #include <thread>
 #include <variant>
 
-#include "key_queue.h"
-#include "light_edit.h"
-#include "preview_geometry.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
 #include "rt/format/writer.h"
@@ -20,8 +17,11 @@
 #include "rt/shapes/shapes.h"
 #include "rt/util/file_io.h"
 #include "rt/util/threads.h"
+#include "state/key_queue.h"
+#include "state/light_edit.h"
+#include "state/preview_geometry.h"
+#include "state/viewer.h"
 #include "test_util.h"
-#include "viewer.h"
 
 namespace rt::view {
 namespace {

@@ -14,9 +14,9 @@
 #include <type_traits>
 #include <variant>
 
-#include "gl_util.h"
-#include "overlay.h"
-#include "preview.h"
+#include "gl/gl_util.h"
+#include "gl/overlay.h"
+#include "gl/preview.h"
 #include "rt/render/inspect.h"
 #include "rt/util/file_io.h"
 #include "test_util.h"

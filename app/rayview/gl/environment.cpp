@@ -15,7 +15,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "preview.h"
+#include "gl/preview.h"
 #include "rt/util/stopwatch.h"
 
 namespace rt::view {

@@ -1,5 +1,5 @@
 #define GL_GLEXT_PROTOTYPES
-#include "gl_util.h"
+#include "gl/gl_util.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

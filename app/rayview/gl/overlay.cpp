@@ -1,4 +1,4 @@
-#include "overlay.h"
+#include "gl/overlay.h"
 
 #include <algorithm>
 #include <cmath>

@@ -18,8 +18,8 @@
 #include <tuple>
 #include <unordered_map>
 
-#include "overlay.h"
-#include "preview.h"
+#include "gl/overlay.h"
+#include "gl/preview.h"
 
 namespace rt::view {
 

@@ -1,5 +1,5 @@
 #define GL_GLEXT_PROTOTYPES
-#include "preview.h"
+#include "gl/preview.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

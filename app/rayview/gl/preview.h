@@ -10,14 +10,14 @@
 #include <string>
 #include <vector>
 
-#include "csg_preview.h"
-#include "gl_util.h"
-#include "overlay.h"
-#include "preview_geometry.h"
+#include "gl/gl_util.h"
+#include "gl/overlay.h"
 #include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/camera.h"
 #include "rt/render/plan.h"
+#include "state/csg_preview.h"
+#include "state/preview_geometry.h"
 
 namespace rt::view {
 

@@ -1,4 +1,4 @@
-#include "compare_view.h"
+#include "state/compare_view.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "config.h"
+#include "state/config.h"
 
 #include <cmath>
 #include <cstdlib>

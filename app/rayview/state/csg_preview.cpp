@@ -1,4 +1,4 @@
-#include "csg_preview.h"
+#include "state/csg_preview.h"
 
 #include <cmath>
 

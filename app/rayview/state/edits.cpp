@@ -1,4 +1,4 @@
-#include "edits.h"
+#include "state/edits.h"
 
 #include "rt/util/charconv.h"
 

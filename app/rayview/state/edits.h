@@ -5,10 +5,10 @@
 
 #include <vector>
 
-#include "camera_controller.h"
 #include "rt/image/image.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
+#include "state/camera_controller.h"
 
 namespace rt::view {
 

@@ -1,13 +1,13 @@
-#include "headless.h"
+#include "state/headless.h"
 
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include "cli.h"
-#include "compare_view.h"
-#include "loader.h"
 #include "rt/render/plan.h"
+#include "state/compare_view.h"
+#include "state/loader.h"
 
 namespace rt::view {
 

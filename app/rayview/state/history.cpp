@@ -1,4 +1,4 @@
-#include "history.h"
+#include "state/history.h"
 
 namespace rt::view {
 

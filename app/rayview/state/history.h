@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "edits.h"
+#include "state/edits.h"
 
 namespace rt::view {
 

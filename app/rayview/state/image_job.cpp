@@ -1,4 +1,4 @@
-#include "image_job.h"
+#include "state/image_job.h"
 
 #ifdef __linux__
 #include <sys/resource.h>

@@ -5,9 +5,9 @@
 
 #include <string>
 
-#include "compare_view.h"
-#include "image_job.h"
-#include "loader.h"
+#include "state/compare_view.h"
+#include "state/image_job.h"
+#include "state/loader.h"
 
 namespace rt::view {
 

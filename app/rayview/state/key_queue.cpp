@@ -1,4 +1,4 @@
-#include "key_queue.h"
+#include "state/key_queue.h"
 
 namespace rt::view {
 

@@ -1,4 +1,4 @@
-#include "light_edit.h"
+#include "state/light_edit.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "loader.h"
+#include "state/loader.h"
 
 #include "cli.h"
 #include "rt/compile/compile.h"

@@ -16,12 +16,12 @@
 #include <utility>
 #include <vector>
 
-#include "edits.h"
-#include "preview_geometry.h"
 #include "rt/compile/compile.h"
 #include "rt/compile/render_scene.h"
 #include "rt/format/parser.h"
 #include "rt/scene/scene_desc.h"
+#include "state/edits.h"
+#include "state/preview_geometry.h"
 
 namespace rt::view {
 

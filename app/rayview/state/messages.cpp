@@ -1,4 +1,4 @@
-#include "messages.h"
+#include "state/messages.h"
 
 #include <cstdio>
 

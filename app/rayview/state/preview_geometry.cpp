@@ -1,4 +1,4 @@
-#include "preview_geometry.h"
+#include "state/preview_geometry.h"
 
 #include <algorithm>
 #include <array>

@@ -7,8 +7,8 @@
 #include <atomic>
 #include <vector>
 
-#include "csg_preview.h"
 #include "rt/compile/render_scene.h"
+#include "state/csg_preview.h"
 
 namespace rt::view {
 

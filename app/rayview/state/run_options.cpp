@@ -1,4 +1,4 @@
-#include "run_options.h"
+#include "state/run_options.h"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "render_options.h"
-#include "viewer.h"
+#include "state/viewer.h"
 
 namespace rt::view {
 

@@ -1,4 +1,4 @@
-#include "scene_session.h"
+#include "state/scene_session.h"
 
 #include <algorithm>
 

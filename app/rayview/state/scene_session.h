@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "edits.h"
-#include "loader.h"
+#include "state/edits.h"
+#include "state/loader.h"
 
 namespace rt::view {
 

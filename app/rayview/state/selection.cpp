@@ -1,4 +1,4 @@
-#include "selection.h"
+#include "state/selection.h"
 
 #include <algorithm>
 #include <vector>

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "camera_controller.h"
-#include "loader.h"
+#include "state/camera_controller.h"
+#include "state/loader.h"
 
 namespace rt::view {
 

@@ -1,4 +1,4 @@
-#include "timeline.h"
+#include "state/timeline.h"
 
 #include <algorithm>
 

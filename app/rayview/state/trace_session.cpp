@@ -1,4 +1,4 @@
-#include "trace_session.h"
+#include "state/trace_session.h"
 
 #include <cstdio>
 

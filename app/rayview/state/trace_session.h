@@ -10,7 +10,7 @@
 #include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/render.h"
-#include "tracer.h"
+#include "state/tracer.h"
 
 namespace rt::view {
 

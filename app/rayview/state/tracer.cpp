@@ -1,4 +1,4 @@
-#include "tracer.h"
+#include "state/tracer.h"
 
 #include <algorithm>
 

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "camera_controller.h"
-#include "compare_view.h"
-#include "inspect_view.h"
-#include "selection.h"
+#include "state/camera_controller.h"
+#include "state/compare_view.h"
+#include "state/inspect_view.h"
+#include "state/selection.h"
 
 namespace rt::view {
 

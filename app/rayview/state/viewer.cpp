@@ -1,4 +1,4 @@
-#include "viewer.h"
+#include "state/viewer.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -11,19 +11,19 @@
 #include <string>
 #include <vector>
 
-#include "edits.h"
-#include "history.h"
-#include "image_job.h"
-#include "jobs.h"
-#include "loader.h"
-#include "messages.h"
 #include "rt/format/parser.h"
 #include "rt/image/image.h"
-#include "scene_session.h"
-#include "selection.h"
-#include "timeline.h"
-#include "trace_session.h"
-#include "view_ui.h"
+#include "state/edits.h"
+#include "state/history.h"
+#include "state/image_job.h"
+#include "state/jobs.h"
+#include "state/loader.h"
+#include "state/messages.h"
+#include "state/scene_session.h"
+#include "state/selection.h"
+#include "state/timeline.h"
+#include "state/trace_session.h"
+#include "state/view_ui.h"
 
 namespace rt::view {
 

@@ -1,4 +1,4 @@
-#include "compare_panel.h"
+#include "ui/compare_panel.h"
 
 #include <imgui.h>
 

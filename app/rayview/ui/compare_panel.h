@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "viewer.h"
+#include "state/viewer.h"
 
 namespace rt::view {
 

@@ -1,12 +1,12 @@
-#include "input.h"
+#include "ui/input.h"
 
 #include <GLFW/glfw3.h>
 
 #include <cmath>
 
-#include "key_queue.h"
 #include "rt/compile/compile.h"
 #include "rt/render/camera.h"
+#include "state/key_queue.h"
 
 namespace rt::view {
 

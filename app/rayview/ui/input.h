@@ -6,8 +6,8 @@
 
 #include <imgui.h>
 
-#include "panes.h"
-#include "viewer.h"
+#include "state/viewer.h"
+#include "ui/panes.h"
 
 namespace rt::view {
 

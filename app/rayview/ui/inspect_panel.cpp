@@ -1,4 +1,4 @@
-#include "inspect_panel.h"
+#include "ui/inspect_panel.h"
 
 #include <imgui.h>
 
@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "overlay.h"
+#include "gl/overlay.h"
 
 namespace rt::view {
 

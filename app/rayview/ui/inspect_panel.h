@@ -4,7 +4,7 @@
 // the preview; a click on a ray that hits selects its primitive (F then frames it).
 #pragma once
 
-#include "viewer.h"
+#include "state/viewer.h"
 
 namespace rt::view {
 

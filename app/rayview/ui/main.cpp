@@ -10,7 +10,7 @@
 #ifdef __EMSCRIPTEN__
 #include <emscripten.h>
 
-#include "web.h"
+#include "ui/web.h"
 #else
 #include <dlfcn.h>
 #include <link.h>
@@ -25,17 +25,17 @@
 #include <string>
 
 #include "cli.h"
-#include "config.h"
 #include "data_dir.h"
-#include "headless.h"
-#include "input.h"
-#include "key_queue.h"
-#include "panels.h"
-#include "panes.h"
 #include "rt/util/sanitizers.h"
-#include "script.h"
-#include "timeline_bar.h"
-#include "viewer.h"
+#include "state/config.h"
+#include "state/headless.h"
+#include "state/key_queue.h"
+#include "state/viewer.h"
+#include "ui/input.h"
+#include "ui/panels.h"
+#include "ui/panes.h"
+#include "ui/script.h"
+#include "ui/timeline_bar.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "panels.h"
+#include "ui/panels.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -9,9 +9,9 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "inspect_panel.h"
-#include "key_queue.h"
-#include "run_options.h"
+#include "state/key_queue.h"
+#include "state/run_options.h"
+#include "ui/inspect_panel.h"
 
 namespace rt::view {
 

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "compare_panel.h"
-#include "panes.h"
-#include "viewer.h"
+#include "state/viewer.h"
+#include "ui/compare_panel.h"
+#include "ui/panes.h"
 
 namespace rt::view {
 

@@ -1,5 +1,5 @@
 #define GL_GLEXT_PROTOTYPES
-#include "panes.h"
+#include "ui/panes.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

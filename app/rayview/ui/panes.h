@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "gl_util.h"
-#include "overlay.h"
-#include "preview.h"
-#include "viewer.h"
+#include "gl/gl_util.h"
+#include "gl/overlay.h"
+#include "gl/preview.h"
+#include "state/viewer.h"
 
 namespace rt::view {
 

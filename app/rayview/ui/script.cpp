@@ -1,5 +1,5 @@
 #define GL_GLEXT_PROTOTYPES
-#include "script.h"
+#include "ui/script.h"
 
 #include <GL/gl.h>
 
@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "light_edit.h"
+#include "state/light_edit.h"
 
 namespace rt::view {
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "run_options.h"
-#include "viewer.h"
+#include "state/run_options.h"
+#include "state/viewer.h"
 
 namespace rt::view {
 

@@ -2,7 +2,7 @@
 // (space), back to the start, the time slider (scrub), the frame, loop, speed, and the
 // interpolation and rotation choices of spec §14.7. The panel's "animation" section
 // (panels.cpp) renders the sequence in the background.
-#include "timeline_bar.h"
+#include "ui/timeline_bar.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -11,7 +11,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "key_queue.h"
+#include "state/key_queue.h"
 
 namespace rt::view {
 

@@ -2,8 +2,8 @@
 // (timeline_bar.cpp).
 #pragma once
 
-#include "panes.h"
-#include "viewer.h"
+#include "state/viewer.h"
+#include "ui/panes.h"
 
 namespace rt::view {
 

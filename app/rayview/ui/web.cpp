@@ -1,4 +1,4 @@
-#include "web.h"
+#include "ui/web.h"
 
 #include <GLFW/glfw3.h>
 #include <emscripten.h>
@@ -10,7 +10,7 @@
 #include <string>
 
 #include "rt/render/render.h"
-#include "viewer.h"
+#include "state/viewer.h"
 
 namespace rt::view {
 namespace {
