@@ -101,10 +101,6 @@ void write_part(const std::string& path, const PartFile& f) {
 
 namespace {
 
-// The longest header read_part_header() looks through for its end: the lines are short (64
-// blocks at most, one settings line).
-constexpr size_t kMaxHeaderBytes = size_t{1} << 20;
-
 // A part's header, `head` (the file's first bytes, through "\ndata\n" at `end`), parsed and
 // checked against the file's `size`: its blocks are those of its samples and its data is the
 // size they make. Returns the part without its sums.
@@ -179,7 +175,7 @@ PartFile read_part_header(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::string head;
     char buf[4096];
-    while (head.find("\ndata\n") == std::string::npos && head.size() < kMaxHeaderBytes &&
+    while (head.find("\ndata\n") == std::string::npos && head.size() < rt::kMaxPartHeaderBytes &&
            in.read(buf, sizeof buf).gcount() > 0)
         head.append(buf, static_cast<size_t>(in.gcount()));
     std::error_code ec;

@@ -8,9 +8,6 @@ namespace rtapp {
 
 namespace {
 
-// Points per sphere light: the plan holds one direction per point.
-constexpr int kMaxLightSamples = 1 << 20;
-
 // CLI11 reads "-1" into an unsigned number as its two's complement; a seed must not wrap.
 const CLI::Validator kNoMinus(
     [](const std::string& value) {
@@ -43,9 +40,10 @@ void add_render_options(CLI::App& app, RenderOptions& o, const std::string& spp_
         ->check(kNoMinus)
         ->group(group);
     app.add_option("--threads", o.threads,
-                   "worker threads, up to 256, for the render and for loading\n"
-                   "(parse and compile); 0 = all cores this process may use (the\n"
-                   "image is the same for any count)")
+                   "worker threads, up to " + std::to_string(rt::kMaxThreads) +
+                       ", for the render and for loading\n"
+                       "(parse and compile); 0 = all cores this process may use (the\n"
+                       "image is the same for any count)")
         ->type_name("N")
         ->group(group);
     app.add_flag_callback(
@@ -135,10 +133,11 @@ void validate_render_options(const RenderOptions& o) {
         throw UsageError("--depth must be between 1 and " + std::to_string(rt::kMaxDepth));
     if (!(o.cutoff >= 0.0)) throw UsageError("--cutoff must not be negative");
     if (o.spp < 1) throw UsageError("--spp must be at least 1");
-    if (o.light_samples < 1 || o.light_samples > kMaxLightSamples)
+    if (o.light_samples < 1 || o.light_samples > rt::kMaxLightSamples)
         throw UsageError("--light-samples must be between 1 and " +
-                         std::to_string(kMaxLightSamples));
-    if (o.threads < 0 || o.threads > 256) throw UsageError("--threads must be between 0 and 256");
+                         std::to_string(rt::kMaxLightSamples));
+    if (o.threads < 0 || o.threads > rt::kMaxThreads)
+        throw UsageError("--threads must be between 0 and " + std::to_string(rt::kMaxThreads));
     for (const auto& [name, v] : {std::pair<const char*, double>{"--light-radius", o.light_radius},
                                   {"--aperture", o.aperture},
                                   {"--focus-distance", o.focus_distance},

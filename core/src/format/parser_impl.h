@@ -20,6 +20,7 @@
 #include "rt/scene/scene_desc.h"
 #include "rt/util/error.h"
 #include "rt/util/file_io.h"
+#include "rt/util/limits.h"
 #include "rt/util/text.h"
 
 namespace rt::parser_impl {
@@ -44,14 +45,6 @@ std::string lower(std::string_view s);
 std::optional<ShapeKind> shape_directive_kind(std::string_view directive);
 /// V0/V1-only directives (spec §10 step 1): groups, joints, #background, #ambient, #*_num.
 bool is_v01_directive(std::string_view directive);
-
-// Limits of this reader (docs/format.md, "our choices"): they keep the recursion of every
-// consumer of the group tree and the file tree shallow, and memory bounded by the input's size.
-constexpr int kMaxGroupDepth = 10000;          // nested #group_begin/#joint_begin in one file
-constexpr int kMaxIncludeDepth = 200;          // nested #ray_file includes
-constexpr long long kMaxPlacements = 1 << 20;  // file copies placed in the world by instancing
-constexpr int kMaxCsgDepth = 100;              // V3 CSG nodes nested in one file
-constexpr int kMaxV3Depth = 1000;              // V3 lists, transforms and CSG nodes nested
 
 // Items a #*_num count may declare.
 enum CountKind { kLights, kTextures, kMaterials, kVertices, kRayFiles, kKeyFiles, kCountKinds };

@@ -19,14 +19,11 @@
 
 #include "image/decode_util.h"
 #include "rt/image/decode.h"
+#include "rt/util/limits.h"
 
 namespace rt {
 
 namespace {
-
-// A progressive file may hold any number of scans, each a pass over the whole image: a small
-// file of thousands of them would take minutes (libjpeg-turbo's own fuzzers stop at 500 too).
-constexpr int kMaxScans = 500;
 
 struct JpegJob {
     jpeg_error_mgr manager;  // first: libjpeg passes a pointer to it
@@ -54,10 +51,10 @@ void on_message(j_common_ptr c, int level) {
 
 void on_progress(j_common_ptr c) {
     const auto* d = reinterpret_cast<j_decompress_ptr>(c);
-    if (d->input_scan_number > kMaxScans) {
+    if (d->input_scan_number > kMaxJpegScans) {
         auto* job = reinterpret_cast<JpegJob*>(c->err);
         std::snprintf(job->message, sizeof job->message, "JPEG file of more than %d scans",
-                      kMaxScans);
+                      kMaxJpegScans);
         std::longjmp(job->jump, 1);
     }
 }

@@ -128,10 +128,6 @@ Imf::PixelType pixel_type(ExrPixel t, bool full_float) {
     return Imf::UINT;
 }
 
-// The most values (pixels times channels) a file may hold: 16 channels of the largest image the
-// budget allows (the render's RGB and its AOVs are 15 at most).
-constexpr uint64_t kMaxChannelsAtBudget = 16;
-
 }  // namespace
 
 void save_exr(const Image& rgb, const std::vector<ExrChannel>& extra, bool full_float,
@@ -465,7 +461,7 @@ double value(uint32_t word, Imf::PixelType type) {
 }
 
 // The file's header checked, its data window's size against the image budget and `channels`
-// values a pixel against kMaxChannelsAtBudget times it. Returns the width and height.
+// values a pixel against kMaxExrChannelsAtBudget times it. Returns the width and height.
 std::pair<int, int> checked_size(const Imf::Header& h, uint64_t channels) {
     const Imath::Box2i dw = h.dataWindow();
     const int64_t w = int64_t{dw.max.x} - dw.min.x + 1, ht = int64_t{dw.max.y} - dw.min.y + 1;
@@ -473,11 +469,11 @@ std::pair<int, int> checked_size(const Imf::Header& h, uint64_t channels) {
     const auto uw = static_cast<uint64_t>(w), uh = static_cast<uint64_t>(ht);
     if (std::string e = image_size_error(uw, uh, "EXR image"); !e.empty())
         throw std::runtime_error(e);
-    if (channels * uw * uh > kMaxChannelsAtBudget * max_image_pixels())
+    if (channels * uw * uh > kMaxExrChannelsAtBudget * max_image_pixels())
         throw std::runtime_error("EXR image of " + std::to_string(uw) + "x" + std::to_string(uh) +
                                  " pixels in " + std::to_string(channels) +
                                  " channels holds more than " +
-                                 std::to_string(kMaxChannelsAtBudget) +
+                                 std::to_string(kMaxExrChannelsAtBudget) +
                                  " channels of the image budget (--max-pixels raises it)");
     return {static_cast<int>(w), static_cast<int>(ht)};
 }

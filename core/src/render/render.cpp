@@ -10,6 +10,7 @@
 #include "camera_sample.h"
 #include "parallel.h"
 #include "rt/render/sampler.h"
+#include "rt/util/limits.h"
 #include "rt/util/threads.h"
 
 namespace rt {
@@ -37,8 +38,8 @@ Image RenderState::image() const {
 }
 
 int resolve_thread_count(int threads) {
-    if (threads > 0) return std::min(threads, 256);
-    return static_cast<int>(std::min(hardware_threads(), 256u));
+    if (threads > 0) return std::min(threads, kMaxThreads);
+    return static_cast<int>(std::min(hardware_threads(), static_cast<unsigned>(kMaxThreads)));
 }
 
 namespace {

@@ -15,6 +15,7 @@
 #include "rt/render/plan.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
+#include "rt/util/limits.h"
 
 namespace rt {
 
@@ -74,7 +75,7 @@ struct InspectLight {
     std::vector<InspectShadowRay> shadow_rays;  // the first kMaxShadowRays of them
     Vec3 value{0.0};                            // what the light adds to the colour
     std::string note;                           // why it adds nothing, when it does not
-    static constexpr size_t kMaxShadowRays = 16;
+    static constexpr size_t kMaxShadowRays = kMaxInspectShadowRays;
 };
 
 /// Why a reflected or refracted ray was not traced.
@@ -142,15 +143,13 @@ struct PixelTree {
     Vec3 color{0.0};               // the sample's colour (rays[0].color)
     Vec3 pixel{0.0};               // the pixel's value over all its samples (what the image holds)
 
-    // The limits that keep a tree's memory and its text bounded whatever --depth, the scene's
-    // lights and its transparent surfaces (a reflected and a refracted ray at each hit double
-    // the rays each level: one pixel of a 300-byte scene at depth 256 traced 110,000). Past
+    // The limits that keep a tree's memory and its text bounded (rt/util/limits.h). Past
     // either, no further ray is recorded; the rays are still traced, so the colour is the
     // same. A recorded ray keeps all its light terms; its shadow rays and their surfaces are
     // recorded while the budget of records lasts.
-    static constexpr size_t kMaxRays = 4096;      // camera, reflected and refracted rays
-    static constexpr size_t kMaxRecords = 65536;  // light terms, shadow rays and occluders
-    size_t max_rays = kMaxRays;                   // the limits this tree was recorded with
+    static constexpr size_t kMaxRays = kMaxInspectRays;
+    static constexpr size_t kMaxRecords = kMaxInspectRecords;
+    size_t max_rays = kMaxRays;  // the limits this tree was recorded with
     size_t max_records = kMaxRecords;
 };
 

@@ -22,7 +22,7 @@ namespace rt {
 struct RenderSettings {
     int width = 640;
     int height = 480;
-    int max_depth = 5;  // at most kMaxDepth (rt/render/shading.h)
+    int max_depth = 5;  // at most kMaxDepth (rt/util/limits.h)
     double cutoff = 0.001;
     bool shadows = true;
     int threads = 0;  // 0: all cores
@@ -150,7 +150,8 @@ Image render_coarse(const RenderScene& scene, const RenderPlan& plan,
 Vec3 render_pixel_value(const RenderScene& scene, const RenderPlan& plan,
                         const RenderSettings& settings, int x, int y, int spp);
 
-/// Number of threads render_samples() uses for a settings value (0 = all cores).
+/// Number of threads render_samples() uses for a settings value (0 = all cores), at most
+/// kMaxThreads.
 int resolve_thread_count(int threads);
 
 }  // namespace rt

@@ -11,6 +11,7 @@
 #include "rt/accel/intersect.h"
 #include "rt/compile/render_scene.h"
 #include "rt/render/sampler.h"
+#include "rt/util/limits.h"
 
 namespace rt {
 
@@ -27,14 +28,8 @@ struct RayCounters {
     }
 };
 
-/// The deepest a ray may be traced (trace_ray's depth, RenderSettings::max_depth). Each level is
-/// a nested call of the shading code: about 1.2 KB of stack in a release build and 6 KB under
-/// AddressSanitizer, so 256 levels take 0.3 MB (1.5 MB), well within a worker thread's stack
-/// (8 MiB on Linux, 2 MiB on the web page's workers). A deeper request is refused (raytrace and
-/// rayview: a usage error; the library: std::invalid_argument) rather than overflowing it.
-inline constexpr int kMaxDepth = 256;
-
-/// Throws std::invalid_argument, naming kMaxDepth, when `depth` exceeds it.
+/// Throws std::invalid_argument, naming kMaxDepth (the deepest a ray may be traced,
+/// rt/util/limits.h), when `depth` exceeds it.
 void check_depth(int depth);
 
 /// Bilinear, wrapping texture lookup of spec §7.3 (row 0 at the top, v = 0 at the bottom).

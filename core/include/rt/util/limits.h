@@ -1,8 +1,11 @@
-// The resource budget every reader and allocator of the library checks before it allocates: a
-// count or a size that a file declares, or that the user asks for, is compared with what the
-// file can hold and with this budget first, and refused with a message that names the size.
+// Every limit of the library, in one place: the resource budget every reader and allocator checks
+// before it allocates (a count or a size that a file declares, or that the user asks for, is
+// compared with what the file can hold and with this budget first, and refused with a message
+// that names the size), and the fixed limits of the parser, the render, the inspector and the
+// decoders. Each bounds what a hostile or mistaken input can cost; the messages name the value.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -22,6 +25,55 @@ inline constexpr uint64_t kMaxFileBytes = uint64_t{4} << 30;
 /// How much a file may grow while it is read beyond the size it had when opened (1 MiB): a read
 /// past that is refused, so a file whose reads never end cannot take the machine's memory.
 inline constexpr uint64_t kMaxFileGrowth = uint64_t{1} << 20;
+
+// The parser's limits (docs/format.md, "Limits"): they keep the recursion of every consumer of
+// the group tree and the file tree shallow, and memory bounded by the input's size.
+
+/// Nested #group_begin/#joint_begin in one file: 10000, well past the deepest real scene (1734).
+inline constexpr int kMaxGroupDepth = 10000;
+/// Nested #ray_file includes: 200 files, each an open file and a level of the include tree's walks.
+inline constexpr int kMaxIncludeDepth = 200;
+/// File copies placed in the world by instancing (nested instances multiply): 2^20, so that a few
+/// small files cannot place billions of copies.
+inline constexpr long long kMaxPlacements = 1 << 20;
+/// V3 CSG nodes nested inside CSG nodes in one file: 100 (the public V3 scenes nest 1): a hit on a
+/// CSG is classified by a walk of its node's whole subtree, so the nesting is a cost per ray.
+inline constexpr int kMaxCsgDepth = 100;
+/// V3 lists, transforms and CSG nodes nested in one file: 1000 (the public V3 scenes nest 4).
+inline constexpr int kMaxV3Depth = 1000;
+
+/// The deepest a ray may be traced (trace_ray's depth, RenderSettings::max_depth, --depth). Each
+/// level is a nested call of the shading code: about 1.2 KB of stack in a release build and 6 KB
+/// under AddressSanitizer, so 256 levels take 0.3 MB (1.5 MB), well within a worker thread's stack
+/// (8 MiB on Linux, 2 MiB on the web page's workers). A deeper request is refused (raytrace and
+/// rayview: a usage error; the library: std::invalid_argument) rather than overflowing it.
+inline constexpr int kMaxDepth = 256;
+/// Points per sphere light (--light-samples): 2^20, as the render's plan holds one direction per
+/// point.
+inline constexpr int kMaxLightSamples = 1 << 20;
+/// Render and load threads (--threads): 256, so that a mistyped count cannot start thousands.
+inline constexpr int kMaxThreads = 256;
+
+// The inspector's limits keep a pixel's tree, its memory and its text bounded whatever --depth,
+// the scene's lights and its transparent surfaces (a reflected and a refracted ray at each hit
+// double the rays each level: one pixel of a 300-byte scene at depth 256 traced 110,000).
+
+/// Rays recorded in a tree (camera, reflected and refracted): 4096.
+inline constexpr size_t kMaxInspectRays = 4096;
+/// Light terms, shadow rays and occluders recorded in a tree: 65536.
+inline constexpr size_t kMaxInspectRecords = 65536;
+/// Shadow rays recorded per light term (a sphere light traces up to kMaxLightSamples): 16.
+inline constexpr size_t kMaxInspectShadowRays = 16;
+
+/// Scans of a progressive JPEG: 500. Each is a pass over the whole image, so a small file of
+/// thousands of them would take minutes (libjpeg-turbo's own fuzzers stop at 500 too).
+inline constexpr int kMaxJpegScans = 500;
+/// The values (pixels times channels) an EXR file may hold, in channels of the largest image the
+/// budget allows: 16 (the render's RGB and its AOVs are 15 at most).
+inline constexpr uint64_t kMaxExrChannelsAtBudget = 16;
+/// The longest part file header looked through for its end: 1 MiB (its lines are short: 64 blocks
+/// at most, one settings line).
+inline constexpr size_t kMaxPartHeaderBytes = size_t{1} << 20;
 
 /// The budget in force (process-wide; kDefaultMaxImagePixels until set).
 uint64_t max_image_pixels();
