@@ -259,6 +259,107 @@ void web_frame(void* arg) {
 }
 #endif
 
+// The command line into *opt. Returns -1 to run, else the exit code of a run that ends here:
+// --help or a bad option, a processor without the build's instructions, no scene at all.
+int read_options(int argc, char** argv, const std::string& data_dir, const std::string& data_error,
+                 rt::view::RunOptions* opt) {
+    const int rc = rt::view::parse_run_options(
+        argc, argv, data_dir.empty() ? "" : data_dir + "/scenes/showpiece.ray", opt);
+    if (rc >= 0) return rc;
+    if (!rtapp::isa_usable("rayview")) return 2;
+    if (opt->scene.empty()) {  // no scene named, and no default one
+        std::fprintf(stderr, "rayview: no scene given, and the default one is missing: %s\n",
+                     data_error.c_str());
+        return 1;
+    }
+    return -1;
+}
+
+// What the last run kept: the window's size, the UI scale, the recent files. A file that cannot
+// be read is a warning, and the defaults.
+rt::view::UserConfig read_user_config(const std::string& config_file) {
+    std::string problem;
+    rt::view::UserConfig config = rt::view::read_config(config_file, &problem);
+    if (!problem.empty())
+        std::fprintf(stderr, "rayview: warning: the settings were not read: %s\n", problem.c_str());
+    return config;
+}
+
+// A scripted run at a --size of its own (tests, screenshots) leaves the window size the user's
+// interactive runs keep.
+bool keeps_saved_size(const rt::view::RunOptions& opt) {
+    return opt.window_w != 0 && (opt.frames > 0 || !opt.script.empty() || !opt.screenshot.empty());
+}
+
+// Ctrl+C and a kill close the window (on_signal); GLFW's errors are printed.
+void install_handlers() {
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    glfwSetErrorCallback(glfw_error);
+}
+
+// No window: the image rendered as raytrace would, 16 samples per pixel unless --spp says (1
+// comparing).
+int render_without_window(const rt::view::RunOptions& opt) {
+    const int spp = opt.spp_given ? opt.render.spp : opt.compare.empty() ? 16 : 1;
+    return rt::view::render_headless(opt.scene, opt.render.missing_textures, opt.render, spp,
+                                     opt.render.dialect, opt.compare);
+}
+
+// The viewer's first settings: the command line's over the last run's UI scale; the recent
+// files; the --compare image (an error fails a scripted run).
+void start_viewer(rt::view::ViewerState& viewer, const rt::view::RunOptions& opt,
+                  const rt::view::UserConfig& config) {
+    rt::view::ViewSettings initial = viewer.settings;
+    rt::view::apply_run_options(opt, &initial);
+    initial.ui_scale = config.ui_scale;
+    viewer.start_with(initial);
+    viewer.session.remember_recent(config.recent);
+    if (!opt.compare.empty() && viewer.session.loaded) {
+        viewer.ui.compare.spp = opt.spp_given ? opt.render.spp : 1;
+        if (viewer.compare_with(opt.compare))
+            std::printf("rayview: %s\n", viewer.messages.text.c_str());
+    }
+}
+
+// The window's frames until it closes (or the script ends); the run's exit code, 1 when the
+// shaders did not compile.
+int run_frames(GLFWwindow* window, ImGuiIO& io, rt::view::ViewerState& viewer,
+               const rt::view::RunOptions& opt, const std::string& data_dir) {
+    using namespace rt::view;
+    glfwSetWindowUserPointer(window, &viewer);
+    glfwSetDropCallback(window, on_drop);
+    const std::unique_ptr<Panes> panes = make_panes(data_dir + "/shaders");
+    if (!panes) return 1;
+    if (!viewer.session.loaded) std::fprintf(stderr, "%s\n", viewer.messages.text.c_str());
+    Session session{window,         io, viewer, *panes, PanelState(opt.scene), {},
+                    ScriptRun(opt), {}, {},     0};
+    session.ui.samples_dir = data_dir + "/scenes";
+#ifdef __EMSCRIPTEN__
+    // The browser runs the frames: this does not return, and the session lives on (in this
+    // function's frame, with the viewer in main's).
+    web_start(&viewer);
+    emscripten_set_main_loop_arg(web_frame, &session, 0, true);
+#endif
+    while (frame(session)) {
+    }
+    const int exit_code = session.exit_code;
+    session.script.print_summary(session.stats, viewer);
+    return exit_code;
+}
+
+// What the next run starts from: the window's size (unless this run's script chose it), the UI
+// scale, the recent files. Not written: a warning.
+void save_user_config(const std::string& config_file, rt::view::UserConfig config,
+                      GLFWwindow* window, const rt::view::ViewerState& viewer,
+                      bool keep_saved_size) {
+    if (!keep_saved_size) glfwGetWindowSize(window, &config.window_w, &config.window_h);
+    config.ui_scale = viewer.settings.ui_scale;
+    config.recent = viewer.session.recent;
+    if (!rt::view::write_config(config_file, config))
+        std::fprintf(stderr, "rayview: cannot write the settings to '%s'\n", config_file.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -269,91 +370,30 @@ int main(int argc, char** argv) {
     std::string data_error;
     const std::string data_dir = find_data(&data_error);
     RunOptions opt;
-    const int rc = parse_run_options(
-        argc, argv, data_dir.empty() ? "" : data_dir + "/scenes/showpiece.ray", &opt);
-    if (rc >= 0) return rc;
-    if (!rtapp::isa_usable("rayview")) return 2;
-    if (opt.scene.empty()) {  // no scene named, and no default one
-        std::fprintf(stderr, "rayview: no scene given, and the default one is missing: %s\n",
-                     data_error.c_str());
-        return 1;
-    }
-
-    // What the last run kept: the window's size, the UI scale, the recent files.
+    if (const int rc = read_options(argc, argv, data_dir, data_error, &opt); rc >= 0) return rc;
     const std::string config_file = config_path();
-    std::string config_problem;
-    UserConfig config = read_config(config_file, &config_problem);
-    if (!config_problem.empty())
-        std::fprintf(stderr, "rayview: warning: the settings were not read: %s\n",
-                     config_problem.c_str());
-    // A scripted run at a --size of its own (tests, screenshots) leaves the window size the
-    // user's interactive runs keep.
-    const bool keep_saved_size =
-        opt.window_w != 0 && (opt.frames > 0 || !opt.script.empty() || !opt.screenshot.empty());
+    const UserConfig config = read_user_config(config_file);
+    const bool keep_saved_size = keeps_saved_size(opt);
     if (opt.window_w == 0) opt.window_w = config.window_w, opt.window_h = config.window_h;
 
-    // Setup window
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
-    glfwSetErrorCallback(glfw_error);
+    install_handlers();
     GLFWwindow* window = open_window(opt.window_w, opt.window_h);
-    if (!window) {  // raytrace's settings, 16 samples per pixel unless --spp says (1 comparing)
-        const rt::RenderSettings& settings = opt.render;
-        const int spp = opt.spp_given ? opt.render.spp : opt.compare.empty() ? 16 : 1;
-        return render_headless(opt.scene, opt.render.missing_textures, settings, spp,
-                               opt.render.dialect, opt.compare);
-    }
+    if (!window) return render_without_window(opt);
     if (data_dir.empty()) {
         std::fprintf(stderr, "rayview: %s\n", data_error.c_str());
         glfwDestroyWindow(window);
         glfwTerminate();
         return 1;
     }
-    // Setup Dear ImGui context, style and platform/renderer back ends
     ImGuiIO& io = init_imgui(window);
-
     int exit_code = 0;
-    {  // the viewer and its GL objects die before the context
+    {  // the viewer and its GL objects die before the context; the trace stops with the viewer
         ViewerState viewer(opt.scene, !opt.screenshot.empty(), opt.render.missing_textures,
                            opt.render.dialect);
-        ViewSettings initial = viewer.settings;
-        apply_run_options(opt, &initial);
-        initial.ui_scale = config.ui_scale;
-        viewer.start_with(initial);
-        viewer.session.remember_recent(config.recent);
-        if (!opt.compare.empty() && viewer.session.loaded) {  // an error fails a scripted run
-            viewer.ui.compare.spp = opt.spp_given ? opt.render.spp : 1;
-            if (viewer.compare_with(opt.compare))
-                std::printf("rayview: %s\n", viewer.messages.text.c_str());
-        }
-        glfwSetWindowUserPointer(window, &viewer);
-        glfwSetDropCallback(window, on_drop);
-        const std::unique_ptr<Panes> panes = make_panes(data_dir + "/shaders");
-        if (!panes) exit_code = 1;
-        if (panes && !viewer.session.loaded)
-            std::fprintf(stderr, "%s\n", viewer.messages.text.c_str());
-        if (panes) {
-            Session session{window,         io, viewer, *panes, PanelState(opt.scene), {},
-                            ScriptRun(opt), {}, {},     0};
-            session.ui.samples_dir = data_dir + "/scenes";
-#ifdef __EMSCRIPTEN__
-            // The browser runs the frames: main() does not return, and the session lives on.
-            web_start(&viewer);
-            emscripten_set_main_loop_arg(web_frame, &session, 0, true);
-#endif
-            while (frame(session)) {
-            }
-            exit_code = session.exit_code;
-            session.script.print_summary(session.stats, viewer);
-        }
-        if (!keep_saved_size) glfwGetWindowSize(window, &config.window_w, &config.window_h);
-        config.ui_scale = viewer.settings.ui_scale;
-        config.recent = viewer.session.recent;
-        if (!write_config(config_file, config))
-            std::fprintf(stderr, "rayview: cannot write the settings to '%s'\n",
-                         config_file.c_str());
-    }  // the trace stops with the viewer
-    // Cleanup
+        start_viewer(viewer, opt, config);
+        exit_code = run_frames(window, io, viewer, opt, data_dir);
+        save_user_config(config_file, config, window, viewer, keep_saved_size);
+    }
     shutdown(window);
     return exit_code;
 }
