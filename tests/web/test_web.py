@@ -182,7 +182,14 @@ class Browser:
     def wait(self, script, what, seconds=240):
         end = time.time() + seconds
         while time.time() < end:
-            value = self.js(script)
+            try:
+                value = self.js(script)
+            except RuntimeError as e:
+                # The page's main thread busy past WebDriver's script timeout (a loaded machine:
+                # the scene's load, a frame) has not answered yet: asked again, up to `seconds`.
+                if '"script timeout"' not in str(e):
+                    raise
+                value = None
             if value:
                 return value
             time.sleep(0.25)
