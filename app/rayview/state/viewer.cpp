@@ -11,6 +11,7 @@
 #include "rt/render/inspect.h"
 #include "rt/util/file_io.h"
 #include "rt/util/limits.h"
+#include "rt/util/threads.h"
 
 namespace rt::view {
 
@@ -505,8 +506,8 @@ bool ViewerState::compare_with(const std::string& path) {
 
 void ViewerState::compare_in_background(const std::string& path) {
     jobs.compare.start(path);
-    if (jobs.compare.busy()) messages.note("reading " + path + " to compare with ...");
-    take_compare_image();  // (read at once without threads)
+    messages.note("reading " + path + " to compare with ...");
+    if (!have_threads()) take_compare_image();  // read at once: taken now; else in poll_files()
 }
 
 void ViewerState::take_compare_image() {
