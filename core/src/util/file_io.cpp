@@ -274,8 +274,10 @@ std::string create_scratch_file(const std::string& path, int* fd, const std::str
             for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&hold, sig);
             ::pthread_sigmask(SIG_BLOCK, &hold, &old);
             const int opened = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+            const int error = errno;  // (the open's, for the loop below)
             if (opened >= 0) track_scratch(name);
             ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+            errno = error;
             return opened;
         }();
         if (f >= 0) {
