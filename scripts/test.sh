@@ -5,8 +5,8 @@
 # unit tests, the fuzz crasher corpus, the CLI test and the viewer's chaos test (500 random
 # scripted events) again under AddressSanitizer and UndefinedBehaviorSanitizer (build-san/, any
 # finding fails, no GL tests), then 30 s of fuzzing each fuzz target (the parser and compiler,
-# the image decoders, key files, part files; tests/fuzz/run.sh) in that same tree, then the
-# viewer's tests (the trace restarted 1000 times with edits) and the load's threads under
+# the image decoders, key files, part files, raycompare's comparison; tests/fuzz/run.sh) in that
+# same tree, then the viewer's tests (the trace restarted 1000 times with edits) and the load's threads under
 # ThreadSanitizer (build-tsan/).
 # With clang and libFuzzer the sanitizer tree is clang's (it also builds the fuzz targets);
 # without them it is GCC's and fuzzing is skipped with a message. RT_QUICK=1 stops after the
@@ -73,7 +73,7 @@ took "the tests in build-san/"
 # busy: the ThreadSanitizer tree builds beside it, and its log is shown when it ends.
 fuzz_pid=""
 if [ "$fuzz" = 1 ]; then
-    echo "test: fuzzing 4 targets for 30 s each (build-san/, log in build-san/fuzz.log)" \
+    echo "test: fuzzing 5 targets for 30 s each (build-san/, log in build-san/fuzz.log)" \
         "beside build-tsan/" >&2
     # A process group of its own (setsid), so that a failure below stops libFuzzer with it.
     RT_FUZZ_BUILD=build-san RT_JOBS="$jobs" setsid tests/fuzz/run.sh 30 >build-san/fuzz.log 2>&1 &
