@@ -464,50 +464,33 @@ public:
         m_j.close('}');
     }
 
-    void ray(int index) {
-        const InspectRay& r = m_tree.rays[static_cast<size_t>(index)];
+    // What a ray met: null on a miss.
+    void hit(const InspectRay& r) {
+        if (!r.hit) return m_j.null();
         m_j.open('{');
-        m_j.ki("index", index);
-        m_j.key("parent");
-        if (r.parent >= 0)
-            m_j.integer(r.parent);
+        m_j.kv("t", r.t);
+        m_j.kv("distance", r.distance);
+        m_j.kv("point", r.point);
+        m_j.key("primitive");
+        prim(r.prim);
+        m_j.key("material");
+        material(r.material);
+        m_j.kv("n_g", r.n_geometric);
+        m_j.kv("n_s", r.n_shading);
+        m_j.kv("n", r.n);
+        m_j.kb("entering", r.entering);
+        m_j.key("uv");
+        m_j.vec2(r.uv);
+        m_j.key("texel");
+        if (r.textured)
+            m_j.vec3(r.texel);
         else
             m_j.null();
-        m_j.kv("kind", ray_kind_text(r.kind));
-        m_j.ki("depth", r.depth);
-        m_j.kv("origin", r.ray.o);
-        m_j.kv("direction", r.ray.d);
-        m_j.kv("weight", r.weight);
-        if (r.kind == InspectRay::Kind::Refracted) {
-            m_j.kv("eta", r.eta);
-            m_j.kv("cos_incident", r.cos_incident);
-        }
-        m_j.key("hit");
-        if (r.hit) {
-            m_j.open('{');
-            m_j.kv("t", r.t);
-            m_j.kv("distance", r.distance);
-            m_j.kv("point", r.point);
-            m_j.key("primitive");
-            prim(r.prim);
-            m_j.key("material");
-            material(r.material);
-            m_j.kv("n_g", r.n_geometric);
-            m_j.kv("n_s", r.n_shading);
-            m_j.kv("n", r.n);
-            m_j.kb("entering", r.entering);
-            m_j.key("uv");
-            m_j.vec2(r.uv);
-            m_j.key("texel");
-            if (r.textured)
-                m_j.vec3(r.texel);
-            else
-                m_j.null();
-            m_j.close('}');
-        } else {
-            m_j.null();
-        }
-        m_j.key("terms");
+        m_j.close('}');
+    }
+
+    // The shading equation's terms and their sum (the background on a miss).
+    void terms(const InspectRay& r) {
         m_j.open('{');
         if (r.hit) {
             m_j.kv("emissive", r.emissive);
@@ -539,7 +522,10 @@ public:
         }
         m_j.kv("sum", r.color);
         m_j.close('}');
-        m_j.key("stopped");
+    }
+
+    // The rays it did not trace, and why.
+    void stops(const InspectRay& r) {
         m_j.open('[');
         for (const InspectStop& s : r.stops) {
             m_j.open('{');
@@ -549,16 +535,10 @@ public:
             m_j.close('}');
         }
         m_j.close(']');
-        m_j.key("shadow_rays");
-        m_j.open('[');
-        for (const InspectLight& l : r.lights)
-            for (const InspectShadowRay& s : l.shadow_rays) shadow(s, l.light);
-        m_j.close(']');
-        m_j.key("children");
-        m_j.open('[');
-        for (int c : r.children) m_j.integer(c);
-        m_j.close(']');
-        m_j.key("not_recorded");
+    }
+
+    // The rays it traced without recording them (past the tree's limits).
+    void not_recorded(const InspectRay& r) {
         m_j.open('[');
         for (const InspectRay::NotRecorded& n : r.not_recorded) {
             m_j.open('{');
@@ -570,6 +550,43 @@ public:
             m_j.close('}');
         }
         m_j.close(']');
+    }
+
+    void ray(int index) {
+        const InspectRay& r = m_tree.rays[static_cast<size_t>(index)];
+        m_j.open('{');
+        m_j.ki("index", index);
+        m_j.key("parent");
+        if (r.parent >= 0)
+            m_j.integer(r.parent);
+        else
+            m_j.null();
+        m_j.kv("kind", ray_kind_text(r.kind));
+        m_j.ki("depth", r.depth);
+        m_j.kv("origin", r.ray.o);
+        m_j.kv("direction", r.ray.d);
+        m_j.kv("weight", r.weight);
+        if (r.kind == InspectRay::Kind::Refracted) {
+            m_j.kv("eta", r.eta);
+            m_j.kv("cos_incident", r.cos_incident);
+        }
+        m_j.key("hit");
+        hit(r);
+        m_j.key("terms");
+        terms(r);
+        m_j.key("stopped");
+        stops(r);
+        m_j.key("shadow_rays");
+        m_j.open('[');
+        for (const InspectLight& l : r.lights)
+            for (const InspectShadowRay& s : l.shadow_rays) shadow(s, l.light);
+        m_j.close(']');
+        m_j.key("children");
+        m_j.open('[');
+        for (int c : r.children) m_j.integer(c);
+        m_j.close(']');
+        m_j.key("not_recorded");
+        not_recorded(r);
         m_j.close('}');
     }
 
