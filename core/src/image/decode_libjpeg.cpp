@@ -83,7 +83,7 @@ bool run(jpeg_decompress_struct* cinfo, std::string_view data, JpegJob* job) {
     // cannot hold the image its frame header declares, and is refused before libjpeg allocates
     // for it (a progressive or multi-scan file's coefficients: 128 bytes a block, all zeroed at
     // jpeg_start_decompress) and before the image is: a 282-byte file claiming 8192x8192 cost
-    // 203 MB (issue 49). An arithmetic coder can spend far less on a flat block: 1/64 of a bit
+    // 203 MB. An arithmetic coder can spend far less on a flat block: 1/64 of a bit
     // is assumed. The bytes left after the first scan's header bound the scans' data.
     uint64_t blocks = 0;
     for (int c = 0; c < cinfo->num_components; ++c)
