@@ -375,13 +375,18 @@ size_t widest_indent(const std::string& text) {
     return widest;
 }
 
-TEST(Inspect, AnExplodingTreeRecordsItsLimitOfRays) {
-    const RenderScene scene = test::compile(kExplodingScene);
+// The exploding scene's centre pixel of an 8x8 image at depth 256, within `limits`.
+PixelTree exploding_tree(const RenderScene& scene, const InspectLimits& limits = {}) {
     RenderSettings s;
     s.width = 8;
     s.height = 8;
     s.max_depth = 256;
-    const PixelTree tree = inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4);
+    return inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4, 0, 1, limits);
+}
+
+TEST(Inspect, AnExplodingTreeRecordsItsLimitOfRays) {
+    const RenderScene scene = test::compile(kExplodingScene);
+    const PixelTree tree = exploding_tree(scene);
     EXPECT_EQ(tree.rays.size(), PixelTree::kMaxRays);
     EXPECT_GT(tree.rays_not_recorded, 1000u);
     EXPECT_EQ(not_recorded_in_lists(tree), tree.rays_not_recorded);
@@ -397,12 +402,7 @@ constexpr InspectLimits kSomeRays{300, PixelTree::kMaxRecords};
 
 TEST(Inspect, AnExplodingTreesTextIsIndentedSoFarAndSaysWhatIsLeftOut) {
     const RenderScene scene = test::compile(kExplodingScene);
-    RenderSettings s;
-    s.width = 8;
-    s.height = 8;
-    s.max_depth = 256;
-    const PixelTree tree =
-        inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4, 0, 1, kSomeRays);
+    const PixelTree tree = exploding_tree(scene, kSomeRays);
     ASSERT_EQ(tree.rays.size(), 300u);
     const std::string text = inspect_text(tree, scene, {});
     // A ray's lines are 2 deeper than the ray, a shadow ray's surfaces 6 deeper.
@@ -430,12 +430,7 @@ TEST(Inspect, AnExplodingTreesTextIsIndentedSoFarAndSaysWhatIsLeftOut) {
 
 TEST(Inspect, AnExplodingTreesJsonIsFlatAndCountsItsRays) {
     const RenderScene scene = test::compile(kExplodingScene);
-    RenderSettings s;
-    s.width = 8;
-    s.height = 8;
-    s.max_depth = 256;
-    const PixelTree tree =
-        inspect_pixel(scene, make_render_plan(scene, s), s, 4, 4, 0, 1, kSomeRays);
+    const PixelTree tree = exploding_tree(scene, kSomeRays);
     const std::string json = inspect_json(tree, scene, {});
     test::JsonValue v;
     std::string why;
