@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "cli.h"
 #include "rt/image/image.h"
@@ -29,6 +30,66 @@ bool eight_bit(const std::string& path) {
 struct Region {
     int x = 0, y = 0, w = 0, h = 0;
 };
+
+/// What a comparison measures over a region of two images of the same size.
+struct Stats {
+    double mad[3] = {0, 0, 0};  // mean absolute difference per channel, 0-255
+    double dark_share = 0;      // dark in A where B is lit
+    long dark = 0;
+    double off_share = 0;  // off by more than `off`/255 in one channel
+    long off_count = 0;
+    double largest = 0;  // the largest difference of one value, linear
+    double pixels = 0;
+};
+
+Stats measure(const rt::Image& a, const rt::Image& b, const Region& r, bool bytes, double off) {
+    Stats s;
+    for (int y = r.y; y < r.y + r.h; ++y)
+        for (int x = r.x; x < r.x + r.w; ++x) {
+            const size_t i = (static_cast<size_t>(y) * a.width + x) * 3;
+            bool is_off = false;
+            for (size_t k = 0; k < 3; ++k) {
+                const double d = std::abs(a.rgb[i + k] - b.rgb[i + k]);
+                const double d255 = bytes ? std::round(255 * d) : 255 * d;
+                s.mad[k] += d255;
+                is_off |= d255 > off;
+                s.largest = std::max(s.largest, d);
+            }
+            s.off_count += is_off;
+            s.dark += luminance(b, i) > 0.3 && luminance(a, i) < 0.05;
+        }
+    s.pixels = static_cast<double>(r.w) * r.h;
+    for (double& m : s.mad) m /= s.pixels;
+    s.dark_share = static_cast<double>(s.dark) / s.pixels;
+    s.off_share = static_cast<double>(s.off_count) / s.pixels;
+    return s;
+}
+
+/// Both images, of the same size, and the region compared; false after printing why not.
+bool load_pair(const std::string& a_path, const std::string& b_path, const std::vector<int>& crop,
+               rt::Image* a, rt::Image* b, Region* r) {
+    try {
+        *a = rt::load_image(a_path);
+        *b = rt::load_image(b_path);
+    } catch (const std::runtime_error& e) {
+        std::fprintf(stderr, "imgdiff: error: %s\n", e.what());
+        return false;
+    }
+    if (a->width != b->width || a->height != b->height) {
+        std::fprintf(stderr, "imgdiff: error: %s is %dx%d but %s is %dx%d\n", a_path.c_str(),
+                     a->width, a->height, b_path.c_str(), b->width, b->height);
+        return false;
+    }
+    *r = {0, 0, a->width, a->height};
+    if (crop.size() == 4) *r = {crop[0], crop[1], crop[2], crop[3]};
+    if (r->x < 0 || r->y < 0 || r->w <= 0 || r->h <= 0 || r->x + r->w > a->width ||
+        r->y + r->h > a->height) {
+        std::fprintf(stderr, "imgdiff: error: the crop is outside the %dx%d images\n", a->width,
+                     a->height);
+        return false;
+    }
+    return true;
+}
 
 }  // namespace
 
@@ -67,53 +128,16 @@ int main(int argc, char** argv) {
     }
 
     rt::Image a, b;
-    try {
-        a = rt::load_image(a_path);
-        b = rt::load_image(b_path);
-    } catch (const std::runtime_error& e) {
-        std::fprintf(stderr, "imgdiff: error: %s\n", e.what());
-        return 2;
-    }
+    Region r;
+    if (!load_pair(a_path, b_path, crop, &a, &b, &r)) return 2;
     // Two 8-bit files differ by whole steps of 1/255: counted exactly.
-    const bool bytes = eight_bit(a_path) && eight_bit(b_path);
-    if (a.width != b.width || a.height != b.height) {
-        std::fprintf(stderr, "imgdiff: error: %s is %dx%d but %s is %dx%d\n", a_path.c_str(),
-                     a.width, a.height, b_path.c_str(), b.width, b.height);
-        return 2;
-    }
-    Region r{0, 0, a.width, a.height};
-    if (crop.size() == 4) r = {crop[0], crop[1], crop[2], crop[3]};
-    if (r.x < 0 || r.y < 0 || r.w <= 0 || r.h <= 0 || r.x + r.w > a.width || r.y + r.h > a.height) {
-        std::fprintf(stderr, "imgdiff: error: the crop is outside the %dx%d images\n", a.width,
-                     a.height);
-        return 2;
-    }
-    double sum[3] = {0, 0, 0}, largest = 0;
-    long dark = 0, off_count = 0;
-    for (int y = r.y; y < r.y + r.h; ++y)
-        for (int x = r.x; x < r.x + r.w; ++x) {
-            const size_t i = (static_cast<size_t>(y) * a.width + x) * 3;
-            bool is_off = false;
-            for (size_t k = 0; k < 3; ++k) {
-                const double d = std::abs(a.rgb[i + k] - b.rgb[i + k]);
-                const double d255 = bytes ? std::round(255 * d) : 255 * d;
-                sum[k] += d255;
-                is_off |= d255 > off;
-                largest = std::max(largest, d);
-            }
-            off_count += is_off;
-            dark += luminance(b, i) > 0.3 && luminance(a, i) < 0.05;
-        }
-    const double n = static_cast<double>(r.w) * r.h;
-    const double mad[3] = {sum[0] / n, sum[1] / n, sum[2] / n};
-    const double share = static_cast<double>(dark) / n;
-    std::printf("mean abs diff %.2f %.2f %.2f; dark where lit %.4f (%ld of %.0f pixels)\n", mad[0],
-                mad[1], mad[2], share, dark, n);
-    const double off_share = static_cast<double>(off_count) / n;
-    std::printf("off by more than %g/255: %.4f (%ld pixels)\n", off, off_share, off_count);
-    std::printf("max abs diff %.6g\n", largest);
-    bool over = (max_dark >= 0 && share > max_dark) || (max_abs >= 0 && largest > max_abs) ||
-                (max_off >= 0 && off_share > max_off);
-    for (double m : mad) over |= max_mad >= 0 && m > max_mad;
+    const Stats s = measure(a, b, r, eight_bit(a_path) && eight_bit(b_path), off);
+    std::printf("mean abs diff %.2f %.2f %.2f; dark where lit %.4f (%ld of %.0f pixels)\n",
+                s.mad[0], s.mad[1], s.mad[2], s.dark_share, s.dark, s.pixels);
+    std::printf("off by more than %g/255: %.4f (%ld pixels)\n", off, s.off_share, s.off_count);
+    std::printf("max abs diff %.6g\n", s.largest);
+    bool over = (max_dark >= 0 && s.dark_share > max_dark) ||
+                (max_abs >= 0 && s.largest > max_abs) || (max_off >= 0 && s.off_share > max_off);
+    for (double m : s.mad) over |= max_mad >= 0 && m > max_mad;
     return over ? 1 : 0;
 }
