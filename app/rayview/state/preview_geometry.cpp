@@ -7,8 +7,7 @@
 #include <functional>
 #include <stdexcept>
 #include <tuple>
-
-#include "rt/shapes/tessellate.h"
+#include <type_traits>
 
 namespace rt::view {
 
@@ -144,6 +143,32 @@ PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
     return out;
 }
 
+// Appends one shape primitive (or CSG leaf) of the set, tagged with CSG leaf `csg` (-1: none),
+// and what it is to `shapes` (a triangle that follows one of its material: into its run).
+void append_primitive(const GeometrySet& set, const Primitive& p, int detail, int csg,
+                      PreviewMesh& out, std::vector<PreviewShape>* shapes) {
+    const size_t before = out.triangle_count();
+    const PreviewShape shape = visit_shape(set, p, [&](const auto& s) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(s)>, Triangle>)
+            return append_preview(s, set.triangle_attribs(p.index), p.material, out);
+        else
+            return append_preview(
+                s, p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)],
+                p.material, detail, out);
+    });
+    if (shapes) {
+        PreviewShape* run = shapes->empty() ? nullptr : &shapes->back();
+        if (shape.kind == ShapeKind::Triangle && run && run->kind == ShapeKind::Triangle &&
+            run->first + run->count == shape.first && out.materials[run->first] == p.material)
+            run->count += shape.count;
+        else
+            shapes->push_back(shape);
+    }
+    if (csg < 0 && out.csg.empty()) return;
+    out.csg.resize(before, -1);
+    out.csg.resize(out.triangle_count(), csg);
+}
+
 void check_cancel(const std::atomic<bool>* cancel) {
     if (cancel && cancel->load(std::memory_order_relaxed))
         throw std::runtime_error("loading cancelled");
@@ -172,6 +197,29 @@ PreviewMesh decimate(const PreviewMesh& mesh, size_t target, const std::atomic<b
     return out;
 }
 
+PreviewMesh tessellate_set(const GeometrySet& set, int detail, std::vector<PreviewShape>* shapes) {
+    PreviewMesh out;
+    // A mesh's arrays made room for at once: three vertices per triangle, not copied as they
+    // grow (the other kinds add theirs as they come).
+    const size_t triangles = set.triangle_count();
+    out.positions.reserve(3 * triangles);
+    out.normals.reserve(3 * triangles);
+    out.uvs.reserve(3 * triangles);
+    out.indices.reserve(3 * triangles);
+    out.materials.reserve(triangles);
+    for (const Primitive& p : set.prims) {
+        if (p.csg < 0) {
+            append_primitive(set, p, detail, -1, out, shapes);
+            continue;
+        }
+        // The leaves whole, each tagged with its index (PreviewMesh::csg).
+        const CsgRoot& r = set.csg.roots[static_cast<size_t>(p.csg)];
+        for (uint32_t l = r.first_leaf; l < r.first_leaf + r.leaf_count; ++l)
+            append_primitive(set, set.csg.leaves[l].prim, detail, static_cast<int>(l), out, shapes);
+    }
+    return out;
+}
+
 PreviewGeometry prepare_preview(const RenderScene& scene, int detail,
                                 const std::atomic<bool>* cancel) {
     // Sets no instance places are not tessellated.
@@ -184,7 +232,7 @@ PreviewGeometry prepare_preview(const RenderScene& scene, int detail,
         PreviewGeometry::Set& s = g.sets[si];
         if (!s.placed) continue;
         check_cancel(cancel);
-        s.mesh = tessellate_set(scene.sets[si], detail);
+        s.mesh = tessellate_set(scene.sets[si], detail, &s.shapes);
         add_csg_leaves(scene.sets[si], &s.mesh, &s.csg);
         if (s.mesh.triangle_count() > kCoarseAbove && s.csg.leaf_of_vertex.empty())
             s.coarse = decimate(s.mesh, kCoarseTriangles, cancel);
