@@ -1,9 +1,11 @@
 // The preview's mesh of a whole geometry set (state/preview_geometry.h): the tessellated
 // silhouette agreeing with the traced one (intersection over union), materials, windings and
-// normals under transforms, CSG leaves tagged, and what each primitive is.
+// normals under transforms, CSG leaves tagged, and what each primitive is; the draw ranges the
+// preview makes of it (state/preview_ranges.h): solids read from the kinds, flat faces.
 #include "rt/accel/intersect.h"
 #include "rt/shapes/tessellate.h"
 #include "state/preview_geometry.h"
+#include "state/preview_ranges.h"
 #include "test_util.h"
 
 namespace rt {
@@ -180,6 +182,63 @@ TEST(PreviewGeometry, ShapesNameEachPrimitiveAndARunOfTrianglesOnce) {
     for (const PreviewShape& p : shapes)
         if (p.kind == ShapeKind::Triangle) runs.push_back(p.count);
     EXPECT_EQ(runs, (std::vector<size_t>{2, 1}));  // the two of material a, the one of b
+}
+
+// A material's range is a solid when its triangles are one primitive's that is one: the ball
+// (its centre and radius), not the two boxes of one material, nor the box turned off the axes.
+TEST(PreviewRanges, ARangeIsTheSolidOfItsOnePrimitive) {
+    const RenderScene scene = test::compile(
+        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !two!\n"
+        "#material 0 0 0 0 0 0 1 0 0 0 0 0 1 .5 .5 .5 1.5 -1 !ball!\n"
+        "#material 0 0 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 -1 !turned!\n"
+        "#material 0 0 0 0 0 0 0 0 1 0 0 0 1 0 0 0 1 -1 !box!\n"
+        "#shape_box 0 0 0 0 1 1 1\n#shape_box 0 3 0 0 1 1 1\n"
+        "#group_begin 3 0 0 0  0 3 0 1  0 0 3 0  0 0 0 1\n#shape_sphere 1 1 0 0 0.5\n#group_end\n"
+        "#group_begin 0.7071 0 0.7071 0  0 1 0 0  -0.7071 0 0.7071 0  0 0 0 1\n"
+        "#shape_box 2 0 5 0 1 1 1\n#group_end\n#shape_box 3 0 -5 0 1 2 3\n");
+    std::vector<PreviewShape> shapes;
+    const PreviewMesh m = view::tessellate_set(scene.sets[0], 16, &shapes);
+    const view::MaterialRanges r = view::material_ranges(m, shapes);
+    ASSERT_EQ(r.ranges.size(), 4u);
+    EXPECT_EQ(r.indices.size(), m.indices.size());
+    unsigned next = 0;
+    for (size_t i = 0; i < 4; ++i) {
+        EXPECT_EQ(r.ranges[i].material, static_cast<int>(i));
+        EXPECT_EQ(r.ranges[i].first, next);
+        next += r.ranges[i].count;
+        EXPECT_EQ(r.ranges[i].count,
+                  3 * std::count(m.materials.begin(), m.materials.end(), static_cast<int>(i)));
+    }
+    EXPECT_FALSE(r.ranges[0].solid);
+    ASSERT_TRUE(r.ranges[1].solid);
+    EXPECT_EQ(r.ranges[1].solid->kind, ShapeKind::Sphere);
+    EXPECT_NEAR(glm::length(r.ranges[1].solid->centre - Vec3(3, 1, 0)), 0.0, 1e-12);
+    EXPECT_NEAR(r.ranges[1].solid->radius, 1.5, 1e-12);
+    EXPECT_FALSE(r.ranges[2].solid);
+    ASSERT_TRUE(r.ranges[3].solid);
+    EXPECT_EQ(r.ranges[3].solid->kind, ShapeKind::Box);
+    EXPECT_NEAR(glm::length(r.ranges[3].solid->box.lo - Vec3(-0.5, -6, -1.5)), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(r.ranges[3].bounds.hi - Vec3(0.5, -4, 1.5)), 0.0, 1e-12);
+    // Without the shapes (a coarse mesh) no range is a solid.
+    for (const view::PreviewRange& range : view::material_ranges(m, {}).ranges)
+        EXPECT_FALSE(range.solid);
+}
+
+// A box's range has its six faces as flat parts, the largest first; a ball's facets are none.
+TEST(PreviewRanges, FlatFacesAreABoxsFacesNotABallsFacets) {
+    PreviewMesh m;
+    append_preview(Box{{0, 0, 0}, {0.5, 1, 1.5}}, nullptr, 0, 0, m);
+    append_preview(Sphere{{5, 0, 0}, 1}, nullptr, 1, 32, m);
+    const view::MaterialRanges r = view::material_ranges(m, {});
+    ASSERT_EQ(r.ranges.size(), 2u);
+    const std::vector<view::FlatFace>& faces = r.ranges[0].faces;
+    ASSERT_EQ(faces.size(), 6u);
+    EXPECT_NEAR(faces[0].area, 6.0, 1e-12);  // 2 x 3, twice (a face each side)
+    EXPECT_NEAR(faces[1].area, 6.0, 1e-12);
+    EXPECT_NEAR(faces[5].area, 2.0, 1e-12);           // 1 x 2
+    EXPECT_NEAR(std::abs(faces[0].n.x), 1.0, 1e-12);  // the 2 x 3 faces face along x
+    EXPECT_NEAR(std::abs(glm::dot(faces[0].n, faces[0].centroid) + faces[0].d), 0.0, 1e-12);
+    EXPECT_TRUE(r.ranges[1].faces.empty());
 }
 
 }  // namespace
