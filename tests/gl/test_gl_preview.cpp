@@ -15,10 +15,10 @@
 #include <variant>
 
 #include "gl/gl_util.h"
-#include "gl/overlay.h"
 #include "gl/preview.h"
 #include "rt/render/inspect.h"
 #include "rt/util/file_io.h"
+#include "state/overlay.h"
 #include "test_util.h"
 
 namespace rt {

@@ -16,8 +16,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gl/overlay.h"
 #include "gl/preview.h"
+#include "state/overlay.h"
 
 namespace rt::view {
 

@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "gl/gl_util.h"
-#include "gl/overlay.h"
 #include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/camera.h"
 #include "rt/render/plan.h"
 #include "state/csg_preview.h"
+#include "state/overlay.h"
 #include "state/preview_geometry.h"
 #include "state/preview_ranges.h"
 

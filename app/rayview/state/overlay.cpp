@@ -1,4 +1,4 @@
-#include "gl/overlay.h"
+#include "state/overlay.h"
 
 #include <algorithm>
 #include <cmath>
