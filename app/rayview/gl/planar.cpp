@@ -35,6 +35,23 @@ Mat4 reflection(const glm::dvec4& plane) {
     return r;
 }
 
+// The world seen from the eye mirrored by `r` is the mirrored world seen from the eye: clip from
+// world = P V R, with near and far planes that enclose the mirrored scene too.
+GlMatrices mirrored_clip_from_world(const Camera& camera, const Bounds3& world, const Mat4& r) {
+    Bounds3 both = world;
+    both.extend(Transform::from_matrix(r).apply(world));
+    const GlMatrices pv = camera_matrices(camera, both);
+    GlMatrices out;
+    for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row) {
+            double sum = 0;
+            for (int k = 0; k < 4; ++k)
+                sum += static_cast<double>(pv.clip_from_world[k * 4 + row]) * r[c][k];
+            out.clip_from_world[c * 4 + row] = static_cast<float>(sum);
+        }
+    return out;
+}
+
 }  // namespace
 
 std::vector<Preview::PlanarView> Preview::choose_planes(const RenderScene& scene,
@@ -156,22 +173,10 @@ void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& pla
         glClearColor(static_cast<float>(scene.background.x), static_cast<float>(scene.background.y),
                      static_cast<float>(scene.background.z), 1.0f);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        // The world seen from the mirrored eye is the mirrored world seen from the eye: clip
-        // from world = P V R, with near and far planes that enclose the mirrored scene too.
         const Mat4 r = reflection(v.plane);
-        const Bounds3 mirrored = Transform::from_matrix(r).apply(world);
-        Bounds3 both = world;
-        both.extend(mirrored);
-        const GlMatrices pv = camera_matrices(camera, both);
-        float clip[16];
-        for (int c = 0; c < 4; ++c)
-            for (int row = 0; row < 4; ++row) {
-                double sum = 0;
-                for (int k2 = 0; k2 < 4; ++k2)
-                    sum += static_cast<double>(pv.clip_from_world[k2 * 4 + row]) * r[c][k2];
-                clip[c * 4 + row] = static_cast<float>(sum);
-            }
-        glUniformMatrix4fv(uniform(program, "u_clip_from_world"), 1, GL_FALSE, clip);
+        const GlMatrices clip = mirrored_clip_from_world(camera, world, r);
+        glUniformMatrix4fv(uniform(program, "u_clip_from_world"), 1, GL_FALSE,
+                           clip.clip_from_world);
         // Highlights as the mirrored eye sees them.
         set_vec3(program, "u_eye", Vec3(r * glm::dvec4(camera.position, 1.0)));
         glUniform4f(uniform(program, "u_clip_plane"), static_cast<float>(v.plane.x),

@@ -169,6 +169,27 @@ void set_solid_uniforms(GLuint program, const PreviewRange& range) {
     set_vec3(program, "u_solid_hi", box.hi);
 }
 
+// Instance transform `xf` into the program's uniforms (its inverse too for `reflections`); a
+// mirroring instance turns its triangles' winding on screen (the two-sided rule), and so does
+// a planar reflection's pass (`mirrored`).
+void set_instance_uniforms(GLuint program, const Transform& xf, bool reflections, bool mirrored) {
+    float world[16], normal[9];
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) world[c * 4 + r] = static_cast<float>(xf.m[c][r]);
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) normal[c * 3 + r] = static_cast<float>(xf.normal[c][r]);
+    glUniformMatrix4fv(loc(program, "u_world_from_object"), 1, GL_FALSE, world);
+    glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
+    if (reflections) {
+        float set_from_world[16];
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                set_from_world[c * 4 + r] = static_cast<float>(xf.inv[c][r]);
+        glUniformMatrix4fv(loc(program, "u_set_from_world"), 1, GL_FALSE, set_from_world);
+    }
+    glUniform1i(loc(program, "u_mirrored"), (glm::determinant(Mat3(xf.m)) < 0) != mirrored ? 1 : 0);
+}
+
 }  // namespace
 
 Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh,
@@ -495,25 +516,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
     const bool reflections = shading && pass.reflections;
     for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
         const Instance& inst = scene.instances[ii];
-        float world[16], normal[9];
-        for (int c = 0; c < 4; ++c)
-            for (int r = 0; r < 4; ++r)
-                world[c * 4 + r] = static_cast<float>(inst.world_from_set.m[c][r]);
-        for (int c = 0; c < 3; ++c)
-            for (int r = 0; r < 3; ++r)
-                normal[c * 3 + r] = static_cast<float>(inst.world_from_set.normal[c][r]);
-        glUniformMatrix4fv(loc(program, "u_world_from_object"), 1, GL_FALSE, world);
-        glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
-        if (reflections) {
-            float set_from_world[16];
-            for (int c = 0; c < 4; ++c)
-                for (int r = 0; r < 4; ++r)
-                    set_from_world[c * 4 + r] = static_cast<float>(inst.world_from_set.inv[c][r]);
-            glUniformMatrix4fv(loc(program, "u_set_from_world"), 1, GL_FALSE, set_from_world);
-        }
-        // A mirroring instance turns its triangles' winding on screen (the two-sided rule).
-        glUniform1i(loc(program, "u_mirrored"),
-                    (glm::determinant(Mat3(inst.world_from_set.m)) < 0) != pass.mirrored ? 1 : 0);
+        set_instance_uniforms(program, inst.world_from_set, reflections, pass.mirrored);
         const SetBuffers& full = m_sets[static_cast<size_t>(inst.set)];
         const SetBuffers& buf = pass.coarse && full.coarse ? *full.coarse : full;
         if (!buf.vao) continue;

@@ -59,6 +59,24 @@ private:
     size_t m_size = 0;
 };
 
+// A triangle the clustering folded over faces against its normals (the two-sided rule would
+// draw it dark): wound back to its source triangle's sense against its normals. `source`: the
+// triangle of `mesh` each of `out`'s comes from.
+void wind_back(const PreviewMesh& mesh, const std::vector<size_t>& source, PreviewMesh& out) {
+    const auto along = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& normals) {
+        return glm::dot(glm::cross(b - a, c - a), normals) >= 0;
+    };
+    for (size_t k = 0; k < source.size(); ++k) {
+        const uint32_t* v = &mesh.indices[3 * source[k]];
+        uint32_t* w = &out.indices[3 * k];
+        const bool was = along(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]],
+                               mesh.normals[v[0]] + mesh.normals[v[1]] + mesh.normals[v[2]]);
+        const bool is = along(out.positions[w[0]], out.positions[w[1]], out.positions[w[2]],
+                              out.normals[w[0]] + out.normals[w[1]] + out.normals[w[2]]);
+        if (was != is) std::swap(w[1], w[2]);
+    }
+}
+
 // One clustering of `mesh` on a grid of `cells` cells along its longest side.
 PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
     const Vec3 size = box.diagonal();
@@ -126,20 +144,7 @@ PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
         out.normals.push_back(n > 0 ? c.normal / n : Vec3(0, 1, 0));
         if (uvs) out.uvs.push_back(c.uv);
     }
-    // A triangle the clustering folded over faces against its normals (the two-sided rule
-    // would draw it dark): wound back to its source triangle's sense against its normals.
-    const auto along = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& normals) {
-        return glm::dot(glm::cross(b - a, c - a), normals) >= 0;
-    };
-    for (size_t k = 0; k < source.size(); ++k) {
-        const uint32_t* v = &mesh.indices[3 * source[k]];
-        uint32_t* w = &out.indices[3 * k];
-        const bool was = along(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]],
-                               mesh.normals[v[0]] + mesh.normals[v[1]] + mesh.normals[v[2]]);
-        const bool is = along(out.positions[w[0]], out.positions[w[1]], out.positions[w[2]],
-                              out.normals[w[0]] + out.normals[w[1]] + out.normals[w[2]]);
-        if (was != is) std::swap(w[1], w[2]);
-    }
+    wind_back(mesh, source, out);
     return out;
 }
 
