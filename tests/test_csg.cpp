@@ -16,7 +16,6 @@
 #include "rt/render/plan.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
-#include "rt/shapes/tessellate.h"
 #include "test_util.h"
 
 namespace rt {
@@ -644,24 +643,6 @@ TEST(Csg, PlanCountsNodesAndLeavesTheTestOutWithout) {
     EXPECT_EQ(f2.geometry.variant & kGeomCsg, 0u);
     EXPECT_EQ(reason(make_render_plan(s2, rs)),
               "left out: CSG test: no CSG node: every hit counts, no inside tests");
-}
-
-TEST(Csg, PreviewMeshTessellatesTheLeavesTagged) {
-    GroupDesc root = lens_file();
-    root.shapes = {sphere(0, {5, 0, 0}, 1)};
-    const RenderScene s = compile_scene(scene_of(root));
-    const PreviewMesh m = tessellate_set(s.sets[0], 16);
-    ASSERT_EQ(m.csg.size(), m.triangle_count());
-    const size_t leaves = s.sets[0].csg.leaves.size();
-    ASSERT_EQ(leaves, 5u);  // two spheres and a cylinder, two cylinders
-    std::vector<size_t> tagged(leaves + 1, 0);
-    for (int c : m.csg) {
-        ASSERT_GE(c, -1);
-        ASSERT_LT(c, static_cast<int>(leaves));
-        ++tagged[static_cast<size_t>(c + 1)];
-    }
-    for (size_t i = 0; i <= leaves; ++i) EXPECT_GT(tagged[i], 0u) << i;  // 0: the plain sphere
-    ASSERT_EQ(m.materials.size(), m.triangle_count());
 }
 
 // ---------------------------------------------------------------------------------------------

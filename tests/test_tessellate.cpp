@@ -1,8 +1,12 @@
 // Preview meshes: every vertex on the analytic surface with its outward normal and spec §5 uv,
-// and the tessellated silhouette agreeing with the traced one (intersection over union).
-#include "rt/accel/intersect.h"
+// and each appended primitive's kind and numbers in its set's frame. (The whole set's mesh is
+// the viewer's: tests/app/test_preview_geometry.cpp.)
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "rt/shapes/tessellate.h"
-#include "test_util.h"
 
 namespace rt {
 namespace {
@@ -81,109 +85,70 @@ TEST(Tessellate, CylinderAndConeOnTheirSurfaces) {
         }
 }
 
-// Coverage of a 160x120 view: traced analytic shapes against the tessellated triangles.
-double coverage_iou(const RenderScene& scene, int detail) {
-    PreviewMesh world;
-    for (const Instance& inst : scene.instances)
-        world.append(tessellate_set(scene.sets[static_cast<size_t>(inst.set)], detail),
-                     inst.identity ? nullptr : &inst.world_from_set);
-    const Camera cam = make_camera(scene, 160, 120);
-    int both = 0, either = 0;
-    for (int y = 0; y < 120; ++y)
-        for (int x = 0; x < 160; ++x) {
-            const Ray r = cam.generate(x, y, 0.5, 0.5);
-            Hit h;
-            const bool traced = intersect(scene, r, {0, kInf}, &h);
-            bool raster = false;
-            for (size_t t = 0; t < world.indices.size() && !raster; t += 3) {
-                const Triangle tri{world.positions[world.indices[t]],
-                                   world.positions[world.indices[t + 1]],
-                                   world.positions[world.indices[t + 2]]};
-                raster = intersect(tri, r, {0, kInf}).count > 0;
-            }
-            both += traced && raster;
-            either += traced || raster;
-        }
-    return either ? static_cast<double>(both) / either : 1.0;
+// What a primitive is in its set's frame: a similarity keeps a sphere one, with its centre and
+// radius mapped; an uneven scale makes it an ellipsoid, which is no sphere.
+TEST(Tessellate, AppendedSphereCarriesItsCentreAndRadiusInTheSetsFrame) {
+    const Sphere s{{1, 0, 0}, 2};
+    PreviewMesh out;
+    append_preview(Box{}, nullptr, 0, 16, out);
+    const Transform turned =
+        Transform::from_matrix(glm::translate(Mat4(1.0), Vec3(0, 3, 0)) *
+                               glm::rotate(Mat4(1.0), 0.7, glm::normalize(Vec3(1, 2, 3))) *
+                               glm::scale(Mat4(1.0), Vec3(1.5)));
+    const PreviewShape p = append_preview(s, &turned, 7, 16, out);
+    EXPECT_EQ(p.kind, ShapeKind::Sphere);
+    EXPECT_EQ(p.first, 12u);  // after the box's twelve
+    EXPECT_EQ(p.first + p.count, out.triangle_count());
+    EXPECT_TRUE(p.solid);
+    EXPECT_NEAR(glm::length(p.centre - turned.point(s.centre)), 0.0, 1e-12);
+    EXPECT_NEAR(p.radius, 3.0, 1e-12);
+    for (size_t t = p.first; t < p.first + p.count; ++t) {
+        EXPECT_EQ(out.materials[t], 7);
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(glm::length(out.positions[out.indices[3 * t + k]] - p.centre), p.radius,
+                        1e-9);
+    }
+    const Transform uneven = Transform::from_matrix(glm::scale(Mat4(1.0), Vec3(1, 1, 1.1)));
+    EXPECT_FALSE(append_preview(s, &uneven, 0, 16, out).solid);
 }
 
-TEST(Tessellate, SilhouettesAgreeWithTheTraceUnderTransforms) {
-    const RenderScene scene = test::compile(
-        "#camera 0 1 9  0 -0.1 -1  0 1 0  0.4\n"
-        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
-        "#vertex -3 -1 -2 0 0 0 0 0\n#vertex 3 -1 -2 0 0 0 1 0\n#vertex 0 3 -2 0 0 0 0.5 1\n"
-        "#shape_triangle 0 0 1 2\n"
-        "#group_begin 0.8 0.3 0 -2  -0.2 1.2 0 0.5  0 0 0.6 0  0 0 0 1\n"
-        "#shape_sphere 0 0 0 0 1\n#group_end\n"
-        "#group_begin 0.7071 0 0.7071 0  0 1 0 0  -0.7071 0 0.7071 0  0 0 0 1\n"
-        "#shape_box 0 0 0 1 1 1.5 1\n#group_end\n"
-        "#group_begin 1 0 0 2  0 1 0 0  0 0 1 0  0 0 0 1\n"
-        "#shape_cylinder 0 0 0 0 0.6 1.5\n#shape_cone 0 0 1.5 0 0.5 1\n#group_end\n");
-    EXPECT_GE(coverage_iou(scene, 48), 0.98);
-}
+// A box stays one under scales, axis flips and quarter turns (its box the mapped corners'), not
+// under any other turn; a torus about y under turns about y and even scales, not tilted.
+TEST(Tessellate, AppendedBoxAndTorusAreSolidsWhereTheirTransformKeepsThem) {
+    PreviewMesh out;
+    const Box b{{1, 2, 3}, {0.5, 1, 2}};
+    const Transform quarter = Transform::from_matrix(
+        glm::rotate(Mat4(1.0), kPi / 2, Vec3(0, 1, 0)) * glm::scale(Mat4(1.0), Vec3(2, -1, 1)));
+    const PreviewShape box = append_preview(b, &quarter, 0, 0, out);
+    EXPECT_EQ(box.kind, ShapeKind::Box);
+    EXPECT_EQ(box.count, 12u);
+    EXPECT_TRUE(box.solid);
+    Bounds3 vertices;
+    for (size_t v = 0; v < out.positions.size(); ++v) vertices.extend(out.positions[v]);
+    EXPECT_NEAR(glm::length(box.box.lo - vertices.lo), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(box.box.hi - vertices.hi), 0.0, 1e-12);
+    const Transform tilted = Transform::from_matrix(glm::rotate(Mat4(1.0), 0.3, Vec3(1, 0, 0)));
+    EXPECT_FALSE(append_preview(b, &tilted, 0, 0, out).solid);
 
-TEST(Tessellate, SetCarriesMaterialsAndMirroredInstancesKeepOutwardNormals) {
-    const RenderScene scene = test::compile(
-        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !a!\n"
-        "#material 0 0 0 0 0 0 1 0 0 0 0 0 1 0 0 0 1 -1 !b!\n"
-        "#group_begin -1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\n"
-        "#shape_sphere 1 2 0 0 1\n#group_end\n#shape_box 0 0 0 0 1 1 1\n");
-    const PreviewMesh m = tessellate_set(scene.sets[0], 16);
-    ASSERT_EQ(m.materials.size(), m.triangle_count());
-    EXPECT_NE(std::find(m.materials.begin(), m.materials.end(), scene.sets[0].prims[0].material),
-              m.materials.end());
-    // The mirrored sphere sits at x = -2: every normal points away from its centre, and the
-    // winding (cross product) agrees with the normals.
-    for (size_t t = 0; t < m.indices.size(); t += 3) {
-        const Vec3 a = m.positions[m.indices[t]], b = m.positions[m.indices[t + 1]],
-                   c = m.positions[m.indices[t + 2]];
-        const Vec3 n =
-            m.normals[m.indices[t]] + m.normals[m.indices[t + 1]] + m.normals[m.indices[t + 2]];
-        EXPECT_GT(glm::dot(glm::cross(b - a, c - a), n), 0.0);
-    }
-}
+    const Torus t{{0, 1, 0}, 0.25, 1.0};
+    const Transform about_y = Transform::from_matrix(glm::rotate(Mat4(1.0), 0.4, Vec3(0, 1, 0)) *
+                                                     glm::scale(Mat4(1.0), Vec3(2)));
+    const PreviewShape ring = append_preview(t, &about_y, 0, 24, out);
+    EXPECT_EQ(ring.kind, ShapeKind::Torus);
+    EXPECT_TRUE(ring.solid);
+    EXPECT_NEAR(glm::length(ring.centre - Vec3(0, 2, 0)), 0.0, 1e-12);
+    EXPECT_NEAR(ring.radii.x, 2.0, 1e-12);
+    EXPECT_NEAR(ring.radii.y, 0.5, 1e-12);
+    EXPECT_FALSE(append_preview(t, &tilted, 0, 24, out).solid);
+    EXPECT_FALSE(append_preview(Cylinder{}, nullptr, 0, 24, out).solid);
 
-// The preview's mesh normals follow the trace's rule (spec §5): interpolated, then normalised
-// (the fragment shader's normalize), they give the trace's shading normal under a non-uniform
-// scale, for a mesh triangle as for a tessellated shape's vertex.
-TEST(Tessellate, MeshNormalsInterpolateAsTheTraceDoesUnderANonUniformScale) {
-    const RenderScene scene = test::compile(
-        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n"
-        "#vertex 0 0 0  1 0 1  0 0\n#vertex 1 0 0  0 1 1  0 0\n#vertex 0 1 0  -1 -1 1  0 0\n"
-        "#group_begin 8 0 0 0  0 1 0 0  0 0 0.5 0  0 0 0 1\n#shape_triangle 0 0 1 2\n"
-        "#group_end\n");
-    const PreviewMesh m = tessellate_set(scene.sets[0], 16);
-    ASSERT_EQ(m.triangle_count(), 1u);
-    const double w[3] = {0.25, 0.25, 0.5};
-    Vec3 p(0.0), n(0.0);
-    for (int k = 0; k < 3; ++k) {
-        p += w[k] * m.positions[m.indices[static_cast<size_t>(k)]];
-        n += w[k] * m.normals[m.indices[static_cast<size_t>(k)]];
-    }
-    const Ray ray{p + Vec3(0, 0, 5), Vec3(0, 0, -1)};
-    Hit hit;
-    ASSERT_TRUE(intersect(scene, ray, {0, kInf}, &hit));
-    const SurfaceInteraction si = interaction(scene, ray, hit, true);
-    EXPECT_NEAR(glm::length(glm::normalize(n) - si.n_shading), 0.0, 1e-12);
-
-    // A sphere under the same scale: inside each preview triangle, the interpolated normal is
-    // the mapped interpolation of the unit sphere's normals at the corners (the map is applied
-    // to the local rule, as for a mesh), not a mix of renormalised corner normals.
-    const RenderScene ellipsoid = test::compile(
-        "#material 0 0 0 0 0 0 1 1 1 0 0 0 1 0 0 0 1 -1 !!\n#group_begin 8 0 0 0  0 1 0 0  0 0 "
-        "0.5 0  0 0 0 1\n#shape_sphere 0 0 0 0 1\n#group_end\n");
-    const PreviewMesh e = tessellate_set(ellipsoid.sets[0], 16);
-    const Vec3 scale(8, 1, 0.5);
-    for (size_t t = 0; t < e.indices.size(); t += 3) {
-        Vec3 mixed(0.0), local(0.0);
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t v = e.indices[t + static_cast<size_t>(k)];
-            mixed += w[k] * e.normals[v];
-            local += w[k] * (e.positions[v] / scale);  // the unit sphere's normal there
-        }
-        const Vec3 expected = glm::normalize(local / scale);  // (A^-1)^T = diag(1 / scale)
-        EXPECT_NEAR(glm::length(glm::normalize(mixed) - expected), 0.0, 1e-9) << "triangle " << t;
-    }
+    const PreviewShape tri =
+        append_preview(Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, TriangleAttribs{}, 3, out);
+    EXPECT_EQ(tri.kind, ShapeKind::Triangle);
+    EXPECT_EQ(tri.count, 1u);
+    EXPECT_FALSE(tri.solid);
+    EXPECT_EQ(tri.first + 1, out.triangle_count());
+    EXPECT_EQ(out.materials.back(), 3);
 }
 
 }  // namespace

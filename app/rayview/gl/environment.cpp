@@ -55,7 +55,7 @@ void Preview::choose_environment_maps(const RenderScene& scene) {
         const SetBuffers& buf = m_sets[static_cast<size_t>(inst.set)];
         m_env_of[ii].assign(buf.ranges.size(), -1);
         for (size_t ri = 0; ri < buf.ranges.size(); ++ri) {
-            const Range& r = buf.ranges[ri];
+            const PreviewRange& r = buf.ranges[ri];
             if (reflects(scene.materials[static_cast<size_t>(r.material)]) && !r.bounds.empty())
                 objects.push_back(
                     {static_cast<int>(ii), static_cast<int>(ri), world_box(r.bounds, inst)});

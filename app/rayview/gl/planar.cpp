@@ -4,38 +4,24 @@
 // drawn once more with the camera's view mirrored about the plane, what lies behind the plane
 // clipped away, into a texture that the mirror's fragments read at their own pixel. The faces
 // that get one are the largest flat faces of reflecting materials (triangle planes, a box's
-// faces, a tessellation's flat parts) facing the eye, at most kMaxPlanes a frame (one while the
-// view moves), rendered with the preview's shading and shadows at the pane's resolution once
-// the view is still, where what the mirror shows also reflects through the cube maps (half the
-// resolution and local shading while it moves; the curved mirrors keep their cube maps).
+// faces, a tessellation's flat parts: flat_faces in state/preview_ranges.h) facing the eye, at
+// most kMaxPlanes a frame (one while the view moves), rendered with the preview's shading and
+// shadows at the pane's resolution once the view is still, where what the mirror shows also
+// reflects through the cube maps (half the resolution and local shading while it moves; the curved
+// mirrors keep their cube maps).
 #define GL_GLEXT_PROTOTYPES
 #include <GL/gl.h>
 #include <GL/glext.h>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <tuple>
-#include <unordered_map>
 
-#include "gl/overlay.h"
 #include "gl/preview.h"
+#include "state/overlay.h"
 
 namespace rt::view {
 
 namespace {
-
-// Triangles whose planes agree to these tolerances are one face: normals within about 0.06
-// degrees, offsets within 1e-5 of the range's size.
-constexpr double kNormalStep = 1e-3;
-constexpr double kOffsetStep = 1e-5;
-// Ranges with more triangles are meshes, not walls: their flat parts are not looked for.
-constexpr size_t kMaxFaceTriangles = 20000;
-constexpr size_t kFacesPerRange = 8;
-// Faces smaller than this share of their connected part's area are the facets of a tessellated
-// curved surface (a sphere's, a cylinder's), which keeps its cube map; a box's face is a sixth
-// or more.
-constexpr double kMinFaceShare = 0.05;
 
 bool mirrors(const Material& m) { return m.specular != Vec3(0.0); }
 
@@ -49,97 +35,24 @@ Mat4 reflection(const glm::dvec4& plane) {
     return r;
 }
 
-}  // namespace
-
-std::vector<Preview::FlatFace> Preview::flat_faces(const PreviewMesh& mesh,
-                                                   const std::vector<size_t>& tris) {
-    if (tris.empty() || tris.size() > kMaxFaceTriangles) return {};
-    Bounds3 box;
-    for (size_t t : tris)
-        for (int k = 0; k < 3; ++k) box.extend(mesh.positions[mesh.indices[t * 3 + k]]);
-    const double size = std::max(glm::length(box.diagonal()), 1e-300);
-    // The range's connected parts (triangles that share vertices: one tessellated shape, or a
-    // box's face), so that a facet is weighed against its own surface, not against a floor
-    // of the same material.
-    std::unordered_map<uint32_t, uint32_t> parent;
-    const auto find = [&](uint32_t v) {
-        auto it = parent.try_emplace(v, v).first;
-        while (it->second != v) {
-            v = it->second;
-            it = parent.find(v);
+// The world seen from the eye mirrored by `r` is the mirrored world seen from the eye: clip from
+// world = P V R, with near and far planes that enclose the mirrored scene too.
+GlMatrices mirrored_clip_from_world(const Camera& camera, const Bounds3& world, const Mat4& r) {
+    Bounds3 both = world;
+    both.extend(Transform::from_matrix(r).apply(world));
+    const GlMatrices pv = camera_matrices(camera, both);
+    GlMatrices out;
+    for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row) {
+            double sum = 0;
+            for (int k = 0; k < 4; ++k)
+                sum += static_cast<double>(pv.clip_from_world[k * 4 + row]) * r[c][k];
+            out.clip_from_world[c * 4 + row] = static_cast<float>(sum);
         }
-        return v;
-    };
-    for (size_t t : tris) {
-        const uint32_t r0 = find(mesh.indices[t * 3]);
-        for (int k = 1; k < 3; ++k) {
-            const uint32_t rk = find(mesh.indices[t * 3 + k]);
-            if (rk != r0) parent[rk] = r0;
-        }
-    }
-    using Key = std::tuple<long, long, long, long>;
-    struct Tri {
-        Key key;
-        uint32_t part;
-        Vec3 n;
-        double d, area;
-    };
-    std::vector<Tri> plane_of;
-    plane_of.reserve(tris.size());
-    std::unordered_map<uint32_t, double> part_area;
-    std::map<std::pair<uint32_t, Key>, double> part_plane_area;
-    for (size_t t : tris) {
-        const Vec3& a = mesh.positions[mesh.indices[t * 3]];
-        const Vec3& b = mesh.positions[mesh.indices[t * 3 + 1]];
-        const Vec3& c = mesh.positions[mesh.indices[t * 3 + 2]];
-        const Vec3 cr = glm::cross(b - a, c - a);
-        const double twice_area = glm::length(cr);
-        if (!(twice_area > 0.0)) {
-            plane_of.push_back({Key{}, 0, Vec3(0.0), 0, 0});
-            continue;
-        }
-        Vec3 n = cr / twice_area;
-        // One sign per plane: the first non-zero component positive.
-        const double lead = std::abs(n.x) > 1e-9 ? n.x : std::abs(n.y) > 1e-9 ? n.y : n.z;
-        if (lead < 0) n = -n;
-        const double d = -glm::dot(n, a);
-        const Key key{std::lround(n.x / kNormalStep), std::lround(n.y / kNormalStep),
-                      std::lround(n.z / kNormalStep), std::lround(d / (kOffsetStep * size))};
-        const uint32_t part = find(mesh.indices[t * 3]);
-        const double area = 0.5 * twice_area;
-        plane_of.push_back({key, part, n, d, area});
-        part_area[part] += area;
-        part_plane_area[{part, key}] += area;
-    }
-    std::map<Key, FlatFace> faces;
-    for (size_t i = 0; i < tris.size(); ++i) {
-        const Tri& tri = plane_of[i];
-        if (!(tri.area > 0)) continue;
-        // A facet of a curved surface (a sphere's, a cylinder's side) keeps its cube map; a
-        // box's face or a cylinder's cap is a sixth or more of its part.
-        if (part_plane_area[{tri.part, tri.key}] < kMinFaceShare * part_area[tri.part]) continue;
-        const size_t t = tris[i];
-        const Vec3& a = mesh.positions[mesh.indices[t * 3]];
-        const Vec3& b = mesh.positions[mesh.indices[t * 3 + 1]];
-        const Vec3& c = mesh.positions[mesh.indices[t * 3 + 2]];
-        FlatFace& f = faces[tri.key];
-        if (f.area == 0) f.n = tri.n, f.d = tri.d;
-        f.centroid += tri.area * (a + b + c) / 3.0;
-        f.area += tri.area;
-        f.bounds.extend(a);
-        f.bounds.extend(b);
-        f.bounds.extend(c);
-    }
-    std::vector<FlatFace> out;
-    for (auto& [key, f] : faces) {
-        f.centroid /= f.area;
-        out.push_back(f);
-    }
-    std::sort(out.begin(), out.end(),
-              [](const FlatFace& x, const FlatFace& y) { return x.area > y.area; });
-    if (out.size() > kFacesPerRange) out.resize(kFacesPerRange);
     return out;
 }
+
+}  // namespace
 
 std::vector<Preview::PlanarView> Preview::choose_planes(const RenderScene& scene,
                                                         const Camera& camera) const {
@@ -155,7 +68,7 @@ std::vector<Preview::PlanarView> Preview::choose_planes(const RenderScene& scene
         if (!buf.vao) continue;
         const Transform& xf = inst.world_from_set;
         const double scale = std::cbrt(std::abs(glm::determinant(Mat3(xf.m))));
-        for (const Range& r : buf.ranges) {
+        for (const PreviewRange& r : buf.ranges) {
             if (!mirrors(scene.materials[static_cast<size_t>(r.material)])) continue;
             for (const FlatFace& f : r.faces) {
                 const Vec3 centre = xf.point(f.centroid);
@@ -260,22 +173,10 @@ void Preview::render_planar_maps(const RenderScene& scene, const RenderPlan& pla
         glClearColor(static_cast<float>(scene.background.x), static_cast<float>(scene.background.y),
                      static_cast<float>(scene.background.z), 1.0f);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        // The world seen from the mirrored eye is the mirrored world seen from the eye: clip
-        // from world = P V R, with near and far planes that enclose the mirrored scene too.
         const Mat4 r = reflection(v.plane);
-        const Bounds3 mirrored = Transform::from_matrix(r).apply(world);
-        Bounds3 both = world;
-        both.extend(mirrored);
-        const GlMatrices pv = camera_matrices(camera, both);
-        float clip[16];
-        for (int c = 0; c < 4; ++c)
-            for (int row = 0; row < 4; ++row) {
-                double sum = 0;
-                for (int k2 = 0; k2 < 4; ++k2)
-                    sum += static_cast<double>(pv.clip_from_world[k2 * 4 + row]) * r[c][k2];
-                clip[c * 4 + row] = static_cast<float>(sum);
-            }
-        glUniformMatrix4fv(uniform(program, "u_clip_from_world"), 1, GL_FALSE, clip);
+        const GlMatrices clip = mirrored_clip_from_world(camera, world, r);
+        glUniformMatrix4fv(uniform(program, "u_clip_from_world"), 1, GL_FALSE,
+                           clip.clip_from_world);
         // Highlights as the mirrored eye sees them.
         set_vec3(program, "u_eye", Vec3(r * glm::dvec4(camera.position, 1.0)));
         glUniform4f(uniform(program, "u_clip_plane"), static_cast<float>(v.plane.x),

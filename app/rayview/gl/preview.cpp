@@ -5,7 +5,6 @@
 #include <GL/glext.h>
 
 #include <algorithm>
-#include <numeric>
 #include <stdexcept>
 
 #include "rt/render/sampler.h"
@@ -103,76 +102,14 @@ unsigned Preview::program_for(const std::vector<std::string>& defines) {
     return id;
 }
 
-// The solid a range is, for refraction through its second interface (preview.frag), in the
-// set's frame: a sphere when its vertices all lie on one (a sphere's tessellation; its centre
-// and radius into *sphere), a torus about y when they all lie on one (its centre into *sphere,
-// its ring and tube radii into *radii), a box when its triangles face along the axes, lie on
-// the faces of their bounds and cover their area once (a box's six faces, not two boxes side by
-// side).
-Preview::Range::Solid Preview::solid_of(const PreviewMesh& mesh,
-                                        const std::vector<unsigned>& indices, const Range& r,
-                                        glm::dvec4* sphere, glm::dvec2* radii) {
-    if (r.bounds.empty()) return Range::Solid::None;
-    const Vec3 c = r.bounds.centre(), size = r.bounds.diagonal();
-    const double radius = 0.5 * size.x;
-    if (radius > 0) {
-        bool on_sphere = true;
-        for (unsigned i = r.first; i < r.first + r.count && on_sphere; ++i)
-            on_sphere =
-                std::abs(glm::length(mesh.positions[indices[i]] - c) - radius) <= 1e-3 * radius;
-        if (on_sphere) {
-            *sphere = glm::dvec4(c, radius);
-            return Range::Solid::Sphere;
-        }
-    }
-    if (!(size.x > 0 && size.y > 0 && size.z > 0)) return Range::Solid::None;
-    // A torus about y (spec §13.7): bounds c +- (R + r, r, R + r), every vertex on
-    // (rho - R)^2 + y^2 = r^2 (a spindle torus, r > R, has no such tessellation).
-    const double tube = 0.5 * size.y, ring = 0.5 * size.x - tube;
-    if (ring >= tube && std::abs(size.x - size.z) <= 1e-6 * size.x) {
-        bool on_torus = true;
-        for (unsigned i = r.first; i < r.first + r.count && on_torus; ++i) {
-            const Vec3 q = mesh.positions[indices[i]] - c;
-            const double rho = std::hypot(q.x, q.z);
-            on_torus = std::abs(std::hypot(rho - ring, q.y) - tube) <= 1e-3 * tube;
-        }
-        if (on_torus) {
-            *sphere = glm::dvec4(c, 0.0);
-            *radii = glm::dvec2(ring, tube);
-            return Range::Solid::Torus;
-        }
-    }
-    const double tol = 1e-6 * glm::length(size);
-    double area = 0;
-    for (unsigned i = r.first; i + 2 < r.first + r.count; i += 3) {
-        const Vec3& a = mesh.positions[indices[i]];
-        const Vec3& b = mesh.positions[indices[i + 1]];
-        const Vec3& d = mesh.positions[indices[i + 2]];
-        const Vec3 n = glm::cross(b - a, d - a);
-        const double twice = glm::length(n);
-        if (!(twice > 0)) continue;
-        // One axis, and the plane of that axis's lo or hi bound.
-        int axis = 0;
-        for (int k = 1; k < 3; ++k)
-            if (std::abs(n[k]) > std::abs(n[axis])) axis = k;
-        if (std::abs(n[axis]) < (1 - 1e-9) * twice) return Range::Solid::None;
-        const double lo = r.bounds.lo[axis], hi = r.bounds.hi[axis];
-        for (const Vec3* p : {&a, &b, &d})
-            if (std::abs((*p)[axis] - lo) > tol && std::abs((*p)[axis] - hi) > tol)
-                return Range::Solid::None;
-        area += 0.5 * twice;
-    }
-    const double box_area = 2 * (size.x * size.y + size.y * size.z + size.z * size.x);
-    return std::abs(area - box_area) <= 1e-6 * box_area ? Range::Solid::Box : Range::Solid::None;
-}
+namespace {
 
-Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
-                                        const CsgTexels& csg, size_t* floats) {
-    // Interleaved position, normal (uv) and (CSG leaf) as floats; triangles grouped by material.
+// Interleaved position, normal, (uv) and (CSG leaf) as floats, the layout upload_set's vertex
+// attributes read.
+std::vector<float> interleave(const PreviewMesh& mesh, bool textured, const CsgTexels& csg) {
     const bool leaves = !csg.leaf_of_vertex.empty();
-    const int per_vertex = (textured ? 8 : 6) + (leaves ? 1 : 0);
     std::vector<float> vertices;
-    vertices.reserve(mesh.positions.size() * static_cast<size_t>(per_vertex));
+    vertices.reserve(mesh.positions.size() * ((textured ? 8 : 6) + (leaves ? 1 : 0)));
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
         for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(mesh.positions[i][k]));
         for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(mesh.normals[i][k]));
@@ -180,32 +117,94 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
             for (int k = 0; k < 2; ++k) vertices.push_back(static_cast<float>(mesh.uvs[i][k]));
         if (leaves) vertices.push_back(csg.leaf_of_vertex[i]);
     }
+    return vertices;
+}
+
+// The CSG trees as a 2D texture, kCsgRow texels a row (csg.frag's csg_texel): OpenGL ES and
+// WebGL 2 have no buffer textures.
+GlTexture csg_texture(const CsgTexels& csg, int row) {
+    const size_t texels = csg.texels.size() / 4;
+    const size_t rows = (texels + static_cast<size_t>(row) - 1) / static_cast<size_t>(row);
+    std::vector<float> padded(csg.texels);
+    padded.resize(rows * static_cast<size_t>(row) * 4, 0.0f);
+    GlTexture tex = GlTexture::make();
+    glBindTexture(GL_TEXTURE_2D, tex.id());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, row, static_cast<GLsizei>(rows), 0, GL_RGBA,
+                 GL_FLOAT, padded.data());
+    set_sampling(GL_TEXTURE_2D, GL_NEAREST, GL_CLAMP_TO_EDGE);  // texelFetch only
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return tex;
+}
+
+// The solid a transmitting range is, for refraction through its second interface
+// (preview.frag's u_solid: 0 none, 1 a sphere, 2 a box, 3 a torus about y), in the set's frame:
+// the kind and numbers its primitive carries (a torus only when its tube is no wider than its
+// ring).
+void set_solid_uniforms(GLuint program, const PreviewRange& range) {
+    int code = 0;
+    glm::dvec4 sphere(0.0);
+    Vec2 radii(0.0);
+    Bounds3 box = range.bounds;
+    if (const std::optional<PreviewShape>& s = range.solid) {
+        if (s->kind == ShapeKind::Sphere) {
+            code = 1;
+            sphere = glm::dvec4(s->centre, s->radius);
+        } else if (s->kind == ShapeKind::Box) {
+            code = 2;
+            box = s->box;
+        } else if (s->kind == ShapeKind::Torus && s->radii.x >= s->radii.y) {
+            code = 3;
+            sphere = glm::dvec4(s->centre, 0.0);
+            radii = s->radii;
+        }
+    }
+    glUniform1i(loc(program, "u_solid"), code);
+    glUniform4f(loc(program, "u_solid_sphere"), static_cast<float>(sphere.x),
+                static_cast<float>(sphere.y), static_cast<float>(sphere.z),
+                static_cast<float>(sphere.w));
+    glUniform2f(loc(program, "u_solid_radii"), static_cast<float>(radii.x),
+                static_cast<float>(radii.y));
+    set_vec3(program, "u_solid_lo", box.lo);
+    set_vec3(program, "u_solid_hi", box.hi);
+}
+
+// Instance transform `xf` into the program's uniforms (its inverse too for `reflections`); a
+// mirroring instance turns its triangles' winding on screen (the two-sided rule), and so does
+// a planar reflection's pass (`mirrored`).
+void set_instance_uniforms(GLuint program, const Transform& xf, bool reflections, bool mirrored) {
+    float world[16], normal[9];
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) world[c * 4 + r] = static_cast<float>(xf.m[c][r]);
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) normal[c * 3 + r] = static_cast<float>(xf.normal[c][r]);
+    glUniformMatrix4fv(loc(program, "u_world_from_object"), 1, GL_FALSE, world);
+    glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
+    if (reflections) {
+        float set_from_world[16];
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                set_from_world[c * 4 + r] = static_cast<float>(xf.inv[c][r]);
+        glUniformMatrix4fv(loc(program, "u_set_from_world"), 1, GL_FALSE, set_from_world);
+    }
+    glUniform1i(loc(program, "u_mirrored"), (glm::determinant(Mat3(xf.m)) < 0) != mirrored ? 1 : 0);
+}
+
+}  // namespace
+
+Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh,
+                                        const std::vector<PreviewShape>& shapes, bool textured,
+                                        const CsgTexels& csg, size_t* floats) {
+    // Triangles grouped by material, a draw call each.
+    const bool leaves = !csg.leaf_of_vertex.empty();
+    const int per_vertex = (textured ? 8 : 6) + (leaves ? 1 : 0);
+    const std::vector<float> vertices = interleave(mesh, textured, csg);
     *floats += vertices.size();
-    std::vector<size_t> order(mesh.triangle_count());
-    std::iota(order.begin(), order.end(), size_t{0});
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return mesh.materials[a] < mesh.materials[b]; });
-    std::vector<unsigned> indices;
+    MaterialRanges grouped = material_ranges(mesh, shapes);
+    const std::vector<unsigned>& indices = grouped.indices;
     SetBuffers buf;
     buf.uvs = textured;
-    std::vector<size_t> range_tris;
-    for (size_t t : order) {
-        const int m = mesh.materials[t];
-        if (buf.ranges.empty() || buf.ranges.back().material != m) {
-            if (!buf.ranges.empty()) buf.ranges.back().faces = flat_faces(mesh, range_tris);
-            range_tris.clear();
-            buf.ranges.push_back({m, static_cast<unsigned>(indices.size()), 0, Bounds3{}, {}});
-        }
-        range_tris.push_back(t);
-        for (int k = 0; k < 3; ++k) {
-            const unsigned v = mesh.indices[t * 3 + static_cast<size_t>(k)];
-            indices.push_back(v);
-            buf.ranges.back().bounds.extend(mesh.positions[v]);
-        }
-        buf.ranges.back().count += 3;
-    }
-    if (!buf.ranges.empty()) buf.ranges.back().faces = flat_faces(mesh, range_tris);
-    for (Range& r : buf.ranges) r.solid = solid_of(mesh, indices, r, &r.sphere, &r.radii);
+    buf.ranges = std::move(grouped.ranges);
     buf.vao = GlVertexArray::make();
     glBindVertexArray(buf.vao.id());
     buf.vbo = GlBuffer::make();
@@ -239,19 +238,7 @@ Preview::SetBuffers Preview::upload_set(const PreviewMesh& mesh, bool textured,
     }
     glBindVertexArray(0);
     if (leaves) {
-        // A 2D texture, kCsgRow texels a row (csg.frag's csg_texel): OpenGL ES and WebGL 2
-        // have no buffer textures.
-        const size_t texels = csg.texels.size() / 4;
-        const size_t rows = (texels + kCsgRow - 1) / kCsgRow;
-        std::vector<float> padded(csg.texels);
-        padded.resize(rows * kCsgRow * 4, 0.0f);
-        buf.csg_texture = GlTexture::make();
-        glBindTexture(GL_TEXTURE_2D, buf.csg_texture.id());
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, kCsgRow, static_cast<GLsizei>(rows), 0, GL_RGBA,
-                     GL_FLOAT, padded.data());
-        set_sampling(GL_TEXTURE_2D, GL_NEAREST, GL_CLAMP_TO_EDGE);  // texelFetch only
-        glBindTexture(GL_TEXTURE_2D, 0);
+        buf.csg_texture = csg_texture(csg, kCsgRow);
         buf.csg_nodes = csg.nodes;
         buf.csg_children = csg.children;
         buf.csg_leaves = csg.leaves;
@@ -268,7 +255,7 @@ void Preview::materials_changed(const RenderScene& scene) {
 
 bool Preview::needs_upload(const RenderScene& scene) const {
     for (const SetBuffers& buf : m_sets)
-        for (const Range& r : buf.ranges) {
+        for (const PreviewRange& r : buf.ranges) {
             const int t = scene.materials[static_cast<size_t>(r.material)].texture;
             if (t >= 0 && (!buf.uvs || static_cast<size_t>(t) >= m_textures.size() ||
                            !m_textures[static_cast<size_t>(t)]))
@@ -315,16 +302,19 @@ void Preview::load(const RenderScene& scene, const PreviewGeometry& geometry) {
             }
         }
         m_csg |= !csg.leaf_of_vertex.empty();
-        m_sets.push_back(upload_set(mesh, textured, csg, &m_uploaded_floats));
+        m_sets.push_back(
+            upload_set(mesh, geometry.sets[si].shapes, textured, csg, &m_uploaded_floats));
         const PreviewMesh& coarse = geometry.sets[si].coarse;
         if (coarse.triangle_count() > 0) {
             SetBuffers& full = m_sets.back();
             full.coarse = std::make_unique<SetBuffers>(
-                upload_set(coarse, textured, CsgTexels{}, &m_uploaded_floats));
-            for (const Range& r : full.coarse->ranges) {
+                upload_set(coarse, {}, textured, CsgTexels{}, &m_uploaded_floats));
+            // Its ranges are the full ones' primitives, coarser: the same solids.
+            for (PreviewRange& r : full.coarse->ranges) {
                 size_t k = 0;
                 while (k + 1 < full.ranges.size() && full.ranges[k].material != r.material) ++k;
                 full.coarse->full_range.push_back(k);
+                r.solid = full.ranges[k].solid;
             }
         }
     }
@@ -526,25 +516,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
     const bool reflections = shading && pass.reflections;
     for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
         const Instance& inst = scene.instances[ii];
-        float world[16], normal[9];
-        for (int c = 0; c < 4; ++c)
-            for (int r = 0; r < 4; ++r)
-                world[c * 4 + r] = static_cast<float>(inst.world_from_set.m[c][r]);
-        for (int c = 0; c < 3; ++c)
-            for (int r = 0; r < 3; ++r)
-                normal[c * 3 + r] = static_cast<float>(inst.world_from_set.normal[c][r]);
-        glUniformMatrix4fv(loc(program, "u_world_from_object"), 1, GL_FALSE, world);
-        glUniformMatrix3fv(loc(program, "u_normal_matrix"), 1, GL_FALSE, normal);
-        if (reflections) {
-            float set_from_world[16];
-            for (int c = 0; c < 4; ++c)
-                for (int r = 0; r < 4; ++r)
-                    set_from_world[c * 4 + r] = static_cast<float>(inst.world_from_set.inv[c][r]);
-            glUniformMatrix4fv(loc(program, "u_set_from_world"), 1, GL_FALSE, set_from_world);
-        }
-        // A mirroring instance turns its triangles' winding on screen (the two-sided rule).
-        glUniform1i(loc(program, "u_mirrored"),
-                    (glm::determinant(Mat3(inst.world_from_set.m)) < 0) != pass.mirrored ? 1 : 0);
+        set_instance_uniforms(program, inst.world_from_set, reflections, pass.mirrored);
         const SetBuffers& full = m_sets[static_cast<size_t>(inst.set)];
         const SetBuffers& buf = pass.coarse && full.coarse ? *full.coarse : full;
         if (!buf.vao) continue;
@@ -558,7 +530,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
             glUniform1i(loc(program, "u_csg_leaves"), buf.csg_leaves);
         }
         for (size_t ri = 0; ri < buf.ranges.size(); ++ri) {
-            const Range& range = buf.ranges[ri];
+            const PreviewRange& range = buf.ranges[ri];
             const size_t fri = &buf == &full ? ri : buf.full_range[ri];  // the full set's range
             if (pass.skip_map >= 0 && m_env_of[ii][fri] == pass.skip_map) continue;
             const Material& m = scene.materials[static_cast<size_t>(range.material)];
@@ -578,15 +550,7 @@ void Preview::draw_instances(const RenderScene& scene, unsigned program,
                     set_vec3(program, "u_env_centre", map.centre);
                     set_vec3(program, "u_transparent", m.transparent);
                     glUniform1f(loc(program, "u_refind"), static_cast<float>(m.refractive_index));
-                    glUniform1i(loc(program, "u_solid"), static_cast<int>(range.solid));
-                    glUniform4f(loc(program, "u_solid_sphere"), static_cast<float>(range.sphere.x),
-                                static_cast<float>(range.sphere.y),
-                                static_cast<float>(range.sphere.z),
-                                static_cast<float>(range.sphere.w));
-                    glUniform2f(loc(program, "u_solid_radii"), static_cast<float>(range.radii.x),
-                                static_cast<float>(range.radii.y));
-                    set_vec3(program, "u_solid_lo", range.bounds.lo);
-                    set_vec3(program, "u_solid_hi", range.bounds.hi);
+                    set_solid_uniforms(program, range);
                 }
             }
             if (shading) {

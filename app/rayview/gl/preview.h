@@ -11,13 +11,14 @@
 #include <vector>
 
 #include "gl/gl_util.h"
-#include "gl/overlay.h"
 #include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/camera.h"
 #include "rt/render/plan.h"
 #include "state/csg_preview.h"
+#include "state/overlay.h"
 #include "state/preview_geometry.h"
+#include "state/preview_ranges.h"
 
 namespace rt::view {
 
@@ -102,43 +103,20 @@ public:
     size_t triangles_drawn() const { return m_triangles_drawn; }
 
 private:
-    /// A flat part of a range: its triangles in one plane n.p + d = 0 (set frame, n unit), their
-    /// area and the area-weighted centroid (on the plane), and their box.
-    struct FlatFace {
-        Vec3 n{0.0};
-        double d = 0, area = 0;
-        Vec3 centroid{0.0};
-        Bounds3 bounds;
-    };
-    struct Range {
-        int material;
-        unsigned first, count;        // in indices
-        Bounds3 bounds;               // of its vertices, in the set's frame
-        std::vector<FlatFace> faces;  // its largest flat parts (planar reflections), if any
-        /// The solid the range is, for refraction through its second interface (in the set's
-        /// frame): a sphere when every vertex lies on one (its centre and radius), a box when
-        /// its triangles cover exactly the faces of their bounds, a torus about the y axis when
-        /// every vertex lies on one (its centre, and ring and tube radii in `radii`); else none.
-        enum class Solid { None, Sphere, Box, Torus } solid = Solid::None;
-        glm::dvec4 sphere{0.0};
-        glm::dvec2 radii{0.0};
-    };
     struct SetBuffers {
         GlVertexArray vao;  // none for a set no instance places
         GlBuffer vbo, ebo;
-        bool uvs = false;  // texture coordinates uploaded
-        std::vector<Range> ranges;
-        GlTexture csg_texture;  // the CSG trees (csg_preview.h), none without CSG
+        bool uvs = false;                  // texture coordinates uploaded
+        std::vector<PreviewRange> ranges;  // state/preview_ranges.h
+        GlTexture csg_texture;             // the CSG trees (csg_preview.h), none without CSG
         int csg_nodes = 0, csg_children = 0, csg_leaves = 0;
         /// The set's coarse version (PreviewGeometry::Set::coarse), drawn while the view
         /// moves; its full_range gives, per range, the full set's range of its material.
         std::unique_ptr<SetBuffers> coarse;
         std::vector<size_t> full_range;
     };
-    static Range::Solid solid_of(const PreviewMesh& mesh, const std::vector<unsigned>& indices,
-                                 const Range& r, glm::dvec4* sphere, glm::dvec2* radii);
-    static SetBuffers upload_set(const PreviewMesh& mesh, bool textured, const CsgTexels& csg,
-                                 size_t* floats);
+    static SetBuffers upload_set(const PreviewMesh& mesh, const std::vector<PreviewShape>& shapes,
+                                 bool textured, const CsgTexels& csg, size_t* floats);
     // What a shadow map was rendered for, to know when to render it again.
     struct ShadowView {
         int layer = -1;  // first layer in the array, -1: none
@@ -197,8 +175,6 @@ private:
         glm::dvec4 plane{0.0};  // world n.p + d, positive on the eye's side
         double epsilon = 0;     // how far from it a fragment still counts as on it
     };
-    static std::vector<FlatFace> flat_faces(const PreviewMesh& mesh,
-                                            const std::vector<size_t>& tris);
     std::vector<PlanarView> choose_planes(const RenderScene& scene, const Camera& camera) const;
     void render_planar_maps(const RenderScene& scene, const RenderPlan& plan, const Camera& camera,
                             bool shadows, int width, int height);

@@ -7,8 +7,7 @@
 #include <functional>
 #include <stdexcept>
 #include <tuple>
-
-#include "rt/shapes/tessellate.h"
+#include <type_traits>
 
 namespace rt::view {
 
@@ -59,6 +58,24 @@ private:
     std::vector<uint32_t> m_values;
     size_t m_size = 0;
 };
+
+// A triangle the clustering folded over faces against its normals (the two-sided rule would
+// draw it dark): wound back to its source triangle's sense against its normals. `source`: the
+// triangle of `mesh` each of `out`'s comes from.
+void wind_back(const PreviewMesh& mesh, const std::vector<size_t>& source, PreviewMesh& out) {
+    const auto along = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& normals) {
+        return glm::dot(glm::cross(b - a, c - a), normals) >= 0;
+    };
+    for (size_t k = 0; k < source.size(); ++k) {
+        const uint32_t* v = &mesh.indices[3 * source[k]];
+        uint32_t* w = &out.indices[3 * k];
+        const bool was = along(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]],
+                               mesh.normals[v[0]] + mesh.normals[v[1]] + mesh.normals[v[2]]);
+        const bool is = along(out.positions[w[0]], out.positions[w[1]], out.positions[w[2]],
+                              out.normals[w[0]] + out.normals[w[1]] + out.normals[w[2]]);
+        if (was != is) std::swap(w[1], w[2]);
+    }
+}
 
 // One clustering of `mesh` on a grid of `cells` cells along its longest side.
 PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
@@ -127,21 +144,34 @@ PreviewMesh cluster(const PreviewMesh& mesh, const Bounds3& box, double cells) {
         out.normals.push_back(n > 0 ? c.normal / n : Vec3(0, 1, 0));
         if (uvs) out.uvs.push_back(c.uv);
     }
-    // A triangle the clustering folded over faces against its normals (the two-sided rule
-    // would draw it dark): wound back to its source triangle's sense against its normals.
-    const auto along = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& normals) {
-        return glm::dot(glm::cross(b - a, c - a), normals) >= 0;
-    };
-    for (size_t k = 0; k < source.size(); ++k) {
-        const uint32_t* v = &mesh.indices[3 * source[k]];
-        uint32_t* w = &out.indices[3 * k];
-        const bool was = along(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]],
-                               mesh.normals[v[0]] + mesh.normals[v[1]] + mesh.normals[v[2]]);
-        const bool is = along(out.positions[w[0]], out.positions[w[1]], out.positions[w[2]],
-                              out.normals[w[0]] + out.normals[w[1]] + out.normals[w[2]]);
-        if (was != is) std::swap(w[1], w[2]);
-    }
+    wind_back(mesh, source, out);
     return out;
+}
+
+// Appends one shape primitive (or CSG leaf) of the set, tagged with CSG leaf `csg` (-1: none),
+// and what it is to `shapes` (a triangle that follows one of its material: into its run).
+void append_primitive(const GeometrySet& set, const Primitive& p, int detail, int csg,
+                      PreviewMesh& out, std::vector<PreviewShape>* shapes) {
+    const size_t before = out.triangle_count();
+    const PreviewShape shape = visit_shape(set, p, [&](const auto& s) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(s)>, Triangle>)
+            return append_preview(s, set.triangle_attribs(p.index), p.material, out);
+        else
+            return append_preview(
+                s, p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)],
+                p.material, detail, out);
+    });
+    if (shapes) {
+        PreviewShape* run = shapes->empty() ? nullptr : &shapes->back();
+        if (shape.kind == ShapeKind::Triangle && run && run->kind == ShapeKind::Triangle &&
+            run->first + run->count == shape.first && out.materials[run->first] == p.material)
+            run->count += shape.count;
+        else
+            shapes->push_back(shape);
+    }
+    if (csg < 0 && out.csg.empty()) return;
+    out.csg.resize(before, -1);
+    out.csg.resize(out.triangle_count(), csg);
 }
 
 void check_cancel(const std::atomic<bool>* cancel) {
@@ -172,6 +202,29 @@ PreviewMesh decimate(const PreviewMesh& mesh, size_t target, const std::atomic<b
     return out;
 }
 
+PreviewMesh tessellate_set(const GeometrySet& set, int detail, std::vector<PreviewShape>* shapes) {
+    PreviewMesh out;
+    // A mesh's arrays made room for at once: three vertices per triangle, not copied as they
+    // grow (the other kinds add theirs as they come).
+    const size_t triangles = set.triangle_count();
+    out.positions.reserve(3 * triangles);
+    out.normals.reserve(3 * triangles);
+    out.uvs.reserve(3 * triangles);
+    out.indices.reserve(3 * triangles);
+    out.materials.reserve(triangles);
+    for (const Primitive& p : set.prims) {
+        if (p.csg < 0) {
+            append_primitive(set, p, detail, -1, out, shapes);
+            continue;
+        }
+        // The leaves whole, each tagged with its index (PreviewMesh::csg).
+        const CsgRoot& r = set.csg.roots[static_cast<size_t>(p.csg)];
+        for (uint32_t l = r.first_leaf; l < r.first_leaf + r.leaf_count; ++l)
+            append_primitive(set, set.csg.leaves[l].prim, detail, static_cast<int>(l), out, shapes);
+    }
+    return out;
+}
+
 PreviewGeometry prepare_preview(const RenderScene& scene, int detail,
                                 const std::atomic<bool>* cancel) {
     // Sets no instance places are not tessellated.
@@ -184,7 +237,7 @@ PreviewGeometry prepare_preview(const RenderScene& scene, int detail,
         PreviewGeometry::Set& s = g.sets[si];
         if (!s.placed) continue;
         check_cancel(cancel);
-        s.mesh = tessellate_set(scene.sets[si], detail);
+        s.mesh = tessellate_set(scene.sets[si], detail, &s.shapes);
         add_csg_leaves(scene.sets[si], &s.mesh, &s.csg);
         if (s.mesh.triangle_count() > kCoarseAbove && s.csg.leaf_of_vertex.empty())
             s.coarse = decimate(s.mesh, kCoarseTriangles, cancel);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rt/compile/render_scene.h"
+#include "rt/shapes/tessellate.h"
 #include "state/csg_preview.h"
 
 namespace rt::view {
@@ -17,6 +18,7 @@ struct PreviewGeometry {
     struct Set {
         bool placed = false;
         PreviewMesh mesh;
+        std::vector<PreviewShape> shapes;  // tessellate_set's
         CsgTexels csg;
         /// decimate(mesh, kCoarseTriangles) when the mesh has more than kCoarseAbove
         /// triangles and no CSG leaves; else empty.
@@ -25,6 +27,13 @@ struct PreviewGeometry {
     std::vector<Set> sets;
     int detail = 0;
 };
+/// Every primitive of a set in the set's frame, tagged with its material (a CSG node's leaves
+/// whole, each tagged with its leaf: PreviewMesh::csg), for instances to draw with their
+/// world_from_set transform. `shapes` (when given) gets what each primitive is, in the mesh's
+/// order: one entry each, but one for a run of triangles of one material.
+PreviewMesh tessellate_set(const GeometrySet& set, int detail,
+                           std::vector<PreviewShape>* shapes = nullptr);
+
 /// Throws std::runtime_error("loading cancelled") at its next check once *cancel is set.
 PreviewGeometry prepare_preview(const RenderScene& scene, int detail = 48,
                                 const std::atomic<bool>* cancel = nullptr);

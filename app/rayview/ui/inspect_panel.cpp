@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "gl/overlay.h"
+#include "state/overlay.h"
 
 namespace rt::view {
 

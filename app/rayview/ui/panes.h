@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "gl/gl_util.h"
-#include "gl/overlay.h"
 #include "gl/preview.h"
+#include "state/overlay.h"
 #include "state/viewer.h"
 
 namespace rt::view {

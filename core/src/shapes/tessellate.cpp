@@ -1,7 +1,8 @@
-// The set-level preview mesh; each shape's own tessellation is in its file.
+// A primitive's preview: its triangles in the set's frame and what it is there; each shape's
+// own tessellation is in its file.
 #include "rt/shapes/tessellate.h"
 
-#include <algorithm>
+#include <cmath>
 
 namespace rt {
 
@@ -34,50 +35,98 @@ void PreviewMesh::append(const PreviewMesh& other, const Transform* xf) {
 
 namespace {
 
-// Appends one shape primitive (or CSG leaf) of the set, tagged with CSG leaf `csg` (-1: none).
-void append_primitive(const GeometrySet& set, const Primitive& p, int detail, int csg,
-                      PreviewMesh& out) {
-    const size_t before = out.triangle_count();
-    visit_shape(set, p, [&](const auto& shape) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, Triangle>) {
-            // In the set's frame already: appended as it is.
-            tessellate(shape, set.triangle_attribs(p.index), out);
-            out.materials.push_back(p.material);
-        } else {
-            PreviewMesh m = tessellate(shape, detail);
-            m.materials.assign(m.triangle_count(), p.material);
-            out.append(
-                m, p.transform < 0 ? nullptr : &set.transforms[static_cast<size_t>(p.transform)]);
-        }
-    });
-    if (csg < 0 && out.csg.empty()) return;
-    out.csg.resize(before, -1);
-    out.csg.resize(out.triangle_count(), csg);
+// s when `a` is s times a rotation or a reflection (a similarity: a sphere stays one), to 1e-3
+// of s^2 (a rotation a file writes with four digits is one); else 0.
+double similarity_scale(const Mat3& a) {
+    const Mat3 g = glm::transpose(a) * a;
+    const double s2 = (g[0][0] + g[1][1] + g[2][2]) / 3;
+    if (!(s2 > 0)) return 0;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+            if (std::abs(g[c][r] - (c == r ? s2 : 0.0)) > 1e-3 * s2) return 0;
+    return std::sqrt(s2);
+}
+
+// Whether `a` maps axis k onto an axis: its image's other components within 1e-6 of it.
+bool keeps_axis(const Mat3& a, int k) {
+    const Vec3 v = a[k];
+    int along = 0;
+    for (int i = 1; i < 3; ++i)
+        if (std::abs(v[i]) > std::abs(v[along])) along = i;
+    for (int i = 0; i < 3; ++i)
+        if (i != along && std::abs(v[i]) > 1e-6 * std::abs(v[along])) return false;
+    return v[along] != 0;
+}
+
+// The kind and, when the transform keeps it one, the solid in the set's frame.
+template <class S>
+PreviewShape placed(const S&, const Transform*) {
+    PreviewShape out;
+    out.kind = S::kKind;
+    return out;
+}
+
+PreviewShape placed(const Sphere& s, const Transform* xf) {
+    PreviewShape out;
+    out.kind = ShapeKind::Sphere;
+    const double scale = xf ? similarity_scale(Mat3(xf->m)) : 1.0;
+    out.solid = scale > 0 && s.radius > 0;
+    out.centre = xf ? xf->point(s.centre) : s.centre;
+    out.radius = scale * s.radius;
+    return out;
+}
+
+PreviewShape placed(const Box& b, const Transform* xf) {
+    PreviewShape out;
+    out.kind = ShapeKind::Box;
+    const Mat3 a = xf ? Mat3(xf->m) : Mat3(1.0);
+    out.solid = b.half.x > 0 && b.half.y > 0 && b.half.z > 0 && keeps_axis(a, 0) &&
+                keeps_axis(a, 1) && keeps_axis(a, 2);
+    const Bounds3 local{b.centre - b.half, b.centre + b.half};
+    out.box = xf ? xf->apply(local) : local;
+    return out;
+}
+
+PreviewShape placed(const Torus& t, const Transform* xf) {
+    PreviewShape out;
+    out.kind = ShapeKind::Torus;
+    const Mat3 a = xf ? Mat3(xf->m) : Mat3(1.0);
+    const double scale = similarity_scale(a);
+    out.solid = scale > 0 && keeps_axis(a, 1) && t.ring > 0 && t.tube > 0;
+    out.centre = xf ? xf->point(t.centre) : t.centre;
+    out.radii = scale * Vec2(t.ring, t.tube);
+    return out;
 }
 
 }  // namespace
 
-PreviewMesh tessellate_set(const GeometrySet& set, int detail) {
-    PreviewMesh out;
-    // A mesh's arrays made room for at once: three vertices per triangle, not copied as they
-    // grow (the other kinds add theirs as they come).
-    const size_t triangles = set.triangle_count();
-    out.positions.reserve(3 * triangles);
-    out.normals.reserve(3 * triangles);
-    out.uvs.reserve(3 * triangles);
-    out.indices.reserve(3 * triangles);
-    out.materials.reserve(triangles);
-    for (const Primitive& p : set.prims) {
-        if (p.csg < 0) {
-            append_primitive(set, p, detail, -1, out);
-            continue;
-        }
-        // The leaves whole, each tagged with its index (PreviewMesh::csg).
-        const CsgRoot& r = set.csg.roots[static_cast<size_t>(p.csg)];
-        for (uint32_t l = r.first_leaf; l < r.first_leaf + r.leaf_count; ++l)
-            append_primitive(set, set.csg.leaves[l].prim, detail, static_cast<int>(l), out);
-    }
-    return out;
+template <class S>
+PreviewShape append_preview(const S& shape, const Transform* xf, int material, int detail,
+                            PreviewMesh& out) {
+    PreviewShape s = placed(shape, xf);
+    s.first = out.triangle_count();
+    PreviewMesh m = tessellate(shape, detail);
+    m.materials.assign(m.triangle_count(), material);
+    out.append(m, xf);
+    s.count = out.triangle_count() - s.first;
+    return s;
+}
+
+template PreviewShape append_preview(const Sphere&, const Transform*, int, int, PreviewMesh&);
+template PreviewShape append_preview(const Box&, const Transform*, int, int, PreviewMesh&);
+template PreviewShape append_preview(const Cylinder&, const Transform*, int, int, PreviewMesh&);
+template PreviewShape append_preview(const Cone&, const Transform*, int, int, PreviewMesh&);
+template PreviewShape append_preview(const Torus&, const Transform*, int, int, PreviewMesh&);
+
+PreviewShape append_preview(const Triangle& t, const TriangleAttribs& attribs, int material,
+                            PreviewMesh& out) {
+    PreviewShape s;
+    s.kind = ShapeKind::Triangle;
+    s.first = out.triangle_count();
+    tessellate(t, attribs, out);
+    out.materials.push_back(material);
+    s.count = 1;
+    return s;
 }
 
 }  // namespace rt

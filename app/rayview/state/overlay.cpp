@@ -1,4 +1,4 @@
-#include "gl/overlay.h"
+#include "state/overlay.h"
 
 #include <algorithm>
 #include <cmath>
@@ -80,87 +80,96 @@ std::vector<LineVertex> box_lines(const Bounds3& box, const Vec3& colour) {
     return std::move(b.out);
 }
 
+namespace {
+
+// Light `l`'s marker: a small cross at its position (three circles at its radius for a sphere
+// light), and with `direction` a spot's cut-off cone or a directional light's arrows towards the
+// scene's centre. `w`: the scene's bounds, `size` their diagonal.
+void light_marker(LineBuilder& b, const Light& l, bool direction, const Bounds3& w, double size) {
+    const Vec3 c = marker_colour(glm::max(l.diffuse, l.specular));
+    const double s = (direction ? 0.03 : 0.015) * size;
+    if (l.kind == LightKind::Directional) {
+        if (!direction) return;  // no position to mark
+        // Parallel rays (unlike a spot's cone): three arrows along the direction of travel
+        // towards the scene's centre, side by side, with a bar across their tails.
+        const Vec3 centre = w.empty() ? Vec3(0.0) : w.centre();
+        Vec3 a1, a2;
+        orthonormal_basis(l.direction, &a1, &a2);
+        const double gap = 0.06 * size;
+        for (int k = -1; k <= 1; ++k) {
+            const Vec3 end = centre + (k * gap) * a1;
+            b.segment(end - 0.3 * size * l.direction, end, c);
+            for (const Vec3& side : {a1, -a1})
+                b.segment(end, end - 2 * s * l.direction + s * side, c);
+        }
+        const Vec3 tail = centre - 0.3 * size * l.direction;
+        b.segment(tail - gap * a1, tail + gap * a1, c);
+        return;
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+        Vec3 d(0.0);
+        d[axis] = s;
+        b.segment(l.position - d, l.position + d, c);
+    }
+    if (l.kind == LightKind::Sphere && l.radius > 0) b.wire_sphere(l.position, l.radius, c);
+    if (l.kind == LightKind::Spot && direction) {
+        // The cut-off cone, 0.15 of the scene's size long.
+        Vec3 a1, a2;
+        orthonormal_basis(l.direction, &a1, &a2);
+        const double len = 0.15 * size, angle = std::min(l.cutoff_rad, 1.4);
+        Vec3 prev(0.0);
+        for (int k = 0; k <= 16; ++k) {
+            const double phi = 2 * kPi * k / 16;
+            const Vec3 rim =
+                l.position + len * (std::cos(angle) * l.direction +
+                                    std::sin(angle) * (std::cos(phi) * a1 + std::sin(phi) * a2));
+            if (k % 4 == 0) b.segment(l.position, rim, c);
+            if (k > 0) b.segment(prev, rim, c);
+            prev = rim;
+        }
+    }
+}
+
+// An instance's box, its set's BVH node boxes down to `bvh_depth` levels (dimmer deeper down)
+// and its CSG nodes' boxes, in world space.
+void instance_boxes(LineBuilder& b, const RenderScene& scene, const Instance& inst, int bvh_depth) {
+    const Transform* xf = inst.identity ? nullptr : &inst.world_from_set;
+    const Bvh& bvh = scene.sets[static_cast<size_t>(inst.set)].bvh;
+    b.box(inst.world_bounds.lo, inst.world_bounds.hi, Vec3(1, 1, 0.3), nullptr);
+    std::vector<std::pair<uint32_t, int>> stack;
+    if (!bvh.empty()) stack.push_back({0u, 1});
+    while (!stack.empty()) {
+        const auto [node_index, depth] = stack.back();
+        stack.pop_back();
+        const Bvh4Node& node = bvh.nodes[node_index];
+        const double fade = 1.0 / depth;
+        for (uint32_t c = 0; c < node.num_children; ++c) {
+            const Vec3 lo(node.lo[0][c], node.lo[1][c], node.lo[2][c]);
+            const Vec3 hi(node.hi[0][c], node.hi[1][c], node.hi[2][c]);
+            b.box(lo, hi, Vec3(0.3, 1.0, 0.5) * fade + Vec3(0.1), xf);
+            if (!(node.child[c] & Bvh4Node::kLeaf) && depth < bvh_depth)
+                stack.push_back({node.child[c], depth + 1});
+        }
+    }
+    // The CSG nodes' own boxes (spec §13.8's informative bounds), in blue.
+    for (const CsgNode& n : scene.sets[static_cast<size_t>(inst.set)].csg.nodes)
+        if (n.kind != CsgNodeKind::Leaf && n.kind != CsgNodeKind::List && !n.bounds.empty())
+            b.box(n.bounds.lo, n.bounds.hi, Vec3(0.3, 0.6, 1.0), xf);
+}
+
+}  // namespace
+
 std::vector<LineVertex> overlay_lines(const RenderScene& scene, const LightMarkers& lights,
                                       int bvh_depth) {
     LineBuilder b;
     const Bounds3& w = scene.world_bounds;
     const double size = w.empty() ? 1.0 : glm::length(w.diagonal());
-    if (lights.show) {
-        for (size_t li = 0; li < scene.lights.size(); ++li) {
-            const Light& l = scene.lights[li];
-            const bool direction = lights.directions || static_cast<int>(li) == lights.selected;
-            const Vec3 c = marker_colour(glm::max(l.diffuse, l.specular));
-            const double s = (direction ? 0.03 : 0.015) * size;
-            if (l.kind == LightKind::Directional) {
-                if (!direction) continue;  // no position to mark
-                // Parallel rays (unlike a spot's cone): three arrows along the direction of
-                // travel towards the scene's centre, side by side, with a bar across their tails.
-                const Vec3 centre = w.empty() ? Vec3(0.0) : w.centre();
-                Vec3 a1, a2;
-                orthonormal_basis(l.direction, &a1, &a2);
-                const double gap = 0.06 * size;
-                for (int k = -1; k <= 1; ++k) {
-                    const Vec3 end = centre + (k * gap) * a1;
-                    b.segment(end - 0.3 * size * l.direction, end, c);
-                    for (const Vec3& side : {a1, -a1})
-                        b.segment(end, end - 2 * s * l.direction + s * side, c);
-                }
-                const Vec3 tail = centre - 0.3 * size * l.direction;
-                b.segment(tail - gap * a1, tail + gap * a1, c);
-                continue;
-            }
-            for (int axis = 0; axis < 3; ++axis) {
-                Vec3 d(0.0);
-                d[axis] = s;
-                b.segment(l.position - d, l.position + d, c);
-            }
-            if (l.kind == LightKind::Sphere && l.radius > 0) b.wire_sphere(l.position, l.radius, c);
-            if (l.kind == LightKind::Spot && direction) {
-                // The cut-off cone, 0.15 of the scene's size long.
-                Vec3 a1, a2;
-                orthonormal_basis(l.direction, &a1, &a2);
-                const double len = 0.15 * size, angle = std::min(l.cutoff_rad, 1.4);
-                Vec3 prev(0.0);
-                for (int k = 0; k <= 16; ++k) {
-                    const double phi = 2 * kPi * k / 16;
-                    const Vec3 rim =
-                        l.position +
-                        len * (std::cos(angle) * l.direction +
-                               std::sin(angle) * (std::cos(phi) * a1 + std::sin(phi) * a2));
-                    if (k % 4 == 0) b.segment(l.position, rim, c);
-                    if (k > 0) b.segment(prev, rim, c);
-                    prev = rim;
-                }
-            }
-        }
-    }
-    if (bvh_depth > 0) {
-        for (const Instance& inst : scene.instances) {
-            const Transform* xf = inst.identity ? nullptr : &inst.world_from_set;
-            const Bvh& bvh = scene.sets[static_cast<size_t>(inst.set)].bvh;
-            b.box(inst.world_bounds.lo, inst.world_bounds.hi, Vec3(1, 1, 0.3), nullptr);
-            // Node boxes level by level, dimmer deeper down.
-            std::vector<std::pair<uint32_t, int>> stack;
-            if (!bvh.empty()) stack.push_back({0u, 1});
-            while (!stack.empty()) {
-                const auto [node_index, depth] = stack.back();
-                stack.pop_back();
-                const Bvh4Node& node = bvh.nodes[node_index];
-                const double fade = 1.0 / depth;
-                for (uint32_t c = 0; c < node.num_children; ++c) {
-                    const Vec3 lo(node.lo[0][c], node.lo[1][c], node.lo[2][c]);
-                    const Vec3 hi(node.hi[0][c], node.hi[1][c], node.hi[2][c]);
-                    b.box(lo, hi, Vec3(0.3, 1.0, 0.5) * fade + Vec3(0.1), xf);
-                    if (!(node.child[c] & Bvh4Node::kLeaf) && depth < bvh_depth)
-                        stack.push_back({node.child[c], depth + 1});
-                }
-            }
-            // The CSG nodes' own boxes (spec §13.8's informative bounds), in blue.
-            for (const CsgNode& n : scene.sets[static_cast<size_t>(inst.set)].csg.nodes)
-                if (n.kind != CsgNodeKind::Leaf && n.kind != CsgNodeKind::List && !n.bounds.empty())
-                    b.box(n.bounds.lo, n.bounds.hi, Vec3(0.3, 0.6, 1.0), xf);
-        }
-    }
+    if (lights.show)
+        for (size_t li = 0; li < scene.lights.size(); ++li)
+            light_marker(b, scene.lights[li],
+                         lights.directions || static_cast<int>(li) == lights.selected, w, size);
+    if (bvh_depth > 0)
+        for (const Instance& inst : scene.instances) instance_boxes(b, scene, inst, bvh_depth);
     return std::move(b.out);
 }
 
