@@ -4,7 +4,6 @@
 
 #include <cmath>
 
-#include "rt/compile/compile.h"
 #include "rt/render/camera.h"
 #include "state/key_queue.h"
 
@@ -17,8 +16,8 @@ namespace {
 bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const PaneLayout& p,
                  bool over_preview) {
     std::vector<LightDesc>& lights = v.edits.lights;
-    const Camera view_cam = make_camera(compile_camera(v.edits.camera.desc()),
-                                        static_cast<int>(p.image_w), static_cast<int>(p.image_h));
+    const Camera view_cam =
+        v.edits.camera.camera(static_cast<int>(p.image_w), static_cast<int>(p.image_h));
     auto to_pane = [&](const Vec3& pos, double* depth) {
         const Vec3 d = pos - view_cam.position;
         *depth = glm::dot(d, view_cam.forward);
@@ -84,7 +83,7 @@ bool mouse_camera(OrbitCamera& orbit, const ImGuiIO& io, const PaneLayout& p) {
 // Fly: WASD along the view and sideways, Q/E down and up, at a speed scaled to the scene (its
 // diagonal per 4 seconds).
 bool fly_camera(OrbitCamera& orbit, const Bounds3& world, double frame_s) {
-    const Camera cam = make_camera(compile_camera(orbit.desc()), 4, 4);
+    const Camera cam = orbit.camera(4, 4);
     const double speed = (world.empty() ? 1.0 : glm::length(world.diagonal())) / 4.0 * frame_s;
     Vec3 move(0.0);
     if (ImGui::IsKeyDown(GLFW_KEY_W)) move += cam.forward;

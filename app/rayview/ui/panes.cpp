@@ -262,7 +262,7 @@ void Panes::draw_preview(ViewerState& v, const LoadedScene& loaded) {
         return;
     glBindFramebuffer(GL_FRAMEBUFFER, m_target.fbo.id());
     // The camera of the latest input, also while a restart waits.
-    const Camera cam = make_camera(compile_camera(v.edits.camera.desc()), m_target.w, m_target.h);
+    const Camera cam = v.edits.camera.camera(m_target.w, m_target.h);
     // The preview's copy of the scene: the joints at the timeline's time, every frame.
     const RenderScene& shown = loaded.shown;
     m_preview.moving = v.trace.moving();
