@@ -235,20 +235,14 @@ void loading_line(ViewerState& v) {
     if (ImGui::SmallButton("Cancel")) v.cancel_loading();
 }
 
-}  // namespace
-
-bool file_panel(ViewerState& v, PanelState& ui) {
-    if (v.session.loaded && v.session.loaded->id != ui.path_for) {  // a file opened: show its path
-        std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
-        ui.path_for = v.session.loaded->id;
-    }
-    bool opened = false;
-    bool open_typed = false;  // Enter in the field, Open, or a file picked from the completions
+// The path field and its completion: the .ray files (and folders) that start with what is
+// typed. True when a file is to be opened: Enter in the field, or a file picked.
+bool path_field(PanelState& ui) {
+    bool open_typed = false;
     if (ImGui::InputText("scene", ui.path_buf, sizeof ui.path_buf,
                          ImGuiInputTextFlags_EnterReturnsTrue))
         open_typed = true;
     if (ImGui::IsItemEdited()) ui.completing = true;
-    // Completion: the .ray files (and folders) that start with what is typed.
     if (ui.completing && !open_typed) {
         if (ui.completed_for != ui.path_buf) {  // list the folder only when the text changes
             ui.completed_for = ui.path_buf;
@@ -262,19 +256,11 @@ bool file_panel(ViewerState& v, PanelState& ui) {
                 break;
             }
     }
-    open_typed |= ImGui::Button("Open");
-    if (open_typed) {  // in the background: the open scene stays interactive
-        ui.completing = false;
-        v.open_in_background(ui.path_buf);
-        if (v.session
-                .loaded)  // until it opens (or fails, with the error shown) the open scene's path
-            std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
-    }
-    ImGui::SameLine();
-    if (ImGui::Button("Reload") && v.session.loaded) opened |= v.reload();
-    ImGui::SameLine();
-    ImGui::TextDisabled("(or drop a .ray file)");
-    if (v.jobs.loader.busy()) loading_line(v);
+    return open_typed;
+}
+
+// The recent files and the sample scenes, each opened in the background on a click.
+void file_lists(ViewerState& v, PanelState& ui) {
     const size_t first = v.session.loaded ? 1 : 0;  // the open file is recent[0]
     if (v.session.recent.size() > first && ImGui::CollapsingHeader("recent files")) {
         for (size_t i = first; i < v.session.recent.size(); ++i)
@@ -291,8 +277,13 @@ bool file_panel(ViewerState& v, PanelState& ui) {
                 break;
             }
     }
-    // Errors here, wrapped (they name files and their includes); notes go to the status bar,
-    // so "saved ..." never moves the panel's controls.
+}
+
+// Errors here, wrapped (they name files and their includes); notes go to the status bar,
+// so "saved ..." never moves the panel's controls. Then a reload's conflict with the user's
+// edits, the offer of checker stand-ins and the stand-ins in use. True when a file opened.
+bool file_messages(ViewerState& v) {
+    bool opened = false;
     if (!v.messages.text.empty() && v.messages.is_error) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
         ImGui::TextWrapped("%s", v.messages.text.c_str());
@@ -320,6 +311,34 @@ bool file_panel(ViewerState& v, PanelState& ui) {
             ImGui::PopStyleColor();
         }
     }
+    return opened;
+}
+
+}  // namespace
+
+bool file_panel(ViewerState& v, PanelState& ui) {
+    if (v.session.loaded && v.session.loaded->id != ui.path_for) {  // a file opened: show its path
+        std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
+        ui.path_for = v.session.loaded->id;
+    }
+    bool opened = false;
+    // Enter in the field, Open, or a file picked from the completions.
+    bool open_typed = path_field(ui);
+    open_typed |= ImGui::Button("Open");
+    if (open_typed) {  // in the background: the open scene stays interactive
+        ui.completing = false;
+        v.open_in_background(ui.path_buf);
+        if (v.session
+                .loaded)  // until it opens (or fails, with the error shown) the open scene's path
+            std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Reload") && v.session.loaded) opened |= v.reload();
+    ImGui::SameLine();
+    ImGui::TextDisabled("(or drop a .ray file)");
+    if (v.jobs.loader.busy()) loading_line(v);
+    file_lists(v, ui);
+    opened |= file_messages(v);
     return opened;
 }
 
