@@ -1,5 +1,6 @@
 #include "state/edits.h"
 
+#include "rt/compile/compile.h"
 #include "rt/util/charconv.h"
 
 namespace rt::view {
@@ -58,6 +59,65 @@ double float_as_decimal(float f) {
     double d = f;
     from_chars_double(buf, r.ptr, d);
     return d;
+}
+
+void SceneEdits::set_light(size_t i, const LightDesc& l, bool on) {
+    if (i >= lights.size()) return;
+    lights[i] = l;
+    light_on[i] = on ? 1 : 0;
+}
+
+void SceneEdits::add_light(LightKind kind) {
+    // At the eye, along the view: what the user looks at is lit.
+    LightDesc l;
+    l.kind = kind;
+    l.position = camera.eye();
+    l.direction = camera.forward();
+    if (kind == LightKind::Spot) l.cutoff_rad = 0.5;
+    if (kind == LightKind::Sphere) l.radius = 0.05 * camera.distance;
+    lights.push_back(l);
+    light_on.push_back(1);
+}
+
+void SceneEdits::remove_light(size_t i) {
+    if (i >= lights.size()) return;
+    lights.erase(lights.begin() + static_cast<long>(i));
+    light_on.erase(light_on.begin() + static_cast<long>(i));
+}
+
+void SceneEdits::keep_headlight() {
+    lights.push_back(headlight_desc(camera));
+    light_on.push_back(1);
+}
+
+void SceneEdits::frame_light(size_t i, const Bounds3& world) {
+    if (i >= lights.size()) return;
+    const LightDesc& l = lights[i];
+    if (l.kind == LightKind::Directional) {  // look the way its light travels
+        CameraDesc d = camera.desc();
+        d.direction = l.direction;
+        if (glm::length(glm::cross(glm::normalize(d.direction), d.up)) < 1e-6)
+            d.up = Vec3(1, 0, 0);  // straight up or down
+        camera.set_from(d, world);
+    } else {
+        camera.target = l.position;  // the light at the centre of the view
+    }
+}
+
+void SceneEdits::set_material(size_t i, const Material& m) {
+    if (i < materials.size()) materials[i] = m;
+}
+
+void apply_edits(const SceneEdits& edits, bool headlight, int trace_w, int trace_h,
+                 RenderScene* scene, RenderSettings* settings) {
+    scene->camera = compile_camera(edits.camera.desc());
+    scene->lights.clear();
+    for (size_t i = 0; i < edits.lights.size(); ++i)
+        if (edits.light_on[i]) scene->lights.push_back(compile_light(edits.lights[i]));
+    if (headlight) scene->lights.push_back(compile_light(headlight_desc(edits.camera)));
+    if (edits.materials.size() == scene->materials.size()) scene->materials = edits.materials;
+    settings->width = trace_w;
+    settings->height = trace_h;
 }
 
 LightDesc headlight_desc(const OrbitCamera& camera) {
