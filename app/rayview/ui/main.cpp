@@ -311,9 +311,14 @@ int render_without_window(const rt::view::RunOptions& opt) {
 }
 
 // The viewer's first settings: the command line's over the last run's UI scale; the recent
-// files; the --compare image (an error fails a scripted run).
+// files; the --compare image (an error fails a scripted run). Every scene that opens is said on
+// stdout, the one opened at start too.
 void start_viewer(rt::view::ViewerState& viewer, const rt::view::RunOptions& opt,
                   const rt::view::UserConfig& config) {
+    viewer.hooks.on_opened = [](const std::string& path) {
+        std::printf("rayview: opened %s\n", path.c_str());
+    };
+    if (viewer.session.loaded) viewer.hooks.on_opened(viewer.session.loaded->path);
     rt::view::ViewSettings initial = viewer.settings;
     rt::view::apply_run_options(opt, &initial);
     initial.ui_scale = config.ui_scale;
