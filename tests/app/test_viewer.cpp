@@ -161,7 +161,7 @@ TEST(Viewer, AnEditMarksItself) {
     v.settings.exposure = 2;
     v.settings.layout = 1;
     EXPECT_FALSE(v.edit_pending());
-    v.edits.set_material(0, Material{});
+    v.edits.set_material(0, MaterialDesc{});
     EXPECT_TRUE(v.edit_pending());
     restart(v);
     EXPECT_TRUE(v.session.loaded->scene.materials[0].diffuse == Material{}.diffuse);
@@ -711,6 +711,14 @@ TEST(Viewer, IncludedMaterialsAreSavedIntoTheirFileWhenAsked) {
     EXPECT_TRUE(edited_included_files(v).empty());
     ASSERT_EQ(v.session.loaded->origin(5).file, 1);   // the table made with the scene
     EXPECT_EQ(v.session.loaded->origin(6).file, -1);  // the built-in default
+    // The floor's texture is its own file's first: the edit holds the file's number, the
+    // compiled scene the scene's (the restart compiles it); the built-in default has none.
+    EXPECT_EQ(v.edits.materials[5].texture, 0);
+    v.set_trace_size(16, 12);
+    restart(v);
+    EXPECT_EQ(v.session.loaded->scene.materials[5].texture,
+              v.session.loaded->origin(5).first_texture + 0);
+    EXPECT_EQ(v.session.loaded->scene.materials[6].texture, -1);
     v.edits.materials[5].diffuse = Vec3(0.25, 0.5, 0.75);
     ASSERT_EQ(edited_included_files(v).size(), 1u);
     EXPECT_EQ(fs::path(edited_included_files(v)[0]).filename(), "floor.ray");

@@ -228,7 +228,7 @@ void set_material(const ScriptLine& l, ViewerState& v) {
     if (i >= v.edits.materials.size() || l.args.size() < 3)
         throw std::runtime_error("material: I WHAT VALUES... (the scene has " +
                                  std::to_string(v.edits.materials.size()) + " materials)");
-    Material m = v.edits.materials[i];  // a copy, put back once
+    MaterialDesc m = v.edits.materials[i];  // a copy, put back once
     const std::string& what = l.args[1];
     auto arg = [&](size_t k) { return number(l, k, -1e30, 1e30); };
     Vec3* colour = what == "emissive"      ? &m.emissive
@@ -246,8 +246,7 @@ void set_material(const ScriptLine& l, ViewerState& v) {
     else if (what == "texture") {
         // The file's texture index, as in its #material line; -1 for none.
         const MaterialOrigin o = v.session.loaded->origin(i);
-        const int t = whole(l, 2, -1, o.textures - 1);
-        m.texture = t < 0 ? -1 : o.first_texture + t;
+        m.texture = whole(l, 2, -1, o.textures - 1);
     } else
         throw std::runtime_error("material: cannot set " + what);
     v.edits.set_material(i, m);

@@ -18,6 +18,27 @@ bool same_materials(const std::vector<Material>& a, const std::vector<Material>&
     return true;
 }
 
+bool same_materials(const std::vector<MaterialDesc>& a, const std::vector<MaterialDesc>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+        const MaterialDesc &x = a[i], &y = b[i];
+        if (x.emissive != y.emissive || x.ambient != y.ambient || x.diffuse != y.diffuse ||
+            x.specular != y.specular || x.specular_exponent != y.specular_exponent ||
+            x.transparent != y.transparent || x.refractive_index != y.refractive_index ||
+            x.texture != y.texture)
+            return false;
+    }
+    return true;
+}
+
+std::vector<MaterialDesc> material_descs(const SceneDesc& desc) {
+    std::vector<MaterialDesc> out;
+    for (const FileDesc& file : desc.files)
+        out.insert(out.end(), file.materials.begin(), file.materials.end());
+    out.push_back(v0_default_material());
+    return out;
+}
+
 std::vector<MaterialOrigin> material_origins(const SceneDesc& desc) {
     std::vector<MaterialOrigin> out;
     int first_texture = 0;
@@ -104,18 +125,26 @@ void SceneEdits::frame_light(size_t i, const Bounds3& world) {
     }
 }
 
-void SceneEdits::set_material(size_t i, const Material& m) {
+void SceneEdits::set_material(size_t i, const MaterialDesc& m) {
     if (i < materials.size()) materials[i] = m;
 }
 
-void apply_edits(const SceneEdits& edits, bool headlight, int trace_w, int trace_h,
-                 RenderScene* scene, RenderSettings* settings) {
+void apply_edits(const SceneEdits& edits, const std::vector<MaterialOrigin>& origins,
+                 bool headlight, int trace_w, int trace_h, RenderScene* scene,
+                 RenderSettings* settings) {
     scene->camera = compile_camera(edits.camera.desc());
     scene->lights.clear();
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) scene->lights.push_back(compile_light(edits.lights[i]));
     if (headlight) scene->lights.push_back(compile_light(headlight_desc(edits.camera)));
-    if (edits.materials.size() == scene->materials.size()) scene->materials = edits.materials;
+    if (edits.materials.size() == scene->materials.size())
+        for (size_t k = 0; k < edits.materials.size(); ++k) {
+            const MaterialDesc& d = edits.materials[k];
+            Material m = compile_material(d);  // as compile_scene compiles it
+            const MaterialOrigin o = k < origins.size() ? origins[k] : MaterialOrigin{};
+            m.texture = d.texture >= 0 && d.texture < o.textures ? o.first_texture + d.texture : -1;
+            scene->materials[k] = m;
+        }
     settings->width = trace_w;
     settings->height = trace_h;
 }

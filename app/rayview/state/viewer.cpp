@@ -100,7 +100,8 @@ bool finish_reload(ViewerState& v, LoadResult next) {
     // What the user edited, against the scene as it was read last (edits made while a
     // background reload ran count too).
     const ReloadMerge merge = edits_before_reload(*session.loaded, v.edits);
-    const std::vector<Material> old_file = session.loaded->file_materials, mine = v.edits.materials;
+    const std::vector<MaterialDesc> old_file = session.loaded->file_materials,
+                                    mine = v.edits.materials;
     const std::string file = session.loaded->path;  // finish_open replaces `loaded`
     const Timeline playback = v.timeline;           // a reload keeps the time and the playback
     if (!finish_open(v, std::move(next), file, false)) return false;
@@ -150,8 +151,8 @@ void restart(ViewerState& v) {
     LoadedScene& s = *v.session.loaded;
     v.trace.tracer.stop();
     move_joints(v);
-    apply_edits(v.edits, v.headlight_on(), v.trace.width(), v.trace.height(), &s.scene,
-                &v.settings.render);
+    apply_edits(v.edits, s.material_origins, v.headlight_on(), v.trace.width(), v.trace.height(),
+                &s.scene, &v.settings.render);
     s.shown.camera = s.scene.camera;  // the preview's overlays show the same lights
     s.shown.lights = s.scene.lights;
     s.shown.materials = s.scene.materials;

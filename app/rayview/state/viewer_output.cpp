@@ -35,7 +35,8 @@ bool start_render(ViewerState& v, const std::string& path, int width, int height
     spec.tonemap = v.settings.tonemap;
     spec.sequence = sequence;
     RenderScene scene = v.session.loaded->scene;  // shares its sets: the copy costs the instances
-    apply_edits(v.edits, v.headlight_on(), width, height, &scene, &spec.settings);
+    apply_edits(v.edits, v.session.loaded->material_origins, v.headlight_on(), width, height,
+                &scene, &spec.settings);
     v.jobs.image.start(std::move(scene), spec);
     return true;
 }
@@ -63,18 +64,21 @@ void save_scene(const ViewerState& v, const std::string& path, bool included_too
     desc.lights.clear();
     for (size_t i = 0; i < v.edits.lights.size(); ++i)
         if (v.edits.light_on[i]) desc.lights.push_back(v.edits.lights[i]);
-    // The edited materials into their files' descriptions, textures as their files' indices;
-    // an included file's edited directives, as text, to replace in that file.
+    // The edited materials into their files' descriptions, where the file has them now (a
+    // reload may have moved their lines); an included file's edited directives, as text, to
+    // replace in that file.
     std::map<size_t, std::vector<std::pair<SourceLoc, std::string>>> included;
     for (size_t k = 0; k < v.edits.materials.size(); ++k) {
         const MaterialOrigin o = s.origin(k);
         if (o.file < 0) continue;  // the built-in default
-        const Material& m = v.edits.materials[k];
+        const MaterialDesc& m = v.edits.materials[k];
         MaterialDesc& md =
             desc.files[static_cast<size_t>(o.file)].materials[static_cast<size_t>(o.index)];
-        material_terms_into(m, &md);
-        const int t = m.texture - o.first_texture;
-        md.texture = m.texture >= 0 && t >= 0 && t < o.textures ? t : -1;
+        const SourceLoc loc = md.loc;
+        std::string name = md.name;
+        md = m;
+        md.loc = loc;
+        md.name = std::move(name);
         if (included_too && o.file > 0 && k < s.file_materials.size() &&
             !same_materials({m}, {s.file_materials[k]}))
             included[static_cast<size_t>(o.file)].emplace_back(md.loc,

@@ -547,21 +547,18 @@ bool texture_combo(const LoadedScene& s, size_t material, int* texture) {
     const MaterialOrigin o = s.origin(material);
     if (o.textures == 0) return false;
     const auto& files = desc.files[static_cast<size_t>(o.file)].textures;
-    auto name = [&](int t) {
-        const int k = t - o.first_texture;
-        if (t < 0 || k < 0 || k >= o.textures) return std::string("none");
-        return std::filesystem::path(files[static_cast<size_t>(k)].path).filename().string() +
-               " (texture " + std::to_string(k) + ")";
+    auto name = [&](int t) {  // the file's texture t
+        if (t < 0 || t >= o.textures) return std::string("none");
+        return std::filesystem::path(files[static_cast<size_t>(t)].path).filename().string() +
+               " (texture " + std::to_string(t) + ")";
     };
     bool edited = false;
     if (ImGui::BeginCombo("texture", name(*texture).c_str())) {
-        for (int t = -1; t < o.textures; ++t) {
-            const int global = t < 0 ? -1 : o.first_texture + t;
-            if (ImGui::Selectable(name(global).c_str(), global == *texture) && global != *texture) {
-                *texture = global;
+        for (int t = -1; t < o.textures; ++t)
+            if (ImGui::Selectable(name(t).c_str(), t == *texture) && t != *texture) {
+                *texture = t;
                 edited = true;
             }
-        }
         ImGui::EndCombo();
     }
     if (ImGui::IsItemHovered())
@@ -577,7 +574,7 @@ bool texture_combo(const LoadedScene& s, size_t material, int* texture) {
 // both panes at the restart, saved with the scene). The material follows the last pick, or
 // the list.
 void materials_panel(ViewerState& v, PanelState& ui) {
-    const std::vector<Material>& materials = v.edits.materials;
+    const std::vector<MaterialDesc>& materials = v.edits.materials;
     if (materials.empty() || !ImGui::CollapsingHeader("Materials")) return;
     const LoadedScene& s = *v.session.loaded;
     const int picked = v.ui.selection.instance >= 0 ? v.ui.selection.material_index : -1;
@@ -594,7 +591,7 @@ void materials_panel(ViewerState& v, PanelState& ui) {
             if (ImGui::Selectable(name(i).c_str(), i == ui.material)) ui.material = i;
         ImGui::EndCombo();
     }
-    Material m = materials[static_cast<size_t>(ui.material)];  // a copy, put back once
+    MaterialDesc m = materials[static_cast<size_t>(ui.material)];  // a copy, put back once
     bool edited = false;
     edited |= colour("emissive", &m.emissive);
     edited |= colour("ambient", &m.ambient);
