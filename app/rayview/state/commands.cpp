@@ -1,7 +1,6 @@
 #include "state/commands.h"
 
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -43,21 +42,9 @@ bool on(const ScriptLine& l) {
     return l.args[0] == "on";
 }
 
-// "rayview: frame F: " and the printf-formatted rest.
-std::string said(const ScriptLine& l, const char* format, ...) {
-    char head[48];
-    std::snprintf(head, sizeof head, "rayview: frame %d: ", l.frame);
-    va_list args;
-    va_start(args, format);
-    va_list again;
-    va_copy(again, args);
-    const int n = std::vsnprintf(nullptr, 0, format, args);
-    va_end(args);
-    std::string text(static_cast<size_t>(std::max(n, 0)) + 1, '\0');
-    std::vsnprintf(text.data(), text.size(), format, again);
-    va_end(again);
-    text.resize(static_cast<size_t>(std::max(n, 0)));
-    return head + text;
+// A line of the run's output: "rayview: frame F: " and `text`.
+std::string said(const ScriptLine& l, const std::string& text) {
+    return "rayview: frame " + std::to_string(l.frame) + ": " + text;
 }
 
 // light I position X Y Z | light I colour|ambient|diffuse|specular R G B | light I radius R.
@@ -142,7 +129,9 @@ bool run_animation(const ScriptLine& l, ViewerState& v, std::string* out) {
         tl.playing = true;
     } else if (c == "pause") {
         tl.playing = false;
-        *out = said(l, "paused at t = %.9g\n", tl.time);
+        char t[32];
+        std::snprintf(t, sizeof t, "%.9g", tl.time);
+        *out = said(l, "paused at t = " + std::string(t) + "\n");
     } else if (c == "time") {
         tl.playing = false;
         v.seek(number(l, 0, -1e9, 1e9));
@@ -193,10 +182,10 @@ void compare_setting(const ScriptLine& l, ViewerState& v, std::string* out) {
         const int x = whole(l, 1, 0, std::max(0, c.theirs.width - 1));
         const int y = whole(l, 2, 0, std::max(0, c.theirs.height - 1));
         probe_compare(v, x, y);
-        *out += said(l, "compare %s\n%s", compare_probe_text(c, c.probe_x, c.probe_y).c_str(),
-                     v.ui.inspect.tree ? v.ui.inspect.text.c_str() : "");
+        *out += said(l, "compare " + compare_probe_text(c, c.probe_x, c.probe_y) + "\n" +
+                            (v.ui.inspect.tree ? v.ui.inspect.text : ""));
     }
-    if (c.result) *out += said(l, "%s\n", compare_status(c).c_str());
+    if (c.result) *out += said(l, compare_status(c) + "\n");
 }
 
 // The comparison with an image, as the comparison pane and its panel section do. False for
@@ -321,26 +310,26 @@ bool run_view(const ScriptLine& l, ViewerState& v, std::string* out) {
     if (c == "pick") {
         v.pick(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
         const Selection& sel = v.ui.selection;
-        *out = said(l, "picked %s %s %s in %s\n", sel.instance < 0 ? "nothing" : sel.shape.c_str(),
-                    sel.material.c_str(), sel.where.c_str(), sel.groups.c_str());
+        *out = said(l, "picked " + (sel.instance < 0 ? std::string("nothing") : sel.shape) + " " +
+                           sel.material + " " + sel.where + " in " + sel.groups + "\n");
     } else if (c == "inspect" && (path == "on" || path == "off")) {
-        v.ui.inspect.mode = path == "on";
+        v.ui.inspect.set_mode(path == "on");
     } else if (c == "inspect" && path == "clear") {
         v.ui.inspect.clear();
     } else if (c == "inspect") {
         // The ray tree of the trace's pixel there, printed as raytrace --inspect prints it.
         v.inspect(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
         if (v.ui.inspect.tree)
-            *out = said(l, "inspected pixel %d,%d\n%s", v.ui.inspect.tree->x, v.ui.inspect.tree->y,
-                        v.ui.inspect.text.c_str());
+            *out = said(l, "inspected pixel " + std::to_string(v.ui.inspect.tree->x) + "," +
+                               std::to_string(v.ui.inspect.tree->y) + "\n" + v.ui.inspect.text);
     } else if (c == "help") {
-        v.ui.show_help = on(l);
+        v.ui.set_help(on(l));
     } else if (c == "undo") {
         if (!v.undo()) throw std::runtime_error("undo: nothing to undo");
     } else if (c == "redo") {
         if (!v.redo()) throw std::runtime_error("redo: nothing to redo");
     } else if (c == "status") {
-        *out = said(l, "status: %s\n", status_text(v).c_str());
+        *out = said(l, "status: " + status_text(v) + "\n");
     } else {
         return false;
     }

@@ -5,10 +5,14 @@
 
 namespace rt::view {
 
-bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b) {
+namespace {
+
+// Two lists of materials (compiled or described) alike in every term and texture.
+template <class M>
+bool same_terms(const std::vector<M>& a, const std::vector<M>& b) {
     if (a.size() != b.size()) return false;
     for (size_t i = 0; i < a.size(); ++i) {
-        const Material &x = a[i], &y = b[i];
+        const M &x = a[i], &y = b[i];
         if (x.emissive != y.emissive || x.ambient != y.ambient || x.diffuse != y.diffuse ||
             x.specular != y.specular || x.specular_exponent != y.specular_exponent ||
             x.transparent != y.transparent || x.refractive_index != y.refractive_index ||
@@ -18,17 +22,14 @@ bool same_materials(const std::vector<Material>& a, const std::vector<Material>&
     return true;
 }
 
+}  // namespace
+
+bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b) {
+    return same_terms(a, b);
+}
+
 bool same_materials(const std::vector<MaterialDesc>& a, const std::vector<MaterialDesc>& b) {
-    if (a.size() != b.size()) return false;
-    for (size_t i = 0; i < a.size(); ++i) {
-        const MaterialDesc &x = a[i], &y = b[i];
-        if (x.emissive != y.emissive || x.ambient != y.ambient || x.diffuse != y.diffuse ||
-            x.specular != y.specular || x.specular_exponent != y.specular_exponent ||
-            x.transparent != y.transparent || x.refractive_index != y.refractive_index ||
-            x.texture != y.texture)
-            return false;
-    }
-    return true;
+    return same_terms(a, b);
 }
 
 std::vector<MaterialDesc> material_descs(const SceneDesc& desc) {
