@@ -40,6 +40,8 @@ struct ViewUi {
         ++changes;  // the highlight goes
     }
     void select_light(int i) { selected_light = i; }
+    /// A file dropped onto the window (or handed over by the page): poll_files() opens it.
+    void drop(std::string path) { dropped.push_back(std::move(path)); }
     void set_help(bool on) { show_help = on; }
     void toggle_help() { show_help = !show_help; }
     void add_bookmark(const OrbitCamera& view) { bookmarks.push_back(view); }

@@ -69,7 +69,7 @@ void glfw_error(int code, const char* message) {
 // Files dropped onto the window go to the viewer, which opens them at the next frame.
 void on_drop(GLFWwindow* window, int count, const char** paths) {
     auto* viewer = static_cast<rt::view::ViewerState*>(glfwGetWindowUserPointer(window));
-    for (int i = 0; i < count; ++i) viewer->ui.dropped.emplace_back(paths[i]);
+    for (int i = 0; i < count; ++i) viewer->ui.drop(paths[i]);
 }
 
 // A 3.3 core context (#version 330 core) with vsync; nullptr (and glfwTerminate) without a

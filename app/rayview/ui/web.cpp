@@ -84,7 +84,7 @@ extern "C" {
 /// Opens a file of the page's file system (picked or dropped files, a sample), as a file
 /// dropped onto the desktop window: at the next frame, in the background.
 EMSCRIPTEN_KEEPALIVE void rv_open(const char* path) {
-    if (rt::view::g_viewer) rt::view::g_viewer->ui.dropped.emplace_back(path);
+    if (rt::view::g_viewer) rt::view::g_viewer->ui.drop(path);
 }
 
 /// The viewer's state as JSON: the open scene, the message line, the comparison's figures,
