@@ -41,14 +41,14 @@ TEST(CameraController, FileCameraKeepsItsUpVector) {
         OrbitCamera o;
         o.set_from(c, Bounds3{{-1, -1, -1}, {1, 1, 1}});
         const Camera file = make_camera(compile_camera(c), 64, 48);
-        const Camera view = make_camera(compile_camera(o.desc()), 64, 48);
+        const Camera view = o.camera(64, 48);
         EXPECT_VEC_NEAR(view.position, file.position, 1e-12);
         EXPECT_VEC_NEAR(view.forward, file.forward, 1e-12);
         EXPECT_VEC_NEAR(view.right, file.right, 1e-12);
         EXPECT_VEC_NEAR(view.up, file.up, 1e-12);
         // Orbiting from there turns about the target and keeps a proper frame.
         o.orbit(0.3, -0.2);
-        const Camera turned = make_camera(compile_camera(o.desc()), 64, 48);
+        const Camera turned = o.camera(64, 48);
         EXPECT_NEAR(glm::length(turned.position - o.target), o.distance, 1e-9);
         EXPECT_NEAR(glm::dot(turned.up, turned.forward), 0.0, 1e-12);
         EXPECT_NEAR(glm::length(turned.right), 1.0, 1e-12);
@@ -65,7 +65,7 @@ TEST(CameraController, OrbitKeepsTheTargetAndDistance) {
     EXPECT_NEAR(glm::length(o.eye() - t), 5, 1e-12);
     o.orbit(0, 10);  // pitch stops at the pole, where the frame is still proper
     EXPECT_EQ(o.pitch, kPi / 2);
-    const Camera top = make_camera(compile_camera(o.desc()), 4, 3);
+    const Camera top = o.camera(4, 3);
     EXPECT_NEAR(glm::length(top.right), 1.0, 1e-12);
 }
 

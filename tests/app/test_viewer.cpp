@@ -17,10 +17,13 @@
 #include "rt/shapes/shapes.h"
 #include "rt/util/file_io.h"
 #include "rt/util/threads.h"
+#include "state/commands.h"
 #include "state/key_queue.h"
 #include "state/light_edit.h"
 #include "state/preview_geometry.h"
 #include "state/viewer.h"
+#include "state/viewer_compare.h"
+#include "state/viewer_output.h"
 #include "test_util.h"
 
 namespace rt::view {
@@ -148,16 +151,121 @@ TEST(Viewer, KeyTapsWithinOneFrameAreQueued) {
     EXPECT_EQ(q.presses(kRight), 0);
 }
 
+// No writer marks an edit: a change of the edits or of a setting the trace uses is pending by
+// itself, one of the display's (the exposure) restarts nothing.
+TEST(Viewer, AnEditMarksItself) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    v.set_trace_size(32, 24);
+    restart(v);
+    v.settings.exposure = 2;
+    v.settings.layout = 1;
+    EXPECT_FALSE(v.edit_pending());
+    v.edits.set_material(0, MaterialDesc{});
+    EXPECT_TRUE(v.edit_pending());
+    restart(v);
+    EXPECT_TRUE(v.session.loaded->scene.materials[0].diffuse == Material{}.diffuse);
+    v.settings.render.shadows = !v.settings.render.shadows;
+    EXPECT_TRUE(v.edit_pending());
+    restart(v);
+    OrbitCamera cam = v.edits.camera;
+    cam.orbit(0.2, 0);
+    v.edits.set_camera(cam);
+    EXPECT_TRUE(v.edit_pending());
+    restart(v);
+    ASSERT_TRUE(v.session.loaded->scene.camera);
+    EXPECT_EQ(v.session.loaded->scene.camera->direction, compile_camera(cam.desc()).direction);
+}
+
+// The lights' verbs: a copy put back (on or off), added at the eye, removed; an index out of
+// range changes nothing.
+TEST(Viewer, SceneEditsVerbs) {
+    SceneEdits e;
+    e.camera.distance = 4;
+    e.add_light(LightKind::Sphere);
+    ASSERT_EQ(e.lights.size(), 1u);
+    EXPECT_EQ(e.lights[0].position, e.camera.eye());
+    EXPECT_DOUBLE_EQ(e.lights[0].radius, 0.2);
+    LightDesc l = e.lights[0];
+    l.position = Vec3(1, 2, 3);
+    e.set_light(0, l, false);
+    EXPECT_EQ(e.lights[0].position, Vec3(1, 2, 3));
+    EXPECT_EQ(e.light_on[0], 0);
+    e.set_light(5, LightDesc{}, true);  // nothing there
+    e.remove_light(5);
+    EXPECT_EQ(e.lights.size(), 1u);
+    e.frame_light(0, Bounds3{});
+    EXPECT_EQ(e.camera.target, Vec3(1, 2, 3));
+    e.remove_light(0);
+    EXPECT_TRUE(e.lights.empty() && e.light_on.empty());
+}
+
+ScriptLine line(int frame, std::string command, std::vector<std::string> args = {}) {
+    return {frame, std::move(command), std::move(args)};
+}
+
+// The script's commands run headless on the state, through the verbs the panels use: each
+// edit is pending by itself, a bad argument or a failed command throws naming it, the window's
+// own commands are not the state's.
+TEST(Viewer, ScriptCommandsRunOnTheState) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    v.set_trace_size(32, 24);
+    restart(v);
+    const OrbitCamera before = v.edits.camera;
+    EXPECT_EQ(run_command(v, line(1, "orbit", {"0.4", "0.1"})), "");
+    EXPECT_FALSE(v.edits.camera == before);
+    EXPECT_TRUE(v.edit_pending());
+    restart(v);
+    ASSERT_TRUE(run_command(v, line(2, "shadows", {"off"})));
+    EXPECT_FALSE(v.settings.render.shadows);
+    EXPECT_TRUE(v.edit_pending());
+    run_command(v, line(2, "light", {"1", "position", "1", "2", "3"}));
+    EXPECT_EQ(v.edits.lights[1].position, Vec3(1, 2, 3));
+    run_command(v, line(2, "material", {"0", "diffuse", "0.25", "0.5", "0.75"}));
+    restart(v);
+    EXPECT_EQ(v.session.loaded->scene.lights[1].position, Vec3(1, 2, 3));
+    EXPECT_EQ(v.session.loaded->scene.materials[0].diffuse, Vec3(0.25, 0.5, 0.75));
+    EXPECT_FALSE(v.session.loaded->scene.lights.empty());
+    // The display's settings restart nothing.
+    run_command(v, line(3, "exposure", {"1.5"}));
+    EXPECT_FLOAT_EQ(v.settings.exposure, 1.5f);
+    EXPECT_FALSE(v.edit_pending());
+    // What a command says, with its frame.
+    const std::optional<std::string> picked = run_command(v, line(4, "pick", {"0.5", "0.5"}));
+    ASSERT_TRUE(picked);
+    EXPECT_EQ(picked->rfind("rayview: frame 4: picked ", 0), 0u) << *picked;
+    EXPECT_EQ(run_command(v, line(5, "status"))->rfind("rayview: frame 5: status: ", 0), 0u);
+    // Errors name the command; nothing changes.
+    try {
+        run_command(v, line(6, "light", {"9", "position", "0", "0", "0"}));
+        ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(), "light: the scene has no light 9");
+    }
+    EXPECT_THROW(run_command(v, line(6, "depth", {"nan"})), std::runtime_error);
+    EXPECT_THROW(run_command(v, line(6, "compare", {"tolerance", "3"})), std::runtime_error);
+    EXPECT_FALSE(v.edit_pending());
+    // Undo takes back the last step (the edits above, one step as no gesture held them).
+    v.track_history(false);
+    ASSERT_TRUE(run_command(v, line(7, "undo")));
+    EXPECT_TRUE(v.settings.render.shadows);
+    // The runner's own commands.
+    EXPECT_FALSE(run_command(v, line(8, "wait-spp", {"4"})));
+    EXPECT_FALSE(run_command(v, line(8, "screenshot", {"x.png"})));
+    EXPECT_FALSE(run_command(v, line(8, "no-such-command")));
+}
+
 TEST(Viewer, SavedSceneHoldsTheEditedLightsAndCamera) {
     ViewerState v(kLights, false);
     ASSERT_TRUE(v.session.loaded) << v.messages.text;
     v.edits.lights[1].position = Vec3(1, 2, 3);
-    v.edits.light_on[0] = 0;        // the spot off: not saved
-    v.add_light(LightKind::Point);  // at the eye
+    v.edits.light_on[0] = 0;              // the spot off: not saved
+    v.edits.add_light(LightKind::Point);  // at the eye
     const Vec3 eye = v.edits.camera.desc().position;
     v.edits.camera.orbit(0.5, 0);
     const std::string path = ::testing::TempDir() + "rt_viewer_saved.ray";
-    v.save_scene(path);
+    save_scene(v, path);
     Diagnostics diag;
     const SceneDesc d = parse_scene_file(path, diag);
     ASSERT_EQ(d.lights.size(), 3u);
@@ -318,7 +426,7 @@ TEST(Viewer, AV3SceneSavesAsV3WithItsEdits) {
     l.specular = Vec3(0, 1, 0);
     l.radius = 0.8;
     const std::string saved = ::testing::TempDir() + "rt_viewer_v3_saved.ray";
-    v.save_scene(saved);
+    save_scene(v, saved);
     Diagnostics diag;
     const SceneDesc d = parse_scene_file(saved, diag);
     EXPECT_EQ(d.dialect, Dialect::V3);
@@ -458,7 +566,7 @@ TEST(Viewer, ASceneWithoutLightsGetsAHeadlightThatIsNotSaved) {
     EXPECT_EQ(v.session.loaded->scene.lights[0].kind, LightKind::Directional);
     EXPECT_VEC_NEAR(v.session.loaded->scene.lights[0].direction, v.edits.camera.forward(), 1e-12);
     const std::string saved = ::testing::TempDir() + "rt_viewer_dark_saved.ray";
-    v.save_scene(saved);
+    save_scene(v, saved);
     Diagnostics diag;
     EXPECT_TRUE(parse_scene_file(saved, diag).lights.empty());
     v.settings.headlight = false;  // off: dark, as the file says
@@ -466,9 +574,9 @@ TEST(Viewer, ASceneWithoutLightsGetsAHeadlightThatIsNotSaved) {
     restart(v);
     EXPECT_TRUE(v.session.loaded->scene.lights.empty());
     v.settings.headlight = true;
-    v.keep_headlight();  // asked: now a light of the scene
+    v.edits.keep_headlight();  // asked: now a light of the scene
     EXPECT_FALSE(v.headlight_on());
-    v.save_scene(saved);
+    save_scene(v, saved);
     EXPECT_EQ(parse_scene_file(saved, diag).lights.size(), 1u);
 }
 
@@ -476,7 +584,8 @@ TEST(Viewer, NewLightsOfEveryKindStartAtTheEyeAlongTheView) {
     ViewerState v(kLights, false);
     ASSERT_TRUE(v.session.loaded) << v.messages.text;
     const size_t before = v.edits.lights.size();
-    for (LightKind k : {LightKind::Point, LightKind::Spot, LightKind::Directional}) v.add_light(k);
+    for (LightKind k : {LightKind::Point, LightKind::Spot, LightKind::Directional})
+        v.edits.add_light(k);
     ASSERT_EQ(v.edits.lights.size(), before + 3);
     for (size_t i = before; i < v.edits.lights.size(); ++i) {
         EXPECT_VEC_NEAR(v.edits.lights[i].position, v.edits.camera.eye(), 1e-12);
@@ -524,7 +633,7 @@ TEST(Viewer, MaterialEditsReachBothPanesUndoAndSave) {
     EXPECT_EQ(v.session.loaded->scene.materials[0].diffuse, Vec3(0.25, 0.5, 0.75));
     EXPECT_EQ(v.session.loaded->shown.materials[0].specular_exponent, 12.0);
     const std::string path = ::testing::TempDir() + "rt_viewer_material.ray";
-    v.save_scene(path);
+    save_scene(v, path);
     std::string text;
     ASSERT_TRUE(read_file(path, &text));
     EXPECT_NE(text.find("0.25 0.5 0.75"), std::string::npos) << text;
@@ -572,7 +681,7 @@ TEST(Viewer, TextureEditsReachTheSceneAndAreSaved) {
     EXPECT_EQ(v.session.loaded->scene.materials[0].texture, 3);
     EXPECT_EQ(v.session.loaded->shown.materials[1].texture, -1);
     const std::string path = ::testing::TempDir() + "rt_viewer_texture.ray";
-    v.save_scene(path);
+    save_scene(v, path);
     Diagnostics diag;
     const SceneDesc saved = parse_scene_file(path, diag);
     ASSERT_EQ(saved.files[0].materials.size(), 4u);
@@ -599,20 +708,28 @@ TEST(Viewer, IncludedMaterialsAreSavedIntoTheirFileWhenAsked) {
     ASSERT_TRUE(read_file((dir / "parts/floor.ray").string(), &floor_before));
     ViewerState v((dir / "materials.ray").string(), false);
     ASSERT_TRUE(v.session.loaded) << v.messages.text;
-    EXPECT_TRUE(v.edited_included_files().empty());
+    EXPECT_TRUE(edited_included_files(v).empty());
     ASSERT_EQ(v.session.loaded->origin(5).file, 1);   // the table made with the scene
     EXPECT_EQ(v.session.loaded->origin(6).file, -1);  // the built-in default
+    // The floor's texture is its own file's first: the edit holds the file's number, the
+    // compiled scene the scene's (the restart compiles it); the built-in default has none.
+    EXPECT_EQ(v.edits.materials[5].texture, 0);
+    v.set_trace_size(16, 12);
+    restart(v);
+    EXPECT_EQ(v.session.loaded->scene.materials[5].texture,
+              v.session.loaded->origin(5).first_texture + 0);
+    EXPECT_EQ(v.session.loaded->scene.materials[6].texture, -1);
     v.edits.materials[5].diffuse = Vec3(0.25, 0.5, 0.75);
-    ASSERT_EQ(v.edited_included_files().size(), 1u);
-    EXPECT_EQ(fs::path(v.edited_included_files()[0]).filename(), "floor.ray");
+    ASSERT_EQ(edited_included_files(v).size(), 1u);
+    EXPECT_EQ(fs::path(edited_included_files(v)[0]).filename(), "floor.ray");
 
     const std::string saved = (dir / "saved.ray").string();
-    v.save_scene(saved);  // not asked: the part stays as it was
+    save_scene(v, saved);  // not asked: the part stays as it was
     std::string floor;
     ASSERT_TRUE(read_file((dir / "parts/floor.ray").string(), &floor));
     EXPECT_EQ(floor, floor_before);
 
-    v.save_scene(saved, true);
+    save_scene(v, saved, true);
     ASSERT_TRUE(read_file((dir / "parts/floor.ray").string(), &floor));
     EXPECT_NE(floor, floor_before);
     EXPECT_EQ(floor.substr(0, floor.find('\n')), floor_before.substr(0, floor_before.find('\n')));
@@ -627,7 +744,7 @@ TEST(Viewer, IncludedMaterialsAreSavedIntoTheirFileWhenAsked) {
     v.edits.materials[5].diffuse = Vec3(0.5);
     v.edits.camera.orbit(0.3, 0);
     const std::string other = (dir / "other.ray").string();
-    EXPECT_THROW(v.save_scene(other, true), SceneError);
+    EXPECT_THROW(save_scene(v, other, true), SceneError);
     EXPECT_FALSE(fs::exists(other));
     ASSERT_TRUE(read_file((dir / "parts/floor.ray").string(), &floor));
     EXPECT_EQ(floor, "// moved down\n" + floor_before);
@@ -795,15 +912,15 @@ TEST(Viewer, ExposureAndTonemapAreForDisplayAndEightBitFiles) {
     v.settings.tonemap = Tonemap::Reinhard;
     const std::string png = ::testing::TempDir() + "rt_viewer_exposed.png";
     const std::string pfm = ::testing::TempDir() + "rt_viewer_exposed.pfm";
-    v.save_trace(png);
-    v.save_trace(pfm);
+    save_trace(v, png);
+    save_trace(v, pfm);
     TextureImage shown;
     std::string error;
     ASSERT_TRUE(load_texture_image(png, &shown, &error)) << error;
     EXPECT_EQ(shown.rgb[0], to_byte(0.5 / 1.5));  // 0.25 * 2, then x / (1 + x)
     EXPECT_EQ(shown.rgb[3], to_byte(4.0 / 5.0));
     const std::string exr = ::testing::TempDir() + "rt_viewer_exposed.exr";
-    v.save_trace(exr);
+    save_trace(v, exr);
     const Image linear = load_pfm(pfm), half = load_image(exr);
     ASSERT_EQ(linear.rgb.size(), v.trace.last_trace.rgb.size());
     ASSERT_EQ(half.rgb.size(), v.trace.last_trace.rgb.size());
@@ -848,7 +965,7 @@ TEST(Viewer, PickNamesTheShapeItsMaterialAndItsDirective) {
     EXPECT_EQ(v.ui.selection.groups, "rt_viewer_pick.ray > group at line 5");
     EXPECT_FALSE(v.pick(0.5, 0.02));  // the background
     EXPECT_EQ(v.ui.selection.instance, -1);
-    v.frame_light(0);
+    v.edits.frame_light(0, v.session.loaded->scene.world_bounds);
     EXPECT_VEC_NEAR(v.edits.camera.target, Vec3(0, 3, 3), 1e-12);
 }
 
@@ -881,7 +998,7 @@ TEST(Viewer, InspectExplainsTheTracesPixel) {
     EXPECT_NE(v.ui.inspect.text.find("!chalk!"), std::string::npos);
     EXPECT_GT(v.ui.inspect.version, version);
     EXPECT_FALSE(v.inspect(0.5, 0.02) && v.ui.inspect.tree->rays[0].hit);  // the background
-    v.clear_inspect();
+    v.ui.inspect.clear();
     EXPECT_FALSE(v.ui.inspect.tree);
     ASSERT_TRUE(v.inspect(0.5, 0.5));
     ASSERT_TRUE(v.open(path, false));
@@ -893,7 +1010,7 @@ TEST(Viewer, InspectExplainsTheTracesPixel) {
 bool wait_compared(ViewerState& v) {
     for (int i = 0; i < 5000; ++i) {
         v.restart_if_due();
-        v.take_trace();
+        take_trace(v);
         if (!v.edit_pending() && v.ui.compare.current && v.ui.compare.result) return true;
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
@@ -926,7 +1043,7 @@ TEST(Viewer, ComparesAnImageWithTheReferenceAtItsSizeAndCamera) {
     v.edits.camera.orbit(0.5, 0.2);  // a view away from the file's camera
     v.mark_edited();
     restart(v);
-    ASSERT_TRUE(v.compare_with(theirs));
+    ASSERT_TRUE(compare_with(v, theirs));
     EXPECT_NE(v.messages.text.find("(48x36)"), std::string::npos) << v.messages.text;
     v.set_trace_size(200, 100);  // the pane's size no longer counts
     EXPECT_EQ(v.trace.width(), 48);
@@ -944,7 +1061,7 @@ TEST(Viewer, ComparesAnImageWithTheReferenceAtItsSizeAndCamera) {
         for (int x = 20; x < 24; ++x) changed.set(x, y, changed.at(x, y) + Vec3(0.2, 0.0, 0.0));
     const std::string patched = ::testing::TempDir() + "rt_viewer_patched.png";
     save_image(changed, patched);
-    ASSERT_TRUE(v.compare_with(patched));
+    ASSERT_TRUE(compare_with(v, patched));
     ASSERT_TRUE(wait_compared(v));
     const ImageComparison& p = *v.ui.compare.result;
     EXPECT_NEAR(p.share_off, 16.0 / (48 * 36), 1e-9);
@@ -962,15 +1079,15 @@ TEST(Viewer, ComparesAnImageWithTheReferenceAtItsSizeAndCamera) {
     EXPECT_FALSE(v.ui.inspect.tree->random);
 
     // Not an image: said, and the comparison stays.
-    EXPECT_FALSE(v.compare_with(path));
+    EXPECT_FALSE(compare_with(v, path));
     EXPECT_TRUE(v.messages.is_error);
     EXPECT_NE(v.messages.text.find("cannot compare with " + path), std::string::npos)
         << v.messages.text;
-    EXPECT_FALSE(v.compare_with(::testing::TempDir() + "rt_no_such_image.png"));
+    EXPECT_FALSE(compare_with(v, ::testing::TempDir() + "rt_no_such_image.png"));
     EXPECT_EQ(v.ui.compare.path, patched);
 
     const int version = v.ui.compare.version;
-    v.stop_compare();
+    stop_compare(v);
     EXPECT_FALSE(v.ui.compare.active());
     EXPECT_GT(v.ui.compare.version, version) << "the pane would keep the old image";
     v.set_trace_size(200, 100);
@@ -986,7 +1103,7 @@ TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {
     v.settings.headlight = false;
     const std::string path = ::testing::TempDir() + "rt_viewer_job.png";
     std::filesystem::remove(path);
-    v.render_image(path, 48, 36, 2);
+    render_image(v, path, 48, 36, 2);
     for (int i = 0; i < 2000 && v.jobs.image.running(); ++i)
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     v.poll_files();  // takes the result
@@ -1004,7 +1121,7 @@ TEST(Viewer, ImagesRenderInTheBackgroundAtTheChosenSize) {
 
     const std::string big = ::testing::TempDir() + "rt_viewer_cancelled.png";
     std::filesystem::remove(big);
-    v.render_image(big, 4000, 3000, 64);
+    render_image(v, big, 4000, 3000, 64);
     v.jobs.image.cancel();
     EXPECT_FALSE(v.jobs.image.running());
     EXPECT_FALSE(std::filesystem::exists(big));
@@ -1019,7 +1136,7 @@ TEST(Viewer, ImagesToCompareWithAreReadInTheBackground) {
     const std::string theirs = ::testing::TempDir() + "rt_viewer_bg_theirs.png";
     Image img(40, 30);
     save_image(img, theirs);
-    v.compare_in_background(theirs);
+    compare_in_background(v, theirs);
     if (have_threads()) {
         EXPECT_FALSE(v.ui.compare.active());  // not yet: it is being read
         EXPECT_NE(v.messages.text.find("reading " + theirs), std::string::npos) << v.messages.text;
@@ -1036,7 +1153,7 @@ TEST(Viewer, ImagesToCompareWithAreReadInTheBackground) {
 
     const std::string dir = ::testing::TempDir() + "rt_viewer_bg_dir";
     std::filesystem::create_directories(dir);
-    v.compare_in_background(dir);
+    compare_in_background(v, dir);
     for (int i = 0; i < 2000 && v.jobs.compare.busy(); ++i) {
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
         v.poll_files();
@@ -1044,7 +1161,7 @@ TEST(Viewer, ImagesToCompareWithAreReadInTheBackground) {
     EXPECT_EQ(v.messages.text,
               "cannot compare with " + dir + ": '" + dir + "' is a directory, not a regular file");
     EXPECT_EQ(v.ui.compare.path, theirs);  // the comparison stays
-    EXPECT_FALSE(v.compare_with(dir));
+    EXPECT_FALSE(compare_with(v, dir));
     EXPECT_EQ(v.messages.text,
               "cannot compare with " + dir + ": '" + dir + "' is a directory, not a regular file");
 }
@@ -1056,7 +1173,7 @@ TEST(Viewer, ImagesOverTheBudgetAreRefused) {
     ASSERT_TRUE(v.session.loaded) << v.messages.text;
     const std::string path = ::testing::TempDir() + "rt_viewer_huge.png";
     std::filesystem::remove(path);
-    v.render_image(path, 32768, 32768, 1);
+    render_image(v, path, 32768, 32768, 1);
     EXPECT_FALSE(v.jobs.image.running());
     EXPECT_NE(v.messages.text.find("cannot render " + path +
                                    ": an image of 32768x32768 pixels (1073741824) is larger than "
@@ -1064,7 +1181,7 @@ TEST(Viewer, ImagesOverTheBudgetAreRefused) {
                                    "raises it"),
               std::string::npos)
         << v.messages.text;
-    v.render_animation(::testing::TempDir() + "rt_viewer_huge_%04d.png", 2, 16384, 16384, 1, "");
+    render_animation(v, ::testing::TempDir() + "rt_viewer_huge_%04d.png", 2, 16384, 16384, 1, "");
     EXPECT_FALSE(v.jobs.image.running());
     EXPECT_NE(v.messages.text.find("an image of 16384x16384 pixels"), std::string::npos)
         << v.messages.text;

@@ -59,6 +59,8 @@ struct OrbitCamera {
         c.half_height_angle_rad = half_height;
         return c;
     }
+    /// The camera the renderer traces from this view, for an image of `w` x `h` pixels.
+    Camera camera(int w, int h) const { return make_camera(compile_camera(desc()), w, h); }
     /// Orbit: turn about the target (radians), about +y and then up or down as far as the poles;
     /// the roll stays.
     void orbit(double d_yaw, double d_pitch) {
@@ -73,7 +75,7 @@ struct OrbitCamera {
     }
     /// Pan by a fraction of the view's height in the image plane (right, up).
     void pan(double right, double up) {
-        const Camera cam = make_camera(compile_camera(desc()), 1, 1);
+        const Camera cam = camera(1, 1);
         const double h = 2 * distance * cam.tan_h;
         target += (right * h) * cam.right + (up * h) * cam.up;
     }

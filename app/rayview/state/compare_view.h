@@ -37,6 +37,20 @@ struct CompareView {
     bool active() const { return !path.empty(); }
     /// Compares again (a new reference, or another tolerance or neighbourhood).
     void recompare();
+    /// The pane's view; flip() swaps theirs and ours (from any other view: theirs), next_view()
+    /// cycles the four.
+    void set_show(CompareShow s) { show = s; }
+    void flip() { show = show == CompareShow::Theirs ? CompareShow::Ours : CompareShow::Theirs; }
+    void next_view() { show = static_cast<CompareShow>((static_cast<int>(show) + 1) % 4); }
+    /// The tolerance in 8-bit steps and the 3x3 neighbourhood: compared again.
+    void set_tolerance(double t) {
+        settings.tolerance = t;
+        recompare();
+    }
+    void set_neighbourhood(bool on) {
+        settings.neighbourhood = on;
+        recompare();
+    }
 };
 
 /// The image the pane shows (`c.show`): theirs as read (a linear file and ours through the

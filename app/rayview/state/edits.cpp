@@ -1,13 +1,18 @@
 #include "state/edits.h"
 
+#include "rt/compile/compile.h"
 #include "rt/util/charconv.h"
 
 namespace rt::view {
 
-bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b) {
+namespace {
+
+// Two lists of materials (compiled or described) alike in every term and texture.
+template <class M>
+bool same_terms(const std::vector<M>& a, const std::vector<M>& b) {
     if (a.size() != b.size()) return false;
     for (size_t i = 0; i < a.size(); ++i) {
-        const Material &x = a[i], &y = b[i];
+        const M &x = a[i], &y = b[i];
         if (x.emissive != y.emissive || x.ambient != y.ambient || x.diffuse != y.diffuse ||
             x.specular != y.specular || x.specular_exponent != y.specular_exponent ||
             x.transparent != y.transparent || x.refractive_index != y.refractive_index ||
@@ -15,6 +20,24 @@ bool same_materials(const std::vector<Material>& a, const std::vector<Material>&
             return false;
     }
     return true;
+}
+
+}  // namespace
+
+bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b) {
+    return same_terms(a, b);
+}
+
+bool same_materials(const std::vector<MaterialDesc>& a, const std::vector<MaterialDesc>& b) {
+    return same_terms(a, b);
+}
+
+std::vector<MaterialDesc> material_descs(const SceneDesc& desc) {
+    std::vector<MaterialDesc> out;
+    for (const FileDesc& file : desc.files)
+        out.insert(out.end(), file.materials.begin(), file.materials.end());
+    out.push_back(v0_default_material());
+    return out;
 }
 
 std::vector<MaterialOrigin> material_origins(const SceneDesc& desc) {
@@ -58,6 +81,73 @@ double float_as_decimal(float f) {
     double d = f;
     from_chars_double(buf, r.ptr, d);
     return d;
+}
+
+void SceneEdits::set_light(size_t i, const LightDesc& l, bool on) {
+    if (i >= lights.size()) return;
+    lights[i] = l;
+    light_on[i] = on ? 1 : 0;
+}
+
+void SceneEdits::add_light(LightKind kind) {
+    // At the eye, along the view: what the user looks at is lit.
+    LightDesc l;
+    l.kind = kind;
+    l.position = camera.eye();
+    l.direction = camera.forward();
+    if (kind == LightKind::Spot) l.cutoff_rad = 0.5;
+    if (kind == LightKind::Sphere) l.radius = 0.05 * camera.distance;
+    lights.push_back(l);
+    light_on.push_back(1);
+}
+
+void SceneEdits::remove_light(size_t i) {
+    if (i >= lights.size()) return;
+    lights.erase(lights.begin() + static_cast<long>(i));
+    light_on.erase(light_on.begin() + static_cast<long>(i));
+}
+
+void SceneEdits::keep_headlight() {
+    lights.push_back(headlight_desc(camera));
+    light_on.push_back(1);
+}
+
+void SceneEdits::frame_light(size_t i, const Bounds3& world) {
+    if (i >= lights.size()) return;
+    const LightDesc& l = lights[i];
+    if (l.kind == LightKind::Directional) {  // look the way its light travels
+        CameraDesc d = camera.desc();
+        d.direction = l.direction;
+        if (glm::length(glm::cross(glm::normalize(d.direction), d.up)) < 1e-6)
+            d.up = Vec3(1, 0, 0);  // straight up or down
+        camera.set_from(d, world);
+    } else {
+        camera.target = l.position;  // the light at the centre of the view
+    }
+}
+
+void SceneEdits::set_material(size_t i, const MaterialDesc& m) {
+    if (i < materials.size()) materials[i] = m;
+}
+
+void apply_edits(const SceneEdits& edits, const std::vector<MaterialOrigin>& origins,
+                 bool headlight, int trace_w, int trace_h, RenderScene* scene,
+                 RenderSettings* settings) {
+    scene->camera = compile_camera(edits.camera.desc());
+    scene->lights.clear();
+    for (size_t i = 0; i < edits.lights.size(); ++i)
+        if (edits.light_on[i]) scene->lights.push_back(compile_light(edits.lights[i]));
+    if (headlight) scene->lights.push_back(compile_light(headlight_desc(edits.camera)));
+    if (edits.materials.size() == scene->materials.size())
+        for (size_t k = 0; k < edits.materials.size(); ++k) {
+            const MaterialDesc& d = edits.materials[k];
+            Material m = compile_material(d);  // as compile_scene compiles it
+            const MaterialOrigin o = k < origins.size() ? origins[k] : MaterialOrigin{};
+            m.texture = d.texture >= 0 && d.texture < o.textures ? o.first_texture + d.texture : -1;
+            scene->materials[k] = m;
+        }
+    settings->width = trace_w;
+    settings->height = trace_h;
 }
 
 LightDesc headlight_desc(const OrbitCamera& camera) {

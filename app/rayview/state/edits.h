@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
@@ -13,12 +14,32 @@
 namespace rt::view {
 
 /// The user's edits, on the description side: the camera and every light, on or off; and the
-/// materials, one per RenderScene::materials (the files' in order, the V0 default last).
+/// materials as their files describe them (a texture is its file's index), one per
+/// RenderScene::materials (the files' in order, the V0 default last). The restart compiles
+/// them (apply_edits), and the scene saves them as they are.
+/// The panels, the keys and the script edit it through the same verbs; the viewer sees every
+/// change itself (ViewerState::edit_pending), so no writer marks an edit.
 struct SceneEdits {
     OrbitCamera camera;
     std::vector<LightDesc> lights;
     std::vector<char> light_on;
-    std::vector<Material> materials;
+    std::vector<MaterialDesc> materials;
+
+    /// The view becomes `view` (a copy edited by a panel, the mouse or the keys, put back).
+    void set_camera(const OrbitCamera& view) { camera = view; }
+    /// Light i becomes `l` (on or off); nothing for a light that is not there.
+    void set_light(size_t i, const LightDesc& l, bool on);
+    /// A new light of `kind` at the eye, along the view (a spot's cone 0.5 rad, a sphere's
+    /// radius 5% of the distance to the target).
+    void add_light(LightKind kind);
+    void remove_light(size_t i);
+    /// Keeps the headlight as a light of the scene (saved with it).
+    void keep_headlight();
+    /// Turns the view to light i: a point, spot or sphere light at the centre of the view, a
+    /// directional light's direction as the view direction (`world`: the scene's bounds).
+    void frame_light(size_t i, const Bounds3& world);
+    /// Material i becomes `m`; nothing for a material that is not there.
+    void set_material(size_t i, const MaterialDesc& m);
 };
 
 /// What the user sets: the renderer's settings and the viewer's own knobs.
@@ -53,8 +74,12 @@ struct UndoState {
 
 /// Two lists of lights alike but for where they were read (a reload moves lines).
 bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b);
-/// Two lists of materials alike in every term.
+/// Two lists of materials alike in every term (and texture; not where they were read).
 bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b);
+bool same_materials(const std::vector<MaterialDesc>& a, const std::vector<MaterialDesc>& b);
+/// The descriptions of the compiled scene's materials, in its order: each file's, then the V0
+/// default (compile_scene's order).
+std::vector<MaterialDesc> material_descs(const SceneDesc& desc);
 
 /// Where a material of the compiled scene comes from: its file in SceneDesc::files and its
 /// index there (file -1: the built-in default), and that file's textures in the scene's list
@@ -76,6 +101,13 @@ void keep_window_settings(ViewSettings* s, const ViewSettings& window);
 /// The double a float widget's value stands for: the shortest decimal that reads back as the
 /// float (0.3f gives 0.3, not 0.30000001192092896), so a saved scene holds the numbers shown.
 double float_as_decimal(float f);
+
+/// The edits into a compiled scene, while no trace runs on it: the camera, the lights that are
+/// on and the materials (compiled from their descriptions, a material's texture from its file's
+/// numbering to the scene's by `origins`), or the headlight, and the trace's size.
+void apply_edits(const SceneEdits& edits, const std::vector<MaterialOrigin>& origins,
+                 bool headlight, int trace_w, int trace_h, RenderScene* scene,
+                 RenderSettings* settings);
 
 /// The headlight: a white directional light along the view of `camera`.
 LightDesc headlight_desc(const OrbitCamera& camera);

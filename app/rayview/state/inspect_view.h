@@ -21,6 +21,22 @@ struct InspectView {
     int hovered = -1;               // the ray (index into tree->rays) the panel hovers; -1: none
     int version = 0;                // counts changes, so the preview knows when to draw again
     int panel_version = -1;         // the version the panel opened its section for
+    void set_mode(bool on) { mode = on; }
+    /// The ray the panel hovers (-1: none).
+    void hover(int ray) { hovered = ray; }
+    /// True once for each new tree: the panel opens its section to show it.
+    bool take_new_tree() {
+        if (!tree || panel_version == version) return false;
+        panel_version = version;
+        return true;
+    }
+    /// Drops the tree (its lines and the panel's list).
+    void clear() {
+        tree.reset();
+        text.clear();
+        hovered = -1;
+        ++version;
+    }
 };
 
 }  // namespace rt::view

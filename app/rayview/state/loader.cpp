@@ -50,7 +50,7 @@ LoadResult load_scene(const LoadRequest& request, LoadProgress* progress) {
                                  progress ? &progress->compile : nullptr);
         s->prim_locs = std::move(report.prim_locs);
         s->material_names = std::move(report.material_names);
-        s->file_materials = s->scene.materials;
+        s->file_materials = material_descs(s->desc);
         s->material_origins = material_origins(s->desc);
         if (request.for_preview) {
             if (progress) progress->previewing = true;

@@ -42,7 +42,7 @@ struct LoadedScene {
     MissingTextures missing_textures = MissingTextures::Error;
     std::vector<std::vector<SourceLoc>> prim_locs;  // CompileReport's, for picking
     std::vector<std::string> material_names;
-    std::vector<Material> file_materials;          // the compiled materials as the file has them
+    std::vector<MaterialDesc> file_materials;      // as the files have them (material_descs)
     std::vector<MaterialOrigin> material_origins;  // of the file materials (edits.h)
     /// Where compiled material k comes from (file -1: the built-in default).
     MaterialOrigin origin(size_t k) const {

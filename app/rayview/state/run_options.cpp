@@ -95,12 +95,11 @@ bool parse_size(const std::string& text, int* w, int* h) {
     return true;
 }
 
-int parse_run_options(int argc, char** argv, const std::string& default_scene, RunOptions* out) {
-    out->scene = default_scene;
-    std::string script_path;
-    CLI::App app{
-        "Opens a .ray scene in a window: the OpenGL preview beside its progressive ray trace."};
-    rtapp::setup_cli(app, "rayview", true);
+namespace {
+
+// The viewer's own options: the scene, the scripted run, the window and the comparison.
+void add_viewer_options(CLI::App& app, RunOptions* out, std::string* script_path,
+                        std::string* size) {
     app.add_option("scene", out->scene, "the .ray file (default: the showpiece)")
         ->type_name("SCENE.ray");
     app.add_option("--frames", out->frames,
@@ -110,14 +109,13 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         ->check(CLI::Range(1, kMaxFrames));
     app.add_option("--screenshot", out->screenshot, "where --frames saves the whole window")
         ->type_name("OUT.png");
-    app.add_option("--script", script_path, "replay input at given frames (the commands: below)")
+    app.add_option("--script", *script_path, "replay input at given frames (the commands: below)")
         ->type_name("FILE");
     const std::map<std::string, int> layouts{{"both", 0}, {"preview", 1}, {"trace", 2}};
     app.add_option("--layout", out->layout, "the panes shown: both (default), preview or trace")
         ->type_name("both|preview|trace")
         ->transform(CLI::CheckedTransformer(layouts, CLI::ignore_case).description(""));
-    std::string size;
-    app.add_option("--size", size,
+    app.add_option("--size", *size,
                    "the window's size in pixels (default: the last run's, 1280x720)")
         ->type_name("WxH");
     const std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
@@ -129,8 +127,10 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
                    "is rendered at its size from the file's camera, with --spp samples (default 1, "
                    "as raytrace)")
         ->type_name("IMAGE");
-    app.get_formatter()->column_width(30);
-    // raytrace's render flags, as the initial settings (the panel edits them afterwards).
+}
+
+// raytrace's render flags, as the initial settings (the panel edits them afterwards).
+void add_render_flags(CLI::App& app, RunOptions* out) {
     const std::string render_group = "render settings (raytrace's flags: the initial settings)";
     // The render options show their defaults (the viewer's own options say theirs in words).
     app.option_defaults()->always_capture_default();
@@ -143,6 +143,29 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         ->group(render_group);
     rtapp::add_scene_options(app, out->render, true, render_group);
     rtapp::add_feature_options(app, out->render);
+}
+
+// --version: the version, and where this copy finds its shaders and scenes.
+void print_version() {
+    std::printf("%s\n", rtapp::version_text("rayview", true).c_str());
+    try {
+        std::printf("data: %s\n", rtapp::find_data_dir("shaders/preview.vert").c_str());
+    } catch (const std::exception& e) {
+        std::printf("data: %s\n", e.what());
+    }
+}
+
+}  // namespace
+
+int parse_run_options(int argc, char** argv, const std::string& default_scene, RunOptions* out) {
+    out->scene = default_scene;
+    std::string script_path, size;
+    CLI::App app{
+        "Opens a .ray scene in a window: the OpenGL preview beside its progressive ray trace."};
+    rtapp::setup_cli(app, "rayview", true);
+    add_viewer_options(app, out, &script_path, &size);
+    app.get_formatter()->column_width(30);
+    add_render_flags(app, out);
     app.footer(kFooter);
     try {
         app.parse(argc, argv);
@@ -157,13 +180,7 @@ int parse_run_options(int argc, char** argv, const std::string& default_scene, R
         std::printf("%s", app.help().c_str());
         return 0;
     } catch (const CLI::CallForVersion&) {
-        // The version, and where this copy finds its shaders and scenes.
-        std::printf("%s\n", rtapp::version_text("rayview", true).c_str());
-        try {
-            std::printf("data: %s\n", rtapp::find_data_dir("shaders/preview.vert").c_str());
-        } catch (const std::exception& e) {
-            std::printf("data: %s\n", e.what());
-        }
+        print_version();
         return 0;
     } catch (const std::exception& e) {  // CLI::ParseError, rtapp::UsageError
         std::fprintf(stderr, "rayview: %s (see rayview --help)\n", e.what());

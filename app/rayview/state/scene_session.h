@@ -35,6 +35,13 @@ struct SceneSession {
     LoadRequest reload_request() const {
         return {loaded->path, loaded->missing_textures, true, dialect};
     }
+    /// The user keeps the edits a reload reported: the conflict is no longer shown.
+    void keep_my_edits() { reload_conflict.clear(); }
+    /// The checker offer goes with its message: a newer message (`serial`, Messages::serial)
+    /// withdraws it.
+    void withdraw_offer_after(int serial) {
+        if (!checker_offer.empty() && checker_offer_message != serial) checker_offer.clear();
+    }
     /// A new scene takes the next id (LoadedScene::id).
     int next_id() { return ++m_scenes_opened; }
     /// `path` opened: first among the recent files.

@@ -42,7 +42,7 @@ Selection pick_at(const LoadedScene& scene, const OrbitCamera& camera, int w, in
                   double y) {
     w = std::max(1, w);
     h = std::max(1, h);
-    const Camera cam = make_camera(compile_camera(camera.desc()), w, h);
+    const Camera cam = camera.camera(w, h);
     const Ray ray = cam.generate(0, 0, x * w, y * h);
     Hit hit;
     if (!intersect(scene.scene, ray, {0, kInf}, &hit)) return {};

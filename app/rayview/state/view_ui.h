@@ -1,10 +1,12 @@
 // The viewer's own state of the window, not the scene's: what is selected, the pixel inspected,
-// the image compared, the bookmarked views, the help overlay, the files dropped, whether the
-// preview has an edit to draw, and the web page's hooks. No GL.
+// the image compared, the bookmarked views, the help overlay, the files dropped, a count of the
+// changes the panes show, and the web page's hooks. No GL.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "state/camera_controller.h"
@@ -24,7 +26,28 @@ struct ViewUi {
     std::vector<OrbitCamera> bookmarks;  // views the user kept
     bool show_help = false;              // the shortcuts overlay
     std::vector<std::string> dropped;    // files dropped onto the window, picked up by poll_files
-    bool preview_stale = true;           // an edit the preview has not drawn yet
+    /// Counts the changes of what the panes show (an edit waiting, a pick, a ray tree, undo):
+    /// a view draws again when it differs from the count it drew.
+    int changes = 0;
+
+    /// What a click or the ray tree's menu picked: highlighted in the panes.
+    void select(Selection s) {
+        selection = std::move(s);
+        ++changes;
+    }
+    void clear_selection() {
+        selection = {};
+        ++changes;  // the highlight goes
+    }
+    void select_light(int i) { selected_light = i; }
+    /// A file dropped onto the window (or handed over by the page): poll_files() opens it.
+    void drop(std::string path) { dropped.push_back(std::move(path)); }
+    void set_help(bool on) { show_help = on; }
+    void toggle_help() { show_help = !show_help; }
+    void add_bookmark(const OrbitCamera& view) { bookmarks.push_back(view); }
+    void remove_bookmark(size_t i) {
+        if (i < bookmarks.size()) bookmarks.erase(bookmarks.begin() + static_cast<long>(i));
+    }
 };
 
 /// What the web page does when the viewer saves or opens a file; nothing on the desktop.

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "state/viewer_compare.h"
+
 namespace rt::view {
 
 void compare_panel(ViewerState& v, ComparePanelState& ui) {
-    CompareView& c = v.ui.compare;
+    const CompareView& c = v.ui.compare;  // changed through its verbs
     const ImGuiTreeNodeFlags open = c.active() ? ImGuiTreeNodeFlags_DefaultOpen : 0;
     if (!ImGui::CollapsingHeader("Compare with image", open)) return;
     if (c.active() && ui.path[0] == '\0')  // --compare, a drop or a script: show its path
@@ -19,7 +21,7 @@ void compare_panel(ViewerState& v, ComparePanelState& ui) {
         ImGui::SetTooltip(
             "A render of this scene (PNG, BMP, PPM, JPEG, PFM, EXR), e.g. a student's;\n"
             "or drop the file onto the window");
-    if (ImGui::Button("Compare") || enter) v.compare_in_background(ui.path);
+    if (ImGui::Button("Compare") || enter) compare_in_background(v, ui.path);
     if (!c.active()) {
         ImGui::TextWrapped(
             "The trace renders the reference at the image's size from the scene's camera, as "
@@ -29,7 +31,7 @@ void compare_panel(ViewerState& v, ComparePanelState& ui) {
     }
     ImGui::SameLine();
     if (ImGui::Button("Stop comparing")) {
-        v.stop_compare();
+        stop_compare(v);
         return;
     }
     int show = static_cast<int>(c.show);
@@ -40,22 +42,20 @@ void compare_panel(ViewerState& v, ComparePanelState& ui) {
     ImGui::RadioButton("difference", &show, 2);
     ImGui::SameLine();
     ImGui::RadioButton("threshold", &show, 3);
-    c.show = static_cast<CompareShow>(show);
+    v.ui.compare.set_show(static_cast<CompareShow>(show));
     ImGui::TextDisabled("B flips theirs and ours, V cycles the views");
     float tolerance = static_cast<float>(c.settings.tolerance);
-    if (ImGui::SliderFloat("tolerance", &tolerance, 0, 64, "%.0f / 255")) {
-        c.settings.tolerance = tolerance;
-        c.recompare();
-    }
-    if (ImGui::Checkbox("3x3 neighbourhood", &c.settings.neighbourhood)) c.recompare();
+    if (ImGui::SliderFloat("tolerance", &tolerance, 0, 64, "%.0f / 255"))
+        v.ui.compare.set_tolerance(tolerance);
+    bool neighbourhood = c.settings.neighbourhood;
+    if (ImGui::Checkbox("3x3 neighbourhood", &neighbourhood))
+        v.ui.compare.set_neighbourhood(neighbourhood);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip(
             "Each pixel's difference is the smallest over the reference's 3x3 neighbourhood:\n"
             "an edge shifted by a pixel is not an error (what graders allow)");
-    if (ImGui::InputInt("reference spp", &c.spp)) {
-        c.spp = std::max(1, std::min(c.spp, 1 << 16));
-        v.mark_edited();  // rendered again
-    }
+    int spp = c.spp;
+    if (ImGui::InputInt("reference spp", &spp)) set_compare_spp(v, spp);  // rendered again
     if (c.result) {
         const ImageComparison& r = *c.result;
         ImGui::Text("mean |difference|  %.2f  (%.2f %.2f %.2f)", r.mean(), r.mean_abs.x,

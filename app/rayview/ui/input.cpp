@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "rt/compile/compile.h"
 #include "rt/render/camera.h"
 #include "state/key_queue.h"
+#include "state/viewer_compare.h"
 
 namespace rt::view {
 
@@ -16,9 +16,9 @@ namespace {
 // the drag moves it parallel to the image.
 bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const PaneLayout& p,
                  bool over_preview) {
-    std::vector<LightDesc>& lights = v.edits.lights;
-    const Camera view_cam = make_camera(compile_camera(v.edits.camera.desc()),
-                                        static_cast<int>(p.image_w), static_cast<int>(p.image_h));
+    const std::vector<LightDesc>& lights = v.edits.lights;
+    const Camera view_cam =
+        v.edits.camera.camera(static_cast<int>(p.image_w), static_cast<int>(p.image_h));
     auto to_pane = [&](const Vec3& pos, double* depth) {
         const Vec3 d = pos - view_cam.position;
         *depth = glm::dot(d, view_cam.forward);
@@ -36,7 +36,7 @@ bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const Pan
             const float ddx = at.x - io.MousePos.x, ddy = at.y - io.MousePos.y;
             if (depth > 0 && ddx * ddx + ddy * ddy < 144.0f) {
                 input.dragged_light = static_cast<int>(i);
-                v.ui.selected_light = static_cast<int>(i);
+                v.ui.select_light(static_cast<int>(i));
                 input.dragged_scene = v.session.loaded->id;
             }
         }
@@ -46,12 +46,14 @@ bool drag_lights(ViewerState& v, InputState& input, const ImGuiIO& io, const Pan
         input.dragged_light >= static_cast<int>(lights.size()))
         input.dragged_light = -1;
     if (input.dragged_light < 0 || (io.MouseDelta.x == 0 && io.MouseDelta.y == 0)) return false;
-    LightDesc& l = lights[static_cast<size_t>(input.dragged_light)];
+    const size_t i = static_cast<size_t>(input.dragged_light);
+    LightDesc l = lights[i];  // a copy, put back once
     double depth = 0;
     to_pane(l.position, &depth);
     const double per_pixel = 2 * depth * view_cam.tan_h / static_cast<double>(p.image_h);
     l.position += per_pixel * (static_cast<double>(io.MouseDelta.x) * view_cam.right -
                                static_cast<double>(io.MouseDelta.y) * view_cam.up);
+    v.edits.set_light(i, l, v.edits.light_on[i] != 0);
     return true;
 }
 
@@ -84,7 +86,7 @@ bool mouse_camera(OrbitCamera& orbit, const ImGuiIO& io, const PaneLayout& p) {
 // Fly: WASD along the view and sideways, Q/E down and up, at a speed scaled to the scene (its
 // diagonal per 4 seconds).
 bool fly_camera(OrbitCamera& orbit, const Bounds3& world, double frame_s) {
-    const Camera cam = make_camera(compile_camera(orbit.desc()), 4, 4);
+    const Camera cam = orbit.camera(4, 4);
     const double speed = (world.empty() ? 1.0 : glm::length(world.diagonal())) / 4.0 * frame_s;
     Vec3 move(0.0);
     if (ImGui::IsKeyDown(GLFW_KEY_W)) move += cam.forward;
@@ -114,11 +116,10 @@ void click_to_pick(ViewerState& v, const ImGuiIO& io, const PaneLayout& p, const
     const double y = (io.MousePos.y - p.image_y()) / p.image_h;
     if (x < 0 || x >= 1 || y < 0 || y >= 1) return;
     if (hover.compare) {
-        CompareView& c = v.ui.compare;
-        c.probe_x = static_cast<int>(x * c.theirs.width);
-        c.probe_y = static_cast<int>(y * c.theirs.height);
-        v.ui.inspect.mode = true;  // the tree is why the reference's pixel is what it is
-        v.inspect(x, y);
+        const CompareView& c = v.ui.compare;
+        v.ui.inspect.set_mode(true);  // the tree is why the reference's pixel is what it is
+        probe_compare(v, static_cast<int>(x * c.theirs.width),
+                      static_cast<int>(y * c.theirs.height));
     } else if (v.ui.inspect.mode)
         v.inspect(x, y);
     else
@@ -130,12 +131,15 @@ bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const Pa
     click_to_pick(v, io, layout, hover, input);
     bool edited = drag_lights(v, input, io, layout, hover.preview);
     // Camera input only over the preview and the trace (never what ImGui's controls want; the
-    // comparison pane takes clicks only).
+    // comparison pane takes clicks only); on a copy, put back once.
+    OrbitCamera cam = v.edits.camera;
+    bool moved = false;
     if ((hover.preview || hover.trace) && input.dragged_light < 0)
-        edited |= mouse_camera(v.edits.camera, io, layout);
+        moved |= mouse_camera(cam, io, layout);
     if (!io.WantCaptureKeyboard)
-        edited |= fly_camera(v.edits.camera, v.session.loaded->scene.world_bounds, frame_s);
-    if (edited) v.mark_edited();
+        moved |= fly_camera(cam, v.session.loaded->scene.world_bounds, frame_s);
+    if (moved) v.edits.set_camera(cam);
+    edited |= moved;
     // Undo and redo (text fields keep their own): Ctrl+Z, Ctrl+Shift+Z or Ctrl+Y.
     // Every press counts, also several within one slow frame (key_queue.h).
     if (!io.WantTextInput) {
@@ -147,15 +151,15 @@ bool handle_input(ViewerState& v, InputState& input, const ImGuiIO& io, const Pa
     // The inspect mode: I turns it on and off, C clears the tree.
     if (!io.WantCaptureKeyboard) {
         const KeyQueue& keys = key_queue();
-        if (keys.presses(GLFW_KEY_I, false, false) % 2 == 1) v.ui.inspect.mode = !v.ui.inspect.mode;
-        if (keys.presses(GLFW_KEY_C, false, false) > 0 && v.ui.inspect.tree) v.clear_inspect();
+        if (keys.presses(GLFW_KEY_I, false, false) % 2 == 1)
+            v.ui.inspect.set_mode(!v.ui.inspect.mode);
+        if (keys.presses(GLFW_KEY_C, false, false) > 0 && v.ui.inspect.tree) v.ui.inspect.clear();
         // Comparing: B flips theirs and ours, V cycles the views.
-        CompareView& c = v.ui.compare;
-        if (c.active() && keys.presses(GLFW_KEY_B, false, false) % 2 == 1)
-            c.show = c.show == CompareShow::Theirs ? CompareShow::Ours : CompareShow::Theirs;
-        if (c.active())
+        if (v.ui.compare.active() && keys.presses(GLFW_KEY_B, false, false) % 2 == 1)
+            v.ui.compare.flip();
+        if (v.ui.compare.active())
             for (int i = keys.presses(GLFW_KEY_V, false, false); i > 0; --i)
-                c.show = static_cast<CompareShow>((static_cast<int>(c.show) + 1) % 4);
+                v.ui.compare.next_view();
     }
     return edited;
 }

@@ -70,13 +70,10 @@ size_t draw_nodes(ViewerState& v, const std::vector<TextLine>& lines, size_t i, 
                                             l.text.data());
         if (ray_line) {
             ImGui::PopStyleColor();
-            if (ImGui::IsItemHovered()) v.ui.inspect.hovered = ray_index;
+            if (ImGui::IsItemHovered()) v.ui.inspect.hover(ray_index);
             const InspectRay& r = in.tree->rays[static_cast<size_t>(ray_index)];
-            if (ImGui::IsItemClicked(ImGuiMouseButton_Right) && r.hit) {
-                v.ui.selection =
-                    selection_of(*v.session.loaded, r.prim.instance, r.prim.prim, r.point);
-                v.ui.preview_stale = true;
-            }
+            if (ImGui::IsItemClicked(ImGuiMouseButton_Right) && r.hit)
+                v.ui.select(selection_of(*v.session.loaded, r.prim.instance, r.prim.prim, r.point));
             if (ImGui::IsItemHovered() && r.hit)
                 ImGui::SetTooltip("right click: select what it hits (F frames it)");
         }
@@ -97,13 +94,13 @@ size_t draw_nodes(ViewerState& v, const std::vector<TextLine>& lines, size_t i, 
 
 // The tree itself: which pixel and sample, the buttons, the collapsible lines.
 void tree_list(ViewerState& v) {
-    InspectView& in = v.ui.inspect;
+    const InspectView& in = v.ui.inspect;
     const PixelTree& t = *in.tree;
     ImGui::Text("pixel %d,%d: the trace shows (%.4g %.4g %.4g) at %d spp", t.x, t.y, in.traced.x,
                 in.traced.y, in.traced.z, in.traced_spp);
     ImGui::Text("its sample %u: (%.4g %.4g %.4g)", t.sample, t.color.x, t.color.y, t.color.z);
     if (ImGui::SmallButton("Clear (C)")) {
-        v.clear_inspect();
+        v.ui.inspect.clear();
         return;
     }
     ImGui::SameLine();
@@ -127,15 +124,13 @@ void tree_list(ViewerState& v) {
 }  // namespace
 
 void inspect_panel(ViewerState& v) {
-    InspectView& in = v.ui.inspect;
-    const int hovered_before = in.hovered;
-    in.hovered = -1;                                  // set again while a ray's line is hovered
-    if (in.tree && in.panel_version != in.version) {  // a new tree: show it
-        ImGui::SetNextItemOpen(true);
-        in.panel_version = in.version;
-    }
+    const InspectView& in = v.ui.inspect;  // changed through its verbs
+    v.ui.inspect.hover(-1);                // set again while a ray's line is hovered
+    if (v.ui.inspect.take_new_tree()) ImGui::SetNextItemOpen(true);  // a new tree: show it
     if (ImGui::CollapsingHeader("Inspect a pixel")) {
-        ImGui::Checkbox("Inspect mode (I): a click explains a pixel", &in.mode);
+        bool mode = in.mode;
+        if (ImGui::Checkbox("Inspect mode (I): a click explains a pixel", &mode))
+            v.ui.inspect.set_mode(mode);
         ImGui::TextDisabled("Lines:");
         const std::pair<const char*, const float*> legend[] = {
             {"camera", InspectColours::camera},          {"reflected", InspectColours::reflected},
@@ -151,7 +146,6 @@ void inspect_panel(ViewerState& v) {
             ImGui::TextWrapped(
                 "Turn the mode on and click a pixel in either pane (script: inspect X Y).");
     }
-    if (in.hovered != hovered_before) v.ui.preview_stale = true;
 }
 
 }  // namespace rt::view

@@ -31,6 +31,7 @@
 #include "state/headless.h"
 #include "state/key_queue.h"
 #include "state/viewer.h"
+#include "state/viewer_compare.h"
 #include "ui/input.h"
 #include "ui/panels.h"
 #include "ui/panes.h"
@@ -68,7 +69,7 @@ void glfw_error(int code, const char* message) {
 // Files dropped onto the window go to the viewer, which opens them at the next frame.
 void on_drop(GLFWwindow* window, int count, const char** paths) {
     auto* viewer = static_cast<rt::view::ViewerState*>(glfwGetWindowUserPointer(window));
-    for (int i = 0; i < count; ++i) viewer->ui.dropped.emplace_back(paths[i]);
+    for (int i = 0; i < count; ++i) viewer->ui.drop(paths[i]);
 }
 
 // A 3.3 core context (#version 330 core) with vsync; nullptr (and glfwTerminate) without a
@@ -203,7 +204,8 @@ bool frame(Session& s) {
     // Events; dropped files open, the open file reloads when it changed on disk. With nothing
     // to redraw at once the loop waits for an event or 1/30 s (new trace images), so it leaves
     // the cores to the trace (in the page, the browser paces the frames).
-    const bool busy = viewer.edit_pending() || viewer.ui.preview_stale || viewer.timeline.playing;
+    const bool busy =
+        viewer.edit_pending() || s.panes.preview_stale(viewer) || viewer.timeline.playing;
     rt::view::key_queue().next_frame();  // the last frame read its presses
     if (busy || kInPage)
         glfwPollEvents();
@@ -228,7 +230,7 @@ bool frame(Session& s) {
     if (vs.show_panel) control_panel(viewer, s.ui, layout, s.panes.preview_defines(), frame_s);
     if (vs.show_panel && viewer.session.loaded) status_bar(viewer, layout);
     if (vs.show_panel && viewer.session.loaded) timeline_bar(viewer, layout);
-    help_overlay(&viewer.ui.show_help);
+    help_overlay(viewer.ui);
     if (viewer.session.loaded) {
         const PaneHover hover = s.panes.show(viewer, layout, frame_s);
         handle_input(viewer, s.input, s.io, layout, hover, frame_s);
@@ -242,7 +244,9 @@ bool frame(Session& s) {
     // Rendering
     render_frame(fb_w, fb_h);
     // Scripted input for this frame (after drawing, so screenshots show the frame).
-    bool done = s.script.end_frame(viewer, fb_w, fb_h, &s.exit_code) || g_quit;
+    bool done =
+        s.script.end_frame(viewer, fb_w, fb_h, !s.panes.preview_stale(viewer), &s.exit_code) ||
+        g_quit;
     glfwSwapBuffers(s.window);
     return !done;
 }
@@ -307,17 +311,22 @@ int render_without_window(const rt::view::RunOptions& opt) {
 }
 
 // The viewer's first settings: the command line's over the last run's UI scale; the recent
-// files; the --compare image (an error fails a scripted run).
+// files; the --compare image (an error fails a scripted run). Every scene that opens is said on
+// stdout, the one opened at start too.
 void start_viewer(rt::view::ViewerState& viewer, const rt::view::RunOptions& opt,
                   const rt::view::UserConfig& config) {
+    viewer.hooks.on_opened = [](const std::string& path) {
+        std::printf("rayview: opened %s\n", path.c_str());
+    };
+    if (viewer.session.loaded) viewer.hooks.on_opened(viewer.session.loaded->path);
     rt::view::ViewSettings initial = viewer.settings;
     rt::view::apply_run_options(opt, &initial);
     initial.ui_scale = config.ui_scale;
     viewer.start_with(initial);
     viewer.session.remember_recent(config.recent);
     if (!opt.compare.empty() && viewer.session.loaded) {
-        viewer.ui.compare.spp = opt.spp_given ? opt.render.spp : 1;
-        if (viewer.compare_with(opt.compare))
+        rt::view::set_compare_spp(viewer, opt.spp_given ? opt.render.spp : 1);
+        if (rt::view::compare_with(viewer, opt.compare))
             std::printf("rayview: %s\n", viewer.messages.text.c_str());
     }
 }

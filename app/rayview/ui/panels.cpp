@@ -11,6 +11,7 @@
 
 #include "state/key_queue.h"
 #include "state/run_options.h"
+#include "state/viewer_output.h"
 #include "ui/inspect_panel.h"
 
 namespace rt::view {
@@ -235,20 +236,14 @@ void loading_line(ViewerState& v) {
     if (ImGui::SmallButton("Cancel")) v.cancel_loading();
 }
 
-}  // namespace
-
-bool file_panel(ViewerState& v, PanelState& ui) {
-    if (v.session.loaded && v.session.loaded->id != ui.path_for) {  // a file opened: show its path
-        std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
-        ui.path_for = v.session.loaded->id;
-    }
-    bool opened = false;
-    bool open_typed = false;  // Enter in the field, Open, or a file picked from the completions
+// The path field and its completion: the .ray files (and folders) that start with what is
+// typed. True when a file is to be opened: Enter in the field, or a file picked.
+bool path_field(PanelState& ui) {
+    bool open_typed = false;
     if (ImGui::InputText("scene", ui.path_buf, sizeof ui.path_buf,
                          ImGuiInputTextFlags_EnterReturnsTrue))
         open_typed = true;
     if (ImGui::IsItemEdited()) ui.completing = true;
-    // Completion: the .ray files (and folders) that start with what is typed.
     if (ui.completing && !open_typed) {
         if (ui.completed_for != ui.path_buf) {  // list the folder only when the text changes
             ui.completed_for = ui.path_buf;
@@ -262,19 +257,11 @@ bool file_panel(ViewerState& v, PanelState& ui) {
                 break;
             }
     }
-    open_typed |= ImGui::Button("Open");
-    if (open_typed) {  // in the background: the open scene stays interactive
-        ui.completing = false;
-        v.open_in_background(ui.path_buf);
-        if (v.session
-                .loaded)  // until it opens (or fails, with the error shown) the open scene's path
-            std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
-    }
-    ImGui::SameLine();
-    if (ImGui::Button("Reload") && v.session.loaded) opened |= v.reload();
-    ImGui::SameLine();
-    ImGui::TextDisabled("(or drop a .ray file)");
-    if (v.jobs.loader.busy()) loading_line(v);
+    return open_typed;
+}
+
+// The recent files and the sample scenes, each opened in the background on a click.
+void file_lists(ViewerState& v, PanelState& ui) {
     const size_t first = v.session.loaded ? 1 : 0;  // the open file is recent[0]
     if (v.session.recent.size() > first && ImGui::CollapsingHeader("recent files")) {
         for (size_t i = first; i < v.session.recent.size(); ++i)
@@ -291,8 +278,13 @@ bool file_panel(ViewerState& v, PanelState& ui) {
                 break;
             }
     }
-    // Errors here, wrapped (they name files and their includes); notes go to the status bar,
-    // so "saved ..." never moves the panel's controls.
+}
+
+// Errors here, wrapped (they name files and their includes); notes go to the status bar,
+// so "saved ..." never moves the panel's controls. Then a reload's conflict with the user's
+// edits, the offer of checker stand-ins and the stand-ins in use. True when a file opened.
+bool file_messages(ViewerState& v) {
+    bool opened = false;
     if (!v.messages.text.empty() && v.messages.is_error) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
         ImGui::TextWrapped("%s", v.messages.text.c_str());
@@ -304,11 +296,10 @@ bool file_panel(ViewerState& v, PanelState& ui) {
         ImGui::PopStyleColor();
         if (ImGui::Button("Use the file's")) v.use_file_edits();
         ImGui::SameLine();
-        if (ImGui::Button("Keep mine")) v.session.reload_conflict.clear();
+        if (ImGui::Button("Keep mine")) v.session.keep_my_edits();
     }
     // The offer goes with its message: a newer error or note replaces both.
-    if (!v.session.checker_offer.empty() && v.session.checker_offer_message != v.messages.serial)
-        v.session.checker_offer.clear();
+    v.session.withdraw_offer_after(v.messages.serial);
     if (!v.session.checker_offer.empty() &&
         ImGui::Button("open with checker stand-ins (for the rest of the session)"))
         opened |= v.open_with_checker();
@@ -323,10 +314,39 @@ bool file_panel(ViewerState& v, PanelState& ui) {
     return opened;
 }
 
-bool camera_panel(ViewerState& v, const PaneLayout& layout) {
+}  // namespace
+
+bool file_panel(ViewerState& v, PanelState& ui) {
+    if (v.session.loaded && v.session.loaded->id != ui.path_for) {  // a file opened: show its path
+        std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
+        ui.path_for = v.session.loaded->id;
+    }
+    bool opened = false;
+    // Enter in the field, Open, or a file picked from the completions.
+    bool open_typed = path_field(ui);
+    open_typed |= ImGui::Button("Open");
+    if (open_typed) {  // in the background: the open scene stays interactive
+        ui.completing = false;
+        v.open_in_background(ui.path_buf);
+        if (v.session
+                .loaded)  // until it opens (or fails, with the error shown) the open scene's path
+            std::snprintf(ui.path_buf, sizeof ui.path_buf, "%s", v.session.loaded->path.c_str());
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Reload") && v.session.loaded) opened |= v.reload();
+    ImGui::SameLine();
+    ImGui::TextDisabled("(or drop a .ray file)");
+    if (v.jobs.loader.busy()) loading_line(v);
+    file_lists(v, ui);
+    opened |= file_messages(v);
+    return opened;
+}
+
+// The camera (a copy, put back once when edited), the lens, the selection and the bookmarks.
+void camera_panel(ViewerState& v, const PaneLayout& layout) {
     bool edited = false;
     const bool keys = !ImGui::GetIO().WantCaptureKeyboard;
-    OrbitCamera& cam = v.edits.camera;
+    OrbitCamera cam = v.edits.camera;
     ImGui::Separator();
     ImGui::TextWrapped(
         "Camera: drag orbits, shift/middle drag pans, wheel dollies, "
@@ -344,13 +364,14 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
         edited = true;
     }
     ImGui::SameLine();
-    if (ImGui::Button("Help (F1)")) v.ui.show_help = !v.ui.show_help;
+    if (ImGui::Button("Help (F1)")) v.ui.toggle_help();
     if (ImGui::Button("Undo")) v.undo();
     ImGui::SameLine();
     if (ImGui::Button("Redo")) v.redo();
     // The field of view as the spec's half-height angle, shown in degrees.
     edited |= angle_slider("half-height angle", &cam.half_height, 1.0f, 85.0f);
-    RenderSettings& r = v.settings.render;
+    ViewSettings s = v.settings;
+    RenderSettings& r = s.render;
     edited |= slider("aperture", &r.aperture, 0.0f, 0.5f);
     const bool focus_set = static_cast<float>(r.focus_distance) > 0;
     edited |= drag("focus distance", &r.focus_distance, 0.05f, 0.0f, 1e6f,
@@ -360,16 +381,13 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
         ImGui::TextWrapped("selected: %s, %s\n%s\nin %s\nat (%.3g, %.3g, %.3g)", sel.shape.c_str(),
                            sel.material.c_str(), sel.where.c_str(), sel.groups.c_str(), sel.point.x,
                            sel.point.y, sel.point.z);
-        if (ImGui::SmallButton("clear selection")) {
-            v.ui.selection = {};
-            v.ui.preview_stale = true;
-        }
+        if (ImGui::SmallButton("clear selection")) v.ui.clear_selection();
     } else {
         ImGui::TextDisabled("click a shape in a pane to select it");
     }
     if (ImGui::Button("Set as the scene's camera")) v.set_file_camera();
     ImGui::SameLine();
-    if (ImGui::Button("Bookmark")) v.ui.bookmarks.push_back(cam);
+    if (ImGui::Button("Bookmark")) v.ui.add_bookmark(cam);
     for (size_t i = 0; i < v.ui.bookmarks.size(); ++i) {
         ImGui::PushID(static_cast<int>(i));
         if (ImGui::Button(("view " + std::to_string(i + 1)).c_str())) {
@@ -378,19 +396,22 @@ bool camera_panel(ViewerState& v, const PaneLayout& layout) {
         }
         ImGui::SameLine();
         if (ImGui::SmallButton("x")) {
-            v.ui.bookmarks.erase(v.ui.bookmarks.begin() + static_cast<long>(i));
+            v.ui.remove_bookmark(i);
             ImGui::PopID();
             break;
         }
         if (i + 1 < v.ui.bookmarks.size() && (i + 1) % 4 != 0) ImGui::SameLine();
         ImGui::PopID();
     }
-    return edited;
+    if (!edited) return;
+    v.edits.set_camera(cam);  // the viewer sees the change: the trace restarts
+    v.settings = s;
 }
 
-bool settings_panel(ViewerState& v) {
-    bool edited = false;
-    ViewSettings& s = v.settings;
+// The renderer's settings and the panes' (a copy, put back once): the viewer restarts the trace
+// for those the trace uses.
+void settings_panel(ViewerState& v) {
+    ViewSettings s = v.settings;
     RenderSettings& r = s.render;
     ImGui::Separator();
     ImGui::RadioButton("both", &s.layout, 0);
@@ -398,7 +419,7 @@ bool settings_panel(ViewerState& v) {
     ImGui::RadioButton("preview", &s.layout, 1);
     ImGui::SameLine();
     ImGui::RadioButton("trace", &s.layout, 2);
-    edited |= ImGui::Checkbox("shadows", &r.shadows);
+    ImGui::Checkbox("shadows", &r.shadows);
     ImGui::SameLine();
     ImGui::Checkbox("light markers", &s.show_lights);
     if (s.show_lights) {
@@ -407,17 +428,16 @@ bool settings_panel(ViewerState& v) {
     }
     slider("group box levels", &s.group_depth, 0, 8);
     slider("BVH box levels", &s.box_depth, 0, 8);
-    edited |= slider("depth", &r.max_depth, 1, 10);
-    edited |= slider("cutoff", &r.cutoff, 0.0f, 0.1f, "%.4f");
-    edited |= slider("target spp", &s.target_spp, 1, 4096);
+    slider("depth", &r.max_depth, 1, 10);
+    slider("cutoff", &r.cutoff, 0.0f, 0.1f, "%.4f");
+    slider("target spp", &s.target_spp, 1, 4096);
     // The trace also stops at an estimated error (relMSE), as raytrace --target-error.
-    edited |=
-        slider_float("target error", &s.target_error, 0.0f, 0.01f,
-                     s.target_error > 0 ? "%.1e" : "off", kClamp | ImGuiSliderFlags_Logarithmic);
-    edited |= slider_float("resolution", &s.resolution_scale, 0.1f, 1.0f, "%.3f");
-    edited |= slider("threads (0 = all)", &r.threads, 0, 64);
-    edited |= slider("light radius", &r.light_radius, 0.0f, 2.0f);
-    edited |= slider("roughness", &r.roughness, 0.0f, 1.0f);
+    slider_float("target error", &s.target_error, 0.0f, 0.01f, s.target_error > 0 ? "%.1e" : "off",
+                 kClamp | ImGuiSliderFlags_Logarithmic);
+    slider_float("resolution", &s.resolution_scale, 0.1f, 1.0f, "%.3f");
+    slider("threads (0 = all)", &r.threads, 0, 64);
+    slider("light radius", &r.light_radius, 0.0f, 2.0f);
+    slider("roughness", &r.roughness, 0.0f, 1.0f);
     // Display only: the trace is not rendered again.
     float exposure = s.exposure;
     if (ImGui::SliderFloat("exposure", &exposure, -8.0f, 8.0f, "%+.1f stops", kClamp) &&
@@ -427,30 +447,31 @@ bool settings_panel(ViewerState& v) {
     if (ImGui::Combo("tonemap", &tonemap, "clamp (as raytrace)\0Reinhard\0ACES filmic\0"))
         s.tonemap = static_cast<Tonemap>(tonemap);
     slider_float("UI scale", &s.ui_scale, 0.75f, 2.5f, "%.2f");  // the window's, not an edit
-    return edited;
+    if (!(s == v.settings)) v.settings = s;
 }
 
-bool lights_panel(ViewerState& v) {
-    bool edited = false;
+// Each light (a copy, put back once when edited), its framing and removal; new lights; the
+// headlight of a scene without lights.
+void lights_panel(ViewerState& v) {
     ImGui::Separator();
     ImGui::Text("Lights");
     const bool three_colours = v.session.loaded->desc.dialect == Dialect::V3;
     for (size_t i = 0; i < v.edits.lights.size(); ++i) {
         ImGui::PushID(static_cast<int>(i));
         // The light being edited shows its direction in the preview.
-        if (light_editor(v.edits.lights[i], &v.edits.light_on[i], three_colours)) {
-            v.ui.selected_light = static_cast<int>(i);
-            edited = true;
+        LightDesc light = v.edits.lights[i];
+        char on = v.edits.light_on[i];
+        if (light_editor(light, &on, three_colours)) {
+            v.edits.set_light(i, light, on != 0);
+            v.ui.select_light(static_cast<int>(i));
         }
         if (ImGui::Button("frame")) {  // find a light outside the view
-            v.frame_light(i);
-            v.ui.selected_light = static_cast<int>(i);
-            edited = true;
+            v.edits.frame_light(i, v.session.loaded->scene.world_bounds);
+            v.ui.select_light(static_cast<int>(i));
         }
         ImGui::SameLine();
         if (ImGui::Button("remove")) {
-            v.remove_light(i);
-            edited = true;
+            v.edits.remove_light(i);
             ImGui::PopID();
             break;
         }
@@ -464,20 +485,13 @@ bool lights_panel(ViewerState& v) {
     const int count = three_colours ? 4 : 3;
     for (int k = 0; k < count; ++k) {
         ImGui::SameLine();
-        if (ImGui::Button(kind_name(kinds[k]))) {
-            v.add_light(kinds[k]);
-            edited = true;
-        }
+        if (ImGui::Button(kind_name(kinds[k]))) v.edits.add_light(kinds[k]);
     }
     if (v.edits.lights.empty()) {
-        if (ImGui::Checkbox("headlight (the scene has no lights)", &v.settings.headlight))
-            edited = true;
-        if (v.settings.headlight && ImGui::Button("keep the headlight as a light")) {
-            v.keep_headlight();
-            edited = true;
-        }
+        ViewSettings s = v.settings;
+        if (ImGui::Checkbox("headlight (the scene has no lights)", &s.headlight)) v.settings = s;
+        if (s.headlight && ImGui::Button("keep the headlight as a light")) v.edits.keep_headlight();
     }
-    return edited;
 }
 
 void status_panel(const ViewerState& v, const std::vector<std::string>& preview_defines,
@@ -533,21 +547,18 @@ bool texture_combo(const LoadedScene& s, size_t material, int* texture) {
     const MaterialOrigin o = s.origin(material);
     if (o.textures == 0) return false;
     const auto& files = desc.files[static_cast<size_t>(o.file)].textures;
-    auto name = [&](int t) {
-        const int k = t - o.first_texture;
-        if (t < 0 || k < 0 || k >= o.textures) return std::string("none");
-        return std::filesystem::path(files[static_cast<size_t>(k)].path).filename().string() +
-               " (texture " + std::to_string(k) + ")";
+    auto name = [&](int t) {  // the file's texture t
+        if (t < 0 || t >= o.textures) return std::string("none");
+        return std::filesystem::path(files[static_cast<size_t>(t)].path).filename().string() +
+               " (texture " + std::to_string(t) + ")";
     };
     bool edited = false;
     if (ImGui::BeginCombo("texture", name(*texture).c_str())) {
-        for (int t = -1; t < o.textures; ++t) {
-            const int global = t < 0 ? -1 : o.first_texture + t;
-            if (ImGui::Selectable(name(global).c_str(), global == *texture) && global != *texture) {
-                *texture = global;
+        for (int t = -1; t < o.textures; ++t)
+            if (ImGui::Selectable(name(t).c_str(), t == *texture) && t != *texture) {
+                *texture = t;
                 edited = true;
             }
-        }
         ImGui::EndCombo();
     }
     if (ImGui::IsItemHovered())
@@ -559,11 +570,12 @@ bool texture_combo(const LoadedScene& s, size_t material, int* texture) {
 }  // namespace
 
 // One material's terms (spec §7, §13.9): its colours (HDR), the exponent, the transparency
-// and the refraction index, each an edit of SceneEdits::materials (undo, both panes at the
-// restart, saved with the scene). The material follows the last pick, or the list.
-bool materials_panel(ViewerState& v, PanelState& ui) {
-    std::vector<Material>& materials = v.edits.materials;
-    if (materials.empty() || !ImGui::CollapsingHeader("Materials")) return false;
+// and the refraction index, edited as a copy put back once into SceneEdits::materials (undo,
+// both panes at the restart, saved with the scene). The material follows the last pick, or
+// the list.
+void materials_panel(ViewerState& v, PanelState& ui) {
+    const std::vector<MaterialDesc>& materials = v.edits.materials;
+    if (materials.empty() || !ImGui::CollapsingHeader("Materials")) return;
     const LoadedScene& s = *v.session.loaded;
     const int picked = v.ui.selection.instance >= 0 ? v.ui.selection.material_index : -1;
     if (picked >= 0 && picked != ui.material_picked) ui.material = picked;
@@ -579,7 +591,7 @@ bool materials_panel(ViewerState& v, PanelState& ui) {
             if (ImGui::Selectable(name(i).c_str(), i == ui.material)) ui.material = i;
         ImGui::EndCombo();
     }
-    Material& m = materials[static_cast<size_t>(ui.material)];
+    MaterialDesc m = materials[static_cast<size_t>(ui.material)];  // a copy, put back once
     bool edited = false;
     edited |= colour("emissive", &m.emissive);
     edited |= colour("ambient", &m.ambient);
@@ -609,7 +621,7 @@ bool materials_panel(ViewerState& v, PanelState& ui) {
         m = s.file_materials[static_cast<size_t>(ui.material)];
         edited = true;
     }
-    return edited;
+    if (edited) v.edits.set_material(static_cast<size_t>(ui.material), m);
 }
 
 void save_panel(ViewerState& v, PanelState& ui) {
@@ -617,7 +629,7 @@ void save_panel(ViewerState& v, PanelState& ui) {
     ImGui::InputText("scene file", ui.scene_buf, sizeof ui.scene_buf);
     // Materials of included files live in those files: written there (each edited #material
     // line replaced, the rest kept) only when asked.
-    const std::vector<std::string> parts = v.edited_included_files();
+    const std::vector<std::string> parts = edited_included_files(v);
     std::string names;
     for (const std::string& p : parts)
         names += (names.empty() ? "" : ", ") + std::filesystem::path(p).filename().string();
@@ -627,7 +639,7 @@ void save_panel(ViewerState& v, PanelState& ui) {
     if (ImGui::Button("Save scene (camera, lights, materials)")) {
         const bool included = ui.save_included && !parts.empty();
         try {
-            v.save_scene(ui.scene_buf, included);
+            save_scene(v, ui.scene_buf, included);
             v.messages.note(std::string("saved ") + ui.scene_buf +
                             (included ? " and the materials of " + names : ""));
         } catch (const std::exception& e) {
@@ -655,11 +667,11 @@ void save_panel(ViewerState& v, PanelState& ui) {
             v.messages.note("the image was cancelled; nothing written");
         }
     } else if (ImGui::Button("Render and save image (.png .pfm ...)")) {
-        v.render_image(ui.save_buf, ui.image_size[0], ui.image_size[1], ui.image_spp);
+        render_image(v, ui.save_buf, ui.image_size[0], ui.image_size[1], ui.image_spp);
     }
     if (ImGui::Button("Save the pane's trace as it is")) {
         try {
-            v.save_trace(ui.save_buf);
+            save_trace(v, ui.save_buf);
             v.messages.note(std::string("saved ") + ui.save_buf);
         } catch (const std::exception& e) {
             v.messages.fail(e.what());
@@ -667,7 +679,9 @@ void save_panel(ViewerState& v, PanelState& ui) {
     }
 }
 
-void help_overlay(bool* open) {
+namespace {
+
+void help_window(bool* open) {
     const ImGuiIO& io = ImGui::GetIO();
     const KeyQueue& keys = key_queue();
     // F1 or ? (shifted /) toggles it, each tap (two in one frame cancel out).
@@ -725,6 +739,14 @@ void help_overlay(bool* open) {
     ImGui::End();
 }
 
+}  // namespace
+
+void help_overlay(ViewUi& ui) {
+    bool open = ui.show_help;
+    help_window(&open);
+    ui.set_help(open);
+}
+
 void status_bar(const ViewerState& v, const PaneLayout& layout) {
     const ImGuiViewport* vp = ImGui::GetMainViewport();
     const float h = ImGui::GetFrameHeightWithSpacing();
@@ -764,8 +786,7 @@ void animation_panel(ViewerState& v, PanelState& ui) {
     ImGui::Text("%zu DOFs, %.3g s loop; t = %.3f s (%s, %s)", v.session.loaded->desc.tracks.size(),
                 length, tl.time, interpolation_name(tl.interpolation), rotation_name(tl.rotation));
     float fps = static_cast<float>(v.timeline.fps);
-    if (ImGui::InputFloat("frames per second", &fps, 1, 5, "%.3g"))
-        v.timeline.fps = std::clamp(static_cast<double>(fps), 1.0, 240.0);
+    if (ImGui::InputFloat("frames per second", &fps, 1, 5, "%.3g")) v.timeline.set_fps(fps);
     if (ui.anim_frames <= 0) ui.anim_frames = static_cast<int>(std::ceil(length * v.timeline.fps));
     ImGui::InputInt("frames", &ui.anim_frames);
     ui.anim_frames = std::clamp(ui.anim_frames, 1, 100000);
@@ -779,8 +800,8 @@ void animation_panel(ViewerState& v, PanelState& ui) {
             v.messages.note("render cancelled; the frames written so far stay");
         }
     } else if (ImGui::Button("Render animation")) {
-        v.render_animation(ui.anim_pattern, ui.anim_frames, ui.image_size[0], ui.image_size[1],
-                           ui.image_spp, ui.anim_video);
+        render_animation(v, ui.anim_pattern, ui.anim_frames, ui.image_size[0], ui.image_size[1],
+                         ui.image_spp, ui.anim_video);
     }
     ImGui::TextDisabled("at the image size and samples of \"save\" below");
 }
@@ -803,13 +824,13 @@ void control_panel(ViewerState& v, PanelState& ui, const PaneLayout& layout,
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 10);  // room for the labels
     file_panel(v, ui);                                 // opening a file marks its own edit
     if (v.session.loaded) {
-        bool edited = camera_panel(v, layout);
+        // Each edits a copy and puts it back: the viewer sees what changed.
+        camera_panel(v, layout);
         inspect_panel(v);
         compare_panel(v, ui.compare);
-        edited |= settings_panel(v);
-        edited |= lights_panel(v);
-        edited |= materials_panel(v, ui);
-        if (edited) v.mark_edited();
+        settings_panel(v);
+        lights_panel(v);
+        materials_panel(v, ui);
         status_panel(v, preview_defines, frame_s);
         animation_panel(v, ui);
         save_panel(v, ui);

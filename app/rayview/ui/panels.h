@@ -48,13 +48,14 @@ std::vector<std::string> completions(const std::string& typed);
 /// offer to open a file whose textures are missing with checker stand-ins, and which stand in.
 bool file_panel(ViewerState& v, PanelState& ui);
 /// The camera: frame, home, undo, redo, the half-height angle, aperture and focus distance,
-/// setting the view as the scene's camera, bookmarks.
-bool camera_panel(ViewerState& v, const PaneLayout& layout);
+/// setting the view as the scene's camera, bookmarks. Each panel edits a copy of what it shows
+/// and puts it back once (yocto-gl's draw_scene_editor): the viewer sees the change.
+void camera_panel(ViewerState& v, const PaneLayout& layout);
 /// Layout and overlays, and the renderer's settings.
-bool settings_panel(ViewerState& v);
+void settings_panel(ViewerState& v);
 /// Every light: on or off, its colour (V0/V1) or three colours (V3: ambient, diffuse, specular),
 /// a sphere light's radius, position, attenuation, direction, spot cone; add, remove.
-bool lights_panel(ViewerState& v);
+void lights_panel(ViewerState& v);
 /// The trace's progress, what the renderer left out, the error plot.
 void status_panel(const ViewerState& v, const std::vector<std::string>& preview_defines,
                   double frame_s);
@@ -66,7 +67,7 @@ void save_panel(ViewerState& v, PanelState& ui);
 /// (coarse) and first full-resolution pass times.
 void status_bar(const ViewerState& v, const PaneLayout& layout);
 /// Every shortcut in a window over the panes, opened and closed with F1 or ? (Esc closes it).
-void help_overlay(bool* open);
+void help_overlay(ViewUi& ui);
 /// The animation's DOFs and loop, its fps, and "render animation" in the background.
 void animation_panel(ViewerState& v, PanelState& ui);
 /// The whole panel as one ImGui window, resizable and collapsible.

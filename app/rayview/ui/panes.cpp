@@ -12,6 +12,8 @@
 #include <filesystem>
 
 #include "rt/scene/scene_time.h"
+#include "state/viewer_compare.h"
+#include "state/viewer_output.h"
 
 namespace rt::view {
 
@@ -98,7 +100,7 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
     const bool inspecting = v.ui.inspect.mode;
     if (inspecting) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.9f, 0.45f, 0.1f, 0.9f));
     if (ImGui::SmallButton(inspecting ? "Inspect: on (I)" : "Inspect (I)"))
-        v.ui.inspect.mode = !inspecting;
+        v.ui.inspect.set_mode(!inspecting);
     if (inspecting) ImGui::PopStyleColor();
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip(
@@ -124,7 +126,7 @@ PaneHover Panes::show(ViewerState& v, const PaneLayout& p, double frame_s) {
 }
 
 void Panes::show_compare(ViewerState& v, const PaneLayout& p, bool hovered) {
-    CompareView& c = v.ui.compare;
+    const CompareView& c = v.ui.compare;  // changed through its verbs
     const ImVec2 origin = ImGui::GetWindowPos();
     const float x0 = p.image_x(p.compare), y0 = origin.y + p.image_y();
     // The toolbar: the views (B flips theirs and ours, V cycles), and the end of the comparison.
@@ -133,12 +135,12 @@ void Panes::show_compare(ViewerState& v, const PaneLayout& p, bool hovered) {
                           CompareShow::Threshold}) {
         const bool on = c.show == s;
         if (on) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.9f, 0.45f, 0.1f, 0.9f));
-        if (ImGui::SmallButton(compare_show_name(s))) c.show = s;
+        if (ImGui::SmallButton(compare_show_name(s))) v.ui.compare.set_show(s);
         if (on) ImGui::PopStyleColor();
         ImGui::SameLine();
     }
     if (ImGui::SmallButton("x")) {
-        v.stop_compare();
+        stop_compare(v);
         return;
     }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Stop comparing");
@@ -193,7 +195,7 @@ void Panes::draw(ViewerState& v) {
     upload_compare(v);
     upload_trace(v);
     LoadedScene& loaded = *v.session.loaded;
-    upload_scene(v, loaded);
+    upload_scene(loaded);
     draw_preview(v, loaded);
 }
 
@@ -217,21 +219,21 @@ void Panes::upload_compare(const ViewerState& v) {
 
 // A new trace, or another exposure or tonemap of the last one (display only).
 void Panes::upload_trace(ViewerState& v) {
-    const bool new_trace = v.take_trace();
+    const bool new_trace = take_trace(v);
     if (new_trace || v.settings.exposure != m_shown_exposure ||
         v.settings.tonemap != m_shown_tonemap) {
         const bool as_is = v.settings.exposure == 0 && v.settings.tonemap == Tonemap::Clamp;
         if (v.trace.last_trace.width > 0 && as_is)
             m_trace.upload(v.trace.last_trace);  // no copy of every pass when nothing changes it
         else if (v.trace.last_trace.width > 0)
-            m_trace.upload(v.displayed_trace());
+            m_trace.upload(displayed_trace(v));
         m_shown_exposure = v.settings.exposure;
         m_shown_tonemap = v.settings.tonemap;
     }
 }
 
 // A scene opened (tessellated with it, off this thread), or its materials edited in the panel.
-void Panes::upload_scene(ViewerState& v, LoadedScene& loaded) {
+void Panes::upload_scene(LoadedScene& loaded) {
     if (loaded.id != m_loaded_id) {  // tessellated with the scene, off this thread
         m_preview.load(loaded.scene, loaded.preview);
         loaded.preview = {};
@@ -244,7 +246,7 @@ void Panes::upload_scene(ViewerState& v, LoadedScene& loaded) {
             m_preview.load(loaded.shown, prepare_preview(loaded.shown, m_preview.detail()));
         m_preview.materials_changed(loaded.shown);
         m_drawn_materials = loaded.shown.materials;
-        v.ui.preview_stale = true;
+        m_preview_stale = true;
     }
 }
 
@@ -257,12 +259,11 @@ void Panes::draw_preview(ViewerState& v, const LoadedScene& loaded) {
         s.exposure != m_drawn_exposure || s.tonemap != m_drawn_tonemap ||
         s.group_depth != m_drawn_group_depth || v.ui.inspect.version != m_drawn_inspect ||
         v.ui.inspect.hovered != m_drawn_hovered;
-    if (!v.ui.preview_stale && !overlay_changed && m_target.w == m_drawn_w &&
-        m_target.h == m_drawn_h)
+    if (!preview_stale(v) && !overlay_changed && m_target.w == m_drawn_w && m_target.h == m_drawn_h)
         return;
     glBindFramebuffer(GL_FRAMEBUFFER, m_target.fbo.id());
     // The camera of the latest input, also while a restart waits.
-    const Camera cam = make_camera(compile_camera(v.edits.camera.desc()), m_target.w, m_target.h);
+    const Camera cam = v.edits.camera.camera(m_target.w, m_target.h);
     // The preview's copy of the scene: the joints at the timeline's time, every frame.
     const RenderScene& shown = loaded.shown;
     m_preview.moving = v.trace.moving();
@@ -296,7 +297,8 @@ void Panes::draw_preview(ViewerState& v, const LoadedScene& loaded) {
             true);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    v.ui.preview_stale = m_preview.environment_pending();  // drawn again until the maps are done
+    m_preview_stale = m_preview.environment_pending();  // drawn again until the maps are done
+    m_drawn_changes = v.ui.changes;
     m_drawn_lights = s.show_lights;
     m_drawn_directions = s.light_directions;
     m_drawn_selected = v.ui.selected_light;

@@ -52,6 +52,11 @@ public:
     PaneHover show(ViewerState& v, const PaneLayout& layout, double frame_s);
     /// Uploads a new trace image, and redraws the preview when what it shows changed.
     void draw(ViewerState& v);
+    /// The preview has a change to draw: the viewer's (ViewUi::changes), new materials, or its
+    /// environment maps still being made.
+    bool preview_stale(const ViewerState& v) const {
+        return m_preview_stale || v.ui.changes != m_drawn_changes;
+    }
     /// The preview shader's defines (for the status panel).
     const std::vector<std::string>& preview_defines() const { return m_preview.active_defines(); }
 
@@ -59,7 +64,7 @@ private:
     // The steps of draw().
     void upload_compare(const ViewerState& v);
     void upload_trace(ViewerState& v);
-    void upload_scene(ViewerState& v, LoadedScene& loaded);
+    void upload_scene(LoadedScene& loaded);
     void draw_preview(ViewerState& v, const LoadedScene& loaded);
 
     /// The comparison pane's toolbar, scale bar and the pixel under the mouse.
@@ -79,6 +84,8 @@ private:
     // What m_target holds, so it is redrawn only when that changes.
     bool m_drawn_lights = true, m_drawn_directions = false;
     int m_drawn_selected = -1;
+    bool m_preview_stale = true;  // new materials, or the environment maps being made
+    int m_drawn_changes = -1;     // ViewUi::changes drawn
     int m_drawn_inspect = -1, m_drawn_hovered = -1;  // InspectView::version and hovered drawn
     std::vector<Material> m_drawn_materials;  // the materials the preview's maps were made for
     float m_drawn_exposure = 0;               // the display transform the preview was drawn with

@@ -1,6 +1,7 @@
 // Scripted runs of the viewer, for tests and measurements (the command line that starts them:
-// run_options.h): the script interpreter, saving
-// the window as an image, and the frame statistics a --frames run prints at the end.
+// run_options.h): the script runner (its commands on the state: state/commands.h; here the
+// window's own: the waits and screenshots), saving the window as an image, and the frame
+// statistics a --frames run prints at the end.
 //
 // A script has one command a line, "FRAME COMMAND ARGS...", run at that frame after it is drawn
 // (the list: rayview --help). A command that fails is reported and the run goes on. Frames count
@@ -42,10 +43,11 @@ public:
     explicit ScriptRun(const RunOptions& options);
     /// The trace restarted this frame: reports the script commands whose edits it answers.
     void restarted();
-    /// After the frame is drawn: runs this frame's commands (one that fails is reported and the
-    /// run goes on); at the last frame saves the --screenshot and sets `*exit_code` to 1 when
-    /// anything failed. Returns true when the run is over.
-    bool end_frame(ViewerState& v, int fb_w, int fb_h, int* exit_code);
+    /// After the frame is drawn: runs this frame's commands (run_command; one that fails is
+    /// reported and the run goes on); at the last frame saves the --screenshot and sets
+    /// `*exit_code` to 1 when anything failed. `preview_drawn`: the preview shows the latest
+    /// change (wait-jobs waits for it). Returns true when the run is over.
+    bool end_frame(ViewerState& v, int fb_w, int fb_h, bool preview_drawn, int* exit_code);
     /// After the last frame: the frame statistics, for --screenshot runs.
     void print_summary(const FrameStats& stats, const ViewerState& v) const;
 

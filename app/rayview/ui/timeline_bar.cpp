@@ -40,16 +40,15 @@ bool timeline_keys(ViewerState& v) {
     const ImGuiIO& io = ImGui::GetIO();
     const double length = v.animation_length();
     if (length <= 0 || io.WantCaptureKeyboard) return false;
-    Timeline& tl = v.timeline;
+    const Timeline& tl = v.timeline;     // changed through its verbs
     const KeyQueue& keys = key_queue();  // every tap, also within one slow frame
     if (keys.presses(GLFW_KEY_SPACE, false, false) % 2 == 1) {
-        if (!tl.playing && tl.time >= length && !tl.loop) tl.time = 0;  // played to the end
-        tl.playing = !tl.playing;
+        v.timeline.toggle_play(length);  // from the end: from 0
         return true;
     }
     const int step = keys.presses(GLFW_KEY_RIGHT) - keys.presses(GLFW_KEY_LEFT);
     if (step == 0) return false;
-    tl.playing = false;
+    v.timeline.pause();
     v.seek((tl.frame() + step) / tl.fps);
     return true;
 }
@@ -57,7 +56,7 @@ bool timeline_keys(ViewerState& v) {
 void timeline_bar(ViewerState& v, const PaneLayout& layout) {
     const double length = v.animation_length();
     if (length <= 0) return;
-    Timeline& tl = v.timeline;
+    const Timeline& tl = v.timeline;  // changed through its verbs
     const ImGuiViewport* vp = ImGui::GetMainViewport();
     const float h = ImGui::GetFrameHeightWithSpacing();
     ImGui::SetNextWindowPos(ImVec2(layout.panel_w, vp->Size.y - 2 * h - 4));
@@ -67,13 +66,11 @@ void timeline_bar(ViewerState& v, const PaneLayout& layout) {
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
     const float em = ImGui::GetFontSize();
-    if (ImGui::Button(tl.playing ? "Pause" : "Play", ImVec2(4 * em, 0))) {
-        if (!tl.playing && tl.time >= length && !tl.loop) tl.time = 0;
-        tl.playing = !tl.playing;
-    }
+    if (ImGui::Button(tl.playing ? "Pause" : "Play", ImVec2(4 * em, 0)))
+        v.timeline.toggle_play(length);
     ImGui::SameLine();
     if (ImGui::Button("|<")) {
-        tl.playing = false;
+        v.timeline.pause();
         v.seek(0);
     }
     ImGui::SameLine();
@@ -84,22 +81,28 @@ void timeline_bar(ViewerState& v, const PaneLayout& layout) {
     const float right = 29 * em;  // loop, speed and the two choices
     ImGui::SetNextItemWidth(std::max(6 * em, ImGui::GetContentRegionAvail().x - right));
     if (ImGui::SliderFloat("##time", &t, 0.0f, static_cast<float>(length), label)) {
-        tl.playing = false;  // scrubbing pauses; the trace restarts at the time shown
+        v.timeline.pause();  // scrubbing pauses; the trace restarts at the time shown
         v.seek(t);
     }
     ImGui::SameLine();
-    ImGui::Checkbox("loop", &tl.loop);
+    bool loop = tl.loop;
+    if (ImGui::Checkbox("loop", &loop)) v.timeline.set_loop(loop);
     ImGui::SameLine();
     float speed = static_cast<float>(tl.speed);
     ImGui::SetNextItemWidth(4 * em);
     if (ImGui::DragFloat("##speed", &speed, 0.01f, 0.05f, 8.0f, "%.2fx"))
-        tl.speed = std::clamp(static_cast<double>(speed), 0.05, 8.0);
+        v.timeline.set_speed(speed);
     ImGui::SameLine();
-    bool changed = enum_combo("##interpolation", &tl.interpolation, kInterpolations,
+    Interpolation interpolation = tl.interpolation;
+    Rotation rotation = tl.rotation;
+    bool changed = enum_combo("##interpolation", &interpolation, kInterpolations,
                               interpolation_name, 8.5f * em);
     ImGui::SameLine();
-    changed |= enum_combo("##rotation", &tl.rotation, kRotations, rotation_name, 8.5f * em);
-    if (changed) v.seek(tl.time);  // the same time, other values: the trace restarts
+    changed |= enum_combo("##rotation", &rotation, kRotations, rotation_name, 8.5f * em);
+    if (changed) {  // the same time, other values: the trace restarts
+        v.timeline.set_choices(interpolation, rotation);
+        v.seek(tl.time);
+    }
     ImGui::End();
 }
 

@@ -45,13 +45,19 @@ std::string quoted(const std::string& s) {
 void web_start(ViewerState* viewer) {
     g_viewer = viewer;
     viewer->hooks.on_saved = [](const std::string& path) { page_download(path.c_str()); };
-    viewer->hooks.on_opened = [](const std::string& path) {
+    const auto go_to_folder = [](const std::string& path) {
         const std::filesystem::path dir = std::filesystem::path(path).parent_path();
         std::error_code ec;  // a folder that is gone: relative saves stay where they were
         if (!dir.empty()) std::filesystem::current_path(dir, ec);
     };
+    // After the desktop's hook (main.cpp: the scene opened is said on stdout).
+    viewer->hooks.on_opened = [said = viewer->hooks.on_opened,
+                               go_to_folder](const std::string& path) {
+        if (said) said(path);
+        go_to_folder(path);
+    };
     if (viewer->session.loaded)
-        viewer->hooks.on_opened(viewer->session.loaded->path);  // opened before this call
+        go_to_folder(viewer->session.loaded->path);  // opened before this call
 }
 
 void web_fit_canvas(GLFWwindow* window) {
@@ -78,7 +84,7 @@ extern "C" {
 /// Opens a file of the page's file system (picked or dropped files, a sample), as a file
 /// dropped onto the desktop window: at the next frame, in the background.
 EMSCRIPTEN_KEEPALIVE void rv_open(const char* path) {
-    if (rt::view::g_viewer) rt::view::g_viewer->ui.dropped.emplace_back(path);
+    if (rt::view::g_viewer) rt::view::g_viewer->ui.drop(path);
 }
 
 /// The viewer's state as JSON: the open scene, the message line, the comparison's figures,
