@@ -12,10 +12,10 @@
 
 #include "gl/gl_util.h"
 #include "gl/overlay.h"
-#include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/camera.h"
 #include "rt/render/plan.h"
+#include "rt/render_scene.h"
 #include "state/csg_preview.h"
 #include "state/preview_geometry.h"
 

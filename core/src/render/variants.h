@@ -9,9 +9,9 @@
 
 #include "accel/queries.h"
 #include "rt/accel/intersect.h"
-#include "rt/compile/render_scene.h"
 #include "rt/render/plan.h"
 #include "rt/render/shading.h"
+#include "rt/render_scene.h"
 
 namespace rt {
 

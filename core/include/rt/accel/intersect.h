@@ -3,7 +3,7 @@
 // and the brute-force path give the same answers; the latter stays for tests.
 #pragma once
 
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 
 namespace rt {
 

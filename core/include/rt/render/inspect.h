@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "rt/accel/intersect.h"
-#include "rt/compile/render_scene.h"
 #include "rt/render/plan.h"
 #include "rt/render/render.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 #include "rt/util/limits.h"
 
