@@ -13,35 +13,12 @@
 #include "rt/accel/bvh.h"
 #include "rt/accel/triangle4.h"
 #include "rt/image/image.h"
+#include "rt/scene/scene_parts.h"
 #include "rt/scene/scene_time.h"
 #include "rt/shapes/shapes.h"
 #include "rt/util/error.h"
-#include "rt/util/light_kind.h"
 
 namespace rt {
-
-struct Material {
-    Vec3 emissive{0.0}, ambient{0.0}, diffuse{0.0}, specular{0.0};
-    double specular_exponent = 0.0;
-    Vec3 transparent{0.0};
-    double refractive_index = 1.0;
-    int texture = -1;  // index into RenderScene::textures
-};
-
-/// A light (spec §7.2, §13.3). A V0/V1 light's one colour is its diffuse and specular colour.
-struct Light {
-    LightKind kind = LightKind::Point;
-    Vec3 ambient{0.0};   // A_l: V3, attenuated and spot-limited, never shadowed (spec §13.9)
-    Vec3 diffuse{1.0};   // D_l
-    Vec3 specular{1.0};  // S'_l
-    Vec3 position{0.0};
-    Vec3 direction{0.0, -1.0, 0.0};  // unit; directional: direction of travel; spot: axis
-    double constant_atten = 1.0, linear_atten = 0.0, quadratic_atten = 0.0;
-    double cutoff_rad = kPi;
-    double spot_exponent = 0.0;
-    double radius = 0.0;  // sphere lights: the shadow factor is averaged over this sphere
-    bool operator==(const Light&) const = default;
-};
 
 /// One primitive of a set: its kind, its index in the kind's array, its material and, for the
 /// analytic shapes, the transform from the shape's frame to the set's frame (-1: identity).
@@ -183,14 +160,6 @@ struct Instance {
     Transform world_from_set;
     bool identity = true;
     Bounds3 world_bounds;
-};
-
-/// The camera of the file (spec §6.1) as the renderer uses it; make_camera() builds the frame.
-struct CameraPose {
-    Vec3 position{0.0};
-    Vec3 direction{0.0, 0.0, -1.0};
-    Vec3 up{0.0, 1.0, 0.0};
-    double half_height_angle_rad = kPi / 6;
 };
 
 /// How the compile placed the sets (spec §14): a placement's world_from_set is the product of

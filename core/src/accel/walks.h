@@ -463,14 +463,7 @@ SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray,
         sp.n_shading = -sp.n_shading;
     }
 
-    SurfaceInteraction si;
-    si.p = sp.p;
-    si.p_error = sp.p_error;
-    si.n_geometric = sp.n_geometric;
-    si.n_shading = sp.n_shading;
-    si.uv = sp.uv;
-    si.material = p.material;
-    return si;
+    return {sp, p.material};
 }
 
 // The CSG bit matters with the Mixed and per-set layouts only (the others hold no CSG).

@@ -106,22 +106,12 @@ struct TreeRecorder {
         x.k_transmit = m.transparent;
     }
 
-    TreeRecorder light(int plan_index, const Light& l, bool one_colour) const {
+    TreeRecorder light(int plan_index, const Light& l) const {
         if (!on()) return *this;
         ++ctx->tree.records;  // a recorded ray keeps every light term (its sum must hold)
         InspectLight t;
+        static_cast<Light&>(t) = l;
         t.light = ctx->light_ids[static_cast<size_t>(plan_index)];
-        t.kind = l.kind;
-        t.one_colour = one_colour;
-        t.position = l.position;
-        t.ambient = l.ambient;
-        t.diffuse = l.diffuse;
-        t.specular = l.specular;
-        t.constant = l.constant_atten;
-        t.linear = l.linear_atten;
-        t.quadratic = l.quadratic_atten;
-        t.cutoff_deg = l.cutoff_rad * 180.0 / kPi;
-        t.spot_exponent = l.spot_exponent;
         ray().lights.push_back(std::move(t));
         TreeRecorder r = *this;
         r.light_term = static_cast<int>(ray().lights.size()) - 1;

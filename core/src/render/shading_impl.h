@@ -279,11 +279,6 @@ template <uint32_t F, class Rec>
     c += value;
 }
 
-// Whether a light takes the one-colour path: its terms are then those of spec §7.1.
-inline bool one_colour(const Light& l) {
-    return l.kind != LightKind::Sphere && l.ambient == Vec3(0.0) && l.diffuse == l.specular;
-}
-
 template <uint32_t F, class Rec>
 Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSettings& settings,
            const Ray& ray, int depth, const Vec3& weight, RayCounters& counters, Rng* rng, Rec rec);
@@ -404,13 +399,12 @@ Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSetting
         const Light& light = sampled_light<F>(scene_light, si.p, settings, rng, &moved);
         const Rec lrec = [&] {
             if constexpr (Rec::kOn)
-                return rec.light(static_cast<int>(&scene_light - plan.lights.data()), light,
-                                 one_colour(light));
+                return rec.light(static_cast<int>(&scene_light - plan.lights.data()), light);
             else
                 return rec;
         }();
         if constexpr ((F & kShadeV3Lights) != 0) {
-            if (!one_colour(light)) {
+            if (!light.one_colour()) {
                 three_colour_light<F & kLightBits>(scene, plan, settings, sp, light, rng, counters,
                                                    c, lrec);
                 continue;
