@@ -1,12 +1,13 @@
 // Text from files shown safely (rt/util/text.h): what the parser's messages, the ray tree and
 // raycompare's table print of a name, a token or a path; the names of enum values
-// (rt/util/enum_names.h).
+// (rt/util/enum_names.h, the light kinds' in rt/util/light_kind.h).
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "rt/util/enum_names.h"
 #include "rt/util/isa.h"
+#include "rt/util/light_kind.h"
 #include "rt/util/text.h"
 
 namespace rt {
@@ -49,6 +50,18 @@ TEST(EnumNames, TheTableInTheEnumsOrderAndTheFallbackPastIt) {
     EXPECT_STREQ(enum_name(static_cast<E>(-1), kNames, "?"), "?");
     EXPECT_STREQ(isa_name(Isa::Avx512), "avx512");
     EXPECT_STREQ(isa_name(static_cast<Isa>(7)), "?");
+}
+
+// The light kinds' names, spelled once: each kind's name names it back, another word nothing.
+TEST(EnumNames, LightKindNamesGoBothWays) {
+    EXPECT_STREQ(light_kind_name(LightKind::Directional), "directional");
+    EXPECT_STREQ(light_kind_name(LightKind::Sphere), "sphere");
+    for (int k = 0; k < kLightKinds; ++k) {
+        const LightKind kind = static_cast<LightKind>(k);
+        EXPECT_EQ(light_kind_from_name(light_kind_name(kind)), kind);
+    }
+    EXPECT_FALSE(light_kind_from_name("area").has_value());
+    EXPECT_FALSE(light_kind_from_name("").has_value());
 }
 
 }  // namespace

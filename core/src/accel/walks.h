@@ -1,6 +1,12 @@
+// NOT AN ORDINARY HEADER: a source file that three units compile, one per instruction set.
+// Include it only from walks_sse2.cpp, walks_avx2.cpp and walks_avx512.cpp, once each: it defines
+// functions (not inline) in the namespace of the unit's ISA, and its tail under
+// `#ifdef RT_ISA_SSE2` defines intersect_brute_force() and intersect_primitive() once, in the
+// SSE2 unit. Nothing else includes it; queries.h declares what it defines.
+//
 // The ray queries on a RenderScene, one compiled walk per geometry variant (queries.h), as one
-// kernel family compiled per instruction set (isa_target.h): walks_sse2.cpp, walks_avx2.cpp and
-// walks_avx512.cpp each include this file once. intersect.cpp picks the table of the active one.
+// kernel family compiled per instruction set (isa_target.h). intersect.cpp picks the table of the
+// active one.
 #pragma once
 
 #include <algorithm>
