@@ -4,7 +4,7 @@
 #pragma once
 
 #include "rt/accel/bvh.h"
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 
 namespace rt::avx2 {
 

@@ -260,5 +260,67 @@ TEST(Compile, RecordsWhereEachPrimitiveWasRead) {
     EXPECT_TRUE(plain.prim_locs.empty());  // only when asked
 }
 
+// A description's light, material and camera are the render's with a location (and a name):
+// the compile takes them as they are, makes directions unit, keeps the file's texture index for
+// the caller to renumber, and material_terms_into() leaves the location, name and texture.
+TEST(Compile, TakesTheLightMaterialAndCameraOfTheDescriptionAsTheyAre) {
+    LightDesc spot;
+    spot.kind = LightKind::Spot;
+    spot.set_colour(Vec3(0.5, 0.25, 1));
+    spot.position = Vec3(1, 2, 3);
+    spot.direction = Vec3(0, 0, -2);
+    spot.linear_atten = 0.5;
+    spot.cutoff_rad = 0.3;
+    spot.spot_exponent = 7;
+    Light expected = spot;
+    expected.direction = Vec3(0, 0, -1);
+    EXPECT_EQ(compile_light(spot), expected);
+    LightDesc point = spot;
+    point.kind = LightKind::Point;
+    EXPECT_EQ(compile_light(point).direction, Light{}.direction);  // a point has none
+
+    MaterialDesc md;
+    md.name = "glass";
+    md.texture = 2;
+    md.diffuse = Vec3(0.1, 0.2, 0.3);
+    md.refractive_index = 1.5;
+    const Material m = compile_material(md);
+    EXPECT_EQ(m.diffuse, md.diffuse);
+    EXPECT_EQ(m.refractive_index, 1.5);
+    EXPECT_EQ(m.texture, 2);
+    Material edited = m;
+    edited.specular = Vec3(1.0);
+    edited.texture = 7;
+    material_terms_into(edited, &md);
+    EXPECT_EQ(md.specular, Vec3(1.0));
+    EXPECT_EQ(md.texture, 2);
+    EXPECT_EQ(md.name, "glass");
+
+    CameraDesc c;
+    c.position = Vec3(1, 2, 3);
+    c.half_height_angle_rad = 0.4;
+    const CameraPose pose = compile_camera(c);
+    EXPECT_EQ(pose.position, c.position);
+    EXPECT_EQ(pose.direction, c.direction);
+    EXPECT_EQ(pose.half_height_angle_rad, 0.4);
+}
+
+// One rule for a light with one colour (spec §7.1): no ambient, diffuse = specular, and never a
+// sphere light (V3's, shaded by §13.9 with its shadow over the sphere).
+TEST(Compile, OneColourLightsAreThoseOfSpec71AndNeverSpheres) {
+    Light l;
+    EXPECT_TRUE(l.one_colour());
+    l.set_colour(Vec3(0.5));
+    EXPECT_TRUE(l.one_colour());
+    l.specular = Vec3(0.25);
+    EXPECT_FALSE(l.one_colour());
+    l.set_colour(Vec3(0.5));
+    l.ambient = Vec3(0.1);
+    EXPECT_FALSE(l.one_colour());
+    l.set_colour(Vec3(0.5));
+    l.kind = LightKind::Sphere;
+    EXPECT_FALSE(l.one_colour());
+}
+
 }  // namespace
 }  // namespace rt

@@ -1,9 +1,13 @@
 // Text from files shown safely (rt/util/text.h): what the parser's messages, the ray tree and
-// raycompare's table print of a name, a token or a path.
+// raycompare's table print of a name, a token or a path; the names of enum values
+// (rt/util/enum_names.h, the light kinds' in rt/util/light_kind.h).
 #include <gtest/gtest.h>
 
 #include <string>
 
+#include "rt/util/enum_names.h"
+#include "rt/util/isa.h"
+#include "rt/util/light_kind.h"
 #include "rt/util/text.h"
 
 namespace rt {
@@ -34,6 +38,30 @@ TEST(Text, QuoteCutsLongText) {
     EXPECT_EQ(quote("a\x1b"), "'a\\x1b'");
     const std::string q = quote(std::string(1000, 'a'));
     EXPECT_EQ(q, "'" + std::string(200, 'a') + "'... (1000 bytes)");
+}
+
+// A table of names in the enum's order: each value its name, a value outside the table the
+// fallback.
+TEST(EnumNames, TheTableInTheEnumsOrderAndTheFallbackPastIt) {
+    enum class E { A, B };
+    static constexpr const char* kNames[] = {"a", "b"};
+    EXPECT_STREQ(enum_name(E::B, kNames), "b");
+    EXPECT_STREQ(enum_name(static_cast<E>(2), kNames), "");
+    EXPECT_STREQ(enum_name(static_cast<E>(-1), kNames, "?"), "?");
+    EXPECT_STREQ(isa_name(Isa::Avx512), "avx512");
+    EXPECT_STREQ(isa_name(static_cast<Isa>(7)), "?");
+}
+
+// The light kinds' names, spelled once: each kind's name names it back, another word nothing.
+TEST(EnumNames, LightKindNamesGoBothWays) {
+    EXPECT_STREQ(light_kind_name(LightKind::Directional), "directional");
+    EXPECT_STREQ(light_kind_name(LightKind::Sphere), "sphere");
+    for (int k = 0; k < kLightKinds; ++k) {
+        const LightKind kind = static_cast<LightKind>(k);
+        EXPECT_EQ(light_kind_from_name(light_kind_name(kind)), kind);
+    }
+    EXPECT_FALSE(light_kind_from_name("area").has_value());
+    EXPECT_FALSE(light_kind_from_name("").has_value());
 }
 
 }  // namespace

@@ -4,7 +4,7 @@
 
 #include "options.h"
 #include "rt/compile/compile.h"
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 
 namespace raytrace {

@@ -7,8 +7,8 @@
 #include <optional>
 
 #include "options.h"
-#include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 
 namespace raytrace {

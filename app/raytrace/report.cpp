@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "rt/util/isa.h"
+#include "rt/util/light_kind.h"
 #include "rt/util/stopwatch.h"
 
 namespace raytrace {
@@ -199,14 +200,14 @@ std::string progress_svg(const std::vector<ProgressRun>& runs, const std::string
 }
 
 std::string light_summary(const rt::SceneDesc& desc) {
-    static const char* const kNames[rt::kLightKinds] = {"directional", "point", "spot", "sphere"};
     size_t count[rt::kLightKinds] = {};
     for (const rt::LightDesc& l : desc.lights) ++count[static_cast<int>(l.kind)];
     std::string kinds;
     for (int k = 0; k < rt::kLightKinds; ++k) {
         if (count[k] == 0) continue;
-        kinds +=
-            (kinds.empty() ? "" : ", ") + std::string(kNames[k]) + " " + std::to_string(count[k]);
+        kinds += (kinds.empty() ? "" : ", ") +
+                 std::string(rt::light_kind_name(static_cast<rt::LightKind>(k))) + " " +
+                 std::to_string(count[k]);
     }
     return std::to_string(desc.lights.size()) + (kinds.empty() ? "" : " (" + kinds + ")");
 }

@@ -6,7 +6,7 @@
 
 #include "options.h"
 #include "report.h"
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 
 namespace raytrace {

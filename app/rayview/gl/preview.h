@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "gl/gl_util.h"
-#include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/camera.h"
 #include "rt/render/plan.h"
+#include "rt/render_scene.h"
 #include "state/csg_preview.h"
 #include "state/overlay.h"
 #include "state/preview_geometry.h"

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 #include "rt/shapes/shapes.h"
 
 namespace rt::view {

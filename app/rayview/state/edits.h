@@ -5,9 +5,9 @@
 
 #include <vector>
 
-#include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/render.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 #include "state/camera_controller.h"
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <thread>
 
-#include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/render.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 #include "rt/util/threads.h"
 

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "rt/compile/compile.h"
-#include "rt/compile/render_scene.h"
 #include "rt/format/parser.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 #include "state/edits.h"
 #include "state/preview_geometry.h"

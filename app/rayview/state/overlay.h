@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "rt/compile/render_scene.h"
 #include "rt/render/inspect.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 
 namespace rt::view {

@@ -7,7 +7,7 @@
 #include <atomic>
 #include <vector>
 
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 #include "rt/shapes/tessellate.h"
 #include "state/csg_preview.h"
 

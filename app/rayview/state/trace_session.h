@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/render.h"
+#include "rt/render_scene.h"
 #include "state/tracer.h"
 
 namespace rt::view {

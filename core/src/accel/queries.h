@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "rt/accel/intersect.h"
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 
 namespace rt {
 

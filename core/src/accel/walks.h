@@ -1,6 +1,12 @@
+// NOT AN ORDINARY HEADER: a source file that three units compile, one per instruction set.
+// Include it only from walks_sse2.cpp, walks_avx2.cpp and walks_avx512.cpp, once each: it defines
+// functions (not inline) in the namespace of the unit's ISA, and its tail under
+// `#ifdef RT_ISA_SSE2` defines intersect_brute_force() and intersect_primitive() once, in the
+// SSE2 unit. Nothing else includes it; queries.h declares what it defines.
+//
 // The ray queries on a RenderScene, one compiled walk per geometry variant (queries.h), as one
-// kernel family compiled per instruction set (isa_target.h): walks_sse2.cpp, walks_avx2.cpp and
-// walks_avx512.cpp each include this file once. intersect.cpp picks the table of the active one.
+// kernel family compiled per instruction set (isa_target.h). intersect.cpp picks the table of the
+// active one.
 #pragma once
 
 #include <algorithm>
@@ -463,14 +469,7 @@ SurfaceInteraction surface_interaction(const RenderScene& scene, const Ray& ray,
         sp.n_shading = -sp.n_shading;
     }
 
-    SurfaceInteraction si;
-    si.p = sp.p;
-    si.p_error = sp.p_error;
-    si.n_geometric = sp.n_geometric;
-    si.n_shading = sp.n_shading;
-    si.uv = sp.uv;
-    si.material = p.material;
-    return si;
+    return {sp, p.material};
 }
 
 // The CSG bit matters with the Mixed and per-set layouts only (the others hold no CSG).

@@ -904,50 +904,22 @@ Bounds3 GeometrySet::prim_bounds(size_t i) const {
     });
 }
 
-Material compile_material(const MaterialDesc& d) {
-    Material m;
-    m.emissive = d.emissive;
-    m.ambient = d.ambient;
-    m.diffuse = d.diffuse;
-    m.specular = d.specular;
-    m.specular_exponent = d.specular_exponent;
-    m.transparent = d.transparent;
-    m.refractive_index = d.refractive_index;
-    m.texture = d.texture;
-    return m;
-}
+Material compile_material(const MaterialDesc& d) { return d; }
 
 void material_terms_into(const Material& m, MaterialDesc* d) {
-    d->emissive = m.emissive;
-    d->ambient = m.ambient;
-    d->diffuse = m.diffuse;
-    d->specular = m.specular;
-    d->specular_exponent = m.specular_exponent;
-    d->transparent = m.transparent;
-    d->refractive_index = m.refractive_index;
+    const int texture = d->texture;  // the file's numbering stays
+    static_cast<Material&>(*d) = m;
+    d->texture = texture;
 }
 
 Light compile_light(const LightDesc& d) {
-    Light l;
-    l.kind = d.kind;
-    l.ambient = d.ambient;
-    l.diffuse = d.diffuse;
-    l.specular = d.specular;
-    l.radius = d.radius;
-    l.position = d.position;
-    if (d.kind == LightKind::Directional || d.kind == LightKind::Spot)
-        l.direction = glm::normalize(d.direction);
-    l.constant_atten = d.constant_atten;
-    l.linear_atten = d.linear_atten;
-    l.quadratic_atten = d.quadratic_atten;
-    l.cutoff_rad = d.cutoff_rad;
-    l.spot_exponent = d.spot_exponent;
+    Light l = d;
+    const bool directed = d.kind == LightKind::Directional || d.kind == LightKind::Spot;
+    l.direction = directed ? glm::normalize(d.direction) : Light{}.direction;
     return l;
 }
 
-CameraPose compile_camera(const CameraDesc& d) {
-    return {d.position, d.direction, d.up, d.half_height_angle_rad};
-}
+CameraPose compile_camera(const CameraDesc& d) { return d; }
 
 BvhBuildSettings set_bvh_settings(SetLayout layout) {
     switch (layout) {

@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_time.h"
 
 namespace rt::compile_detail {

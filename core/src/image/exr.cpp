@@ -314,24 +314,21 @@ uint64_t chunk_count(const Imf::Header& h, bool tiled) {
     throw std::runtime_error("unknown EXR tile level mode");
 }
 
-// OpenEXR trusts a file's chunk offset tables: it allocates them at the size its headers imply
-// (8 bytes a chunk), and a chunk missing from the file is found only when its pixels are read,
-// after the caller has allocated the image. So before OpenEXR opens the file, every part's table
-// is checked against the file's bytes: the tables fit in the file, every chunk (its offset, its
-// own header and the data size it declares) lies inside the file after the tables, and no two
-// chunks overlap. A file that passes holds every chunk its headers declare.
-void check_chunks(std::string_view d, size_t tables) {
+struct ChunkPart {
+    uint64_t chunks;
+    size_t prefix;  // the bytes of a chunk's own header
+    bool deep;
+};
+
+// check_chunks()'s first half: every part's header in turn, its chunks (which the offset tables
+// must have room for in the file) and the size of their own headers; *total_out: the chunks of all.
+std::vector<ChunkPart> chunk_parts(std::string_view d, size_t tables, uint64_t* total_out) {
     MemoryInStream stream(d);
     stream.seekg(4);
     const int version = static_cast<int>(read_le(d, 4, 4));
     stream.seekg(8);
     const bool multipart = Imf::isMultiPart(version);
-    struct Part {
-        uint64_t chunks;
-        size_t prefix;  // the bytes of a chunk's own header
-        bool deep;
-    };
-    std::vector<Part> parts;
+    std::vector<ChunkPart> parts;
     uint64_t total = 0;
     for (;;) {
         Imf::Header h;
@@ -365,6 +362,20 @@ void check_chunks(std::string_view d, size_t tables) {
         const uint64_t next = stream.tellg();
         if (!multipart || next >= d.size() || d[static_cast<size_t>(next)] == '\0') break;
     }
+    *total_out = total;
+    return parts;
+}
+
+// OpenEXR trusts a file's chunk offset tables: it allocates them at the size its headers imply
+// (8 bytes a chunk), and a chunk missing from the file is found only when its pixels are read,
+// after the caller has allocated the image. So before OpenEXR opens the file, every part's table
+// is checked against the file's bytes: the tables fit in the file, every chunk (its offset, its
+// own header and the data size it declares) lies inside the file after the tables, and no two
+// chunks overlap. A file that passes holds every chunk its headers declare.
+void check_chunks(std::string_view d, size_t tables) {
+    const bool multipart = Imf::isMultiPart(static_cast<int>(read_le(d, 4, 4)));
+    uint64_t total = 0;
+    const std::vector<ChunkPart> parts = chunk_parts(d, tables, &total);
     const size_t chunks_start = tables + static_cast<size_t>(total) * 8;
     std::vector<std::pair<uint64_t, uint64_t>> spans;  // [start, end) of every chunk
     spans.reserve(static_cast<size_t>(total));

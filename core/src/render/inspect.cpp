@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "camera_sample.h"
+#include "rt/util/enum_names.h"
 #include "shading_impl.h"
 #include "variants.h"
 
@@ -28,30 +29,21 @@ struct TreeContext {
 };
 
 const char* stop_text(StopReason r) {
-    switch (r) {
-        case StopReason::DepthLimit:
-            return "depth limit";
-        case StopReason::Cutoff:
-            return "path weight below the cutoff";
-        case StopReason::Zero:
-            return "weight 0";
-        case StopReason::TotalInternalReflection:
-            return "total internal reflection";
-        case StopReason::LeftOut:
-            return "left out by the plan";
-    }
-    return "";
+    static constexpr const char* kText[] = {"depth limit", "path weight below the cutoff",
+                                            "weight 0", "total internal reflection",
+                                            "left out by the plan"};  // StopReason's order
+    return enum_name(r, kText);
 }
 
 const char* kind_text(SecondaryKind k) {
     return k == SecondaryKind::Reflected ? "reflected" : "refracted";
 }
 
-// The recorder: the shading code calls it (behind `if constexpr (Rec::kOn)`) with the values it
-// computes. `node` is the ray being shaded, `light` the light term being evaluated (-1: none).
-// A ray traced past the tree's limits has node -1: it records nothing but its count and, the
-// first of its subtree (`top`), its colour, into the entry `entry` of the not_recorded list of
-// the recorded ray `owner` above it.
+// The recorder: the shading code calls it with the values it computes (a render calls NoRecord's
+// empty methods instead, variants.h). `node` is the ray being shaded, `light` the light term being
+// evaluated (-1: none). A ray traced past the tree's limits has node -1: it records nothing but its
+// count and, the first of its subtree (`top`), its colour, into the entry `entry` of the
+// not_recorded list of the recorded ray `owner` above it.
 struct TreeRecorder {
     static constexpr bool kOn = true;
     TreeContext* ctx = nullptr;
@@ -106,22 +98,12 @@ struct TreeRecorder {
         x.k_transmit = m.transparent;
     }
 
-    TreeRecorder light(int plan_index, const Light& l, bool one_colour) const {
+    TreeRecorder light(int plan_index, const Light& l) const {
         if (!on()) return *this;
         ++ctx->tree.records;  // a recorded ray keeps every light term (its sum must hold)
         InspectLight t;
+        static_cast<Light&>(t) = l;
         t.light = ctx->light_ids[static_cast<size_t>(plan_index)];
-        t.kind = l.kind;
-        t.one_colour = one_colour;
-        t.position = l.position;
-        t.ambient = l.ambient;
-        t.diffuse = l.diffuse;
-        t.specular = l.specular;
-        t.constant = l.constant_atten;
-        t.linear = l.linear_atten;
-        t.quadratic = l.quadratic_atten;
-        t.cutoff_deg = l.cutoff_rad * 180.0 / kPi;
-        t.spot_exponent = l.spot_exponent;
         ray().lights.push_back(std::move(t));
         TreeRecorder r = *this;
         r.light_term = static_cast<int>(ray().lights.size()) - 1;

@@ -11,6 +11,8 @@
 
 #include "rt/render/inspect.h"
 #include "rt/shapes/shapes.h"
+#include "rt/util/enum_names.h"
+#include "rt/util/light_kind.h"
 #include "rt/util/text.h"
 
 namespace rt {
@@ -25,30 +27,12 @@ std::string num(double v) {
 
 std::string vec(const Vec3& v) { return "(" + num(v.x) + " " + num(v.y) + " " + num(v.z) + ")"; }
 
-const char* light_kind_text(LightKind k) {
-    switch (k) {
-        case LightKind::Directional:
-            return "directional";
-        case LightKind::Point:
-            return "point";
-        case LightKind::Spot:
-            return "spot";
-        case LightKind::Sphere:
-            return "sphere";
-    }
-    return "";
-}
+// A spot light's cut-off angle in degrees, as the text and the JSON show it.
+double cutoff_deg(const Light& l) { return l.cutoff_rad * 180.0 / kPi; }
 
 const char* ray_kind_text(InspectRay::Kind k) {
-    switch (k) {
-        case InspectRay::Kind::Camera:
-            return "camera";
-        case InspectRay::Kind::Reflected:
-            return "reflected";
-        case InspectRay::Kind::Refracted:
-            return "refracted";
-    }
-    return "";
+    static constexpr const char* kText[] = {"camera", "reflected", "refracted"};  // Kind's order
+    return enum_name(k, kText);
 }
 
 // A name from the scene as the text shows it: as it is, or, holding a control byte (which
@@ -138,21 +122,22 @@ public:
 
 private:
     void light(const InspectRay& r, const InspectLight& l, int pad) {
-        std::string head = "light " + std::to_string(l.light) + " (" + light_kind_text(l.kind);
+        std::string head = "light " + std::to_string(l.light) + " (" + light_kind_name(l.kind);
         if (l.kind != LightKind::Directional) head += " at " + vec(l.position);
-        head += l.one_colour ? ", I " + vec(l.diffuse)
-                             : ", A_l " + vec(l.ambient) + ", D_l " + vec(l.diffuse) + ", S_l " +
-                                   vec(l.specular);
+        head += l.one_colour() ? ", I " + vec(l.diffuse)
+                               : ", A_l " + vec(l.ambient) + ", D_l " + vec(l.diffuse) + ", S_l " +
+                                     vec(l.specular);
         line(pad, head + ")");
         const int in = pad + 2;
         if (l.attenuated)
-            line(in, "attenuation = 1 / (c0 " + num(l.constant) + " + c1 " + num(l.linear) +
-                         " x d + c2 " + num(l.quadratic) + " x d^2), d " + num(l.distance) +
-                         " = 1 / " + num(l.denominator) + " = " + num(1.0 / l.denominator));
+            line(in, "attenuation = 1 / (c0 " + num(l.constant_atten) + " + c1 " +
+                         num(l.linear_atten) + " x d + c2 " + num(l.quadratic_atten) +
+                         " x d^2), d " + num(l.distance) + " = 1 / " + num(l.denominator) + " = " +
+                         num(1.0 / l.denominator));
         if (l.spot)
             line(in, "spot = cos a " + num(l.cos_angle) + " (a " +
                          num(std::acos(std::clamp(l.cos_angle, -1.0, 1.0)) * 180.0 / kPi) +
-                         " deg, cut-off " + num(l.cutoff_deg) + " deg) ^ exponent " +
+                         " deg, cut-off " + num(cutoff_deg(l)) + " deg) ^ exponent " +
                          num(l.spot_exponent) + " = " + num(l.spot_factor));
         line(in, "f_l = " + num(l.factor));
         if (l.ambient_term != Vec3(0.0))
@@ -169,7 +154,7 @@ private:
             for (const InspectShadowRay& s : l.shadow_rays) shadow(s, in + 2);
         }
         if (l.note.empty() || l.value != Vec3(0.0)) {
-            if (l.one_colour) {
+            if (l.one_colour()) {
                 const Vec3 i = l.diffuse * l.factor;
                 line(in, "diffuse  = I_l " + vec(i) + " x K_D " + vec(r.k_d) + " x N.L " +
                              num(l.n_dot_l) + " = " + vec(l.diffuse_term));
@@ -409,39 +394,39 @@ public:
         m_j.close('}');
     }
 
+    // "key": {what fill writes}, or "key": null when the term is absent.
+    template <class F>
+    void object_or_null(const char* key, bool present, F fill) {
+        m_j.key(key);
+        if (!present) return m_j.null();
+        m_j.open('{');
+        fill();
+        m_j.close('}');
+    }
+
     void light(const InspectLight& l) {
         m_j.open('{');
         m_j.ki("light", l.light);
-        m_j.kv("kind", light_kind_text(l.kind));
-        m_j.kb("one_colour", l.one_colour);
+        m_j.kv("kind", light_kind_name(l.kind));
+        m_j.kb("one_colour", l.one_colour());
         m_j.kv("position", l.position);
         m_j.kv("ambient_colour", l.ambient);
         m_j.kv("colour", l.diffuse);
         m_j.kv("specular_colour", l.specular);
-        m_j.key("attenuation");
-        if (l.attenuated) {
-            m_j.open('{');
+        object_or_null("attenuation", l.attenuated, [&] {
             m_j.kv("d", l.distance);
-            m_j.kv("c0", l.constant);
-            m_j.kv("c1", l.linear);
-            m_j.kv("c2", l.quadratic);
+            m_j.kv("c0", l.constant_atten);
+            m_j.kv("c1", l.linear_atten);
+            m_j.kv("c2", l.quadratic_atten);
             m_j.kv("denominator", l.denominator);
             m_j.kv("value", 1.0 / l.denominator);
-            m_j.close('}');
-        } else {
-            m_j.null();
-        }
-        m_j.key("spot");
-        if (l.spot) {
-            m_j.open('{');
+        });
+        object_or_null("spot", l.spot, [&] {
             m_j.kv("cos_angle", l.cos_angle);
-            m_j.kv("cutoff_deg", l.cutoff_deg);
+            m_j.kv("cutoff_deg", cutoff_deg(l));
             m_j.kv("exponent", l.spot_exponent);
             m_j.kv("value", l.spot_factor);
-            m_j.close('}');
-        } else {
-            m_j.null();
-        }
+        });
         m_j.kv("factor", l.factor);
         m_j.kv("L", l.to_light);
         m_j.kv("n_dot_l", l.n_dot_l);
@@ -450,15 +435,10 @@ public:
         m_j.kv("ambient", l.ambient_term);
         m_j.kv("diffuse", l.diffuse_term);
         m_j.kv("specular", l.specular_term);
-        m_j.key("shadow");
-        if (l.shadow_tested) {
-            m_j.open('{');
+        object_or_null("shadow", l.shadow_tested, [&] {
             m_j.kv("value", l.shadow);
             m_j.ki("rays", static_cast<long long>(l.shadow_ray_count));
-            m_j.close('}');
-        } else {
-            m_j.null();
-        }
+        });
         m_j.kv("value", l.value);
         m_j.kv("note", l.note);
         m_j.close('}');

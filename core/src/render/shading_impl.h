@@ -2,9 +2,9 @@
 // shading.cpp compiles once per ShadeFeature combination to render, and inspect.cpp once more,
 // the generic combination, with a recorder that writes down every ray and term
 // (rt/render/inspect.h). The recorder is the template parameter Rec: NoRecord, which renders, has
-// kOn = false, and every recording call sits behind `if constexpr (Rec::kOn)`, so the render
-// instances hold no trace of it. The recorder only reads values the shading computed; it never
-// computes a term of its own.
+// empty inline methods, so the render instances hold no trace of it. Every call passes values
+// the shading computes anyway; a call whose arguments would cost work of their own belongs
+// behind `if constexpr (Rec::kOn)`. The recorder never computes a term of its own.
 #pragma once
 
 #include <algorithm>
@@ -27,8 +27,8 @@ enum class SecondaryKind { Reflected, Refracted };
 // attenuation), without kSpot no cut-off or drop-off code. A sphere light is a point light at its
 // centre. 0: the light contributes nothing at p. light_factor is the version with every kind.
 template <bool kAttenuation, bool kSpot, class Rec = NoRecord>
-double light_kinds(const Light& light, const Vec3& p, Vec3* to_light, double* distance,
-                   Rec rec = {}) {
+[[gnu::always_inline]] inline double light_kinds(const Light& light, const Vec3& p, Vec3* to_light,
+                                                 double* distance, Rec rec = {}) {
     if (!kAttenuation || light.kind == LightKind::Directional) {
         *to_light = -light.direction;
         *distance = kInf;
@@ -40,21 +40,21 @@ double light_kinds(const Light& light, const Vec3& p, Vec3* to_light, double* di
     const Vec3 l = delta / dist;
     const double denom =
         light.constant_atten + light.linear_atten * dist + light.quadratic_atten * dist * dist;
-    if constexpr (Rec::kOn) rec.attenuation(dist, denom, l);
+    rec.attenuation(dist, denom, l);
     if (!(denom > 0.0) || !std::isfinite(denom)) return 0.0;
     double factor = 1.0 / denom;
     if (kSpot && light.kind == LightKind::Spot) {
         const double cos_a = glm::dot(light.direction, -l);
         if (std::acos(std::clamp(cos_a, -1.0, 1.0)) > light.cutoff_rad) {
-            if constexpr (Rec::kOn) rec.spot(cos_a, 0.0);
+            rec.spot(cos_a, 0.0);
             return 0.0;
         }
         // The factor is 1 when p = 0, whatever the angle (spec §7.2).
         if (light.spot_exponent != 0.0) {
             const double spot = std::pow(std::max(0.0, cos_a), light.spot_exponent);
-            if constexpr (Rec::kOn) rec.spot(cos_a, spot);
+            rec.spot(cos_a, spot);
             factor *= spot;
-        } else if constexpr (Rec::kOn) {
+        } else {
             rec.spot(cos_a, 1.0);
         }
     }
@@ -112,11 +112,11 @@ template <uint32_t F, class Rec>
     const double t_max = target ? 1.0 : kInf;
     if constexpr ((F & kShadeTransmissiveShadows) != 0) {
         *s = geometry.transmittance(scene, shadow_ray, t_max);
-        if constexpr (Rec::kOn) rec.shadow_ray(scene, geometry, shadow_ray, t_max, *s);
+        rec.shadow_ray(scene, geometry, shadow_ray, t_max, *s);
         return *s != Vec3(0.0);
     }
     const bool passes = !geometry.occluded(scene, shadow_ray, t_max);
-    if constexpr (Rec::kOn) rec.shadow_ray(scene, geometry, shadow_ray, t_max, Vec3(passes));
+    rec.shadow_ray(scene, geometry, shadow_ray, t_max, Vec3(passes));
     return passes;
 }
 
@@ -189,35 +189,34 @@ template <uint32_t F, class Rec>
                                                     const ShadePoint& sp, const Light& light,
                                                     RayCounters& counters, Vec3& c, Rec rec) {
     if (light.diffuse == Vec3(0.0)) {  // lights nothing (not 0 * inf = NaN either)
-        if constexpr (Rec::kOn) rec.skip("the light's colour is 0");
+        rec.skip("the light's colour is 0");
         return;
     }
     Vec3 l;
     double dist = 0.0;
     const double factor = light_at<F>(light, sp.si.p, &l, &dist, rec);
-    if constexpr (Rec::kOn) rec.factor(factor);
+    rec.factor(factor);
     if (!(factor > 0.0)) return;
     const Vec3 intensity = light.diffuse * factor;
     const double n_dot_l = glm::dot(sp.n, l);
-    if constexpr (Rec::kOn) rec.facing(l, n_dot_l);
+    rec.facing(l, n_dot_l);
     if (!(n_dot_l > 0.0)) return;
     Vec3 s(1.0);
     if constexpr ((F & kShadeShadows) != 0)
         if (settings.shadows &&
             !shadow_ray_passes<F>(scene, *plan.geometry, sp.si, light, l, &s, counters, rec)) {
-            if constexpr (Rec::kOn) rec.shadow(Vec3(0.0));
+            rec.shadow(Vec3(0.0));
             return;
         }
-    if constexpr (Rec::kOn) rec.shadow(s);
+    rec.shadow(s);
     if constexpr ((F & kShadeHighlights) != 0) {
-        const Vec3 lit = s * intensity * (sp.kd * n_dot_l + sp.ks * highlight(sp, l));
-        if constexpr (Rec::kOn)
-            rec.direct(sp, l, intensity * sp.kd * n_dot_l, intensity * sp.ks * highlight(sp, l),
-                       lit);
+        const double h = highlight(sp, l);
+        const Vec3 lit = s * intensity * (sp.kd * n_dot_l + sp.ks * h);
+        rec.direct(sp, l, intensity * sp.kd * n_dot_l, intensity * sp.ks * h, lit);
         c += lit;
     } else {
         const Vec3 lit = s * intensity * (sp.kd * n_dot_l);
-        if constexpr (Rec::kOn) rec.direct(sp, l, intensity * sp.kd * n_dot_l, Vec3(0.0), lit);
+        rec.direct(sp, l, intensity * sp.kd * n_dot_l, Vec3(0.0), lit);
         c += lit;
     }
 }
@@ -237,18 +236,17 @@ template <uint32_t F, class Rec>
     Vec3 l;
     double dist = 0.0;
     const double f = light_at<F>(light, sp.si.p, &l, &dist, rec);
-    if constexpr (Rec::kOn) rec.factor(f);
+    rec.factor(f);
     if (!(f > 0.0)) return;  // nothing here, the ambient term included
     if (light.ambient != Vec3(0.0)) {
         const Vec3 ambient = sp.ka * light.ambient * f;
-        if constexpr (Rec::kOn) rec.light_ambient(ambient);
+        rec.light_ambient(ambient);
         c += ambient;
     }
     const double n_dot_l = glm::dot(sp.n, l);
-    if constexpr (Rec::kOn) rec.facing(l, n_dot_l);
+    rec.facing(l, n_dot_l);
     if (!(n_dot_l > 0.0) || (light.diffuse == Vec3(0.0) && light.specular == Vec3(0.0))) {
-        if constexpr (Rec::kOn)
-            if (n_dot_l > 0.0) rec.skip("diffuse and specular colours are 0");
+        if (n_dot_l > 0.0) rec.skip("diffuse and specular colours are 0");
         return;
     }
     Vec3 s(1.0);
@@ -260,10 +258,10 @@ template <uint32_t F, class Rec>
                                                                  light, rng, counters, rec);
             else if (!shadow_ray_passes<F>(scene, *plan.geometry, sp.si, light, l, &s, counters,
                                            rec)) {
-                if constexpr (Rec::kOn) rec.shadow(Vec3(0.0));
+                rec.shadow(Vec3(0.0));
                 return;
             }
-            if constexpr (Rec::kOn) rec.shadow(s);
+            rec.shadow(s);
             if (s == Vec3(0.0)) return;
         }
     }
@@ -275,13 +273,8 @@ template <uint32_t F, class Rec>
             lit += specular;
         }
     const Vec3 value = s * f * lit;
-    if constexpr (Rec::kOn) rec.direct(sp, l, f * diffuse, f * specular, value);
+    rec.direct(sp, l, f * diffuse, f * specular, value);
     c += value;
-}
-
-// Whether a light takes the one-colour path: its terms are then those of spec §7.1.
-inline bool one_colour(const Light& l) {
-    return l.kind != LightKind::Sphere && l.ambient == Vec3(0.0) && l.diffuse == l.specular;
 }
 
 template <uint32_t F, class Rec>
@@ -297,11 +290,10 @@ void secondary_rays(const RenderScene& scene, const RenderPlan& plan,
     constexpr bool kStochastic = (F & kShadeStochastic) != 0;
     const SurfaceInteraction& si = sp.si;
     const Vec3& n = sp.n;
-    auto traced = [&](const Vec3& w, [[maybe_unused]] SecondaryKind kind) {
+    auto traced = [&](const Vec3& w, SecondaryKind kind) {
         if (w != Vec3(0.0) && (settings.cutoff == 0.0 || max_component(w) >= settings.cutoff))
             return true;
-        if constexpr (Rec::kOn)
-            rec.stop(kind, w == Vec3(0.0) ? StopReason::Zero : StopReason::Cutoff, w);
+        rec.stop(kind, w == Vec3(0.0) ? StopReason::Zero : StopReason::Cutoff, w);
         return false;
     };
     if constexpr ((F & kShadeReflection) != 0) {
@@ -319,18 +311,13 @@ void secondary_rays(const RenderScene& scene, const RenderPlan& plan,
             }
             ++counters.reflected;
             const Ray r = spawn_ray(si, dir);
-            if constexpr (Rec::kOn) {
-                const Rec child = rec.secondary(SecondaryKind::Reflected, r, depth - 1, w_refl);
-                const Vec3 v = m.specular * trace<F>(scene, plan, settings, r, depth - 1, w_refl,
-                                                     counters, rng, child);
-                rec.secondary_value(SecondaryKind::Reflected, m.specular, v);
-                c += v;
-            } else {
-                c += m.specular *
-                     trace<F>(scene, plan, settings, r, depth - 1, w_refl, counters, rng, rec);
-            }
+            const Rec child = rec.secondary(SecondaryKind::Reflected, r, depth - 1, w_refl);
+            const Vec3 v = m.specular * trace<F>(scene, plan, settings, r, depth - 1, w_refl,
+                                                 counters, rng, child);
+            rec.secondary_value(SecondaryKind::Reflected, m.specular, v);
+            c += v;
         }
-    } else if constexpr (Rec::kOn) {
+    } else {
         rec.stop(SecondaryKind::Reflected, StopReason::LeftOut, weight * m.specular);
     }
     if constexpr ((F & kShadeRefraction) != 0) {
@@ -345,23 +332,18 @@ void secondary_rays(const RenderScene& scene, const RenderPlan& plan,
                 const Vec3 dir = eta * d + (eta * cos_i - std::sqrt(k)) * n;
                 ++counters.refracted;
                 const Ray r = spawn_ray(si, dir);
-                if constexpr (Rec::kOn) {
-                    const Rec child =
-                        rec.secondary(SecondaryKind::Refracted, r, depth - 1, w_refr, eta, cos_i);
-                    const Vec3 v = m.transparent * trace<F>(scene, plan, settings, r, depth - 1,
-                                                            w_refr, counters, rng, child);
-                    rec.secondary_value(SecondaryKind::Refracted, m.transparent, v);
-                    c += v;
-                } else {
-                    c += m.transparent *
-                         trace<F>(scene, plan, settings, r, depth - 1, w_refr, counters, rng, rec);
-                }
-            } else if constexpr (Rec::kOn) {
+                const Rec child =
+                    rec.secondary(SecondaryKind::Refracted, r, depth - 1, w_refr, eta, cos_i);
+                const Vec3 v = m.transparent * trace<F>(scene, plan, settings, r, depth - 1, w_refr,
+                                                        counters, rng, child);
+                rec.secondary_value(SecondaryKind::Refracted, m.transparent, v);
+                c += v;
+            } else {
                 rec.stop(SecondaryKind::Refracted, StopReason::TotalInternalReflection, w_refr, eta,
                          cos_i);
             }
         }
-    } else if constexpr (Rec::kOn) {
+    } else {
         rec.stop(SecondaryKind::Refracted, StopReason::LeftOut, weight * m.transparent);
     }
 }
@@ -376,7 +358,7 @@ Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSetting
     const GeometryQueries& geometry = *plan.geometry;
     Hit hit;
     if (!geometry.intersect(scene, ray, {0.0, kInf}, &hit)) {
-        if constexpr (Rec::kOn) rec.miss(scene.background);
+        rec.miss(scene.background);
         return scene.background;
     }
     // Texture coordinates only where a texture reads them.
@@ -398,19 +380,13 @@ Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSetting
         si, n, d - 2.0 * glm::dot(d, n) * n, m.ambient * t, m.diffuse * t, ks, m.specular_exponent};
 
     Vec3 c = ke + sp.ka * scene.ambient;
-    if constexpr (Rec::kOn) rec.hit(scene, ray, hit, sp, side < 0, t, ke, sp.ka * scene.ambient);
+    rec.hit(scene, ray, hit, sp, side < 0, t, ke, sp.ka * scene.ambient);
     for (const Light& scene_light : plan.lights) {
         Light moved;
         const Light& light = sampled_light<F>(scene_light, si.p, settings, rng, &moved);
-        const Rec lrec = [&] {
-            if constexpr (Rec::kOn)
-                return rec.light(static_cast<int>(&scene_light - plan.lights.data()), light,
-                                 one_colour(light));
-            else
-                return rec;
-        }();
+        const Rec lrec = rec.light(static_cast<int>(&scene_light - plan.lights.data()), light);
         if constexpr ((F & kShadeV3Lights) != 0) {
-            if (!one_colour(light)) {
+            if (!light.one_colour()) {
                 three_colour_light<F & kLightBits>(scene, plan, settings, sp, light, rng, counters,
                                                    c, lrec);
                 continue;
@@ -422,13 +398,13 @@ Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSetting
         if (depth - 1 >= 1)
             secondary_rays<F>(scene, plan, settings, sp, m, d, depth, weight, counters, rng, c,
                               rec);
-        else if constexpr (Rec::kOn)
+        else
             rec.depth_limit(weight * m.specular, weight * m.transparent);
-    } else if constexpr (Rec::kOn) {
+    } else {
         rec.stop(SecondaryKind::Reflected, StopReason::LeftOut, weight * m.specular);
         rec.stop(SecondaryKind::Refracted, StopReason::LeftOut, weight * m.transparent);
     }
-    if constexpr (Rec::kOn) rec.result(c);
+    rec.result(c);
     return c;
 }
 

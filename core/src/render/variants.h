@@ -9,9 +9,9 @@
 
 #include "accel/queries.h"
 #include "rt/accel/intersect.h"
-#include "rt/compile/render_scene.h"
 #include "rt/render/plan.h"
 #include "rt/render/shading.h"
+#include "rt/render_scene.h"
 
 namespace rt {
 
@@ -34,9 +34,48 @@ enum ShadeFeature : uint32_t {
 
 namespace shading {
 /// The recorder of a render (shading_impl.h): it records nothing. An empty type passed by value
-/// takes no register.
+/// takes no register, and its empty inline methods (the inspector's TreeRecorder's, inspect.cpp)
+/// leave nothing in the render's code.
 struct NoRecord {
     static constexpr bool kOn = false;
+    template <class... A>
+    NoRecord light(const A&...) const {
+        return {};
+    }
+    template <class... A>
+    NoRecord secondary(const A&...) const {
+        return {};
+    }
+    template <class... A>
+    void attenuation(const A&...) const {}
+    template <class... A>
+    void spot(const A&...) const {}
+    template <class... A>
+    void factor(const A&...) const {}
+    template <class... A>
+    void facing(const A&...) const {}
+    template <class... A>
+    void skip(const A&...) const {}
+    template <class... A>
+    void light_ambient(const A&...) const {}
+    template <class... A>
+    void shadow_ray(const A&...) const {}
+    template <class... A>
+    void shadow(const A&...) const {}
+    template <class... A>
+    void direct(const A&...) const {}
+    template <class... A>
+    void secondary_value(const A&...) const {}
+    template <class... A>
+    void stop(const A&...) const {}
+    template <class... A>
+    void miss(const A&...) const {}
+    template <class... A>
+    void hit(const A&...) const {}
+    template <class... A>
+    void depth_limit(const A&...) const {}
+    template <class... A>
+    void result(const A&...) const {}
 };
 }  // namespace shading
 

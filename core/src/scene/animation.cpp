@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "rt/util/enum_names.h"
+
 namespace rt {
 
 namespace {
@@ -261,33 +263,15 @@ std::string rotation_names(const std::string& separator) {
 }
 
 const char* interpolation_name(Interpolation i) {
-    switch (i) {
-        case Interpolation::Nearest:
-            return "nearest";
-        case Interpolation::Linear:
-            return "linear";
-        case Interpolation::CatmullRom:
-            return "catmull-rom";
-        case Interpolation::BSpline:
-            break;
-    }
-    return "bspline";
+    static constexpr const char* kNames[kInterpolations] = {"nearest", "linear", "catmull-rom",
+                                                            "bspline"};
+    return enum_name(i, kNames, "bspline");
 }
 
 const char* rotation_name(Rotation r) {
-    switch (r) {
-        case Rotation::Matrix:
-            return "matrix";
-        case Rotation::Closest:
-            return "closest";
-        case Rotation::Euler:
-            return "euler";
-        case Rotation::Log:
-            return "log";
-        case Rotation::Quaternion:
-            break;
-    }
-    return "quaternion";
+    static constexpr const char* kNames[kRotations] = {"matrix", "closest", "euler", "log",
+                                                       "quaternion"};
+    return enum_name(r, kNames, "quaternion");
 }
 
 KeyPlace place_key(double t, double duration, int n) {

@@ -7,6 +7,8 @@
 #include <variant>
 #include <vector>
 
+#include "rt/util/enum_names.h"
+
 namespace rt {
 
 Bounds3 bounds(const ShapeDesc& shape, const FileDesc& file, const Mat4& m) {
@@ -31,15 +33,8 @@ Bounds3 bounds(const ShapeDesc& shape, const FileDesc& file, const Mat4& m) {
 namespace rt {
 
 const char* csg_op_name(CsgOp op) {
-    switch (op) {
-        case CsgOp::Union:
-            return "union";
-        case CsgOp::Intersection:
-            return "intersection";
-        case CsgOp::Difference:
-            break;
-    }
-    return "difference";
+    static constexpr const char* kNames[] = {"union", "intersection", "difference"};
+    return enum_name(op, kNames, "difference");
 }
 
 namespace {

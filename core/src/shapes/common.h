@@ -27,6 +27,24 @@ inline Vec2 disc_uv(bool top, double qx, double qz, double r) {
                : Vec2((qx + r) / (2 * r), (qz + r) / (2 * r));
 }
 
+/// A point q (relative to the shape's centre) put on the cap or base disc of radius r at height
+/// y, facing +y (top) or -y, with spec §5's disc uv when asked.
+inline void on_disc(bool top, double y, double r, bool uv, Vec3& q, SurfacePoint& sp) {
+    q.y = y;
+    sp.n_geometric = Vec3(0.0, top ? 1.0 : -1.0, 0.0);
+    if (uv) sp.uv = disc_uv(top, q.x, q.z, r);
+}
+
+/// sp placed at centre + q (q on the surface, relative to the centre), with the error bound of
+/// a re-projected point (g: the gamma of the shape's arithmetic) and the shading normal its
+/// geometric one.
+inline SurfacePoint placed(SurfacePoint sp, const Vec3& centre, const Vec3& q, double g) {
+    sp.p = centre + q;
+    sp.p_error = kAnalyticRetestMargin * g * (glm::abs(centre) + glm::abs(q));
+    sp.n_shading = sp.n_geometric;
+    return sp;
+}
+
 /// The point at azimuth phi (spec §5: measured from -z about +y) at horizontal radius rho.
 inline Vec3 around(double phi, double rho) {
     return {-rho * std::sin(phi), 0.0, -rho * std::cos(phi)};

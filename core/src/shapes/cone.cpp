@@ -8,7 +8,20 @@ namespace rt {
 
 namespace {
 enum ConePart { kConeSide = 0, kConeBase = 2 };
+
+// The apex is a point of the solid that the side roots find only as an ill-conditioned double
+// root (its error is the square root of the rounding). A ray passing the apex within the
+// rounding of its own position touches it there (*ta): the apex is a candidate of its own. f: the
+// ray's origin relative to the apex.
+bool passes_apex(const Vec3& f, const Vec3& d, const Vec3& apex, double* ta) {
+    const double dd = glm::dot(d, d);
+    *ta = dd > 0.0 ? -glm::dot(f, d) / dd : 0.0;
+    const Vec3 miss = f + *ta * d;
+    auto l1 = [](const Vec3& v) { return std::abs(v.x) + std::abs(v.y) + std::abs(v.z); };
+    const double err = gamma(7) * (l1(f) + std::abs(*ta) * l1(d) + l1(apex));
+    return glm::dot(miss, miss) <= err * err;
 }
+}  // namespace
 
 Bounds3 bounds(const Cone& c) {
     const Vec3 e(c.radius, 0.5 * c.height, c.radius);
@@ -83,17 +96,7 @@ ShapeHits intersect(const Cone& c, const Ray& ray, Interval t) {
         const double ta = -f.y / d.y;
         cand[n] = ta, part[n++] = kConeSide;
     }
-    // The apex is a point of the solid that the side roots find only as an ill-conditioned double
-    // root (its error is the square root of the rounding). A ray passing the apex within the
-    // rounding of its own position touches it there: the apex is a candidate of its own.
-    {
-        const double dd = glm::dot(d, d);
-        const double ta = dd > 0.0 ? -glm::dot(f, d) / dd : 0.0;
-        const Vec3 miss = f + ta * d;
-        auto l1 = [](const Vec3& v) { return std::abs(v.x) + std::abs(v.y) + std::abs(v.z); };
-        const double err = gamma(7) * (l1(f) + std::abs(ta) * l1(d) + l1(apex));
-        if (glm::dot(miss, miss) <= err * err) cand[n] = ta, part[n++] = kConeSide;
-    }
+    if (double ta = 0.0; passes_apex(f, d, apex, &ta)) cand[n] = ta, part[n++] = kConeSide;
     if (d.y != 0.0) {
         const double tb = (-c.height - f.y) / d.y;
         const double x = f.x + tb * d.x, z = f.z + tb * d.z;
@@ -121,14 +124,9 @@ SurfacePoint surface_at(const Cone& c, const Ray& ray, double t, int part, bool 
         if (rho_surface == 0.0) sp.n_geometric = Vec3(0.0, 1.0, 0.0);
         if (uv) sp.uv = {azimuth(q) / (2 * kPi), (q.y + h2) / h};
     } else {
-        q.y = -h2;
-        sp.n_geometric = Vec3(0.0, -1.0, 0.0);
-        if (uv) sp.uv = disc_uv(false, q.x, q.z, r);
+        on_disc(false, -h2, r, uv, q, sp);
     }
-    sp.p = c.centre + q;
-    sp.p_error = kAnalyticRetestMargin * gamma(6) * (glm::abs(c.centre) + glm::abs(q));
-    sp.n_shading = sp.n_geometric;
-    return sp;
+    return placed(sp, c.centre, q, gamma(6));
 }
 
 bool inside(const Cone& c, const Vec3& p_object) {

@@ -86,15 +86,9 @@ SurfacePoint surface_at(const Cylinder& c, const Ray& ray, double t, int part, b
         sp.n_geometric = Vec3(q.x / r, 0.0, q.z / r);
         if (uv) sp.uv = {azimuth(q) / (2 * kPi), (q.y + h2) / c.height};
     } else {
-        const bool top = part == kTop;
-        q.y = top ? h2 : -h2;
-        sp.n_geometric = Vec3(0.0, top ? 1.0 : -1.0, 0.0);
-        if (uv) sp.uv = disc_uv(top, q.x, q.z, r);
+        on_disc(part == kTop, part == kTop ? h2 : -h2, r, uv, q, sp);
     }
-    sp.p = c.centre + q;
-    sp.p_error = kAnalyticRetestMargin * gamma(5) * (glm::abs(c.centre) + glm::abs(q));
-    sp.n_shading = sp.n_geometric;
-    return sp;
+    return placed(sp, c.centre, q, gamma(5));
 }
 
 bool inside(const Cylinder& c, const Vec3& p_object) {

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "rt/util/enum_names.h"
 #include "rt/util/error.h"
 
 namespace rt {
@@ -77,15 +78,8 @@ const Choice& choice() {
 }  // namespace
 
 const char* isa_name(Isa isa) {
-    switch (isa) {
-        case Isa::Sse2:
-            return "sse2";
-        case Isa::Avx2:
-            return "avx2";
-        case Isa::Avx512:
-            return "avx512";
-    }
-    return "?";
+    static constexpr const char* kNames[kIsaCount] = {"sse2", "avx2", "avx512"};
+    return enum_name(isa, kNames, "?");
 }
 
 std::vector<Isa> supported_isas() {

@@ -3,7 +3,7 @@
 // and the brute-force path give the same answers; the latter stays for tests.
 #pragma once
 
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 
 namespace rt {
 
@@ -16,13 +16,9 @@ struct Hit {
                     // shape, part, material and transform interaction() uses
 };
 
-/// What shading needs at a hit, in world space.
-struct SurfaceInteraction {
-    Vec3 p{0.0};
-    Vec3 p_error{0.0};      // bound on |p - exact point|, per component
-    Vec3 n_geometric{0.0};  // outward, unit
-    Vec3 n_shading{0.0};    // unit, outward side
-    Vec2 uv{0.0};
+/// What shading needs at a hit, in world space: the surface point (rt/shapes/shapes.h) and its
+/// material.
+struct SurfaceInteraction : SurfacePoint {
     int material = 0;
 };
 

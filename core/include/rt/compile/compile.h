@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 
 namespace rt {

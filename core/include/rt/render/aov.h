@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "rt/compile/render_scene.h"
 #include "rt/image/exr.h"
 #include "rt/render/plan.h"
 #include "rt/render/render.h"
+#include "rt/render_scene.h"
 
 namespace rt {
 

@@ -2,7 +2,7 @@
 // the top, and the default camera frames the world bounding box (spec §6.3).
 #pragma once
 
-#include "rt/compile/render_scene.h"
+#include "rt/render_scene.h"
 
 namespace rt {
 

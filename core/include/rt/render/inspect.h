@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "rt/accel/intersect.h"
-#include "rt/compile/render_scene.h"
 #include "rt/render/plan.h"
 #include "rt/render/render.h"
+#include "rt/render_scene.h"
 #include "rt/scene/scene_desc.h"
 #include "rt/util/limits.h"
 
@@ -46,20 +46,16 @@ struct InspectShadowRay {
     std::vector<InspectOccluder> occluders;  // in order along the ray
 };
 
-/// One light's terms at a hit (spec §7.1, §7.2, §13.9).
-struct InspectLight {
+/// One light's terms at a hit (spec §7.1, §7.2, §13.9): the light as this sample saw it (soft
+/// shadows move its position; Light::one_colour() picks §7.1's terms or §13.9's), then its terms.
+struct InspectLight : Light {
     int light = -1;  // index into RenderScene::lights
-    LightKind kind = LightKind::Point;
-    bool one_colour = true;  // spec §7.1's one intensity (else §13.9's three colours)
-    Vec3 position{0.0};      // where this sample put it (soft shadows move it)
-    Vec3 ambient{0.0}, diffuse{0.0}, specular{0.0};  // A_l, D_l (I_l), S'_l
     // Attenuation: points and spots.
     bool attenuated = false;
     double distance = 0.0, denominator = 1.0;  // d and c0 + c1 d + c2 d^2
-    double constant = 1.0, linear = 0.0, quadratic = 0.0;
     // Spot limit.
     bool spot = false;
-    double cos_angle = 1.0, cutoff_deg = 180.0, spot_exponent = 0.0, spot_factor = 1.0;
+    double cos_angle = 1.0, spot_factor = 1.0;
     double factor = 0.0;  // f_l = spot / denominator (1 for directional lights)
     bool facing_known = false;
     Vec3 to_light{0.0};  // L

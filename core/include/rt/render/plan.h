@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "rt/accel/intersect.h"
-#include "rt/compile/render_scene.h"
 #include "rt/render/camera.h"
+#include "rt/render_scene.h"
 
 namespace rt {
 

@@ -11,11 +11,11 @@
 #include <utility>
 #include <vector>
 
-#include "rt/compile/render_scene.h"
 #include "rt/image/image.h"
 #include "rt/render/camera.h"
 #include "rt/render/plan.h"
 #include "rt/render/shading.h"
+#include "rt/render_scene.h"
 
 namespace rt {
 

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "rt/accel/intersect.h"
-#include "rt/compile/render_scene.h"
 #include "rt/render/sampler.h"
+#include "rt/render_scene.h"
 #include "rt/util/limits.h"
 
 namespace rt {

@@ -11,6 +11,7 @@
 
 #include "rt/image/image.h"
 #include "rt/scene/animation.h"
+#include "rt/scene/scene_parts.h"
 #include "rt/shapes/shapes.h"
 #include "rt/util/error.h"
 #include "rt/util/huge_pages.h"
@@ -26,42 +27,21 @@ enum class Dialect { V0, V1, V3 };
 inline constexpr double kV0ExponentScale = 128.0;
 const char* dialect_name(Dialect d);
 
-struct CameraDesc {
+/// The camera as the file wrote it (spec §6.1): its pose, and where.
+struct CameraDesc : CameraPose {
     SourceLoc loc;
-    Vec3 position{0.0};
-    Vec3 direction{0.0, 0.0, -1.0};
-    Vec3 up{0.0, 1.0, 0.0};
-    double half_height_angle_rad = kPi / 6;  // spec §3.1: ha is the half-height angle
 };
 
-/// A light. V0/V1 lights have one colour, which is their diffuse and their specular colour (and no
-/// ambient); V3 lights have three (spec §13.3).
-struct LightDesc {
+/// A light as the file wrote it: the light (rt/scene/scene_parts.h), and where. Its direction is
+/// as written; the compile makes it unit.
+struct LightDesc : Light {
     SourceLoc loc;
-    LightKind kind = LightKind::Point;
-    Vec3 ambient{0.0};    // A_l (V3 only; attenuated like the others, never shadowed)
-    Vec3 diffuse{1.0};    // D_l: the V0/V1 colour
-    Vec3 specular{1.0};   // S'_l: the V0/V1 colour
-    Vec3 position{0.0};   // point, spot; sphere: centre
-    Vec3 direction{0.0};  // directional: direction of travel; spot: axis
-    double constant_atten = 1.0, linear_atten = 0.0, quadratic_atten = 0.0;
-    double cutoff_rad = kPi;
-    double spot_exponent = 0.0;  // p, already 128*dor in V0 (spec §7.2)
-    double radius = 0.0;         // sphere lights (spec §13.3)
-
-    /// Whether the light is a V0/V1 one-colour light (no ambient, diffuse = specular).
-    bool one_colour() const { return ambient == Vec3(0.0) && diffuse == specular; }
-    void set_colour(const Vec3& c) { ambient = Vec3(0.0), diffuse = specular = c; }
 };
 
-/// A material with the dialect resolved (spec §3.2): V0's kspec and scalar ktran are converted.
-struct MaterialDesc {
+/// A material as the file wrote it: its terms, where, and its name. Its texture is an index into
+/// the file's textures (the compile renumbers it into the scene's).
+struct MaterialDesc : Material {
     SourceLoc loc;
-    Vec3 emissive{0.0}, ambient{0.0}, diffuse{0.0}, specular{0.0};
-    double specular_exponent = 0.0;  // e
-    Vec3 transparent{0.0};           // T
-    double refractive_index = 1.0;
-    int texture = -1;  // index into the file's textures, -1 = none
     std::string name;  // the !...! string, stored, never interpreted
 };
 

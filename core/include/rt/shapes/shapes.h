@@ -191,7 +191,7 @@ decltype(auto) shape_of(const Set& set, const Prim& p) {
 }
 
 /// THE dispatch on a primitive's kind: calls f(shape) with the concrete shape of primitive p of
-/// `set` (a GeometrySet, rt/compile/render_scene.h: a template so that this header needs none of
+/// `set` (a GeometrySet, rt/render_scene.h: a template so that this header needs none of
 /// the compile stage's types). kKinds narrows the kinds the set can hold (a set's layout), see
 /// visit_kind.
 template <uint32_t kKinds = kAllKinds, class Set, class Prim, class F>
