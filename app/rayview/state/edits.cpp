@@ -1,5 +1,7 @@
 #include "state/edits.h"
 
+#include <algorithm>
+
 #include "rt/compile/compile.h"
 #include "rt/util/charconv.h"
 
@@ -7,29 +9,22 @@ namespace rt::view {
 
 namespace {
 
-// Two lists of materials (compiled or described) alike in every term and texture.
-template <class M>
-bool same_terms(const std::vector<M>& a, const std::vector<M>& b) {
-    if (a.size() != b.size()) return false;
-    for (size_t i = 0; i < a.size(); ++i) {
-        const M &x = a[i], &y = b[i];
-        if (x.emissive != y.emissive || x.ambient != y.ambient || x.diffuse != y.diffuse ||
-            x.specular != y.specular || x.specular_exponent != y.specular_exponent ||
-            x.transparent != y.transparent || x.refractive_index != y.refractive_index ||
-            x.texture != y.texture)
-            return false;
-    }
-    return true;
+// Two lists alike in the part `Part` (Light, Material) of each element: where they were read
+// and a material's name aside.
+template <class Part, class T>
+bool same_parts(const std::vector<T>& a, const std::vector<T>& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                      [](const Part& x, const Part& y) { return x == y; });
 }
 
 }  // namespace
 
 bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b) {
-    return same_terms(a, b);
+    return same_parts<Material>(a, b);
 }
 
 bool same_materials(const std::vector<MaterialDesc>& a, const std::vector<MaterialDesc>& b) {
-    return same_terms(a, b);
+    return same_parts<Material>(a, b);
 }
 
 std::vector<MaterialDesc> material_descs(const SceneDesc& desc) {
@@ -54,17 +49,7 @@ std::vector<MaterialOrigin> material_origins(const SceneDesc& desc) {
 }
 
 bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b) {
-    if (a.size() != b.size()) return false;
-    for (size_t i = 0; i < a.size(); ++i) {
-        const LightDesc &x = a[i], &y = b[i];
-        if (x.kind != y.kind || x.ambient != y.ambient || x.diffuse != y.diffuse ||
-            x.specular != y.specular || x.position != y.position || x.direction != y.direction ||
-            x.constant_atten != y.constant_atten || x.linear_atten != y.linear_atten ||
-            x.quadratic_atten != y.quadratic_atten || x.cutoff_rad != y.cutoff_rad ||
-            x.spot_exponent != y.spot_exponent || x.radius != y.radius)
-            return false;
-    }
-    return true;
+    return same_parts<Light>(a, b);
 }
 
 void keep_window_settings(ViewSettings* s, const ViewSettings& window) {

@@ -50,7 +50,9 @@ std::vector<std::string> edited_included_files(const ViewerState& v) {
     if (v.edits.materials.size() != s.file_materials.size()) return files;
     for (size_t k = 0; k < v.edits.materials.size(); ++k) {
         const MaterialOrigin o = s.origin(k);
-        if (o.file <= 0 || same_materials({v.edits.materials[k]}, {s.file_materials[k]})) continue;
+        if (o.file <= 0 ||
+            static_cast<const Material&>(v.edits.materials[k]) == s.file_materials[k])
+            continue;
         const std::string& path = s.desc.files[static_cast<size_t>(o.file)].path;
         if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
     }
@@ -80,7 +82,7 @@ void save_scene(const ViewerState& v, const std::string& path, bool included_too
         md.loc = loc;
         md.name = std::move(name);
         if (included_too && o.file > 0 && k < s.file_materials.size() &&
-            !same_materials({m}, {s.file_materials[k]}))
+            !(static_cast<const Material&>(m) == s.file_materials[k]))
             included[static_cast<size_t>(o.file)].emplace_back(md.loc,
                                                                write_material(md, desc.dialect));
     }

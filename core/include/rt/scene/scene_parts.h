@@ -43,6 +43,7 @@ struct Material {
     /// -1: none. A MaterialDesc's is an index into its file's textures, a compiled material's
     /// into RenderScene::textures.
     int texture = -1;
+    bool operator==(const Material&) const = default;
 };
 
 /// The camera (spec §6.1, §3.1); make_camera() (rt/render/camera.h) builds the frame.
