@@ -285,7 +285,7 @@ void Parser::prescan(std::string_view text, const std::string& name, const std::
         if (t.kind != TokenKind::Directive) continue;
         const std::string_view d = t.text;
         const size_t at = lex.offset(t);
-        if (m_options.progress && ++directives % 1024 == 0) check_cancel(lex.loc(t));
+        if (m_options.progress && ++directives % 1024 == 0) check_cancel(m_build, lex.loc(t));
         if (d == run_name) {
             if (run.count % piece == 0) run.marks.push_back({at, t.line, t.col, run.count});
             ++run.count;
@@ -393,7 +393,8 @@ void Parser::detect_dialect(std::string_view text, const std::string& name,
         m_dialect = Dialect::V1;
     else
         m_dialect = m_default_use ? Dialect::V0 : Dialect::V1;
-    m_build.set_dialect(m_dialect, std::move(marker), m_top_dir);
+    m_v3_marker = std::move(marker);
+    m_build.set_dialect(m_dialect, m_top_dir);
 }
 
 }  // namespace parser_impl
