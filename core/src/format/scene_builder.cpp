@@ -187,30 +187,34 @@ std::optional<SceneBuilder::Include> SceneBuilder::take_include() {
     return inc;
 }
 
+void SceneBuilder::merge_piece(SceneBuilder& piece, const std::exception_ptr& error) {
+    // In file order: what the run's pieces before it added.
+    for (const Warning& w : piece.m_diag.warnings())
+        for (int n = 0; n < w.count; ++n) m_diag.warn(w.loc, w.kind, w.message, w.included_from);
+    m_scene.skipped_shapes += piece.m_scene.skipped_shapes;
+    if (error) std::rethrow_exception(error);
+    OpenFile& f = *m_file;
+    OpenFile& s = *piece.m_file;
+    f.graph_started = f.graph_started || s.graph_started;
+    f.counts = s.counts;
+    const auto append = [](auto& to, auto& more) {
+        to.insert(to.end(), std::make_move_iterator(more.begin()),
+                  std::make_move_iterator(more.end()));
+    };
+    if (!s.desc.vertices.empty()) append(f.desc.vertices, s.desc.vertices);
+    if (!f.v3.empty())
+        append(f.v3.back().group.shapes, s.v3.back().group.shapes);
+    else
+        append(f.stack.back()->shapes, s.desc.root.shapes);
+}
+
 bool SceneBuilder::merge(SceneBuilder& copy, const Include* from, const std::exception_ptr& error) {
     Copy& c = *copy.m_copy;
-    const std::vector<Warning>& warnings = copy.m_diag.warnings();
-    if (c.piece) {  // in file order: what the run's pieces before it added
-        for (const Warning& w : warnings)
-            for (int n = 0; n < w.count; ++n)
-                m_diag.warn(w.loc, w.kind, w.message, w.included_from);
-        m_scene.skipped_shapes += copy.m_scene.skipped_shapes;
-        OpenFile& s = *copy.m_file;
-        if (error) std::rethrow_exception(error);
-        OpenFile& f = *m_file;
-        f.graph_started = f.graph_started || s.graph_started;
-        f.counts = s.counts;
-        const auto append = [](auto& to, auto& more) {
-            to.insert(to.end(), std::make_move_iterator(more.begin()),
-                      std::make_move_iterator(more.end()));
-        };
-        if (!s.desc.vertices.empty()) append(f.desc.vertices, s.desc.vertices);
-        if (!f.v3.empty())
-            append(f.v3.back().group.shapes, s.v3.back().group.shapes);
-        else
-            append(f.stack.back()->shapes, s.desc.root.shapes);
+    if (c.piece) {
+        merge_piece(copy, error);
         return false;
     }
+    const std::vector<Warning>& warnings = copy.m_diag.warnings();
     if (!c.started) {  // the file opens in the tree, with its description as parsed
         c.started = true;
         open_file({from->resolved, from->canonical, "", from});

@@ -160,6 +160,9 @@ public:
     void close(const SourceLoc& loc, std::string_view directive);
 
 private:
+    /// merge() of a piece of a run: its vertices or shapes after the open file's, its warnings,
+    /// its counts; its error, if any, thrown after its warnings.
+    void merge_piece(SceneBuilder& piece, const std::exception_ptr& error);
     /// Where `path` is (spec §4.2, §13.2); when it is nowhere, an error naming `what`, or (with
     /// `tried`) nullopt and the places tried.
     std::optional<std::string> resolve(const SourceLoc& at, const std::string& path,
