@@ -16,15 +16,8 @@ namespace fs = std::filesystem;
 namespace rt {
 
 const char* dialect_name(Dialect d) {
-    switch (d) {
-        case Dialect::V0:
-            return "V0";
-        case Dialect::V1:
-            return "V1";
-        case Dialect::V3:
-            break;
-    }
-    return "V3";
+    static constexpr std::array<const char*, 3> kNames = {"V0", "V1", "V3"};  // Dialect's order
+    return kNames[static_cast<size_t>(d)];
 }
 
 namespace parser_impl {

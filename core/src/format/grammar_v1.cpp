@@ -80,11 +80,21 @@ CameraDesc camera(Directive& d) {
     return c;
 }
 
-void texture(Directive& d) {
+namespace {
+
+// A directive that names a file: its path (`what`), counted as item `k`, to the builder's `use`.
+void file_path(Directive& d, const char* what, CountKind k,
+               void (SceneBuilder::*use)(const SourceLoc&, const SourceLoc&, const std::string&)) {
     const SourceLoc at = d.next_loc();
-    const std::string path = d.word("a texture file name");
-    d.b.count_item(d.loc(), kTextures);
-    d.b.texture(d.loc(), at, path);
+    const std::string path = d.word(what);
+    d.b.count_item(d.loc(), k);
+    (d.b.*use)(d.loc(), at, path);
+}
+
+}  // namespace
+
+void texture(Directive& d) {
+    file_path(d, "a texture file name", kTextures, &SceneBuilder::texture);
 }
 
 // Spec §3.1, §10: numbers up to the !…! string, 16 (V0) or 18 (V1, V3) of them, the last the
@@ -135,17 +145,11 @@ void vertex(Directive& d) {
 }
 
 void ray_file(Directive& d) {
-    const SourceLoc at = d.next_loc();
-    const std::string path = d.word("a .ray file name");
-    d.b.count_item(d.loc(), kRayFiles);
-    d.b.ray_file(d.loc(), at, path);
+    file_path(d, "a .ray file name", kRayFiles, &SceneBuilder::ray_file);
 }
 
 void key_file(Directive& d) {
-    const SourceLoc at = d.next_loc();
-    const std::string path = d.word("a .key file name");
-    d.b.count_item(d.loc(), kKeyFiles);
-    d.b.key_file(d.loc(), at, path);
+    file_path(d, "a .key file name", kKeyFiles, &SceneBuilder::key_file);
 }
 
 int material_index(Directive& d) {
