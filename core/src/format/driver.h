@@ -58,6 +58,8 @@ private:
     /// The parser of a file parsed ahead for `tree`, its warnings into `own`.
     Parser(const Parser& tree, Diagnostics& own);
 
+    // The include stack: each file parsed once, the files parsed ahead merged where the walk
+    // meets them.
     /// One file's directives into the builder (`from`: its #ray_file; none: the top-level file,
     /// or the file parsed ahead).
     void parse_text(std::string_view text, const std::string& name, const std::string& canonical,
@@ -70,6 +72,7 @@ private:
     /// A file parsed ahead whose tree's parse has ended (its walk stops, "parse stopped").
     bool halted() const { return m_halt && m_halt->load(std::memory_order_relaxed); }
 
+    // The walk over a file's directives, its mesh runs in pieces on several threads.
     /// Parses from token `t` to the first directive at or after byte `bound` (or the end of the
     /// file, or until *stop is set), which it returns unparsed, into `b` (the tree's builder, or
     /// a piece's).

@@ -34,9 +34,11 @@ struct Piece {
     Token stop;          // the first directive at or after `bound`, or the end
     std::exception_ptr error;
 
-    // Its state at mark m of a run: the file's as the run's first directive left it.
-    Piece(SceneBuilder& file, const Lexer& text, const MeshRun& run, const MeshRun::Mark& m)
-        : b(file, diag, SceneBuilder::Piece{run.vertices, m.index}),
+    // Its state at mark m of a run, up to the directive of index `end`: the file's as the run's
+    // first directive left it.
+    Piece(SceneBuilder& file, const Lexer& text, const MeshRun& run, const MeshRun::Mark& m,
+          size_t end)
+        : b(file, diag, SceneBuilder::Piece{run.vertices, m.index, end - m.index}),
           lex(text.text(), text.file()),
           counted(m.offset) {
         lex.seek(m.offset, m.line, m.col);
@@ -143,7 +145,8 @@ Token Parser::parse_pieces(Reading& r, const MeshRun& run, const Token& second) 
     };
     std::vector<std::unique_ptr<Piece>> pieces;
     for (size_t p = 1; p < parts; ++p) {
-        pieces.push_back(std::make_unique<Piece>(m_build, r.lex, run, start(p)));
+        const size_t end = p + 1 < parts ? start(p + 1).index : run.count;
+        pieces.push_back(std::make_unique<Piece>(m_build, r.lex, run, start(p), end));
         pieces.back()->bound = p + 1 < parts ? start(p + 1).offset : run.end;
     }
     std::atomic<bool> stop{false};

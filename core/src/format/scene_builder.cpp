@@ -70,6 +70,10 @@ SceneBuilder::SceneBuilder(const SceneBuilder& from, Diagnostics& own, std::opti
         s.v3.back().kind = f.v3.back().kind;
         s.v3.back().material = f.v3.back().material;
     }
+    if (piece->vertices)
+        s.desc.vertices.reserve(piece->count);
+    else
+        (s.v3.empty() ? s.desc.root : s.v3.back().group).shapes.reserve(piece->count);
 }
 
 // ---- errors and warnings ------------------------------------------------------------------------

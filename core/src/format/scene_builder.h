@@ -49,11 +49,11 @@ public:
         const Include* from = nullptr;
         size_t vertices = 0, top_shapes = 0;
     };
-    /// A copy for a piece of a mesh run: a run of #vertex (else of #shape_triangle), and the
-    /// index in the run of the piece's first directive.
+    /// A copy for a piece of a mesh run: a run of #vertex (else of #shape_triangle), the index
+    /// in the run of the piece's first directive, and its number of directives.
     struct Piece {
         bool vertices = false;
-        size_t index = 0;
+        size_t index = 0, count = 0;
     };
     /// What a grammar walk opens: a V0/V1 #group_begin (its matrix) or #joint_begin (its DOF);
     /// a V3 list, #static_affine (its matrix), #dynamic_affine (its DOF), #shape_triangles (its
