@@ -143,6 +143,7 @@ Token Parser::parse_pieces(Reading& r, const MeshRun& run, const Token& second) 
     const auto start = [&](size_t p) -> const MeshRun::Mark& {
         return run.marks[p * marks / parts];
     };
+    m_build.reserve_run(run.vertices, run.count - 1);  // the pieces' output merged without a copy
     std::vector<std::unique_ptr<Piece>> pieces;
     for (size_t p = 1; p < parts; ++p) {
         const size_t end = p + 1 < parts ? start(p + 1).index : run.count;

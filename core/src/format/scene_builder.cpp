@@ -212,6 +212,19 @@ void SceneBuilder::merge_piece(SceneBuilder& piece, const std::exception_ptr& er
         append(f.stack.back()->shapes, s.desc.root.shapes);
 }
 
+void SceneBuilder::reserve_run(bool vertices, size_t n) {
+    OpenFile& f = *m_file;
+    // Geometric growth still, for a group whose runs come one after another.
+    const auto more = [n](auto& array) {
+        if (array.size() + n > array.capacity())
+            array.reserve(std::max(array.size() + n, array.capacity() + array.capacity() / 2));
+    };
+    if (vertices)
+        more(f.desc.vertices);
+    else
+        more(f.v3.empty() ? f.stack.back()->shapes : f.v3.back().group.shapes);
+}
+
 bool SceneBuilder::merge(SceneBuilder& copy, const Include* from, const std::exception_ptr& error) {
     Copy& c = *copy.m_copy;
     if (c.piece) {

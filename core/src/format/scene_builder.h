@@ -105,6 +105,9 @@ public:
                const std::exception_ptr& error = nullptr);
     /// The tree parsed: placements bounded, the missing-camera warning. The description.
     SceneDesc finish();
+    /// Room for `n` more vertices (else shapes of the innermost group or triangle list): a
+    /// mesh run the pre-scan counted, parsed in pieces.
+    void reserve_run(bool vertices, size_t n);
 
     // ---- counts (#*_num, spec §3.1) and the order of a file ---------------------------------
     /// `n` at n_loc declares the count; `room` bounds what it may reserve (the text left / 24).
