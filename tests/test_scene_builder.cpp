@@ -168,6 +168,43 @@ TEST(SceneBuilder, ShapesGoIntoTheInnermostGroupAndDegenerateOnesAreSkipped) {
     EXPECT_EQ(t.diag.warnings()[0].str(), "b.ray:4:1: warning: degenerate triangle skipped");
 }
 
+// A run in pieces: each piece's copy writes its range of the run's room in place; a range
+// written short (a degenerate triangle skipped) is closed up by the merge, in file order.
+TEST(SceneBuilder, ARunsPiecesWriteTheirRangesInPlace) {
+    Tree t(Dialect::V1);
+    for (int i = 0; i < 3; ++i) {
+        VertexDesc v;
+        v.position = Vec3(i == 1, i == 2, 0);
+        t.b.vertex(v);
+    }
+    const auto triangle = [](int line, bool flat) {
+        ShapeDesc s;
+        s.loc = at(line);
+        s.geometry = TriangleDesc{{0, 1, flat ? 1 : 2}};
+        return s;
+    };
+    t.b.shape(triangle(10, false));  // the run's first directive
+    t.b.open_run(false, 4, 1);       // directives 1 .. 4; the file writes the first
+    Diagnostics own_a, own_b;
+    SceneBuilder a(t.b, own_a, SceneBuilder::Piece{false, 2, 2});
+    SceneBuilder b(t.b, own_b, SceneBuilder::Piece{false, 4, 1});
+    b.shape(triangle(14, false));
+    t.b.shape(triangle(11, true));  // skipped: the file's range is written short
+    a.shape(triangle(12, false));
+    a.shape(triangle(13, false));
+    EXPECT_FALSE(t.b.merge(a));
+    EXPECT_FALSE(t.b.merge(b));
+    t.b.close_run();
+    t.b.shape(triangle(15, false));  // after the run: appended
+
+    const SceneDesc scene = t.scene();
+    const HugePageVector<ShapeDesc>& shapes = scene.files.at(0).root.shapes;
+    ASSERT_EQ(shapes.size(), 5u);
+    const int lines[] = {10, 12, 13, 14, 15};
+    for (size_t i = 0; i < shapes.size(); ++i) EXPECT_EQ(shapes[i].loc.line, lines[i]);
+    EXPECT_EQ(scene.skipped_shapes, 1u);
+}
+
 TEST(SceneBuilder, TheGraphsRulesAreErrorsAtTheirDirectives) {
     Tree t(Dialect::V1);
     EXPECT_EQ(Tree::error([&] { t.b.close(at(7, 3), "#joint_end"); }),

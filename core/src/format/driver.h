@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <exception>
 #include <future>
 #include <map>
@@ -74,10 +75,10 @@ private:
 
     // The walk over a file's directives, its mesh runs in pieces on several threads.
     /// Parses from token `t` to the first directive at or after byte `bound` (or the end of the
-    /// file, or until *stop is set), which it returns unparsed, into `b` (the tree's builder, or
-    /// a piece's).
+    /// file, or until *stop is set, or after `most` directives), which it returns unparsed, into
+    /// `b` (the tree's builder, or a piece's).
     Token walk(SceneBuilder& b, Reading& r, Token t, size_t bound,
-               const std::atomic<bool>* stop = nullptr);
+               const std::atomic<bool>* stop = nullptr, size_t most = SIZE_MAX);
     /// The directives of a file, the long runs of mesh directives in pieces on several threads.
     void walk_file(Reading& r, const std::string& name, const std::string& canonical);
     /// The threads a run is cut for, and that parse included files ahead (ParseOptions::threads;

@@ -3,9 +3,10 @@
 // which the pre-scan found and marked (MeshRun), is cut at its marks into one piece per thread.
 // The calling thread parses the first piece itself, into the file; each other piece is parsed by
 // the same directive code into a copy of the builder that starts from the file's state (its
-// counts, its part, its triangle list) and reads the file's materials and vertices. The copies
-// are then merged in file order (SceneBuilder::merge): their vertices or shapes appended, their
-// warnings handed on, and the first error in file order thrown, so the description, the
+// counts, its part, its triangle list) and reads the file's materials and vertices. The run's
+// output is sized once (SceneBuilder::open_run) and each copy writes its range of it in place.
+// The copies are then merged in file order (SceneBuilder::merge): a range written short moved
+// down, their warnings handed on, and the first error in file order thrown, so the description, the
 // warnings and the errors are those of the serial parse (ParseOptions::threads = 1), which the
 // tests and the scene fuzz target compare.
 #include <algorithm>
@@ -29,9 +30,10 @@ struct Piece {
     Diagnostics diag;
     SceneBuilder b;
     Lexer lex;
-    size_t counted = 0;  // of its text, by ParseProgress
-    size_t bound = 0;    // the offset of the next piece's first directive, or the run's end
-    Token stop;          // the first directive at or after `bound`, or the end
+    size_t counted = 0;     // of its text, by ParseProgress
+    size_t bound = 0;       // the offset of the next piece's first directive, or the run's end
+    size_t directives = 0;  // at most, so that it writes no more than its range
+    Token stop;             // the first directive at or after `bound`, or the end
     std::exception_ptr error;
 
     // Its state at mark m of a run, up to the directive of index `end`: the file's as the run's
@@ -81,10 +83,10 @@ unsigned Parser::parse_threads() const {
 }
 
 Token Parser::walk(SceneBuilder& b, Reading& r, Token t, size_t bound,
-                   const std::atomic<bool>* stop) {
+                   const std::atomic<bool>* stop, size_t most) {
     Lexer& lex = r.lex;
-    for (unsigned n = 1; t.kind != TokenKind::End; ++n) {
-        if (t.kind == TokenKind::Directive && lex.offset(t) >= bound) break;
+    for (size_t n = 1; t.kind != TokenKind::End; ++n) {
+        if (t.kind == TokenKind::Directive && (lex.offset(t) >= bound || n > most)) break;
         if (stop && stop->load(std::memory_order_relaxed)) break;
         if (t.kind != TokenKind::Directive)
             b.fail(lex.loc(t), "expected a directive, got " + quote(t.text));
@@ -143,12 +145,15 @@ Token Parser::parse_pieces(Reading& r, const MeshRun& run, const Token& second) 
     const auto start = [&](size_t p) -> const MeshRun::Mark& {
         return run.marks[p * marks / parts];
     };
-    m_build.reserve_run(run.vertices, run.count - 1);  // the pieces' output merged without a copy
+    // The run's output sized once; each piece writes its range of it in place.
+    const size_t first = (parts > 1 ? start(1).index : run.count) - 1;
+    m_build.open_run(run.vertices, run.count - 1, first);
     std::vector<std::unique_ptr<Piece>> pieces;
     for (size_t p = 1; p < parts; ++p) {
         const size_t end = p + 1 < parts ? start(p + 1).index : run.count;
         pieces.push_back(std::make_unique<Piece>(m_build, r.lex, run, start(p), end));
         pieces.back()->bound = p + 1 < parts ? start(p + 1).offset : run.end;
+        pieces.back()->directives = end - start(p).index;
     }
     std::atomic<bool> stop{false};
     std::vector<std::thread> workers;
@@ -159,7 +164,8 @@ Token Parser::parse_pieces(Reading& r, const MeshRun& run, const Token& second) 
             const auto parse = [this, &stop, top = r.top, piece = p.get()] {
                 try {
                     Reading own{piece->lex, top, piece->counted};
-                    piece->stop = walk(piece->b, own, own.lex.next(), piece->bound, &stop);
+                    piece->stop =
+                        walk(piece->b, own, own.lex.next(), piece->bound, &stop, piece->directives);
                     piece->lex = own.lex;
                     piece->counted = own.counted;
                 } catch (...) {
@@ -172,12 +178,16 @@ Token Parser::parse_pieces(Reading& r, const MeshRun& run, const Token& second) 
                 parse();  // no thread to be had: this one parses the piece
             }
         }
-        t = walk(m_build, r, second, parts > 1 ? start(1).offset : run.end);
+        t = walk(m_build, r, second, parts > 1 ? start(1).offset : run.end, nullptr, first);
     }
     // The first piece ends where the second starts, unless the text was read differently from
     // the pre-scan's marks: then the pieces are dropped and the parse goes on from here.
-    if (pieces.empty() || t.kind == TokenKind::End || r.lex.offset(t) != start(1).offset) return t;
+    if (pieces.empty() || t.kind == TokenKind::End || r.lex.offset(t) != start(1).offset) {
+        m_build.close_run();
+        return t;
+    }
     for (const std::unique_ptr<Piece>& p : pieces) m_build.merge(p->b, nullptr, p->error);
+    m_build.close_run();
     Piece& last = *pieces.back();
     r.lex = last.lex;
     r.counted = last.counted;

@@ -70,10 +70,15 @@ SceneBuilder::SceneBuilder(const SceneBuilder& from, Diagnostics& own, std::opti
         s.v3.back().kind = f.v3.back().kind;
         s.v3.back().material = f.v3.back().material;
     }
-    if (piece->vertices)
-        s.desc.vertices.reserve(piece->count);
-    else
-        (s.v3.empty() ? s.desc.root : s.v3.back().group).shapes.reserve(piece->count);
+    // Its range of the run's room: directive i of the run writes place i - 1.
+    const size_t at = piece->index - 1;
+    if (piece->vertices) {
+        VertexDesc* first = f.run.vertex_room + at;
+        s.lent_vertices = {first, first, first + piece->count};
+    } else {
+        ShapeDesc* first = f.run.shape_room + at;
+        s.lent_shapes = {first, first, first + piece->count};
+    }
 }
 
 // ---- errors and warnings ------------------------------------------------------------------------
@@ -196,33 +201,68 @@ void SceneBuilder::merge_piece(SceneBuilder& piece, const std::exception_ptr& er
     for (const Warning& w : piece.m_diag.warnings())
         for (int n = 0; n < w.count; ++n) m_diag.warn(w.loc, w.kind, w.message, w.included_from);
     m_scene.skipped_shapes += piece.m_scene.skipped_shapes;
-    if (error) std::rethrow_exception(error);
+    if (error) {
+        close_run();
+        std::rethrow_exception(error);
+    }
     OpenFile& f = *m_file;
     OpenFile& s = *piece.m_file;
     f.graph_started = f.graph_started || s.graph_started;
     f.counts = s.counts;
-    const auto append = [](auto& to, auto& more) {
-        to.insert(to.end(), std::make_move_iterator(more.begin()),
-                  std::make_move_iterator(more.end()));
+    // Its range after what the run wrote before it: moved down only where a range before it
+    // was written short (a degenerate triangle skipped).
+    const auto place = [](auto& to, const auto& from) {
+        if (from.first != to.next) std::move(from.first, from.next, to.next);
+        to.next += from.next - from.first;
+        to.end = to.next;
     };
-    if (!s.desc.vertices.empty()) append(f.desc.vertices, s.desc.vertices);
-    if (!f.v3.empty())
-        append(f.v3.back().group.shapes, s.v3.back().group.shapes);
+    if (f.run.vertices)
+        place(f.lent_vertices, s.lent_vertices);
     else
-        append(f.stack.back()->shapes, s.desc.root.shapes);
+        place(f.lent_shapes, s.lent_shapes);
 }
 
-void SceneBuilder::reserve_run(bool vertices, size_t n) {
+namespace {
+
+// The array a run writes: the file's vertices, else the innermost group's or triangle list's
+// shapes.
+template <class OpenFile>
+HugePageVector<ShapeDesc>& run_shapes(OpenFile& f) {
+    return f.v3.empty() ? f.stack.back()->shapes : f.v3.back().group.shapes;
+}
+
+}  // namespace
+
+void SceneBuilder::open_run(bool vertices, size_t n, size_t own) {
     OpenFile& f = *m_file;
-    // Geometric growth still, for a group whose runs come one after another.
-    const auto more = [n](auto& array) {
-        if (array.size() + n > array.capacity())
-            array.reserve(std::max(array.size() + n, array.capacity() + array.capacity() / 2));
+    f.run = {vertices, 0, n, nullptr, nullptr};
+    const auto room = [&](auto& array, auto& lent) {
+        f.run.at = array.size();
+        // Geometric growth still, for a group whose runs come one after another.
+        if (f.run.at + n > array.capacity())
+            array.reserve(std::max(f.run.at + n, array.capacity() + array.capacity() / 2));
+        array.resize(f.run.at + n);
+        auto* first = array.data() + f.run.at;
+        lent = {first, first, first + own};
+        return first;
     };
     if (vertices)
-        more(f.desc.vertices);
+        f.run.vertex_room = room(f.desc.vertices, f.lent_vertices);
     else
-        more(f.v3.empty() ? f.stack.back()->shapes : f.v3.back().group.shapes);
+        f.run.shape_room = room(run_shapes(f), f.lent_shapes);
+}
+
+void SceneBuilder::close_run() {
+    OpenFile& f = *m_file;
+    const auto close = [&](auto& array, auto& lent) {
+        if (lent.first) array.resize(f.run.at + static_cast<size_t>(lent.next - lent.first));
+        lent = {};
+    };
+    if (f.run.vertices)
+        close(f.desc.vertices, f.lent_vertices);
+    else
+        close(run_shapes(f), f.lent_shapes);
+    f.run = {};
 }
 
 bool SceneBuilder::merge(SceneBuilder& copy, const Include* from, const std::exception_ptr& error) {
@@ -618,7 +658,11 @@ void SceneBuilder::add_material(MaterialDesc m, const SourceLoc& texture_loc) {
 void SceneBuilder::vertex(VertexDesc v) {
     const double len = glm::length(v.normal);
     if (len > 0) v.normal /= len;
-    m_file->desc.vertices.push_back(v);
+    auto& lent = m_file->lent_vertices;  // a mesh run's range, written in place
+    if (lent.next != lent.end)
+        *lent.next++ = v;
+    else
+        m_file->desc.vertices.push_back(v);
 }
 
 void SceneBuilder::ray_file(const SourceLoc& loc, const SourceLoc& path_loc,
@@ -677,7 +721,10 @@ void SceneBuilder::shape(ShapeDesc&& s, const char* empty) {
     const auto* t = std::get_if<TriangleDesc>(&s.geometry);
     const char* skip = t && degenerate_triangle(*f.defs, *t) ? "degenerate triangle" : empty;
     if (skip) skip_shape(*this, m_scene, s.loc, skip);
-    if (triangle_list) {
+    auto& lent = f.lent_shapes;  // a mesh run's range, written in place
+    if (!skip && lent.next != lent.end && (triangle_list || f.v3.empty())) {
+        *lent.next++ = std::move(s);
+    } else if (triangle_list) {
         if (!skip) f.v3.back().group.shapes.push_back(std::move(s));
     } else if (!f.v3.empty()) {
         V3Node node;

@@ -50,7 +50,8 @@ public:
         size_t vertices = 0, top_shapes = 0;
     };
     /// A copy for a piece of a mesh run: a run of #vertex (else of #shape_triangle), the index
-    /// in the run of the piece's first directive, and its number of directives.
+    /// in the run of the piece's first directive, and its number of directives, whose vertices
+    /// or shapes it writes in place into the room its file made for the run (open_run).
     struct Piece {
         bool vertices = false;
         size_t index = 0, count = 0;
@@ -105,9 +106,14 @@ public:
                const std::exception_ptr& error = nullptr);
     /// The tree parsed: placements bounded, the missing-camera warning. The description.
     SceneDesc finish();
-    /// Room for `n` more vertices (else shapes of the innermost group or triangle list): a
-    /// mesh run the pre-scan counted, parsed in pieces.
-    void reserve_run(bool vertices, size_t n);
+    /// A mesh run the pre-scan counted, parsed in pieces: room made once for the `n`
+    /// directives after its first (vertices, else shapes of the innermost group or triangle
+    /// list), the first `own` of it lent to this builder's walk, the rest to the pieces'
+    /// copies, each of which writes its range in place; the merge closes up a range a piece
+    /// wrote short (a degenerate triangle skipped). close_run: the array ends after what was
+    /// written, the room given back (also when the pieces are dropped).
+    void open_run(bool vertices, size_t n, size_t own);
+    void close_run();
 
     // ---- counts (#*_num, spec §3.1) and the order of a file ---------------------------------
     /// `n` at n_loc declares the count; `room` bounds what it may reserve (the text left / 24).
@@ -200,6 +206,22 @@ private:
         // A piece of a mesh run: the file whose definitions (materials, vertices) its shapes
         // refer to; else this one.
         const FileDesc* defs = &desc;
+        // A run in pieces (open_run): its room, the places [at, at + n) of the array; the range
+        // this builder writes in place (first, next, end; next == end: none, or full).
+        template <class T>
+        struct Lent {
+            T* first = nullptr;
+            T* next = nullptr;
+            T* end = nullptr;
+        };
+        struct Run {
+            bool vertices = false;
+            size_t at = 0, n = 0;
+            VertexDesc* vertex_room = nullptr;
+            ShapeDesc* shape_room = nullptr;
+        } run;
+        Lent<VertexDesc> lent_vertices;
+        Lent<ShapeDesc> lent_shapes;
     };
     /// What the merge of a copy needs.
     struct Copy {
