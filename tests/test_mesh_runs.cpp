@@ -221,7 +221,7 @@ TEST(MeshRuns, CancellingStopsTheParse) {
         std::string::npos);
 }
 
-// Included files parsed ahead, each on a thread of its own, and replayed where the walk of the
+// Included files parsed ahead, each on a thread of its own, and merged where the walk of the
 // tree meets them: the files numbered, the key tracks made, the missing textures warned about
 // once, the warnings and the first error (with their include chains) all in the serial order.
 TEST(MeshRuns, IncludedFilesParsedAheadGiveTheSerialTree) {

@@ -16,15 +16,8 @@ namespace fs = std::filesystem;
 namespace rt {
 
 const char* dialect_name(Dialect d) {
-    switch (d) {
-        case Dialect::V0:
-            return "V0";
-        case Dialect::V1:
-            return "V1";
-        case Dialect::V3:
-            break;
-    }
-    return "V3";
+    static constexpr std::array<const char*, 3> kNames = {"V0", "V1", "V3"};  // Dialect's order
+    return kNames[static_cast<size_t>(d)];
 }
 
 namespace parser_impl {
@@ -285,7 +278,7 @@ void Parser::prescan(std::string_view text, const std::string& name, const std::
         if (t.kind != TokenKind::Directive) continue;
         const std::string_view d = t.text;
         const size_t at = lex.offset(t);
-        if (m_options.progress && ++directives % 1024 == 0) check_cancel(lex.loc(t));
+        if (m_options.progress && ++directives % 1024 == 0) check_cancel(m_build, lex.loc(t));
         if (d == run_name) {
             if (run.count % piece == 0) run.marks.push_back({at, t.line, t.col, run.count});
             ++run.count;
@@ -393,7 +386,8 @@ void Parser::detect_dialect(std::string_view text, const std::string& name,
         m_dialect = Dialect::V1;
     else
         m_dialect = m_default_use ? Dialect::V0 : Dialect::V1;
-    m_build.set_dialect(m_dialect, std::move(marker), m_top_dir);
+    m_v3_marker = std::move(marker);
+    m_build.set_dialect(m_dialect, m_top_dir);
 }
 
 }  // namespace parser_impl

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
+#include <exception>
 #include <future>
 #include <map>
 #include <memory>
@@ -17,12 +19,14 @@
 
 namespace rt::parser_impl {
 
-/// The driver of a parse: the dialect pre-scan of the file tree (dialect.cpp), the file loop
+/// The driver of a parse: the dialect pre-scan of the file tree (dialect.cpp), the include stack
 /// with the included files parsed ahead (parser.cpp) and the walk over a file's directives, its
 /// long runs of mesh directives in pieces on several threads (mesh_runs.cpp). Each directive goes
 /// to the grammar walk of the tree's dialect (grammar.h); what they build, and what it means, is
-/// the SceneBuilder's.
-class Parser final : private SceneBuilder::FileLoop {
+/// the SceneBuilder's. A file parsed ahead (as pbrt's import: a copy of the builder, its result
+/// merged) and a piece of a run are parsed into copies of the builder, merged in file order, so
+/// the description, the warnings and the errors are those of the serial parse.
+class Parser final {
 public:
     Parser(Diagnostics& diag, const ParseOptions& options);
     ~Parser();
@@ -32,61 +36,66 @@ public:
     SceneDesc run_file(const std::string& path);
 
 private:
-    // ---- the file loop (parser.cpp) ----------------------------------------------------------
-    void parse_file(std::string_view text, const std::string& name, const std::string& canonical,
-                    const std::string& dir, int index);
-    /// One file's directives into its description (top: the tree's top-level file).
-    FileDesc parse_text(std::string_view text, const std::string& name,
-                        const std::string& canonical, const std::string& dir, bool top);
-    void end_of_file(FileState& f);
-
-    // ---- included files parsed ahead (parser.cpp) --------------------------------------------
-    // Every file the pre-scan read is parsed on a thread of its own (its own Parser, its
-    // builder recording what the tree's order decides) while the top-level file is; the walk
-    // replays each where its first #ray_file is met, so the description, the warnings and the
-    // errors are those of the serial parse.
+    /// A file's text as the walk reads it: its tokens, whether it is the tree's top-level file,
+    /// and how much of it ParseProgress has counted.
+    struct Reading {
+        Lexer lex;
+        bool top = false;
+        size_t counted = 0;
+    };
+    /// An included file the pre-scan read, parsed on a thread of its own (a Parser of its own,
+    /// whose builder is a copy of the tree's) while the top-level file is; the walk merges its
+    /// result where its first #ray_file is met.
     struct AheadJob {
         std::string canonical, name, dir;
         FileBytes text;
-        Ahead result;
+        Diagnostics diag;                  // its warnings, until the merge
+        std::unique_ptr<Parser> parser;    // its parse (null: stopped before it started)
+        std::exception_ptr error;          // what stopped its parse
         std::atomic<bool> claimed{false};  // a thread parses it (a worker, or the walk's)
         std::promise<void> done;
         std::future<void> ready = done.get_future();
     };
-    /// The builder of a file parsed ahead for `tree`.
-    Parser(const Parser& tree, Ahead* out);
+    /// The parser of a file parsed ahead for `tree`, its warnings into `own`.
+    Parser(const Parser& tree, Diagnostics& own);
+
+    // The include stack: each file parsed once, the files parsed ahead merged where the walk
+    // meets them.
+    /// One file's directives into the builder (`from`: its #ray_file; none: the top-level file,
+    /// or the file parsed ahead).
+    void parse_text(std::string_view text, const std::string& name, const std::string& canonical,
+                    const std::string& dir, const SceneBuilder::Include* from);
+    /// The file of a #ray_file, new to the tree: merged when it was parsed ahead, else parsed.
+    void include(const SceneBuilder::Include& inc);
     void start_ahead();
     void parse_ahead(AheadJob& job) const;
     void stop_ahead();
     /// A file parsed ahead whose tree's parse has ended (its walk stops, "parse stopped").
     bool halted() const { return m_halt && m_halt->load(std::memory_order_relaxed); }
-    /// One directive, by the tree's dialect.
-    void dispatch(FileState& f, const Token& d);
-    // SceneBuilder::FileLoop: an included file.
-    bool readable(const std::string& resolved, const std::string& canonical,
-                  std::string* why) override;
-    void parse(const std::string& resolved, const std::string& canonical, int index) override;
 
-    // ---- the walk over a file's directives (mesh_runs.cpp) -----------------------------------
+    // The walk over a file's directives, its mesh runs in pieces on several threads.
     /// Parses from token `t` to the first directive at or after byte `bound` (or the end of the
-    /// file, or until *stop is set), which it returns unparsed.
-    Token walk(FileState& f, Token t, size_t bound, const std::atomic<bool>* stop = nullptr);
+    /// file, or until *stop is set, or after `most` directives), which it returns unparsed, into
+    /// `b` (the tree's builder, or a piece's).
+    Token walk(SceneBuilder& b, Reading& r, Token t, size_t bound,
+               const std::atomic<bool>* stop = nullptr, size_t most = SIZE_MAX);
     /// The directives of a file, the long runs of mesh directives in pieces on several threads.
-    void walk_file(FileState& f);
+    void walk_file(Reading& r, const std::string& name, const std::string& canonical);
     /// The threads a run is cut for, and that parse included files ahead (ParseOptions::threads;
     /// 1 where none can start, and on the web page's main thread).
     unsigned parse_threads() const;
-    /// ParseProgress: the bytes of f's text up to `offset` are parsed (counted once each).
-    void count_progress(FileState& f, size_t offset) const;
-    /// ParseProgress::cancel set: throws "loading cancelled" at `loc`.
-    void check_cancel(const SourceLoc& loc) const;
+    /// ParseProgress: the bytes of r's text up to `offset` are parsed (counted once each).
+    void count_progress(Reading& r, size_t offset) const;
+    /// ParseProgress::cancel set: throws "loading cancelled" at `loc` (through `b`).
+    void check_cancel(const SceneBuilder& b, const SourceLoc& loc) const;
     /// ParseProgress::total grows by a text read.
     void count_text(size_t bytes) const;
-    Token parse_run(FileState& f, const Token& first, const MeshRun& run);
-    template <class IsVertices>
-    Token parse_pieces(FileState& f, const MeshRun& run, IsVertices kind);
+    /// A run the pre-scan found, from its first directive: cut into pieces, parsed on several
+    /// threads into copies of the builder, merged in file order.
+    Token parse_run(Reading& r, const Token& first, const MeshRun& run);
+    Token parse_pieces(Reading& r, const MeshRun& run, const Token& second);
 
-    // ---- dialect detection (dialect.cpp) -------------------------------------------------
+    // The dialect pre-scan: the tree's dialect, the texts of its files, their runs and sizes.
     void detect_dialect(std::string_view text, const std::string& name,
                         const std::string& canonical, const std::string& dir);
     /// The file's text (read once); nullptr, with the reason in *why, when it cannot be read.
@@ -107,6 +116,7 @@ private:
 
     ParseOptions m_options;
     SceneBuilder m_build;
+    std::string m_v3_marker;  // "'#static_affine' at F:L:C", for messages
     // Files parsed ahead, by canonical path; the threads that parse them; their stop.
     std::map<std::string, std::unique_ptr<AheadJob>> m_ahead;
     std::vector<std::thread> m_ahead_threads;
@@ -114,8 +124,6 @@ private:
     std::vector<AheadJob*> m_ahead_order;
     std::atomic<bool> m_stop_ahead{false};
     const std::atomic<bool>* m_halt = nullptr;  // a file parsed ahead: the tree's stop
-    V1Grammar m_v1;
-    V3Grammar m_v3;
     Dialect m_dialect = Dialect::V1;
     std::map<std::string, FileBytes> m_texts;         // included files read, not yet parsed
     std::map<std::string, std::string> m_text_names;  // and the paths they were read as

@@ -9,23 +9,25 @@
 #include <string>
 #include <string_view>
 
+#include "format/lexer.h"
 #include "format/parser_impl.h"
 #include "format/scene_builder.h"
 
 namespace rt::parser_impl {
 
-/// One directive being read: its arguments, token by token, from the file's lexer. A missing
-/// argument is an error at the directive, a bad one at itself (spec §2).
+/// One directive being read: its arguments, token by token, from the file's lexer, for the
+/// builder. A missing argument is an error at the directive, a bad one at itself (spec §2).
 struct Directive {
     SceneBuilder& b;
-    FileState& f;
+    Lexer& lex;
     const Token& d;
+    bool top;  // in the tree's top-level file
 
     std::string_view name() const { return d.text; }
-    SourceLoc loc() const { return f.lex.loc(d); }
-    SourceLoc loc(const Token& t) const { return f.lex.loc(t); }
+    SourceLoc loc() const { return lex.loc(d); }
+    SourceLoc loc(const Token& t) const { return lex.loc(t); }
     /// Where the next argument is (the directive when there is none).
-    SourceLoc next_loc() { return arg_loc(f.lex.peek()); }
+    SourceLoc next_loc() { return arg_loc(lex.peek()); }
     SourceLoc arg_loc(const Token& bad) const;
     [[noreturn]] void fail(const std::string& message) const { b.fail(loc(), message); }
     [[noreturn]] void fail(const Token& t, const std::string& message) const {
@@ -34,6 +36,8 @@ struct Directive {
 
     /// One of `count` numbers the directive takes.
     double real(int count);
+    /// One of `count` numbers, and where it is (`at`).
+    double real(int count, SourceLoc* at);
     Vec3 vec3(int count);
     /// A colour: three numbers, none negative ("negative <what> -1").
     Vec3 colour(int count, std::string_view what);
@@ -53,36 +57,21 @@ void key_file(Directive& d);
 int material_index(Directive& d);
 /// The three vertex indices of a triangle, each checked.
 TriangleDesc triangle(Directive& d);
-/// A shape's geometry after its material index: the numbers of #shape_<kind> (shapes.h), or a
-/// triangle's indices. Whether it is kept (SceneBuilder::keep_shape).
-bool shape(Directive& d, ShapeDesc& s);
+/// #shape_<kind> with a material index: the numbers of its kind (shapes.h), or a triangle's
+/// indices (V0/V1).
+void shape(Directive& d);
+/// A spot light's cutoff and drop-off, the last of its `count` numbers.
+void spot(Directive& d, LightDesc& l, int count);
 }  // namespace shared
 
-/// V0 and V1 (spec §3, §4).
-class V1Grammar {
-public:
-    explicit V1Grammar(SceneBuilder& b) : m_b(b) {}
-    void directive(FileState& f, const Token& d);
-    void end_of_file(FileState& f, const SourceLoc& eof);
-
-private:
-    SceneBuilder& m_b;
-};
-
-/// V3 (spec §13): the three parts of a file, and the shapes part read with an explicit stack of
-/// open constructs (FileState::v3), so deep nesting never recurses.
-class V3Grammar {
-public:
-    explicit V3Grammar(SceneBuilder& b) : m_b(b) {}
-    void directive(FileState& f, const Token& d);
-    void end_of_file(FileState& f, const SourceLoc& eof);
-
-private:
-    SceneBuilder& m_b;
-};
+/// One directive of a V0/V1 file (spec §3, §4), read into the builder.
+void read_v1(Directive& d);
+/// One directive of a V3 file (spec §13): its part of the file, and the shapes part's lists.
+/// `marker`: the tree's first V3 marker, for the error at a V0/V1 directive.
+void read_v3(Directive& d, const std::string& marker);
 
 /// A .key file (spec §14.1): every key of every DOF; errors through `b` (with its include
-/// chain).
-KeyFile parse_key_file(SceneBuilder& b, const std::string& text, const std::string& path);
+/// chain). In a V3 tree a key need not be affine.
+KeyFile parse_key_file(SceneBuilder& b, const std::string& text, const std::string& path, bool v3);
 
 }  // namespace rt::parser_impl

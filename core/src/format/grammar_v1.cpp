@@ -12,8 +12,13 @@ SourceLoc Directive::arg_loc(const Token& bad) const {
     return (bad.kind == TokenKind::End || bad.kind == TokenKind::Directive) ? loc() : loc(bad);
 }
 
+double Directive::real(int count, SourceLoc* at) {
+    *at = lex.loc(lex.peek());
+    return real(count);
+}
+
 double Directive::real(int count) {
-    const Token t = f.lex.next();
+    const Token t = lex.next();
     double v = 0.0;
     bool non_finite = false;
     if (t.kind == TokenKind::Word && parse_real(t.text, &v, &non_finite)) return v;
@@ -31,15 +36,15 @@ Vec3 Directive::vec3(int count) {
 Vec3 Directive::colour(int count, std::string_view what) {
     Vec3 c;
     for (int i = 0; i < 3; ++i) {
-        const Token t = f.lex.peek();
+        const Token t = lex.peek();
         c[i] = real(count);
-        if (c[i] < 0) fail(t, "negative " + std::string(what) + " " + SceneBuilder::fmt(c[i]));
+        if (c[i] < 0) fail(t, "negative " + std::string(what) + " " + fmt(c[i]));
     }
     return c;
 }
 
 int Directive::integer(std::string_view what, SourceLoc* at) {
-    const Token t = f.lex.next();
+    const Token t = lex.next();
     int v = 0;
     bool out_of_range = false;
     if (at) *at = loc(t);
@@ -49,7 +54,7 @@ int Directive::integer(std::string_view what, SourceLoc* at) {
 }
 
 std::string Directive::word(std::string_view what, bool ascii) {
-    const Token t = f.lex.next();
+    const Token t = lex.next();
     if (t.kind == TokenKind::Word) {
         // Spec §2: non-ASCII bytes only in comments, strings and paths.
         if (ascii)
@@ -75,22 +80,32 @@ CameraDesc camera(Directive& d) {
     return c;
 }
 
-void texture(Directive& d) {
+namespace {
+
+// A directive that names a file: its path (`what`), counted as item `k`, to the builder's `use`.
+void file_path(Directive& d, const char* what, CountKind k,
+               void (SceneBuilder::*use)(const SourceLoc&, const SourceLoc&, const std::string&)) {
     const SourceLoc at = d.next_loc();
-    const std::string path = d.word("a texture file name");
-    d.b.count_item(d.f, d.loc(), kTextures);
-    d.b.texture(d.f, d.loc(), at, path);
+    const std::string path = d.word(what);
+    d.b.count_item(d.loc(), k);
+    (d.b.*use)(d.loc(), at, path);
+}
+
+}  // namespace
+
+void texture(Directive& d) {
+    file_path(d, "a texture file name", kTextures, &SceneBuilder::texture);
 }
 
 // Spec §3.1, §10: numbers up to the !…! string, 16 (V0) or 18 (V1, V3) of them, the last the
 // texture index.
 void material(Directive& d) {
-    d.b.count_item(d.f, d.loc(), kMaterials);
+    d.b.count_item(d.loc(), kMaterials);
     MaterialNumbers m;
     m.loc = d.loc();
-    Token t = d.f.lex.next();
+    Token t = d.lex.next();
     Token last;
-    for (; t.kind == TokenKind::Word; t = d.f.lex.next()) {
+    for (; t.kind == TokenKind::Word; t = d.lex.next()) {
         double x = 0.0;
         bool non_finite = false;
         if (!parse_real(t.text, &x, &non_finite)) {
@@ -116,37 +131,31 @@ void material(Directive& d) {
     bool out_of_range = false;
     if (!parse_int(last.text, &desc.texture, &out_of_range))
         d.fail(last, "expected an integer (texture index), got " + quote(last.text));
-    d.b.add_material(d.f, std::move(desc), d.loc(last));
+    d.b.add_material(std::move(desc), d.loc(last));
 }
 
 void vertex(Directive& d) {
-    d.b.count_item(d.f, d.loc(), kVertices);
+    d.b.count_item(d.loc(), kVertices);
     VertexDesc v;
     v.position = d.vec3(8);
     v.normal = d.vec3(8);
     v.uv.x = d.real(8);
     v.uv.y = d.real(8);
-    d.b.vertex(d.f, d.loc(), v);
+    d.b.vertex(v);
 }
 
 void ray_file(Directive& d) {
-    const SourceLoc at = d.next_loc();
-    const std::string path = d.word("a .ray file name");
-    d.b.count_item(d.f, d.loc(), kRayFiles);
-    d.b.ray_file(d.f, d.loc(), at, path);
+    file_path(d, "a .ray file name", kRayFiles, &SceneBuilder::ray_file);
 }
 
 void key_file(Directive& d) {
-    const SourceLoc at = d.next_loc();
-    const std::string path = d.word("a .key file name");
-    d.b.count_item(d.f, d.loc(), kKeyFiles);
-    d.b.key_file(d.f, d.loc(), at, path);
+    file_path(d, "a .key file name", kKeyFiles, &SceneBuilder::key_file);
 }
 
 int material_index(Directive& d) {
     SourceLoc at;
     const int m = d.integer("material index", &at);
-    return d.b.material_index(d.f, at, m);
+    return d.b.material_index(at, m);
 }
 
 TriangleDesc triangle(Directive& d) {
@@ -154,7 +163,7 @@ TriangleDesc triangle(Directive& d) {
     for (int i = 0; i < 3; ++i) {
         SourceLoc at;
         g.v[i] = d.integer("vertex index", &at);
-        d.b.vertex_index(d.f, at, g.v[i]);
+        d.b.vertex_index(at, g.v[i]);
     }
     return g;
 }
@@ -164,7 +173,7 @@ namespace {
 // The numbers of one analytic shape: a negative size is an error at its number, a size of 0
 // leaves the shape out with a warning (spec §3.3).
 template <class T>
-bool analytic_shape(Directive& d, ShapeDesc& s) {
+void analytic_shape(Directive& d, ShapeDesc&& s) {
     using Desc = typename DescOf<T>::type;
     struct Count {
         int n = 0;
@@ -179,9 +188,9 @@ bool analytic_shape(Directive& d, ShapeDesc& s) {
         bool keep = true;
         void point(Vec3& v) { v = d.vec3(count); }
         void size(double& x, const char* what) {
-            const Token t = d.f.lex.peek();
+            const Token t = d.lex.peek();
             x = d.real(count);
-            if (x < 0) d.fail(t, std::string("negative ") + what + " " + SceneBuilder::fmt(x));
+            if (x < 0) d.fail(t, std::string("negative ") + what + " " + fmt(x));
             keep = keep && x > 0;
         }
     } read{d, count.n};
@@ -191,23 +200,31 @@ bool analytic_shape(Directive& d, ShapeDesc& s) {
         if (!message.empty()) d.b.warn(s.loc, std::move(kind), std::move(message));
     }
     s.geometry = g;
-    return d.b.keep_shape(d.f, s, read.keep ? nullptr : T::kEmpty);
+    d.b.shape(std::move(s), read.keep ? nullptr : T::kEmpty);
 }
 
 }  // namespace
 
-bool shape(Directive& d, ShapeDesc& s) {
+void shape(Directive& d) {
+    ShapeDesc s;
+    s.loc = d.loc();
+    s.material = material_index(d);
     if (d.name() == "#shape_triangle") {  // the mesh directive first: no look-up of the kind
         s.geometry = triangle(d);
-        return d.b.keep_shape(d.f, s);
+        return d.b.shape(std::move(s));
     }
-    return visit_kind(*shape_directive_kind(d.name()), [&](auto tag) {
+    visit_kind(*shape_directive_kind(d.name()), [&](auto tag) {
         using T = typename decltype(tag)::type;
-        if constexpr (std::is_same_v<typename DescOf<T>::type, TriangleDesc>)
-            return false;  // read above
-        else
-            return analytic_shape<T>(d, s);
+        if constexpr (!std::is_same_v<typename DescOf<T>::type, TriangleDesc>)
+            analytic_shape<T>(d, std::move(s));  // (a triangle is read above)
     });
+}
+
+void spot(Directive& d, LightDesc& l, int count) {
+    SourceLoc cutoff_at, dropoff_at;
+    l.cutoff_rad = d.real(count, &cutoff_at);
+    l.spot_exponent = d.real(count, &dropoff_at);
+    d.b.spot(l, cutoff_at, dropoff_at);
 }
 
 }  // namespace shared
@@ -216,7 +233,7 @@ bool shape(Directive& d, ShapeDesc& s) {
 namespace v1 {
 namespace {
 
-void definition(Directive& d) { d.b.definition(d.f, d.loc()); }
+void definition(Directive& d) { d.b.place(d.loc(), d.name(), SceneBuilder::Definition); }
 
 template <CountKind K>
 void count(Directive& d) {
@@ -224,12 +241,12 @@ void count(Directive& d) {
     SourceLoc at;
     const int n = d.integer("count", &at);
     // No more than the rest of the text can hold (a #vertex takes >= 24 bytes).
-    d.b.declare_count(d.f, d.loc(), K, n, at, d.f.lex.remaining() / 24);
+    d.b.declare_count(d.loc(), K, n, at, d.lex.remaining() / 24);
 }
 
 void camera(Directive& d) {
     definition(d);
-    d.b.camera(d.f, shared::camera(d));
+    d.b.camera(shared::camera(d));
 }
 
 void global_colour(Directive& d) {
@@ -237,8 +254,8 @@ void global_colour(Directive& d) {
     const bool background = d.name() == "#background";
     // Included files: syntax only (any three numbers).
     const Vec3 c =
-        d.f.top ? d.colour(3, background ? "background colour" : "ambient colour") : d.vec3(3);
-    d.b.global_colour(d.f, background, d.loc(), c);
+        d.top ? d.colour(3, background ? "background colour" : "ambient colour") : d.vec3(3);
+    d.b.global_colour(background, d.loc(), c);
 }
 
 void light(Directive& d) {
@@ -250,35 +267,20 @@ void light(Directive& d) {
         l.set_colour(d.colour(6, "light colour"));
         l.direction = d.vec3(6);
         if (glm::length(l.direction) == 0.0) d.fail("light direction is zero");
-    } else if (d.name() == "#light_point") {
-        l.kind = LightKind::Point;
-        l.set_colour(d.vec3(9));  // spec §3.1: point and spot colours need only be finite
-        l.position = d.vec3(9);
-        l.constant_atten = d.real(9);
-        l.linear_atten = d.real(9);
-        l.quadratic_atten = d.real(9);
     } else {
-        l.kind = LightKind::Spot;
-        l.set_colour(d.vec3(14));
-        l.position = d.vec3(14);
-        l.direction = d.vec3(14);
-        l.constant_atten = d.real(14);
-        l.linear_atten = d.real(14);
-        l.quadratic_atten = d.real(14);
-        const Token cut_tok = d.f.lex.peek();
-        l.cutoff_rad = d.real(14);
-        const Token dor_tok = d.f.lex.peek();
-        l.spot_exponent = d.real(14);  // p = 128 dor (V0) or dor (V1)
-        if (glm::length(l.direction) == 0.0) d.fail("spot light direction is zero");
-        if (l.cutoff_rad < 0)
-            d.fail(cut_tok, "negative spot cutoff " + SceneBuilder::fmt(l.cutoff_rad));
-        if (l.spot_exponent < 0)
-            d.fail(dor_tok, "negative spot drop-off " + SceneBuilder::fmt(l.spot_exponent));
-        if (d.b.dialect() == Dialect::V0) l.spot_exponent *= kV0ExponentScale;
-        d.b.spot_cutoff(l);
+        const bool spot = d.name() == "#light_spot";
+        const int count = spot ? 14 : 9;
+        l.kind = spot ? LightKind::Spot : LightKind::Point;
+        l.set_colour(d.vec3(count));  // spec §3.1: point and spot colours need only be finite
+        l.position = d.vec3(count);
+        if (spot) l.direction = d.vec3(count);
+        l.constant_atten = d.real(count);
+        l.linear_atten = d.real(count);
+        l.quadratic_atten = d.real(count);
+        if (spot) shared::spot(d, l, count);
     }
     d.b.attenuation(l);
-    d.b.light(d.f, l);
+    d.b.light(l);
 }
 
 // A definition both dialects read alike, after V0/V1's rule that none follows the scene graph.
@@ -289,33 +291,25 @@ void defined(Directive& d) {
 }
 
 void group_begin(Directive& d) {
-    Mat4 m(1.0);
+    SceneBuilder::Construct c{SceneBuilder::Construct::Group, d.loc(), d.name()};
     for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) m[c][r] = d.real(16);  // rows in the file
-    d.b.group_begin(d.f, d.loc(), std::string(d.name()), m);
+        for (int col = 0; col < 4; ++col) c.matrix[col][r] = d.real(16);  // rows in the file
+    d.b.open(c);
 }
 
 void joint_begin(Directive& d) {
-    const SourceLoc at = d.next_loc();
-    const std::string name = d.word("a joint name", true);
-    d.b.joint_begin(d.f, d.loc(), std::string(d.name()), at, name);
+    SceneBuilder::Construct c{SceneBuilder::Construct::Joint, d.loc(), d.name()};
+    c.name_loc = d.next_loc();
+    c.name = d.word("a joint name", true);
+    d.b.open(c);
 }
 
-void group_end(Directive& d) { d.b.group_end(d.f, d.loc(), std::string(d.name()), false); }
-void joint_end(Directive& d) { d.b.group_end(d.f, d.loc(), std::string(d.name()), true); }
+void group_end(Directive& d) { d.b.close(d.loc(), d.name()); }
 
 void instance(Directive& d) {
     SourceLoc at;
     const int i = d.integer("ray file index", &at);
-    d.b.instance(d.f, d.loc(), at, i);
-}
-
-void shape(Directive& d) {
-    d.b.graph(d.f);
-    ShapeDesc s;
-    s.loc = d.loc();
-    s.material = shared::material_index(d);
-    if (shared::shape(d, s)) d.b.group_shape(d.f, std::move(s));
+    d.b.instance(d.loc(), at, i);
 }
 
 // The V0/V1 directives, the mesh directives first; then #shape_<kind> of every kind that is not
@@ -326,7 +320,7 @@ struct Entry {
 };
 constexpr std::array<Entry, 23> kDirectives = {{
     {"#vertex", defined<shared::vertex>},
-    {"#shape_triangle", shape},
+    {"#shape_triangle", shared::shape},
     {"#camera", camera},
     {"#background", global_colour},
     {"#ambient", global_colour},
@@ -346,25 +340,22 @@ constexpr std::array<Entry, 23> kDirectives = {{
     {"#group_begin", group_begin},
     {"#group_end", group_end},
     {"#joint_begin", joint_begin},
-    {"#joint_end", joint_end},
+    {"#joint_end", group_end},
     {"#ray_file_instance", instance},
 }};
 
 }  // namespace
 }  // namespace v1
 
-void V1Grammar::directive(FileState& f, const Token& t) {
+void read_v1(Directive& d) {
     using namespace v1;
-    Directive d{m_b, f, t};
     for (const Entry& e : kDirectives)
-        if (e.name == t.text) return e.read(d);
-    const std::optional<ShapeKind> kind = shape_directive_kind(t.text);
+        if (e.name == d.name()) return e.read(d);
+    const std::optional<ShapeKind> kind = shape_directive_kind(d.name());
     if (kind &&
         !visit_kind(*kind, [](auto tag) { return kV3OnlyShape<typename decltype(tag)::type>; }))
-        return shape(d);
-    d.fail("unknown directive " + quote(t.text));
+        return shared::shape(d);
+    d.fail("unknown directive " + quote(d.name()));
 }
-
-void V1Grammar::end_of_file(FileState& f, const SourceLoc& eof) { m_b.end_of_v1_file(f, eof); }
 
 }  // namespace rt::parser_impl

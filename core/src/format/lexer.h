@@ -70,5 +70,9 @@ private:
 bool parse_real(std::string_view s, double* out, bool* non_finite);
 /// Parses an `int` token per spec §2 (32-bit signed). *out_of_range is set when it overflows.
 bool parse_int(std::string_view s, int* out, bool* out_of_range);
+namespace parser_impl {
+/// For messages: "end of file" or the quoted token (parser.cpp).
+std::string describe(const Token& t);
+}  // namespace parser_impl
 
 }  // namespace rt

@@ -1,8 +1,9 @@
-// The file loop of a parse (spec §2, §4.2, §10): the dialect is fixed by a pre-scan of the whole
-// file tree (dialect.cpp), then each file is parsed once per canonical path into a FileDesc, its
+// The include stack of a parse (spec §2, §4.2, §10): the dialect is fixed by a pre-scan of the
+// whole file tree (dialect.cpp), then each file is parsed once per canonical path, its
 // directives walked (mesh_runs.cpp) by the grammar of the dialect (grammar.h) into the
-// SceneBuilder (scene_builder.h), which completes the tree. The helpers that parser_impl.h
-// declares for all the parts are defined here too.
+// SceneBuilder (scene_builder.h), which completes the tree; the files the pre-scan read are
+// parsed ahead on threads into copies of the builder, merged where the walk meets them. The
+// helpers that parser_impl.h declares for all the parts, and the texture cache, are here too.
 #include "rt/format/parser.h"
 
 #include <algorithm>
@@ -14,7 +15,9 @@
 
 #include "format/driver.h"
 #include "format/lexer.h"
+#include "rt/image/image.h"
 #include "rt/util/file_io.h"
+#include "rt/util/limits.h"
 
 namespace fs = std::filesystem;
 
@@ -72,15 +75,36 @@ std::string lower(std::string_view s) {
     return r;
 }
 
-// ---- the file loop ------------------------------------------------------------------------------
-Parser::Parser(Diagnostics& diag, const ParseOptions& options)
-    : m_options(options), m_build(diag, options), m_v1(m_build), m_v3(m_build) {
-    m_build.set_file_loop(this);
+TextureCache::Decoded TextureCache::decode(const std::string& path) {
+    const std::lock_guard<std::mutex> lock(m_mutex);
+    const auto [it, added] = m_decoded.try_emplace(canonical_path(path));
+    if (added) {
+        // Each texture decodes within what the scene's texel budget has left, so the #texture
+        // that would pass it is refused before its pixels are allocated. (Files parsed ahead
+        // decode their textures as their threads reach them: in a tree over the budget, the
+        // #texture refused may be another than the serial parse's; the total holds either way.)
+        const uint64_t budget = max_scene_texels();
+        const uint64_t left = budget - std::min(budget, m_texels);
+        const DecodeBudget scope(left, "what is left of the scene's texture budget (" +
+                                           std::to_string(left) + " of " + std::to_string(budget) +
+                                           " texels, 4 x --max-pixels)");
+        auto image = std::make_shared<TextureImage>();
+        if (load_texture_image(path, image.get(), &it->second.error)) {
+            m_texels += static_cast<uint64_t>(image->width) * image->height;
+            it->second.image = std::move(image);
+        }
+    }
+    return it->second;
 }
 
-Parser::Parser(const Parser& tree, Ahead* out)
-    : m_options(tree.m_options), m_build(tree.m_build, out), m_v1(m_build), m_v3(m_build) {
+// ---- the include stack --------------------------------------------------------------------------
+Parser::Parser(Diagnostics& diag, const ParseOptions& options)
+    : m_options(options), m_build(diag, options) {}
+
+Parser::Parser(const Parser& tree, Diagnostics& own)
+    : m_options(tree.m_options), m_build(tree.m_build, own) {
     m_dialect = tree.m_dialect;
+    m_v3_marker = tree.m_v3_marker;
     m_top_dir = tree.m_top_dir;
     m_halt = &tree.m_stop_ahead;
 }
@@ -92,8 +116,7 @@ SceneDesc Parser::run(std::string_view text, const std::string& name, const std:
     count_text(text.size());
     detect_dialect(text, name, canonical, dir);
     start_ahead();
-    m_build.scene().files.emplace_back();
-    parse_file(text, name, canonical, dir, 0);
+    parse_text(text, name, canonical, dir, nullptr);
     stop_ahead();
     return m_build.finish();
 }
@@ -109,36 +132,48 @@ SceneDesc Parser::run_file(const std::string& path) {
     return run(text_of(text), path, dir.empty() ? "." : dir);
 }
 
-void Parser::parse_file(std::string_view text, const std::string& name,
-                        const std::string& canonical, const std::string& dir, int index) {
-    m_build.open_file(canonical, name);
-    FileDesc desc = parse_text(text, name, canonical, dir, index == 0);
-    m_build.close_file();
-    m_build.scene().files[static_cast<size_t>(index)] = std::move(desc);
-}
-
-FileDesc Parser::parse_text(std::string_view text, const std::string& name,
-                            const std::string& canonical, const std::string& dir, bool top) {
-    FileState f(text, intern_file_name(name));
-    f.top = top;
-    f.dir = dir;
-    f.desc.path = name;
-    f.desc.canonical_path = canonical;
-    f.stack.push_back(&f.desc.root);
-    f.stack_is_joint.push_back(0);
-
-    const bool v3 = m_dialect == Dialect::V3;
-    if (v3) f.v3.push_back({});  // the root list
+void Parser::parse_text(std::string_view text, const std::string& name,
+                        const std::string& canonical, const std::string& dir,
+                        const SceneBuilder::Include* from) {
+    SceneBuilder::File file{name, canonical, dir, from};
     if (auto it = m_sizes.find(canonical); it != m_sizes.end()) {
         // No more than the text can hold when every one is well formed (a #vertex or a shape
         // takes >= 24 bytes), whatever a hostile file's directives count.
         const size_t fit = text.size() / 24;
-        f.desc.vertices.reserve(std::min(it->second.vertices, fit));
-        if (!v3) f.desc.root.shapes.reserve(std::min(it->second.top_shapes, fit));
+        file.vertices = std::min(it->second.vertices, fit);
+        file.top_shapes = std::min(it->second.top_shapes, fit);
     }
-    walk_file(f);
-    end_of_file(f);
-    return std::move(f.desc);
+    m_build.open_file(file);
+    Reading r{Lexer(text, intern_file_name(name)), !from && !m_halt};
+    walk_file(r, name, canonical);
+    const Token end = r.lex.next();
+    m_build.close_file(r.lex.loc(end));
+}
+
+// An included file is read once: the dialect pre-scan kept its text (or parsed it ahead).
+void Parser::include(const SceneBuilder::Include& inc) {
+    std::string why;
+    const auto ahead = m_ahead.find(inc.canonical);
+    if (ahead == m_ahead.end() && !cached_text(inc.resolved, inc.canonical, &why))
+        m_build.fail(inc.path_loc, read_failure("cannot read ray file", inc.resolved, why));
+    if (ahead != m_ahead.end()) {
+        AheadJob& job = *ahead->second;
+        if (!job.claimed.exchange(true)) parse_ahead(job);  // no thread has started it
+        job.ready.wait();
+        // Its parse is this one's when the walk names it as the pre-scan did.
+        if (job.name == inc.resolved && job.parser) {
+            while (m_build.merge(job.parser->m_build, &inc, job.error))
+                if (auto sub = m_build.take_include()) include(*sub);
+            return;
+        }
+    }
+    // Read again when parsed ahead under another name.
+    if (!cached_text(inc.resolved, inc.canonical, &why))
+        throw SceneError({intern_file_name(inc.resolved), 0, 0}, why);
+    const FileBytes text = std::move(m_texts.at(inc.canonical));
+    m_texts.erase(inc.canonical);
+    const std::string sub_dir = fs::path(inc.resolved).parent_path().string();
+    parse_text(text_of(text), inc.resolved, inc.canonical, sub_dir.empty() ? "." : sub_dir, &inc);
 }
 
 // ---- included files parsed ahead ----------------------------------------------------------------
@@ -176,20 +211,17 @@ void Parser::start_ahead() {
     }
 }
 
+// A copy of the tree's builder parses the file; the tree merges it in its order (include()).
 void Parser::parse_ahead(AheadJob& job) const {
-    Ahead& a = job.result;
-    a.name = job.name;
-    a.canonical = job.canonical;
     if (!m_stop_ahead) {
-        Parser file(*this, &a);
+        job.parser.reset(new Parser(*this, job.diag));
+        Parser& file = *job.parser;
         if (auto it = m_sizes.find(job.canonical); it != m_sizes.end()) file.m_sizes.emplace(*it);
         try {
-            a.desc = file.parse_text(text_of(job.text), job.name, job.canonical, job.dir, false);
+            file.parse_text(text_of(job.text), job.name, job.canonical, job.dir, nullptr);
         } catch (...) {
-            a.error = std::current_exception();
+            job.error = std::current_exception();
         }
-        a.tracks = std::move(file.m_build.scene().tracks);
-        a.skipped = file.m_build.scene().skipped_shapes;
     }
     FileBytes().swap(job.text);
     job.done.set_value();
@@ -199,45 +231,6 @@ void Parser::stop_ahead() {
     m_stop_ahead = true;
     for (std::thread& t : m_ahead_threads) t.join();
     m_ahead_threads.clear();
-}
-
-void Parser::end_of_file(FileState& f) {
-    const Token end = f.lex.next();
-    const SourceLoc eof = f.lex.loc(end);
-    m_build.check_texture_refs(f);
-    if (m_dialect == Dialect::V3)
-        m_v3.end_of_file(f, eof);
-    else
-        m_v1.end_of_file(f, eof);
-}
-
-void Parser::dispatch(FileState& f, const Token& d) {
-    if (m_dialect == Dialect::V3)
-        m_v3.directive(f, d);
-    else
-        m_v1.directive(f, d);
-}
-
-// An included file is read once: the dialect pre-scan kept its text (or parsed it ahead).
-bool Parser::readable(const std::string& resolved, const std::string& canonical, std::string* why) {
-    return m_ahead.count(canonical) || cached_text(resolved, canonical, why) != nullptr;
-}
-
-void Parser::parse(const std::string& resolved, const std::string& canonical, int index) {
-    if (auto it = m_ahead.find(canonical); it != m_ahead.end()) {
-        AheadJob& job = *it->second;
-        if (!job.claimed.exchange(true)) parse_ahead(job);  // no thread has started it
-        job.ready.wait();
-        // Its parse is this one's when the walk names it as the pre-scan did.
-        if (job.result.name == resolved) return m_build.replay(job.result, index);
-    }
-    std::string why;  // read again when parsed ahead under another name (readable() held)
-    if (!cached_text(resolved, canonical, &why))
-        throw SceneError({intern_file_name(resolved), 0, 0}, why);
-    const FileBytes text = std::move(m_texts.at(canonical));
-    m_texts.erase(canonical);
-    const std::string sub_dir = fs::path(resolved).parent_path().string();
-    parse_file(text_of(text), resolved, canonical, sub_dir.empty() ? "." : sub_dir, index);
 }
 
 }  // namespace parser_impl

@@ -1,21 +1,21 @@
-// What the parts of the .ray parser share, private to core/src/format: the per-file state, the
-// limits of the reader and the helpers for messages and paths (defined in parser.cpp). The
-// driver (driver.h) walks the file tree, handing each directive to the grammar walk of its
-// dialect (grammar.h), which reads it into the SceneBuilder (scene_builder.h).
+// What the parts of the .ray parser share, private to core/src/format: the records of a file's
+// meaning (counts, key files, V3 constructs), the pre-scan's mesh runs, the texture cache and the
+// helpers for messages and paths (defined in parser.cpp). The driver (driver.h) walks the file
+// tree, handing each directive to the grammar walk of its dialect (grammar.h), which reads it
+// into the SceneBuilder (scene_builder.h).
 #pragma once
 
 #include <array>
-#include <atomic>
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
 
-#include "format/lexer.h"
 #include "rt/format/parser.h"
 #include "rt/scene/scene_desc.h"
 #include "rt/util/error.h"
@@ -29,8 +29,6 @@ namespace rt::parser_impl {
 /// binary file, or a secret that is not a scene: its bytes never reach the message):
 /// "'x' is not a .ray scene: its first bytes are not printable text".
 std::string not_text_message(const std::string& name, const std::string& what = "a .ray scene");
-/// "end of file" or the quoted token.
-std::string describe(const Token& t);
 /// `lead` and the quoted path, then why read_file() refused it ("No such file or directory",
 /// "'x' is a FIFO, not a regular file"): "cannot read key file 'x': ...".
 std::string read_failure(const std::string& lead, const std::string& path, const std::string& why);
@@ -41,6 +39,8 @@ bool is_file(const std::filesystem::path& p);
 bool is_dir(const std::filesystem::path& p);
 std::string canonical_path(const std::string& path);
 std::string lower(std::string_view s);
+/// For messages: a number as C++ streams write it.
+std::string fmt(double v);
 /// The shape kind whose directive is #shape_<kName> (spec §3.3, §13.5), if any (dialect.cpp).
 std::optional<ShapeKind> shape_directive_kind(std::string_view directive);
 /// V0/V1-only directives (spec §10 step 1): groups, joints, #background, #ambient, #*_num.
@@ -59,6 +59,9 @@ struct Count {
     SourceLoc loc;
     int found = 0;
 };
+
+/// "more #material than declared by #material_num at F:L:C" (scene_builder.cpp).
+std::string too_many_message(CountKind k, const Count& c);
 
 // A parsed .key file (spec §14.1): every key of every DOF, bottom rows set to (0, 0, 0, 1).
 struct KeyFile {
@@ -114,60 +117,21 @@ struct MeshRun {
     size_t end = 0;           // offset of the directive after the run (SIZE_MAX: the end)
 };
 
-// What a piece of a run parsed on another thread reports besides its shapes and vertices: its
-// warnings and skipped shapes, handed on in file order once the pieces before it are merged.
-struct PieceOutput {
-    struct Pending {
-        SourceLoc loc;
-        std::string kind, message;
-        std::vector<SourceLoc> chain;
+/// Textures decoded once per scene (shared by the builders of files parsed ahead, on other
+/// threads): every naming of a file shares the image, or the error.
+struct TextureCache {
+    struct Decoded {
+        std::shared_ptr<const TextureImage> image;  // null when it does not decode
+        std::string error;
     };
-    std::vector<Pending> warnings;
-    size_t skipped = 0;
-};
+    /// The texture at `path` (found), decoded the first time within what the scene's texel
+    /// budget has left (parser.cpp).
+    Decoded decode(const std::string& path);
 
-// Per-file parse state.
-struct FileState {
-    Lexer lex;
-    FileDesc desc;
-    bool top = false;
-    bool graph_started = false;
-    std::array<Count, kCountKinds> counts{};
-    std::vector<KeyFile> key_files;
-    std::vector<GroupDesc*> stack;  // open groups; stack[0] = &desc.root
-    std::vector<char> stack_is_joint;
-    bool warned_joint_identity = false;
-    std::string dir;  // directory of this file, for relative paths
-    struct TextureRef {
-        SourceLoc loc;
-        int index;
-    };
-    std::vector<TextureRef> texture_refs;  // material texture indices, checked at end of file
-    // V3 (spec §13.1): the part the file is in (0 global, 1 local, 2 shapes) and where the local
-    // and shapes parts started; the open shape constructs; one warning per file for lights.
-    int v3_part = 0;
-    SourceLoc v3_local_start, v3_shapes_start;
-    std::vector<V3Frame> v3;
-    int v3_csg_depth = 0;
-    bool warned_included_light = false, warned_dynamic_identity = false;
-
-    // A piece of a run parsed on another thread: the file's state it started from, whose
-    // definitions (materials, vertices) its shapes refer to.
-    const FileState* parent = nullptr;
-    const FileDesc& defs() const { return parent ? parent->desc : desc; }
-    size_t counted = 0;  // bytes of the text up to here added to ParseProgress::done
-    // While a run is parsed in pieces, each piece (the file's own walk the first) writes the
-    // run's vertices or shapes into its own range of the file's array, made room for before the
-    // pieces start: where the next one goes and the range's end.
-    template <class T>
-    struct Slots {
-        T* next = nullptr;
-        T* end = nullptr;
-    };
-    Slots<VertexDesc> vertex_slots;
-    Slots<ShapeDesc> shape_slots;
-
-    FileState(std::string_view text, const std::string* name) : lex(text, name) {}
+private:
+    std::mutex m_mutex;
+    std::map<std::string, Decoded> m_decoded;  // by canonical path
+    uint64_t m_texels = 0;                     // of every texture decoded (max_scene_texels())
 };
 
 }  // namespace rt::parser_impl

@@ -1,19 +1,22 @@
 // What the .ray grammar walks build, and what it means: the one SceneBuilder of a parse holds
 // the scene description under construction and every rule that is not syntax (which camera
 // wins, where a path is found, a material's numbers by dialect, the range of an index, the
-// groups of a file, the includes and their cycles, the key files and the DOFs bound to them),
-// with the include chain that every error and warning carries. The grammar walks (grammar.h)
-// read tokens and call it with values and the file:line:col of each; it never sees a token.
+// groups of a file, the rules of an include, the key files and the DOFs bound to them), with
+// the include chain that every error and warning carries. It owns the meaning state of each
+// open file (open_file / close_file); the grammar walks (grammar.h) read tokens and call it with
+// values and the file:line:col of each, as `b.texture(loc, path_loc, path)`; it never sees a
+// token. The driver (driver.h) keeps the texts and the include stack: a #ray_file is handed back
+// to it (take_include). A file parsed ahead, or a piece of a mesh run, is parsed into a copy of
+// the builder (the copy constructor) whose result the tree's builder merges in the tree's order.
 // Private to core/src/format.
 #pragma once
 
 #include <array>
 #include <exception>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "format/parser_impl.h"
@@ -30,247 +33,222 @@ struct MaterialNumbers {
     std::string name;  // between the !…!
 };
 
-/// An included file parsed ahead, on a thread of its own, before the walk of the tree reaches
-/// its #ray_file (Parser::parse_ahead): its description, and what it did whose place in the
-/// tree's order only that walk knows, in the order it did it, to be replayed there
-/// (SceneBuilder::replay): its warnings, its own #ray_file directives (whose files are numbered
-/// and parsed then), the key tracks it made, the missing textures it stood checkers in for.
-struct Ahead {
-    struct Event {
-        enum Kind { Warning, Include, Track, MissingTexture } what = Warning;
-        SourceLoc loc;  // Warning, MissingTexture: the warning's; Include: the directive's
-        std::string kind, message;     // Warning, MissingTexture (the warning's)
-        std::vector<SourceLoc> chain;  // Warning: the key file it was in, if any
-        SourceLoc path_loc;            // Include
-        std::string path, resolved;    // Include: as written and found; MissingTexture: path
-        size_t index = 0;              // Include: its slot in desc.ray_files; Track: the track
-    };
-    std::string name;  // the path the pre-scan found it as (the walk must name it the same)
-    std::string canonical;
-    std::vector<Event> events;
-    std::exception_ptr error;  // what stopped its parse, after the events
-    FileDesc desc;
-    std::vector<KeyTrack> tracks;  // Track events index these
-    size_t skipped = 0;
-};
-
-/// Textures decoded once per scene, shared by the builders of files parsed ahead.
-struct TextureCache {
-    struct Decoded {
-        std::shared_ptr<const TextureImage> image;  // null when it does not decode
-        std::string error;
-    };
-    std::mutex mutex;
-    std::map<std::string, Decoded> decoded;  // by canonical path
-    uint64_t texels = 0;                     // of every texture decoded (max_scene_texels())
-};
-
 class SceneBuilder {
 public:
-    SceneBuilder(Diagnostics& diag, const ParseOptions& options)
-        : m_diag(diag), m_options(options), m_textures(std::make_shared<TextureCache>()) {}
-    /// The builder of a file parsed ahead for `tree`'s (its events and description into *out).
-    SceneBuilder(const SceneBuilder& tree, Ahead* out)
-        : m_diag(tree.m_diag),
-          m_options(tree.m_options),
-          m_dialect(tree.m_dialect),
-          m_v3_marker(tree.m_v3_marker),
-          m_top_dir(tree.m_top_dir),
-          m_textures(tree.m_textures),
-          m_ahead(out) {}
+    /// A #ray_file whose file the driver parses (take_include).
+    struct Include {
+        SourceLoc loc, path_loc;  // the directive, its path
+        std::string resolved;     // the path found
+        std::string canonical;
+        size_t slot = 0;  // its place in the including file's ray files
+    };
+    /// A file opened: its names and directory; the #ray_file that includes it (none: the
+    /// top-level file, or the file of a copy); the room the pre-scan found it needs.
+    struct File {
+        std::string name, canonical, dir;
+        const Include* from = nullptr;
+        size_t vertices = 0, top_shapes = 0;
+    };
+    /// A copy for a piece of a mesh run: a run of #vertex (else of #shape_triangle), the index
+    /// in the run of the piece's first directive, and its number of directives, whose vertices
+    /// or shapes it writes in place into the room its file made for the run (open_run).
+    struct Piece {
+        bool vertices = false;
+        size_t index = 0, count = 0;
+    };
+    /// What a grammar walk opens: a V0/V1 #group_begin (its matrix) or #joint_begin (its DOF);
+    /// a V3 list, #static_affine (its matrix), #dynamic_affine (its DOF), #shape_triangles (its
+    /// material) or CSG node (its operation: a #shape_difference takes no list).
+    struct Construct {
+        enum Kind { Group, Joint, List, Affine, Dynamic, Triangles, Csg, Difference };
+        Kind kind = Group;
+        SourceLoc loc;
+        std::string_view directive;
+        Mat4 matrix{1.0};
+        SourceLoc name_loc{};
+        std::string name{};
+        int material = 0;
+        CsgOp op = CsgOp::Union;
+    };
+    /// Where in a file a directive may come: V0/V1 definitions (none once the scene graph
+    /// started); the three parts of a V3 file (spec §13.1).
+    enum Part { Definition, Global, Local, Shapes };
+
+    SceneBuilder(Diagnostics& diag, const ParseOptions& options);
+    /// A copy of `from` that parses into `own` diagnostics and a description of its own, to be
+    /// merged into `from` (merge): a file parsed ahead (piece null; `from` the tree's builder),
+    /// or a piece of a mesh run of `from`'s open file, whose definitions it reads.
+    SceneBuilder(const SceneBuilder& from, Diagnostics& own,
+                 std::optional<Piece> piece = std::nullopt);
 
     // ---- errors and warnings: with the include chain as notes ----------------------------
     [[noreturn]] void fail(const SourceLoc& loc, const std::string& message) const;
-    /// On a thread parsing a piece of a run, warnings wait in its PieceOutput, so they reach
-    /// the diagnostics in file order.
     void warn(const SourceLoc& loc, std::string kind, std::string message) const;
-    /// A warning a piece of a run kept, handed on in file order.
-    void warn(PieceOutput::Pending&& w) const;
-    /// A degenerate shape left out, with its warning ("degenerate triangle skipped").
-    void skip_shape(const SourceLoc& loc, const char* kind);
-    /// Where the warnings and skipped shapes of this thread go (a piece of a run), or null.
-    static inline thread_local PieceOutput* t_piece = nullptr;
 
-    // ---- the tree as a whole ----------------------------------------------------------------
-    Dialect dialect() const { return m_dialect; }
-    /// The dialect the pre-scan settled, the first V3 marker (for messages) and the top-level
-    /// file's directory (V3 paths, spec §13.2).
-    void set_dialect(Dialect d, std::string v3_marker, std::string top_dir);
-    const std::string& v3_marker() const { return m_v3_marker; }
-    Diagnostics& diagnostics() const { return m_diag; }
-    SceneDesc& scene() { return m_scene; }
-    /// The driver's file loop, which #ray_file calls: whether an included file can be read
-    /// (why not), and its parse into m_scene.files[index].
-    struct FileLoop {
-        virtual bool readable(const std::string& resolved, const std::string& canonical,
-                              std::string* why) = 0;
-        virtual void parse(const std::string& resolved, const std::string& canonical,
-                           int index) = 0;
-
-    protected:
-        ~FileLoop() = default;
-    };
-    void set_file_loop(FileLoop* loop) { m_files = loop; }
-    /// A file's parse starts or ends (include cycles are found among the open ones).
-    void open_file(const std::string& canonical, const std::string& name);
-    void close_file() { m_open.pop_back(); }
-    /// The end of a V0/V1 file: open groups and counts short of their declaration are errors.
-    void end_of_v1_file(FileState& f, const SourceLoc& eof);
-    /// Every texture index of the file's materials within its textures (checked at its end:
-    /// definitions may come in any order).
-    void check_texture_refs(const FileState& f) const;
+    // ---- the tree and its files ------------------------------------------------------------
+    /// The dialect the pre-scan settled and the top-level file's directory (V3 paths, spec
+    /// §13.2).
+    void set_dialect(Dialect d, std::string top_dir);
+    /// A file's parse starts (its index in the scene taken, its include on the chain) or ends
+    /// at `eof`: open groups, counts short of their declaration, texture indices out of range
+    /// and V3 constructs left open are errors there; its description goes in its place.
+    void open_file(const File& file);
+    void close_file(const SourceLoc& eof);
+    /// The #ray_file just read, if its file is for the driver to parse: the include's rules
+    /// applied first (a cycle or too deep is an error; a file already parsed is numbered only).
+    /// A copy for a file parsed ahead keeps its includes for the merge.
+    std::optional<Include> take_include();
+    /// A copy's result, in the tree's order. A piece of a run: its vertices or shapes after
+    /// the open file's, its warnings, its counts. A file parsed ahead (`from` its #ray_file, its
+    /// error if its parse failed): its warnings and key tracks up to its next #ray_file, which
+    /// take_include() then gives; true while one is left, and the file is in place when false.
+    bool merge(SceneBuilder& copy, const Include* from = nullptr,
+               const std::exception_ptr& error = nullptr);
     /// The tree parsed: placements bounded, the missing-camera warning. The description.
     SceneDesc finish();
+    /// A mesh run the pre-scan counted, parsed in pieces: room made once for the `n`
+    /// directives after its first (vertices, else shapes of the innermost group or triangle
+    /// list), the first `own` of it lent to this builder's walk, the rest to the pieces'
+    /// copies, each of which writes its range in place; the merge closes up a range a piece
+    /// wrote short (a degenerate triangle skipped). close_run: the array ends after what was
+    /// written, the room given back (also when the pieces are dropped).
+    void open_run(bool vertices, size_t n, size_t own);
+    void close_run();
 
-    // ---- counts (#*_num, spec §3.1) ----------------------------------------------------------
+    // ---- counts (#*_num, spec §3.1) and the order of a file ---------------------------------
     /// `n` at n_loc declares the count; `room` bounds what it may reserve (the text left / 24).
-    void declare_count(FileState& f, const SourceLoc& loc, CountKind k, int n,
-                       const SourceLoc& n_loc, size_t room);
-    void count_item(FileState& f, const SourceLoc& loc, CountKind k) const {
-        Count& c = f.counts[k];
+    void declare_count(const SourceLoc& loc, CountKind k, int n, const SourceLoc& n_loc,
+                       size_t room);
+    void count_item(const SourceLoc& loc, CountKind k) const {
+        Count& c = m_file->counts[k];
         ++c.found;
-        if (c.declared && c.found > c.declared_n) too_many(loc, k, c);
+        if (c.declared && c.found > c.declared_n) fail(loc, too_many_message(k, c));
     }
-    /// V0/V1: no definition once the scene graph started (graph(): a group, an instance or a
-    /// shape starts it).
-    void definition(const FileState& f, const SourceLoc& loc) const {
-        if (f.graph_started) fail(loc, "definition after the scene graph started");
-    }
-    void graph(FileState& f) const { f.graph_started = true; }
+    /// Whether directive `name` may come here; in a V3 shapes part, the rules of the open list
+    /// (true: `name` opened the list its construct expected).
+    bool place(const SourceLoc& loc, std::string_view name, Part part);
 
     // ---- definitions ---------------------------------------------------------------------
     /// #camera of either dialect: included files' cameras are syntax only; V0/V1 keep the
     /// first, V3 the last; the all-zero one is the default camera.
-    void camera(const FileState& f, const CameraDesc& c);
-    void global_colour(const FileState& f, bool background, const SourceLoc& loc, const Vec3& c);
-    /// The warnings of a light's attenuation (all zero: it never contributes) and of a spot's
-    /// cutoff (beyond pi/2: it never cuts off), as the grammar reads them.
+    void camera(const CameraDesc& c);
+    void global_colour(bool background, const SourceLoc& loc, const Vec3& c);
+    /// The warning of a light's attenuation (all zero: it never contributes).
     void attenuation(const LightDesc& l) const;
-    void spot_cutoff(const LightDesc& l) const;
+    /// A spot light's numbers, as both dialects read them (the cutoff and the drop-off at their
+    /// places): checked, a V0 drop-off scaled, the warning of a cutoff beyond pi/2.
+    void spot(LightDesc& l, const SourceLoc& cutoff_loc, const SourceLoc& dropoff_loc) const;
     /// A light as read: kept (top-level files) or ignored with a warning.
-    void light(FileState& f, const LightDesc& l);
-    void shader(const FileState& f, std::string vertex, std::string fragment);
-    void texture(FileState& f, const SourceLoc& loc, const SourceLoc& path_loc,
-                 const std::string& path);
+    void light(const LightDesc& l);
+    void shader(std::string vertex, std::string fragment);
+    void texture(const SourceLoc& loc, const SourceLoc& path_loc, const std::string& path);
     /// What a #material's numbers mean in the tree's dialect, each checked (the texture index
     /// aside); then the material with its texture index, whose range is checked at the end of
     /// the file.
     MaterialDesc material(const MaterialNumbers& m) const;
-    void add_material(FileState& f, MaterialDesc m, const SourceLoc& texture_loc) const;
-    void vertex(FileState& f, const SourceLoc& loc, VertexDesc v) const;  // normal made unit
-    /// #ray_file: the file's index in the scene, parsed now when it is new (parsed ahead: a
-    /// slot in f's ray files that the replay fills).
-    void ray_file(FileState& f, const SourceLoc& loc, const SourceLoc& path_loc,
-                  const std::string& path);
-    /// A file parsed ahead, where the walk of the tree reaches it as file `index` (whose
-    /// #ray_file pushed the include chain): its events in order, its files included, its tracks
-    /// numbered in the tree's, its error (with the chain); then its description in its place.
-    void replay(Ahead& a, int index);
-    void key_file(FileState& f, const SourceLoc& loc, const SourceLoc& path_loc,
-                  const std::string& path);
-    /// The track (index into the scene's tracks) of DOF `name` of f's key files (spec §14.2).
-    int bind_dof(FileState& f, const SourceLoc& name_loc, const std::string& name);
+    void add_material(MaterialDesc m, const SourceLoc& texture_loc);
+    void vertex(VertexDesc v);  // normal made unit
+    /// #ray_file: the path found; its file numbered when the driver takes it (take_include).
+    void ray_file(const SourceLoc& loc, const SourceLoc& path_loc, const std::string& path);
+    void key_file(const SourceLoc& loc, const SourceLoc& path_loc, const std::string& path);
 
     // ---- the scene graph -----------------------------------------------------------------
     /// A material index of a shape (V0's -1 the default material), checked.
-    int material_index(const FileState& f, const SourceLoc& loc, int m) const;
-    /// A ray file index of an instance, checked.
-    void instance_index(const FileState& f, const SourceLoc& loc, int i) const;
+    int material_index(const SourceLoc& loc, int m) const;
     /// A vertex index of a triangle, checked against the file's vertices.
-    void vertex_index(const FileState& f, const SourceLoc& loc, int v) const {
-        if (v < 0 || static_cast<size_t>(v) >= f.defs().vertices.size())
-            vertex_out_of_range(f, loc, v);
-    }
-    static bool degenerate_triangle(const FileDesc& file, const TriangleDesc& t);
-    /// Whether a shape as read is kept: a degenerate triangle, or an analytic shape with a size
-    /// of 0 (`empty`, its T::kEmpty, when one is), is skipped with a warning (spec §3.3).
-    bool keep_shape(const FileState& f, const ShapeDesc& s, const char* empty = nullptr);
-    /// A vertex into the file, or a shape into group list `to`, or into the slots of a piece of
-    /// a run (mesh_runs.cpp).
-    void add_vertex(FileState& f, const SourceLoc& loc, const VertexDesc& v) const {
-        if (!f.vertex_slots.next) return f.desc.vertices.push_back(v);
-        if (f.vertex_slots.next == f.vertex_slots.end) fail(loc, kRunOverflow);
-        *f.vertex_slots.next++ = v;
-    }
-    void add_shape(FileState& f, HugePageVector<ShapeDesc>& to, ShapeDesc&& s) const {
-        if (!f.shape_slots.next) return to.push_back(std::move(s));
-        if (f.shape_slots.next == f.shape_slots.end) fail(s.loc, kRunOverflow);
-        *f.shape_slots.next++ = std::move(s);
-    }
-    static constexpr const char* kRunOverflow =
-        "internal error: a mesh run longer than the pre-scan found";
-    /// V0/V1: a shape into the innermost open group.
-    void group_shape(FileState& f, ShapeDesc&& s) const {
-        add_shape(f, f.stack.back()->shapes, std::move(s));
-    }
-    /// The V0/V1 groups: a #group_begin matrix, a #joint_begin DOF, their ends, an instance.
-    void group_begin(FileState& f, const SourceLoc& loc, const std::string& directive,
-                     const Mat4& m);
-    void joint_begin(FileState& f, const SourceLoc& loc, const std::string& directive,
-                     const SourceLoc& name_loc, const std::string& name);
-    void group_end(FileState& f, const SourceLoc& loc, const std::string& directive, bool joint);
-    void instance(FileState& f, const SourceLoc& loc, const SourceLoc& index_loc, int i);
-    /// A #dynamic_affine's DOF (V3): its track, or -1 with a warning when the file has no key
-    /// files; the matrix key 0.
-    int dynamic_dof(FileState& f, const SourceLoc& loc, const SourceLoc& name_loc,
-                    const std::string& name);
-    // The V3 shapes part (spec §13.5): its open constructs (FileState::v3), on an explicit
-    // stack so that deep nesting never recurses; a finished shape goes to the innermost one,
-    // and every construct it completes (a transform after its one shape, a difference after its
-    // second) goes to the one below, folded as scene_desc.h says.
-    /// Opens a construct at a directive, within the nesting limits.
-    V3Frame& v3_open(FileState& f, const SourceLoc& loc, std::string_view directive,
-                     V3Frame::Kind kind) const;
-    void v3_deliver(FileState& f, V3Node node) const;
-    /// #shape_list_end: the innermost construct is finished.
-    void v3_close(FileState& f) const;
-    /// The end of a V3 file: a construct left open is an error; the root list is the file's.
-    void v3_end_of_file(FileState& f, const SourceLoc& eof) const;
-    /// What an unfinished construct still needs, for the error at `what` (a directive or the
-    /// end of the file).
-    static std::string v3_open_message(const V3Frame& fr, const std::string& what);
-    /// Affine, non-singular (spec §3.3, §4.1).
-    void check_matrix(const Mat4& m, const SourceLoc& loc, const std::string& what) const;
-
-    /// For messages: a number as C++ streams write it.
-    static std::string fmt(double v);
+    void vertex_index(const SourceLoc& loc, int v) const;
+    /// A shape as read into the innermost group, list or construct, unless it is degenerate
+    /// or (`empty`, its T::kEmpty) an analytic shape of size 0: then skipped with a warning
+    /// (spec §3.3). A V3 #shape_triangle takes its list's material.
+    void shape(ShapeDesc&& s, const char* empty = nullptr);
+    /// #ray_file_instance, its index checked.
+    void instance(const SourceLoc& loc, const SourceLoc& index_loc, int i);
+    /// A construct opened, within the nesting limits; V0/V1 #group_end and #joint_end, V3
+    /// #shape_list_end close one.
+    void open(const Construct& c);
+    void close(const SourceLoc& loc, std::string_view directive);
 
 private:
-    [[noreturn]] void too_many(const SourceLoc& loc, CountKind k, const Count& c) const;
-    [[noreturn]] void vertex_out_of_range(const FileState& f, const SourceLoc& loc, int v) const;
-    std::optional<std::string> try_resolve(const FileState& f, const SourceLoc& at,
-                                           const std::string& path, std::string* tried) const;
-    std::string resolve(const FileState& f, const SourceLoc& at, const std::string& path,
-                        const std::string& what) const;
-    bool dummy_camera(const CameraDesc& c);
-    void check_camera(const CameraDesc& c) const;
-    long long placements(size_t fi, std::vector<long long>& memo) const;
+    /// merge() of a piece of a run: its vertices or shapes after the open file's, its warnings,
+    /// its counts; its error, if any, thrown after its warnings.
+    void merge_piece(SceneBuilder& piece, const std::exception_ptr& error);
+    /// Where `path` is (spec §4.2, §13.2); when it is nowhere, an error naming `what`, or (with
+    /// `tried`) nullopt and the places tried.
+    std::optional<std::string> resolve(const SourceLoc& at, const std::string& path,
+                                       const std::string& what, std::string* tried) const;
 
-    // A texture file is decoded once per scene, however many #texture lines (in however many
-    // files) name it: every naming shares the image, or the error.
-    TextureCache::Decoded decode_once(const std::string& path);
-    /// The include of a file found as `resolved`: its cycle, the depth, its index (parsed now
-    /// when it is new).
-    int include(const SourceLoc& loc, const SourceLoc& path_loc, const std::string& resolved);
-    /// A texture missing (a checker stands in): one warning per file named.
-    void missing_texture(const SourceLoc& loc, const std::string& path, std::string message);
-
-    struct Open {
-        std::string canonical;
-        std::string name;
+    /// The meaning state of an open file.
+    struct OpenFile {
+        FileDesc desc;
+        size_t index = 0;  // in the scene's files
+        bool top = false;
+        bool included = false;  // its #ray_file is on the include chain
+        bool graph_started = false;
+        std::array<Count, kCountKinds> counts{};
+        std::vector<KeyFile> key_files;
+        std::vector<GroupDesc*> stack;  // open groups; stack[0] = &desc.root
+        std::vector<char> stack_is_joint;
+        bool warned_joint_identity = false;
+        std::string dir;  // directory of this file, for relative paths
+        struct TextureRef {
+            SourceLoc loc;
+            int index;
+        };
+        std::vector<TextureRef> texture_refs;  // material texture indices, checked at its end
+        // V3 (spec §13.1): the part the file is in (0 global, 1 local, 2 shapes) and where the
+        // local and shapes parts started; the open shape constructs; one warning per file for
+        // lights and for #dynamic_affine without key files.
+        int v3_part = 0;
+        SourceLoc v3_local_start, v3_shapes_start;
+        std::vector<V3Frame> v3;
+        int v3_csg_depth = 0;
+        bool warned_included_light = false, warned_dynamic_identity = false;
+        // A piece of a mesh run: the file whose definitions (materials, vertices) its shapes
+        // refer to; else this one.
+        const FileDesc* defs = &desc;
+        // A run in pieces (open_run): its room, the places [at, at + n) of the array; the range
+        // this builder writes in place (first, next, end; next == end: none, or full).
+        template <class T>
+        struct Lent {
+            T* first = nullptr;
+            T* next = nullptr;
+            T* end = nullptr;
+        };
+        struct Run {
+            bool vertices = false;
+            size_t at = 0, n = 0;
+            VertexDesc* vertex_room = nullptr;
+            ShapeDesc* shape_room = nullptr;
+        } run;
+        Lent<VertexDesc> lent_vertices;
+        Lent<ShapeDesc> lent_shapes;
+    };
+    /// What the merge of a copy needs.
+    struct Copy {
+        bool piece = false;
+        /// A file parsed ahead: its #ray_file directives, each with the number of warnings
+        /// and key tracks made before it; how far the merge has come.
+        struct Deferred {
+            size_t warnings = 0, tracks = 0;
+            Include include;
+        };
+        std::vector<Deferred> includes;
+        size_t merged = 0, warnings = 0, tracks = 0;
+        std::vector<int> track_of;  // its tracks' indices in the tree
+        bool started = false;
     };
 
     Diagnostics& m_diag;
     ParseOptions m_options;
     SceneDesc m_scene;
     Dialect m_dialect = Dialect::V1;
-    std::string m_v3_marker;      // "'#static_affine' at F:L:C", for messages
-    std::string m_top_dir = ".";  // directory of the top-level file (V3 paths, spec §13.2)
-    FileLoop* m_files = nullptr;
-    std::vector<SourceLoc> m_include_locs;  // #ray_file/#key_file, outermost first
-    std::vector<Open> m_open;               // the files being parsed, outermost first
+    std::string m_top_dir = ".";                    // directory of the top-level file
+    std::vector<SourceLoc> m_include_locs;          // #ray_file/#key_file, outermost first
+    std::vector<std::unique_ptr<OpenFile>> m_open;  // the files being parsed, outermost first
+    OpenFile* m_file = nullptr;                     // the innermost (stable: on the heap)
     std::shared_ptr<TextureCache> m_textures;
-    Ahead* m_ahead = nullptr;  // this builder's file is parsed ahead: its events go here
+    std::optional<Include> m_include;  // the #ray_file just read
+    std::optional<Copy> m_copy;        // this builder is a copy: what its merge needs
     bool m_seen_background = false, m_seen_ambient = false;
     SourceLoc m_camera_loc;          // V3: the last top-level #camera
     bool m_all_zero_camera = false;  // the top-level file's camera is the dummy
