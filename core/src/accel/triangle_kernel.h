@@ -58,6 +58,24 @@ inline __m128 distance_error_scaled(const __m128 x[3], const __m128 y[3], const 
                    _mm_mul_ps(delta_z, max_e)));
 }
 
+/// The lanes of `band` (hits within t's error bound) decided by their distance in double: those
+/// inside (t_lo, t_hi) join `mask`, their distances written to t_out.
+[[gnu::always_inline]] inline int band_hits(const Tri4& tri, const TriRay& ray, int band,
+                                            float t_lo, float t_hi, float t_out[4], int mask) {
+    for (int b = band; b;) {
+        const int l = __builtin_ctz(static_cast<unsigned>(b));
+        b &= b - 1;
+        const double t = tri4_plane_distance_double(tri, l, ray);
+        // A ray spawned at a hit starts outside its surface's error box (offset_origin), so its
+        // own triangle is at t <= 0 in double; NaN (undecidable) stays rejected.
+        if (t > static_cast<double>(t_lo) && t < static_cast<double>(t_hi)) {
+            t_out[l] = static_cast<float>(t);
+            mask |= 1 << l;
+        }
+    }
+    return mask;
+}
+
 inline int tri4_hits(const Tri4& tri, const TriRay& ray, int lanes_mask, float t_lo, float t_hi,
                      float t_out[4]) {
     const __m128 ox = _mm_set1_ps(ray.o[ray.kx]), oy = _mm_set1_ps(ray.o[ray.ky]),
@@ -133,18 +151,7 @@ inline int tri4_hits(const Tri4& tri, const TriRay& ray, int lanes_mask, float t
                                    _mm_cmpge_ps(ts, _mm_sub_ps(_mm_setzero_ps(), delta_t_scaled))));
     mask &= firm;
     if (mask) _mm_storeu_ps(t_out, _mm_div_ps(t_scaled, det));
-    for (int b = band; b;) {
-        const int l = __builtin_ctz(static_cast<unsigned>(b));
-        b &= b - 1;
-        const double t = tri4_plane_distance_double(tri, l, ray);
-        // A ray spawned at a hit starts outside its surface's error box (offset_origin), so its
-        // own triangle is at t <= 0 in double; NaN (undecidable) stays rejected.
-        if (t > static_cast<double>(t_lo) && t < static_cast<double>(t_hi)) {
-            t_out[l] = static_cast<float>(t);
-            mask |= 1 << l;
-        }
-    }
-    return mask;
+    return band_hits(tri, ray, band, t_lo, t_hi, t_out, mask);
 }
 
 /// The blocks of a packed leaf (blocks `first` and on, `count` triangles: full blocks but the

@@ -93,6 +93,21 @@ inline int intersect_node_fast(const Bvh4Node& node, const BoxRay& ray, __m128 t
     return _mm_movemask_ps(_mm_cmple_ps(t0, t1)) & ((1 << node.num_children) - 1);
 }
 
+/// A subtree waiting on walk_nodes()' stack, and where the ray enters its box.
+struct WalkEntry {
+    uint32_t child;
+    float t;
+};
+
+/// A child pushed for later is fetched meanwhile (all of its cache lines).
+template <class Node>
+[[gnu::always_inline]] inline void prefetch_node(const Node* nodes, uint32_t child) {
+    if (child & Bvh4Node::kLeaf) return;
+    const char* p = reinterpret_cast<const char*>(nodes + child);
+    for (size_t line = 0; line < sizeof(Node) / 64; ++line)
+        _mm_prefetch(p + 64 * line, _MM_HINT_T0);
+}
+
 /// Traversal over 4-wide or 8-wide nodes (Bvh4Node, Bvh8Node): `test(node, tmax, t)` returns
 /// the mask of the children whose boxes the ray enters before tmax and writes their entry
 /// distances to t. `visit_leaf(first, count, t_max)` tests the leaf's primitives (positions
@@ -101,29 +116,20 @@ inline int intersect_node_fast(const Bvh4Node& node, const BoxRay& ray, __m128 t
 /// (one hit: no stack; two: one compare; more: sorted on the stack) and a subtree whose box
 /// starts beyond t_max is skipped (closest-hit queries); any-hit queries skip the sorting. The
 /// walk keeps the node it descends into in a register and pushes only the other children hit.
+/// Its stack: each level pushes at most kWidth - 1 entries and consumes at least one level of
+/// the binary tree, which the build keeps below 40 + log2(n) deep (bvh.cpp): 512 entries hold
+/// any tree of up to 2^32 primitives.
 template <bool kOrdered, class Node, class TestNode, class VisitLeaf, class Count>
 void walk_nodes(const Node* nodes, TestNode&& test, double& t_max, VisitLeaf&& visit_leaf,
                 Count count) {
     constexpr int kWidth = sizeof(Node::child) / sizeof(uint32_t);
-    struct Entry {
-        uint32_t child;
-        float t;
-    };
-    // Each level pushes at most kWidth - 1 entries and consumes at least one level of the
-    // binary tree, which the build keeps below 40 + log2(n) deep (bvh.cpp): 512 entries hold
-    // any tree of up to 2^32 primitives.
-    Entry stack[512];
+    using Entry = WalkEntry;
+    Entry stack[512];  // the depth: above
     int sp = 0;
     // Box tests in float compare against t_max rounded up; updated when a leaf shrinks it.
     auto t_max_f = [&] { return static_cast<float>(t_max) * (1.0f + 1e-6f) + 1e-30f; };
     float tmax = t_max_f();
-    // A child pushed for later is fetched meanwhile (all of its cache lines).
-    auto prefetch = [&](uint32_t child) {
-        if (child & Bvh4Node::kLeaf) return;
-        const char* p = reinterpret_cast<const char*>(nodes + child);
-        for (size_t line = 0; line < sizeof(Node) / 64; ++line)
-            _mm_prefetch(p + 64 * line, _MM_HINT_T0);
-    };
+    auto prefetch = [&](uint32_t child) { prefetch_node(nodes, child); };
     uint32_t cur = 0;
     for (;;) {
         if (!(cur & Bvh4Node::kLeaf)) {
