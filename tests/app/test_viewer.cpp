@@ -207,6 +207,40 @@ ScriptLine line(int frame, std::string command, std::vector<std::string> args = 
 // The script's commands run headless on the state, through the verbs the panels use: each
 // edit is pending by itself, a bad argument or a failed command throws naming it, the window's
 // own commands are not the state's.
+// Every number of kLightNumbers is the script's to set (clamped to its range) on a light whose
+// kind has it, and refused on one whose kind has not; the restart takes it to the scene.
+TEST(Viewer, ScriptSetsEveryLightNumberOfTheTable) {
+    ViewerState v(kLights, false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    v.set_trace_size(32, 24);
+    restart(v);
+    for (const char* kind : {"point", "spot", "directional", "sphere"})
+        run_command(v, line(1, "add-light", {kind}));
+    const size_t first = v.edits.lights.size() - 4;
+    int set = 0;
+    for (const LightNumber& n : kLightNumbers)
+        for (size_t i = first; i < v.edits.lights.size(); ++i) {
+            const std::string index = std::to_string(i);
+            if (!n.of(v.edits.lights[i].kind)) {
+                EXPECT_THROW(run_command(v, line(2, "light", {index, n.name, "0.5"})),
+                             std::runtime_error)
+                    << n.name;
+                continue;
+            }
+            run_command(v, line(2, "light", {index, n.name, "-1"}));
+            EXPECT_EQ(v.edits.lights[i].*n.field, n.lo) << n.name;
+            run_command(v, line(2, "light", {index, n.name, "0.5"}));
+            EXPECT_EQ(v.edits.lights[i].*n.field, 0.5) << n.name;
+            ++set;
+        }
+    EXPECT_EQ(set, 1 + 3 * 3 + 2);  // a sphere's radius; three kinds' attenuation; a spot's two
+    restart(v);
+    ASSERT_EQ(v.session.loaded->scene.lights.size(), v.edits.lights.size());
+    for (const LightNumber& n : kLightNumbers)
+        for (size_t i = first; i < v.edits.lights.size(); ++i)
+            EXPECT_EQ(v.session.loaded->scene.lights[i].*n.field, v.edits.lights[i].*n.field);
+}
+
 TEST(Viewer, ScriptCommandsRunOnTheState) {
     ViewerState v(kLights, false);
     ASSERT_TRUE(v.session.loaded) << v.messages.text;

@@ -1,5 +1,6 @@
 #include "state/commands.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -47,7 +48,8 @@ std::string said(const ScriptLine& l, const std::string& text) {
     return "rayview: frame " + std::to_string(l.frame) + ": " + text;
 }
 
-// light I position X Y Z | light I colour|ambient|diffuse|specular R G B | light I radius R.
+// light I position X Y Z | light I colour|ambient|diffuse|specular R G B | light I NAME X, a
+// number of kLightNumbers (radius, constant, linear, quadratic, cutoff, dropoff).
 void set_light(const ScriptLine& l, ViewerState& v) {
     constexpr double kBig = 1e6;
     auto arg = [&](size_t i) { return number(l, i, -kBig, kBig); };
@@ -60,7 +62,8 @@ void set_light(const ScriptLine& l, ViewerState& v) {
     if (what == "position") {
         light.position = Vec3(arg(2), arg(3), arg(4));
     } else {
-        const bool one = what == "radius";
+        const bool one = std::any_of(std::begin(kLightNumbers), std::end(kLightNumbers),
+                                     [&](const LightNumber& n) { return what == n.name; });
         if (!edit_light(what, arg(2), one ? 0 : arg(3), one ? 0 : arg(4), &light))
             throw std::runtime_error("light: cannot set " + what + " of light " + l.args[0]);
     }

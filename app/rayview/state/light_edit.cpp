@@ -14,9 +14,12 @@ bool edit_light(const std::string& what, double a, double b, double c, LightDesc
         l->diffuse = rgb;
     } else if (what == "specular") {
         l->specular = rgb;
-    } else if (what == "radius" && l->kind == LightKind::Sphere) {
-        l->radius = std::max(0.0, a);
     } else {
+        for (const LightNumber& n : kLightNumbers)
+            if (what == n.name && n.of(l->kind)) {
+                l->*n.field = std::clamp(a, n.lo, n.hi);
+                return true;
+            }
         return false;
     }
     return true;

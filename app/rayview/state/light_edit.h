@@ -9,8 +9,8 @@ namespace rt::view {
 
 /// A light edit (the script's `light` command) WHAT (colour: a V0/V1 light's one colour, which sets
 /// ambient 0 and diffuse = specular; ambient, diffuse, specular: one of a V3 light's colours;
-/// radius: a sphere light's, a >= 0) with arguments (a, b, c). False, and `*l` unchanged, for
-/// another WHAT.
+/// a number of kLightNumbers that the light's kind has, `a` clamped to its range) with
+/// arguments (a, b, c). False, and `*l` unchanged, for another WHAT.
 bool edit_light(const std::string& what, double a, double b, double c, LightDesc* l);
 
 }  // namespace rt::view

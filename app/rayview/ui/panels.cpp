@@ -104,25 +104,18 @@ bool one_colour(LightDesc& l) {
     return true;
 }
 
-// A sphere light's radius, >= 0.
-bool sphere_radius(LightDesc& l) {
-    float r = static_cast<float>(l.radius);
-    if (!ImGui::DragFloat("radius", &r, 0.01f, 0.0f, 1e6f, "%.3f", kClamp) || !std::isfinite(r))
+// A number of a light (kLightNumbers' row): dragged, or a slider where it has no step; typed
+// values are clamped to its range, non-finite ones refused.
+bool light_number(const LightNumber& n, LightDesc& l) {
+    double& value = l.*n.field;
+    if (n.step == 0.0f)
+        return slider(n.label, &value, static_cast<float>(n.lo), static_cast<float>(n.hi));
+    float f = static_cast<float>(value);
+    if (!ImGui::DragFloat(n.label, &f, n.step, static_cast<float>(n.lo), static_cast<float>(n.hi),
+                          "%.3f", kClamp) ||
+        !std::isfinite(f))
         return false;
-    l.radius = decimal(std::max(0.0f, r));
-    return true;
-}
-
-// The constant, linear and quadratic attenuation of a light with a position.
-bool attenuation(LightDesc& l) {
-    float a[3] = {static_cast<float>(l.constant_atten), static_cast<float>(l.linear_atten),
-                  static_cast<float>(l.quadratic_atten)};
-    if (!ImGui::DragFloat3("attenuation", a, 0.005f, 0.0f, 100.0f, "%.3f", kClamp) ||
-        !std::isfinite(a[0] + a[1] + a[2]))
-        return false;
-    l.constant_atten = decimal(a[0]);
-    l.linear_atten = decimal(a[1]);
-    l.quadratic_atten = decimal(a[2]);
+    value = std::clamp(decimal(f), n.lo, n.hi);
     return true;
 }
 
@@ -138,8 +131,8 @@ bool unit_direction(const char* label, Vec3* direction) {
 }
 
 // One light's controls: a V3 light's three colours (spec §13.3), a V0/V1 light's one colour
-// (its diffuse and specular), a sphere light's radius. Directions are shown and edited made
-// unit, as the renderer uses them.
+// (its diffuse and specular), its position and direction, and the numbers its kind has
+// (kLightNumbers). Directions are shown and edited made unit, as the renderer uses them.
 bool light_editor(LightDesc& l, char* on, bool three_colours) {
     bool edited = false;
     bool checked = *on != 0;
@@ -154,17 +147,11 @@ bool light_editor(LightDesc& l, char* on, bool three_colours) {
     } else {
         edited |= one_colour(l);
     }
-    if (l.kind == LightKind::Sphere) edited |= sphere_radius(l);
-    if (l.kind != LightKind::Directional) {
-        edited |= drag3("position", &l.position, 0.05f);
-        edited |= attenuation(l);
-    }
+    if (l.kind != LightKind::Directional) edited |= drag3("position", &l.position, 0.05f);
     if (l.kind == LightKind::Directional || l.kind == LightKind::Spot)
         edited |= unit_direction("direction", &l.direction);
-    if (l.kind == LightKind::Spot) {
-        edited |= slider("cut-off (rad)", &l.cutoff_rad, 0.0f, 3.1416f);
-        edited |= slider("drop-off exponent", &l.spot_exponent, 0.0f, 256.0f);
-    }
+    for (const LightNumber& n : kLightNumbers)
+        if (n.of(l.kind)) edited |= light_number(n, l);
     return edited;
 }
 

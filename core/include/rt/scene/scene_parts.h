@@ -33,6 +33,33 @@ struct Light {
     void set_colour(const Vec3& c) { ambient = Vec3(0.0), diffuse = specular = c; }
 };
 
+/// A number of a light that a user sets by name: the viewer's panel shows one control per row
+/// and its script's `light I NAME X` sets it, from this table alone. So a new number is its field
+/// in Light, its row here and its use in the renderers (shading and the preview).
+struct LightNumber {
+    const char* name;   // the script's word
+    const char* label;  // the panel's
+    double Light::*field;
+    double lo, hi;          // the range a user sets it in
+    float step;             // the panel drags it by this much a pixel; 0: a slider
+    bool (*of)(LightKind);  // the kinds that have it
+};
+
+inline constexpr LightNumber kLightNumbers[] = {
+    {"radius", "radius", &Light::radius, 0.0, 1e6, 0.01f,
+     [](LightKind k) { return k == LightKind::Sphere; }},
+    {"constant", "constant attenuation", &Light::constant_atten, 0.0, 100.0, 0.005f,
+     [](LightKind k) { return k != LightKind::Directional; }},
+    {"linear", "linear attenuation", &Light::linear_atten, 0.0, 100.0, 0.005f,
+     [](LightKind k) { return k != LightKind::Directional; }},
+    {"quadratic", "quadratic attenuation", &Light::quadratic_atten, 0.0, 100.0, 0.005f,
+     [](LightKind k) { return k != LightKind::Directional; }},
+    {"cutoff", "cut-off (rad)", &Light::cutoff_rad, 0.0, kPi, 0.0f,
+     [](LightKind k) { return k == LightKind::Spot; }},
+    {"dropoff", "drop-off exponent", &Light::spot_exponent, 0.0, 256.0, 0.0f,
+     [](LightKind k) { return k == LightKind::Spot; }},
+};
+
 /// A material's terms with the dialect resolved (spec §3.2: V0's kspec and scalar ktran are
 /// converted).
 struct Material {
