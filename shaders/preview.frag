@@ -140,7 +140,7 @@ uniform vec3 u_background;  // what a ray that meets nothing sees (linear)
 uniform samplerCube u_env;
 uniform vec3 u_transparent;  // T
 uniform float u_refind;
-// The solid a transmitting range is in its set's frame (preview.cpp's Range::Solid: 0 none,
+// The solid a transmitting range is in its set's frame (preview.cpp's set_solid_uniforms: 0 none,
 // 1 a sphere, u_solid_sphere's centre and radius, 2 a box, u_solid_lo to u_solid_hi, 3 a torus
 // about y, centred at u_solid_sphere.xyz, ring and tube radii u_solid_radii), and the
 // instance's transforms (preview.vert's, and their inverse).
