@@ -262,7 +262,7 @@ TEST(Compile, RecordsWhereEachPrimitiveWasRead) {
 
 // A description's light, material and camera are the render's with a location (and a name):
 // the compile takes them as they are, makes directions unit, keeps the file's texture index for
-// the caller to renumber, and material_terms_into() leaves the location, name and texture.
+// the caller to renumber.
 TEST(Compile, TakesTheLightMaterialAndCameraOfTheDescriptionAsTheyAre) {
     LightDesc spot;
     spot.kind = LightKind::Spot;
@@ -288,13 +288,6 @@ TEST(Compile, TakesTheLightMaterialAndCameraOfTheDescriptionAsTheyAre) {
     EXPECT_EQ(m.diffuse, md.diffuse);
     EXPECT_EQ(m.refractive_index, 1.5);
     EXPECT_EQ(m.texture, 2);
-    Material edited = m;
-    edited.specular = Vec3(1.0);
-    edited.texture = 7;
-    material_terms_into(edited, &md);
-    EXPECT_EQ(md.specular, Vec3(1.0));
-    EXPECT_EQ(md.texture, 2);
-    EXPECT_EQ(md.name, "glass");
 
     CameraDesc c;
     c.position = Vec3(1, 2, 3);

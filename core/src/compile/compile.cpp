@@ -906,12 +906,6 @@ Bounds3 GeometrySet::prim_bounds(size_t i) const {
 
 Material compile_material(const MaterialDesc& d) { return d; }
 
-void material_terms_into(const Material& m, MaterialDesc* d) {
-    const int texture = d->texture;  // the file's numbering stays
-    static_cast<Material&>(*d) = m;
-    d->texture = texture;
-}
-
 Light compile_light(const LightDesc& d) {
     Light l = d;
     const bool directed = d.kind == LightKind::Directional || d.kind == LightKind::Spot;

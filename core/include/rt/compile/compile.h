@@ -83,8 +83,5 @@ CameraPose compile_camera(const CameraDesc& desc);
 /// A material's terms as the renderer uses them; its texture is the file's index, which the
 /// caller maps to the scene's (RenderScene::textures holds every file's, in file order).
 Material compile_material(const MaterialDesc& desc);
-/// The inverse for the terms: `m`'s colours, exponent, transparency and index into `*desc`,
-/// whose location, name and texture stay (the viewer saves edited materials with it).
-void material_terms_into(const Material& m, MaterialDesc* desc);
 
 }  // namespace rt
