@@ -52,6 +52,11 @@ bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& 
     return same_parts<Light>(a, b);
 }
 
+bool same_edits(const SceneEdits& a, const SceneEdits& b) {
+    return a.camera == b.camera && a.light_on == b.light_on && same_lights(a.lights, b.lights) &&
+           same_materials(a.materials, b.materials);
+}
+
 void keep_window_settings(ViewSettings* s, const ViewSettings& window) {
     s->render.width = window.render.width;
     s->render.height = window.render.height;

@@ -72,6 +72,9 @@ struct UndoState {
     ViewSettings settings;
 };
 
+/// The same camera, lights (and which are on) and materials, locations aside: what undo and
+/// the trace's restart both compare.
+bool same_edits(const SceneEdits& a, const SceneEdits& b);
 /// Two lists of lights alike but for where they were read (a reload moves lines).
 bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b);
 /// Two lists of materials alike in every term (and texture; not where they were read).

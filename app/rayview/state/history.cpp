@@ -8,9 +8,7 @@ namespace {
 bool same_state(const SceneEdits& edits, const ViewSettings& settings, const UndoState& b) {
     ViewSettings x = settings;
     keep_window_settings(&x, b.settings);
-    return x == b.settings && edits.camera == b.edits.camera &&
-           edits.light_on == b.edits.light_on && same_lights(edits.lights, b.edits.lights) &&
-           same_materials(edits.materials, b.edits.materials);
+    return x == b.settings && same_edits(edits, b.edits);
 }
 
 }  // namespace

@@ -23,9 +23,7 @@ bool same_for_trace(const ViewerState& v, const UndoState& b) {
     r.height = y.render.height;
     return r == y.render && x.target_spp == y.target_spp && x.target_error == y.target_error &&
            x.resolution_scale == y.resolution_scale && x.headlight == y.headlight &&
-           v.edits.camera == b.edits.camera && v.edits.light_on == b.edits.light_on &&
-           same_lights(v.edits.lights, b.edits.lights) &&
-           same_materials(v.edits.materials, b.edits.materials);
+           same_edits(v.edits, b.edits);
 }
 
 UndoState current_state(const ViewerState& v) { return {v.edits, v.settings}; }
