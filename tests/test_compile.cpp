@@ -284,10 +284,11 @@ TEST(Compile, TakesTheLightMaterialAndCameraOfTheDescriptionAsTheyAre) {
     md.texture = 2;
     md.diffuse = Vec3(0.1, 0.2, 0.3);
     md.refractive_index = 1.5;
-    const Material m = compile_material(md);
+    const Material m = compile_material(md, MaterialOrigin{1, 0, 4, 3});
     EXPECT_EQ(m.diffuse, md.diffuse);
     EXPECT_EQ(m.refractive_index, 1.5);
-    EXPECT_EQ(m.texture, 2);
+    EXPECT_EQ(m.texture, 6);  // the file's third texture, after the 4 of the files before
+    EXPECT_EQ(compile_material(md, MaterialOrigin{1, 0, 4, 2}).texture, -1);  // not its file's
 
     CameraDesc c;
     c.position = Vec3(1, 2, 3);

@@ -685,7 +685,8 @@ TEST(Viewer, MaterialsKnowTheirFileAndItsTextures) {
     const SceneDesc d = parse_scene_file(RT_SOURCE_DIR "/scenes/materials.ray", diag);
     ASSERT_EQ(d.files.size(), 2u);
     const std::vector<MaterialOrigin> origins = material_origins(d);
-    ASSERT_EQ(origins.size(), 6u);  // the built-in default, material 6, is in no file
+    ASSERT_EQ(origins.size(), 7u);
+    EXPECT_EQ(origins[6].file, -1);  // the built-in default, material 6, is in no file
     const MaterialOrigin glass = origins[1];
     EXPECT_EQ(glass.file, 0);
     EXPECT_EQ(glass.index, 1);

@@ -27,27 +27,6 @@ bool same_materials(const std::vector<MaterialDesc>& a, const std::vector<Materi
     return same_parts<Material>(a, b);
 }
 
-std::vector<MaterialDesc> material_descs(const SceneDesc& desc) {
-    std::vector<MaterialDesc> out;
-    for (const FileDesc& file : desc.files)
-        out.insert(out.end(), file.materials.begin(), file.materials.end());
-    out.push_back(v0_default_material());
-    return out;
-}
-
-std::vector<MaterialOrigin> material_origins(const SceneDesc& desc) {
-    std::vector<MaterialOrigin> out;
-    int first_texture = 0;
-    for (size_t f = 0; f < desc.files.size(); ++f) {
-        const FileDesc& file = desc.files[f];
-        const int textures = static_cast<int>(file.textures.size());
-        for (size_t m = 0; m < file.materials.size(); ++m)
-            out.push_back({static_cast<int>(f), static_cast<int>(m), first_texture, textures});
-        first_texture += textures;
-    }
-    return out;
-}
-
 bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& b) {
     return same_parts<Light>(a, b);
 }
@@ -128,14 +107,10 @@ void apply_edits(const SceneEdits& edits, const std::vector<MaterialOrigin>& ori
     for (size_t i = 0; i < edits.lights.size(); ++i)
         if (edits.light_on[i]) scene->lights.push_back(compile_light(edits.lights[i]));
     if (headlight) scene->lights.push_back(compile_light(headlight_desc(edits.camera)));
-    if (edits.materials.size() == scene->materials.size())
-        for (size_t k = 0; k < edits.materials.size(); ++k) {
-            const MaterialDesc& d = edits.materials[k];
-            Material m = compile_material(d);  // as compile_scene compiles it
-            const MaterialOrigin o = k < origins.size() ? origins[k] : MaterialOrigin{};
-            m.texture = d.texture >= 0 && d.texture < o.textures ? o.first_texture + d.texture : -1;
-            scene->materials[k] = m;
-        }
+    // One edited material per material of the scene (SceneEdits::materials), as compile_scene
+    // compiles it.
+    for (size_t k = 0; k < scene->materials.size(); ++k)
+        scene->materials[k] = compile_material(edits.materials.at(k), origins.at(k));
     settings->width = trace_w;
     settings->height = trace_h;
 }

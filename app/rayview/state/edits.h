@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "rt/compile/compile.h"
 #include "rt/image/image.h"
 #include "rt/render/render.h"
 #include "rt/render_scene.h"
@@ -15,8 +16,8 @@ namespace rt::view {
 
 /// The user's edits, on the description side: the camera and every light, on or off; and the
 /// materials as their files describe them (a texture is its file's index), one per
-/// RenderScene::materials (the files' in order, the V0 default last). The restart compiles
-/// them (apply_edits), and the scene saves them as they are.
+/// RenderScene::materials (material_descs: set whole only from the scene's, when it opens or
+/// reloads). The restart compiles them (apply_edits), and the scene saves them as they are.
 /// The panels, the keys and the script edit it through the same verbs; the viewer sees every
 /// change itself (ViewerState::edit_pending), so no writer marks an edit.
 struct SceneEdits {
@@ -80,21 +81,6 @@ bool same_lights(const std::vector<LightDesc>& a, const std::vector<LightDesc>& 
 /// Two lists of materials alike in every term (and texture; not where they were read).
 bool same_materials(const std::vector<Material>& a, const std::vector<Material>& b);
 bool same_materials(const std::vector<MaterialDesc>& a, const std::vector<MaterialDesc>& b);
-/// The descriptions of the compiled scene's materials, in its order: each file's, then the V0
-/// default (compile_scene's order).
-std::vector<MaterialDesc> material_descs(const SceneDesc& desc);
-
-/// Where a material of the compiled scene comes from: its file in SceneDesc::files and its
-/// index there (file -1: the built-in default), and that file's textures in the scene's list
-/// (a material may use only its own file's).
-struct MaterialOrigin {
-    int file = -1, index = -1;
-    int first_texture = 0, textures = 0;
-};
-/// The origin of every file material, in compile_scene's order (each file's materials in file
-/// order; the V0 default, last, is in none): one walk over the files, made once per load
-/// (LoadedScene::origin), since the panels ask every frame.
-std::vector<MaterialOrigin> material_origins(const SceneDesc& desc);
 
 /// The settings that follow the window, not the user's edits (undo keeps them as they are): the
 /// trace's size, which follows the pane, and the panel's width, visibility and scale, from
@@ -105,9 +91,9 @@ void keep_window_settings(ViewSettings* s, const ViewSettings& window);
 /// float (0.3f gives 0.3, not 0.30000001192092896), so a saved scene holds the numbers shown.
 double float_as_decimal(float f);
 
-/// The edits into a compiled scene, while no trace runs on it: the camera, the lights that are
-/// on and the materials (compiled from their descriptions, a material's texture from its file's
-/// numbering to the scene's by `origins`), or the headlight, and the trace's size.
+/// The edits into the compiled scene: the camera, the lights that are on (and the headlight)
+/// and the materials (compiled from their descriptions as compile_scene compiles them, `origins`
+/// being material_origins()), and the trace's size.
 void apply_edits(const SceneEdits& edits, const std::vector<MaterialOrigin>& origins,
                  bool headlight, int trace_w, int trace_h, RenderScene* scene,
                  RenderSettings* settings);

@@ -85,20 +85,22 @@ public:
 private:
     void compile_materials() {
         // Global arrays with per-file offsets; the V0 default material goes last.
+        size_t materials = 0;
         for (const FileDesc& f : m_desc.files) {
             m_texture_offset.push_back(static_cast<int>(m_scene.textures.size()));
             for (const TextureDesc& t : f.textures) m_scene.textures.push_back(t.image);
-            m_material_offset.push_back(static_cast<int>(m_scene.materials.size()));
-            for (const MaterialDesc& md : f.materials) {
-                Material m = compile_material(md);
-                m.texture = md.texture >= 0 ? m_texture_offset.back() + md.texture : -1;
-                m_scene.materials.push_back(m);
-                if (m_report.record_locations) m_report.material_names.push_back(md.name);
-            }
+            m_material_offset.push_back(static_cast<int>(materials));
+            materials += f.materials.size();
         }
-        m_default_material = static_cast<int>(m_scene.materials.size());
-        m_scene.materials.push_back(compile_material(v0_default_material()));
-        if (m_report.record_locations) m_report.material_names.emplace_back("(default)");
+        const std::vector<MaterialDesc> descs = material_descs(m_desc);
+        const std::vector<MaterialOrigin> origins = material_origins(m_desc);
+        for (size_t k = 0; k < descs.size(); ++k) {
+            m_scene.materials.push_back(compile_material(descs[k], origins[k]));
+            if (m_report.record_locations)
+                m_report.material_names.push_back(origins[k].file < 0 ? "(default)"
+                                                                      : descs[k].name);
+        }
+        m_default_material = static_cast<int>(materials);
     }
 
     // What is compiled into one set and placed: a file's root list, or a bound joint's subtree
@@ -904,7 +906,33 @@ Bounds3 GeometrySet::prim_bounds(size_t i) const {
     });
 }
 
-Material compile_material(const MaterialDesc& d) { return d; }
+std::vector<MaterialOrigin> material_origins(const SceneDesc& desc) {
+    std::vector<MaterialOrigin> out;
+    int first_texture = 0;
+    for (size_t f = 0; f < desc.files.size(); ++f) {
+        const FileDesc& file = desc.files[f];
+        const int textures = static_cast<int>(file.textures.size());
+        for (size_t m = 0; m < file.materials.size(); ++m)
+            out.push_back({static_cast<int>(f), static_cast<int>(m), first_texture, textures});
+        first_texture += textures;
+    }
+    out.push_back({});  // the V0 default
+    return out;
+}
+
+std::vector<MaterialDesc> material_descs(const SceneDesc& desc) {
+    std::vector<MaterialDesc> out;
+    for (const FileDesc& file : desc.files)
+        out.insert(out.end(), file.materials.begin(), file.materials.end());
+    out.push_back(v0_default_material());
+    return out;
+}
+
+Material compile_material(const MaterialDesc& d, const MaterialOrigin& o) {
+    Material m = d;
+    m.texture = d.texture >= 0 && d.texture < o.textures ? o.first_texture + d.texture : -1;
+    return m;
+}
 
 Light compile_light(const LightDesc& d) {
     Light l = d;

@@ -164,10 +164,12 @@ namespace rt {
 void animate(RenderScene& scene, const SceneDesc& desc, const std::optional<SceneTime>& time,
              Diagnostics* diag) {
     if (scene.rig.recompile) {
-        // Compiled again at the new time; what the caller set (camera, lights) stays.
+        // Compiled again at the new time; what the caller set (camera, lights, materials)
+        // stays: the same description compiles the same materials, in the same order.
         RenderScene next = compile_scene(desc, nullptr, time, diag);
         next.camera = scene.camera;
         next.lights = std::move(scene.lights);
+        next.materials = std::move(scene.materials);
         next.background = scene.background;
         next.ambient = scene.ambient;
         scene = std::move(next);

@@ -66,8 +66,10 @@ RenderScene compile_scene_releasing(SceneDesc& desc, CompileReport* report = nul
 
 /// Moves the joints of `scene`, compiled from `desc`, to `time`: the instances under joints get
 /// their new transforms, the world bounds and the top-level BVH are made again, and nothing else
-/// is touched (unless a joint lies under a CSG node: then the scene is compiled again). The
-/// result renders exactly as compile_scene(desc, nullptr, time). Make a new render plan after.
+/// is touched (unless a joint lies under a CSG node: then the scene is compiled again, and its
+/// camera, lights, materials, background and ambient are kept). With those as `desc` has them,
+/// the result renders exactly as compile_scene(desc, nullptr, time). Make a new render plan
+/// after.
 void animate(RenderScene& scene, const SceneDesc& desc, const std::optional<SceneTime>& time,
              Diagnostics* diag = nullptr);
 
@@ -80,8 +82,19 @@ BvhBuildSettings set_bvh_settings(SetLayout layout);
 /// for lights).
 Light compile_light(const LightDesc& desc);
 CameraPose compile_camera(const CameraDesc& desc);
-/// A material's terms as the renderer uses them; its texture is the file's index, which the
-/// caller maps to the scene's (RenderScene::textures holds every file's, in file order).
-Material compile_material(const MaterialDesc& desc);
+/// Where material k of the compiled scene comes from: its file in SceneDesc::files and its index
+/// there (file -1: the built-in V0 default, last), and that file's textures in
+/// RenderScene::textures (a material may use only its own file's).
+struct MaterialOrigin {
+    int file = -1, index = -1;
+    int first_texture = 0, textures = 0;
+};
+/// The scene's materials in RenderScene::materials' order, the one compile_scene() makes: each
+/// file's in file order, then the V0 default. The descriptions, and where each comes from.
+std::vector<MaterialDesc> material_descs(const SceneDesc& desc);
+std::vector<MaterialOrigin> material_origins(const SceneDesc& desc);
+/// A material as the renderer uses it: its terms, and its texture (the file's index) made the
+/// scene's by `origin` (-1, none, when its file has no such texture).
+Material compile_material(const MaterialDesc& desc, const MaterialOrigin& origin);
 
 }  // namespace rt
