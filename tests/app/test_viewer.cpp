@@ -66,8 +66,8 @@ TEST(Viewer, EditsReachTheTracedSceneAtTheRestart) {
     EXPECT_EQ(s.camera->direction, v.edits.camera.desc().direction);
 }
 
-// Issue 15: the timeline loops or stops at the end; the preview's copy follows every frame,
-// the traced scene only at the restart; both then hold the instances of a compile at that time.
+// Issue 15: the timeline loops or stops at the end; the preview's scene follows every frame,
+// the trace's copy only at the restart; both then hold the instances of a compile at that time.
 TEST(Viewer, TheTimelineMovesThePreviewAtOnceAndTheTraceAtTheRestart) {
     Timeline tl;
     tl.playing = true;
@@ -91,29 +91,28 @@ TEST(Viewer, TheTimelineMovesThePreviewAtOnceAndTheTraceAtTheRestart) {
     EXPECT_DOUBLE_EQ(v.animation_length(), 4.0);
     v.set_trace_size(32, 24);
     restart(v);
+    const RenderScene& scene = v.session.loaded->scene;
+    const RenderScene* traced = v.trace.traced(v.session.loaded->id);
+    ASSERT_TRUE(traced);
     v.timeline.playing = true;
-    v.step_animation(0.75);  // the preview's copy moves at once
+    v.step_animation(0.75);  // the preview's scene moves at once
     const SceneTime at = v.timeline.scene_time();
     EXPECT_DOUBLE_EQ(at.seconds, 0.75);
-    ASSERT_TRUE(v.session.loaded->shown.time);
-    EXPECT_EQ(*v.session.loaded->shown.time, at);
-    EXPECT_NE(v.session.loaded->scene.time,
-              v.session.loaded->shown.time);  // the trace's, at the restart
+    ASSERT_TRUE(scene.time);
+    EXPECT_EQ(*scene.time, at);
+    EXPECT_NE(traced->time, scene.time);  // the trace's copy, made at the restart
     EXPECT_TRUE(v.edit_pending());
     v.timeline.playing = false;
     restart(v);
-    ASSERT_TRUE(v.session.loaded->scene.time);
-    EXPECT_EQ(*v.session.loaded->scene.time, at);
+    ASSERT_TRUE(traced->time);
+    EXPECT_EQ(*traced->time, at);
     const RenderScene fresh = compile_scene(v.session.loaded->desc, nullptr, at);
-    ASSERT_EQ(v.session.loaded->scene.instances.size(), fresh.instances.size());
+    ASSERT_EQ(traced->instances.size(), fresh.instances.size());
     for (size_t i = 0; i < fresh.instances.size(); ++i) {
-        EXPECT_EQ(v.session.loaded->scene.instances[i].world_from_set.m,
-                  fresh.instances[i].world_from_set.m);
-        EXPECT_EQ(v.session.loaded->shown.instances[i].world_from_set.m,
-                  fresh.instances[i].world_from_set.m);
+        EXPECT_EQ(traced->instances[i].world_from_set.m, fresh.instances[i].world_from_set.m);
+        EXPECT_EQ(scene.instances[i].world_from_set.m, fresh.instances[i].world_from_set.m);
     }
-    EXPECT_EQ(&v.session.loaded->shown.sets[0],
-              &v.session.loaded->scene.sets[0]);  // shared, not copied
+    EXPECT_EQ(&scene.sets[0], &traced->sets[0]);  // shared, not copied
 }
 
 // The trace pane refines at full resolution once the view is still: a change of the trace's
@@ -647,7 +646,7 @@ TEST(Viewer, FloatWidgetValuesAreTheirShortestDecimal) {
     EXPECT_NE(write_scene(d).find(" 0.3 0 0"), std::string::npos) << write_scene(d);
 }
 
-// A material edited in the panel reaches the traced scene and the preview's copy at the
+// A material edited in the panel reaches the preview's scene and the trace's copy at the
 // restart, is one undo step, and is saved with the scene in its #material line.
 TEST(Viewer, MaterialEditsReachBothPanesUndoAndSave) {
     ViewerState v(kLights, false);
@@ -665,7 +664,8 @@ TEST(Viewer, MaterialEditsReachBothPanesUndoAndSave) {
     EXPECT_EQ(v.session.loaded->scene.materials[0].diffuse, Vec3(0.85));  // not before it
     restart(v);
     EXPECT_EQ(v.session.loaded->scene.materials[0].diffuse, Vec3(0.25, 0.5, 0.75));
-    EXPECT_EQ(v.session.loaded->shown.materials[0].specular_exponent, 12.0);
+    ASSERT_TRUE(v.trace.traced(v.session.loaded->id));
+    EXPECT_EQ(v.trace.traced(v.session.loaded->id)->materials[0].specular_exponent, 12.0);
     const std::string path = ::testing::TempDir() + "rt_viewer_material.ray";
     save_scene(v, path);
     std::string text;
@@ -714,7 +714,7 @@ TEST(Viewer, TextureEditsReachTheSceneAndAreSaved) {
     v.mark_edited();
     restart(v);
     EXPECT_EQ(v.session.loaded->scene.materials[0].texture, 3);
-    EXPECT_EQ(v.session.loaded->shown.materials[1].texture, -1);
+    EXPECT_EQ(v.trace.traced(v.session.loaded->id)->materials[1].texture, -1);
     const std::string path = ::testing::TempDir() + "rt_viewer_texture.ray";
     save_scene(v, path);
     Diagnostics diag;
@@ -1373,7 +1373,7 @@ TEST(ViewerLoad, LoadSceneReturnsTheSceneOrTheErrorAtItsPlace) {
     EXPECT_EQ(opened.error, "");
     EXPECT_EQ(opened.scene->path, kLights);
     EXPECT_EQ(opened.scene->desc.lights.size(), 3u);
-    EXPECT_EQ(opened.scene->scene.instances.size(), opened.scene->shown.instances.size());
+    EXPECT_FALSE(opened.scene->scene.instances.empty());
 }
 
 // History alone, without a viewer: an edit becomes a step once no gesture is under way, the

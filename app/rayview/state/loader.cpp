@@ -57,7 +57,6 @@ LoadResult load_scene(const LoadRequest& request, LoadProgress* progress) {
             s->preview =
                 prepare_preview(s->scene, 48, progress ? &progress->parse.cancel : nullptr);
         }
-        s->shown = s->scene;
         if (s->desc.camera) {
             s->file_camera = *s->desc.camera;
         } else {  // spec §6.3's default camera, framed for 4:3

@@ -25,15 +25,13 @@
 
 namespace rt::view {
 
-/// A scene as read from its file. `scene`'s camera and lights are those of the last restart;
-/// the edits live in ViewerState::edits until then.
+/// A scene as read from its file, and compiled: one scene, which the preview draws. Its joints
+/// follow the timeline every frame; its camera, lights and materials are the edits of the last
+/// restart (they live in ViewerState::edits until then), which traces a copy of it.
 struct LoadedScene {
     std::string path;
-    SceneDesc desc;     // as parsed
-    RenderScene scene;  // what the trace renders (changed only while it is stopped)
-    /// The preview's copy (the same sets, shared): its joints follow the timeline every frame
-    /// while the trace restarts at its own pace; camera and lights as of the last restart.
-    RenderScene shown;
+    SceneDesc desc;  // as parsed
+    RenderScene scene;
     CameraDesc file_camera;                     // Home returns here
     std::filesystem::file_time_type file_time;  // the file's time when last read
     int id = 0;  // counts the scenes opened, so views of the scene know when it changed
@@ -43,7 +41,7 @@ struct LoadedScene {
     std::vector<std::vector<SourceLoc>> prim_locs;  // CompileReport's, for picking
     std::vector<std::string> material_names;
     std::vector<MaterialDesc> file_materials;      // as the files have them (material_descs)
-    std::vector<MaterialOrigin> material_origins;  // of the file materials (edits.h)
+    std::vector<MaterialOrigin> material_origins;  // of each of them
     /// Where compiled material k comes from (file -1: the built-in default).
     MaterialOrigin origin(size_t k) const {
         return k < material_origins.size() ? material_origins[k] : MaterialOrigin{};

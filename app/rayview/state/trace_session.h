@@ -48,10 +48,14 @@ struct TraceSession {
     /// screen or 100 ms after the last restart, and at once for a new scene (`scene_id`, the
     /// LoadedScene::id to trace).
     bool due(int scene_id);
-    /// Restarts the tracer on `scene` (stopped, and edited since, by the caller) and starts the
-    /// edit's timings; `reference`: raytrace's image (Tracer::restart).
+    /// Restarts the tracer on a copy of `scene` (with the edits applied) and starts the edit's
+    /// timings; `reference`: raytrace's image (Tracer::restart).
     void restart(const RenderScene& scene, const RenderSettings& render, int target_spp,
                  float target_error, int scene_id, bool reference = false);
+    /// The scene the trace renders, when it was started on LoadedScene `scene_id` (else null).
+    const RenderScene* traced(int scene_id) const {
+        return scene_id == m_traced_id ? &tracer.scene() : nullptr;
+    }
     /// Takes the trace's latest image into `last_trace` (and its samples per pixel into
     /// `last_spp`); false when there is none new.
     bool take_image();

@@ -20,9 +20,9 @@ void Tracer::stop() {
     m_updated = false;  // the stopped run's image is no longer news (the scene may change)
 }
 
-void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, int target_spp,
+void Tracer::restart(RenderScene scene, const RenderSettings& settings, int target_spp,
                      double target_error, bool reference) {
-    stop();  // nothing to do when the caller stopped it (it must, before changing the scene)
+    stop();
     {
         std::lock_guard lock(m_mutex);
         m_status = {};
@@ -30,10 +30,10 @@ void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, i
         m_history.clear();
         m_forecast.clear();
     }
-    m_plan = make_render_plan(scene, settings);
+    m_scene = std::move(scene);
+    m_plan = make_render_plan(m_scene, settings);
     if (!m_threaded) {  // pump() renders it
         m_coop = Cooperative();
-        m_coop.scene = &scene;
         m_coop.settings = settings;
         m_coop.target_spp = target_spp;
         m_coop.target_error = target_error;
@@ -43,8 +43,8 @@ void Tracer::restart(const RenderScene& scene, const RenderSettings& settings, i
         m_coop.settings.centre_first_sample = reference;  // as run()'s passes
         return;
     }
-    m_thread = std::thread([this, &scene, settings, target_spp, target_error, reference] {
-        run(&scene, settings, target_spp, target_error, reference);
+    m_thread = std::thread([this, settings, target_spp, target_error, reference] {
+        run(settings, target_spp, target_error, reference);
     });
 }
 
@@ -59,7 +59,7 @@ void Tracer::pump(double seconds) {
     using Clock = std::chrono::steady_clock;
     const auto until = Clock::now() + std::chrono::duration<double>(seconds);
     if (!c.coarse_done) {  // the cheap first pass, as run()'s
-        Image coarse = render_coarse(*c.scene, m_plan, c.settings, 8);
+        Image coarse = render_coarse(m_scene, m_plan, c.settings, 8);
         std::lock_guard lock(m_mutex);
         m_image = std::move(coarse);
         m_updated = true;
@@ -81,7 +81,7 @@ void Tracer::pump(double seconds) {
                                   : tile_parts(c.settings.width, c.settings.height, kTileW, kTileH,
                                                first, 1, first + 1);
         }
-        render_part(c.tiles[c.next_tile++], *c.scene, m_plan, c.settings);
+        render_part(c.tiles[c.next_tile++], m_scene, m_plan, c.settings);
         if (c.next_tile == c.tiles.size()) {  // the pass is complete
             for (const RenderPart& p : c.tiles) add_part_samples(c.state, p);
             ++c.state.passes;
@@ -92,8 +92,7 @@ void Tracer::pump(double seconds) {
     } while (!c.done && Clock::now() < until);
 }
 
-void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_spp,
-                 double target_error, bool reference) {
+void Tracer::run(RenderSettings settings, int target_spp, double target_error, bool reference) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     // The tracer yields to the interface: this thread and the workers it starts (Linux keeps
@@ -106,7 +105,7 @@ void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_s
         setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
 #endif
     // A cheap first pass so a moving camera stays interactive.
-    Image coarse = render_coarse(*scene, m_plan, settings, 8, &m_stop);
+    Image coarse = render_coarse(m_scene, m_plan, settings, 8, &m_stop);
     if (m_stop) return;
     {
         std::lock_guard lock(m_mutex);
@@ -116,14 +115,14 @@ void Tracer::run(const RenderScene* scene, RenderSettings settings, int target_s
     RenderState state;
     if (reference) {  // raytrace's image: its sampling, every sample in one pass
         settings.centre_first_sample = true;
-        if (!render_samples(state, *scene, m_plan, settings, std::max(1, target_spp), {}, &m_stop))
+        if (!render_samples(state, m_scene, m_plan, settings, std::max(1, target_spp), {}, &m_stop))
             return;
         publish(state, std::chrono::duration<double>(Clock::now() - t0).count(), 0);
         return;
     }
     settings.centre_first_sample = false;  // progressive: every sample jittered
     while (!m_stop && more_passes(state, target_spp)) {
-        if (!render_samples(state, *scene, m_plan, settings, 1, {}, &m_stop)) return;
+        if (!render_samples(state, m_scene, m_plan, settings, 1, {}, &m_stop)) return;
         const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         if (publish(state, seconds, target_error)) return;
     }

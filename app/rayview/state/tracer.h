@@ -1,6 +1,7 @@
 // The viewer's progressive trace: one worker thread family (render_samples' own) driven by a
 // controller thread; only the interface thread touches OpenGL. Every edit goes through
-// stop() ... restart(): the worker is stopped and joined before the scene may change.
+// restart(), which stops and joins the worker, then traces a copy of the edited scene that the
+// tracer owns (the viewer's own scene moves on with the preview meanwhile).
 // Without threads (the web page's single-thread build) the same passes are rendered on the
 // interface thread by pump(), a tile at a time between its frames, as the MPI mode splits a
 // pass into tiles (render_part, add_part_samples: the same image).
@@ -32,17 +33,20 @@ public:
     /// tile), then returns. With threads: nothing.
     void pump(double seconds);
 
-    /// Stops the trace and waits for it: afterwards the scene may be edited.
+    /// Stops the trace and waits for it.
     void stop();
-    /// Starts tracing `scene` (which must outlive the trace and stay unchanged until stop()):
-    /// a coarse pass first, then passes of one sample per pixel up to `target_spp`, or until the
+    /// Starts tracing `scene` (the tracer keeps it until the next restart, so the caller's
+    /// scene may change meanwhile; its sets are shared, so the copy costs its instances): a
+    /// coarse pass first, then passes of one sample per pixel up to `target_spp`, or until the
     /// estimated relMSE reaches `target_error` (from 8 spp; 0: no target). `reference`: after
     /// the coarse pass, one pass of `target_spp` samples with the spec's sampling (§6.2: the
-    /// pixel centre at 1 spp), the image raytrace writes, for comparisons. The trace must be
-    /// stopped (the caller stops it before it edits the scene).
-    void restart(const RenderScene& scene, const RenderSettings& settings, int target_spp,
+    /// pixel centre at 1 spp), the image raytrace writes, for comparisons. A trace running is
+    /// stopped first.
+    void restart(RenderScene scene, const RenderSettings& settings, int target_spp,
                  double target_error = 0, bool reference = false);
-    /// The plan of the trace started last (made by restart(), once per restart).
+    /// The scene and the plan of the trace started last (made by restart(), once per restart;
+    /// the scene is empty before the first).
+    const RenderScene& scene() const { return m_scene; }
     const RenderPlan& plan() const { return m_plan; }
 
     struct Status {
@@ -64,8 +68,7 @@ public:
     std::vector<std::pair<float, float>> history() const;
 
 private:
-    void run(const RenderScene* scene, RenderSettings settings, int target_spp, double target_error,
-             bool reference);
+    void run(RenderSettings settings, int target_spp, double target_error, bool reference);
     /// After each pass: the image, the status and the history; true when the trace is done
     /// (the target reached).
     bool publish(const RenderState& state, double seconds, double target_error);
@@ -74,7 +77,6 @@ private:
     // The trace pump() renders (without threads): what restart() was given, the state, and the
     // pass's tiles (those before m_next_tile done).
     struct Cooperative {
-        const RenderScene* scene = nullptr;
         RenderSettings settings;
         int target_spp = 0;
         double target_error = 0;
@@ -88,7 +90,9 @@ private:
 
     const bool m_threaded;
     Cooperative m_coop;
-    RenderPlan m_plan;  // written by restart() only while no trace runs
+    // Written by restart() only while no trace runs.
+    RenderScene m_scene;
+    RenderPlan m_plan;
     std::thread m_thread;
     std::atomic<bool> m_stop{false};
     mutable std::mutex m_mutex;

@@ -123,7 +123,7 @@ bool finish_reload(ViewerState& v, LoadResult next) {
     return true;
 }
 
-// The joints to the timeline's time (only while the trace is stopped).
+// The joints to the timeline's time (the trace renders its own copy, made at the restart).
 void move_joints(ViewerState& v) {
     LoadedScene& s = *v.session.loaded;
     if (!s.scene.rig.animated()) return;
@@ -144,16 +144,13 @@ void move_joints(ViewerState& v) {
     v.timeline.joint_warning = warning;
 }
 
-// Stop, edit, restart: the compiled scene only changes while no trace runs.
+// The edits compiled into the scene (the preview's overlays show the same lights), and the
+// trace restarted on a copy of it.
 void restart(ViewerState& v) {
     LoadedScene& s = *v.session.loaded;
-    v.trace.tracer.stop();
     move_joints(v);
     apply_edits(v.edits, s.material_origins, v.headlight_on(), v.trace.width(), v.trace.height(),
                 &s.scene, &v.settings.render);
-    s.shown.camera = s.scene.camera;  // the preview's overlays show the same lights
-    s.shown.lights = s.scene.lights;
-    s.shown.materials = s.scene.materials;
     CompareView& c = v.ui.compare;
     c.current = false;
     if (c.active())  // the reference: raytrace's image at the compared image's size
@@ -313,6 +310,8 @@ bool ViewerState::inspect(double x, double y) {
     const int px = std::clamp(static_cast<int>(x * w), 0, w - 1);
     const int py = std::clamp(static_cast<int>(y * h), 0, h - 1);
     const LoadedScene& s = *session.loaded;
+    const RenderScene* traced = trace.traced(s.id);
+    if (!traced) return false;  // not traced yet
     // The trace's settings as its passes use them (tracer.cpp: every sample jittered; the
     // reference of a comparison samples as raytrace does, the pixel centre first).
     RenderSettings r = settings.render;
@@ -322,9 +321,9 @@ bool ViewerState::inspect(double x, double y) {
     InspectView& in = ui.inspect;
     // The panel lays the tree out as nodes every frame: a smaller tree than raytrace's, which
     // still says how many rays it left out (raytrace --inspect gives the whole 4096).
-    in.tree = inspect_pixel(s.scene, make_render_plan(s.scene, r), r, px, py, 0, 1,
+    in.tree = inspect_pixel(*traced, make_render_plan(*traced, r), r, px, py, 0, 1,
                             InspectLimits{512, 8192});
-    in.text = inspect_text(*in.tree, s.scene, {&s.desc, &s.prim_locs, &s.material_names});
+    in.text = inspect_text(*in.tree, *traced, {&s.desc, &s.prim_locs, &s.material_names});
     const Image& shown = trace.last_trace;
     in.traced = shown.width == w && shown.height == h ? shown.at(px, py) : Vec3(0.0);
     in.traced_spp = shown.width == w && shown.height == h ? trace.tracer.status().spp : 0;
@@ -363,19 +362,7 @@ double ViewerState::animation_length() const {
 void ViewerState::step_animation(double frame_s) {
     if (!session.loaded) return;
     if (timeline.advance(frame_s, animation_length())) mark_edited();
-    RenderScene& shown = session.loaded->shown;
-    const SceneTime t = timeline.scene_time();
-    if (!shown.rig.animated() || shown.time == t) return;
-    try {
-        animate(shown, session.loaded->desc, t);  // its warnings come with the trace's restart
-        // A joint under a CSG node compiles the scene again, from the file's materials: the
-        // edited ones stay (as the traced scene's at its restart).
-        if (shown.materials.size() == session.loaded->scene.materials.size())
-            shown.materials = session.loaded->scene.materials;
-    } catch (const SceneError& e) {
-        timeline.playing = false;
-        messages.fail(e.what());
-    }
+    move_joints(*this);  // the preview follows every frame, the trace at its restart
 }
 
 void ViewerState::seek(double t) {

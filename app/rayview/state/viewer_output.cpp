@@ -47,11 +47,10 @@ std::vector<std::string> edited_included_files(const ViewerState& v) {
     std::vector<std::string> files;
     if (!v.session.loaded) return files;
     const LoadedScene& s = *v.session.loaded;
-    if (v.edits.materials.size() != s.file_materials.size()) return files;
     for (size_t k = 0; k < v.edits.materials.size(); ++k) {
         const MaterialOrigin o = s.origin(k);
         if (o.file <= 0 ||
-            static_cast<const Material&>(v.edits.materials[k]) == s.file_materials[k])
+            static_cast<const Material&>(v.edits.materials[k]) == s.file_materials.at(k))
             continue;
         const std::string& path = s.desc.files[static_cast<size_t>(o.file)].path;
         if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
@@ -81,8 +80,8 @@ void save_scene(const ViewerState& v, const std::string& path, bool included_too
         md = m;
         md.loc = loc;
         md.name = std::move(name);
-        if (included_too && o.file > 0 && k < s.file_materials.size() &&
-            !(static_cast<const Material&>(m) == s.file_materials[k]))
+        if (included_too && o.file > 0 &&
+            !(static_cast<const Material&>(m) == s.file_materials.at(k)))
             included[static_cast<size_t>(o.file)].emplace_back(md.loc,
                                                                write_material(md, desc.dialect));
     }

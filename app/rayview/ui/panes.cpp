@@ -238,14 +238,14 @@ void Panes::upload_scene(LoadedScene& loaded) {
         m_preview.load(loaded.scene, loaded.preview);
         loaded.preview = {};
         m_loaded_id = loaded.id;
-        m_drawn_materials = loaded.shown.materials;
+        m_drawn_materials = loaded.scene.materials;
     }
-    if (!same_materials(loaded.shown.materials, m_drawn_materials)) {  // edited in the panel
+    if (!same_materials(loaded.scene.materials, m_drawn_materials)) {  // edited in the panel
         // A texture put on a material: its image and the set's texture coordinates.
-        if (m_preview.needs_upload(loaded.shown))
-            m_preview.load(loaded.shown, prepare_preview(loaded.shown, m_preview.detail()));
-        m_preview.materials_changed(loaded.shown);
-        m_drawn_materials = loaded.shown.materials;
+        if (m_preview.needs_upload(loaded.scene))
+            m_preview.load(loaded.scene, prepare_preview(loaded.scene, m_preview.detail()));
+        m_preview.materials_changed(loaded.scene);
+        m_drawn_materials = loaded.scene.materials;
         m_preview_stale = true;
     }
 }
@@ -264,36 +264,36 @@ void Panes::draw_preview(ViewerState& v, const LoadedScene& loaded) {
     glBindFramebuffer(GL_FRAMEBUFFER, m_target.fbo.id());
     // The camera of the latest input, also while a restart waits.
     const Camera cam = v.edits.camera.camera(m_target.w, m_target.h);
-    // The preview's copy of the scene: the joints at the timeline's time, every frame.
-    const RenderScene& shown = loaded.shown;
+    // The joints at the timeline's time, every frame; the lights of the last restart.
+    const RenderScene& scene = loaded.scene;
     m_preview.moving = v.trace.moving();
-    m_preview.draw(shown, v.trace.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth,
+    m_preview.draw(scene, v.trace.tracer.plan(), cam, m_target.w, m_target.h, s.render.max_depth,
                    {s.exposure, s.tonemap});
     std::vector<LineVertex> lines =
-        overlay_lines(shown, {s.show_lights, v.ui.selected_light, s.light_directions}, s.box_depth);
+        overlay_lines(scene, {s.show_lights, v.ui.selected_light, s.light_directions}, s.box_depth);
     if (s.group_depth != m_group_lines_depth || loaded.id != m_group_lines_for ||
-        (s.group_depth > 0 && shown.time != m_group_lines_time)) {
+        (s.group_depth > 0 && scene.time != m_group_lines_time)) {
         // Walked again only when the scene, the level or (with the boxes on) the joints' time
         // changes: an animated scene's groups are those of its static scene at that time.
         m_group_lines =
             loaded.desc.tracks.empty() || s.group_depth == 0
                 ? group_box_lines(loaded.desc, s.group_depth)
-                : group_box_lines(scene_at_time(loaded.desc, shown.time), s.group_depth);
+                : group_box_lines(scene_at_time(loaded.desc, scene.time), s.group_depth);
         m_group_lines_depth = s.group_depth;
         m_group_lines_for = loaded.id;
-        m_group_lines_time = shown.time;
+        m_group_lines_time = scene.time;
     }
     lines.insert(lines.end(), m_group_lines.begin(), m_group_lines.end());
     if (v.ui.selection.instance >= 0) {  // the picked primitive, highlighted
         const std::vector<LineVertex> sel = box_lines(v.ui.selection.bounds, Vec3(1.0, 0.6, 0.1));
         lines.insert(lines.end(), sel.begin(), sel.end());
     }
-    m_preview.draw_lines(lines, shown, cam);
+    m_preview.draw_lines(lines, scene, cam);
     if (v.ui.inspect.tree) {  // the pixel's ray tree, over everything
-        const Bounds3& wb = shown.world_bounds;
+        const Bounds3& wb = scene.world_bounds;
         const double size = wb.empty() ? 1.0 : glm::length(wb.diagonal());
         m_preview.draw_lines(
-            inspect_lines(*v.ui.inspect.tree, 0.04 * size, size, v.ui.inspect.hovered), shown, cam,
+            inspect_lines(*v.ui.inspect.tree, 0.04 * size, size, v.ui.inspect.hovered), scene, cam,
             true);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
