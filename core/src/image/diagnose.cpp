@@ -34,10 +34,48 @@ std::string Diagnosis::summary() const {
 
 namespace {
 
+// The mean squared difference of the 4x4 blocks' means, in 8-bit steps: a mistake whose
+// difference is a speckle (no offset on secondary rays: acne) makes another pattern of specks
+// in each renderer, the same darkening on average.
+double block_error(const Image& a, const Image& b) {
+    constexpr int kBlock = 4;
+    const std::vector<uint8_t> x = to_bytes(a), y = to_bytes(b);
+    double sum = 0;
+    size_t n = 0;
+    for (int by = 0; by < a.height; by += kBlock)
+        for (int bx = 0; bx < a.width; bx += kBlock)
+            for (size_t k = 0; k < 3; ++k) {
+                double d = 0;
+                int count = 0;
+                for (int py = by; py < std::min(by + kBlock, a.height); ++py)
+                    for (int px = bx; px < std::min(bx + kBlock, a.width); ++px) {
+                        const size_t i = (size_t(py) * a.width + px) * 3 + k;
+                        d += double(x[i]) - double(y[i]);
+                        ++count;
+                    }
+                sum += (d / count) * (d / count);
+                ++n;
+            }
+    return n ? sum / double(n) : 0.0;
+}
+
+// How much of the image's difference from the reference a mutant explains: the larger of the
+// shares explained pixel by pixel and block by block.
+struct Scorer {
+    const Image& image;
+    double before = 0, block_before = 0;
+    double explained(const Image& mutant) const {
+        const double pixels = 1.0 - mean_squared_bytes(mutant, image) / before;
+        if (block_before <= 0) return pixels;
+        return std::max(pixels, 1.0 - block_error(mutant, image) / block_before);
+    }
+};
+
 // The global fits of `image` against `base` (the reference, or a mutant), each as an
 // explanation that adds its change to `with` (the base's mistakes).
-void add_fits(const Image& base, const Image& image, const std::vector<std::string>& with,
-              double before, double half_angle, std::vector<Explanation>* out) {
+void add_fits(const Image& base, const Scorer& score, const std::vector<std::string>& with,
+              double half_angle, std::vector<Explanation>* out) {
+    const Image& image = score.image;
     for (const FitResult& f : fit_global(base, image)) {
         std::string name = f.name;
         if (f.fit.kind == FitKind::Zoom && half_angle > 0) {
@@ -54,7 +92,7 @@ void add_fits(const Image& base, const Image& image, const std::vector<std::stri
                        ? f.detail
                        : "";
         e.mutant = apply_fit(base, f.fit);
-        e.explained = 1.0 - mean_squared_bytes(e.mutant, image) / before;
+        e.explained = score.explained(e.mutant);
         out->push_back(std::move(e));
     }
 }
@@ -87,15 +125,16 @@ Diagnosis diagnose(const Image& image, MutantRenders& renders,
     const Image& reference = renders.get({});
     d.error_before = mean_squared_bytes(reference, image);
     if (d.error_before <= 0) return d;
+    const Scorer score{image, d.error_before, block_error(reference, image)};
     std::vector<Explanation> singles;
-    add_fits(reference, image, {}, d.error_before, settings.half_angle, &singles);
+    add_fits(reference, score, {}, settings.half_angle, &singles);
     for (const std::string& m : catalogue) {
         const Image& mutant = renders.get({m});
         if (mean_squared_bytes(reference, mutant) == 0) continue;  // changes nothing here
         Explanation e;
         e.mistakes = {m};
         e.mutant = mutant;
-        e.explained = 1.0 - mean_squared_bytes(mutant, image) / d.error_before;
+        e.explained = score.explained(mutant);
         singles.push_back(std::move(e));
     }
     rank(&singles);
@@ -112,14 +151,13 @@ Diagnosis diagnose(const Image& image, MutantRenders& renders,
                 std::find(catalogue.begin(), catalogue.end(), first.mistakes[0]) != catalogue.end();
             if (!rendered) continue;  // a fit: paired through the mutants' fits
             if (tried++ >= settings.pair_candidates) break;
-            add_fits(first.mutant, image, first.mistakes, d.error_before, settings.half_angle,
-                     &pairs);
+            add_fits(first.mutant, score, first.mistakes, settings.half_angle, &pairs);
             for (const std::string& m : catalogue) {
                 if (m == first.mistakes[0]) continue;
                 Explanation e;
                 e.mistakes = {first.mistakes[0], m};
                 e.mutant = renders.get(e.mistakes);
-                e.explained = 1.0 - mean_squared_bytes(e.mutant, image) / d.error_before;
+                e.explained = score.explained(e.mutant);
                 pairs.push_back(std::move(e));
             }
         }

@@ -36,18 +36,20 @@ private:
 struct Explanation {
     std::vector<std::string> mistakes;  // catalogue names
     std::string detail;                 // a global fit's parameter ("exponent 2.2"), else ""
-    double explained = 0;  // 1 - error after / error before (mean squared, 8-bit steps)
-    Image mutant;          // the reference as the mistake makes it, to show beside the image
+    /// 1 - error after / error before (mean squared, 8-bit steps), pixel by pixel or over 4x4
+    /// blocks' means, whichever is larger (a speckle explained on average).
+    double explained = 0;
+    Image mutant;  // the reference as the mistake makes it, to show beside the image
     /// "no-shadows", "gamma (exponent 2.2)", "no-shadows + gamma".
     std::string name() const;
 };
 
 struct DiagnoseSettings {
-    double enough = 0.6;        // below this share, no mistake is named ("none ... explains")
-    double pair_below = 0.995;  // the best single explanation below this: pairs are tried
-    int pair_candidates = 3;    // the mutants that explain most, paired with every mistake
-    int ranked = 3;             // explanations kept
-    double half_angle = 0.0;    // the camera's half-height angle (to name a zoom; 0: unnamed)
+    double enough = 0.6;      // below this share, no mistake is named ("none ... explains")
+    double pair_below = 1.0;  // the best single explanation below this: pairs are tried
+    int pair_candidates = 3;  // the mutants that explain most, paired with every mistake
+    int ranked = 3;           // explanations kept
+    double half_angle = 0.0;  // the camera's half-height angle (to name a zoom; 0: unnamed)
 };
 
 struct Diagnosis {
