@@ -478,7 +478,10 @@ class Renderer:
 
     def render(self, width, height):
         """Linear colours, rows top first (spec §6.2, one sample at the pixel centre)."""
-        cam = self.s.camera or default_camera(self.s, width / height)
+        cam = self.s.camera
+        if cam is None:
+            print("minirender: warning: no #camera: using the default camera", file=sys.stderr)
+            cam = default_camera(self.s, width / height)
         p, d, up, ha = cam
         f = norm(d)
         r = norm(cross(f, up))

@@ -7,7 +7,8 @@
    under raycompare's default rule (raycompare renders the reference with raytrace);
 3. every mistaken image (each mistake, and the pairs of make_class.py) that its scene is designed
    for fails that rule: a mistake that changes nothing would be a bad scene for it;
-4. the command line: --list-mistakes, an unsupported directive (exit 2, no output file), more than
+4. the default camera and a V0 file agree with raytrace too;
+5. the command line: --list-mistakes, an unsupported directive (exit 2, no output file), more than
    two mistakes (exit 2), PPM output.
 
     test_minirender.py --bin DIR_OF_RAYCOMPARE [--out DIR] [--size WxH]
@@ -85,6 +86,28 @@ def command_line(tmp):
     check(mr.read_image(ppm) == mr.read_image(png), "PPM and PNG hold the same pixels")
 
 
+def default_camera_and_v0(tmp, bindir):
+    """The default camera (spec 6.3, no #camera) and a V0 file (worked example 7.7's spot light
+    and material on a floor, seen whole) agree with raytrace too."""
+    me = [sys.executable, os.path.join(HERE, "minirender.py")]
+    with open(os.path.join(HERE, "scenes", "spheres.ray")) as f:
+        nocam = "".join(line for line in f if not line.startswith("#camera"))
+    v0 = ("#camera 0 10 10  0 -1 -1  0 1 0  0.5\n#ambient 0.5 0.5 0.5\n"
+          "#light_spot 1 1 1  5 5 5  -2 -5 1  0.3 0.02 0  0.5 0.5\n"
+          "#material 0.3 0.3 0.3  0.1 0.1 0.5  1 1 1  0 0 0  0.78125 0 1.05 -1 !!\n"
+          "#vertex -20 0 -20 0 0 0 0 0\n#vertex 20 0 -20 0 0 0 0 0\n#vertex 20 0 20 0 0 0 0 0\n"
+          "#vertex -20 0 20 0 0 0 0 0\n#shape_triangle -1 0 1 2\n#shape_triangle 0 0 2 3\n"
+          "#shape_sphere 0 2 1 3  1\n")
+    for name, text, warning in (("nocam", nocam, "default camera"), ("v0", v0, "")):
+        scene, image = os.path.join(tmp, name + ".ray"), os.path.join(tmp, name + ".png")
+        with open(scene, "w") as f:
+            f.write(text)
+        r = subprocess.run(me + [scene, image, "--width", "80", "--height", "60"], capture_output=True, text=True)
+        check(r.returncode == 0 and warning in r.stderr, "%s: minirender (%s)" % (name, r.stderr))
+        r = subprocess.run([os.path.join(bindir, "raycompare"), scene, image], capture_output=True, text=True)
+        check(r.returncode == 0 and "PASS" in r.stdout, "%s: minirender and raytrace disagree\n%s" % (name, r.stdout))
+
+
 def against_raytrace(tmp, bindir, size):
     classdir = os.path.join(tmp, "class")
     check(make_class.main([classdir, "--size", size]) == 0, "make_class")
@@ -133,6 +156,7 @@ def main():
     try:
         worked_examples(tmp)
         command_line(tmp)
+        default_camera_and_v0(tmp, args.bin)
         against_raytrace(tmp, args.bin, args.size)
     finally:
         if not args.out:
