@@ -28,7 +28,7 @@ PAIRS = [
     ("no-attenuation", "no-ambient"),
     ("blinn", "bgr"),
     ("no-reflection", "full-angle"),
-    ("one-sided", "no-refraction"),
+    ("opaque-shadows", "light-dir-reversed"),
 ]
 TOLERANCE = 8
 

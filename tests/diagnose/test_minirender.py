@@ -6,7 +6,8 @@
 2. for each scene of tests/diagnose/scenes/, minirender's correct image and our `raytrace` agree
    under raycompare's default rule (raycompare renders the reference with raytrace);
 3. every mistaken image (each mistake, and the pairs of make_class.py) that its scene is designed
-   for fails that rule: a mistake that changes nothing would be a bad scene for it;
+   for fails that rule: a mistake that changes nothing would be a bad scene for it; a pair
+   of mistakes differs from each of its two alone;
 4. the default camera and a V0 file agree with raytrace too;
 5. the command line: --list-mistakes, an unsupported directive (exit 2, no output file), more than
    two mistakes (exit 2), PPM output.
@@ -139,6 +140,15 @@ def against_raytrace(tmp, bindir, size):
                 # make_class's own measure of the change is the one raycompare finds.
                 check(abs(float(got["share_off"]) - row["share_off"]) < 1e-3, "%s/%s: share off %s against %s"
                       % (scene, name, got["share_off"], row["share_off"]))
+        # A pair must show both of its mistakes: differ from each one alone.
+        files = {"+".join(r["mistakes"]): os.path.join(classdir, r["image"]) for r in rows}
+        for row in rows:
+            if len(row["mistakes"]) == 2 and row["designed_for"]:
+                pair = mr.read_image(files["+".join(row["mistakes"])])[2]
+                for one in row["mistakes"]:
+                    share = make_class.difference(pair, mr.read_image(files[one])[2])[0]
+                    check(share > 0.005, "%s: the pair %s is %.2f%% off %s alone"
+                          % (scene, "+".join(row["mistakes"]), 100 * share, one))
     designed = {m for rows in by_scene.values() for r in rows if r["designed_for"] for m in r["mistakes"]}
     check(len(designed) >= 15, "at least 15 mistakes shown by some scene (%d)" % len(designed))
 
