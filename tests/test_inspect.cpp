@@ -768,5 +768,26 @@ TEST(Inspect, FiltersLeaveOutDeepRaysAndOtherLights) {
               std::string::npos);
 }
 
+// A V3 light (spec §13.9) in shadow, with worked example 3's colours (A_l 0.5, D_l (1 0.5 1),
+// S_l (0.2 0.4 0.6)): its ambient term is added (never shadowed), its diffuse and specular
+// terms are kept as §13.10's table gives them, and it adds nothing else.
+TEST(Inspect, AV3LightInShadowKeepsItsTerms) {
+    RenderScene scene = test::compile(worked_example_1("#shape_sphere 0  4 2.5 5.5  0.4\n"));
+    Light& l = scene.lights.at(0);
+    l.ambient = Vec3(0.5);
+    l.diffuse = Vec3(1, 0.5, 1);
+    l.specular = Vec3(0.2, 0.4, 0.6);
+    ASSERT_FALSE(l.one_colour());
+    const PixelTree tree = worked_tree(scene);
+    const InspectLight& t = tree.rays.at(0).lights.at(0);
+    EXPECT_EQ(t.shadow, Vec3(0.0));
+    EXPECT_TRUE(t.terms_known);
+    EXPECT_VEC_NEAR(t.ambient_term, Vec3(0.147125), 1e-6);
+    EXPECT_VEC_NEAR(t.diffuse_term, Vec3(0.089537, 0.044769, 0.447686), 1e-6);
+    EXPECT_VEC_NEAR(t.specular_term, Vec3(0.025479, 0.050958, 0.076438), 1e-6);
+    EXPECT_EQ(t.value, Vec3(0.0));
+    EXPECT_TRUE(same_bits(sum_of_terms(tree, 0), tree.color));
+}
+
 }  // namespace
 }  // namespace rt
