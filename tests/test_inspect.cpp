@@ -510,5 +510,284 @@ TEST(Inspect, NamesAreEscapedInTheTextAndTheJson) {
     EXPECT_NE(json.find("\"name\":\"red\\u001b[2J\\ufffd\xc3\xa9\""), std::string::npos) << json;
 }
 
+// Spec §7.6's worked example 1 seen by a camera at its eye (0 10 10) looking along its ray, so
+// that the centre pixel of a 41x41 image is that ray; the plane y = 0 as two triangles. `extra`
+// adds directives (an occluder, a second light).
+std::string worked_example_1(
+    const std::string& extra = "",
+    const std::string& light = "#light_point 1 1 1  5 5 5  0.01 0.02 0.03") {
+    return "#camera 0 10 10  3 -10 -4  0 1 0  0.5\n"
+           "#ambient 0.5 0.5 0.5\n#background 0.2 0.2 0.2\n" +
+           light +
+           "\n#material 0 0 0  .3 .3 .3  .1 .1 .5  1 1 1  100  0 0 0  1  -1 !!\n"
+           "#vertex -100 0 -100 0 0 0 0 0\n#vertex -100 0 100 0 0 0 0 0\n"
+           "#vertex 100 0 100 0 0 0 0 0\n#vertex 100 0 -100 0 0 0 0 0\n"
+           "#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 3\n" +
+           extra;
+}
+
+PixelTree worked_tree(const RenderScene& scene, int x = 20, int y = 20, int depth = 5) {
+    RenderSettings s;
+    s.width = 41;
+    s.height = 41;
+    s.max_depth = depth;
+    s.cutoff = 0.001;
+    return inspect_pixel(scene, make_render_plan(scene, s), s, x, y);
+}
+
+// The 8 bits written for the pixel: §7.6's bytes (145, 145, 236), from its colour
+// (0.566933 0.566933 0.925082) through floor(255 clamp(c) + 0.5).
+TEST(Inspect, TheOutputBytesAreTheWorkedExamples) {
+    const RenderScene scene = test::compile(worked_example_1());
+    const PixelTree tree = worked_tree(scene);
+    EXPECT_VEC_NEAR(tree.pixel, Vec3(0.566933, 0.566933, 0.925082), 1e-6);
+    EXPECT_EQ(tree.output.bytes[0], 145);
+    EXPECT_EQ(tree.output.bytes[1], 145);
+    EXPECT_EQ(tree.output.bytes[2], 236);
+    const std::string text = inspect_text(tree, scene, {});
+    EXPECT_NE(text.find("written as 8 bits (145 145 236) = floor(255 x clamp(c, 0, 1) + 0.5)"),
+              std::string::npos)
+        << text;
+    test::JsonValue v;
+    std::string why;
+    ASSERT_TRUE(test::parse_strict_json(inspect_json(tree, scene, {}), &v, &why)) << why;
+    ASSERT_EQ(v["output"]["bytes"].array.size(), 3u);
+    EXPECT_EQ(v["output"]["bytes"].array[0].number, 145.0);
+    EXPECT_EQ(v["output"]["bytes"].array[2].number, 236.0);
+}
+
+// The camera's inputs (spec §6.1, §6.2), by hand: f = (3 -10 -4)/sqrt 125, r = f x up
+// normalised = (0.8 0 0.6), up' = r x f = (6 5 -8)/sqrt 125, tan_h = tan 0.5 = tan_w (square);
+// the centre pixel's (x, y) is (0, 0), pixel (0, 0)'s is (-40/41, 40/41) tan 0.5.
+TEST(Inspect, TheCamerasInputsForThePixel) {
+    const RenderScene scene = test::compile(worked_example_1());
+    const PixelTree centre = worked_tree(scene);
+    const InspectCamera& c = centre.camera;
+    EXPECT_TRUE(c.from_file);
+    EXPECT_DOUBLE_EQ(c.half_height_angle_rad, 0.5);
+    EXPECT_NEAR(c.tan_h, 0.546302489843790, 1e-14);
+    EXPECT_NEAR(c.tan_w, 0.546302489843790, 1e-14);
+    const double s125 = std::sqrt(125.0);
+    EXPECT_VEC_NEAR(c.forward, Vec3(3, -10, -4) / s125, 1e-15);
+    EXPECT_VEC_NEAR(c.right, Vec3(0.8, 0, 0.6), 1e-15);
+    EXPECT_VEC_NEAR(c.up, Vec3(6, 5, -8) / s125, 1e-15);
+    EXPECT_VEC_NEAR(c.position, Vec3(0, 10, 10), 0);
+    EXPECT_NEAR(c.image_point.x, 0.0, 1e-15);
+    EXPECT_NEAR(c.image_point.y, 0.0, 1e-15);
+    EXPECT_EQ(centre.position, Vec2(0.5));
+    const PixelTree corner = worked_tree(scene, 0, 0);
+    EXPECT_NEAR(corner.camera.image_point.x, -40.0 / 41.0 * std::tan(0.5), 1e-15);
+    EXPECT_NEAR(corner.camera.image_point.y, 40.0 / 41.0 * std::tan(0.5), 1e-15);
+    // The camera ray is normalize(f + x r + y up').
+    const Vec3 d = glm::normalize(c.forward + corner.camera.image_point.x * c.right +
+                                  corner.camera.image_point.y * c.up);
+    EXPECT_VEC_NEAR(corner.rays.at(0).ray.d, d, 1e-15);
+    const std::string text = inspect_text(corner, scene, {});
+    EXPECT_NE(text.find("camera (the scene's): ha 28.6479 deg (the half-height angle), tan_h = "
+                        "tan(ha) 0.546302, tan_w = tan_h x 41/41 0.546302"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("sample offset (sx sy) (0.5 0.5): x = (2 (i + sx) / w - 1) tan_w = "
+                        "-0.532978, y = (1 - 2 (j + sy) / h) tan_h = 0.532978"),
+              std::string::npos)
+        << text;
+    // Without a camera: §6.3's pi/6.
+    const RenderScene no_camera = test::compile(
+        "#light_point 1 1 1  5 5 5  1 0 0\n"
+        "#material 0 0 0  .3 .3 .3  .1 .1 .5  0 0 0  1  0 0 0  1  -1 !!\n"
+        "#shape_sphere 0  0 0 0  1\n");
+    const PixelTree dflt = worked_tree(no_camera);
+    EXPECT_FALSE(dflt.camera.from_file);
+    EXPECT_NEAR(dflt.camera.half_height_angle_rad, kPi / 6, 1e-15);
+}
+
+// The shadow ray's origin offset (spec §7.5: P + s delta n_g, delta a bound on P's error). On
+// §7.6's plane y = 0 the hit point is exact, delta is 0 and the text says the origin is the
+// hit point itself; on a sphere the origin is moved along +n_g (the light's side) by an offset
+// that is not zero and far below a fixed epsilon's 1e-4. §7.6's light terms on the way.
+TEST(Inspect, TheShadowRaysOriginOffsetIsShown) {
+    const RenderScene scene = test::compile(worked_example_1());
+    const PixelTree tree = worked_tree(scene);
+    const InspectRay& r = tree.rays.at(0);
+    EXPECT_VEC_NEAR(r.point, Vec3(3, 0, 6), 1e-12);
+    ASSERT_EQ(r.lights.size(), 1u);
+    const InspectLight& l = r.lights[0];
+    EXPECT_NEAR(l.n_dot_l, 0.912871, 1e-6);
+    EXPECT_NEAR(l.denominator, 1.019545, 1e-6);
+    EXPECT_VEC_NEAR(l.diffuse_term, Vec3(0.089537, 0.089537, 0.447686), 1e-6);
+    EXPECT_VEC_NEAR(l.specular_term, Vec3(0.127396), 1e-6);
+    ASSERT_EQ(l.shadow_rays.size(), 1u);
+    const InspectShadowRay& flat = l.shadow_rays[0];
+    EXPECT_VEC_NEAR(flat.hit, r.point, 0);
+    EXPECT_EQ(flat.offset, Vec3(0.0));
+    EXPECT_EQ(flat.ray.o, flat.hit);
+    EXPECT_TRUE(l.no_shadow_ray.empty());
+    const std::string text = inspect_text(tree, scene, {});
+    EXPECT_NE(text.find("origin offset 0 (the hit point's error bound is 0 there, spec §7.5): the "
+                        "origin is the hit point (3 0 6) itself"),
+              std::string::npos)
+        << text;
+
+    const RenderScene ball = test::compile(R"(
+#camera 0 0 5  0 0 -1  0 1 0  0.5
+#light_point 1 1 1  0 4 4  1 0 0
+#material 0 0 0  0 0 0  .5 .5 .5  0 0 0  1  0 0 0  1  -1 !!
+#shape_sphere 0  0 0 0  1
+)");
+    const PixelTree bt = worked_tree(ball);
+    const InspectRay& br = bt.rays.at(0);
+    const InspectShadowRay& sr = br.lights.at(0).shadow_rays.at(0);
+    EXPECT_VEC_NEAR(sr.hit, Vec3(0, 0, 1), 1e-12);
+    const double len = glm::length(sr.offset);
+    EXPECT_GT(len, 0.0);
+    EXPECT_LT(len, 1e-12);
+    EXPECT_GT(glm::dot(sr.offset, br.n_geometric) / len, 1.0 - 1e-9);  // along +n_g
+    EXPECT_EQ(sr.ray.o, sr.hit + sr.offset);
+    EXPECT_NE(sr.ray.o, sr.hit);
+    const std::string btext = inspect_text(bt, ball, {});
+    EXPECT_NE(btext.find(", along +n_g, spec §7.5): the origin is the hit point (0 0 1) + it"),
+              std::string::npos)
+        << btext;
+    test::JsonValue v;
+    std::string why;
+    ASSERT_TRUE(test::parse_strict_json(inspect_json(bt, ball, {}), &v, &why)) << why;
+    const test::JsonValue& js = v["rays"].array.at(0)["shadow_rays"].array.at(0);
+    EXPECT_EQ(js["origin_offset"].array.at(2).number, sr.offset.z);
+    EXPECT_EQ(js["hit_point"].array.at(2).number, sr.hit.z);
+}
+
+// A ball on the segment from P to the light: the light keeps §7.6's diffuse and specular terms
+// (as computed before S_l) and adds 0; C = ambient 0.15 + reflection 0.2 = 0.35, byte 89.
+TEST(Inspect, ALightInShadowKeepsItsTerms) {
+    const RenderScene scene = test::compile(worked_example_1("#shape_sphere 0  4 2.5 5.5  0.4\n"));
+    const PixelTree tree = worked_tree(scene);
+    const InspectLight& l = tree.rays.at(0).lights.at(0);
+    EXPECT_EQ(l.shadow, Vec3(0.0));
+    EXPECT_EQ(l.note, "in shadow");
+    EXPECT_TRUE(l.terms_known);
+    EXPECT_VEC_NEAR(l.diffuse_term, Vec3(0.089537, 0.089537, 0.447686), 1e-6);
+    EXPECT_VEC_NEAR(l.specular_term, Vec3(0.127396), 1e-6);
+    EXPECT_EQ(l.value, Vec3(0.0));
+    EXPECT_VEC_NEAR(tree.pixel, Vec3(0.35), 1e-12);
+    EXPECT_EQ(tree.output.bytes[0], 89);
+    EXPECT_TRUE(same_bits(sum_of_terms(tree, 0), tree.color));
+    const std::string text = inspect_text(tree, scene, {});
+    EXPECT_NE(text.find("x N.L 0.912871 = (0.0895371 0.0895371 0.447686)"), std::string::npos)
+        << text;
+    EXPECT_NE(text.find("adds S_l x (diffuse + specular) = (0 0 0): in shadow"), std::string::npos)
+        << text;
+    test::JsonValue v;
+    std::string why;
+    ASSERT_TRUE(test::parse_strict_json(inspect_json(tree, scene, {}), &v, &why)) << why;
+    const test::JsonValue& jl = v["rays"].array.at(0)["terms"]["lights"].array.at(0);
+    EXPECT_NEAR(jl["diffuse"].array.at(2).number, 0.447686, 1e-6);
+    EXPECT_NEAR(jl["specular"].array.at(0).number, 0.127396, 1e-6);
+    EXPECT_EQ(jl["value"].array.at(0).number, 0.0);
+}
+
+// A light below the plane: N.L < 0, so no shadow ray, and the tree says why; C = 0.15 + 0.2.
+TEST(Inspect, ALightTheSurfaceFacesAwayFromSaysWhyNoShadowRay) {
+    const RenderScene scene =
+        test::compile(worked_example_1("", "#light_point 1 1 1  5 -5 5  0.01 0.02 0.03"));
+    const PixelTree tree = worked_tree(scene);
+    const InspectLight& l = tree.rays.at(0).lights.at(0);
+    EXPECT_NEAR(l.n_dot_l, -5.0 / std::sqrt(30.0), 1e-12);
+    EXPECT_EQ(l.shadow_ray_count, 0u);
+    EXPECT_NE(l.no_shadow_ray.find("faces away from the light (N.L <= 0)"), std::string::npos)
+        << l.no_shadow_ray;
+    EXPECT_VEC_NEAR(tree.pixel, Vec3(0.35), 1e-12);
+    const std::string text = inspect_text(tree, scene, {});
+    EXPECT_NE(text.find("no shadow ray: the surface faces away from the light (N.L <= 0)"),
+              std::string::npos)
+        << text;
+    test::JsonValue v;
+    std::string why;
+    ASSERT_TRUE(test::parse_strict_json(inspect_json(tree, scene, {}), &v, &why)) << why;
+    EXPECT_EQ(v["rays"].array.at(0)["terms"]["lights"].array.at(0)["no_shadow_ray"].string,
+              l.no_shadow_ray);
+    // Lit, the field is null.
+    const RenderScene lit = test::compile(worked_example_1());
+    ASSERT_TRUE(test::parse_strict_json(inspect_json(worked_tree(lit), lit, {}), &v, &why));
+    EXPECT_EQ(v["rays"].array.at(0)["terms"]["lights"].array.at(0)["no_shadow_ray"].type,
+              test::JsonValue::Type::Null);
+}
+
+// Between two mirrors y = 0 and y = 2 a ray bounces until the depth ends it: --inspect-depth 2
+// keeps the camera ray and its reflection, and counts the 3 rays below as left out (depth 5);
+// the colour they brought back stays. --inspect-light 1 keeps light 1's terms only.
+TEST(Inspect, FiltersLeaveOutDeepRaysAndOtherLights) {
+    const RenderScene scene = test::compile(
+        "#camera 0 1 0  1 -0.5 0  0 1 0  0.5\n"
+        "#light_point 1 1 1  0 1 1  1 0 0\n#light_point 0.5 0.5 0.5  0 1 -1  1 0 0\n"
+        "#material 0 0 0  0 0 0  .2 .2 .2  .5 .5 .5  10  0 0 0  1  -1 !!\n"
+        "#vertex -100 0 -100 0 0 0 0 0\n#vertex -100 0 100 0 0 0 0 0\n"
+        "#vertex 100 0 100 0 0 0 0 0\n#vertex 100 0 -100 0 0 0 0 0\n"
+        "#vertex -100 2 -100 0 0 0 0 0\n#vertex -100 2 100 0 0 0 0 0\n"
+        "#vertex 100 2 100 0 0 0 0 0\n#vertex 100 2 -100 0 0 0 0 0\n"
+        "#shape_triangle 0 0 1 2\n#shape_triangle 0 0 2 3\n"
+        "#shape_triangle 0 4 5 6\n#shape_triangle 0 4 6 7\n");
+    const PixelTree tree = worked_tree(scene);
+    ASSERT_EQ(tree.rays.size(), 5u);  // the camera ray and 4 reflections
+    const PixelTree cut = filter_tree(tree, {2, -1});
+    ASSERT_EQ(cut.rays.size(), 2u);
+    EXPECT_EQ(cut.rays_left_out, 3u);
+    EXPECT_EQ(cut.rays[1].parent, 0);
+    EXPECT_EQ(cut.rays[0].children, std::vector<int>{1});
+    EXPECT_TRUE(cut.rays[1].children.empty());
+    ASSERT_EQ(cut.rays[1].left_out.size(), 1u);
+    const InspectRay::NotRecorded& n = cut.rays[1].left_out[0];
+    EXPECT_EQ(n.rays, 3u);
+    EXPECT_EQ(n.depth, 3);
+    EXPECT_TRUE(same_bits(n.color, tree.rays[2].color));
+    EXPECT_TRUE(same_bits(cut.rays[1].reflected, tree.rays[1].reflected));
+    const std::string text = inspect_text(cut, scene, {});
+    EXPECT_NE(text.find("left out (--inspect-depth 2): reflected ray, depth 3, path weight (0.25 "
+                        "0.25 0.25), with the 2 rays below it"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("3 rays deeper than level 2 left out (--inspect-depth 2"),
+              std::string::npos);
+    EXPECT_EQ(text.find("ray, depth 3, path weight (0.25 0.25 0.25): from"),
+              std::string::npos);  // no ray line below level 2
+    test::JsonValue v;
+    std::string why;
+    ASSERT_TRUE(test::parse_strict_json(inspect_json(cut, scene, {}), &v, &why)) << why;
+    EXPECT_EQ(v["rays"].array.size(), 2u);
+    EXPECT_EQ(v["filter"]["rays_left_out"].number, 3.0);
+    EXPECT_EQ(v["rays"].array[1]["left_out"].array.at(0)["rays"].number, 3.0);
+
+    const PixelTree one = filter_tree(tree, {0, 1});
+    ASSERT_EQ(one.rays.size(), 5u);
+    for (const InspectRay& r : one.rays) {
+        ASSERT_EQ(r.lights.size(), 1u);
+        EXPECT_EQ(r.lights[0].light, 1);
+        EXPECT_EQ(r.lights_left_out, 1u);
+    }
+    EXPECT_TRUE(same_bits(one.rays[0].lights[0].value, tree.rays[0].lights[1].value));
+    EXPECT_NE(inspect_text(one, scene, {}).find("1 other light term left out (--inspect-light 1"),
+              std::string::npos);
+}
+
+// A V3 light (spec §13.9) in shadow, with worked example 3's colours (A_l 0.5, D_l (1 0.5 1),
+// S_l (0.2 0.4 0.6)): its ambient term is added (never shadowed), its diffuse and specular
+// terms are kept as §13.10's table gives them, and it adds nothing else.
+TEST(Inspect, AV3LightInShadowKeepsItsTerms) {
+    RenderScene scene = test::compile(worked_example_1("#shape_sphere 0  4 2.5 5.5  0.4\n"));
+    Light& l = scene.lights.at(0);
+    l.ambient = Vec3(0.5);
+    l.diffuse = Vec3(1, 0.5, 1);
+    l.specular = Vec3(0.2, 0.4, 0.6);
+    ASSERT_FALSE(l.one_colour());
+    const PixelTree tree = worked_tree(scene);
+    const InspectLight& t = tree.rays.at(0).lights.at(0);
+    EXPECT_EQ(t.shadow, Vec3(0.0));
+    EXPECT_TRUE(t.terms_known);
+    EXPECT_VEC_NEAR(t.ambient_term, Vec3(0.147125), 1e-6);
+    EXPECT_VEC_NEAR(t.diffuse_term, Vec3(0.089537, 0.044769, 0.447686), 1e-6);
+    EXPECT_VEC_NEAR(t.specular_term, Vec3(0.025479, 0.050958, 0.076438), 1e-6);
+    EXPECT_EQ(t.value, Vec3(0.0));
+    EXPECT_TRUE(same_bits(sum_of_terms(tree, 0), tree.color));
+}
+
 }  // namespace
 }  // namespace rt

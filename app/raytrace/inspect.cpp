@@ -67,8 +67,19 @@ int run_inspect(const Options& opt, const rt::SceneDesc& desc, const rt::RenderS
                 const rt::CompileReport& report) {
     const rt::RenderPlan plan = rt::make_render_plan(scene, opt);
     const InspectOptions& in = opt.inspect;
-    const rt::PixelTree tree =
+    // A light number past the scene's: a usage error (exit 2), as a pixel outside the image.
+    if (in.light && static_cast<size_t>(*in.light) >= scene.lights.size()) {
+        std::cerr << "raytrace: --inspect-light " << *in.light << ": "
+                  << (scene.lights.empty()
+                          ? std::string("the scene has no lights")
+                          : "the scene's lights are 0.." + std::to_string(scene.lights.size() - 1))
+                  << "\n(see raytrace --help)\n";
+        return 2;
+    }
+    rt::PixelTree tree =
         rt::inspect_pixel(scene, plan, opt, in.x, in.y, static_cast<uint32_t>(in.sample), opt.spp);
+    if (in.depth || in.light)
+        tree = rt::filter_tree(tree, {in.depth.value_or(0), in.light.value_or(-1)});
     const rt::InspectNames names{&desc, &report.prim_locs, &report.material_names};
     // The text first: when it cannot be written (a full disk, out of memory, a closed pipe's
     // SIGPIPE), no JSON file has been started.

@@ -239,6 +239,17 @@ void add_inspect_options(CLI::App& app, Options& o) {
            "also write the tree as JSON (docs/inspect.md)")
         ->type_name("FILE")
         ->group(group);
+    // The filters of a long tree (rt::filter_tree): what is shown, not what is traced.
+    app.add_option("--inspect-depth", in.depth,
+                   "show the rays down to level N only (the camera ray is 1, as --depth\n"
+                   "counts); each ray left out is counted with the rays below it")
+        ->type_name("N")
+        ->group(group);
+    app.add_option("--inspect-light", in.light,
+                   "show light K's terms and shadow rays only (K from 0, in the\n"
+                   "scene's order)")
+        ->type_name("K")
+        ->group(group);
 }
 
 void make_app(CLI::App& app, Options& o) {
@@ -306,10 +317,18 @@ void validate_animation(const Options& o) {
 void validate_inspect(const Options& o, bool output_given) {
     const InspectOptions& in = o.inspect;
     if (!in.enabled) {
-        if (in.sample != 0 || !in.json.empty())
-            throw UsageError("--inspect-sample and --inspect-json need --inspect X,Y");
+        if (in.sample != 0 || !in.json.empty() || in.depth || in.light)
+            throw UsageError(
+                "--inspect-sample, --inspect-json, --inspect-depth and --inspect-light need "
+                "--inspect X,Y");
         return;
     }
+    if (in.depth && *in.depth < 1)
+        throw UsageError("--inspect-depth " + std::to_string(*in.depth) +
+                         ": N counts levels of rays from 1 (the camera ray only)");
+    if (in.light && *in.light < 0)
+        throw UsageError("--inspect-light " + std::to_string(*in.light) +
+                         ": K is a light's number in the scene, from 0");
     if (in.x < 0 || in.y < 0 || in.x >= o.width || in.y >= o.height)
         throw UsageError(
             "--inspect " + std::to_string(in.x) + "," + std::to_string(in.y) + " is outside the " +

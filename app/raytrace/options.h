@@ -62,10 +62,12 @@ struct ExrOptions {
 
 /// --inspect: the ray tree of one pixel sample instead of an image (rt/render/inspect.h).
 struct InspectOptions {
-    bool enabled = false;  // --inspect given
-    int x = 0, y = 0;      // column, row from the top
-    int sample = 0;        // --inspect-sample, of --spp's
-    std::string json;      // --inspect-json FILE
+    bool enabled = false;      // --inspect given
+    int x = 0, y = 0;          // column, row from the top
+    int sample = 0;            // --inspect-sample, of --spp's
+    std::string json;          // --inspect-json FILE
+    std::optional<int> depth;  // --inspect-depth N: rays deeper than N levels left out
+    std::optional<int> light;  // --inspect-light K: only light K's terms
 };
 
 /// The render options rayview takes too (rtapp::RenderOptions: the renderer's settings, --spp,

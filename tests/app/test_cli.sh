@@ -344,4 +344,58 @@ check "and says why" grep -q "'1,2x' is not X,Y" "$tmp/usage.txt"
 check "--inspect-json '' exits 2" test $? -eq 2
 check "and says it needs a file name" grep -q "inspect-json.*needs a file name" "$tmp/usage.txt"
 
+# What a student compares (docs/inspect.md): spec §7.6's worked example seen from its eye, the
+# centre pixel of 41x41 being its ray. The 8 bits written (145 145 236), the camera's inputs,
+# the shadow ray's origin offset; a light below the plane says why it traced no shadow ray; the
+# filters --inspect-depth and --inspect-light, and their usage errors.
+cat >"$tmp/worked.ray" <<'RAY'
+#camera 0 10 10  3 -10 -4  0 1 0  0.5
+#ambient 0.5 0.5 0.5
+#background 0.2 0.2 0.2
+#light_point 1 1 1  5 5 5  0.01 0.02 0.03
+#light_point 1 1 1  5 -5 5  0.01 0.02 0.03
+#material 0 0 0  .3 .3 .3  .1 .1 .5  1 1 1  100  0 0 0  1  -1 !!
+#vertex -100 0 -100 0 0 0 0 0
+#vertex -100 0 100 0 0 0 0 0
+#vertex 100 0 100 0 0 0 0 0
+#vertex 100 0 -100 0 0 0 0 0
+#shape_triangle 0 0 1 2
+#shape_triangle 0 0 2 3
+RAY
+"$rt" "$tmp/worked.ray" --width 41 --height 41 --cutoff 0.001 --inspect 20,20 \
+    --inspect-json "$tmp/worked.json" >"$tmp/worked.txt" 2>&1
+check "--inspect of §7.6 exits 0" test $? -eq 0
+check "--inspect: the bytes written, (145 145 236)" \
+    grep -q "^written as 8 bits (145 145 236) = floor(255 x clamp(c, 0, 1) + 0.5)" "$tmp/worked.txt"
+check "--inspect: the camera's angle and tangents" \
+    grep -q "^camera (the scene's): ha 28.6479 deg (the half-height angle), tan_h = tan(ha) 0.546302, tan_w = tan_h x 41/41 0.546302" "$tmp/worked.txt"
+check "--inspect: the basis" grep -qE "^  at \(0 10 10\), f \(0.268328 -0.894427 -0.357771\), r \(0.8 -?0 0.6\), up' \(0.536656 0.447214 -0.715542\)" "$tmp/worked.txt"
+check "--inspect: the image-plane point of the centre" grep -qE "^  sample offset \(sx sy\) \(0.5 0.5\): x = .* = 0, y = .* = 0;" "$tmp/worked.txt"
+check "--inspect: the shadow ray's origin offset" grep -q "origin offset 0 (the hit point's error bound is 0 there" "$tmp/worked.txt"
+check "--inspect: §7.6's diffuse term" grep -q "x N.L 0.912871 = (0.0895371 0.0895371 0.447686)" "$tmp/worked.txt"
+check "--inspect: the light below says why no shadow ray" \
+    grep -q "^    no shadow ray: the surface faces away from the light (N.L <= 0)" "$tmp/worked.txt"
+if command -v python3 >/dev/null; then
+    python3 -c 'import json, sys; t = json.load(open(sys.argv[1])); c = t["camera"]; l = t["rays"][0]["terms"]["lights"]
+print(t["output"]["bytes"] == [145, 145, 236] and abs(c["tan_h"] - 0.546302489843790) < 1e-12 and c["image_point"] == [0, 0] and l[0]["no_shadow_ray"] is None and "faces away" in l[1]["no_shadow_ray"])' \
+        "$tmp/worked.json" >"$tmp/worked_check.txt" 2>&1
+    check "--inspect-json: output, camera, no_shadow_ray" grep -qx True "$tmp/worked_check.txt"
+fi
+"$rt" "$tmp/worked.ray" -q --width 41 --height 41 --inspect 20,20 --inspect-depth 1 \
+    --inspect-light 0 >"$tmp/filtered.txt" 2>&1
+check "--inspect-depth 1 --inspect-light 0 exits 0" test $? -eq 0
+check "--inspect-depth 1 leaves the reflected ray out" grep -q "left out (--inspect-depth 1): reflected ray, depth 4" "$tmp/filtered.txt"
+check "and counts it" grep -q "^1 ray deeper than level 1 left out" "$tmp/filtered.txt"
+check "and shows no reflected ray's line" bash -c "! grep -q '^    reflected ray, depth 4' '$tmp/filtered.txt'"
+check "--inspect-light 0 shows light 0 only" bash -c "! grep -q '^  light 1 ' '$tmp/filtered.txt' && grep -q '^  light 0 ' '$tmp/filtered.txt'"
+check "and says one light term was left out" grep -q "1 other light term left out (--inspect-light 0" "$tmp/filtered.txt"
+"$rt" "$tmp/worked.ray" --inspect 1,1 --inspect-light 2 >/dev/null 2>"$tmp/usage.txt"
+check "--inspect-light past the lights exits 2" test $? -eq 2
+check "and gives the range" grep -q "inspect-light 2: the scene's lights are 0..1" "$tmp/usage.txt"
+"$rt" "$tmp/worked.ray" --inspect 1,1 --inspect-depth 0 >/dev/null 2>"$tmp/usage.txt"
+check "--inspect-depth 0 exits 2" test $? -eq 2
+check "and says levels count from 1" grep -q "counts levels of rays from 1" "$tmp/usage.txt"
+"$rt" "$tmp/worked.ray" --inspect-depth 2 >/dev/null 2>"$tmp/usage.txt"
+check "--inspect-depth without --inspect exits 2" test $? -eq 2
+
 summary "with the bad-input checks"

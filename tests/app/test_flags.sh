@@ -78,6 +78,8 @@ declare -A rt=(
     [--inspect]="alone:$scene --width 24 --height 16 --inspect 3,4"
     [--inspect-sample]="alone:$scene --width 24 --height 16 --spp 2 --inspect 3,4 --inspect-sample 1"
     [--inspect-json]="alone:$scene --width 24 --height 16 --inspect 3,4 --inspect-json $tmp/i.json"
+    [--inspect-depth]="alone:$scene --width 24 --height 16 --inspect 3,4 --inspect-depth 1"
+    [--inspect-light]="alone:$scene --width 24 --height 16 --inspect 3,4 --inspect-light 0"
 )
 check_flags "$bin/raytrace" "$scene --width 24 --height 16 -q -o $tmp/o.png" rt
 

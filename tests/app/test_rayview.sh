@@ -143,7 +143,7 @@ cat >"$tmp/all.txt" <<SCRIPT
 11 add-light spot
 12 frame-light 1
 13 pick 0.5 0.6
-13 inspect 0.5 0.6
+13 inspect 100 80
 14 exposure 1
 15 tonemap aces
 16 depth 3

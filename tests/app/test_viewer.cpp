@@ -21,6 +21,7 @@
 #include "state/key_queue.h"
 #include "state/light_edit.h"
 #include "state/preview_geometry.h"
+#include "state/run_options.h"
 #include "state/viewer.h"
 #include "state/viewer_compare.h"
 #include "state/viewer_output.h"
@@ -1412,6 +1413,76 @@ TEST(ViewerHistory, StepsAfterTheGestureUndoAndRedo) {
     h.track(edits, back.settings, false);
     EXPECT_EQ(h.redo_steps(), 0u);
     EXPECT_EQ(h.undo_steps(), 1u);
+}
+
+// The script's inspect and compare probe take the same coordinates: the pixel X, Y of the trace
+// (column, row from the top), whole numbers; a fraction is an error that says so, not pixel 0,0.
+TEST(Viewer, ScriptInspectAndCompareProbeTakeTheSamePixels) {
+    const std::string path = ::testing::TempDir() + "rt_viewer_probe.ray";
+    write_file_atomic(path,
+                      "#camera 0 0 5  0 0 -1  0 1 0  0.5\n"
+                      "#light_point 1 1 1  0 3 3  1 0 0\n"
+                      "#material .1 .1 .1  0 0 0  .8 .5 .2  .5 .5 .5  20  0 0 0  1  -1 !!\n"
+                      "#shape_sphere 0  0 0 0  1\n");
+    Diagnostics diag;
+    const RenderScene scene = compile_scene(parse_scene_file(path, diag));
+    RenderSettings rs;
+    rs.width = 48;
+    rs.height = 36;
+    RenderState state;
+    ASSERT_TRUE(render_samples(state, scene, make_render_plan(scene, rs), rs, 1));
+    const std::string theirs = ::testing::TempDir() + "rt_viewer_probe.png";
+    save_image(state.image(), theirs);
+
+    ViewerState v(path, false);
+    ASSERT_TRUE(v.session.loaded) << v.messages.text;
+    v.set_trace_size(48, 36);
+    restart(v);
+    const std::optional<std::string> said = run_command(v, line(1, "inspect", {"30", "20"}));
+    ASSERT_TRUE(said);
+    EXPECT_NE(said->find("inspected pixel 30,20\npixel 30,20, sample 0"), std::string::npos)
+        << *said;
+    ASSERT_TRUE(v.ui.inspect.tree);
+    EXPECT_EQ(v.ui.inspect.tree->x, 30);
+    EXPECT_EQ(v.ui.inspect.tree->y, 20);
+    // A fraction is refused, naming it (before: an image fraction, so 0.5 0.5 was the centre
+    // and 30 20 out of range; compare probe took 0.5 as pixel 0).
+    v.ui.inspect.clear();
+    try {
+        run_command(v, line(2, "inspect", {"0.5", "0.5"}));
+        ADD_FAILURE() << "inspect 0.5 0.5 was taken";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()), "inspect: '0.5' is not a whole number (from 0 to 47)");
+    }
+    EXPECT_FALSE(v.ui.inspect.tree);
+    EXPECT_THROW(run_command(v, line(2, "inspect", {"48", "0"})), std::runtime_error);
+    EXPECT_THROW(run_command(v, line(2, "inspect", {"0", "36"})), std::runtime_error);
+
+    ASSERT_TRUE(compare_with(v, theirs));
+    ASSERT_TRUE(wait_compared(v));
+    const std::optional<std::string> probed =
+        run_command(v, line(3, "compare", {"probe", "30", "20"}));
+    ASSERT_TRUE(probed);
+    EXPECT_NE(probed->find("compare pixel 30,20: theirs"), std::string::npos) << *probed;
+    ASSERT_TRUE(v.ui.inspect.tree);
+    EXPECT_EQ(v.ui.inspect.tree->x, 30);  // the same pixel as inspect 30 20
+    EXPECT_EQ(v.ui.inspect.tree->y, 20);
+    try {
+        run_command(v, line(4, "compare", {"probe", "0.5", "0.5"}));
+        ADD_FAILURE() << "compare probe 0.5 0.5 was taken";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()), "compare: '0.5' is not a whole number (from 0 to 47)");
+    }
+    EXPECT_EQ(v.ui.compare.probe_x, 30);  // unchanged
+}
+
+// rayview --help lists the compare commands of a script beside inspect's.
+TEST(Viewer, HelpListsTheCompareScriptCommands) {
+    const std::string help = script_commands_help();
+    for (const char* c : {"compare PATH", "compare view", "compare flip", "compare tolerance K",
+                          "compare neighbourhood on|off", "compare spp N", "compare probe X Y",
+                          "compare off", "wait-compare", "inspect X Y"})
+        EXPECT_NE(help.find(c), std::string::npos) << c;
 }
 
 }  // namespace

@@ -27,7 +27,14 @@ double command_number(const ScriptLine& l, size_t i, double lo, double hi) {
 }
 
 int command_whole(const ScriptLine& l, size_t i, int lo, int hi) {
-    return static_cast<int>(command_number(l, i, lo, hi));
+    const double x = command_number(l, i, lo, hi);
+    if (x != std::floor(x)) {  // "0.5" is not pixel 0, nor 1 sample
+        std::ostringstream msg;
+        msg << l.command << ": '" << l.args[i] << "' is not a whole number (from " << lo << " to "
+            << hi << ")";
+        throw std::runtime_error(msg.str());
+    }
+    return static_cast<int>(x);
 }
 
 namespace {
@@ -320,8 +327,12 @@ bool run_view(const ScriptLine& l, ViewerState& v, std::string* out) {
     } else if (c == "inspect" && path == "clear") {
         v.ui.inspect.clear();
     } else if (c == "inspect") {
-        // The ray tree of the trace's pixel there, printed as raytrace --inspect prints it.
-        v.inspect(number(l, 0, 0, 0.999999), number(l, 1, 0, 0.999999));
+        // The ray tree of the trace's pixel X, Y (column, row from the top, as compare probe and
+        // raytrace --inspect count), printed as raytrace --inspect prints it.
+        const int w = v.trace.width(), h = v.trace.height();
+        if (w <= 0 || h <= 0) throw std::runtime_error("inspect: the trace has no pixels yet");
+        const int x = whole(l, 0, 0, w - 1), y = whole(l, 1, 0, h - 1);
+        v.inspect((x + 0.5) / w, (y + 0.5) / h);
         if (v.ui.inspect.tree)
             *out = said(l, "inspected pixel " + std::to_string(v.ui.inspect.tree->x) + "," +
                                std::to_string(v.ui.inspect.tree->y) + "\n" + v.ui.inspect.text);

@@ -66,15 +66,22 @@ size_t draw_nodes(ViewerState& v, const std::vector<TextLine>& lines, size_t i, 
                           : r.kind == InspectRay::Kind::Reflected ? InspectColours::reflected
                                                                   : InspectColours::refracted));
         }
-        const bool open = ImGui::TreeNodeEx("node", flags, "%.*s", static_cast<int>(l.text.size()),
-                                            l.text.data());
+        // The node without a label, then its text wrapped at the pane's edge (a long line such as
+        // a hit's normals goes on below, at the text's own indentation, instead of being cut).
+        const bool open = ImGui::TreeNodeEx("node", flags, "%s", "");
+        const bool hovered = ImGui::IsItemHovered();
+        const bool right_clicked = ImGui::IsItemClicked(ImGuiMouseButton_Right);
+        ImGui::SameLine();
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextUnformatted(l.text.data(), l.text.data() + l.text.size());
+        ImGui::PopTextWrapPos();
         if (ray_line) {
             ImGui::PopStyleColor();
-            if (ImGui::IsItemHovered()) v.ui.inspect.hover(ray_index);
+            if (hovered) v.ui.inspect.hover(ray_index);
             const InspectRay& r = in.tree->rays[static_cast<size_t>(ray_index)];
-            if (ImGui::IsItemClicked(ImGuiMouseButton_Right) && r.hit)
+            if (right_clicked && r.hit)
                 v.ui.select(selection_of(*v.session.loaded, r.prim.instance, r.prim.prim, r.point));
-            if (ImGui::IsItemHovered() && r.hit)
+            if (hovered && r.hit)
                 ImGui::SetTooltip("right click: select what it hits (F frames it)");
         }
         ++i;
@@ -96,9 +103,10 @@ size_t draw_nodes(ViewerState& v, const std::vector<TextLine>& lines, size_t i, 
 void tree_list(ViewerState& v) {
     const InspectView& in = v.ui.inspect;
     const PixelTree& t = *in.tree;
-    ImGui::Text("pixel %d,%d: the trace shows (%.4g %.4g %.4g) at %d spp", t.x, t.y, in.traced.x,
-                in.traced.y, in.traced.z, in.traced_spp);
-    ImGui::Text("its sample %u: (%.4g %.4g %.4g)", t.sample, t.color.x, t.color.y, t.color.z);
+    ImGui::TextWrapped("pixel %d,%d: the trace shows (%.4g %.4g %.4g) at %d spp", t.x, t.y,
+                       in.traced.x, in.traced.y, in.traced.z, in.traced_spp);
+    ImGui::TextWrapped("its sample %u: (%.4g %.4g %.4g)", t.sample, t.color.x, t.color.y,
+                       t.color.z);
     if (ImGui::SmallButton("Clear (C)")) {
         v.ui.inspect.clear();
         return;
@@ -109,14 +117,16 @@ void tree_list(ViewerState& v) {
     // The first line says which sample; the tree starts at the camera ray.
     size_t first = 0;
     while (first < lines.size() && !is_ray_line(lines[first].text)) ++first;
-    if (ImGui::BeginChild("tree", ImVec2(0, ImGui::GetTextLineHeightWithSpacing() * 24), true,
-                          ImGuiWindowFlags_HorizontalScrollbar) &&
+    // No horizontal scrolling: every line wraps at the pane's edge.
+    if (ImGui::BeginChild("tree", ImVec2(0, ImGui::GetTextLineHeightWithSpacing() * 24), true) &&
         first < lines.size()) {
         int ray = 0;
         const size_t end = draw_nodes(v, lines, first, &ray);
+        ImGui::PushTextWrapPos(0.0f);
         for (size_t i = end; i < lines.size(); ++i)  // the sample's colour, the pixel's value
             ImGui::TextUnformatted(lines[i].text.data(),
                                    lines[i].text.data() + lines[i].text.size());
+        ImGui::PopTextWrapPos();
     }
     ImGui::EndChild();
 }

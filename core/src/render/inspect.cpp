@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "camera_sample.h"
+#include "rt/image/image.h"
 #include "rt/util/enum_names.h"
 #include "shading_impl.h"
 #include "variants.h"
@@ -155,29 +156,31 @@ struct TreeRecorder {
         if (on()) term().ambient_term = a;
     }
 
-    void shadow_ray(const RenderScene& scene, const GeometryQueries& geometry, const Ray& r,
-                    double t_max, const Vec3& s) const {
+    void shadow_ray(const RenderScene& scene, const GeometryQueries& geometry,
+                    const SurfaceInteraction& si, const Ray& r, double t_max, const Vec3& s) const {
         if (!on()) return;
         InspectLight& t = term();
         ++t.shadow_ray_count;
         if (t.shadow_rays.size() >= InspectLight::kMaxShadowRays || !budget_left()) return;
         ++ctx->tree.records;
-        InspectShadowRay sr{r, t_max, s, {}};
+        // The origin as offset_origin() moved it off the hit point (its difference from the
+        // point: the offset, exact for points this close).
+        InspectShadowRay sr{r, si.p, r.o - si.p, t_max, s, {}};
         // The surfaces on the segment, nearest first, by the renderer's own nearest-hit query
         // (what the transmittance query multiplied, or the first that blocked it).
         double lo = 0.0;
         for (int k = 0; k < 64 && budget_left(); ++k) {
             Hit h;
             if (!geometry.intersect(scene, r, {lo, t_max}, &h)) break;
-            const SurfaceInteraction si = geometry.interaction(scene, r, h, false);
+            const SurfaceInteraction met = geometry.interaction(scene, r, h, false);
             const Instance& inst = scene.instances[static_cast<size_t>(h.instance)];
             const Primitive& p = scene.sets[static_cast<size_t>(inst.set)].prims[h.prim];
             InspectOccluder o;
             o.prim = {h.instance, inst.set, h.prim, p.kind, p.csg >= 0};
             o.t = h.t;
             o.distance = h.t * glm::length(r.d);
-            o.material = si.material;
-            o.transparent = scene.materials[static_cast<size_t>(si.material)].transparent;
+            o.material = met.material;
+            o.transparent = scene.materials[static_cast<size_t>(met.material)].transparent;
             sr.occluders.push_back(o);
             ++ctx->tree.records;
             if (o.transparent == Vec3(0.0) || !(h.t > lo)) break;
@@ -200,6 +203,7 @@ struct TreeRecorder {
         InspectLight& t = term();
         t.r_dot_l = std::min(glm::dot(sp.r_v, l), 1.0);
         t.highlight = shading::highlight(sp, l);
+        t.terms_known = true;
         t.diffuse_term = diffuse;
         t.specular_term = specular;
         t.value = value;
@@ -328,7 +332,89 @@ PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
         scene, plan, settings, ray, settings.max_depth, Vec3(1.0), counters,
         tree.random ? &rng : nullptr, {&ctx, 0, -1, -1, -1, false});
     tree.pixel = render_pixel_value(scene, plan, settings, x, y, spp);
+    // The 8 bits the image writer stores for that value (spec §9).
+    for (int k = 0; k < 3; ++k) tree.output.bytes[k] = to_byte(tree.pixel[k]);
+    // The camera's inputs, from the renderer's camera (plan.cpp: make_camera).
+    const Camera& cam = plan.camera;
+    InspectCamera& ic = tree.camera;
+    ic.from_file = scene.camera.has_value();
+    ic.half_height_angle_rad =
+        scene.camera ? scene.camera->half_height_angle_rad
+                     : default_camera(scene.world_bounds, settings.width, settings.height)
+                           .half_height_angle_rad;
+    ic.tan_h = cam.tan_h;
+    ic.tan_w = cam.tan_w;
+    ic.width = cam.width;
+    ic.height = cam.height;
+    ic.position = cam.position;
+    ic.forward = cam.forward;
+    ic.right = cam.right;
+    ic.up = cam.up;
+    ic.image_point = cam.image_point(x, y, tree.position.x, tree.position.y);
+    // Why a light traced no shadow ray: what ended its term first, or the settings.
+    for (InspectRay& r : tree.rays)
+        for (InspectLight& l : r.lights) {
+            if (l.shadow_ray_count > 0) continue;
+            if (l.facing_known && !(l.n_dot_l > 0.0))
+                l.no_shadow_ray =
+                    "the surface faces away from the light (N.L <= 0): it gets no diffuse or "
+                    "specular term, so there is nothing to shadow";
+            else if (!l.note.empty())
+                l.no_shadow_ray = l.note + ": nothing to shadow";
+            else
+                l.no_shadow_ray =
+                    settings.shadows ? "no shadow ray traced" : "shadows are off (--no-shadows)";
+        }
     return std::move(ctx.tree);
+}
+
+PixelTree filter_tree(const PixelTree& tree, const InspectFilter& filter) {
+    PixelTree out = tree;
+    out.filter_depth = std::max(filter.depth, 0);
+    out.filter_light = std::max(filter.light, -1);
+    if (out.filter_light >= 0)
+        for (InspectRay& r : out.rays) {
+            const auto other = [&](const InspectLight& l) { return l.light != out.filter_light; };
+            const size_t before = r.lights.size();
+            r.lights.erase(std::remove_if(r.lights.begin(), r.lights.end(), other), r.lights.end());
+            r.lights_left_out += before - r.lights.size();
+        }
+    if (out.filter_depth == 0 || tree.rays.empty()) return out;
+    // Each ray's level (the camera ray's is 1, as --depth counts) and the rays of its subtree,
+    // traced past the limits included: rays come before their children.
+    const size_t n = tree.rays.size();
+    std::vector<int> level(n, 1);
+    for (size_t i = 1; i < n; ++i) level[i] = level[static_cast<size_t>(tree.rays[i].parent)] + 1;
+    std::vector<size_t> size(n, 1);
+    for (size_t i = n; i-- > 0;) {
+        for (const InspectRay::NotRecorded& nr : tree.rays[i].not_recorded) size[i] += nr.rays;
+        for (int c : tree.rays[i].children) size[i] += size[static_cast<size_t>(c)];
+    }
+    std::vector<int> index(n, -1);
+    std::vector<InspectRay> rays = std::move(out.rays);  // with the light filter applied
+    out.rays.clear();
+    for (size_t i = 0; i < n; ++i) {
+        if (level[i] > out.filter_depth) continue;
+        InspectRay r = std::move(rays[i]);
+        index[i] = static_cast<int>(out.rays.size());
+        if (r.parent >= 0) r.parent = index[static_cast<size_t>(r.parent)];
+        std::vector<int> kept;
+        for (int c : r.children) {
+            const InspectRay& child = tree.rays[static_cast<size_t>(c)];
+            if (level[i] < out.filter_depth) {
+                kept.push_back(c);  // renumbered below, once its index is known
+                continue;
+            }
+            r.left_out.push_back(
+                {child.kind, child.depth, child.weight, child.color, size[static_cast<size_t>(c)]});
+            out.rays_left_out += size[static_cast<size_t>(c)];
+        }
+        r.children = std::move(kept);
+        out.rays.push_back(std::move(r));
+    }
+    for (InspectRay& r : out.rays)
+        for (int& c : r.children) c = index[static_cast<size_t>(c)];
+    return out;
 }
 
 }  // namespace rt

@@ -144,16 +144,17 @@ private:
             line(in, "ambient = K_A " + vec(r.k_a) + " x A_l " + vec(l.ambient) +
                          " x f_l = " + vec(l.ambient_term));
         if (l.facing_known) line(in, "L " + vec(l.to_light) + ", N.L " + num(l.n_dot_l));
-        if (l.shadow_tested) {
+        if (!l.no_shadow_ray.empty()) line(in, "no shadow ray: " + l.no_shadow_ray);
+        if (l.shadow_tested && l.shadow_ray_count > 0) {
             line(in, "shadow S_l = " + vec(l.shadow) + " (" + std::to_string(l.shadow_ray_count) +
                          (l.shadow_ray_count == 1 ? " shadow ray" : " shadow rays") +
                          (l.shadow_ray_count > l.shadow_rays.size()
                               ? ", the first " + std::to_string(l.shadow_rays.size()) + " shown"
                               : "") +
                          ")");
-            for (const InspectShadowRay& s : l.shadow_rays) shadow(s, in + 2);
+            for (const InspectShadowRay& s : l.shadow_rays) shadow(r, s, in + 2);
         }
-        if (l.note.empty() || l.value != Vec3(0.0)) {
+        if (l.terms_known) {
             if (l.one_colour()) {
                 const Vec3 i = l.diffuse * l.factor;
                 line(in, "diffuse  = I_l " + vec(i) + " x K_D " + vec(r.k_d) + " x N.L " +
@@ -168,17 +169,28 @@ private:
                              num(l.r_dot_l) + ", 0) ^ n " + num(r.exponent) +
                              " (= " + num(l.highlight) + ") = " + vec(l.specular_term));
             }
-            line(in, "adds S_l x (diffuse + specular) = " + vec(l.value));
+            line(in, "adds S_l x (diffuse + specular) = " + vec(l.value) +
+                         (l.note.empty() ? "" : ": " + l.note));
         } else {
             line(in, "adds nothing: " + l.note);
         }
     }
 
-    void shadow(const InspectShadowRay& s, int pad) {
+    void shadow(const InspectRay& r, const InspectShadowRay& s, int pad) {
         std::string to =
             std::isfinite(s.t_max) ? "to " + vec(s.ray.o + s.ray.d) : "along " + vec(s.ray.d);
         line(pad, "shadow ray from " + vec(s.ray.o) + " " + to + ": transmittance " +
                       vec(s.transmittance));
+        if (s.offset == Vec3(0.0))
+            line(pad + 2,
+                 "origin offset 0 (the hit point's error bound is 0 there, spec §7.5): "
+                 "the origin is the hit point " +
+                     vec(s.hit) + " itself");
+        else
+            line(pad + 2, "origin offset " + vec(s.offset) + " (length " +
+                              num(glm::length(s.offset)) + ", along " +
+                              (glm::dot(s.offset, r.n_geometric) < 0.0 ? "-n_g" : "+n_g") +
+                              ", spec §7.5): the origin is the hit point " + vec(s.hit) + " + it");
         for (const InspectOccluder& o : s.occluders)
             line(pad + 2, "meets " + inspect_prim_name(o.prim, m_names) + " at distance " +
                               num(o.distance) + ", " + material_name(o.material, m_names) + ", T " +
@@ -208,6 +220,16 @@ private:
                 term(child.color);
                 ray(c, below);
             }
+            for (const InspectRay::NotRecorded& n : r.left_out) {
+                if (n.kind != kind) continue;
+                term(n.color);
+                line(below, "left out (--inspect-depth " + std::to_string(m_tree.filter_depth) +
+                                "): " + ray_kind_text(kind) + " ray, depth " +
+                                std::to_string(n.depth) + ", path weight " + vec(n.weight) +
+                                (n.rays > 1 ? ", with the " + std::to_string(n.rays - 1) +
+                                                  (n.rays == 2 ? " ray below it" : " rays below it")
+                                            : std::string()));
+            }
             for (const InspectRay::NotRecorded& n : r.not_recorded) {
                 if (n.kind != kind) continue;
                 term(n.color);
@@ -221,6 +243,11 @@ private:
         }
         for (const InspectStop& s : r.stops)
             line(in, s.kind + " ray not traced: " + s.why + " (path weight " + vec(s.weight) + ")");
+        if (r.lights_left_out > 0)
+            line(in, std::to_string(r.lights_left_out) +
+                         (r.lights_left_out == 1 ? " other light term" : " other light terms") +
+                         " left out (--inspect-light " + std::to_string(m_tree.filter_light) +
+                         "; the sum counts them)");
     }
 
     std::ostream& m_out;
@@ -374,6 +401,8 @@ public:
         m_j.kv("kind", "shadow");
         m_j.ki("light", light);
         m_j.kv("origin", s.ray.o);
+        m_j.kv("hit_point", s.hit);
+        m_j.kv("origin_offset", s.offset);
         m_j.kv("direction", s.ray.d);
         m_j.kv("t_max", s.t_max);
         m_j.kv("transmittance", s.transmittance);
@@ -435,6 +464,11 @@ public:
         m_j.kv("ambient", l.ambient_term);
         m_j.kv("diffuse", l.diffuse_term);
         m_j.kv("specular", l.specular_term);
+        m_j.key("no_shadow_ray");
+        if (l.no_shadow_ray.empty())
+            m_j.null();
+        else
+            m_j.string(l.no_shadow_ray);
         object_or_null("shadow", l.shadow_tested, [&] {
             m_j.kv("value", l.shadow);
             m_j.ki("rays", static_cast<long long>(l.shadow_ray_count));
@@ -517,10 +551,11 @@ public:
         m_j.close(']');
     }
 
-    // The rays it traced without recording them (past the tree's limits).
-    void not_recorded(const InspectRay& r) {
+    // The rays it traced without recording them (past the tree's limits), or that a filter left
+    // out.
+    void not_recorded(const std::vector<InspectRay::NotRecorded>& list) {
         m_j.open('[');
-        for (const InspectRay::NotRecorded& n : r.not_recorded) {
+        for (const InspectRay::NotRecorded& n : list) {
             m_j.open('{');
             m_j.kv("kind", ray_kind_text(n.kind));
             m_j.ki("depth", n.depth);
@@ -566,7 +601,10 @@ public:
         for (int c : r.children) m_j.integer(c);
         m_j.close(']');
         m_j.key("not_recorded");
-        not_recorded(r);
+        not_recorded(r.not_recorded);
+        m_j.key("left_out");
+        not_recorded(r.left_out);
+        m_j.ki("lights_left_out", static_cast<long long>(r.lights_left_out));
         m_j.close('}');
     }
 
@@ -582,6 +620,46 @@ public:
         m_j.vec2(m_tree.position);
         m_j.kv("color", m_tree.pixel);
         m_j.kv("sample_color", m_tree.color);
+        m_j.key("output");
+        m_j.open('{');
+        m_j.key("bytes");
+        m_j.open('[');
+        for (uint8_t b : m_tree.output.bytes) m_j.integer(b);
+        m_j.close(']');
+        m_j.kv("transfer", "floor(255 clamp(c, 0, 1) + 0.5)");
+        m_j.close('}');
+        const InspectCamera& c = m_tree.camera;
+        m_j.key("camera");
+        m_j.open('{');
+        m_j.kb("from_file", c.from_file);
+        m_j.kv("half_height_angle_deg", c.half_height_angle_rad * 180.0 / kPi);
+        m_j.kv("tan_h", c.tan_h);
+        m_j.kv("tan_w", c.tan_w);
+        m_j.ki("width", c.width);
+        m_j.ki("height", c.height);
+        m_j.kv("position", c.position);
+        m_j.kv("forward", c.forward);
+        m_j.kv("right", c.right);
+        m_j.kv("up", c.up);
+        m_j.key("sample_offset");
+        m_j.vec2(m_tree.position);
+        m_j.key("image_point");
+        m_j.vec2(c.image_point);
+        m_j.close('}');
+        m_j.key("filter");
+        m_j.open('{');
+        m_j.key("depth");
+        if (m_tree.filter_depth > 0)
+            m_j.integer(m_tree.filter_depth);
+        else
+            m_j.null();
+        m_j.key("light");
+        if (m_tree.filter_light >= 0)
+            m_j.integer(m_tree.filter_light);
+        else
+            m_j.null();
+        m_j.ki("rays_left_out", static_cast<long long>(m_tree.rays_left_out));
+        m_j.close('}');
         m_j.ki("rays_recorded", static_cast<long long>(m_tree.rays.size()));
         m_j.ki("rays_not_recorded", static_cast<long long>(m_tree.rays_not_recorded));
         m_j.key("limits");
@@ -624,6 +702,18 @@ void inspect_text(std::ostream& out, const PixelTree& tree, const RenderScene& s
                        num(tree.position.y) + ") in the pixel";
     if (tree.random) head += " (jittered; random numbers drawn)";
     w.line(0, head);
+    const InspectCamera& c = tree.camera;
+    w.line(0, std::string("camera (") + (c.from_file ? "the scene's" : "the default of spec §6.3") +
+                  "): ha " + num(c.half_height_angle_rad * 180.0 / kPi) +
+                  " deg (the half-height angle), tan_h = tan(ha) " + num(c.tan_h) +
+                  ", tan_w = tan_h x " + std::to_string(c.width) + "/" + std::to_string(c.height) +
+                  " " + num(c.tan_w));
+    w.line(2, "at " + vec(c.position) + ", f " + vec(c.forward) + ", r " + vec(c.right) + ", up' " +
+                  vec(c.up));
+    w.line(2, "sample offset (sx sy) (" + num(tree.position.x) + " " + num(tree.position.y) +
+                  "): x = (2 (i + sx) / w - 1) tan_w = " + num(c.image_point.x) +
+                  ", y = (1 - 2 (j + sy) / h) tan_h = " + num(c.image_point.y) +
+                  "; direction = normalize(f + x r + y up')");
     if (!tree.rays.empty()) w.ray(0, 0);
     if (tree.rays_not_recorded > 0)
         w.line(0, std::to_string(tree.rays_not_recorded) +
@@ -634,6 +724,16 @@ void inspect_text(std::ostream& out, const PixelTree& tree, const RenderScene& s
     w.line(0, "sample colour " + vec(tree.color));
     w.line(0, "pixel value " + vec(tree.pixel) + " (the mean of " + std::to_string(tree.samples) +
                   (tree.samples == 1 ? " sample" : " samples") + ", linear)");
+    if (tree.rays_left_out > 0)
+        w.line(0, std::to_string(tree.rays_left_out) +
+                      (tree.rays_left_out == 1 ? " ray" : " rays") + " deeper than level " +
+                      std::to_string(tree.filter_depth) + " left out (--inspect-depth " +
+                      std::to_string(tree.filter_depth) + "; their colours count)");
+    const InspectOutput& o = tree.output;
+    w.line(0, "written as 8 bits (" + std::to_string(o.bytes[0]) + " " +
+                  std::to_string(o.bytes[1]) + " " + std::to_string(o.bytes[2]) +
+                  ") = floor(255 x clamp(c, 0, 1) + 0.5) of each channel (spec §9: no gamma; the "
+                  ".pfm output holds the linear value)");
 }
 
 std::string inspect_text(const PixelTree& tree, const RenderScene& scene,

@@ -112,11 +112,11 @@ template <uint32_t F, class Rec>
     const double t_max = target ? 1.0 : kInf;
     if constexpr ((F & kShadeTransmissiveShadows) != 0) {
         *s = geometry.transmittance(scene, shadow_ray, t_max);
-        rec.shadow_ray(scene, geometry, shadow_ray, t_max, *s);
+        rec.shadow_ray(scene, geometry, si, shadow_ray, t_max, *s);
         return *s != Vec3(0.0);
     }
     const bool passes = !geometry.occluded(scene, shadow_ray, t_max);
-    rec.shadow_ray(scene, geometry, shadow_ray, t_max, Vec3(passes));
+    rec.shadow_ray(scene, geometry, si, shadow_ray, t_max, Vec3(passes));
     return passes;
 }
 
@@ -206,6 +206,11 @@ template <uint32_t F, class Rec>
         if (settings.shadows &&
             !shadow_ray_passes<F>(scene, *plan.geometry, sp.si, light, l, &s, counters, rec)) {
             rec.shadow(Vec3(0.0));
+            if constexpr (Rec::kOn)  // the terms S_l = 0 removes, as the lit case records them
+                rec.direct(
+                    sp, l, intensity * sp.kd * n_dot_l,
+                    (F & kShadeHighlights) != 0 ? intensity * sp.ks * highlight(sp, l) : Vec3(0.0),
+                    Vec3(0.0));
             return;
         }
     rec.shadow(s);
@@ -225,6 +230,16 @@ template <uint32_t F, class Rec>
 // of these (not once per variant of trace) and called, which keeps the build time down.
 constexpr uint32_t kLightBits = kShadeShadows | kShadeTransmissiveShadows | kShadeHighlights |
                                 kShadeSpot | kShadeAttenuation | kShadeV3Lights;
+
+// For the recorder only: the diffuse and specular terms of a V3 light in shadow (S_l = 0), as
+// three_colour_light() computes them when lit.
+template <uint32_t F, class Rec>
+void in_shadow(Rec rec, const ShadePoint& sp, const Light& light, const Vec3& l, double f,
+               double n_dot_l) {
+    const bool highlit = (F & kShadeHighlights) != 0 && sp.ks != Vec3(0.0);
+    rec.direct(sp, l, f * (sp.kd * light.diffuse * n_dot_l),
+               highlit ? f * (sp.ks * light.specular * highlight(sp, l)) : Vec3(0.0), Vec3(0.0));
+}
 
 // A V3 light (spec §13.9), added to c: the ambient term (attenuated and spot-limited, never
 // shadowed, whatever N.L) and, facing the light, S_l f_l (K_D ⊙ D_l (N.L) + K_S ⊙ S'_l spec_l).
@@ -259,9 +274,12 @@ template <uint32_t F, class Rec>
             else if (!shadow_ray_passes<F>(scene, *plan.geometry, sp.si, light, l, &s, counters,
                                            rec)) {
                 rec.shadow(Vec3(0.0));
+                if constexpr (Rec::kOn) in_shadow<F>(rec, sp, light, l, f, n_dot_l);
                 return;
             }
             rec.shadow(s);
+            if constexpr (Rec::kOn)
+                if (s == Vec3(0.0)) in_shadow<F>(rec, sp, light, l, f, n_dot_l);
             if (s == Vec3(0.0)) return;
         }
     }

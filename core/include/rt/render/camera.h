@@ -14,9 +14,13 @@ struct Camera {
 
     /// The ray through pixel (i, j) at sample offset (sx, sy) in [0,1)^2; (0.5, 0.5) = centre.
     Ray generate(int i, int j, double sx, double sy) const {
-        const double x = (2.0 * (i + sx) / width - 1.0) * tan_w;
-        const double y = (1.0 - 2.0 * (j + sy) / height) * tan_h;
-        return {position, glm::normalize(forward + x * right + y * up)};
+        const Vec2 p = image_point(i, j, sx, sy);
+        return {position, glm::normalize(forward + p.x * right + p.y * up)};
+    }
+    /// Spec §6.2's (x, y) of pixel (i, j) at sample offset (sx, sy): the ray's direction is
+    /// normalize(forward + x right + y up).
+    Vec2 image_point(int i, int j, double sx, double sy) const {
+        return {(2.0 * (i + sx) / width - 1.0) * tan_w, (1.0 - 2.0 * (j + sy) / height) * tan_h};
     }
 };
 

@@ -40,7 +40,9 @@ struct InspectOccluder {
 
 /// One shadow ray: from the offset point toward a point (t in (0, 1)) or a direction.
 struct InspectShadowRay {
-    Ray ray;
+    Ray ray;             // ray.o: the origin, the hit point moved off the surface (spec §7.5)
+    Vec3 hit{0.0};       // the hit point the origin was moved off
+    Vec3 offset{0.0};    // ray.o - hit: the origin offset offset_origin() gave (along +-n_g)
     double t_max = 1.0;  // 1: toward ray.o + ray.d (a point); infinite: a direction
     Vec3 transmittance{1.0};
     std::vector<InspectOccluder> occluders;  // in order along the ray
@@ -60,11 +62,13 @@ struct InspectLight : Light {
     bool facing_known = false;
     Vec3 to_light{0.0};  // L
     double n_dot_l = 0.0;
-    double r_dot_l = 0.0;     // R.L, R the mirror direction of the view ray
-    double highlight = 0.0;   // spec_l = max(R.L, 0)^n
-    Vec3 ambient_term{0.0};   // V3: K_A A_l f_l
-    Vec3 diffuse_term{0.0};   // I_l K_D (N.L), before the shadow factor
-    Vec3 specular_term{0.0};  // I_l K_S spec_l, before the shadow factor
+    double r_dot_l = 0.0;       // R.L, R the mirror direction of the view ray
+    double highlight = 0.0;     // spec_l = max(R.L, 0)^n
+    Vec3 ambient_term{0.0};     // V3: K_A A_l f_l
+    bool terms_known = false;   // the diffuse and specular terms were computed (also in shadow)
+    Vec3 diffuse_term{0.0};     // I_l K_D (N.L), before the shadow factor
+    Vec3 specular_term{0.0};    // I_l K_S spec_l, before the shadow factor
+    std::string no_shadow_ray;  // why no shadow ray was traced, when none was
     bool shadow_tested = false;
     Vec3 shadow{1.0};                           // S_l
     size_t shadow_ray_count = 0;                // shadow rays traced (a sphere light's points)
@@ -121,8 +125,29 @@ struct InspectRay {
         size_t rays = 1;  // it and every ray below it
     };
     std::vector<NotRecorded> not_recorded;
+    /// Rays below it that a filter (filter_tree(), --inspect-depth) leaves out of what is shown:
+    /// traced and recorded, their colours counted in `reflected` and `refracted`.
+    std::vector<NotRecorded> left_out;
+    size_t lights_left_out = 0;  // light terms a filter (--inspect-light) leaves out
     std::vector<InspectStop> stops;
     Vec3 color{0.0};  // the sum (the background on a miss)
+};
+
+/// The camera's inputs for the pixel's sample (spec §6.1, §6.2), as the renderer's camera
+/// (rt/render/camera.h) holds and computes them.
+struct InspectCamera {
+    bool from_file = true;               // the scene's camera, else the default camera of §6.3
+    double half_height_angle_rad = 0.0;  // ha, as the file gives it (or §6.3's pi/6)
+    double tan_h = 0.0, tan_w = 0.0;     // tan(ha), tan(ha) x width / height
+    int width = 1, height = 1;
+    Vec3 position{0.0};
+    Vec3 forward{0.0}, right{0.0}, up{0.0};  // f, r = f x up / |f x up|, up' = r x f
+    Vec2 image_point{0.0};  // (x, y) of §6.2: the direction is normalize(f + x r + y up')
+};
+
+/// The 8-bit output of the pixel (spec §9), as the image writer computes it (rt::to_byte).
+struct InspectOutput {
+    uint8_t bytes[3] = {0, 0, 0};  // floor(255 clamp(c, 0, 1) + 0.5) of the pixel's value
 };
 
 /// The tree of one sample of a pixel.
@@ -138,6 +163,12 @@ struct PixelTree {
     size_t records = 0;            // light terms, shadow rays and occluders recorded
     Vec3 color{0.0};               // the sample's colour (rays[0].color)
     Vec3 pixel{0.0};               // the pixel's value over all its samples (what the image holds)
+    InspectCamera camera;          // the camera's inputs for this sample
+    InspectOutput output;          // the 8-bit value written for the pixel (PNG, BMP, PPM)
+    // What filter_tree() left out of what is shown (0, -1: nothing).
+    int filter_depth = 0;      // --inspect-depth N: rays deeper than N levels left out
+    int filter_light = -1;     // --inspect-light K: only light K's terms
+    size_t rays_left_out = 0;  // rays left out by filter_depth
 
     // The limits that keep a tree's memory and its text bounded (rt/util/limits.h). Past
     // either, no further ray is recorded; the rays are still traced, so the colour is the
@@ -163,6 +194,18 @@ struct InspectLimits {
 PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
                         const RenderSettings& settings, int x, int y, uint32_t sample = 0,
                         int spp = 1, const InspectLimits& limits = {});
+
+/// What filter_tree() keeps of a tree: rays down to `depth` levels (the camera ray is level 1,
+/// as --depth counts; 0: all), and only the terms and shadow rays of light `light` (-1: all).
+struct InspectFilter {
+    int depth = 0;
+    int light = -1;
+};
+
+/// The tree with the rays deeper than filter.depth and the other lights' terms left out (each
+/// ray keeps the colour of what was left out below it, and says how many rays it was). The
+/// values are the tree's own: nothing is traced again.
+PixelTree filter_tree(const PixelTree& tree, const InspectFilter& filter);
 
 /// What the printed tree names things by: the primitives' directives and the groups above them,
 /// the materials' names (empty when unknown).
