@@ -160,7 +160,8 @@ std::string rule_text(const Limits& limits) {
     std::string s =
         "a pixel is off when a channel differs by more than " + num(limits.tolerance) + " of 255";
     if (limits.neighbourhood)
-        s += " (on an edge of the reference: from every pixel of its 3x3 neighbourhood)";
+        s += " (on an edge of the reference, from a neighbour whose one-pixel move fits the "
+             "image's 3x3 block)";
     s += "; an image passes with at most " + num(100.0 * limits.max_bad) + "% of its pixels off";
     s += limits.lossy ? "; every image under the lossy rule (3x3 means)"
                       : "; JPEG files under the lossy rule (3x3 means)";
