@@ -71,6 +71,80 @@ TEST(Compare, EightBitAndLinearImages) {
     EXPECT_NEAR(r.mean_abs.y, 255.0, 1e-9);
 }
 
+// A smooth highlight on grey, w x h: a bump of the given sharpness (a specular exponent).
+Image highlight(int w, int h, double exponent) {
+    Image im(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double dx = (x + 0.5 - w / 2.0) / w, dy = (y + 0.5 - h / 2.0) / h;
+            const double c = std::max(0.0, 1.0 - std::sqrt(dx * dx + dy * dy));
+            im.set(x, y, Vec3(0.2 + 0.7 * std::pow(c, exponent)));
+        }
+    return im;
+}
+
+TEST(Compare, TheNeighbourhoodExcusesOnlyTheReferencesEdges) {
+    // A broader highlight (exponent 20 for 40) moves its flank outward and makes it less steep:
+    // a pixel's neighbourhood alone would excuse most of it, no move of the reference fits the
+    // whole 3x3 block, so every pixel off stays off.
+    const Image ref = highlight(64, 48, 40), wrong = highlight(64, 48, 20);
+    CompareSettings n;
+    n.neighbourhood = true;
+    const ImageComparison plain = compare_images(wrong, ref, {});
+    const ImageComparison near = compare_images(wrong, ref, n);
+    EXPECT_GT(plain.share_off, 0.02);
+    EXPECT_EQ(near.share_off, plain.share_off);
+    // A smooth ramp (5 steps over the block: no edge at tolerance 8): a pixel whose
+    // neighbourhood holds a nearer value keeps its own difference.
+    Image ramp(3, 3);
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 3; ++x) ramp.set(x, y, Vec3(0.5 + 0.01 * x));
+    Image probe = ramp;
+    probe.set(0, 1, Vec3(0.5 + 0.02 + 10.0 / 255.0));  // 15 steps off its own, 10 off (2,1)'s
+    EXPECT_NEAR(compare_images(probe, ramp, n).max_diff, to_byte(probe.at(0, 1).x) - to_byte(0.5),
+                1e-9);
+}
+
+TEST(Compare, TheLossyRuleTakesBlockNoiseButNotARegion) {
+    // Noise of +-6 steps alternating pixel by pixel (a JPEG's ringing): off under the exact rule
+    // at tolerance 4, averaged out by the lossy rule's 3x3 means.
+    const Image ref = highlight(48, 32, 8);
+    Image noisy = ref, region = ref;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 48; ++x) {
+            const double s = ((x + y) % 2 ? 6.0 : -6.0) / 255.0;
+            noisy.set(x, y, ref.at(x, y) + Vec3(s));
+            // A region 12 steps darker (a missing light): a real mistake.
+            if (x >= 8 && x < 24 && y >= 8 && y < 20)
+                region.set(x, y, ref.at(x, y) - Vec3(12 / 255.0));
+        }
+    CompareSettings exact, lossy;
+    exact.tolerance = lossy.tolerance = 4;
+    lossy.lossy = true;
+    EXPECT_GT(compare_images(noisy, ref, exact).share_off, 0.4);
+    EXPECT_LT(compare_images(noisy, ref, lossy).max_diff, 4.0);
+    const ImageComparison c = compare_images(region, ref, lossy);
+    EXPECT_GT(c.share_off, 0.1);
+    EXPECT_NEAR(c.max_diff, 12.0, 1.0);
+}
+
+TEST(Compare, TheSignedViewSaysBrighterOrDarker) {
+    Image ref(2, 1), img(2, 1);
+    ref.set(0, 0, Vec3(0.5));
+    ref.set(1, 0, Vec3(0.5));
+    img.set(0, 0, Vec3(0.5 + 30 / 255.0));  // added light
+    img.set(1, 0, Vec3(0.5 - 30 / 255.0));  // missing light
+    const ImageComparison c = compare_images(img, ref, {});
+    ASSERT_EQ(c.signed_error.size(), 2u);
+    EXPECT_NEAR(c.signed_error[0], 30.0, 1.0);
+    EXPECT_NEAR(c.signed_error[1], -30.0, 1.0);
+    const Image s = signed_map(c, 30);
+    EXPECT_GT(s.at(0, 0).x, s.at(0, 0).z);  // orange: added light
+    EXPECT_GT(s.at(1, 0).z, s.at(1, 0).x);  // blue: missing light
+    EXPECT_EQ(signed_colour(0.0), Vec3(0.0));
+    EXPECT_EQ(signed_colour(-5.0), signed_colour(-1.0));
+}
+
 TEST(Compare, TheHeatMapRunsFromBlackToRed) {
     EXPECT_EQ(heat_colour(0.0), Vec3(0.0));
     EXPECT_EQ(heat_colour(1.0), Vec3(1.0, 0.0, 0.0));

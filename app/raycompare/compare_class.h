@@ -24,13 +24,21 @@ using RenderReference = std::function<rt::Image(int width, int height)>;
 struct ClassResult {
     std::vector<Row> rows;
     std::vector<Reference> references;
+    /// The size the images were held to (limits' width and height, the first readable image's
+    /// for 0); -1 when any size was taken.
+    int width = -1, height = -1;
 };
 
-/// Compares each image with the reference of its size. First each image is read to learn its
-/// size (its pixels dropped at once); then, size by size in the order they first appear, the
-/// reference is rendered once, the images of that size compared, and the reference dropped.
-/// With `report`, writes the references, each image (image_N.png), its heat map (heat_N.png)
-/// and the scale bar as it goes; not the page (page_html()). `rendered`, when given, is told of
+/// Compares each image with the reference. First each image is read to learn its size (its
+/// pixels dropped at once; an empty file, or one that is no image, is a row that cannot be read);
+/// an image of another size than the expected one (limits.width x height, 0: the first readable
+/// image's) fails with that reason and is not compared. Then the reference is rendered once,
+/// the images compared (JPEG files, or every image with limits.lossy, under the lossy rule), and
+/// the reference dropped; with limits.width -1 (any size), one reference per size, in the order
+/// they first appear. Each row is named by student_names(). With `report`, writes the
+/// references, each image (image_N.png), its heat map (heat_N.png) and signed view
+/// (signed_N.png) on the class's scale (limits.heat_scale) and the scale bars as it goes; not
+/// the page (page_html()). `rendered`, when given, is told of
 /// each reference rendered (main.cpp prints it).
 ClassResult compare_class(const std::vector<std::string>& images, const RenderReference& render,
                           const Limits& limits, ReportDir* report,

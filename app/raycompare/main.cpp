@@ -1,6 +1,7 @@
 // raycompare: images of one scene (a class's renders) compared with the reference, rendered once
-// per image size with raytrace's settings flags. Prints a table, writes CSV and an HTML report
-// on request, and exits 0 only when every image passes. The work on the images is
+// at the expected size (--size) with raytrace's settings flags. Prints a summary, the rule and a
+// table, writes CSV, an HTML report and Gradescope's results.json on request, and exits 0 only
+// when every image passes. The work on the images is
 // compare_class.h's (one image at a time), the report's folder report_dir.h's.
 // Exit status: 0 every image passes, 1 one fails or cannot be read (or the scene has an error,
 // printed as file:line:col: error: ..., or an output cannot be written), 2 usage error (also a
@@ -12,10 +13,12 @@
 #pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <CLI/CLI.hpp>
 #pragma GCC diagnostic pop
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli.h"
@@ -38,7 +41,7 @@ struct Options : rtapp::RenderOptions {
     std::string scene;
     std::vector<std::string> images;
     Limits limits;
-    std::string csv, html;
+    std::string csv, html, gradescope, size = "first";
     bool quiet = false;
 };
 
@@ -69,6 +72,23 @@ void make_app(CLI::App& app, Options& o) {
     app.add_flag("--neighbourhood", o.limits.neighbourhood,
                  "each pixel against the reference's 3x3 neighbourhood of it (the\n"
                  "smallest difference): an edge shifted by a pixel is no error");
+    app.add_flag("--lossy", o.limits.lossy,
+                 "the lossy rule for every image (always used for .jpg and .jpeg files):\n"
+                 "each pixel's difference is that of the 3x3 means of both images, so\n"
+                 "that a correct render saved as JPEG at quality 90 or more passes");
+    app.add_option("--size", o.size,
+                   "the size every image must have: WxH, 'first' (the first readable\n"
+                   "image's) or 'any' (each image against a reference of its size); an\n"
+                   "image of another size fails, saying so")
+        ->type_name("WxH");
+    app.add_option("--heat-scale", o.limits.heat_scale,
+                   "the heat map's and the signed view's scale for the whole class: full\n"
+                   "colour at K steps and beyond")
+        ->type_name("K");
+    app.add_option("--gradescope", o.gradescope,
+                   "also write Gradescope's autograder results (results.json): one test\n"
+                   "per image, 1 point for a pass, the reason as its output")
+        ->type_name("FILE");
     app.add_option("--csv", o.csv, "also write the table as CSV")->type_name("FILE");
     app.add_option("--html", o.html,
                    "also write a report (DIR/index.html with the images, their heat\n"
@@ -101,6 +121,26 @@ std::optional<rt::RenderScene> load_scene(const Options& o) {
     }
 }
 
+// --size: WxH (each from 1 to 65535), "first" or "any", into limits' width and height.
+void parse_size(const std::string& text, Limits& limits) {
+    if (text == "first") {
+        limits.width = limits.height = 0;
+        return;
+    }
+    if (text == "any") {
+        limits.width = limits.height = -1;
+        return;
+    }
+    unsigned w = 0, h = 0;
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%5ux%5u%c", &w, &h, &tail) != 2 || w == 0 || h == 0 ||
+        w > 65535 || h > 65535 || text.find_first_of("+- ") != std::string::npos)
+        throw rtapp::UsageError("--size must be WxH (such as 160x120), 'first' or 'any', not '" +
+                                escaped(text) + "'");
+    limits.width = static_cast<int>(w);
+    limits.height = static_cast<int>(h);
+}
+
 // The file named twice: `a` and `b` are the same file (by device and inode).
 bool same_file(const std::string& a, const std::string& b) {
     struct stat sa = {};
@@ -115,14 +155,17 @@ int run(const Options& o) {
     // scene has loaded (a scene with an error leaves an earlier report as it was).
     std::vector<std::string> inputs = o.images;
     inputs.push_back(o.scene);
-    if (!o.csv.empty()) {
+    for (const auto& [flag, file] : {std::pair<const char*, const std::string&>{"--csv", o.csv},
+                                     {"--gradescope", o.gradescope}}) {
+        if (file.empty()) continue;
         for (const std::string& in : inputs)
-            if (same_file(o.csv, in)) {
-                std::cerr << "raycompare: error: --csv '" << escaped(o.csv) << "' would replace '"
-                          << escaped(in) << "', a file given to compare: give another file\n";
+            if (same_file(file, in)) {
+                std::cerr << "raycompare: error: " << flag << " '" << escaped(file)
+                          << "' would replace '" << escaped(in)
+                          << "', a file given to compare: give another file\n";
                 return 2;
             }
-        if (const std::string why = rt::writable_error(o.csv); !why.empty()) {
+        if (const std::string why = rt::writable_error(file); !why.empty()) {
             std::cerr << "raycompare: error: " << escaped(why) << "\n";
             return 1;
         }
@@ -132,6 +175,7 @@ int run(const Options& o) {
     std::optional<ReportDir> report;
     if (!o.html.empty()) {
         if (!o.csv.empty()) inputs.push_back(o.csv);
+        if (!o.gradescope.empty()) inputs.push_back(o.gradescope);
         try {
             report.emplace(o.html, inputs);
         } catch (const ReportDirError& e) {
@@ -156,12 +200,16 @@ int run(const Options& o) {
     const ClassResult result =
         compare_class(o.images, render, o.limits, report ? &*report : nullptr, rendered);
     const std::vector<Row>& rows = result.rows;
+    // The rule as it was used: the size the images were held to.
+    Limits used = o.limits;
+    used.width = result.width;
+    used.height = result.height;
 
     if (o.quiet) {
         for (const Row& r : rows)
             if (!r.pass) std::printf("FAIL %s\n", escaped(r.path).c_str());
     } else {
-        std::fputs(table_text(rows, o.limits).c_str(), stdout);
+        std::fputs(table_text(rows, used).c_str(), stdout);
     }
     int status = 0;
     for (const Row& r : rows)
@@ -174,8 +222,16 @@ int run(const Options& o) {
             status = 1;
         }
     }
+    if (!o.gradescope.empty()) {
+        try {
+            rt::write_file_atomic(o.gradescope, gradescope_json(o.scene, rows, used));
+        } catch (const std::exception& e) {
+            std::cerr << "raycompare: error: " << escaped(e.what()) << "\n";
+            status = 1;
+        }
+    }
     if (report) {
-        report->write_text(kPageName, page_html(o.scene, result.references, rows, o.limits));
+        report->write_text(kPageName, page_html(o.scene, result.references, rows, used));
         if (!report->error().empty()) {
             std::cerr << "raycompare: error: the report in '" << escaped(o.html)
                       << "' is not complete: " << escaped(report->error()) << "\n";
@@ -201,6 +257,9 @@ int main(int argc, char** argv) {
     try {
         if (!(o.limits.tolerance >= 0) || !(o.limits.max_bad >= 0) || o.limits.max_bad > 1)
             throw rtapp::UsageError("--tolerance must be >= 0 and --max-bad in [0, 1]");
+        if (!(o.limits.heat_scale > 0) || !std::isfinite(o.limits.heat_scale))
+            throw rtapp::UsageError("--heat-scale must be > 0");
+        parse_size(o.size, o.limits);
         rtapp::validate_render_options(o);
         rtapp::apply_budgets(o);
     } catch (const rtapp::UsageError& e) {

@@ -44,11 +44,13 @@ std::string shown(const std::string& path) { return "'" + escaped(path) + "'"; }
 }  // namespace
 
 bool is_report_name(const std::string& name) {
-    if (name == kPageName || name == kScaleName || name == kMarkerName) return true;
+    if (name == kPageName || name == kScaleName || name == kSignedScaleName || name == kMarkerName)
+        return true;
     if (!ends(name, ".png")) return false;
     const size_t end = name.size() - 4;
     if (starts(name, "image_")) return digits(name, 6, end);
     if (starts(name, "heat_")) return digits(name, 5, end);
+    if (starts(name, "signed_")) return digits(name, 7, end);
     if (starts(name, "reference_")) {
         const size_t x = name.find('x', 10);
         return x != std::string::npos && digits(name, 10, x) && digits(name, x + 1, end);

@@ -1,7 +1,9 @@
 // raytrace's reports of progressive rendering: the fitted slope, the time to reach an error,
-// the CSV rows and the SVG plot, on hand-made passes.
+// the CSV rows and the SVG plot, on hand-made passes. raycompare's report: the students' names,
+// the columns a name takes, the summary, the --inspect command and Gradescope's results.
 #include <gtest/gtest.h>
 
+#include "raycompare/report.h"
 #include "raytrace/report.h"
 
 namespace raytrace {
@@ -82,3 +84,91 @@ TEST(Report, SvgPlotsEachSeriesWithItsSlope) {
 
 }  // namespace
 }  // namespace raytrace
+
+namespace raycompare {
+namespace {
+
+Row row(const std::string& path, bool pass, const std::string& error = "") {
+    Row r;
+    r.path = path;
+    r.name = student_names({path})[0];
+    r.pass = pass;
+    r.error = error;
+    r.width = error.empty() ? 160 : 0;
+    r.height = error.empty() ? 120 : 0;
+    r.unreadable = !error.empty();
+    r.c.share_off = pass ? 0.001 : 0.25;
+    r.c.max_diff = 72;
+    r.c.max_x = 3;
+    r.c.max_y = 4;
+    return r;
+}
+
+TEST(CompareReport, NamesAreStemsOrFoldersNeverPaths) {
+    EXPECT_EQ(student_names({"/home/ta/in/ann.png", "bo.jpg"}),
+              (std::vector<std::string>{"ann", "bo"}));
+    EXPECT_EQ(student_names({"class/ann/scene.png", "class/李明/scene.png", "/abs/bo/scene.png"}),
+              (std::vector<std::string>{"ann", "李明", "bo"}));
+    // Folders that repeat too: folder/stem.
+    EXPECT_EQ(student_names({"a/x/s.png", "b/x/s.png", "b/x/t.png"}),
+              (std::vector<std::string>{"x/s", "x/s", "x/t"}));
+    EXPECT_EQ(student_names({"s.png", "s.ppm"}), (std::vector<std::string>{"s", "s"}));
+}
+
+TEST(CompareReport, DisplayWidthCountsColumnsNotBytes) {
+    EXPECT_EQ(display_width("ann"), 3u);
+    EXPECT_EQ(display_width("chloé"), 5u);      // é: 2 bytes, 1 column
+    EXPECT_EQ(display_width("李明"), 4u);       // wide: 2 columns each
+    EXPECT_EQ(display_width("e\xcc\x81"), 1u);  // e and a combining acute
+    EXPECT_EQ(display_width("\\x0d"), 4u);      // an escaped byte as shown
+    std::vector<Row> rows = {row("c/ann/s.png", true), row("c/李明/s.png", false)};
+    rows[0].name = "ann";
+    rows[1].name = "李明";
+    const std::string table = table_text(rows, {});
+    // Both rows' sizes start in the same column: "ann" padded by 4 more than "李明" (4 columns).
+    EXPECT_NE(table.find("\nann      160x120"), std::string::npos) << table;
+    EXPECT_NE(table.find("\n李明     160x120"), std::string::npos) << table;
+}
+
+TEST(CompareReport, SummaryCountsPassFailAndUnreadable) {
+    const std::vector<Row> rows = {row("a.png", true), row("b.png", false),
+                                   row("c.png", false, "cannot read 'c.png': empty file")};
+    EXPECT_EQ(summary_text(rows), "3 images: 1 pass, 1 fail, 1 cannot be read");
+    Limits limits;
+    limits.width = 160;
+    limits.height = 120;
+    EXPECT_EQ(rule_text(limits),
+              "a pixel is off when a channel differs by more than 8 of 255; an image passes with "
+              "at most 0.5% of its pixels off; JPEG files under the lossy rule (3x3 means); every "
+              "image 160x120");
+    EXPECT_EQ(inspect_command("my scene.ray", rows[1]),
+              "raytrace 'my scene.ray' --width 160 --height 120 --inspect 3,4");
+    EXPECT_EQ(inspect_command("it's.ray", rows[1]),
+              "raytrace 'it'\\''s.ray' --width 160 --height 120 --inspect 3,4");
+    EXPECT_EQ(inspect_command("s.ray", rows[2]), "");
+}
+
+TEST(CompareReport, GradescopeHasOneTestPerImageWithItsReason) {
+    std::vector<Row> rows = {row("a.png", true), row("b\"q.png", false),
+                             row("c.png", false, "cannot read 'c.png': empty file")};
+    rows[1].diagnosis = "shadows missing";
+    const std::string j = gradescope_json("s.ray", rows, {});
+    EXPECT_EQ(j.rfind("{\n  \"score\": 1,\n  \"max_score\": 3,\n", 0), 0u) << j;
+    EXPECT_NE(j.find("{\"name\": \"a\", \"score\": 1, \"max_score\": 1, \"status\": \"passed\", "
+                     "\"output\": \"PASS: 0.100% of pixels off (at most 0.5%)\"}"),
+              std::string::npos)
+        << j;
+    EXPECT_NE(j.find("{\"name\": \"b\\\"q\", \"score\": 0, \"max_score\": 1, \"status\": "
+                     "\"failed\", \"output\": \"FAIL: 25.000% of pixels off by more than 8 (at "
+                     "most 0.5%); the largest difference 72.0 at (3,4)\\nthe worst pixel, "
+                     "explained: raytrace s.ray --width 160 --height 120 --inspect 3,4\\nshadows "
+                     "missing\"}"),
+              std::string::npos)
+        << j;
+    EXPECT_NE(j.find("\"output\": \"FAIL: cannot read 'c.png': empty file\"}"), std::string::npos);
+    EXPECT_NE(j.find("\"output\": \"s.ray: 3 images: 1 pass, 1 fail, 1 cannot be read\\nrule: "),
+              std::string::npos);
+}
+
+}  // namespace
+}  // namespace raycompare

@@ -16,9 +16,19 @@ namespace rt {
 struct CompareSettings {
     /// A pixel is off when one of its channels differs by more than this, in 8-bit steps.
     double tolerance = 8.0;
-    /// Each pixel's difference is the smallest over the reference's 3x3 neighbourhood of it,
-    /// so that an edge shifted by up to a pixel is not an error (what graders allow).
+    /// On an edge of the reference (where its 3x3 neighbourhood of the pixel spans more than the
+    /// tolerance in some channel), a pixel's difference is the smallest over that neighbourhood,
+    /// taken only from a neighbour whose move (the reference shifted by a pixel) fits the
+    /// image's whole 3x3 block there within the tolerance, so that an edge shifted by up to a
+    /// pixel is not an error; elsewhere (flat shading) and where no move fits (a highlight made
+    /// broader, whose flank is less steep) the pixel's own, so that such a mistake is not
+    /// excused.
     bool neighbourhood = false;
+    /// The lossy rule (JPEG): each pixel's difference is that of the 3x3 means of both images
+    /// around it (clipped at the border), which averages out a JPEG's block noise and ringing
+    /// while a real mistake, which changes a region, stays. The neighbourhood is not used with it
+    /// (the means already take in a shifted edge's pixel). See docs/tools.md for its numbers.
+    bool lossy = false;
     /// The image holds linear values (PFM, EXR): compared unclamped, else through to_byte().
     bool linear = false;
 };
@@ -31,6 +41,9 @@ struct ImageComparison {
     int max_x = 0, max_y = 0;  // where it is (the first such pixel, row by row)
     /// Per pixel, row-major from the top: its largest channel difference, in 8-bit steps.
     std::vector<float> error;
+    /// Per pixel, the same order: the image's brightness against the reference's (the mean of
+    /// its channels' signed differences, in 8-bit steps): > 0 added light, < 0 missing light.
+    std::vector<float> signed_error;
     double mean() const { return (mean_abs.x + mean_abs.y + mean_abs.z) / 3.0; }
 };
 
@@ -42,6 +55,15 @@ ImageComparison compare_images(const Image& image, const Image& reference,
 /// and yellow, to red at `scale` 8-bit steps and beyond (0: the comparison's largest, at least
 /// 1). Linear values in [0, 1], for save_image.
 Image heat_map(const ImageComparison& c, double scale = 0);
+
+/// The signed view of a comparison: added light (the image brighter than the reference) in
+/// orange, missing light (darker) in blue, black for none, full at `scale` 8-bit steps and beyond
+/// (0: the comparison's largest, at least 1). Linear values in [0, 1], for save_image.
+Image signed_map(const ImageComparison& c, double scale = 0);
+
+/// The signed view's colour at t in [-1, 1] (its scale bar): blue for -1, black for 0, orange
+/// for 1.
+Vec3 signed_colour(double t);
 
 /// The threshold view: pixels off by more than `tolerance` 8-bit steps in red over the
 /// reference dimmed to grey (so that the scene stays recognisable). Linear values in [0, 1].
