@@ -715,6 +715,21 @@ TEST(Mistakes, TextureDiffuseOnlyLeavesTheAmbientTermUntextured) {
     expect_same(wrong(diffuse_only, {Mistake::TextureDiffuseOnly}), right(diffuse_only));
 }
 
+TEST(Mistakes, RenderWrittenIsTheFileReadBack) {
+    const RenderScene s = compile(shadow_scene("0 0 0"));
+    const RenderSettings rs = settings();
+    const RenderPlan plan = make_render_plan(s, rs);
+    // No mistake: the right render as its 8-bit file holds it.
+    const Image ok = render_written(s, plan, rs, {});
+    EXPECT_EQ(to_bytes(ok), to_bytes(right(s)));
+    for (double v : ok.rgb) EXPECT_EQ(v * 255, std::round(v * 255));
+    // A shading and an output mistake: the shading's render, through the output's bytes.
+    const MistakeSet both{Mistake::NoShadows, Mistake::FlipVertical};
+    const Image w = render_written(s, plan, rs, both);
+    EXPECT_EQ(to_bytes(w), to_bytes(wrong(s, {Mistake::NoShadows}), {Mistake::FlipVertical}));
+    EXPECT_NE(to_bytes(w), to_bytes(ok));
+}
+
 // --- two at once ---
 
 TEST(Mistakes, TwoMistakesAtOnce) {

@@ -93,7 +93,8 @@ const std::vector<MistakeInfo> kCatalogue = {
 
 // The plan of a teaching render: the caller's, with the camera made again with the mistakes and
 // the shading code that reads them. The trace gets the plan by reference, and finds its
-// mistakes beside it.
+// mistakes beside it: a MistakenPlan never leaves this file, and render_samples() hands the very
+// object it was given down to the trace (a copy sliced to a RenderPlan would lose them).
 struct MistakenPlan : RenderPlan {
     MistakeSet mistakes;
 };
@@ -198,6 +199,11 @@ Image render_with_mistakes(const RenderScene& scene, const RenderPlan& plan,
     RenderState state;
     render_with_mistakes(state, scene, plan, settings, mistakes, spp);
     return state.image();
+}
+
+Image render_written(const RenderScene& scene, const RenderPlan& plan,
+                     const RenderSettings& settings, const MistakeSet& mistakes, int spp) {
+    return as_written(render_with_mistakes(scene, plan, settings, mistakes, spp), mistakes);
 }
 
 }  // namespace rt

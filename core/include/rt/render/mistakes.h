@@ -118,6 +118,12 @@ bool render_with_mistakes(RenderState& state, const RenderScene& scene, const Re
 Image render_with_mistakes(const RenderScene& scene, const RenderPlan& plan,
                            const RenderSettings& settings, const MistakeSet& mistakes, int spp = 1);
 
+/// What a program with `mistakes` writes to an 8-bit file, read back (bytes / 255):
+/// as_written(render_with_mistakes(...), mistakes). With no mistake, the right image as its PNG
+/// holds it. The diagnosis's mutant references (rt/image/diagnose.h) are these.
+Image render_written(const RenderScene& scene, const RenderPlan& plan,
+                     const RenderSettings& settings, const MistakeSet& mistakes, int spp = 1);
+
 /// The 8 bits of spec §9 (c' = clamp(c, 0, 1); byte = floor(255 c' + 0.5)), row 0 at the top, with
 /// the output stage's mistakes of `mistakes` (gamma, bgr, wrap-overflow, flip-vertical; image.cpp):
 /// to_bytes(image) when it has none.
