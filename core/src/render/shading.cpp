@@ -12,16 +12,11 @@
 
 namespace rt {
 
-namespace {
-
-// The bilinear lookup of spec §7.3; kVFlipped: the texture-v-flipped mistake (rows counted from
-// v = 0).
-template <bool kVFlipped>
-Vec3 texture_lookup(const TextureImage& tex, const Vec2& uv) {
+Vec3 eval_texture(const TextureImage& tex, const Vec2& uv) {
     if (tex.width <= 0 || tex.height <= 0) return Vec3(1.0);
     const double u = uv.x - std::floor(uv.x), v = uv.y - std::floor(uv.y);
     const double x = u * tex.width - 0.5;
-    const double y = (kVFlipped ? v : 1.0 - v) * tex.height - 0.5;  // y counts rows from the top
+    const double y = (1.0 - v) * tex.height - 0.5;  // y counts rows from the top
     const double x0f = std::floor(x), y0f = std::floor(y);
     const double fx = x - x0f, fy = y - y0f;
     auto wrap = [](long long a, int n) { return static_cast<int>(((a % n) + n) % n); };
@@ -34,16 +29,6 @@ Vec3 texture_lookup(const TextureImage& tex, const Vec2& uv) {
     const long long x0 = static_cast<long long>(x0f), y0 = static_cast<long long>(y0f);
     return (1 - fx) * (1 - fy) * texel(x0, y0) + fx * (1 - fy) * texel(x0 + 1, y0) +
            (1 - fx) * fy * texel(x0, y0 + 1) + fx * fy * texel(x0 + 1, y0 + 1);
-}
-
-}  // namespace
-
-Vec3 eval_texture(const TextureImage& tex, const Vec2& uv) {
-    return texture_lookup<false>(tex, uv);
-}
-
-Vec3 shading::eval_texture_v_flipped(const TextureImage& tex, const Vec2& uv) {
-    return texture_lookup<true>(tex, uv);
 }
 
 double light_factor(const Light& light, const Vec3& p, Vec3* to_light, double* distance) {

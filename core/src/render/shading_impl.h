@@ -22,9 +22,6 @@ enum class StopReason { DepthLimit, Cutoff, Zero, TotalInternalReflection, LeftO
 /// The kind of a secondary ray (TreeRecorder::secondary).
 enum class SecondaryKind { Reflected, Refracted };
 
-/// eval_texture() with the texture-v-flipped mistake: row 0 taken as v = 0 (shading.cpp).
-Vec3 eval_texture_v_flipped(const TextureImage& tex, const Vec2& uv);
-
 // The scalar light factor f_l of spec §13.9 (I_l of §7.2 divided by the colour) for the light
 // kinds a variant has: without kAttenuation only directional lights (no distance or
 // attenuation), without kSpot no cut-off or drop-off code. A sphere light is a point light at its
@@ -51,9 +48,8 @@ template <bool kAttenuation, bool kSpot, class Rec = NoRecord>
     if (kSpot && light.kind == LightKind::Spot) {
         const double cos_a = glm::dot(light.direction, -l);
         // spot-cutoff-full-angle: the cut-off read as the cone's full angle, half of it compared.
-        const double cutoff =
-            mistake(rec, Mistake::SpotCutoffFullAngle) ? 0.5 * light.cutoff_rad : light.cutoff_rad;
-        if (std::acos(std::clamp(cos_a, -1.0, 1.0)) > cutoff) {
+        if (std::acos(std::clamp(cos_a, -1.0, 1.0)) >
+            (mistake(rec, Mistake::SpotCutoffFullAngle) ? 0.5 : 1.0) * light.cutoff_rad) {
             rec.spot(cos_a, 0.0);
             return 0.0;
         }
@@ -407,24 +403,22 @@ Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSetting
     Vec3 t(1.0), ke = m.emissive, ks = m.specular;
     if constexpr ((F & kShadeTextures) != 0) {
         if (m.texture >= 0) {
-            const TextureImage& tex = *scene.textures[static_cast<size_t>(m.texture)];
-            t = mistake(rec, Mistake::TextureVFlipped) ? eval_texture_v_flipped(tex, si.uv)
-                                                       : eval_texture(tex, si.uv);
+            t = eval_texture(*scene.textures[static_cast<size_t>(m.texture)], si.uv);
+            // texture-v-flipped: y = v' H_t - 0.5, the lookup at 1 - v (the same, as it wraps).
+            if (mistake(rec, Mistake::TextureVFlipped))
+                t = eval_texture(*scene.textures[static_cast<size_t>(m.texture)],
+                                 Vec2(si.uv.x, 1.0 - si.uv.y));
             if (scene.texture_all_terms && !mistake(rec, Mistake::TextureDiffuseOnly))
                 ke *= t, ks *= t;  // V3 (spec §13.9)
         }
     }
     if (mistake(rec, Mistake::NoEmissive)) ke = Vec3(0.0);
-    const Vec3 t_a = mistake(rec, Mistake::TextureDiffuseOnly) ? Vec3(1.0) : t;
-    const ShadePoint sp{si,
-                        n,
-                        d - 2.0 * glm::dot(d, n) * n,
-                        m.ambient * t_a,
-                        m.diffuse * t,
-                        ks,
-                        m.specular_exponent};
+    ShadePoint sp{
+        si, n, d - 2.0 * glm::dot(d, n) * n, m.ambient * t, m.diffuse * t, ks, m.specular_exponent};
+    if (mistake(rec, Mistake::TextureDiffuseOnly)) sp.ka = m.ambient;
 
-    Vec3 c = mistake(rec, Mistake::NoAmbient) ? ke : ke + sp.ka * scene.ambient;
+    Vec3 c = ke + sp.ka * scene.ambient;
+    if (mistake(rec, Mistake::NoAmbient)) c = ke;
     rec.hit(scene, ray, hit, sp, side < 0, t, ke, sp.ka * scene.ambient);
     for (const Light& scene_light : plan.lights) {
         Light moved;
