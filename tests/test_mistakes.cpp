@@ -5,6 +5,7 @@
 // elsewhere the pixels that change are named by the scene (the shadow, the highlight, the back
 // face) and every other pixel keeps its bits.
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <set>
@@ -171,6 +172,18 @@ TEST(Mistakes, FullAngleIsTheRightRenderAtHalfTheAngle) {
     const RenderScene s = compile(wall_scene(kMatte, extra, "0.5"));
     const Image w = wrong(s, {Mistake::FullAngle});
     expect_same(w, right(compile(wall_scene(kMatte, extra, "0.25"))));
+    EXPECT_GT(changed_pixels(w, right(s)), kW * kH / 4);
+}
+
+TEST(Mistakes, AngleDegreesIsTheRightRenderAtHaTimesPiOver180) {
+    const std::string extra =
+        "#light_point 1 1 1  2 3 6  1 0 0\n#material 0 0 0  .1 .1 .1  .5 .2 .2  0 0 0  1  0 0 0  "
+        "1  -1 !!\n#shape_sphere 1  0.2 0.1 2  1.5\n";
+    const RenderScene s = compile(wall_scene(kMatte, extra, "1.2"));
+    const Image w = wrong(s, {Mistake::AngleDegrees});
+    char ha[64];
+    std::snprintf(ha, sizeof ha, "%.17g", 1.2 * kPi / 180.0);
+    expect_same(w, right(compile(wall_scene(kMatte, extra, ha))));
     EXPECT_GT(changed_pixels(w, right(s)), kW * kH / 4);
 }
 

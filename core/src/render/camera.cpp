@@ -21,10 +21,13 @@ Camera camera_with(const CameraPose& desc, int width, int height, const Mistakes
     c.up = glm::cross(c.right, c.forward);  // up re-orthogonalised
     c.width = width;
     c.height = height;
-    // Spec: ha is the half-height angle, not the full field of view (full-angle: read as the
-    // full one; angle-on-width: applied to the width).
-    const double ha = desc.half_height_angle_rad;
-    c.tan_h = std::tan(mistakes.has(Mistake::FullAngle) ? 0.5 * ha : ha);
+    // Spec: ha is the half-height angle, in radians, not the full field of view (full-angle:
+    // read as the full one; angle-degrees: converted as if in degrees; angle-on-width: applied
+    // to the width).
+    double ha = desc.half_height_angle_rad;
+    if (mistakes.has(Mistake::AngleDegrees)) ha = ha * kPi / 180.0;
+    if (mistakes.has(Mistake::FullAngle)) ha = 0.5 * ha;
+    c.tan_h = std::tan(ha);
     c.tan_w = c.tan_h * static_cast<double>(width) / static_cast<double>(height);
     if (mistakes.has(Mistake::AngleOnWidth)) {
         c.tan_w = c.tan_h;

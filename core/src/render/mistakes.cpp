@@ -22,6 +22,11 @@ const std::vector<MistakeInfo> kCatalogue = {
     {Mistake::AngleOnWidth, "angle-on-width", "§6.1", "tan_h = tan(ha), tan_w = aspect·tan_h",
      "tan_w = tan(ha), tan_h = tan(ha) / aspect",
      "the angle applied to the width: a wide image zoomed in", S::Camera},
+    {Mistake::AngleDegrees, "angle-degrees", "§6.1", "tan_h = tan(ha), ha in radians",
+     "tan_h = tan(ha·π/180)",
+     "the camera's angle, in radians, converted as if in degrees: a "
+     "tiny view, zoomed in far",
+     S::Camera},
     {Mistake::FlipVertical, "flip-vertical", "§6.2, §9",
      "image row 0 = pixel row j = 0 = the top of the view", "row j written as row H−1−j",
      "the rows written bottom-up: the image upside down", S::Output},

@@ -25,6 +25,7 @@ namespace rt {
 enum class Mistake : uint8_t {
     FullAngle,            // §6.1 tan_h = tan(ha / 2)
     AngleOnWidth,         // §6.1 tan_w = tan(ha), tan_h = tan(ha) / aspect
+    AngleDegrees,         // §6.1 tan_h = tan(ha·π/180): radians read as degrees
     FlipVertical,         // §9 rows bottom-up
     Gamma,                // §9 byte of c^(1/2.2)
     Bgr,                  // §9 red and blue swapped
