@@ -16,6 +16,7 @@
 #include "report.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
+#include "rt/render/mistakes.h"
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
 #include "rt/util/stopwatch.h"
@@ -86,6 +87,28 @@ int render_plain(const Options& opt, const rt::RenderScene& scene, const rt::Ren
     if (!opt.quiet) {
         print_render_summary(t, state.rays);
         print_aovs(opt, aovs_s);
+        std::printf("wrote     %s\n", opt.output.c_str());
+    }
+    if (opt.stats) print_stats(t, report.build_seconds, state.rays);
+    return 0;
+}
+
+// --mistake: the image as a program with those mistakes renders and writes it (teaching only).
+int render_mistaken(const Options& opt, const rt::RenderScene& scene, const rt::RenderPlan& plan,
+                    const rt::CompileReport& report, Timings t) {
+    const auto t_render = rt::Clock::now();
+    rt::RenderState state;
+    rt::render_with_mistakes(state, scene, plan, opt, opt.mistakes, opt.spp,
+                             terminal_progress_bar(opt.quiet));
+    t.render_s = rt::seconds_since(t_render);
+    rt::Image image = state.image();
+    // The output stage's mistakes are in the 8 bits: any output holds those.
+    if (opt.mistakes.touches(rt::MistakeStage::Output)) image = rt::as_written(image, opt.mistakes);
+    write_outputs(image, opt.output, {}, opt.scene);
+    if (!opt.quiet) {
+        print_render_summary(t, state.rays);
+        std::printf("mistakes  %s (teaching only: not the spec's image)\n",
+                    opt.mistakes.names().c_str());
         std::printf("wrote     %s\n", opt.output.c_str());
     }
     if (opt.stats) print_stats(t, report.build_seconds, state.rays);
@@ -164,6 +187,7 @@ int run(const Options& opt) {
     if (opt.split.part) return render_part_output(opt, desc, *scene, t);
     const rt::RenderPlan plan = rt::make_render_plan(*scene, opt);
     if (opt.explain) print_explain(plan);  // also with --quiet: it was asked for
+    if (!opt.mistakes.empty()) return render_mistaken(opt, *scene, plan, report, t);
     return opt.progressive.enabled ? render_progressive(opt, desc, *scene, plan)
                                    : render_plain(opt, *scene, plan, report, t);
 }
@@ -184,6 +208,10 @@ int main(int argc, char** argv) {
     }
     if (opt.version) {
         std::cout << rtapp::version_text("raytrace", true) << "\n";
+        return 0;
+    }
+    if (opt.mistake_list) {
+        std::cout << mistake_list_text();
         return 0;
     }
     if (!rtapp::isa_usable("raytrace")) return 2;

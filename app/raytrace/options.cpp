@@ -207,6 +207,43 @@ void add_split_options(CLI::App& app, Options& o) {
         ->group(group);
 }
 
+// Thrown by --mistake list: the catalogue is printed, nothing else is parsed or checked.
+struct MistakeListRequested {};
+
+// --mistake NAME (repeatable or comma-separated); validate_mistakes() reads the names.
+void add_mistake_options(CLI::App& app, Options& o) {
+    const std::string group = "teaching only: a typical mistake switched on (docs/mistakes.md)";
+    app.add_option("--mistake", o.mistake_names,
+                   "render the scene WRONGLY, with the mistake NAME of the catalogue\n"
+                   "switched on in the renderer's own code (at most two: repeat it or\n"
+                   "give NAME,NAME), to show what it looks like; 'list' prints the\n"
+                   "catalogue. Not the spec's image")
+        ->each([](const std::string& v) {
+            if (v == "list") throw MistakeListRequested{};
+        })
+        ->type_name("NAME")
+        ->default_str("")
+        ->allow_extra_args(false)  // one value per --mistake (the scene is not swallowed)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->group(group);
+}
+
+void validate_mistakes(Options& o) {
+    if (o.mistake_names.empty()) return;
+    try {
+        o.mistakes = rt::parse_mistakes(o.mistake_names);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--mistake: ") + e.what());
+    }
+    if (o.mistakes.list().size() > 2)
+        throw UsageError("--mistake: at most two mistakes at once, not " + o.mistakes.names());
+    if (o.progressive.enabled || o.animation.frames > 0 || o.split.part || o.inspect.enabled ||
+        o.exr.aovs.any())
+        throw UsageError(
+            "--mistake renders one plain image: not with --progressive, --frames, a .part "
+            "output, --inspect or --aov");
+}
+
 // "X,Y" into the inspect options; validate_inspect() checks the ranges against the image.
 void add_inspect_options(CLI::App& app, Options& o) {
     const std::string group = "the ray tree of a pixel (docs/inspect.md)";
@@ -268,6 +305,7 @@ void make_app(CLI::App& app, Options& o) {
     add_split_options(app, o);
     add_inspect_options(app, o);
     app.add_flag("-q,--quiet", o.quiet, "print errors and warnings only");
+    add_mistake_options(app, o);
 }
 
 void validate_split(const Options& o) {
@@ -346,7 +384,7 @@ void validate_inspect(const Options& o, bool output_given) {
 }
 
 // The checks across options and of ranges, after CLI11 has converted every value.
-void validate(const Options& o, bool spp_given, bool output_given) {
+void validate(Options& o, bool spp_given, bool output_given) {
     rtapp::validate_render_options(o);
     const ProgressiveOptions& p = o.progressive;
     for (const auto& [name, v] : {std::pair<const char*, double>{"--time", p.time_limit_s},
@@ -376,6 +414,7 @@ void validate(const Options& o, bool spp_given, bool output_given) {
                          o.output + "'");
     validate_animation(o);
     validate_inspect(o, output_given);
+    validate_mistakes(o);
 }
 
 }  // namespace
@@ -393,6 +432,22 @@ std::string usage_text() {
     return app.help();
 }
 
+std::string mistake_list_text() {
+    std::string s = "The catalogue of mistakes (teaching only; docs/mistakes.md):\n";
+    for (const rt::MistakeInfo& m : rt::mistake_catalogue()) {
+        std::string line = "  " + std::string(m.name);
+        line.resize(std::max<size_t>(line.size() + 1, 26), ' ');
+        std::string stage = rt::stage_name(m.stage);
+        stage.resize(8, ' ');
+        std::string section = m.section;  // padded by characters, not UTF-8 bytes ("§")
+        const size_t chars = static_cast<size_t>(std::count_if(
+            section.begin(), section.end(), [](char c) { return (c & 0xC0) != 0x80; }));
+        section.append(chars < 11 ? 11 - chars : 1, ' ');
+        s += line + stage + " " + section + m.description + "\n";
+    }
+    return s;
+}
+
 Options parse_options(const std::vector<std::string>& args) {
     Options o;
     CLI::App app("", "raytrace");
@@ -405,6 +460,9 @@ Options parse_options(const std::vector<std::string>& args) {
         return o;
     } catch (const CLI::CallForVersion&) {
         o.version = true;
+        return o;
+    } catch (const MistakeListRequested&) {
+        o.mistake_list = true;
         return o;
     } catch (const CLI::ParseError& e) {
         throw UsageError(e.what());

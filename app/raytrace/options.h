@@ -11,6 +11,7 @@
 #include "render_options.h"
 #include "rt/format/parser.h"
 #include "rt/render/aov.h"
+#include "rt/render/mistakes.h"
 #include "rt/render/progressive.h"
 #include "rt/render/render.h"
 #include "rt/scene/scene_desc.h"
@@ -86,6 +87,11 @@ struct Options : rtapp::RenderOptions {
     std::vector<std::string> warnings;  // options that are accepted but have no effect
     bool help = false;
     bool version = false;  // --version
+    // --mistake NAME (teaching only, docs/mistakes.md): render with at most two mistakes of the
+    // catalogue switched on (rt/render/mistakes.h); --mistake list prints the catalogue.
+    std::vector<std::string> mistake_names;
+    rt::MistakeSet mistakes;
+    bool mistake_list = false;
 };
 
 /// Parses argv (without argv[0]). Throws UsageError.
@@ -93,5 +99,8 @@ Options parse_options(const std::vector<std::string>& args);
 
 /// The --help text, with every option's default.
 std::string usage_text();
+
+/// The catalogue of mistakes, one line each (--mistake list).
+std::string mistake_list_text();
 
 }  // namespace raytrace

@@ -398,4 +398,45 @@ check "and says levels count from 1" grep -q "counts levels of rays from 1" "$tm
 "$rt" "$tmp/worked.ray" --inspect-depth 2 >/dev/null 2>"$tmp/usage.txt"
 check "--inspect-depth without --inspect exits 2" test $? -eq 2
 
+# --mistake (teaching only, docs/mistakes.md): the catalogue, a mistaken render, bad names.
+"$rt" --mistake list >"$tmp/mistakes.txt" 2>&1
+check "--mistake list exits 0" test $? -eq 0
+check "and lists the catalogue" test "$(grep -c '^  [a-z-]* *\(camera\|shading\|output\) ' "$tmp/mistakes.txt")" -ge 20
+check "no-shadows among them" grep -q "^  no-shadows .*shading.*§7.2" "$tmp/mistakes.txt"
+"$rt" --help | grep -q -- "--mistake NAME" && "$rt" --help | grep -q "teaching only"
+check "--help documents --mistake as teaching only" test $? -eq 0
+"$rt" "$tmp/ok.ray" --width 20 --height 16 -o "$tmp/right.ppm" >/dev/null 2>&1
+"$rt" "$tmp/ok.ray" --width 20 --height 16 --mistake flip-vertical -o "$tmp/flip.ppm" \
+    >"$tmp/flip.txt" 2>&1
+check "--mistake flip-vertical exits 0" test $? -eq 0
+check "and says the image is wrong on purpose" grep -q "^mistakes  flip-vertical (teaching only" "$tmp/flip.txt"
+check "the image differs from the right one" sh -c "! cmp -s '$tmp/right.ppm' '$tmp/flip.ppm'"
+if command -v python3 >/dev/null; then
+    python3 -c '
+import sys
+def rows(p):
+    d = open(p, "rb").read()
+    head = d.split(b"\n", 3)
+    w, h = map(int, head[1].split())
+    px = head[3]
+    return [px[y * w * 3:(y + 1) * w * 3] for y in range(h)]
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+print(b == a[::-1] and a != b)' "$tmp/right.ppm" "$tmp/flip.ppm" >"$tmp/flip_check.txt" 2>&1
+    check "row j of it is row H-1-j of the right one" grep -qx True "$tmp/flip_check.txt"
+fi
+"$rt" "$tmp/ok.ray" --width 20 --height 16 --mistake no-shadows,gamma -q -o "$tmp/two.png"
+check "two mistakes, comma-separated, exit 0" test $? -eq 0
+"$rt" "$tmp/ok.ray" --width 20 --height 16 --mistake nope -o "$tmp/nope.png" >/dev/null \
+    2>"$tmp/usage.txt"
+check "an unknown mistake exits 2" test $? -eq 2
+check "and names it and the list" grep -q "unknown mistake 'nope' (the catalogue: raytrace --mistake list)" "$tmp/usage.txt"
+check "and writes no image" test ! -e "$tmp/nope.png"
+"$rt" "$tmp/ok.ray" --mistake gamma --mistake bgr --mistake no-shadows -o "$tmp/three.png" \
+    >/dev/null 2>"$tmp/usage.txt"
+check "three mistakes exit 2" test $? -eq 2
+check "and say at most two" grep -q "at most two mistakes at once" "$tmp/usage.txt"
+"$rt" "$tmp/ok.ray" --mistake gamma --progressive --spp 2 -o "$tmp/p.png" >/dev/null \
+    2>"$tmp/usage.txt"
+check "--mistake with --progressive exits 2" test $? -eq 2
+
 summary "with the bad-input checks"

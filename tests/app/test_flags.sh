@@ -80,6 +80,7 @@ declare -A rt=(
     [--inspect-json]="alone:$scene --width 24 --height 16 --inspect 3,4 --inspect-json $tmp/i.json"
     [--inspect-depth]="alone:$scene --width 24 --height 16 --inspect 3,4 --inspect-depth 1"
     [--inspect-light]="alone:$scene --width 24 --height 16 --inspect 3,4 --inspect-light 0"
+    [--mistake]="--mistake no-shadows"
 )
 check_flags "$bin/raytrace" "$scene --width 24 --height 16 -q -o $tmp/o.png" rt
 

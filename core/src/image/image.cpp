@@ -9,6 +9,7 @@
 
 #include "rt/image/decode.h"
 #include "rt/image/exr.h"
+#include "rt/render/mistakes.h"
 #include "rt/util/file_io.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -90,6 +91,43 @@ std::vector<uint8_t> to_bytes(const Image& image) {
     std::vector<uint8_t> bytes(image.rgb.size());
     for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = to_byte(image.rgb[i]);
     return bytes;
+}
+
+// The output stage's mistakes (rt/render/mistakes.h), each a switch of spec §9's 8 bits:
+// to_byte()'s clamp and rounding, the order of the channels and of the rows.
+std::vector<uint8_t> to_bytes(const Image& image, const MistakeSet& mistakes) {
+    const bool gamma = mistakes.has(Mistake::Gamma), wrap = mistakes.has(Mistake::WrapOverflow);
+    auto byte = [&](double c) -> uint8_t {
+        if (!std::isfinite(c)) return 0;
+        if (wrap) {  // no clamp: floor(255 c + 0.5) mod 256
+            const double b = std::floor(255.0 * c + 0.5);
+            if (!(std::abs(b) < 9.0e15)) return 0;
+            return static_cast<uint8_t>(static_cast<int64_t>(b) & 0xff);
+        }
+        c = std::clamp(c, 0.0, 1.0);
+        if (gamma) c = std::pow(c, 1.0 / 2.2);  // an sRGB-like transfer before the 8 bits
+        return static_cast<uint8_t>(std::floor(255.0 * c + 0.5));
+    };
+    const size_t w = static_cast<size_t>(image.width), h = static_cast<size_t>(image.height);
+    std::vector<uint8_t> bytes(image.rgb.size());
+    for (size_t y = 0; y < h; ++y) {
+        // flip-vertical: the rows written bottom-up.
+        const size_t out_y = mistakes.has(Mistake::FlipVertical) ? h - 1 - y : y;
+        for (size_t x = 0; x < w; ++x)
+            for (size_t k = 0; k < 3; ++k) {
+                const size_t out_k =
+                    mistakes.has(Mistake::Bgr) ? 2 - k : k;  // red and blue swapped
+                bytes[(out_y * w + x) * 3 + out_k] = byte(image.rgb[(y * w + x) * 3 + k]);
+            }
+    }
+    return bytes;
+}
+
+Image as_written(const Image& image, const MistakeSet& mistakes) {
+    const std::vector<uint8_t> bytes = to_bytes(image, mistakes);
+    Image out(image.width, image.height);
+    for (size_t i = 0; i < bytes.size(); ++i) out.rgb[i] = bytes[i] / 255.0;
+    return out;
 }
 
 // The encoded file of each format, in memory; save_image() writes it atomically.

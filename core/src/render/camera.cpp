@@ -1,8 +1,19 @@
 #include "rt/render/camera.h"
 
+#include "rt/render/mistakes.h"
+
 namespace rt {
 
-Camera make_camera(const CameraPose& desc, int width, int height) {
+namespace {
+
+// The camera's own switches: none in a render, the camera's mistakes in a teaching render
+// (rt/render/mistakes.h).
+struct NoCameraMistakes {
+    static bool has(Mistake) { return false; }
+};
+
+template <class Mistakes>
+Camera camera_with(const CameraPose& desc, int width, int height, const Mistakes& mistakes) {
     Camera c;
     c.position = desc.position;
     c.forward = glm::normalize(desc.direction);
@@ -10,10 +21,29 @@ Camera make_camera(const CameraPose& desc, int width, int height) {
     c.up = glm::cross(c.right, c.forward);  // up re-orthogonalised
     c.width = width;
     c.height = height;
-    // Spec: ha is the half-height angle, not the full field of view.
-    c.tan_h = std::tan(desc.half_height_angle_rad);
+    // Spec: ha is the half-height angle, in radians, not the full field of view (full-angle:
+    // read as the full one; angle-degrees: converted as if in degrees; angle-on-width: applied
+    // to the width).
+    double ha = desc.half_height_angle_rad;
+    if (mistakes.has(Mistake::AngleDegrees)) ha = ha * kPi / 180.0;
+    if (mistakes.has(Mistake::FullAngle)) ha = 0.5 * ha;
+    c.tan_h = std::tan(ha);
     c.tan_w = c.tan_h * static_cast<double>(width) / static_cast<double>(height);
+    if (mistakes.has(Mistake::AngleOnWidth)) {
+        c.tan_w = c.tan_h;
+        c.tan_h = c.tan_w * static_cast<double>(height) / static_cast<double>(width);
+    }
     return c;
+}
+
+}  // namespace
+
+Camera make_camera(const CameraPose& desc, int width, int height) {
+    return camera_with(desc, width, height, NoCameraMistakes{});
+}
+
+Camera make_camera(const CameraPose& desc, int width, int height, const MistakeSet& mistakes) {
+    return camera_with(desc, width, height, mistakes);
 }
 
 double framing_distance(double radius, double half_height_angle_rad, double aspect) {

@@ -30,7 +30,8 @@ template <bool kAttenuation, bool kSpot, class Rec = NoRecord>
 [[gnu::always_inline]] inline double light_kinds(const Light& light, const Vec3& p, Vec3* to_light,
                                                  double* distance, Rec rec = {}) {
     if (!kAttenuation || light.kind == LightKind::Directional) {
-        *to_light = -light.direction;
+        // light-dir-reversed: the direction of travel taken as L.
+        *to_light = mistake(rec, Mistake::LightDirReversed) ? light.direction : -light.direction;
         *distance = kInf;
         return 1.0;
     }
@@ -41,16 +42,19 @@ template <bool kAttenuation, bool kSpot, class Rec = NoRecord>
     const double denom =
         light.constant_atten + light.linear_atten * dist + light.quadratic_atten * dist * dist;
     rec.attenuation(dist, denom, l);
-    if (!(denom > 0.0) || !std::isfinite(denom)) return 0.0;
-    double factor = 1.0 / denom;
+    const bool attenuated = !mistake(rec, Mistake::NoAttenuation);  // else the colour undivided
+    if (attenuated && (!(denom > 0.0) || !std::isfinite(denom))) return 0.0;
+    double factor = attenuated ? 1.0 / denom : 1.0;
     if (kSpot && light.kind == LightKind::Spot) {
         const double cos_a = glm::dot(light.direction, -l);
-        if (std::acos(std::clamp(cos_a, -1.0, 1.0)) > light.cutoff_rad) {
+        // spot-cutoff-full-angle: the cut-off read as the cone's full angle, half of it compared.
+        if (std::acos(std::clamp(cos_a, -1.0, 1.0)) >
+            (mistake(rec, Mistake::SpotCutoffFullAngle) ? 0.5 : 1.0) * light.cutoff_rad) {
             rec.spot(cos_a, 0.0);
             return 0.0;
         }
         // The factor is 1 when p = 0, whatever the angle (spec §7.2).
-        if (light.spot_exponent != 0.0) {
+        if (light.spot_exponent != 0.0 && !mistake(rec, Mistake::SpotNoDropoff)) {
             const double spot = std::pow(std::max(0.0, cos_a), light.spot_exponent);
             rec.spot(cos_a, spot);
             factor *= spot;
@@ -106,12 +110,15 @@ template <uint32_t F, class Rec>
                                                   const Vec3* target, Vec3* s,
                                                   RayCounters& counters, Rec rec) {
     ++counters.shadow;
-    const Vec3 o = offset_origin(si, side);
-    // Toward a point the segment from the offset point to the point itself, t in (0, 1).
+    const Vec3 o = mistake(rec, Mistake::NoOffset) ? si.p : offset_origin(si, side);
+    // Toward a point the segment from the offset point to the point itself, t in (0, 1)
+    // (shadow-past-light: the whole ray beyond it).
     const Ray shadow_ray{o, target ? *target - o : side};
-    const double t_max = target ? 1.0 : kInf;
+    const double t_max = target && !mistake(rec, Mistake::ShadowPastLight) ? 1.0 : kInf;
     if constexpr ((F & kShadeTransmissiveShadows) != 0) {
-        *s = geometry.transmittance(scene, shadow_ray, t_max);
+        *s = mistake(rec, Mistake::OpaqueShadows)  // any hit blocks
+                 ? Vec3(!geometry.occluded(scene, shadow_ray, t_max))
+                 : geometry.transmittance(scene, shadow_ray, t_max);
         rec.shadow_ray(scene, geometry, si, shadow_ray, t_max, *s);
         return *s != Vec3(0.0);
     }
@@ -180,6 +187,26 @@ struct ShadePoint {
     return r_dot_l > 0.0 ? std::pow(r_dot_l, sp.exponent) : 0.0;
 }
 
+// spec_l as the render computes it: highlight(), or with a mistake 0 (no-specular) or Blinn's
+// (N·H)^e, H = normalize(L + V), V = -d = 2 (R_v·N) N - R_v (blinn).
+template <class Rec>
+[[gnu::always_inline]] inline double highlight(const ShadePoint& sp, const Vec3& l, Rec rec) {
+    if (mistake(rec, Mistake::NoSpecular)) return 0.0;
+    if (mistake(rec, Mistake::Blinn)) {
+        const Vec3 v = 2.0 * glm::dot(sp.r_v, sp.n) * sp.n - sp.r_v;
+        const double n_dot_h = std::min(glm::dot(sp.n, glm::normalize(l + v)), 1.0);
+        return n_dot_h > 0.0 ? std::pow(n_dot_h, sp.exponent) : 0.0;
+    }
+    return highlight(sp, l);
+}
+
+// A secondary ray from si along dir (spec §7.5; no-offset: from P itself).
+template <class Rec>
+[[gnu::always_inline]] inline Ray spawn_ray(const SurfaceInteraction& si, const Vec3& dir,
+                                            Rec rec) {
+    return mistake(rec, Mistake::NoOffset) ? Ray{si.p, dir} : rt::spawn_ray(si, dir);
+}
+
 // A light with one colour, its diffuse and specular (V0, V1; V3 lights without ambient whose
 // colours agree): S_l ⊙ I_l ⊙ (K_D (N.L) + K_S spec_l) of spec §7.1, added to c.
 template <uint32_t F, class Rec>
@@ -200,10 +227,10 @@ template <uint32_t F, class Rec>
     const Vec3 intensity = light.diffuse * factor;
     const double n_dot_l = glm::dot(sp.n, l);
     rec.facing(l, n_dot_l);
-    if (!(n_dot_l > 0.0)) return;
+    if (!(n_dot_l > 0.0) && !mistake(rec, Mistake::NoDiffuseClamp)) return;
     Vec3 s(1.0);
     if constexpr ((F & kShadeShadows) != 0)
-        if (settings.shadows &&
+        if (settings.shadows && !mistake(rec, Mistake::NoShadows) &&
             !shadow_ray_passes<F>(scene, *plan.geometry, sp.si, light, l, &s, counters, rec)) {
             rec.shadow(Vec3(0.0));
             if constexpr (Rec::kOn)  // the terms S_l = 0 removes, as the lit case records them
@@ -215,7 +242,7 @@ template <uint32_t F, class Rec>
         }
     rec.shadow(s);
     if constexpr ((F & kShadeHighlights) != 0) {
-        const double h = highlight(sp, l);
+        const double h = highlight(sp, l, rec);
         const Vec3 lit = s * intensity * (sp.kd * n_dot_l + sp.ks * h);
         rec.direct(sp, l, intensity * sp.kd * n_dot_l, intensity * sp.ks * h, lit);
         c += lit;
@@ -253,20 +280,21 @@ template <uint32_t F, class Rec>
     const double f = light_at<F>(light, sp.si.p, &l, &dist, rec);
     rec.factor(f);
     if (!(f > 0.0)) return;  // nothing here, the ambient term included
-    if (light.ambient != Vec3(0.0)) {
+    if (light.ambient != Vec3(0.0) && !mistake(rec, Mistake::NoAmbient)) {
         const Vec3 ambient = sp.ka * light.ambient * f;
         rec.light_ambient(ambient);
         c += ambient;
     }
     const double n_dot_l = glm::dot(sp.n, l);
     rec.facing(l, n_dot_l);
-    if (!(n_dot_l > 0.0) || (light.diffuse == Vec3(0.0) && light.specular == Vec3(0.0))) {
+    if ((!(n_dot_l > 0.0) && !mistake(rec, Mistake::NoDiffuseClamp)) ||
+        (light.diffuse == Vec3(0.0) && light.specular == Vec3(0.0))) {
         if (n_dot_l > 0.0) rec.skip("diffuse and specular colours are 0");
         return;
     }
     Vec3 s(1.0);
     if constexpr ((F & kShadeShadows) != 0) {
-        if (settings.shadows) {
+        if (settings.shadows && !mistake(rec, Mistake::NoShadows)) {
             if (light.kind == LightKind::Sphere && light.radius > 0.0 &&
                 (rng || !plan.sphere_points.empty()))
                 s = sphere_shadow<F & kShadeTransmissiveShadows>(scene, plan, settings, sp.si,
@@ -287,7 +315,7 @@ template <uint32_t F, class Rec>
     Vec3 lit = diffuse, specular(0.0);
     if constexpr ((F & kShadeHighlights) != 0)
         if (sp.ks != Vec3(0.0)) {
-            specular = sp.ks * light.specular * highlight(sp, l);
+            specular = sp.ks * light.specular * highlight(sp, l, rec);
             lit += specular;
         }
     const Vec3 value = s * f * lit;
@@ -309,7 +337,8 @@ void secondary_rays(const RenderScene& scene, const RenderPlan& plan,
     const SurfaceInteraction& si = sp.si;
     const Vec3& n = sp.n;
     auto traced = [&](const Vec3& w, SecondaryKind kind) {
-        if (w != Vec3(0.0) && (settings.cutoff == 0.0 || max_component(w) >= settings.cutoff))
+        if (w != Vec3(0.0) && (settings.cutoff == 0.0 || mistake(rec, Mistake::NoCutoff) ||
+                               max_component(w) >= settings.cutoff))
             return true;
         rec.stop(kind, w == Vec3(0.0) ? StopReason::Zero : StopReason::Cutoff, w);
         return false;
@@ -317,7 +346,7 @@ void secondary_rays(const RenderScene& scene, const RenderPlan& plan,
     if constexpr ((F & kShadeReflection) != 0) {
         // Reflection, weighted by K_S (not textured).
         const Vec3 w_refl = weight * m.specular;
-        if (traced(w_refl, SecondaryKind::Reflected)) {
+        if (!mistake(rec, Mistake::NoReflection) && traced(w_refl, SecondaryKind::Reflected)) {
             // Glossy reflection: the mirror direction spread by `roughness` (kept above the
             // surface).
             Vec3 dir = sp.r_v;
@@ -328,7 +357,7 @@ void secondary_rays(const RenderScene& scene, const RenderPlan& plan,
                 }
             }
             ++counters.reflected;
-            const Ray r = spawn_ray(si, dir);
+            const Ray r = spawn_ray(si, dir, rec);
             const Rec child = rec.secondary(SecondaryKind::Reflected, r, depth - 1, w_refl);
             const Vec3 v = m.specular * trace<F>(scene, plan, settings, r, depth - 1, w_refl,
                                                  counters, rng, child);
@@ -341,15 +370,16 @@ void secondary_rays(const RenderScene& scene, const RenderPlan& plan,
     if constexpr ((F & kShadeRefraction) != 0) {
         // Refraction (Snell), weighted by T; none past the critical angle.
         const Vec3 w_refr = weight * m.transparent;
-        if (traced(w_refr, SecondaryKind::Refracted)) {
+        if (!mistake(rec, Mistake::NoRefraction) && traced(w_refr, SecondaryKind::Refracted)) {
             const bool entering = glm::dot(d, si.n_geometric) < 0;
-            const double eta = entering ? 1.0 / m.refractive_index : m.refractive_index;
+            const bool inverted = mistake(rec, Mistake::IorInverted);
+            const double eta = entering != inverted ? 1.0 / m.refractive_index : m.refractive_index;
             const double cos_i = std::clamp(-glm::dot(d, n), 0.0, 1.0);
             const double k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
             if (k >= 0.0) {
                 const Vec3 dir = eta * d + (eta * cos_i - std::sqrt(k)) * n;
                 ++counters.refracted;
-                const Ray r = spawn_ray(si, dir);
+                const Ray r = spawn_ray(si, dir, rec);
                 const Rec child =
                     rec.secondary(SecondaryKind::Refracted, r, depth - 1, w_refr, eta, cos_i);
                 const Vec3 v = m.transparent * trace<F>(scene, plan, settings, r, depth - 1, w_refr,
@@ -385,19 +415,28 @@ Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSetting
     const Vec3 d = glm::normalize(ray.d);
 
     // Two-sided rule (spec §5): shade with the normal facing the incoming ray.
-    const double side = glm::dot(d, si.n_geometric) > 0 ? -1.0 : 1.0;
+    const double side =
+        glm::dot(d, si.n_geometric) > 0 && !mistake(rec, Mistake::OneSided) ? -1.0 : 1.0;
     const Vec3 n = side * si.n_shading;
     Vec3 t(1.0), ke = m.emissive, ks = m.specular;
     if constexpr ((F & kShadeTextures) != 0) {
         if (m.texture >= 0) {
             t = eval_texture(*scene.textures[static_cast<size_t>(m.texture)], si.uv);
-            if (scene.texture_all_terms) ke *= t, ks *= t;  // V3 (spec §13.9)
+            // texture-v-flipped: y = v' H_t - 0.5, the lookup at 1 - v (the same, as it wraps).
+            if (mistake(rec, Mistake::TextureVFlipped))
+                t = eval_texture(*scene.textures[static_cast<size_t>(m.texture)],
+                                 Vec2(si.uv.x, 1.0 - si.uv.y));
+            if (scene.texture_all_terms && !mistake(rec, Mistake::TextureDiffuseOnly))
+                ke *= t, ks *= t;  // V3 (spec §13.9)
         }
     }
-    const ShadePoint sp{
+    if (mistake(rec, Mistake::NoEmissive)) ke = Vec3(0.0);
+    ShadePoint sp{
         si, n, d - 2.0 * glm::dot(d, n) * n, m.ambient * t, m.diffuse * t, ks, m.specular_exponent};
+    if (mistake(rec, Mistake::TextureDiffuseOnly)) sp.ka = m.ambient;
 
     Vec3 c = ke + sp.ka * scene.ambient;
+    if (mistake(rec, Mistake::NoAmbient)) c = ke;
     rec.hit(scene, ray, hit, sp, side < 0, t, ke, sp.ka * scene.ambient);
     for (const Light& scene_light : plan.lights) {
         Light moved;
@@ -413,7 +452,7 @@ Vec3 trace(const RenderScene& scene, const RenderPlan& plan, const RenderSetting
         one_colour_light<F>(scene, plan, settings, sp, light, counters, c, lrec);
     }
     if constexpr ((F & (kShadeReflection | kShadeRefraction)) != 0) {
-        if (depth - 1 >= 1)
+        if (depth - 1 >= (mistake(rec, Mistake::DepthOffByOne) ? 0 : 1))
             secondary_rays<F>(scene, plan, settings, sp, m, d, depth, weight, counters, rng, c,
                               rec);
         else

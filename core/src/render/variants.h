@@ -5,10 +5,12 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "accel/queries.h"
 #include "rt/accel/intersect.h"
+#include "rt/render/mistakes.h"
 #include "rt/render/plan.h"
 #include "rt/render/shading.h"
 #include "rt/render_scene.h"
@@ -77,6 +79,32 @@ struct NoRecord {
     template <class... A>
     void result(const A&...) const {}
 };
+
+/// The switches of a teaching render (rt/render/mistakes.h): a recorder that records nothing and
+/// carries the mistakes switched on, which the formula sites of shading_impl.h read through
+/// mistake(). Only render_with_mistakes() (mistakes.cpp) instantiates the shading with it; for
+/// every other recorder mistake() is a constant false and the switch is compiled away.
+struct WithMistakes : NoRecord {
+    MistakeSet mistakes;
+    template <class... A>
+    WithMistakes light(const A&...) const {
+        return *this;
+    }
+    template <class... A>
+    WithMistakes secondary(const A&...) const {
+        return *this;
+    }
+};
+
+/// Whether mistake `m` is on in a render with recorder `rec`: false, at compile time, but in a
+/// render with WithMistakes.
+template <class Rec>
+[[gnu::always_inline]] constexpr bool mistake(const Rec& rec, Mistake m) {
+    if constexpr (std::is_same_v<Rec, WithMistakes>)
+        return rec.mistakes.has(m);
+    else
+        return (static_cast<void>(rec), static_cast<void>(m), false);
+}
 }  // namespace shading
 
 /// The shading code of one ShadeFeature combination (shading.cpp).
