@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -31,8 +33,29 @@ bool jpeg_name(const std::string& path) {
 // Row `n` (its size known) against the reference of its size: the image read again, compared,
 // written to the report with its heat map, and dropped with its per-pixel differences; the row
 // keeps the numbers. What goes wrong is the row's error.
+// The diagnosis of a failing 8-bit image: Row::diagnosis, one explanation a line, and the first
+// one's mutant reference in the report (mutant_N.png). What goes wrong is said in its place.
+void diagnose_one(Row& r, size_t n, const rt::Image& image, rt::MutantRenders& mutants,
+                  const Diagnoser& diagnoser, ReportDir* report) {
+    try {
+        const rt::Diagnosis d =
+            rt::diagnose(image, mutants, diagnoser.catalogue, diagnoser.settings);
+        r.diagnosis = d.ranked.empty() ? d.summary() : "";
+        for (size_t k = 0; k < d.ranked.size(); ++k) {
+            char share[40];
+            std::snprintf(share, sizeof share, " (explains %.0f%%)", 100 * d.ranked[k].explained);
+            r.diagnosis +=
+                (k ? "\n" : "") + std::to_string(k + 1) + ". " + d.ranked[k].name() + share;
+        }
+        if (report && !d.ranked.empty())
+            r.mutant_written = report->write_png(mutant_name(n), d.ranked[0].mutant);
+    } catch (const std::exception& e) {
+        r.diagnosis = rtapp::error_text(e, "diagnosing " + r.path);
+    }
+}
+
 void compare_one(Row& r, size_t n, const rt::Image& reference, const Limits& limits,
-                 ReportDir* report) {
+                 ReportDir* report, rt::MutantRenders* mutants, const Diagnoser* diagnoser) {
     try {
         rt::ImageComparison c;
         {
@@ -48,6 +71,8 @@ void compare_one(Row& r, size_t n, const rt::Image& reference, const Limits& lim
             cs.linear = rt::holds_linear(rt::image_format_from_path(r.path));
             c = rt::compare_images(image, reference, cs);
             if (report) r.image_written = report->write_png(image_name(n), image);
+            if (mutants && !cs.linear && c.share_off > limits.max_bad)
+                diagnose_one(r, n, image, *mutants, *diagnoser, report);
         }
         r.heat_scale = limits.heat_scale;  // one scale for the class
         if (report) {
@@ -69,7 +94,8 @@ void compare_one(Row& r, size_t n, const rt::Image& reference, const Limits& lim
 
 ClassResult compare_class(const std::vector<std::string>& images, const RenderReference& render,
                           const Limits& limits, ReportDir* report,
-                          const std::function<void(int width, int height)>& rendered) {
+                          const std::function<void(int width, int height)>& rendered,
+                          const Diagnoser* diagnoser) {
     ClassResult out;
     out.rows.resize(images.size());
     out.width = limits.width;
@@ -126,14 +152,22 @@ ClassResult compare_class(const std::vector<std::string>& images, const RenderRe
             out.references.push_back({width, height});
             if (report) report->write_png(reference_name(width, height), reference);
         }
+        // The mutants of this size, each rendered once for the class (when asked for).
+        std::optional<rt::MutantRenders> mutants;
+        if (diagnoser)
+            mutants.emplace([&, w = width, h = height](const std::vector<std::string>& m) {
+                return diagnoser->render(w, h, m);
+            });
         for (size_t i = 0; i < out.rows.size(); ++i) {
             Row& r = out.rows[i];
             if (r.width != width || r.height != height || !r.error.empty()) continue;
             if (failed.empty())
-                compare_one(r, i, reference, limits, report);
+                compare_one(r, i, reference, limits, report, mutants ? &*mutants : nullptr,
+                            diagnoser);
             else
                 r.error = failed;
         }
+        if (mutants) out.mutant_renders += mutants->renders();
     }
     return out;
 }

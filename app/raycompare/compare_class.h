@@ -12,12 +12,22 @@
 
 #include "report.h"
 #include "report_dir.h"
+#include "rt/image/diagnose.h"
 #include "rt/image/image.h"
 
 namespace raycompare {
 
 /// Renders the reference of a width x height image; throws what it cannot (out of memory).
 using RenderReference = std::function<rt::Image(int width, int height)>;
+
+/// --diagnose: the reference of a width x height image rendered with the named mistakes on, as
+/// its 8-bit file holds it (rt::render_written), the catalogue's names, and the settings.
+struct Diagnoser {
+    std::function<rt::Image(int width, int height, const std::vector<std::string>& mistakes)>
+        render;
+    std::vector<std::string> catalogue;
+    rt::DiagnoseSettings settings;
+};
 
 /// What compare_class() made: one row per image, in the order given, and the references
 /// rendered (those in the report as reference_WxH.png when it was written).
@@ -27,6 +37,7 @@ struct ClassResult {
     /// The size the images were held to (limits' width and height, the first readable image's
     /// for 0); -1 when any size was taken.
     int width = -1, height = -1;
+    size_t mutant_renders = 0;  // with a diagnoser: the mutant references rendered
 };
 
 /// Compares each image with the reference. First each image is read to learn its size (its
@@ -39,9 +50,12 @@ struct ClassResult {
 /// references, each image (image_N.png), its heat map (heat_N.png) and signed view
 /// (signed_N.png) on the class's scale (limits.heat_scale) and the scale bars as it goes; not
 /// the page (page_html()). `rendered`, when given, is told of
-/// each reference rendered (main.cpp prints it).
+/// each reference rendered (main.cpp prints it). With `diagnoser`, each failing 8-bit image is
+/// diagnosed (Row::diagnosis, and its first explanation's mutant as mutant_N.png in the
+/// report), each mutant rendered once per size for the class.
 ClassResult compare_class(const std::vector<std::string>& images, const RenderReference& render,
                           const Limits& limits, ReportDir* report,
-                          const std::function<void(int width, int height)>& rendered = {});
+                          const std::function<void(int width, int height)>& rendered = {},
+                          const Diagnoser* diagnoser = nullptr);
 
 }  // namespace raycompare

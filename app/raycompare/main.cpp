@@ -28,6 +28,8 @@
 #include "report_dir.h"
 #include "rt/compile/compile.h"
 #include "rt/format/parser.h"
+#include "rt/render/mistakes.h"
+#include "rt/render/plan.h"
 #include "rt/render/render.h"
 #include "rt/util/file_io.h"
 
@@ -42,7 +44,7 @@ struct Options : rtapp::RenderOptions {
     std::vector<std::string> images;
     Limits limits;
     std::string csv, html, gradescope, size = "first";
-    bool quiet = false;
+    bool quiet = false, diagnose = false;
 };
 
 void make_app(CLI::App& app, Options& o) {
@@ -89,6 +91,11 @@ void make_app(CLI::App& app, Options& o) {
                    "also write Gradescope's autograder results (results.json): one test\n"
                    "per image, 1 point for a pass, the reason as its output")
         ->type_name("FILE");
+    app.add_flag("--diagnose", o.diagnose,
+                 "for each failing 8-bit image, the typical mistakes (docs/mistakes.md)\n"
+                 "that best explain it, ranked, each with the share of the difference it\n"
+                 "explains: the reference rendered with each mistake on (once per size),\n"
+                 "and the global fits (gamma, brightness, flips, channels, camera angle)");
     app.add_option("--csv", o.csv, "also write the table as CSV")->type_name("FILE");
     app.add_option("--html", o.html,
                    "also write a report (DIR/index.html with the images, their heat\n"
@@ -197,8 +204,23 @@ int run(const Options& o) {
             std::fprintf(stderr, "raycompare: rendered the %dx%d reference (%d spp)\n", width,
                          height, o.spp);
     };
+    // --diagnose: the mutant references as their 8-bit files hold them, at the reference's spp.
+    Diagnoser diagnoser;
+    diagnoser.render = [&](int width, int height, const std::vector<std::string>& mistakes) {
+        rt::RenderSettings s = o;
+        s.width = width;
+        s.height = height;
+        return rt::render_written(*scene, rt::make_render_plan(*scene, s), s,
+                                  rt::parse_mistakes(mistakes), o.spp);
+    };
+    for (const rt::MistakeInfo& m : rt::mistake_catalogue()) diagnoser.catalogue.push_back(m.name);
+    diagnoser.settings.half_angle = scene->camera ? scene->camera->half_height_angle_rad : 0.0;
     const ClassResult result =
-        compare_class(o.images, render, o.limits, report ? &*report : nullptr, rendered);
+        compare_class(o.images, render, o.limits, report ? &*report : nullptr, rendered,
+                      o.diagnose ? &diagnoser : nullptr);
+    if (o.diagnose && !o.quiet)
+        std::fprintf(stderr, "raycompare: diagnosed with %zu mutant references\n",
+                     result.mutant_renders);
     const std::vector<Row>& rows = result.rows;
     // The rule as it was used: the size the images were held to.
     Limits used = o.limits;

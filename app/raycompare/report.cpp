@@ -11,6 +11,19 @@ namespace raycompare {
 
 namespace {
 
+// A row's diagnosis, each of its lines escaped() and joined by `sep` (a terminal's line break and
+// indent, a page's <br>: the escaping would show a newline as \x0a).
+std::string diagnosis_text(const Row& r, const std::string& sep) {
+    std::string out;
+    size_t start = 0;
+    while (start <= r.diagnosis.size()) {
+        const size_t end = std::min(r.diagnosis.find('\n', start), r.diagnosis.size());
+        out += (start ? sep : "") + escaped(r.diagnosis.substr(start, end - start));
+        start = end + 1;
+    }
+    return out;
+}
+
 // v with `digits` decimals, or in %g's shortest form (digits < 0).
 std::string num(double v, int digits = -1) {
     char buf[64];
@@ -208,7 +221,7 @@ std::string gradescope_json(const std::string& scene, const std::vector<Row>& ro
         std::string output = reason_text(r, limits);
         if (const std::string cmd = inspect_command(scene, r); !cmd.empty() && !r.pass)
             output += "\nthe worst pixel, explained: " + cmd;
-        if (!r.diagnosis.empty()) output += "\n" + escaped(r.diagnosis);
+        if (!r.diagnosis.empty()) output += "\n" + diagnosis_text(r, "\n");
         tests += std::string(tests.empty() ? "" : ",\n") +
                  "    {\"name\": " + json_string(shown_name(r)) +
                  ", \"score\": " + (r.pass ? "1" : "0") + ", \"max_score\": 1, \"status\": \"" +
@@ -227,6 +240,7 @@ std::string escaped(std::string_view s) { return rt::escape(s); }
 std::string image_name(size_t row) { return "image_" + std::to_string(row + 1) + ".png"; }
 std::string heat_name(size_t row) { return "heat_" + std::to_string(row + 1) + ".png"; }
 std::string signed_name(size_t row) { return "signed_" + std::to_string(row + 1) + ".png"; }
+std::string mutant_name(size_t row) { return "mutant_" + std::to_string(row + 1) + ".png"; }
 std::string reference_name(int width, int height) {
     return "reference_" + std::to_string(width) + "x" + std::to_string(height) + ".png";
 }
@@ -275,7 +289,7 @@ std::string table_text(const std::vector<Row>& rows, const Limits& limits) {
             out += line;
         }
         // The diagnosis's place, under its row.
-        if (!r.diagnosis.empty()) out += "    " + escaped(r.diagnosis) + "\n";
+        if (!r.diagnosis.empty()) out += "    " + diagnosis_text(r, "\n    ") + "\n";
     }
     return out;
 }
@@ -283,16 +297,17 @@ std::string table_text(const std::vector<Row>& rows, const Limits& limits) {
 std::string csv_text(const std::vector<Row>& rows) {
     std::string out =
         "file,student,width,height,mean_abs_diff,share_off,max_diff,max_x,max_y,result,rule,"
-        "error\n";
+        "error,diagnosis\n";
     for (const Row& r : rows) {
         out += csv_field(escaped(r.path)) + "," + csv_field(escaped(r.name)) + "," +
                std::to_string(r.width) + "," + std::to_string(r.height) + ",";
         if (r.error.empty())
             out += num(r.c.mean()) + "," + num(r.c.share_off) + "," + num(r.c.max_diff) + "," +
                    std::to_string(r.c.max_x) + "," + std::to_string(r.c.max_y) + "," +
-                   (r.pass ? "pass" : "fail") + "," + (r.lossy ? "lossy" : "exact") + ",\n";
+                   (r.pass ? "pass" : "fail") + "," + (r.lossy ? "lossy" : "exact") + ",," +
+                   csv_field(diagnosis_text(r, "; ")) + "\n";
         else
-            out += ",,,,,fail,," + csv_field(escaped(r.error)) + "\n";
+            out += ",,,,,fail,," + csv_field(escaped(r.error)) + ",\n";
     }
     return out;
 }
@@ -325,7 +340,11 @@ std::string page_html(const std::string& scene, const std::vector<Reference>& re
             result += "<div class=\"diagnosis\">" +
                       (r.diagnosis.empty() ? std::string()
                                            : "<b>the mistakes that best explain it</b><br>" +
-                                                 html_escape(escaped(r.diagnosis))) +
+                                                 html_escape(diagnosis_text(r, "\n"))) +
+                      (r.mutant_written ? "<br><img src=\"" + mutant_name(i) +
+                                              "\" alt=\"the reference with that mistake\" "
+                                              "title=\"the reference with the first mistake\">"
+                                        : std::string()) +
                       "</div>";
         body += "<tr class=\"" + std::string(r.pass ? "pass" : "fail") + "\"><td title=\"" +
                 html_escape(escaped(r.path)) + "\">" + html_escape(shown_name(r)) + "</td><td>" +
@@ -350,6 +369,7 @@ std::string page_html(const std::string& scene, const std::vector<Reference>& re
         "vertical-align:top}\nth{cursor:pointer;background:#eee}\n"
         "td:last-child{max-width:22em;font-size:90%}tr.pass td:last-child b{color:#070}\n"
         "tr.fail td:last-child b{color:#b00}code.cmd{font-size:85%;word-break:break-all}\n"
+        ".diagnosis{white-space:pre-line;margin-top:.4em}\n"
         "td img{max-width:200px;image-rendering:pixelated;cursor:zoom-in}"
         "img.bar{width:200px;height:10px;vertical-align:middle}\n"
         ".legend{margin:.3em 0}.summary{font-size:120%;font-weight:bold}\n"

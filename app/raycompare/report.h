@@ -29,6 +29,7 @@ struct Row {
     /// diagnosis fills it (a later --diagnose). The table, the page and Gradescope's output show
     /// it under the row when it is not empty.
     std::string diagnosis;
+    bool mutant_written = false;  // mutant_N.png: the reference as the first explanation makes it
 };
 
 /// What decided pass or fail.
@@ -96,6 +97,7 @@ struct Reference {
 std::string image_name(size_t row);   // image_N.png, N = row + 1
 std::string heat_name(size_t row);    // heat_N.png
 std::string signed_name(size_t row);  // signed_N.png
+std::string mutant_name(size_t row);  // mutant_N.png
 std::string reference_name(int width, int height);
 inline constexpr const char* kScaleName = "scale.png";
 inline constexpr const char* kPageName = "index.html";

@@ -51,6 +51,7 @@ bool is_report_name(const std::string& name) {
     if (starts(name, "image_")) return digits(name, 6, end);
     if (starts(name, "heat_")) return digits(name, 5, end);
     if (starts(name, "signed_")) return digits(name, 7, end);
+    if (starts(name, "mutant_")) return digits(name, 7, end);
     if (starts(name, "reference_")) {
         const size_t x = name.find('x', 10);
         return x != std::string::npos && digits(name, 10, x) && digits(name, x + 1, end);

@@ -21,7 +21,7 @@ namespace raycompare {
 inline constexpr const char* kMarkerName = ".raycompare-report";
 
 /// A name the report writes: index.html, scale.png, signed_scale.png, image_N.png, heat_N.png,
-/// signed_N.png, reference_WxH.png (N, W, H decimal numbers) or the marker.
+/// signed_N.png, mutant_N.png, reference_WxH.png (N, W, H decimal numbers) or the marker.
 bool is_report_name(const std::string& name);
 
 /// A folder that cannot take the report; said before anything is rendered. `refused`: the

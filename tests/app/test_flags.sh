@@ -149,6 +149,7 @@ declare -A cmp=(
     [--light-radius]="--light-radius 0.1" [--aperture]="--aperture 0.05"
     [--focus-distance]="--focus-distance 3" [--roughness]="--roughness 0.1"
     [--lossy]="--lossy" [--size]="--size any" [--heat-scale]="--heat-scale 32" [--gradescope]="--gradescope $tmp/g.json"
+    [--diagnose]="--diagnose"
 )
 check_flags "$bin/raycompare" "$scene $tmp/d1.png --max-bad 1" cmp
 

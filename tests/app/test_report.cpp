@@ -170,5 +170,24 @@ TEST(CompareReport, GradescopeHasOneTestPerImageWithItsReason) {
               std::string::npos);
 }
 
+// A diagnosis of several lines (raycompare --diagnose): one line each under its row in the table,
+// on lines of the page, joined by "; " in the CSV's last column; a control byte in it escaped.
+TEST(CompareReport, ADiagnosisShowsOneExplanationALine) {
+    std::vector<Row> rows = {row("a.png", true), row("b.png", false)};
+    rows[1].diagnosis = "1. no-shadows (explains 97%)\n2. gamma (exponent 2.2) (explains 70%\x1b)";
+    const std::string table = table_text(rows, {});
+    EXPECT_NE(table.find("FAIL\n    1. no-shadows (explains 97%)\n    2. gamma (exponent 2.2) "
+                         "(explains 70%\\x1b)\n"),
+              std::string::npos)
+        << table;
+    const std::string csv = csv_text(rows);
+    EXPECT_NE(csv.find(",error,diagnosis\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",pass,exact,,\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",fail,exact,,1. no-shadows (explains 97%); 2. gamma (exponent 2.2) "
+                       "(explains 70%\\x1b)\n"),
+              std::string::npos)
+        << csv;
+}
+
 }  // namespace
 }  // namespace raycompare

@@ -7,7 +7,9 @@
    under raycompare's default rule (raycompare renders the reference with raytrace);
 3. every mistaken image (each mistake, and the pairs of make_class.py) that its scene is designed
    for fails that rule: a mistake that changes nothing would be a bad scene for it; a pair
-   of mistakes differs from each of its two alone;
+   of mistakes differs from each of its two alone; and `raycompare --diagnose` names them:
+   the first explanation right on at least 80% of them, one of the first three on 95%, and the
+   correct images (which pass) get no diagnosis;
 4. the default camera and a V0 file agree with raytrace too;
 5. the command line: --list-mistakes, an unsupported directive (exit 2, no output file), more than
    two mistakes (exit 2), PPM output.
@@ -19,6 +21,7 @@ import argparse
 import csv
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -109,7 +112,19 @@ def default_camera_and_v0(tmp, bindir):
         check(r.returncode == 0 and "PASS" in r.stdout, "%s: minirender and raytrace disagree\n%s" % (name, r.stdout))
 
 
+def diagnosed(text):
+    """The sets of mistakes of a diagnosis ("1. a + b (explains 97%); 2. gamma (exponent 2.2)
+    (explains 80%)"), in rank order, each sorted; none for "none of the known mistakes ..."."""
+    out = []
+    for item in text.split("; "):
+        m = re.match(r"^\d+\. (.*) \(explains \d+%\)$", item)
+        if m:
+            out.append(sorted(part.split(" (")[0] for part in m.group(1).split(" + ")))
+    return out
+
+
 def against_raytrace(tmp, bindir, size):
+    scores = []  # per designed mistaken image: (first right, in the first three)
     classdir = os.path.join(tmp, "class")
     check(make_class.main([classdir, "--size", size]) == 0, "make_class")
     with open(os.path.join(classdir, "manifest.json")) as f:
@@ -121,8 +136,8 @@ def against_raytrace(tmp, bindir, size):
     for scene, rows in sorted(by_scene.items()):
         table = os.path.join(tmp, scene + ".csv")
         images = [os.path.join(classdir, r["image"]) for r in rows]
-        subprocess.run([raycompare, rows[0]["scene_file"], *images, "--csv", table, "--quiet"],
-                       capture_output=True, text=True)
+        subprocess.run([raycompare, rows[0]["scene_file"], *images, "--csv", table, "--quiet",
+                        "--diagnose"], capture_output=True, text=True)
         with open(table, newline="") as f:
             verdict = {os.path.abspath(r["file"]): r for r in csv.DictReader(f)}
         for row, image in zip(rows, images):
@@ -134,9 +149,14 @@ def against_raytrace(tmp, bindir, size):
             if not row["mistakes"]:
                 check(got["result"] == "pass", "%s: minirender's correct image and raytrace disagree (%s%% off)"
                       % (scene, 100 * float(got["share_off"])))
+                check(got["diagnosis"] == "", "%s: the correct image got a diagnosis" % scene)
             elif row["designed_for"]:
                 check(got["result"] == "fail", "%s: the mistake %s does not fail the default rule (%.2f%% off)"
                       % (scene, name, 100 * float(got["share_off"])))
+                ranked = diagnosed(got["diagnosis"])
+                scores.append((sorted(row["mistakes"]) in ranked[:1], sorted(row["mistakes"]) in ranked[:3]))
+                if sorted(row["mistakes"]) not in ranked[:1]:
+                    print("diagnosis: %s/%s: %s" % (scene, name, got["diagnosis"]))
                 # make_class's own measure of the change is the one raycompare finds.
                 check(abs(float(got["share_off"]) - row["share_off"]) < 1e-3, "%s/%s: share off %s against %s"
                       % (scene, name, got["share_off"], row["share_off"]))
@@ -149,6 +169,14 @@ def against_raytrace(tmp, bindir, size):
                     share = make_class.difference(pair, mr.read_image(files[one])[2])[0]
                     check(share > 0.005, "%s: the pair %s is %.2f%% off %s alone"
                           % (scene, "+".join(row["mistakes"]), 100 * share, one))
+    # The diagnosis (raycompare --diagnose) names the independent renderer's mistakes: the
+    # first explanation right on at least 80% of the images, one of the first three on 95%.
+    first = sum(f for f, _ in scores) / max(1, len(scores))
+    top3 = sum(t for _, t in scores) / max(1, len(scores))
+    print("diagnosis: %d mistaken images, first right %.0f%%, in the first three %.0f%%"
+          % (len(scores), 100 * first, 100 * top3))
+    check(first >= 0.8, "the first explanation is right on %.0f%% of the images (at least 80%%)" % (100 * first))
+    check(top3 >= 0.95, "one of the first three is right on %.0f%% (at least 95%%)" % (100 * top3))
     designed = {m for rows in by_scene.values() for r in rows if r["designed_for"] for m in r["mistakes"]}
     check(len(designed) >= 15, "at least 15 mistakes shown by some scene (%d)" % len(designed))
 
