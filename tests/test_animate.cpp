@@ -236,7 +236,7 @@ TEST_F(Animate, AJointInsideACsgNodeIsCompiledAtEachTime) {
     EXPECT_NEAR(h.t, 9.3, 1e-9);
     scene.lights.push_back(Light{});  // what the caller set stays, as without CSG
     scene.camera->position = Vec3(0, 0, 7);
-    ASSERT_EQ(scene.materials.size(), 2u);  // the file's, then the V0 default
+    ASSERT_EQ(scene.materials.size(), 2u);       // the file's, then the V0 default
     scene.materials[0].diffuse = Vec3(0, 1, 0);  // edited, as the viewer does at its restart
     animate(scene, desc, SceneTime{0.5, Interpolation::Nearest});  // key 1: moved away
     ASSERT_TRUE(intersect(scene, {{0, 0, 9}, {0, 0, -1}}, {0, kInf}, &h));
