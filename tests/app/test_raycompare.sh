@@ -298,6 +298,24 @@ if command -v /usr/bin/convert >/dev/null && /usr/bin/convert -version 2>/dev/nu
     check "the same pixels as PNG fail the exact rule" grep -qE "^ok90 .*FAIL$" out.txt
     "$rc" show/showpiece.ray ok90.png --lossy >out.txt 2>&1
     check "and pass with --lossy" grep -qE "^ok90 .*PASS \(lossy rule\)$" out.txt
+    # --diagnose (docs/tools.md): a correct render as PNG, PPM, BMP and JPEG at quality 90 passes
+    # and gets no diagnosis; shadows left out, as PNG and as JPEG, are named.
+    mkdir -p dg
+    "$rt" show/showpiece.ray $r -o dg/png.png
+    "$rt" show/showpiece.ray $r -o dg/ppm.ppm
+    "$rt" show/showpiece.ray $r -o dg/bmp.bmp
+    cp ok90.jpg dg/jpeg90.jpg
+    cp noshadow.png dg/noshadow.png
+    cp noshadow.jpg dg/noshadow95.jpg
+    "$rc" show/showpiece.ray dg/png.png dg/ppm.ppm dg/bmp.bmp dg/jpeg90.jpg dg/noshadow.png \
+        dg/noshadow95.jpg --diagnose --csv dg.csv >out.txt 2>&1
+    for f in png ppm bmp jpeg90; do
+        check "--diagnose: the correct $f passes" grep -qE "^$f .*PASS" out.txt
+        check "and gets no diagnosis" sh -c "grep -A1 -E '^$f ' out.txt | tail -1 | grep -qvE '^    [0-9]'"
+    done
+    check "--diagnose: no shadows named" sh -c "grep -A1 -E '^noshadow ' out.txt | grep -qE '^    1\. no-shadows \(explains'"
+    check "--diagnose: and through a JPEG too" sh -c "grep -A1 -E '^noshadow95 ' out.txt | grep -qE '^    1\. no-shadows \(explains'"
+    check "--diagnose: the CSV's column" grep -qE ',1\. no-shadows \(explains [0-9]+%\)' dg.csv
 else
     echo "(the lossy rule on JPEG files: skipped, ImageMagick's convert is not installed)"
 fi
