@@ -10,7 +10,7 @@
 #include "rt/image/diagnose.h"
 
 namespace rt {
-namespace {
+namespace diagnose_test {
 
 constexpr int kW = 64, kH = 48;
 
@@ -113,5 +113,5 @@ TEST(Diagnose, EachMutantIsRenderedOnce) {
     EXPECT_EQ(calls, after_class);  // the same mutants again
 }
 
-}  // namespace
+}  // namespace diagnose_test
 }  // namespace rt

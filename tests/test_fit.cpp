@@ -10,7 +10,7 @@
 #include "rt/image/fit.h"
 
 namespace rt {
-namespace {
+namespace fit_test {
 
 constexpr int kW = 80, kH = 60;
 
@@ -109,5 +109,5 @@ TEST(Fit, ImagesOfDifferentSizesAreRefused) {
     EXPECT_THROW(fit_global(Image(4, 3), Image(3, 4)), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace fit_test
 }  // namespace rt
