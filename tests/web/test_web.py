@@ -259,7 +259,7 @@ def main():
         browser = Browser(driver, downloads)
         # The pixel's ray tree is printed (inspect) and cleared before the screenshot.
         panes = ('--size 1280x480 --panel off --frames 60',
-                 '5 resolution 1;6 wait-spp {spp};7 inspect 0.45 0.62;8 inspect clear')
+                 '5 resolution 1;6 wait-spp {spp};7 inspect 288 297;8 inspect clear')
 
         def open_showpiece(port, tag, spp):
             browser.go(f'http://127.0.0.1:{port}/index.html?scene=showpiece&args={panes[0]}'
