@@ -209,6 +209,9 @@ void worker(Job& job, int rank) {
     const std::string outcome = g_written.count() > 0 ? g_written.remove_all() : "no image written";
     std::cerr << "raytrace-mpi: error: " << why << "; " << outcome << "\n";
     std::fflush(stderr);
+    // mpirun forwards our stderr through a pipe it stops reading once the job aborts: under load
+    // the message was lost (the test's "a worker's load error is printed with its rank", once).
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
     MPI_Abort(MPI_COMM_WORLD, 1);
     std::_Exit(1);
 }
