@@ -1,4 +1,4 @@
-// The diagnosis scored and timed on a labelled class (issue 51): images made by another renderer
+// The diagnosis scored and timed on a labelled class: images made by another renderer
 // with known mistakes (tests/diagnose/make_class.py writes them and manifest.csv), each compared
 // with our reference as raycompare compares it, and each that fails diagnosed as
 // `raycompare --diagnose` diagnoses it. Prints, per scene, how many images fail, how often the

@@ -67,7 +67,7 @@ TEST(Viewer, EditsReachTheTracedSceneAtTheRestart) {
     EXPECT_EQ(s.camera->direction, v.edits.camera.desc().direction);
 }
 
-// Issue 15: the timeline loops or stops at the end; the preview's scene follows every frame,
+// The timeline loops or stops at the end; the preview's scene follows every frame,
 // the trace's copy only at the restart; both then hold the instances of a compile at that time.
 TEST(Viewer, TheTimelineMovesThePreviewAtOnceAndTheTraceAtTheRestart) {
     Timeline tl;

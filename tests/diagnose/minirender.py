@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""minirender: a small, independent .ray renderer for testing the mistake diagnosis (issue 51).
+"""minirender: a small, independent .ray renderer for testing the mistake diagnosis.
 
 Written from the format specification only (../shared/spec/ray-format.md sections 3, 5, 6, 7, 8
 and 9), never from the C++ renderer, so that the images it makes with a mistake switched on are
@@ -22,7 +22,7 @@ import struct
 import sys
 import zlib
 
-# The catalogue's names (issue 51); the value says what the student did. The texture mistakes
+# The catalogue's names (docs/mistakes.md); the value says what the student did. The texture mistakes
 # (NOT_IMPLEMENTED) are not rendered: minirender has no textures.
 MISTAKES = {
     "full-angle": "camera: ha read as the full angle (tan(ha/2))",

@@ -1,4 +1,4 @@
-// The diagnosis of a mistaken image (issue 51): which of the catalogue's mistakes
+// The diagnosis of a mistaken image: which of the catalogue's mistakes
 // (docs/mistakes.md) best explain how a student's image differs from the reference, ranked,
 // each with the share of the difference it explains. The cheap global fits come first
 // (rt/image/fit.h); then the reference rendered with each mistake switched on (the renderer's

@@ -1,4 +1,4 @@
-// The cheap global fits of a diagnosis (issue 51): before any mutant reference is rendered, an
+// The cheap global fits of a diagnosis: before any mutant reference is rendered, an
 // image that differs from its reference everywhere is tried against what a student's output or
 // camera code does to a whole image: a brightness scale, a transfer curve (gamma), a flip, a
 // swap of channels, a zoom about the centre (a camera angle read wrongly). Each fit has one

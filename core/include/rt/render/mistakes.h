@@ -1,4 +1,4 @@
-// The catalogue of typical mistakes (issue 51, docs/mistakes.md): each one a formula of the
+// The catalogue of typical mistakes (docs/mistakes.md): each one a formula of the
 // spec got wrong the way students get it wrong, and each one a switch of the renderer's own code
 // (the camera in camera.cpp, the shading in shading_impl.h, the 8-bit output in image.cpp), so a
 // mistaken image is rendered by the very code that renders the right one. The normal render
