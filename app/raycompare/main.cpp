@@ -156,6 +156,63 @@ bool same_file(const std::string& a, const std::string& b) {
            sa.st_ino == sb.st_ino;
 }
 
+// The reference's settings at an image's size.
+rt::RenderSettings settings_at(const Options& o, int width, int height) {
+    rt::RenderSettings s = o;
+    s.width = width;
+    s.height = height;
+    return s;
+}
+
+// --diagnose: the mutant references as their 8-bit files hold them, at the reference's spp; the
+// catalogue's names; the camera's angle, to name a zoom.
+Diagnoser make_diagnoser(const Options& o, const rt::RenderScene& scene) {
+    Diagnoser d;
+    d.render = [&o, &scene](int width, int height, const std::vector<std::string>& mistakes) {
+        const rt::RenderSettings s = settings_at(o, width, height);
+        return rt::render_written(scene, rt::make_render_plan(scene, s), s,
+                                  rt::parse_mistakes(mistakes), o.spp);
+    };
+    for (const rt::MistakeInfo& m : rt::mistake_catalogue()) d.catalogue.push_back(m.name);
+    d.settings.half_angle = scene.camera ? scene.camera->half_height_angle_rad : 0.0;
+    return d;
+}
+
+// The CSV, Gradescope's results and the report's page, once the class is compared: 1 when one
+// of them cannot be written (said), else 0.
+int write_outputs(const Options& o, const ClassResult& result, const Limits& used,
+                  ReportDir* report) {
+    const std::vector<Row>& rows = result.rows;
+    int status = 0;
+    if (!o.csv.empty()) {
+        try {
+            rt::write_file_atomic(o.csv, csv_text(rows));
+        } catch (const std::exception& e) {
+            std::cerr << "raycompare: error: " << escaped(e.what()) << "\n";
+            status = 1;
+        }
+    }
+    if (!o.gradescope.empty()) {
+        try {
+            rt::write_file_atomic(o.gradescope, gradescope_json(o.scene, rows, used));
+        } catch (const std::exception& e) {
+            std::cerr << "raycompare: error: " << escaped(e.what()) << "\n";
+            status = 1;
+        }
+    }
+    if (report) {
+        report->write_text(kPageName, page_html(o.scene, result.references, rows, used));
+        if (!report->error().empty()) {
+            std::cerr << "raycompare: error: the report in '" << escaped(o.html)
+                      << "' is not complete: " << escaped(report->error()) << "\n";
+            status = 1;
+        } else if (!o.quiet) {
+            std::printf("wrote %s/index.html\n", escaped(o.html).c_str());
+        }
+    }
+    return status;
+}
+
 int run(const Options& o) {
     // The outputs first, so that a long run does not fail at its end: the CSV must be no input
     // (it would replace a student's image) and writable; the report's folder is taken once the
@@ -192,9 +249,7 @@ int run(const Options& o) {
     }
 
     const auto render = [&](int width, int height) {
-        rt::RenderSettings s = o;
-        s.width = width;
-        s.height = height;
+        const rt::RenderSettings s = settings_at(o, width, height);
         rt::RenderState state;
         rt::render_samples(state, *scene, rt::make_render_plan(*scene, s), s, o.spp);
         return state.image();
@@ -204,17 +259,7 @@ int run(const Options& o) {
             std::fprintf(stderr, "raycompare: rendered the %dx%d reference (%d spp)\n", width,
                          height, o.spp);
     };
-    // --diagnose: the mutant references as their 8-bit files hold them, at the reference's spp.
-    Diagnoser diagnoser;
-    diagnoser.render = [&](int width, int height, const std::vector<std::string>& mistakes) {
-        rt::RenderSettings s = o;
-        s.width = width;
-        s.height = height;
-        return rt::render_written(*scene, rt::make_render_plan(*scene, s), s,
-                                  rt::parse_mistakes(mistakes), o.spp);
-    };
-    for (const rt::MistakeInfo& m : rt::mistake_catalogue()) diagnoser.catalogue.push_back(m.name);
-    diagnoser.settings.half_angle = scene->camera ? scene->camera->half_height_angle_rad : 0.0;
+    const Diagnoser diagnoser = make_diagnoser(o, *scene);
     const ClassResult result =
         compare_class(o.images, render, o.limits, report ? &*report : nullptr, rendered,
                       o.diagnose ? &diagnoser : nullptr);
@@ -236,33 +281,7 @@ int run(const Options& o) {
     int status = 0;
     for (const Row& r : rows)
         if (!r.pass) status = 1;
-    if (!o.csv.empty()) {
-        try {
-            rt::write_file_atomic(o.csv, csv_text(rows));
-        } catch (const std::exception& e) {
-            std::cerr << "raycompare: error: " << escaped(e.what()) << "\n";
-            status = 1;
-        }
-    }
-    if (!o.gradescope.empty()) {
-        try {
-            rt::write_file_atomic(o.gradescope, gradescope_json(o.scene, rows, used));
-        } catch (const std::exception& e) {
-            std::cerr << "raycompare: error: " << escaped(e.what()) << "\n";
-            status = 1;
-        }
-    }
-    if (report) {
-        report->write_text(kPageName, page_html(o.scene, result.references, rows, used));
-        if (!report->error().empty()) {
-            std::cerr << "raycompare: error: the report in '" << escaped(o.html)
-                      << "' is not complete: " << escaped(report->error()) << "\n";
-            status = 1;
-        } else if (!o.quiet) {
-            std::printf("wrote %s/index.html\n", escaped(o.html).c_str());
-        }
-    }
-    return status;
+    return write_outputs(o, result, used, report ? &*report : nullptr) == 0 ? status : 1;
 }
 
 }  // namespace

@@ -312,6 +312,100 @@ std::string csv_text(const std::vector<Row>& rows) {
     return out;
 }
 
+namespace {
+
+// The page's style and its script: zoom on a row, copy a command, sort by a column.
+constexpr const char* kPageStyle =
+    "body{font-family:sans-serif;margin:1em;background:#fafafa}\n"
+    "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px;"
+    "vertical-align:top}\nth{cursor:pointer;background:#eee}\n"
+    "td:last-child{max-width:22em;font-size:90%}tr.pass td:last-child b{color:#070}\n"
+    "tr.fail td:last-child b{color:#b00}code.cmd{font-size:85%;word-break:break-all}\n"
+    ".diagnosis{white-space:pre-line;margin-top:.4em}\n"
+    "td img{max-width:200px;image-rendering:pixelated;cursor:zoom-in}"
+    "img.bar{width:200px;height:10px;vertical-align:middle}\n"
+    ".legend{margin:.3em 0}.summary{font-size:120%;font-weight:bold}\n"
+    "figure{display:inline-block;margin:0 1em 1em 0}figure img{max-width:240px}\n"
+    "#zoom{display:none;position:fixed;inset:0;background:rgba(0,0,0,.85);z-index:9;"
+    "overflow:auto;cursor:zoom-out;text-align:center;padding-top:1em}\n"
+    "#zoom img{image-rendering:pixelated;margin:4px;border:1px solid #666}\n"
+    "#zoom p{color:#eee}\n";
+constexpr const char* kPageScript =
+    "const refs = {};\n"
+    "document.querySelectorAll('figure img').forEach((im) => {\n"
+    "  refs[im.nextElementSibling.textContent.split(', ')[1]] = im.src; });\n"
+    "const zoom = document.getElementById('zoom');\n"
+    "zoom.addEventListener('click', () => { zoom.style.display = 'none'; });\n"
+    "document.querySelectorAll('#t td img').forEach((im) => {\n"
+    "  im.addEventListener('click', () => {\n"
+    "    const tr = im.closest('tr');\n"
+    "    const srcs = [...tr.querySelectorAll('img')].map((i) => i.src);\n"
+    "    const ref = refs[tr.children[1].textContent];\n"
+    "    if (ref) srcs.splice(1, 0, ref);\n"
+    "    const k = Math.max(1, Math.floor((window.innerWidth - 40) / (srcs.length * "
+    "im.naturalWidth + 20)));\n"
+    "    zoom.innerHTML = '<p>' + tr.children[0].textContent + ' (x' + k + '): its image' + "
+    "(ref ? ', the reference' : '') + ', the difference, brighter / darker</p>';\n"
+    "    srcs.forEach((s) => { const z = document.createElement('img'); z.src = s;\n"
+    "      z.width = im.naturalWidth * k; zoom.appendChild(z); });\n"
+    "    zoom.style.display = 'block';\n"
+    "  });\n});\n"
+    "document.querySelectorAll('button.copy').forEach((b) => {\n"
+    "  b.addEventListener('click', () => {\n"
+    "    navigator.clipboard.writeText(b.previousElementSibling.textContent);\n"
+    "    b.textContent = 'copied'; });\n});\n"
+    "document.querySelectorAll('#t th').forEach((th, col) => {\n"
+    "  let up = false;\n"
+    "  th.addEventListener('click', () => {\n"
+    "    const tb = document.querySelector('#t tbody');\n"
+    "    const key = (tr) => { const td = tr.children[col];\n"
+    "      return td.dataset.v !== undefined ? parseFloat(td.dataset.v) : td.textContent; };\n"
+    "    up = !up;\n"
+    "    [...tb.rows].sort((a, b) => { const x = key(a), y = key(b);\n"
+    "      return (x < y ? -1 : x > y ? 1 : 0) * (up ? 1 : -1); })\n"
+    "      .forEach((tr) => tb.appendChild(tr));\n"
+    "  });\n});\n";
+
+// Row i of the page's table: the name, the size, the image, its heat map and signed view, the
+// figures, and the result (with the worst pixel's --inspect command and the diagnosis).
+std::string row_html(const std::string& scene, const Row& r, size_t i, const Limits& limits) {
+    std::string img = "&mdash;", heat = "&mdash;", sgn = "&mdash;";
+    if (r.image_written) img = "<img src=\"" + image_name(i) + "\" alt=\"image\">";
+    if (r.heat_written) heat = "<img src=\"" + heat_name(i) + "\" alt=\"difference\">";
+    if (r.signed_written) sgn = "<img src=\"" + signed_name(i) + "\" alt=\"brighter or darker\">";
+    const bool ok = r.error.empty();
+    std::string result = "<b>" + std::string(r.pass ? "PASS" : "FAIL") + "</b><br>" +
+                         html_escape(reason_text(r, limits).substr(6));
+    if (const std::string cmd = inspect_command(scene, r); !cmd.empty() && !r.pass)
+        result += "<br>the worst pixel, explained:<br><code class=\"cmd\">" + html_escape(cmd) +
+                  "</code> <button class=\"copy\">copy</button>";
+    // The mistakes that best explain a failing image (--diagnose), and the first one's render.
+    if (!r.pass)
+        result += "<div class=\"diagnosis\">" +
+                  (r.diagnosis.empty() ? std::string()
+                                       : "<b>the mistakes that best explain it</b><br>" +
+                                             html_escape(diagnosis_text(r, "\n"))) +
+                  (r.mutant_written ? "<br><img src=\"" + mutant_name(i) +
+                                          "\" alt=\"the reference with that mistake\" "
+                                          "title=\"the reference with the first mistake\">"
+                                    : std::string()) +
+                  "</div>";
+    return "<tr class=\"" + std::string(r.pass ? "pass" : "fail") + "\"><td title=\"" +
+           html_escape(escaped(r.path)) + "\">" + html_escape(shown_name(r)) + "</td><td>" +
+           (r.width > 0 ? size_text(r) : "") + "</td><td>" + img + "</td><td>" + heat +
+           "</td><td>" + sgn + "</td><td data-v=\"" + (ok ? num(r.c.mean()) : "1e9") + "\">" +
+           (ok ? num(r.c.mean(), 3) : "") + "</td><td data-v=\"" +
+           (ok ? num(r.c.share_off) : "1e9") + "\">" +
+           (ok ? num(100.0 * r.c.share_off, 3) + "%" : "") + "</td><td data-v=\"" +
+           (ok ? num(r.c.max_diff) : "1e9") + "\">" +
+           (ok ? num(r.c.max_diff, 1) + " at (" + std::to_string(r.c.max_x) + "," +
+                     std::to_string(r.c.max_y) + ")"
+               : "") +
+           "</td><td>" + result + "</td></tr>\n";
+}
+
+}  // namespace
+
 std::string page_html(const std::string& scene, const std::vector<Reference>& references,
                       const std::vector<Row>& rows, const Limits& limits) {
     std::string refs;
@@ -322,65 +416,14 @@ std::string page_html(const std::string& scene, const std::vector<Reference>& re
     }
     const std::string scale = num(limits.heat_scale);
     std::string body;
-    for (size_t i = 0; i < rows.size(); ++i) {
-        const Row& r = rows[i];
-        std::string img = "&mdash;", heat = "&mdash;", sgn = "&mdash;";
-        if (r.image_written) img = "<img src=\"" + image_name(i) + "\" alt=\"image\">";
-        if (r.heat_written) heat = "<img src=\"" + heat_name(i) + "\" alt=\"difference\">";
-        if (r.signed_written)
-            sgn = "<img src=\"" + signed_name(i) + "\" alt=\"brighter or darker\">";
-        const bool ok = r.error.empty();
-        std::string result = "<b>" + std::string(r.pass ? "PASS" : "FAIL") + "</b><br>" +
-                             html_escape(reason_text(r, limits).substr(6));
-        if (const std::string cmd = inspect_command(scene, r); !cmd.empty() && !r.pass)
-            result += "<br>the worst pixel, explained:<br><code class=\"cmd\">" + html_escape(cmd) +
-                      "</code> <button class=\"copy\">copy</button>";
-        // The mistakes that best explain a failing image go here (a later --diagnose).
-        if (!r.pass)
-            result += "<div class=\"diagnosis\">" +
-                      (r.diagnosis.empty() ? std::string()
-                                           : "<b>the mistakes that best explain it</b><br>" +
-                                                 html_escape(diagnosis_text(r, "\n"))) +
-                      (r.mutant_written ? "<br><img src=\"" + mutant_name(i) +
-                                              "\" alt=\"the reference with that mistake\" "
-                                              "title=\"the reference with the first mistake\">"
-                                        : std::string()) +
-                      "</div>";
-        body += "<tr class=\"" + std::string(r.pass ? "pass" : "fail") + "\"><td title=\"" +
-                html_escape(escaped(r.path)) + "\">" + html_escape(shown_name(r)) + "</td><td>" +
-                (r.width > 0 ? size_text(r) : "") + "</td><td>" + img + "</td><td>" + heat +
-                "</td><td>" + sgn + "</td><td data-v=\"" + (ok ? num(r.c.mean()) : "1e9") + "\">" +
-                (ok ? num(r.c.mean(), 3) : "") + "</td><td data-v=\"" +
-                (ok ? num(r.c.share_off) : "1e9") + "\">" +
-                (ok ? num(100.0 * r.c.share_off, 3) + "%" : "") + "</td><td data-v=\"" +
-                (ok ? num(r.c.max_diff) : "1e9") + "\">" +
-                (ok ? num(r.c.max_diff, 1) + " at (" + std::to_string(r.c.max_x) + "," +
-                          std::to_string(r.c.max_y) + ")"
-                    : "") +
-                "</td><td>" + result + "</td></tr>\n";
-    }
+    for (size_t i = 0; i < rows.size(); ++i) body += row_html(scene, rows[i], i, limits);
     const std::string page =
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
         "<title>raycompare: " +
-        html_escape(escaped(scene)) +
-        "</title>\n<style>\n"
-        "body{font-family:sans-serif;margin:1em;background:#fafafa}\n"
-        "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px;"
-        "vertical-align:top}\nth{cursor:pointer;background:#eee}\n"
-        "td:last-child{max-width:22em;font-size:90%}tr.pass td:last-child b{color:#070}\n"
-        "tr.fail td:last-child b{color:#b00}code.cmd{font-size:85%;word-break:break-all}\n"
-        ".diagnosis{white-space:pre-line;margin-top:.4em}\n"
-        "td img{max-width:200px;image-rendering:pixelated;cursor:zoom-in}"
-        "img.bar{width:200px;height:10px;vertical-align:middle}\n"
-        ".legend{margin:.3em 0}.summary{font-size:120%;font-weight:bold}\n"
-        "figure{display:inline-block;margin:0 1em 1em 0}figure img{max-width:240px}\n"
-        "#zoom{display:none;position:fixed;inset:0;background:rgba(0,0,0,.85);z-index:9;"
-        "overflow:auto;cursor:zoom-out;text-align:center;padding-top:1em}\n"
-        "#zoom img{image-rendering:pixelated;margin:4px;border:1px solid #666}\n"
-        "#zoom p{color:#eee}\n"
-        "</style></head><body>\n<h1>" +
-        html_escape(escaped(scene)) + "</h1>\n<p class=\"summary\">" +
-        html_escape(summary_text(rows)) + "</p>\n<p>rule: " + html_escape(rule_text(limits)) +
+        html_escape(escaped(scene)) + "</title>\n<style>\n" + std::string(kPageStyle) +
+        "</style></head><body>\n<h1>" + html_escape(escaped(scene)) +
+        "</h1>\n<p class=\"summary\">" + html_escape(summary_text(rows)) +
+        "</p>\n<p>rule: " + html_escape(rule_text(limits)) +
         ". Differences in 8-bit steps of 255. Click an image to zoom on its row (the image, the "
         "reference, the difference and the signed view side by side); click a column's head to "
         "sort by it.</p>\n<p class=\"legend\">difference (one scale for the class): 0 <img "
@@ -392,42 +435,8 @@ std::string page_html(const std::string& scene, const std::vector<Reference>& re
         "<table id=\"t\"><thead><tr><th>student</th><th>size</th><th>image</th><th>difference"
         "</th><th>brighter / darker</th><th>mean diff</th><th>off</th><th>max diff</th>"
         "<th>result</th></tr></thead>\n<tbody>\n" +
-        body +
-        "</tbody></table>\n<div id=\"zoom\"></div>\n<script>\n"
-        "const refs = {};\n"
-        "document.querySelectorAll('figure img').forEach((im) => {\n"
-        "  refs[im.nextElementSibling.textContent.split(', ')[1]] = im.src; });\n"
-        "const zoom = document.getElementById('zoom');\n"
-        "zoom.addEventListener('click', () => { zoom.style.display = 'none'; });\n"
-        "document.querySelectorAll('#t td img').forEach((im) => {\n"
-        "  im.addEventListener('click', () => {\n"
-        "    const tr = im.closest('tr');\n"
-        "    const srcs = [...tr.querySelectorAll('img')].map((i) => i.src);\n"
-        "    const ref = refs[tr.children[1].textContent];\n"
-        "    if (ref) srcs.splice(1, 0, ref);\n"
-        "    const k = Math.max(1, Math.floor((window.innerWidth - 40) / (srcs.length * "
-        "im.naturalWidth + 20)));\n"
-        "    zoom.innerHTML = '<p>' + tr.children[0].textContent + ' (x' + k + '): its image' + "
-        "(ref ? ', the reference' : '') + ', the difference, brighter / darker</p>';\n"
-        "    srcs.forEach((s) => { const z = document.createElement('img'); z.src = s;\n"
-        "      z.width = im.naturalWidth * k; zoom.appendChild(z); });\n"
-        "    zoom.style.display = 'block';\n"
-        "  });\n});\n"
-        "document.querySelectorAll('button.copy').forEach((b) => {\n"
-        "  b.addEventListener('click', () => {\n"
-        "    navigator.clipboard.writeText(b.previousElementSibling.textContent);\n"
-        "    b.textContent = 'copied'; });\n});\n"
-        "document.querySelectorAll('#t th').forEach((th, col) => {\n"
-        "  let up = false;\n"
-        "  th.addEventListener('click', () => {\n"
-        "    const tb = document.querySelector('#t tbody');\n"
-        "    const key = (tr) => { const td = tr.children[col];\n"
-        "      return td.dataset.v !== undefined ? parseFloat(td.dataset.v) : td.textContent; };\n"
-        "    up = !up;\n"
-        "    [...tb.rows].sort((a, b) => { const x = key(a), y = key(b);\n"
-        "      return (x < y ? -1 : x > y ? 1 : 0) * (up ? 1 : -1); })\n"
-        "      .forEach((tr) => tb.appendChild(tr));\n"
-        "  });\n});\n</script>\n</body></html>\n";
+        body + "</tbody></table>\n<div id=\"zoom\"></div>\n<script>\n" + kPageScript +
+        "</script>\n</body></html>\n";
     return page;
 }
 

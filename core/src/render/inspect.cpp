@@ -276,6 +276,47 @@ struct TreeRecorder {
     }
 };
 
+// The camera's inputs for pixel (x, y) at the sample's position, from the renderer's camera
+// (plan.cpp: make_camera).
+InspectCamera camera_inputs(const RenderScene& scene, const RenderPlan& plan,
+                            const RenderSettings& settings, int x, int y, const Vec2& position) {
+    const Camera& cam = plan.camera;
+    InspectCamera ic;
+    ic.from_file = scene.camera.has_value();
+    ic.half_height_angle_rad =
+        scene.camera ? scene.camera->half_height_angle_rad
+                     : default_camera(scene.world_bounds, settings.width, settings.height)
+                           .half_height_angle_rad;
+    ic.tan_h = cam.tan_h;
+    ic.tan_w = cam.tan_w;
+    ic.width = cam.width;
+    ic.height = cam.height;
+    ic.position = cam.position;
+    ic.forward = cam.forward;
+    ic.right = cam.right;
+    ic.up = cam.up;
+    ic.image_point = cam.image_point(x, y, position.x, position.y);
+    return ic;
+}
+
+// Why each light that traced no shadow ray traced none: what ended its term first, or the
+// settings.
+void explain_missing_shadow_rays(const RenderSettings& settings, PixelTree* tree) {
+    for (InspectRay& r : tree->rays)
+        for (InspectLight& l : r.lights) {
+            if (l.shadow_ray_count > 0) continue;
+            if (l.facing_known && !(l.n_dot_l > 0.0))
+                l.no_shadow_ray =
+                    "the surface faces away from the light (N.L <= 0): it gets no diffuse or "
+                    "specular term, so there is nothing to shadow";
+            else if (!l.note.empty())
+                l.no_shadow_ray = l.note + ": nothing to shadow";
+            else
+                l.no_shadow_ray =
+                    settings.shadows ? "no shadow ray traced" : "shadows are off (--no-shadows)";
+        }
+}
+
 }  // namespace
 
 PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
@@ -334,37 +375,8 @@ PixelTree inspect_pixel(const RenderScene& scene, const RenderPlan& plan,
     tree.pixel = render_pixel_value(scene, plan, settings, x, y, spp);
     // The 8 bits the image writer stores for that value (spec §9).
     for (int k = 0; k < 3; ++k) tree.output.bytes[k] = to_byte(tree.pixel[k]);
-    // The camera's inputs, from the renderer's camera (plan.cpp: make_camera).
-    const Camera& cam = plan.camera;
-    InspectCamera& ic = tree.camera;
-    ic.from_file = scene.camera.has_value();
-    ic.half_height_angle_rad =
-        scene.camera ? scene.camera->half_height_angle_rad
-                     : default_camera(scene.world_bounds, settings.width, settings.height)
-                           .half_height_angle_rad;
-    ic.tan_h = cam.tan_h;
-    ic.tan_w = cam.tan_w;
-    ic.width = cam.width;
-    ic.height = cam.height;
-    ic.position = cam.position;
-    ic.forward = cam.forward;
-    ic.right = cam.right;
-    ic.up = cam.up;
-    ic.image_point = cam.image_point(x, y, tree.position.x, tree.position.y);
-    // Why a light traced no shadow ray: what ended its term first, or the settings.
-    for (InspectRay& r : tree.rays)
-        for (InspectLight& l : r.lights) {
-            if (l.shadow_ray_count > 0) continue;
-            if (l.facing_known && !(l.n_dot_l > 0.0))
-                l.no_shadow_ray =
-                    "the surface faces away from the light (N.L <= 0): it gets no diffuse or "
-                    "specular term, so there is nothing to shadow";
-            else if (!l.note.empty())
-                l.no_shadow_ray = l.note + ": nothing to shadow";
-            else
-                l.no_shadow_ray =
-                    settings.shadows ? "no shadow ray traced" : "shadows are off (--no-shadows)";
-        }
+    tree.camera = camera_inputs(scene, plan, settings, x, y, tree.position);
+    explain_missing_shadow_rays(settings, &tree);
     return std::move(ctx.tree);
 }
 
